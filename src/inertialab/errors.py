@@ -1,0 +1,69 @@
+"""Exceptions and warnings of inertialab.
+
+Every user-facing error is an :class:`InputError` (a ``ValueError``) whose message is
+one line naming the file, the column and the row where that is known. The CLI turns
+it into exit status 2 with that one line on stderr.
+"""
+
+from __future__ import annotations
+
+
+class InputError(ValueError):
+    """Bad input: a file, column, row, option or model file that cannot be used.
+
+    Parameters
+    ----------
+    message : str
+        What is wrong and, where possible, what to change.
+    path, column, row : optional
+        Where it is wrong. They are prefixed to the message as
+        ``"<path>: column '<column>', row <row>: <message>"``; ``row`` is the
+        1-based data row (the header is row 0), as a spreadsheet user counts.
+    """
+
+    def __init__(self, message: str, *, path=None, column=None, row=None):
+        self.path = None if path is None else str(path)
+        self.column = column
+        self.row = row
+        where = []
+        if self.path is not None:
+            where.append(self.path)
+        loc = []
+        if column is not None:
+            loc.append(f"column '{column}'")
+        if row is not None:
+            loc.append(f"row {row}" if not isinstance(row, (list, tuple)) else
+                       "rows " + ", ".join(str(r) for r in row))
+        if loc:
+            where.append(", ".join(loc))
+        prefix = ": ".join(where)
+        text = " ".join(str(message).split())  # always one line
+        super().__init__(f"{prefix}: {text}" if prefix else text)
+
+
+class MissingReferenceError(InputError):
+    """An objective or method needs reference directions/values the records lack."""
+
+
+class UnderdeterminedError(InputError):
+    """Fewer independent observations than unknowns, or a degenerate design."""
+
+
+class NonIdentifiableWarning(UserWarning):
+    """Some parameters are not identifiable from the data (rank deficiency)."""
+
+
+class ShrinkageWarning(UserWarning):
+    """A shrinkage estimator leaned heavily on its prior."""
+
+
+class ExtrapolationWarning(UserWarning):
+    """A model was applied outside the range it was trained on."""
+
+
+class ConvergenceWarning(UserWarning):
+    """An iterative method stopped before its convergence criterion held."""
+
+
+class DataQualityWarning(UserWarning):
+    """The data are usable but something about them deserves the user's attention."""
