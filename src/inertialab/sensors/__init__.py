@@ -1,0 +1,1 @@
+"""inertialab.sensors: forward error models of the instruments (accelerometers, gyros)."""

@@ -1,0 +1,1 @@
+"""inertialab.sim: the virtual lab, one rig per study, writing records in the real schemas."""
