@@ -52,6 +52,8 @@ class PolynomialRegressor:
         sees inputs outside the training range.
     """
 
+    MODEL_TYPE = "polynomial"
+
     def __init__(self, *, degree: int = 4, interaction: bool = True,
                  warn_extrapolation: bool = True):
         self.degree = degree

@@ -1,0 +1,28 @@
+"""Record I/O: schemas, readers, writers, sidecars and model files.
+
+``read_record(path, kind)`` returns a validated :class:`Record`; ``write_record`` writes
+CSV/Parquet plus the JSON sidecar atomically; ``save_model``/``load_model`` handle the
+JSON model-file envelope of DESIGN.md.
+"""
+
+from inertialab.io.modelfile import load_model, read_envelope, save_model
+from inertialab.io.readers import Record, hash_frame, read_record, validate_frame
+from inertialab.io.schemas import SCHEMAS
+from inertialab.io.sidecar import read_sidecar, sidecar_path
+from inertialab.io.writers import atomic_write_bytes, atomic_write_text, write_record
+
+__all__ = [
+    "SCHEMAS",
+    "Record",
+    "atomic_write_bytes",
+    "atomic_write_text",
+    "hash_frame",
+    "load_model",
+    "read_envelope",
+    "read_record",
+    "read_sidecar",
+    "save_model",
+    "sidecar_path",
+    "validate_frame",
+    "write_record",
+]
