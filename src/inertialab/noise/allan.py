@@ -1,0 +1,603 @@
+"""The Allan family of deviations with confidence intervals (spec 001 §3.1–3.2; issue 3).
+
+Statistics: ``adev`` (non-overlapping Allan), ``oadev`` (overlapping Allan), ``mdev``
+(modified Allan), ``tdev`` (time/angle deviation, ``tau/sqrt(3) * mdev``), ``hdev``
+(non-overlapping Hadamard), ``ohdev`` (overlapping Hadamard) and ``totdev`` (total
+deviation, reflected extension). Input is either rate samples (``input="rate"``, the
+frequency analogue; integrated to angle after removing the mean, spec 001 eq. 2) or the
+cumulative angle (``input="angle"``, the phase analogue). The deviation is in the
+unit of the rate (for angle input: angle unit per second); ``tdev`` in rate unit times
+seconds (arcsec for deg/h).
+
+Every function returns one frozen :class:`DeviationResult` with the averaging factors,
+the deviation, the number of summands, the power-law noise type ``alpha`` used for the
+interval (identified per tau by the lag-1 autocorrelation method with a B1/R(n)
+fallback, see :mod:`inertialab.noise.edf`, or given by the user), the equivalent
+degrees of freedom and the chi-square interval at ``confidence`` (default 0.683).
+
+Why hand-written: allantools (LGPL, a test dependency only) computes the same numbers
+but allocates several arrays of the record's size per tau and has neither IMU terms nor
+complete intervals. Here every per-tau sum runs over cache-sized blocks of one float64
+angle array with reused buffers (no temporary of size n), which is about one memory
+pass per tau; the same kernel reads a memory-mapped record too large for memory in
+chunks (:func:`oadev_chunked` and ``chunked=True``), recomputing the angle from
+checkpoints so that both paths produce the same angle values bit for bit.
+
+References
+----------
+NIST SP 1065 (Riley 2008), §5.2 (definitions), §12 (the 1000-point test suite);
+IEEE Std 952-1997 Annex C; spec 001 §3.1–3.2.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from inertialab.errors import InputError
+
+#: Statistics provided, in their canonical order.
+STATISTICS = ("adev", "oadev", "mdev", "tdev", "hdev", "ohdev", "totdev")
+
+#: Block length (summands) of the per-tau kernel: 3 float64 windows plus one
+#: accumulator of this length stay in a 2 MiB cache.
+BLOCK = 1 << 15
+
+#: Chunk length (samples) of the out-of-core path and of the mean.
+CHUNK = 1 << 20
+
+
+@dataclass(frozen=True)
+class DeviationResult:
+    """One statistic evaluated at a set of averaging times.
+
+    Attributes
+    ----------
+    statistic : str
+        ``"adev" | "oadev" | "mdev" | "tdev" | "hdev" | "ohdev" | "totdev"``.
+    tau0_s : float
+        Sample interval in s.
+    taus_s : ndarray, shape (k,)
+        Averaging times ``m * tau0_s`` in s.
+    m : ndarray of int, shape (k,)
+        Averaging factors.
+    dev : ndarray, shape (k,)
+        The deviation, in the unit of the rate data (``tdev``: rate unit times s).
+    n_terms : ndarray of int, shape (k,)
+        Number of summands per tau (CONTRACTS.md "noise").
+    alpha : ndarray of int, shape (k,)
+        Power-law noise type of the rate PSD, ``S(f) ~ f^alpha``: +2 white angle
+        (quantization), 0 white rate (ARW), -1 flicker rate (bias instability),
+        -2 random-walk rate (RRW).
+    edf : ndarray, shape (k,)
+        Equivalent degrees of freedom.
+    ci_low, ci_high : ndarray, shape (k,)
+        Chi-square confidence interval of ``dev`` at ``confidence``.
+    confidence : float
+        Two-sided confidence level of the interval (default 0.683).
+    n_samples : int
+        Number of input samples.
+    input : str
+        ``"rate"`` or ``"angle"``.
+    alpha_method : str
+        ``"lag1"`` (lag-1 ACF, B1/R(n) fallback where marked in ``alpha_source``),
+        ``"user"`` or ``"model"``.
+    edf_method : str
+        Which EDF algorithm was used (see :mod:`inertialab.noise.edf`).
+    alpha_source : tuple of str
+        Per tau: ``"lag1"``, ``"b1"``, ``"user"`` or ``"model"``.
+    """
+
+    statistic: str
+    tau0_s: float
+    taus_s: np.ndarray
+    m: np.ndarray
+    dev: np.ndarray
+    n_terms: np.ndarray
+    alpha: np.ndarray
+    edf: np.ndarray
+    ci_low: np.ndarray
+    ci_high: np.ndarray
+    confidence: float
+    n_samples: int = 0
+    input: str = "rate"
+    alpha_method: str = "lag1"
+    edf_method: str = ""
+    alpha_source: tuple = field(default_factory=tuple)
+
+    def __len__(self) -> int:
+        return len(self.taus_s)
+
+    def to_dict(self) -> dict:
+        """JSON-ready dict (lists of floats/ints; NaN stays NaN for the emitter)."""
+        return {
+            "statistic": self.statistic,
+            "tau0_s": float(self.tau0_s),
+            "taus_s": [float(v) for v in self.taus_s],
+            "m": [int(v) for v in self.m],
+            "dev": [float(v) for v in self.dev],
+            "ci_low": [float(v) for v in self.ci_low],
+            "ci_high": [float(v) for v in self.ci_high],
+            "n_terms": [int(v) for v in self.n_terms],
+            "alpha": [int(v) for v in self.alpha],
+            "edf": [float(v) for v in self.edf],
+            "confidence": float(self.confidence),
+            "n_samples": int(self.n_samples),
+            "input": self.input,
+            "alpha_method": self.alpha_method,
+            "edf_method": self.edf_method,
+        }
+
+
+# ----------------------------------------------------------------------------- taus
+
+
+def max_m(statistic: str, n_phase: int) -> int:
+    """Largest valid averaging factor of ``statistic`` for ``n_phase`` angle points.
+
+    At least one summand must remain: Allan family ``m <= (n_phase-1)//2``,
+    modified and Hadamard ``m <= (n_phase-1)//3``, total ``m <= n_phase-1``
+    (the reflected extension).
+    """
+    _check_stat(statistic)
+    if statistic in ("adev", "oadev"):
+        return (n_phase - 1) // 2
+    if statistic in ("mdev", "tdev", "hdev", "ohdev"):
+        return (n_phase - 1) // 3
+    return max(n_phase - 2, 0)  # totdev: m <= N-2 keeps the extension in range
+
+
+def tau_grid(n_samples: int, taus="octave", *, rate_hz: float = 1.0, statistic: str = "oadev",
+             input: str = "rate") -> np.ndarray:
+    """Averaging factors ``m`` (sorted, unique, int64) for a record of ``n_samples``.
+
+    Parameters
+    ----------
+    n_samples : int
+        Number of input samples (rate samples, or angle points for ``input="angle"``).
+    taus : {"octave", "decade", "all"} or int or sequence of float, default "octave"
+        ``"octave"``: m = 2^k; ``"decade"``: m = {1, 2, 4}·10^k; ``"all"``: every m;
+        an int n: n log-spaced unique m; a sequence: taus in seconds, rounded to
+        the nearest m (CONTRACTS.md "noise"). Each is clipped to the statistic's
+        largest valid m (:func:`max_m`).
+    rate_hz : float, default 1.0
+        Sample rate (only used for explicit taus).
+
+    Raises
+    ------
+    InputError
+        Too few samples for the smallest tau, or an unknown tau specification.
+    """
+    n_phase = n_samples + 1 if input == "rate" else n_samples
+    mmax = max_m(statistic, n_phase)
+    if isinstance(taus, str):
+        kind = taus.strip().lower()
+        if mmax < 1:
+            raise InputError(f"too few samples ({n_samples}) for {statistic} at the smallest "
+                             f"tau (m = 1 needs at least {_min_samples(statistic, input)})")
+        if kind == "octave":
+            m = 2 ** np.arange(int(math.floor(math.log2(mmax))) + 1, dtype=np.int64)
+        elif kind == "decade":
+            top = int(math.floor(math.log10(mmax))) + 1
+            m = np.array([k * 10**e for e in range(top) for k in (1, 2, 4)], dtype=np.int64)
+        elif kind == "all":
+            m = np.arange(1, mmax + 1, dtype=np.int64)
+        else:
+            raise InputError(f"unknown taus '{taus}' (use octave, decade, all, a count or "
+                             "a list of seconds)")
+    elif isinstance(taus, (int, np.integer)) and not isinstance(taus, bool):
+        if taus < 1:
+            raise InputError(f"the number of taus must be >= 1, got {taus}")
+        if mmax < 1:
+            raise InputError(f"too few samples ({n_samples}) for {statistic} at m = 1")
+        m = np.unique(np.round(np.logspace(0, math.log10(mmax), int(taus))).astype(np.int64))
+    else:
+        arr = np.atleast_1d(np.asarray(taus, dtype=float))
+        if arr.size == 0 or not np.all(np.isfinite(arr)) or np.any(arr <= 0):
+            raise InputError("taus must be positive, finite seconds")
+        m = np.unique(np.maximum(np.round(arr * rate_hz), 1).astype(np.int64))
+        if mmax < m.min():
+            raise InputError(
+                f"too few samples ({n_samples}) for {statistic} at the smallest tau "
+                f"{m.min() / rate_hz:g} s (m = {m.min()}, largest valid m = {mmax})")
+    m = m[(m >= 1) & (m <= mmax)]
+    if m.size == 0:
+        raise InputError(f"too few samples ({n_samples}) for {statistic}")
+    return m
+
+
+def _min_samples(statistic: str, input: str) -> int:
+    need = {"adev": 3, "oadev": 3, "mdev": 4, "tdev": 4, "hdev": 4, "ohdev": 4, "totdev": 3}
+    return need[statistic] - (1 if input == "rate" else 0)
+
+
+def _check_stat(statistic: str) -> None:
+    if statistic not in STATISTICS:
+        raise InputError(f"unknown statistic '{statistic}' (use {', '.join(STATISTICS)})")
+
+
+# ----------------------------------------------------------------------------- validation
+
+
+def _validate(data, rate_hz, input, *, name="data") -> np.ndarray:
+    if input not in ("rate", "angle"):
+        raise InputError(f"input must be 'rate' or 'angle', got '{input}'")
+    try:
+        rate = float(rate_hz)
+    except (TypeError, ValueError):
+        raise InputError(f"rate_hz must be a number, got {rate_hz!r}") from None
+    if not math.isfinite(rate) or rate <= 0:
+        raise InputError(f"rate_hz must be positive and finite, got {rate_hz}")
+    arr = data if isinstance(data, np.ndarray) else np.asarray(data, dtype=float)
+    if arr.ndim != 1:
+        raise InputError(f"{name} must be one-dimensional, got shape {arr.shape}")
+    if not np.issubdtype(arr.dtype, np.number) or np.issubdtype(arr.dtype, np.complexfloating):
+        raise InputError(f"{name} must be real numbers, got dtype {arr.dtype}")
+    if arr.size < 2:
+        raise InputError(f"too few samples ({arr.size}) for any tau")
+    _check_finite(arr, name)
+    return arr
+
+
+def _check_finite(arr: np.ndarray, name: str, offset: int = 0) -> None:
+    if np.issubdtype(arr.dtype, np.integer):
+        return
+    for s in range(0, arr.size, CHUNK):
+        blk = arr[s:s + CHUNK]
+        ok = np.isfinite(blk)
+        if not ok.all():
+            bad = np.flatnonzero(~ok)[:5] + s + offset
+            raise InputError(f"{name} contains NaN or infinity at sample index "
+                             f"{', '.join(str(int(b)) for b in bad)}")
+
+
+def _check_not_constant(src) -> None:
+    if src.constant:
+        raise InputError("data are constant (zero deviation at every tau); nothing to analyse")
+
+
+# ----------------------------------------------------------------------------- angle sources
+
+
+def _chunked_mean(y: np.ndarray) -> float:
+    """Mean in float64 as the sum of per-chunk sums (same order for every path)."""
+    total = 0.0
+    for s in range(0, y.size, CHUNK):
+        total += float(np.sum(y[s:s + CHUNK], dtype=np.float64))
+    return total / y.size
+
+
+class _PhaseArray:
+    """Angle points held in memory; ``window(start, length)`` is a view."""
+
+    def __init__(self, x: np.ndarray):
+        self.x = x
+        self.n = x.size
+        d = np.diff(x[: min(x.size, 4 * CHUNK)])
+        self.constant = bool(x.size < 3 or (np.ptp(d) == 0 and _all_diff_const(x, d[0])))
+
+    def window(self, start: int, length: int, step: int = 1) -> np.ndarray:
+        return self.x[start:start + (length - 1) * step + 1:step]
+
+
+def _all_diff_const(x: np.ndarray, d0: float) -> bool:
+    for s in range(0, x.size - 1, CHUNK):
+        d = np.diff(x[s:s + CHUNK + 1])
+        if d.size and (d != d0).any():
+            return False
+    return True
+
+
+def _rate_to_phase(y: np.ndarray, tau0: float, mean: float) -> np.ndarray:
+    """``x_0 = 0, x_{k+1} = x_k + tau0 (y_k - mean)`` in float64, strictly sequential."""
+    n = y.size
+    x = np.empty(n + 1, dtype=np.float64)
+    x[0] = 0.0
+    for s in range(0, n, CHUNK):
+        e = min(s + CHUNK, n)
+        u = np.subtract(y[s:e], mean, dtype=np.float64)
+        u *= tau0
+        u[0] += x[s]
+        np.cumsum(u, out=x[s + 1:e + 1])
+    return x
+
+
+class _PhaseFromRate:
+    """Angle points of a (memory-mapped) rate record computed on demand.
+
+    A first pass stores the mean and the angle at every ``CHUNK`` boundary; a window
+    is recomputed from the checkpoint below it with the same sequential recurrence as
+    :func:`_rate_to_phase`, so values equal the in-memory angle bit for bit.
+    """
+
+    def __init__(self, y: np.ndarray, tau0: float):
+        self.y = y
+        self.tau0 = tau0
+        self.n = y.size + 1
+        self.mean = _chunked_mean(y)
+        ck = np.empty(y.size // CHUNK + 2, dtype=np.float64)
+        ck[0] = 0.0
+        lo = hi = None
+        x_prev = 0.0
+        for i, s in enumerate(range(0, y.size, CHUNK)):
+            e = min(s + CHUNK, y.size)
+            u = np.subtract(y[s:e], self.mean, dtype=np.float64)
+            bmin, bmax = float(u.min()), float(u.max())
+            lo = bmin if lo is None else min(lo, bmin)
+            hi = bmax if hi is None else max(hi, bmax)
+            u *= tau0
+            u[0] += x_prev
+            x_prev = float(np.cumsum(u)[-1])
+            ck[i + 1] = x_prev
+        self.ck = ck
+        self.constant = bool(lo == hi)
+
+    block = CHUNK
+
+    def window(self, start: int, length: int, step: int = 1) -> np.ndarray:
+        if step != 1:
+            return self._strided(start, length, step)
+        stop = start + length  # exclusive, in angle-point index
+        b = start // CHUNK
+        s0 = b * CHUNK  # angle index of the checkpoint
+        cnt = stop - s0  # angle points from s0 inclusive
+        out = np.empty(cnt, dtype=np.float64)
+        out[0] = self.ck[b]
+        if cnt > 1:
+            u = np.subtract(self.y[s0:s0 + cnt - 1], self.mean, dtype=np.float64)
+            u *= self.tau0
+            # sequential in blocks of CHUNK aligned to the checkpoints (same rounding)
+            pos = 0
+            while pos < u.size:
+                e = min(pos + CHUNK, u.size)
+                u[pos] += out[pos]
+                np.cumsum(u[pos:e], out=out[pos + 1:e + 1])
+                pos = e
+        return out[start - s0:]
+
+    def _strided(self, start: int, length: int, step: int) -> np.ndarray:
+        """Points ``start + step*i``, i < length, one CHUNK-aligned window at a time."""
+        idx = start + step * np.arange(length, dtype=np.int64)
+        out = np.empty(length, dtype=np.float64)
+        blocks = idx // CHUNK
+        cuts = np.flatnonzero(np.diff(blocks)) + 1
+        for lo, hi in zip(np.r_[0, cuts], np.r_[cuts, length]):
+            b = int(blocks[lo])
+            last = int(idx[hi - 1])
+            w = self.window(b * CHUNK, last - b * CHUNK + 1)
+            out[lo:hi] = w[idx[lo:hi] - b * CHUNK]
+        return out
+
+
+def _make_source(data: np.ndarray, rate_hz: float, input: str, chunked: bool):
+    tau0 = 1.0 / float(rate_hz)
+    if input == "rate":
+        if chunked:
+            return _PhaseFromRate(data, tau0)
+        y = data
+        mean = _chunked_mean(y)
+        x = _rate_to_phase(y, tau0, mean)
+        src = _PhaseArray.__new__(_PhaseArray)
+        src.x = x
+        src.n = x.size
+        src.constant = bool(np.ptp(y) == 0)
+        return src
+    x = np.asarray(data, dtype=np.float64)
+    return _PhaseArray(x)
+
+
+# ----------------------------------------------------------------------------- kernels
+
+
+def _sum_sq_filter(src, m: int, coeffs: Sequence[float], stride: int, nterm: int,
+                   start: int = 0, block: int | None = None) -> float:
+    """``sum_{i<nterm} (sum_j c_j x[start + i*stride + j*m])^2`` over blocks of summands."""
+    block = getattr(src, "block", BLOCK) if block is None else block
+    total = 0.0
+    acc = np.empty(min(block, nterm), dtype=np.float64)
+    tmp = np.empty_like(acc)
+    c = list(coeffs)
+    for b0 in range(0, nterm, block):
+        cnt = min(block, nterm - b0)
+        a = acc[:cnt]
+        t = tmp[:cnt]
+        i0 = start + b0 * stride
+        last = len(c) - 1
+        # start from the last tap (coefficient +1 for every family used here)
+        np.copyto(a, src.window(i0 + last * m, cnt, stride))
+        if c[last] != 1.0:
+            a *= c[last]
+        for j in range(last - 1, -1, -1):
+            w = src.window(i0 + j * m, cnt, stride)
+            cj = c[j]
+            if cj == 1.0:
+                a += w
+            elif cj == -1.0:
+                a -= w
+            else:
+                np.multiply(w, cj, out=t)
+                a += t
+        total += float(np.dot(a, a))
+    return total
+
+
+def _sum_sq_mod(src, m: int, nterm: int, block: int | None = None) -> float:
+    """Modified Allan: ``sum_i (sum_{j<m} d2_{i+j})^2``, ``d2`` the second difference."""
+    block = getattr(src, "block", BLOCK) if block is None else block
+    total = 0.0
+    blk = max(block, m)
+    for b0 in range(0, nterm, blk):
+        cnt = min(blk, nterm - b0)
+        ln = cnt + m - 1
+        d = np.array(src.window(b0 + 2 * m, ln), dtype=np.float64)
+        w = src.window(b0 + m, ln)
+        d -= w
+        d -= w
+        d += src.window(b0, ln)
+        cs = np.empty(ln + 1)
+        cs[0] = 0.0
+        np.cumsum(d, out=cs[1:])
+        z = cs[m:m + cnt] - cs[:cnt]
+        total += float(np.dot(z, z))
+    return total
+
+
+def _variances(src, statistic: str, ms: np.ndarray, tau0: float) -> tuple[np.ndarray, np.ndarray]:
+    """Variance and summand count of ``statistic`` at each m."""
+    nx = src.n
+    var = np.empty(ms.size)
+    nt = np.empty(ms.size, dtype=np.int64)
+    for k, m in enumerate(int(v) for v in ms):
+        tau = m * tau0
+        if statistic == "oadev":
+            n = nx - 2 * m
+            s = _sum_sq_filter(src, m, (1.0, -2.0, 1.0), 1, n)
+            var[k] = s / (2.0 * tau * tau * n)
+        elif statistic == "adev":
+            n = (nx - 1) // m - 1
+            s = _sum_sq_filter(src, m, (1.0, -2.0, 1.0), m, n)
+            var[k] = s / (2.0 * tau * tau * n)
+        elif statistic == "ohdev":
+            n = nx - 3 * m
+            s = _sum_sq_filter(src, m, (-1.0, 3.0, -3.0, 1.0), 1, n)
+            var[k] = s / (6.0 * tau * tau * n)
+        elif statistic == "hdev":
+            n = (nx - 1) // m - 2
+            s = _sum_sq_filter(src, m, (-1.0, 3.0, -3.0, 1.0), m, n)
+            var[k] = s / (6.0 * tau * tau * n)
+        elif statistic in ("mdev", "tdev"):
+            n = nx - 3 * m + 1
+            s = _sum_sq_mod(src, m, n)
+            var[k] = s / (2.0 * m * m * tau * tau * n)
+            if statistic == "tdev":
+                var[k] *= tau * tau / 3.0
+        elif statistic == "totdev":
+            n = nx - 2
+            ext = _reflect(src)
+            s = _sum_sq_filter(ext, m, (1.0, -2.0, 1.0), 1, n, start=(nx - 1) - m)
+            var[k] = s / (2.0 * tau * tau * n)
+        else:  # pragma: no cover - guarded by _check_stat
+            raise InputError(f"unknown statistic '{statistic}'")
+        nt[k] = n
+    return var, nt
+
+
+def _reflect(src) -> _PhaseArray:
+    """Total-variance extension ``x*`` (NIST SP 1065 §5.2.11): both ends reflected,
+    ``x*_{1-j} = 2x_1 - x_{1+j}``, ``x*_{N+j} = 2x_N - x_{N-j}``, j = 1..N-2."""
+    cached = getattr(src, "_ext", None)
+    if cached is not None:
+        return cached
+    x = src.window(0, src.n)
+    nx = x.size
+    left = 2.0 * x[0] - x[nx - 2:0:-1]
+    right = 2.0 * x[-1] - x[-2:0:-1]
+    ext = _PhaseArray.__new__(_PhaseArray)
+    ext.x = np.concatenate([left, x, right])
+    ext.n = ext.x.size
+    ext.constant = False
+    src._ext = ext
+    return ext
+
+
+# ----------------------------------------------------------------------------- public API
+
+
+def deviation(statistic: str, data, *, rate_hz: float, taus="octave", input: str = "rate",
+              confidence: float = 0.683, alpha=None, edf_method: str = "default",
+              chunked: bool = False) -> DeviationResult:
+    """Compute one statistic of the Allan family with its confidence interval.
+
+    Parameters
+    ----------
+    statistic : str
+        One of :data:`STATISTICS`.
+    data : array_like, shape (n,)
+        Rate samples (any unit) or, with ``input="angle"``, the cumulative angle in
+        (rate unit)·s. A ``numpy.memmap`` is read in chunks with ``chunked=True``.
+    rate_hz : float
+        Sample rate in Hz (``tau0 = 1/rate_hz``).
+    taus : see :func:`tau_grid`, default "octave"
+    input : {"rate", "angle"}, default "rate"
+    confidence : float, default 0.683
+        Two-sided confidence level of the chi-square interval (spec 001 §3.2).
+    alpha : int or array_like of int or None, default None
+        Power-law noise type per tau; None identifies it from the data
+        (:func:`inertialab.noise.edf.identify_alpha`).
+    edf_method : {"default", "sp1065", "gaussian"}, default "default"
+        EDF algorithm (:func:`inertialab.noise.edf.edf`).
+    chunked : bool, default False
+        Compute the angle on demand from chunks of ``data`` instead of holding it in
+        memory (out-of-core path; equal results). Rate input only.
+
+    Raises
+    ------
+    InputError
+        Unknown statistic, non-finite or constant data, too few samples, bad rate.
+    """
+    from inertialab.noise import edf as _edf
+
+    _check_stat(statistic)
+    arr = _validate(data, rate_hz, input)
+    if not 0.0 < float(confidence) < 1.0:
+        raise InputError(f"confidence must be in (0, 1), got {confidence}")
+    if chunked and input != "rate":
+        raise InputError("the chunked path takes rate samples (input='rate')")
+    ms = tau_grid(arr.size, taus, rate_hz=rate_hz, statistic=statistic, input=input)
+    src = _make_source(arr, rate_hz, input, chunked)
+    _check_not_constant(src)
+    tau0 = 1.0 / float(rate_hz)
+    var, nt = _variances(src, statistic, ms, tau0)
+    dev = np.sqrt(var)
+    n_phase = src.n
+    if alpha is None:
+        ident = _edf.identify_alpha(src, ms, statistic=statistic)
+        alphas, sources, amethod = ident.alpha, ident.source, "lag1"
+    else:
+        alphas = np.broadcast_to(np.asarray(alpha, dtype=np.int64), ms.shape).copy()
+        sources, amethod = ("user",) * ms.size, "user"
+    edfs, emethod = _edf.edf(statistic, n_phase, ms, alphas, n_terms=nt, method=edf_method)
+    lo, hi = _edf.chi2_interval(dev, edfs, confidence)
+    return DeviationResult(
+        statistic=statistic, tau0_s=tau0, taus_s=ms * tau0, m=ms, dev=dev, n_terms=nt,
+        alpha=alphas, edf=edfs, ci_low=lo, ci_high=hi, confidence=float(confidence),
+        n_samples=int(arr.size), input=input, alpha_method=amethod, edf_method=emethod,
+        alpha_source=tuple(sources))
+
+
+def _doc(name: str, what: str):
+    def f(data, *, rate_hz: float, taus="octave", input: str = "rate", confidence: float = 0.683,
+          alpha=None, edf_method: str = "default", chunked: bool = False) -> DeviationResult:
+        return deviation(name, data, rate_hz=rate_hz, taus=taus, input=input,
+                         confidence=confidence, alpha=alpha, edf_method=edf_method,
+                         chunked=chunked)
+
+    f.__name__ = name
+    f.__qualname__ = name
+    f.__doc__ = (f"{what}\n\n    Same parameters and result as :func:`deviation` with "
+                 f"``statistic='{name}'``.\n")
+    return f
+
+
+adev = _doc("adev", "Non-overlapping Allan deviation (NIST SP 1065 eq. 7, stride m).")
+oadev = _doc("oadev", "Overlapping Allan deviation (spec 001 eq. 3; NIST SP 1065 eq. 11).")
+mdev = _doc("mdev", "Modified Allan deviation (NIST SP 1065 eq. 14).")
+tdev = _doc("tdev", "Time (angle) deviation ``tau/sqrt(3) * mdev`` (NIST SP 1065 eq. 15).")
+hdev = _doc("hdev", "Non-overlapping Hadamard deviation (NIST SP 1065 eq. 17).")
+ohdev = _doc("ohdev", "Overlapping Hadamard deviation (NIST SP 1065 eq. 18).")
+totdev = _doc("totdev", "Total deviation with reflected extension (NIST SP 1065 eq. 25).")
+
+
+def oadev_chunked(data, *, rate_hz: float, taus="octave", confidence: float = 0.683,
+                  alpha=None, edf_method: str = "default") -> DeviationResult:
+    """:func:`oadev` of a rate record read in chunks (e.g. a ``numpy.load(...,
+    mmap_mode="r")`` array larger than memory). Memory: one chunk plus O(n/CHUNK)."""
+    return deviation("oadev", data, rate_hz=rate_hz, taus=taus, input="rate",
+                     confidence=confidence, alpha=alpha, edf_method=edf_method, chunked=True)
+
+
+__all__ = ["STATISTICS", "DeviationResult", "adev", "deviation", "hdev", "mdev", "max_m",
+           "oadev", "oadev_chunked", "ohdev", "tau_grid", "tdev", "totdev"]

@@ -1,0 +1,376 @@
+"""Equivalent degrees of freedom, chi-square intervals and power-law noise identification.
+
+EDF algorithms (``method``):
+
+``"sp1065"``
+    The closed-form approximations of NIST SP 1065 (Riley 2008): Table 5 (Howe, Allan
+    & Barnes 1981) for the overlapping Allan variance, exactly as spec 001 §3.2 prints
+    them, and Table 7 (``edf = b T/tau - c``) for the total variance (frequency noises;
+    phase noises fall back to Table 5).
+``"gaussian"``
+    The exact EDF of the estimator under a Gaussian power-law model, computed
+    numerically: ``edf = 2 E[S]^2 / Var[S]`` for the sum of squares ``S`` of the
+    statistic's linear filter outputs, with the filter outputs' covariance obtained
+    from the generalized autocovariance of the angle (phase) of each noise type
+    (white angle: delta; white rate: ``-|t|``; flicker rate: ``t^2 ln|t|``; random-walk
+    rate: ``|t|^3``; flicker angle: ``-ln|t|`` with a unit zero-lag value). This is the
+    construction of Greenhall & Riley (2003, "Uncertainty of stability variances based
+    on finite differences"); like Greenhall's algorithm it switches to the continuous-
+    time limit for large averaging factors (here m > 64: the filter is rescaled to
+    m = 64 at the same record length in units of tau). It is not Greenhall's published
+    code and is cross-checked against the SP 1065 formulas and allantools'
+    ``edf_greenhall`` in the tests.
+``"default"``
+    ``"sp1065"`` for ``oadev`` and ``totdev`` (the spec's choice), ``"gaussian"`` for
+    ``adev, mdev, tdev, hdev, ohdev`` (SP 1065 gives no closed form for them).
+
+Noise identification (:func:`identify_alpha`) follows NIST SP 1065 §5.5.6 (Riley &
+Greenhall 2004): the lag-1 autocorrelation of the decimated angle, differenced until
+``delta = r1/(1+r1) < 0.25`` (at most d = 2 times, 3 for Hadamard), gives
+``alpha = round(2 - 2(delta + d))``; with fewer than 30 decimated points it falls back
+to the B1 ratio (standard / Allan variance of the m-averages; SP 1065 §5.5.4) and, to
+split white from flicker angle noise, R(n) = MVAR/AVAR (§5.5.5).
+
+Why hand-written: no maintained library offers these for our estimator set (allantools
+is LGPL and a test-only cross-check).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.stats import chi2
+
+from inertialab.errors import InputError
+
+#: Above this averaging factor the "gaussian" EDF uses the continuous-time limit.
+M_CAP = 64
+
+_ALPHA_RANGE = {"adev": (-2, 2), "oadev": (-2, 2), "mdev": (-2, 2), "tdev": (-2, 2),
+                "totdev": (-2, 2), "hdev": (-4, 2), "ohdev": (-4, 2)}
+
+
+# ----------------------------------------------------------------------------- intervals
+
+
+def chi2_interval(dev, edf, confidence: float = 0.683):
+    """Two-sided chi-square interval of a deviation (spec 001 §3.2).
+
+    ``[dev*sqrt(edf/chi2_{(1+p)/2}(edf)), dev*sqrt(edf/chi2_{(1-p)/2}(edf))]``;
+    non-integer edf allowed. Returns ``(ci_low, ci_high)`` arrays.
+    """
+    dev = np.asarray(dev, dtype=float)
+    edf = np.asarray(edf, dtype=float)
+    p = float(confidence)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        ok = edf > 0
+        e = np.where(ok, edf, 1.0)
+        lo = dev * np.sqrt(e / chi2.ppf(0.5 * (1 + p), e))
+        hi = dev * np.sqrt(e / chi2.ppf(0.5 * (1 - p), e))
+    return np.where(ok, lo, np.nan), np.where(ok, hi, np.nan)
+
+
+# ----------------------------------------------------------------------------- SP 1065
+
+
+def edf_oadev_sp1065(n_phase: int, m, alpha: int) -> np.ndarray:
+    """Overlapping-Allan EDF, NIST SP 1065 Table 5 (spec 001 §3.2), ``N_x = n_phase``."""
+    nx = float(n_phase)
+    m = np.asarray(m, dtype=float)
+    if alpha == 2:
+        return (nx + 1) * (nx - 2 * m) / (2 * (nx - m))
+    if alpha == 1:
+        return np.exp(np.sqrt(np.log((nx - 1) / (2 * m)) * np.log((2 * m + 1) * (nx - 1) / 4)))
+    if alpha == 0:
+        return (3 * (nx - 1) / (2 * m) - 2 * (nx - 2) / nx) * 4 * m**2 / (4 * m**2 + 5)
+    if alpha == -1:
+        return np.where(m == 1, 2 * (nx - 2) / (2.3 * nx - 4.9), 5 * nx**2 / (4 * m * (nx + 3 * m)))
+    if alpha == -2:
+        return (nx - 2) / (m * (nx - 3) ** 2) * ((nx - 1) ** 2 - 3 * m * (nx - 1) + 4 * m**2)
+    raise InputError(f"SP 1065 Table 5 has no EDF for alpha = {alpha}")
+
+
+def edf_totdev_sp1065(n_phase: int, m, alpha: int) -> np.ndarray:
+    """Total-variance EDF ``b (T/tau) - c`` (NIST SP 1065 Table 7); T/tau = N_x/m.
+    Phase noises (alpha 1, 2) use Table 5."""
+    bc = {0: (1.50, 0.0), -1: (1.17, 0.22), -2: (0.93, 0.36)}
+    m = np.asarray(m, dtype=float)
+    if alpha in bc:
+        b, c = bc[alpha]
+        return b * (n_phase / m) - c
+    return edf_oadev_sp1065(n_phase, m, alpha)
+
+
+# ----------------------------------------------------------------------------- Gaussian EDF
+
+
+def _gacv(alpha: int, t: np.ndarray) -> np.ndarray:
+    """Generalized autocovariance of the angle (phase) for rate PSD ~ f^alpha (any scale)."""
+    t = np.abs(np.asarray(t, dtype=float))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        lg = np.where(t > 0, np.log(np.where(t > 0, t, 1.0)), 0.0)
+    if alpha == 2:
+        return (t == 0).astype(float)
+    if alpha == 1:
+        return np.where(t == 0, 1.0, -lg)
+    if alpha == 0:
+        return -t
+    if alpha == -1:
+        return t * t * lg
+    if alpha == -2:
+        return t**3
+    if alpha == -3:
+        return -(t**4) * lg
+    if alpha == -4:
+        return -(t**5)
+    raise InputError(f"no noise model for alpha = {alpha}")
+
+
+def _family(statistic: str) -> str:
+    if statistic in ("adev", "oadev", "totdev"):
+        return "allan"
+    if statistic in ("hdev", "ohdev"):
+        return "hadamard"
+    return "mod"
+
+
+def filter_autocorr(statistic: str, m: int) -> np.ndarray:
+    """Autocorrelation ``a_k = sum_j w_j w_{j+k}``, k = 0..L, of the statistic's filter on
+    the angle at unit spacing (second difference at lag m; third for Hadamard; the
+    m-average of second differences for the modified variance)."""
+    fam = _family(statistic)
+    if fam == "allan":
+        a = np.zeros(2 * m + 1)
+        a[0], a[m], a[2 * m] = 6.0, -4.0, 1.0
+        return a
+    if fam == "hadamard":
+        a = np.zeros(3 * m + 1)
+        a[0], a[m], a[2 * m], a[3 * m] = 20.0, -15.0, 6.0, -1.0
+        return a
+    k = np.arange(3 * m + 1)
+    a = np.zeros(3 * m + 1)
+    for j, s in zip((-2, -1, 0, 1, 2), (1.0, -4.0, 6.0, -4.0, 1.0)):
+        d = np.abs(k - j * m)
+        a += s * np.where(d < m, m - d, 0)
+    return a
+
+
+def _filter_cov(a: np.ndarray, alpha: int, lags: np.ndarray) -> np.ndarray:
+    """Covariance ``R(k) = sum_c a_c C(k + c)`` of filter outputs at lags ``k``."""
+    lags = np.asarray(lags, dtype=float)
+    if alpha == 2:
+        k = np.abs(lags).astype(np.int64)
+        out = np.zeros(lags.shape)
+        inside = k < a.size
+        out[inside] = a[k[inside]]
+        return out
+    c = np.concatenate([a[:0:-1], a])  # lags -L..L
+    off = np.arange(-(a.size - 1), a.size, dtype=float)
+    out = np.empty(lags.shape)
+    step = max(1, 2_000_000 // c.size)
+    for s in range(0, lags.size, step):
+        kk = lags[s:s + step, None] + off[None, :]
+        out[s:s + step] = _gacv(alpha, kk) @ c
+    return out
+
+
+def edf_gaussian(statistic: str, n_phase: int, m: int, alpha: int, n_terms: int) -> float:
+    """Exact Gaussian EDF ``2 E[S]^2 / Var[S]`` (see module docstring)."""
+    overlapping = statistic in ("oadev", "ohdev", "mdev", "tdev", "totdev")
+    M = int(n_terms)
+    if M < 1:
+        return float("nan")
+    me = m
+    if m > M_CAP and alpha != 2:
+        # continuous-time limit: same record length in units of tau, filter at M_CAP
+        f = M_CAP / m
+        me = M_CAP
+        M = max(1, int(round(M * f))) if overlapping else M
+    stride = 1 if overlapping else me
+    a = filter_autocorr(statistic, me)
+    r0 = float(_filter_cov(a, alpha, np.array([0.0]))[0])
+    if not r0 > 0:
+        return float("nan")
+    if M == 1:
+        return 1.0
+    # exact part of sum_{q=1}^{M-1} (M-q) R(q*stride)^2, then a log-grid tail
+    q_exact = min(M - 1, max(4000, 8 * a.size // stride + 64))
+    q = np.arange(1, q_exact + 1, dtype=float)
+    r = _filter_cov(a, alpha, q * stride)
+    tot = M * r0 * r0 + 2.0 * float(np.sum((M - q) * r * r))
+    if q_exact < M - 1:
+        qt = np.unique(np.geomspace(q_exact, M - 1, 400))
+        rt = _filter_cov(a, alpha, qt * stride)
+        g = (M - qt) * rt * rt
+        tot += 2.0 * float(np.sum(0.5 * (g[1:] + g[:-1]) * np.diff(qt)))
+    return float(M * M * r0 * r0 / tot)
+
+
+# ----------------------------------------------------------------------------- dispatcher
+
+
+def edf(statistic: str, n_phase: int, m, alpha, *, n_terms=None, method: str = "default"):
+    """EDF per tau; returns ``(edf_array, method_name)``.
+
+    Parameters
+    ----------
+    statistic : str
+    n_phase : int
+        Number of angle (phase) points ``N_x`` (rate samples + 1).
+    m, alpha : array_like of int
+        Averaging factors and noise types.
+    n_terms : array_like of int, optional
+        Summands per tau (needed by "gaussian").
+    method : {"default", "sp1065", "gaussian"}
+    """
+    m = np.atleast_1d(np.asarray(m, dtype=np.int64))
+    alpha = np.broadcast_to(np.asarray(alpha, dtype=np.int64), m.shape)
+    if method not in ("default", "sp1065", "gaussian"):
+        raise InputError(f"unknown edf method '{method}' (use default, sp1065, gaussian)")
+    if method == "default":
+        method = "sp1065" if statistic in ("oadev", "totdev") else "gaussian"
+    if method == "sp1065" and statistic not in ("oadev", "totdev", "adev"):
+        method = "gaussian"
+    if n_terms is None:
+        n_terms = _n_terms(statistic, n_phase, m)
+    n_terms = np.broadcast_to(np.asarray(n_terms, dtype=np.int64), m.shape)
+    out = np.empty(m.size)
+    for i in range(m.size):
+        a, mm = int(alpha[i]), int(m[i])
+        if method == "sp1065":
+            if statistic == "totdev":
+                out[i] = float(edf_totdev_sp1065(n_phase, mm, max(min(a, 2), -2)))
+            else:
+                out[i] = float(edf_oadev_sp1065(n_phase, mm, max(min(a, 2), -2)))
+        else:
+            out[i] = edf_gaussian(statistic, n_phase, mm, a, int(n_terms[i]))
+    out = np.where(np.isfinite(out) & (out > 0), out, np.nan)
+    label = {"sp1065": "sp1065-table5" if statistic != "totdev" else "sp1065-table7",
+             "gaussian": "gaussian-exact"}[method]
+    return out, label
+
+
+def _n_terms(statistic: str, n_phase: int, m: np.ndarray) -> np.ndarray:
+    nx = n_phase
+    if statistic == "oadev":
+        return nx - 2 * m
+    if statistic == "adev":
+        return (nx - 1) // m - 1
+    if statistic == "ohdev":
+        return nx - 3 * m
+    if statistic == "hdev":
+        return (nx - 1) // m - 2
+    if statistic in ("mdev", "tdev"):
+        return nx - 3 * m + 1
+    return np.full(m.shape, nx - 2)
+
+
+# ----------------------------------------------------------------------------- identification
+
+
+@dataclass(frozen=True)
+class NoiseIdentification:
+    """Noise type per tau: ``alpha`` (int) and ``source`` ("lag1" or "b1")."""
+
+    m: np.ndarray
+    alpha: np.ndarray
+    source: tuple
+
+
+def lag1_alpha(z: np.ndarray, *, dmax: int = 2, data_type: str = "phase") -> float:
+    """Lag-1 ACF noise estimate (SP 1065 §5.5.6), unrounded ``alpha`` of the rate.
+
+    ``z`` is decimated angle (``data_type="phase"``) or averaged rate ("freq").
+    """
+    z = np.asarray(z, dtype=float)
+    theta = 1 if data_type == "phase" else 0
+    d = 0
+    while True:
+        zc = z - z.mean()
+        den = float(np.dot(zc, zc))
+        r1 = float(np.dot(zc[:-1], zc[1:]) / den) if den > 0 else 0.0
+        delta = r1 / (1.0 + r1)
+        if delta < 0.25 or d >= dmax or z.size < 4:
+            return -2.0 * (delta + d) + 2.0 * theta
+        z = np.diff(z)
+        d += 1
+
+
+def b1_theory(n: int, mu: float) -> float:
+    """Theoretical B1 ratio for ``n`` averages and AVAR tau-exponent ``mu`` (SP 1065 §5.5.4)."""
+    if mu == 0:
+        return n * math.log(n) / (2.0 * (n - 1) * math.log(2.0))
+    return n * (1.0 - n**mu) / (2.0 * (n - 1) * (1.0 - 2.0**mu))
+
+
+def _rn_theory(m: int, alpha: int) -> float:
+    a_mod = filter_autocorr("mdev", m)
+    a_al = filter_autocorr("oadev", m)
+    rm = float(_filter_cov(a_mod, alpha, np.array([0.0]))[0]) / m**2
+    ra = float(_filter_cov(a_al, alpha, np.array([0.0]))[0])
+    return rm / ra
+
+
+def identify_alpha(src, ms, *, statistic: str = "oadev", max_points: int = 1 << 16,
+                   min_points: int = 30) -> NoiseIdentification:
+    """Noise type per averaging factor from an angle source (see module docstring).
+
+    ``src`` offers ``n`` (angle points) and ``window(start, length, step)``. At most
+    ``max_points`` decimated points (the central ones) are used per tau.
+    """
+    lo, hi = _ALPHA_RANGE.get(statistic, (-2, 2))
+    dmax = 3 if _family(statistic) == "hadamard" else 2
+    alphas, sources = [], []
+    for m in (int(v) for v in np.atleast_1d(ms)):
+        count = (src.n - 1) // m + 1
+        use = min(count, max_points)
+        start = ((count - use) // 2) * m
+        z = np.asarray(src.window(start, use, m), dtype=float)
+        if use >= min_points:
+            a = int(round(lag1_alpha(z, dmax=dmax)))
+            alphas.append(max(lo, min(hi, a)))
+            sources.append("lag1")
+            continue
+        alphas.append(max(lo, min(hi, _b1_alpha(src, z, m))))
+        sources.append("b1")
+    return NoiseIdentification(np.asarray(list(ms), dtype=np.int64),
+                               np.asarray(alphas, dtype=np.int64), tuple(sources))
+
+
+def _b1_alpha(src, z: np.ndarray, m: int) -> int:
+    ybar = np.diff(z)  # proportional to the m-averages of the rate
+    n = ybar.size
+    if n < 3:
+        return 0
+    avar = 0.5 * float(np.mean(np.diff(ybar) ** 2))
+    if avar <= 0:
+        return 0
+    b1 = float(np.var(ybar, ddof=1)) / avar
+    mus = (-2.0, -1.0, 0.0, 1.0)
+    th = [b1_theory(n, mu) for mu in mus]
+    best = 0
+    for i in range(1, len(mus)):
+        if b1 > math.sqrt(th[i - 1] * th[i]):
+            best = i
+    mu = mus[best]
+    if mu > -2:
+        return int(-mu - 1)
+    # white vs flicker angle noise: R(n) = MVAR/AVAR at this m
+    if 3 * m > src.n - 1:
+        return 2
+    x = np.asarray(src.window(0, src.n), dtype=float)
+    d2 = x[2 * m:] - 2 * x[m:-m] + x[:-2 * m]
+    avar_o = float(np.mean(d2 * d2))
+    cs = np.concatenate([[0.0], np.cumsum(d2)])
+    z2 = cs[m:] - cs[:-m]
+    mvar = float(np.mean(z2 * z2)) / m**2
+    rn = mvar / avar_o if avar_o > 0 else 1.0 / m
+    thr = math.sqrt(_rn_theory(m, 2) * _rn_theory(m, 1))
+    return 2 if rn < thr else 1
+
+
+__all__ = ["M_CAP", "NoiseIdentification", "b1_theory", "chi2_interval", "edf",
+           "edf_gaussian", "edf_oadev_sp1065", "edf_totdev_sp1065", "filter_autocorr",
+           "identify_alpha", "lag1_alpha"]
