@@ -311,7 +311,13 @@ def _resolve_columns(df: pd.DataFrame, schema: Schema, *, path, meta, unit):
     return df.rename(columns=rename), units, present
 
 
+_PREFERRED = {"acceleration": "mps2", "angular_rate": "dph", "angle": "arcsec", "counts": "lsb",
+              "current": "ma", "time": "s", "ratio": "ppm"}
+
+
 def _example_suffix(col: Column) -> str:
+    if col.dimensions and col.dimensions[0] in _PREFERRED:
+        return _PREFERRED[col.dimensions[0]]
     for s, u in SUFFIXES.items():
         if u.dimension == col.dimensions[0] and s not in ("g",):
             return s

@@ -1,0 +1,253 @@
+"""Shared CLI plumbing: the JSON envelope, error handling, progress bars, output files.
+
+DESIGN.md "Command line": ``--json`` prints one object alone on stdout with
+``command``, ``schema_version``, ``inertialab_version``, ``inputs`` (path and sha256),
+``settings``, ``units``, ``warnings`` and then the command's own keys; NaN/inf become
+``null`` with a ``non_estimable`` flag listing their keys. User errors exit 2 with one
+line on stderr; warnings go to stderr and never change the exit code.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import json
+import math
+import shutil
+import sys
+import warnings
+from pathlib import Path
+
+import numpy as np
+import typer
+
+from inertialab import __version__
+from inertialab.errors import InputError
+from inertialab.io.modelfile import dependency_versions
+from inertialab.io.writers import atomic_path, atomic_write_bytes, atomic_write_text
+
+JSON_SCHEMA_VERSION = 1
+
+__all__ = [
+    "JSON_SCHEMA_VERSION",
+    "atomic_write_bytes",
+    "atomic_write_text",
+    "collect_warnings",
+    "emit_json",
+    "file_sha256",
+    "json_ready",
+    "output_file",
+    "prepare_out_dir",
+    "print_table",
+    "progress_bar",
+    "write_figures",
+]
+
+
+def file_sha256(path) -> str:
+    """SHA-256 of a file's bytes (streamed)."""
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
+
+
+def json_ready(obj, path: str = "", nulls: list[str] | None = None):
+    """Plain-JSON copy of ``obj``; non-finite floats become None and their key paths are
+    appended to ``nulls``."""
+    if nulls is None:
+        nulls = []
+    if isinstance(obj, dict):
+        return {str(k): json_ready(v, f"{path}.{k}" if path else str(k), nulls)
+                for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [json_ready(v, f"{path}[{i}]", nulls) for i, v in enumerate(obj)]
+    if isinstance(obj, np.ndarray):
+        return json_ready(obj.tolist(), path, nulls)
+    if hasattr(obj, "to_dict") and not isinstance(obj, type):
+        return json_ready(obj.to_dict(), path, nulls)
+    if isinstance(obj, (bool, np.bool_)):
+        return bool(obj)
+    if isinstance(obj, np.integer):
+        return int(obj)
+    if isinstance(obj, (float, np.floating)):
+        f = float(obj)
+        if not math.isfinite(f):
+            nulls.append(path)
+            return None
+        return f
+    if isinstance(obj, Path):
+        return str(obj)
+    return obj
+
+
+def emit_json(command: str, payload: dict, *, inputs=(), settings: dict | None = None,
+              units: dict | None = None, warnings_: list[str] | None = None,
+              stream=None) -> dict:
+    """Print the one JSON object of a command on stdout (and return it).
+
+    ``inputs`` are paths (hashed here) or ``{"path", "sha256"}`` dicts.
+    """
+    ins = []
+    for item in inputs:
+        if isinstance(item, dict):
+            ins.append(item)
+        else:
+            p = Path(item)
+            ins.append({"path": str(p), "sha256": file_sha256(p) if p.is_file() else None})
+    nulls: list[str] = []
+    body = json_ready(payload, "", nulls)
+    obj = {
+        "command": command,
+        "schema_version": JSON_SCHEMA_VERSION,
+        "inertialab_version": __version__,
+        "dependencies": dependency_versions(),
+        "inputs": ins,
+        "settings": json_ready(settings or {}),
+        "units": dict(units or {}),
+        "warnings": list(warnings_ or []),
+    }
+    obj.update(body)
+    if nulls:
+        obj["non_estimable"] = nulls
+    text = json.dumps(obj, indent=2, allow_nan=False)
+    (stream or sys.stdout).write(text + "\n")
+    return obj
+
+
+@contextlib.contextmanager
+def collect_warnings(quiet: bool = False):
+    """Capture Python warnings raised inside; print each once to stderr (unless quiet)
+    and yield the list of their one-line messages (for the JSON ``warnings`` key)."""
+    messages: list[str] = []
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            yield messages
+        finally:
+            seen = set()
+            for w in caught:
+                if issubclass(w.category, (DeprecationWarning, PendingDeprecationWarning)):
+                    continue
+                text = f"{w.category.__name__}: {' '.join(str(w.message).split())}"
+                if text in seen:
+                    continue
+                seen.add(text)
+                messages.append(text)
+                if not quiet:
+                    sys.stderr.write(f"warning: {text}\n")
+
+
+class _Bar:
+    """A rich progress bar on stderr implementing the workflows' Progress protocol."""
+
+    def __init__(self, label: str, enabled: bool):
+        self.enabled = enabled
+        self.label = label
+        self._progress = None
+        self._task = None
+
+    def __enter__(self):
+        if self.enabled:
+            from rich.console import Console
+            from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+            self._progress = Progress(TextColumn("{task.description}"), BarColumn(),
+                                      TextColumn("{task.fields[note]}"), TimeElapsedColumn(),
+                                      console=Console(stderr=True), transient=False)
+            self._progress.__enter__()
+            self._task = self._progress.add_task(self.label, total=1.0, note="")
+        return self
+
+    def update(self, done: float, total: float, note: str = "") -> None:
+        if self._progress is not None:
+            frac = 0.0 if total <= 0 else min(1.0, max(0.0, done / total))
+            self._progress.update(self._task, completed=frac, note=note)
+
+    def __exit__(self, *exc):
+        if self._progress is not None:
+            self._progress.update(self._task, completed=1.0)
+            self._progress.__exit__(*exc)
+        return False
+
+
+def progress_bar(label: str, *, quiet: bool = False) -> _Bar:
+    """A progress sink for a workflow: a bar on stderr when stderr is a terminal and not
+    ``--quiet``; silent otherwise. Use as a context manager."""
+    enabled = (not quiet) and sys.stderr.isatty()
+    return _Bar(label, enabled)
+
+
+def prepare_out_dir(path) -> Path:
+    """Create the ``--out`` directory (parents too); refuse a path that is a file."""
+    p = Path(path)
+    if p.exists() and not p.is_dir():
+        raise InputError("--out must be a directory for this command", path=p)
+    p.mkdir(parents=True, exist_ok=True)
+    return p
+
+
+@contextlib.contextmanager
+def output_file(path):
+    """Yield a temporary path for a one-record output; renamed to ``path`` on success,
+    removed on error (DESIGN.md: outputs replaced atomically, removed on error)."""
+    p = Path(path)
+    if p.exists() and p.is_dir():
+        raise InputError("--out must be a file for this command", path=p)
+    with atomic_path(p) as tmp:
+        yield tmp
+
+
+def write_figures(figures, out_dir, *, dpi: int = 110) -> list[Path]:
+    """Write ``report.section.Figure`` objects (or (name, matplotlib figure) pairs) as PNG
+    files into ``out_dir``; return the paths."""
+    import io as _io
+
+    import matplotlib.pyplot as plt
+
+    paths = []
+    out = Path(out_dir)
+    for i, f in enumerate(figures):
+        fig = getattr(f, "figure", None) or (f[1] if isinstance(f, tuple) else f)
+        name = getattr(f, "name", None) or (f[0] if isinstance(f, tuple) else f"figure{i + 1}")
+        buf = _io.BytesIO()
+        fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight")
+        plt.close(fig)
+        target = out / f"{name}.png"
+        atomic_write_bytes(target, buf.getvalue())
+        paths.append(target)
+    return paths
+
+
+def print_table(columns: list[str], rows: list[list], *, title: str | None = None,
+                stream=None) -> None:
+    """Print a plain table (numbers with 4 significant digits) to stdout."""
+    from rich.console import Console
+    from rich.table import Table
+
+    t = Table(title=title)
+    for c in columns:
+        t.add_column(str(c))
+    for r in rows:
+        t.add_row(*[_fmt(v) for v in r])
+    width = shutil.get_terminal_size((120, 20)).columns
+    Console(file=stream or sys.stdout, width=max(width, 100)).print(t)
+
+
+def _fmt(v) -> str:
+    if v is None:
+        return "-"
+    if isinstance(v, (float, np.floating)):
+        return "nan" if not math.isfinite(v) else f"{v:.4g}"
+    return str(v)
+
+
+def fail(message: str) -> None:
+    """Raise the usage error of a command (exit 2, one line)."""
+    raise InputError(message)
+
+
+def exit_with(message: str, code: int = 2) -> None:  # pragma: no cover - used by main
+    sys.stderr.write(f"error: {' '.join(message.split())}\n")
+    raise typer.Exit(code)

@@ -1,0 +1,55 @@
+"""``inertialab demo``: every registered study on the virtual lab, one HTML report."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import typer
+
+from inertialab.cli.common import collect_warnings, emit_json, print_table, progress_bar
+
+
+def register(app: typer.Typer, groups: dict) -> None:
+    @app.command("demo")
+    def demo(
+        out: Path = typer.Option(Path("inertialab-report"), "--out",
+                                 help="Report directory (index.html, results.json)."),
+        quick: bool = typer.Option(False, "--quick", help="Quick settings (about a minute)."),
+        study: list[str] = typer.Option(None, "--study",
+                                        help="Run only this study (repeatable): allan, "
+                                             "vibration, thermal, triaxial, dual, drift."),
+        seed: int = typer.Option(None, "--seed", help="Override every study's seed."),
+        as_json: bool = typer.Option(False, "--json", help="Print the summary as JSON."),
+        quiet: bool = typer.Option(False, "--quiet", help="No progress bars."),
+    ):
+        """Run the studies on the virtual lab and write a self-contained HTML report."""
+        from inertialab.report.build import section_for
+        from inertialab.report.html import render_report
+        from inertialab.workflows.demo import run_studies, select_studies, summary_rows
+
+        select_studies(study)  # validates names before any work
+        with collect_warnings(quiet=quiet or as_json) as warns:
+            results = run_studies(study, quick=quick, seed=seed,
+                                  progress=lambda label: progress_bar(label, quiet=quiet))
+            sections = [section_for(r) for r in results]
+            rows = summary_rows(results)
+            notes = [f"{r.name}: {r.wall_s:.1f} s" for r in results]
+            paths = render_report(sections, out, summary=rows, notes=notes, quick=quick,
+                                  extra={"wall_s": {r.name: r.wall_s for r in results}})
+        if as_json:
+            emit_json("demo", {"report": str(paths["index"]), "results": str(paths["results"]),
+                               "summary": [dict(zip(["study", "figure", "ours", "paper", "unit"], r))
+                                           for r in rows],
+                               "wall_s": {r.name: r.wall_s for r in results}},
+                      settings={"quick": quick, "study": study or [], "seed": seed},
+                      warnings_=warns)
+            return
+        if not results:
+            print("No studies are registered yet; the report says so.")
+        else:
+            print_table(["study", "figure", "ours", "paper", "unit"], rows,
+                        title="inertialab demo: our figures beside the papers'")
+        print(f"report: {paths['index']}")
+        print(f"results: {paths['results']}")
+        sys.stdout.flush()

@@ -1,0 +1,119 @@
+"""``inertialab`` command line entry point.
+
+Every module ``inertialab/cli/<name>.py`` that defines ``register(app, groups)`` adds its
+commands; ``groups`` holds the shared sub-commands ``simulate``, ``calibrate``,
+``design``, ``thermal`` and ``drift`` so that two studies can share a group. User errors
+(:class:`~inertialab.errors.InputError`, usage errors) exit 2 with one line on stderr;
+set ``INERTIALAB_DEBUG=1`` to see tracebacks of unexpected errors.
+"""
+
+from __future__ import annotations
+
+import importlib
+import os
+import pkgutil
+import sys
+
+import typer
+
+from inertialab import __version__
+from inertialab.errors import InputError
+
+_GROUP_HELP = {
+    "simulate": "Write a record from the virtual lab (one rig per study).",
+    "calibrate": "Calibrate accelerometers (triaxial field/turntable, dual tumble).",
+    "design": "Design experiments (D-optimal positions).",
+    "thermal": "Temperature-drift compensation of quartz accelerometers (spec 000).",
+    "drift": "Long-term storage drift forecasting (spec 004).",
+}
+
+
+def _version_callback(value: bool):
+    if value:
+        typer.echo(f"inertialab {__version__}")
+        raise typer.Exit(0)
+
+
+def build_app() -> typer.Typer:
+    """Assemble the typer app from the command modules."""
+    app = typer.Typer(
+        name="inertialab",
+        help="Inertial-sensor test records to noise figures, calibration, error models, "
+             "compensation and forecasts.",
+        no_args_is_help=True,
+        add_completion=False,
+        pretty_exceptions_enable=False,
+        rich_markup_mode=None,
+    )
+
+    @app.callback()
+    def _root(version: bool = typer.Option(False, "--version", callback=_version_callback,
+                                           is_eager=True, help="Print the version and exit.")):
+        """inertialab command line."""
+
+    groups = {name: typer.Typer(help=text, no_args_is_help=True, add_completion=False,
+                                pretty_exceptions_enable=False, rich_markup_mode=None)
+              for name, text in _GROUP_HELP.items()}
+    import inertialab.cli as pkg
+
+    for info in sorted(pkgutil.iter_modules(pkg.__path__), key=lambda i: i.name):
+        if info.name in ("main", "common"):
+            continue
+        mod = importlib.import_module(f"inertialab.cli.{info.name}")
+        register = getattr(mod, "register", None)
+        if register is not None:
+            register(app, groups)
+    for name, sub in groups.items():
+        if sub.registered_commands or sub.registered_groups:
+            app.add_typer(sub, name=name)
+    return app
+
+
+def _one_line(text: str) -> str:
+    return " ".join(str(text).split())
+
+
+def _click_exit(exc: BaseException) -> int | None:
+    """Exit code for the exceptions of typer's (vendored or external) click; None when
+    ``exc`` is not one of them. Matched by name because typer >= 0.2x vendors click."""
+    name = type(exc).__name__
+    if name == "NoArgsIsHelpError":
+        ctx = getattr(exc, "ctx", None)
+        if ctx is not None:
+            sys.stderr.write(ctx.get_help() + "\n")
+        return 2
+    if name == "Exit" and hasattr(exc, "exit_code"):
+        return int(exc.exit_code)
+    if name == "Abort":
+        sys.stderr.write("error: aborted\n")
+        return 1
+    if hasattr(exc, "format_message") and hasattr(exc, "exit_code"):
+        ctx = getattr(exc, "ctx", None)
+        hint = f" (see '{ctx.command_path} --help')" if ctx is not None else ""
+        sys.stderr.write(f"error: {_one_line(exc.format_message())}{hint}\n")
+        return 2
+    return None
+
+
+def main(argv: list[str] | None = None) -> None:
+    """Run the CLI; exit 0 on success, 2 on bad input or usage, 1 on an internal error."""
+    args = sys.argv[1:] if argv is None else list(argv)
+    try:
+        cmd = typer.main.get_command(build_app())
+        rv = cmd.main(args=args, prog_name="inertialab", standalone_mode=False)
+        code = rv if isinstance(rv, int) else 0
+    except InputError as exc:
+        sys.stderr.write(f"error: {_one_line(exc)}\n")
+        code = 2
+    except (BrokenPipeError, KeyboardInterrupt):
+        code = 1
+    except Exception as exc:
+        code = _click_exit(exc)
+        if code is None:  # an inertialab bug: say so in one line
+            if os.environ.get("INERTIALAB_DEBUG"):
+                raise
+            sys.stderr.write(f"error: internal error ({type(exc).__name__}: {_one_line(exc)}); "
+                             "rerun with INERTIALAB_DEBUG=1 and report it\n")
+            code = 1
+    sys.stdout.flush()
+    raise SystemExit(code)

@@ -1,0 +1,1 @@
+"""One module per study: ``section(result: StudyResult) -> Section`` with its figures."""
