@@ -1,0 +1,512 @@
+"""NAR forecaster: tapped-delay-line tanh network, open-loop LM training, closed-loop forecasts.
+
+The MATLAB ``narnet`` workflow of spec 004 §3, per series:
+
+1. order p by kernel CV (:func:`~inertialab.learn.order_cv.select_order_cv`) unless given;
+2. the series mapped to [-1, 1] with its in-sample min/max (``mapminmax``, §3.3);
+3. open-loop samples (u_i = the p observed previous values, target y_i; §3.4);
+4. R restarts of :class:`~inertialab.learn.mlp_lm.MLPRegressorLM` (Nguyen-Widrow,
+   trainlm, 90/10 split, validation early stopping), each with its own child seed
+   ``SeedSequence(seed).spawn(R)`` (§3.7);
+5. residual whiteness check of every member (§3.9, :func:`whiteness`);
+6. ``combine="best"`` (preset ``paper``) or the pointwise ``"median"`` / ``"mean"`` of
+   the ceil(R/2) best members (preset ``strict``);
+7. recursive closed-loop forecasts from the last p observations (§3.8) and 95 %
+   intervals from B = 200 residual-bootstrap paths per retained member (§3.10).
+
+Every member's child seed spawns two streams in this order: training (split
+permutation, then weights) and forecast paths.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+
+from inertialab.errors import DataQualityWarning, ExtrapolationWarning, InputError
+from inertialab.learn.forecast_baselines import Forecast
+from inertialab.learn.mlp_lm import MLPRegressorLM, forward, n_params
+from inertialab.learn.order_cv import OrderSelection, select_order_cv
+
+__all__ = ["PRESETS", "NARForecaster", "Whiteness", "whiteness"]
+
+#: preset -> (combine, split) defaults (spec 004 §3.4, §3.7)
+PRESETS = {"paper": ("best", "random"), "strict": ("median", "block")}
+
+
+@dataclass(frozen=True)
+class Whiteness:
+    """Residual whiteness check of spec 004 §3.9.
+
+    Attributes
+    ----------
+    acf : r_k, k = 1..L
+    bound : 1.96 / sqrt(Q)
+    violations : number of |r_k| > bound
+    allowed : floor(0.1 L)
+    ljung_box_p : p-value of the Ljung-Box test at lag min(10, Q-1), model_df = 0
+    passed : violations <= allowed and ljung_box_p >= 0.01
+    """
+
+    acf: tuple
+    bound: float
+    violations: int
+    allowed: int
+    ljung_box_p: float
+    passed: bool
+
+    def to_dict(self) -> dict:
+        return {"acf": list(self.acf), "bound": self.bound, "violations": self.violations,
+                "allowed": self.allowed, "ljung_box_p": self.ljung_box_p,
+                "passed": self.passed}
+
+
+def whiteness(e, *, max_lag: int = 20, lb_lag: int = 10, alpha_lb: float = 0.01) -> Whiteness:
+    """Residual autocorrelation and Ljung-Box check (spec 004 §3.9).
+
+    r_k = sum_{i<=Q-k} (e_i - mean)(e_{i+k} - mean) / sum (e_i - mean)^2, k = 1..L,
+    L = min(max_lag, Q - 1); pass if at most floor(0.1 L) |r_k| exceed 1.96/sqrt(Q) and the
+    Ljung-Box p-value (``statsmodels.stats.diagnostic.acorr_ljungbox``) at lag
+    ``lb_lag`` is >= ``alpha_lb``.
+    """
+    from statsmodels.stats.diagnostic import acorr_ljungbox
+
+    e = np.asarray(e, dtype=float).ravel()
+    Q = e.size
+    if Q < 3:
+        raise InputError(f"need at least 3 residuals for a whiteness check, got {Q}")
+    L = min(int(max_lag), Q - 1)
+    d = e - e.mean()
+    den = float(np.sum(d * d))
+    if den == 0.0:
+        acf = np.zeros(L)
+    else:
+        acf = np.array([np.sum(d[: Q - k] * d[k:]) / den for k in range(1, L + 1)])
+    bound = 1.96 / math.sqrt(Q)
+    viol = int(np.sum(np.abs(acf) > bound))
+    allowed = int(math.floor(0.1 * L))
+    if den == 0.0:
+        p = 1.0
+    else:
+        lag = min(int(lb_lag), Q - 1)
+        p = float(np.asarray(acorr_ljungbox(e, lags=[lag], model_df=0)["lb_pvalue"])[0])
+    return Whiteness(tuple(float(a) for a in acf), bound, viol, allowed, p,
+                     bool(viol <= allowed and p >= alpha_lb))
+
+
+def _seed_sequence(rng) -> np.random.SeedSequence:
+    if isinstance(rng, np.random.SeedSequence):
+        return rng
+    if isinstance(rng, np.random.Generator):
+        return np.random.SeedSequence(int(rng.integers(0, 2**63)))
+    if rng is None:
+        return np.random.SeedSequence(0)
+    return np.random.SeedSequence(int(rng))
+
+
+@dataclass
+class _Member:
+    theta: np.ndarray
+    val_mse: float
+    train_mse: float
+    resid: np.ndarray        # normalised one-step residuals, all Q samples (y~ - y~hat)
+    fitted: np.ndarray       # normalised one-step predictions, all Q samples
+    whiteness: Whiteness
+    max_ae: float            # in-sample max |error|, original units
+    accepted: bool
+    stop_reason: str
+    epochs: int
+    path_seed: np.random.SeedSequence
+    val_mask: np.ndarray     # which of the Q samples were validation
+
+
+class NARForecaster:
+    """Nonlinear autoregressive network forecaster (spec 004 §3).
+
+    Parameters
+    ----------
+    order : int, optional
+        Lag order p; ``None`` = kernel-CV selection (§3.1) with ``H``, ``c``, ``bandwidth``.
+    H : int, default=6
+        Upper bound of the order search [R-2].
+    c : float, default=0.5
+        Bandwidth constant of the order search.
+    bandwidth : {"rule", "cv"}, default="rule"
+    hidden : int, default=10
+        Hidden neurons S [R-3].
+    restarts : int, default=10
+        R (§3.7).
+    preset : {"paper", "strict"}, default="paper"
+        Defaults for ``combine`` and ``split``: paper = ("best", "random"),
+        strict = ("median", "block").
+    combine : {"best", "median", "mean"}, optional
+        Overrides the preset.
+    split : {"random", "block"}, optional
+        Overrides the preset.
+    val_fraction : float, default=0.1
+    n_paths : int, default=200
+        Bootstrap paths per retained member for the intervals (§3.10).
+    tol_fit : float, optional
+        Acceptance bound on the in-sample max |error| (original units).
+    lm : dict, optional
+        Extra :class:`MLPRegressorLM` settings (``max_epochs``, ``mu``, ``max_fail`` ...).
+    rng : int | Generator | SeedSequence | None, default=None (= seed 0)
+
+    Attributes
+    ----------
+    order_ : p used; ``order_selection_`` : :class:`OrderSelection` or None
+    members_ : trained restarts; ``chosen_`` : indices of the retained members
+    accepted_ : whether the retained members passed the acceptance checks
+    sample_index_ : (Q,) target indices of the open-loop samples
+    fitted_ : (Q,) combined one-step predictions (original units)
+    whiteness_ : :class:`Whiteness` of the combined one-step residuals
+    constant_ : True when the series was constant (model = persistence)
+    """
+
+    MODEL_TYPE = "nar"
+
+    def __init__(self, *, order=None, H=6, c=0.5, bandwidth="rule", hidden=10, restarts=10,
+                 preset="paper", combine=None, split=None, val_fraction=0.1, n_paths=200,
+                 tol_fit=None, lm=None, rng=None):
+        self.order = order
+        self.H = H
+        self.c = c
+        self.bandwidth = bandwidth
+        self.hidden = hidden
+        self.restarts = restarts
+        self.preset = preset
+        self.combine = combine
+        self.split = split
+        self.val_fraction = val_fraction
+        self.n_paths = n_paths
+        self.tol_fit = tol_fit
+        self.lm = lm
+        self.rng = rng
+
+    # ------------------------------------------------------------------------- helpers
+    def _settings(self):
+        if self.preset not in PRESETS:
+            raise InputError(f"preset must be one of {', '.join(PRESETS)}, got {self.preset!r}")
+        comb, split = PRESETS[self.preset]
+        comb = self.combine or comb
+        split = self.split or split
+        if comb not in ("best", "median", "mean"):
+            raise InputError(f"combine must be best, median or mean, got {comb!r}")
+        return comb, split
+
+    def _to_unit(self, y):
+        if self.span_ == 0.0:
+            return np.zeros_like(np.asarray(y, dtype=float))
+        return 2.0 * (np.asarray(y, dtype=float) - self.lo_) / self.span_ - 1.0
+
+    def _from_unit(self, z):
+        return (np.asarray(z) + 1.0) * self.span_ / 2.0 + self.lo_
+
+    # ----------------------------------------------------------------------------- fit
+    def fit(self, y, *, usable=None) -> NARForecaster:
+        """Fit to the in-sample series ``y`` (daily grid, NaN = missing day).
+
+        Parameters
+        ----------
+        usable : (n,) bool, optional
+            Days that are observed and not imputed (CV samples; spec §2.2 item 4).
+            Imputed days may serve as lags and training targets.
+        """
+        comb, split = self._settings()
+        y = np.asarray(y, dtype=float).ravel()
+        fin = np.isfinite(y)
+        if y.size < 3 or fin.sum() < 3:
+            raise InputError(f"need at least 3 values to fit a NAR model, got {int(fin.sum())}")
+        if not fin[-1]:
+            raise InputError("the last in-sample value (the forecast origin) is missing")
+        ok = fin if usable is None else (np.asarray(usable, dtype=bool) & fin)
+        self.seed_seq_ = _seed_sequence(self.rng)
+        vals = y[fin]
+        lo, hi = float(vals.min()), float(vals.max())
+        span = hi - lo
+        self.constant_ = bool(span < 1e-12 * max(1.0, abs(hi)))
+        self.lo_, self.span_ = lo, (0.0 if self.constant_ else span)
+        self.y_ = y
+        self.combine_, self.split_ = comb, split
+        if self.constant_:
+            warnings.warn("constant series: the NAR model degrades to persistence",
+                          DataQualityWarning, stacklevel=2)
+            self.order_ = 1
+            self.order_selection_ = None
+            self.members_, self.chosen_, self.accepted_ = [], [], False
+            self.sample_index_ = np.flatnonzero(fin[1:] & fin[:-1]) + 1
+            self.fitted_ = y[self.sample_index_ - 1]
+            self.whiteness_ = None
+            return self
+        if self.order is None:
+            self.order_selection_: OrderSelection | None = select_order_cv(
+                y, H=self.H, c=self.c, bandwidth=self.bandwidth, usable=ok)
+            p = self.order_selection_.order
+        else:
+            p = int(self.order)
+            if p < 1:
+                raise InputError(f"order must be >= 1, got {self.order}")
+            self.order_selection_ = None
+        z = self._to_unit(np.where(fin, y, 0.0))
+        idx = np.arange(p, y.size)
+        keep = fin[idx].copy()
+        for k in range(1, p + 1):
+            keep &= fin[idx - k]
+        idx = idx[keep]
+        if idx.size < 4:
+            raise InputError(f"too few complete open-loop samples ({idx.size}) for order {p}")
+        U = np.column_stack([z[idx - k] for k in range(1, p + 1)])
+        tgt = z[idx]
+        lm = dict(self.lm or {})
+        R = int(self.restarts)
+        if R < 1:
+            raise InputError(f"restarts must be >= 1, got {self.restarts}")
+        members = []
+        for child in self.seed_seq_.spawn(R):
+            s_train, s_paths = child.spawn(2)
+            net = MLPRegressorLM(hidden=int(self.hidden), scale=False, split=split,
+                                 val_fraction=float(self.val_fraction),
+                                 rng=np.random.Generator(np.random.PCG64(s_train)), **lm)
+            net.fit(U, tgt)
+            theta = net.theta_
+            fit_n = forward(theta, U, int(self.hidden))
+            res = tgt - fit_n
+            rep = net.report_
+            vm = min(rep.val_mse) if rep.val_mse else rep.train_mse[-1]
+            val_mask = np.zeros(idx.size, dtype=bool)
+            val_mask[net.val_index_] = True
+            wh = whiteness(res * self.span_ / 2.0)
+            max_ae = float(np.max(np.abs(res))) * self.span_ / 2.0
+            acc = wh.passed and (self.tol_fit is None or max_ae <= float(self.tol_fit))
+            members.append(_Member(theta, float(vm), float(np.mean(res[~val_mask] ** 2)), res,
+                                   fit_n, wh, max_ae, bool(acc), rep.stop_reason, rep.epochs,
+                                   s_paths, val_mask))
+        # spec §3.7: members ranked by validation MSE; "best" takes the best acceptable
+        # member (else the best overall), "median"/"mean" the ceil(R/2) best members.
+        order = sorted(range(R), key=lambda i: members[i].val_mse)
+        if comb == "best":
+            acc = [i for i in order if members[i].accepted]
+            chosen = (acc or order)[:1]
+        else:
+            chosen = order[: int(math.ceil(R / 2))]
+        self.members_ = members
+        self.chosen_ = chosen
+        self.accepted_ = all(members[i].accepted for i in chosen)
+        self.order_ = p
+        self.sample_index_ = idx
+        self.U_ = U
+        fits = np.array([members[i].fitted for i in chosen])
+        comb_fit = fits[0] if comb == "best" else (np.median(fits, axis=0) if comb == "median"
+                                                   else np.mean(fits, axis=0))
+        self.fitted_ = self._from_unit(comb_fit)
+        self.whiteness_ = whiteness(y[idx] - self.fitted_)
+        return self
+
+    # ----------------------------------------------------------------------- forecasts
+    def _check_fitted(self):
+        if not hasattr(self, "order_"):
+            raise RuntimeError("NARForecaster.forecast called before fit")
+
+    def _tail(self):
+        p = self.order_
+        tail = self.y_[-p:]
+        if not np.all(np.isfinite(tail)):
+            raise InputError(f"the last {p} in-sample values must be present to forecast")
+        return self._to_unit(tail)
+
+    def member_forecasts(self, h: int) -> np.ndarray:
+        """Deterministic closed-loop forecasts of the retained members, (M, h), original units."""
+        self._check_fitted()
+        h = int(h)
+        if self.constant_:
+            return np.full((1, h), self.y_[-1])
+        p, S = self.order_, int(self.hidden)
+        tail = self._tail()
+        thetas = np.array([self.members_[i].theta for i in self.chosen_])
+        M = thetas.shape[0]
+        state = np.tile(tail[::-1], (M, 1))  # (M, p): y_{T}, y_{T-1}, ...
+        out = np.empty((M, h))
+        extrap = False
+        for k in range(h):
+            v = np.array([forward(thetas[m], state[m:m + 1], S)[0] for m in range(M)])
+            out[:, k] = v
+            extrap |= bool(np.any(np.abs(v) > 1.5))
+            state = np.column_stack([v, state[:, : p - 1]])
+        if extrap:
+            warnings.warn("closed-loop forecast left [-1.5, 1.5] in normalised units "
+                          "(extrapolation beyond the training range)", ExtrapolationWarning,
+                          stacklevel=2)
+        return self._from_unit(out)
+
+    def forecast_paths(self, h: int, n_paths: int | None = None) -> np.ndarray:
+        """Bootstrap closed-loop paths (§3.10), (M * B, h), original units.
+
+        Each retained member simulates B paths adding, at every step, one of its
+        centred normalised open-loop residuals drawn with replacement before feeding
+        the value back. Seeds come from the member's path stream, so repeated calls
+        give the same paths.
+        """
+        self._check_fitted()
+        h = int(h)
+        B = int(self.n_paths if n_paths is None else n_paths)
+        if self.constant_:
+            return np.full((1, h), self.y_[-1])
+        p, S = self.order_, int(self.hidden)
+        tail = self._tail()
+        paths = []
+        for i in self.chosen_:
+            mem = self.members_[i]
+            gen = np.random.Generator(np.random.PCG64(mem.path_seed))
+            r = mem.resid - mem.resid.mean()
+            draws = r[gen.integers(0, r.size, size=(B, h))]
+            state = np.tile(tail[::-1], (B, 1))
+            out = np.empty((B, h))
+            for k in range(h):
+                v = forward(mem.theta, state, S) + draws[:, k]
+                out[:, k] = v
+                state = np.column_stack([v, state[:, : p - 1]])
+            paths.append(out)
+        return self._from_unit(np.vstack(paths))
+
+    def forecast(self, h: int, *, intervals: bool = True) -> Forecast:
+        """Closed-loop forecast of steps 1..h with 95 % bootstrap intervals (§3.8, §3.10)."""
+        self._check_fitted()
+        if int(h) != h or h < 1:
+            raise InputError(f"horizon must be a positive integer, got {h}")
+        mf = self.member_forecasts(h)
+        if self.combine_ == "best" or self.constant_:
+            central = mf[0]
+        elif self.combine_ == "median":
+            central = np.median(mf, axis=0)
+        else:
+            central = np.mean(mf, axis=0)
+        if not intervals:
+            return Forecast(central)
+        paths = self.forecast_paths(h)
+        lo, med, hi = np.quantile(paths, [0.025, 0.5, 0.975], axis=0)
+        return Forecast(central, lo, hi, med)
+
+    # -------------------------------------------------------------------------- report
+    def one_step(self, lags) -> np.ndarray:
+        """Open-loop one-step predictions for rows (y_{t-1}, .., y_{t-p}) in original units,
+        combined over the retained members like the forecast."""
+        self._check_fitted()
+        lags = np.atleast_2d(np.asarray(lags, dtype=float))
+        if self.constant_:
+            return lags[:, 0].copy()
+        Z = self._to_unit(lags)
+        preds = np.array([forward(self.members_[i].theta, Z, int(self.hidden))
+                          for i in self.chosen_])
+        if self.combine_ == "best":
+            c = preds[0]
+        elif self.combine_ == "median":
+            c = np.median(preds, axis=0)
+        else:
+            c = np.mean(preds, axis=0)
+        return self._from_unit(c)
+
+    def fit_metrics(self) -> dict:
+        """In-sample open-loop errors (original units): MSE, RMSE, MaxAE for training,
+        validation (of the best retained member's split) and all samples (spec §5)."""
+        self._check_fitted()
+        e = self.y_[self.sample_index_] - self.fitted_
+        out = {"all": _err(e)}
+        if self.members_:
+            vm = self.members_[self.chosen_[0]].val_mask
+            out["train"] = _err(e[~vm])
+            out["validation"] = _err(e[vm]) if vm.any() else None
+        return out
+
+    def fit_report(self) -> dict:
+        """Order, per-member training records and the combination (JSON-ready)."""
+        self._check_fitted()
+        return {
+            "order": self.order_,
+            "order_selection": None if self.order_selection_ is None
+            else self.order_selection_.to_dict(),
+            "combine": self.combine_, "split": self.split_, "constant": self.constant_,
+            "chosen": list(self.chosen_), "accepted": self.accepted_,
+            "members": [{"val_mse": m.val_mse, "train_mse": m.train_mse,
+                         "stop_reason": m.stop_reason, "epochs": m.epochs,
+                         "max_ae": m.max_ae, "accepted": m.accepted,
+                         "whiteness_passed": m.whiteness.passed,
+                         "ljung_box_p": m.whiteness.ljung_box_p} for m in self.members_],
+            "fit": self.fit_metrics(),
+            "whiteness": None if self.whiteness_ is None else self.whiteness_.to_dict(),
+        }
+
+    def residual_check(self) -> Whiteness | None:
+        """Whiteness of the combined one-step residuals (§3.9)."""
+        self._check_fitted()
+        return self.whiteness_
+
+    # ---------------------------------------------------------------------- model file
+    def to_dict(self) -> dict:
+        """JSON-ready model: settings, scaling, in-sample tail and retained members."""
+        self._check_fitted()
+        ss = self.seed_seq_
+        return {
+            "settings": {"order": self.order, "H": self.H, "c": self.c,
+                         "bandwidth": self.bandwidth, "hidden": int(self.hidden),
+                         "restarts": int(self.restarts), "preset": self.preset,
+                         "combine": self.combine, "split": self.split,
+                         "val_fraction": float(self.val_fraction), "n_paths": int(self.n_paths),
+                         "tol_fit": self.tol_fit},
+            "order": int(self.order_), "lo": self.lo_, "span": self.span_,
+            "constant": self.constant_, "combine_used": self.combine_,
+            "split_used": self.split_, "accepted": bool(self.accepted_),
+            "tail": [float(v) for v in self.y_[-self.order_:]],
+            "seed_entropy": int(ss.entropy) if ss.entropy is not None else None,
+            "members": [{"theta": self.members_[i].theta.tolist(),
+                         "resid": self.members_[i].resid.tolist(),
+                         "val_mse": self.members_[i].val_mse,
+                         "path_seed": {"entropy": int(self.members_[i].path_seed.entropy),
+                                       "spawn_key": list(self.members_[i].path_seed.spawn_key)}}
+                        for i in self.chosen_],
+        }
+
+    @classmethod
+    def from_dict(cls, d: dict) -> NARForecaster:
+        """Rebuild a fitted forecaster (forecasting only; no training data)."""
+        try:
+            s = d["settings"]
+            obj = cls(**s)
+            obj.order_ = int(d["order"])
+            obj.lo_, obj.span_ = float(d["lo"]), float(d["span"])
+            obj.constant_ = bool(d["constant"])
+            obj.combine_, obj.split_ = d["combine_used"], d["split_used"]
+            obj.accepted_ = bool(d["accepted"])
+            obj.y_ = np.asarray(d["tail"], dtype=float)
+            obj.order_selection_ = None
+            obj.whiteness_ = None
+            members = []
+            for m in d["members"]:
+                theta = np.asarray(m["theta"], dtype=float)
+                if theta.size != n_params(obj.order_, int(obj.hidden)):
+                    raise InputError("nar model: weight count does not match the architecture")
+                ps = np.random.SeedSequence(int(m["path_seed"]["entropy"]),
+                                            spawn_key=tuple(m["path_seed"]["spawn_key"]))
+                resid = np.asarray(m["resid"], dtype=float)
+                members.append(_Member(theta, float(m["val_mse"]), float("nan"), resid,
+                                       np.zeros(0), None, float("nan"), obj.accepted_, "", 0,
+                                       ps, np.zeros(0, bool)))
+            obj.members_ = members
+            obj.chosen_ = list(range(len(members)))
+        except (KeyError, TypeError, ValueError) as exc:
+            if isinstance(exc, InputError):
+                raise
+            raise InputError(f"nar model: bad payload ({exc})") from None
+        return obj
+
+
+def _err(e) -> dict:
+    e = np.asarray(e, dtype=float)
+    if e.size == 0:
+        return {"mse": None, "rmse": None, "max_ae": None, "n": 0}
+    mse = float(np.mean(e * e))
+    return {"mse": mse, "rmse": math.sqrt(mse), "max_ae": float(np.max(np.abs(e))),
+            "n": int(e.size)}
+
