@@ -76,7 +76,7 @@ class Record:
 
 # ---------------------------------------------------------------------------- loading
 
-def _load_table(path: Path) -> tuple[pd.DataFrame, dict]:
+def _load_table(path: Path, parse=None) -> tuple[pd.DataFrame, dict]:
     suffix = path.suffix.lower()
     if suffix in (".parquet", ".pq"):
         try:
@@ -87,26 +87,25 @@ def _load_table(path: Path) -> tuple[pd.DataFrame, dict]:
         except Exception as exc:  # pyarrow raises many types for corrupt files
             raise InputError(f"not a readable Parquet file ({type(exc).__name__})", path=path) from None
         return df, {}
-    # text
+    # text: preamble, separator and decimal mark from the first lines (io.mapping.sniff)
+    from inertialab.io.mapping import sniff
+
     try:
         with open(path, encoding="utf-8") as fh:
-            header_lines = []
-            skip = 0
-            for line in fh:
-                if line.lstrip().startswith("#"):
-                    header_lines.append(line)
-                    skip += 1
-                elif not line.strip() and not header_lines:
-                    skip += 1
-                else:
+            first = []
+            limit = 200 + (parse.skip_rows if parse is not None and parse.skip_rows else 0)
+            for i, line in enumerate(fh):
+                first.append(line)
+                if i >= limit:
                     break
     except UnicodeDecodeError as exc:
         raise InputError(f"not UTF-8 text (byte {exc.start}); save the file as UTF-8 CSV",
                          path=path) from None
+    skip, sep, dec, header_lines = sniff(first, parse)
     meta = parse_header_lines(header_lines, path=path)
     try:
         df = pd.read_csv(path, skiprows=skip, encoding="utf-8", skipinitialspace=True,
-                         low_memory=False)
+                         low_memory=False, sep=sep, decimal=dec)
     except UnicodeDecodeError as exc:
         raise InputError(f"not UTF-8 text (byte {exc.start}); save the file as UTF-8 CSV",
                          path=path) from None
@@ -119,7 +118,9 @@ def _load_table(path: Path) -> tuple[pd.DataFrame, dict]:
 
 
 def read_record(path, kind: str, *, unit=None, rate_hz: float | None = None,
-                column: str | None = None, g_local: float | None = None) -> Record:
+                column: str | None = None, g_local: float | None = None,
+                column_map=None, parse=None, gaps: str | None = None,
+                full_scale=None) -> Record:
     """Read and validate a record file of ``kind``.
 
     Parameters
@@ -140,6 +141,20 @@ def read_record(path, kind: str, *, unit=None, rate_hz: float | None = None,
         Canonical column name for a ``.npy`` log (e.g. ``rate_dph``).
     g_local : float, optional
         Local gravity, m/s^2; stored in ``meta["g_local_mps2"]`` when given.
+    column_map : ColumnMap or str, optional
+        ``--map`` (:func:`inertialab.io.mapping.parse_map`): canonical target <- source
+        column and unit, applied before validation. Columns ``t_ms``/``t_us``/``t_ns``
+        become ``t_s`` (seconds since the first stamp) with or without a map.
+    parse : ParseOptions, optional
+        Separator, decimal mark and preamble lines of a text file (default: sniffed).
+    gaps : {None, "error", "split"}, default None
+        Time-stamp policy for continuous logs (:mod:`inertialab.io.gaps`): None keeps
+        the order check only; ``"error"`` also stops at dropouts with their rows and
+        durations; ``"split"`` adds a ``segment`` column instead of stopping.
+    full_scale : dict, float, "auto" or None
+        Flag samples at full scale in a ``saturated`` column (dict: column -> value in
+        the column's unit; "auto": flat runs at a column's extreme). None uses the
+        sidecar's ``full_scale`` when there is one.
 
     Raises
     ------
@@ -161,10 +176,18 @@ def read_record(path, kind: str, *, unit=None, rate_hz: float | None = None,
         meta["g_local_mps2"] = float(g_local)
     if p.suffix.lower() == ".npy":
         return _read_npy(p, kind, meta, unit=unit, rate_hz=rate_hz, column=column)
-    df, header_meta = _load_table(p)
+    df, header_meta = _load_table(p, parse)
     merged = dict(header_meta)
     merged.update(meta)
-    return validate_frame(df, kind, path=p, meta=merged, unit=unit)
+    if column_map:
+        from inertialab.io.mapping import apply_map, parse_map
+
+        cmap = parse_map(column_map) if isinstance(column_map, str) else column_map
+        df = apply_map(df, cmap, path=p, g_local=merged.get("g_local_mps2"), meta=merged)
+    if parse is not None and not parse.is_default:
+        merged["parse"] = parse.to_dict()
+    return validate_frame(df, kind, path=p, meta=merged, unit=unit, gaps=gaps,
+                          full_scale=full_scale)
 
 
 def _read_npy(p: Path, kind: str, meta: dict, *, unit, rate_hz, column) -> Record:
@@ -445,13 +468,17 @@ def hash_frame(df: pd.DataFrame) -> str:
 
 
 def validate_frame(df: pd.DataFrame, kind: str, *, path="<frame>", meta: dict | None = None,
-                   unit=None) -> Record:
+                   unit=None, gaps: str | None = None, full_scale=None) -> Record:
     """Validate an in-memory DataFrame as a record of ``kind`` (see :func:`read_record`)."""
+    from inertialab.io.mapping import normalise_time_columns
+
     schema = SCHEMAS[kind]
     meta = dict(meta or {})
     path = str(path)
     if df.shape[1] == 0:
         raise InputError("no columns", path=path)
+    if schema.time_column == "t_s":
+        df = normalise_time_columns(df, path=path, meta=meta)
     df, units, present = _resolve_columns(df, schema, path=path, meta=meta, unit=unit)
     for c in schema.columns:
         if c.required and c.name not in present:
@@ -470,5 +497,30 @@ def validate_frame(df: pd.DataFrame, kind: str, *, path="<frame>", meta: dict | 
                          path=path)
     df = df.reset_index(drop=True)
     df = _coerce(df, schema, path=path)
-    df = _check_time(df, schema, path=path)
-    return Record(kind=kind, data=df, meta=meta, path=path, units=units, sha256=hash_frame(df))
+    if gaps is not None and schema.time_order == "strict" and schema.time_column in df.columns:
+        from inertialab.io.gaps import apply_gap_policy
+
+        df, rep = apply_gap_policy(df, gaps, time_column=schema.time_column, path=path)
+        meta["gaps"] = rep.to_dict()
+        if "segment" in df.columns and gaps == "split":
+            meta["_derived"] = ["segment"]
+    else:
+        df = _check_time(df, schema, path=path)
+    if full_scale is None:
+        full_scale = meta.get("full_scale")
+    if full_scale is not None:
+        from inertialab.io.gaps import detect_saturation
+
+        cols = [c for c in df.columns if c in units]
+        sat = detect_saturation(df, cols, None if full_scale == "auto" else full_scale)
+        df["saturated"] = sat.mask
+        meta["_derived"] = [*meta.get("_derived", []), "saturated"]
+        meta["saturation"] = sat.to_dict()
+        if sat.n_flagged:
+            warnings.warn(f"{path}: {sat.n_flagged} samples at full scale (rows "
+                          f"{', '.join(str(r) for r in sat.rows)}{' ...' if sat.n_flagged > len(sat.rows) else ''}); "
+                          "flagged in column 'saturated'", DataQualityWarning, stacklevel=3)
+    derived = [c for c in ("segment", "saturated") if c in meta.get("_derived", ())]
+    meta.pop("_derived", None)
+    return Record(kind=kind, data=df, meta=meta, path=path, units=units,
+                  sha256=hash_frame(df.drop(columns=derived) if derived else df))
