@@ -86,7 +86,10 @@ def edf_oadev_sp1065(n_phase: int, m, alpha: int) -> np.ndarray:
     if alpha == 0:
         return (3 * (nx - 1) / (2 * m) - 2 * (nx - 2) / nx) * 4 * m**2 / (4 * m**2 + 5)
     if alpha == -1:
-        return np.where(m == 1, 2 * (nx - 2) / (2.3 * nx - 4.9), 5 * nx**2 / (4 * m * (nx + 3 * m)))
+        # SP 1065 Table 5 squares (N-2) at m = 1; spec 001 §3.2 prints it without the
+        # square (edf ~ 0.9 for any N, a typo); the square agrees with the exact EDF.
+        return np.where(m == 1, 2 * (nx - 2) ** 2 / (2.3 * nx - 4.9),
+                        5 * nx**2 / (4 * m * (nx + 3 * m)))
     if alpha == -2:
         return (nx - 2) / (m * (nx - 3) ** 2) * ((nx - 1) ** 2 - 3 * m * (nx - 1) + 4 * m**2)
     raise InputError(f"SP 1065 Table 5 has no EDF for alpha = {alpha}")
@@ -172,7 +175,7 @@ def _filter_cov(a: np.ndarray, alpha: int, lags: np.ndarray) -> np.ndarray:
     step = max(1, 2_000_000 // c.size)
     for s in range(0, lags.size, step):
         kk = lags[s:s + step, None] + off[None, :]
-        out[s:s + step] = _gacv(alpha, kk) @ c
+        out[s:s + step] = np.einsum("ij,j->i", _gacv(alpha, kk), c)
     return out
 
 
@@ -289,8 +292,8 @@ def lag1_alpha(z: np.ndarray, *, dmax: int = 2, data_type: str = "phase") -> flo
     d = 0
     while True:
         zc = z - z.mean()
-        den = float(np.dot(zc, zc))
-        r1 = float(np.dot(zc[:-1], zc[1:]) / den) if den > 0 else 0.0
+        den = float(np.einsum("i,i->", zc, zc))
+        r1 = float(np.einsum("i,i->", zc[:-1], zc[1:]) / den) if den > 0 else 0.0
         delta = r1 / (1.0 + r1)
         if delta < 0.25 or d >= dmax or z.size < 4:
             return -2.0 * (delta + d) + 2.0 * theta

@@ -20,8 +20,9 @@ with, per sample k at rate ``fs`` (``tau0 = 1/fs``):
 
 Random streams are spawned from ``rng`` in this fixed order (spec 001 §6.2): white,
 GM1..GM5, RRW, jitter, spare (the spare stream draws the white angle noise and the
-Kasdin driving noise). Every stream is always drawn, so one stream never depends on
-another's settings, and the vibration rig can scale them per sample through
+Kasdin driving noise). The streams are independent child generators, so one stream
+never depends on another's settings (a zero-amplitude stream is simply not drawn), and
+the vibration rig can scale them per sample through
 ``multipliers`` (an object with arrays ``white``, ``gm``, ``rrw``, ``jitter``, e.g.
 :class:`inertialab.sensors.gyro_vibration.NoiseMultipliers`).
 
@@ -222,10 +223,15 @@ def simulate_gyro_components(n: int, fs_hz: float, params: GyroNoiseParams | str
     gens = spawn(rng, len(STREAMS))
     g = dict(zip(STREAMS, gens))
 
-    white = g["white"].standard_normal(n) * (_ARW_NATIVE * p.arw_deg_rth * math.sqrt(fs))
-    mw = _mult(multipliers, "white", n)
-    if mw is not None:
-        white *= mw
+    # Child streams are independent, so a stream whose amplitude is zero is not drawn
+    # at all; the other streams' values do not change.
+    if p.arw_deg_rth > 0:
+        white = g["white"].standard_normal(n) * (_ARW_NATIVE * p.arw_deg_rth * math.sqrt(fs))
+        mw = _mult(multipliers, "white", n)
+        if mw is not None:
+            white *= mw
+    else:
+        white = np.zeros(n)
 
     bi = np.zeros(n)
     mg = _mult(multipliers, "gm", n)
@@ -235,30 +241,26 @@ def simulate_gyro_components(n: int, fs_hz: float, params: GyroNoiseParams | str
     for i, tc in enumerate(tcs):
         # five spawned GM streams; extra processes (extended presets) use child
         # streams of the fifth, so the first five never change
-        gen = gm_streams[i] if i < 5 else gm_streams[4].spawn(i - 4)[-1]
-        e = gen.standard_normal(n)
         if p.bi_model == "gm" and s > 0:
-            bi += _gauss_markov(e, float(tc), s, tau0, mg)
+            gen = gm_streams[i] if i < 5 else gm_streams[4].spawn(i - 4)[-1]
+            bi += _gauss_markov(gen.standard_normal(n), float(tc), s, tau0, mg)
 
-    e_rrw = g["rrw"].standard_normal(n)
-    inc = e_rrw * (_RRW_NATIVE * p.rrw_dph_rth * math.sqrt(tau0))
-    mr = _mult(multipliers, "rrw", n)
-    if mr is not None:
-        inc *= mr
-    rrw = np.empty(n)
-    rrw[0] = 0.0
-    np.cumsum(inc[:-1], out=rrw[1:])
+    rrw = np.zeros(n)
+    if p.rrw_dph_rth > 0:
+        inc = g["rrw"].standard_normal(n) * (_RRW_NATIVE * p.rrw_dph_rth * math.sqrt(tau0))
+        mr = _mult(multipliers, "rrw", n)
+        if mr is not None:
+            inc *= mr
+        np.cumsum(inc[:-1], out=rrw[1:])
 
     ramp = (_RAMP_NATIVE * p.ramp_dph_per_h) * (np.arange(n) * tau0)
 
-    e_jit = g["jitter"].standard_normal(n + 1)
+    # spare stream: white angle noise (n+1 values) first, then Kasdin driving noise
     e_ang = g["spare"].standard_normal(n + 1)
-    if p.bi_model == "kasdin":
-        e_k = g["spare"].standard_normal(n)
-        if p.bias_instability_dph > 0:
-            bi = kasdin_flicker(e_k) * p.bias_instability_dph
-            if mg is not None:
-                bi *= mg
+    if p.bi_model == "kasdin" and p.bias_instability_dph > 0:
+        bi = kasdin_flicker(g["spare"].standard_normal(n)) * p.bias_instability_dph
+        if mg is not None:
+            bi *= mg
 
     rate = np.asarray(input_rate_dph, dtype=float) + p.b0_dph + white + bi + rrw + ramp
     rate = np.broadcast_to(rate, (n,)).astype(float, copy=True)
@@ -273,6 +275,7 @@ def simulate_gyro_components(n: int, fs_hz: float, params: GyroNoiseParams | str
         err = e_ang * p.angle_white_arcsec
         if mj is not None and q > 0:
             jm = mj if np.ndim(mj) == 0 or np.shape(mj) == (n + 1,) else np.r_[mj, mj[-1]]
+            e_jit = g["jitter"].standard_normal(n + 1)
             err = err + e_jit * (jm * q / math.sqrt(12.0))
         theta_out = theta + err
         if q > 0:

@@ -1,0 +1,151 @@
+"""Noise terms Q N B K R: analytic curves, units, simulated recovery (issue 3 item 4)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from inertialab.errors import InputError
+from inertialab.noise import allan as A
+from inertialab.noise.allan import DeviationResult
+from inertialab.noise.terms import BI_FACTOR, NoiseTerms, fit_noise_terms
+from inertialab.sensors import gyro as G
+
+# native-unit truth (deg/h): Q arcsec, N (deg/h)sqrt(s), B deg/h, K (deg/h)/sqrt(s), R (deg/h)/s
+Q, N, B, K, R = 0.5, 0.6, 0.1, 0.1 / 60, 0.05 / 3600
+
+
+def _curve(taus, q=Q, n=N, b=B, k=K, r=R, edf=1e6):
+    taus = np.asarray(taus, float)
+    av = 3 * q**2 / taus**2 + n**2 / taus + BI_FACTOR**2 * b**2 + k**2 * taus / 3 + r**2 * taus**2 / 2
+    dev = np.sqrt(av)
+    m = np.round(taus / 0.01).astype(np.int64)
+    e = np.full(taus.shape, float(edf))
+    lo, hi = dev * 0.99, dev * 1.01
+    return DeviationResult(statistic="oadev", tau0_s=0.01, taus_s=taus, m=m, dev=dev,
+                           n_terms=np.full(taus.shape, 10**7), alpha=np.zeros(taus.size, int),
+                           edf=e, ci_low=lo, ci_high=hi, confidence=0.683, n_samples=10**8)
+
+
+def test_wls_exact_on_model_curve():
+    # On an exact five-term curve the NNLS solution is the truth (1e-6 allows the
+    # conditioning of tau^-2..tau^2 over six decades).
+    r = _curve(np.geomspace(0.01, 1e5, 40))
+    t = fit_noise_terms(r, unit="dph", method="wls", tau_range_s=(0.01, 1e5))
+    assert t.Q.value == pytest.approx(Q, rel=1e-6)
+    assert t.N.value == pytest.approx(N / 60, rel=1e-6)          # deg/sqrt(h)
+    assert t.B.value == pytest.approx(B, rel=1e-6)               # deg/h
+    assert t.K.value == pytest.approx(K * 60, rel=1e-6)          # deg/h/sqrt(h)
+    assert t.R.value == pytest.approx(R * 3600, rel=1e-6)        # deg/h^2
+    assert t.fit_rmse_log < 1e-8
+    assert t.N.unit == "deg/sqrt(h)" and t.K.unit == "deg/h/sqrt(h)" and t.R.unit == "deg/h^2"
+    np.testing.assert_allclose(t.model_dev(r.taus_s), r.dev, rtol=1e-6)
+
+
+def test_slope_reading_on_single_power_laws():
+    # Pure power laws: the fixed-slope lines reproduce the coefficient exactly.
+    taus = np.geomspace(0.01, 1000, 25)
+    for name, kw, truth in [("Q", dict(n=0, b=0, k=0, r=0), Q), ("N", dict(q=0, b=0, k=0, r=0), N / 60),
+                            ("K", dict(q=0, n=0, b=0, r=0), K * 60),
+                            ("R", dict(q=0, n=0, b=0, k=0), R * 3600)]:
+        t = fit_noise_terms(_curve(taus, **kw), unit="dph", method="slope",
+                            tau_range_s=(0.01, 1000))
+        assert getattr(t, name).value == pytest.approx(truth, rel=1e-9), name
+    flat = fit_noise_terms(_curve(taus, q=0, n=0, k=0, r=0), unit="dph", method="slope",
+                           tau_range_s=(0.01, 1000))
+    assert flat.B.value == pytest.approx(B, rel=1e-9)
+    assert "not_observable" in flat.N.flags and math.isnan(flat.N.value)
+
+
+def test_units_consistent_across_rate_units():
+    # The same physical data in deg/h and in rad/s give the same report values (the
+    # conversion is linear; 1e-12 = rounding).
+    rng = np.random.default_rng(0)
+    y = G.simulate_gyro_noise(100_000, 100.0, "mid", rng)
+    a = fit_noise_terms(A.oadev(y, rate_hz=100.0), unit="dph")
+    y_rps = y * (math.pi / 180 / 3600)
+    b = fit_noise_terms(A.oadev(y_rps, rate_hz=100.0), unit="rps")
+    for k in "QNBKR":
+        assert getattr(b, k).value == pytest.approx(getattr(a, k).value, rel=1e-9, abs=1e-15)
+
+
+def test_accelerometer_units_and_density():
+    # White acceleration noise of per-sample std s at fs: density s/sqrt(fs) (m/s^2/sqrt(Hz)),
+    # N = density [m/s/sqrt(s)] * 60 in m/s/sqrt(h); density reported in ug/sqrt(Hz);
+    # per-sample std = density * sqrt(fs) = s. 4e5 samples -> N within 1 %.
+    fs, s = 200.0, 0.02
+    y = np.random.default_rng(1).normal(0, s, 400_000)
+    t = fit_noise_terms(A.oadev(y, rate_hz=fs), unit="mps2", kind=None)
+    assert t.kind == "accel"
+    dens = s / math.sqrt(fs)
+    assert t.N.unit == "m/s/sqrt(h)"
+    assert t.N.value == pytest.approx(dens * 60, rel=0.01)
+    assert t.N.density["unit"] == "ug/sqrt(Hz)"
+    assert t.N.density["value"] == pytest.approx(dens / 9.80665e-6, rel=0.01)
+    assert t.N.per_sample_std["value"] == pytest.approx(s, rel=0.01)
+    assert t.N.per_sample_std["unit"] == "m/s^2"
+    # the same data in g
+    tg = fit_noise_terms(A.oadev(y / 9.80665, rate_hz=fs), unit="g", kind="accel")
+    assert tg.N.value == pytest.approx(t.N.value, rel=1e-9)
+
+
+def test_gyro_density_and_per_sample_std():
+    fs = 100.0
+    p = G.GyroNoiseParams(arw_deg_rth=0.01, bias_instability_dph=0, rrw_dph_rth=0,
+                          ramp_dph_per_h=0, q_arcsec=0, b0_dph=0)
+    y = G.simulate_gyro_noise(400_000, fs, p, 2)
+    t = fit_noise_terms(A.oadev(y, rate_hz=fs), unit="dph")
+    dens = 0.01 * math.pi / 180 / 60  # rad/sqrt(s) = rad/s/sqrt(Hz)
+    assert t.N.density["value"] == pytest.approx(dens, rel=0.01)
+    assert t.N.per_sample_std["value"] == pytest.approx(np.std(y) * math.pi / 180 / 3600,
+                                                        rel=0.01)
+
+
+def test_to_dict_round_trip_and_contract_keys():
+    t = fit_noise_terms(_curve(np.geomspace(0.01, 1e4, 30)), unit="dph",
+                        tau_range_s=(0.01, 1e4))
+    d = t.to_dict()
+    for k in "QNBKR":
+        assert {"value", "unit", "ci", "method", "tau_range_s"} <= set(d[k])
+    assert {"value", "unit"} <= set(d["N"]["density"]) and "per_sample_std" in d["N"]
+    t2 = NoiseTerms.from_dict(d)
+    assert t2.to_dict() == d
+    assert NoiseTerms.MODEL_TYPE == "noise-terms"
+
+
+def test_bad_inputs():
+    r = _curve(np.geomspace(0.01, 100, 10))
+    with pytest.raises(InputError, match="unknown unit"):
+        fit_noise_terms(r, unit="furlong")
+    with pytest.raises(InputError, match="not a angular_rate"):
+        fit_noise_terms(r, unit="mps2", kind="gyro")
+    with pytest.raises(InputError, match="method"):
+        fit_noise_terms(r, unit="dph", method="eyeball")
+    with pytest.raises(InputError, match="at least 3 taus"):
+        fit_noise_terms(r, unit="dph", tau_range_s=(1, 2))
+
+
+def _recovery(preset: str, seeds=range(20)):
+    fs, n = 10.0, 360_000  # 10 h at 10 Hz (spec 001 §6.2 identification presets)
+    truth = G.native_terms(preset)
+    errs = []
+    for seed in seeds:
+        y = G.simulate_gyro_noise(n, fs, preset, seed)
+        t = fit_noise_terms(A.oadev(y, rate_hz=fs, taus="octave"), unit="dph", method="wls")
+        errs.append({k: getattr(t, k).value / truth[k] - 1 for k in "NBK" if truth[k]})
+    return errs
+
+
+@pytest.mark.slow
+def test_recovery_18_of_20_seeds():
+    # Issue 3 item 4 / spec 001 §6.2: N and K within 5 %, B within 20 % in at least 18 of
+    # 20 seeds, read on "allan-rrw" (N, K) and "allan-bi" (N, B). Measured: N within
+    # 0.5 % everywhere, K 19/20 (worst -5.8 %), B 20/20 (worst -10 %).
+    rrw = _recovery("allan-rrw")
+    bi = _recovery("allan-bi")
+    ok_n = sum(abs(e["N"]) <= 0.05 for e in rrw + bi)
+    ok_k = sum(abs(e["K"]) <= 0.05 for e in rrw)
+    ok_b = sum(abs(e["B"]) <= 0.20 for e in bi)
+    assert ok_n >= 36 and ok_k >= 18 and ok_b >= 18, (ok_n, ok_k, ok_b)
