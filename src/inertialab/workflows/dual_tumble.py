@@ -52,7 +52,7 @@ from inertialab.sensors.dual_meter import (
 from inertialab.workflows.base import Headline, NullProgress, Study, StudyResult, settings_dict
 
 __all__ = ["METHODS", "DualCalibration", "DualFit", "DualPrior", "MethodResult", "Reduced",
-           "fit_single",
+           "fit_single", "head_error_sensitivity",
            "STUDY", "calibrate", "certificate_prior", "design_dual", "fit_two_orientation",
            "load_prior", "monte_carlo", "reduce_record", "reduce_run", "reduce_stops",
            "run_demo"]
@@ -438,7 +438,8 @@ class MethodResult:
         if self.non_estimable:
             d["non_estimable"] = self.non_estimable
         d["residual_raw"] = self.residual_raw
-        d["residual_val"] = self.r_val
+        if np.isfinite(self.r_val):
+            d["residual_val"] = self.r_val
         d.update({k: v for k, v in self.extra.items() if not k.startswith("_")})
         return d
 
@@ -699,6 +700,35 @@ def calibrate(red: Reduced, *, methods=("single-ls", "ls", "ebr"), prior=None,
     return DualFit(red, out, model, diag, warn)
 
 
+def head_error_sensitivity(red: Reduced, *, methods=("single-ls", "ls"), a1_arcsec: float = 1.0,
+                           n_psi: int = 36, prior=None) -> dict:
+    """Change of KA2, KB2 (and the estimable KA2+s_B KBx) per method when the data carry a
+    first-harmonic head error ``a1 sin(theta + psi)``, for ``n_psi`` phases (spec §1.4).
+
+    The perturbation is applied to the measured outputs to first order
+    (``du_A = cos(theta) dtheta``, ``du_B = -sin(theta) dtheta``) and each method is
+    refitted; returns ``{"psi_deg": [...], method: {"KA2": [...], ...}}`` in g/g^2.
+    """
+    prior = load_prior(prior)
+    psi = np.linspace(0.0, 2 * np.pi, n_psi, endpoint=False)
+    a1 = a1_arcsec * units.ARCSEC
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        base = {m: _fit_method(m, red, prior, second_order=False) for m in methods}
+        out = {"psi_deg": np.rad2deg(psi).tolist(), "a1_arcsec": a1_arcsec}
+        for m in methods:
+            rows = {"KA2": [], "KB2": [], "KA0": []}
+            for p in psi:
+                dth = a1 * np.sin(red.theta + p)
+                ua = red.u_a + np.cos(red.theta) * dth
+                ub = red.u_b - np.sin(red.theta) * dth
+                f = _fit_method(m, red, prior, second_order=False, u_a=ua, u_b=ub)
+                for k in rows:
+                    rows[k].append(f.coef[k] - base[m].coef[k])
+            out[m] = rows
+    return out
+
+
 # ------------------------------------------------------------------- two orientations
 
 def fit_two_orientation(red1: Reduced, red2: Reduced) -> MethodResult:
@@ -727,7 +757,7 @@ def fit_two_orientation(red1: Reduced, red2: Reduced) -> MethodResult:
     non_est = [n for n, e in zip(names, r.estimable) if not e]
     warn = ([f"rank {r.rank} < 14: {', '.join(non_est)} not estimable"] if non_est else [])
     return MethodResult("two-orientation-ls", coef, sd, r.residual, r.rank, [], warn,
-                        non_estimable=non_est,
+                        non_estimable=non_est, residual_raw=float(np.sqrt(r.residual_ss / y.size)),
                         extra={"cond": r.cond, "singular_values": r.singular_values.tolist()})
 
 

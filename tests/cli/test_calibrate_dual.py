@@ -1,0 +1,106 @@
+"""CLI: calibrate dual, design dual, simulate dual-tumble (spec 003, issue 7)."""
+
+import json
+
+import numpy as np
+import pytest
+
+from inertialab.cli.main import main
+
+
+def run(capsys, *args):
+    with pytest.raises(SystemExit) as ex:
+        main([str(a) for a in args])
+    out, err = capsys.readouterr()
+    return ex.value.code, out, err
+
+
+@pytest.fixture(scope="module")
+def records(tmp_path_factory):
+    d = tmp_path_factory.mktemp("dual")
+    from inertialab.cli.main import main as m
+
+    for args in (["simulate", "dual-tumble", "--out", d / "s1.csv", "--seed", "3", "--draw-unit"],
+                 ["simulate", "dual-tumble", "--scenario", "S5", "--out", d / "s5.csv",
+                  "--seed", "4"]):
+        with pytest.raises(SystemExit) as ex:
+            m([str(a) for a in args])
+        assert ex.value.code == 0
+    return d
+
+
+def test_simulate_writes_record_sidecar_and_prior(records):
+    side = json.loads((records / "s1.meta.json").read_text())
+    assert side["seed"] == 3 and side["meter_a"]["oa_sign"] == 1 and "truth" in side
+    prior = json.loads((records / "s1.prior.json").read_text())
+    assert prior["schema"] == "inertialab.prior/1" and set(prior["coef"]) >= {"KA2", "KBx"}
+    assert (records / "s5_orient2.csv").exists()
+
+
+def test_calibrate_json_shape_and_accuracy(records, capsys):
+    code, out, err = run(capsys, "calibrate", "dual", records / "s1.csv", "--prior",
+                         records / "s1.prior.json", "--json")
+    assert code == 0, err
+    d = json.loads(out)
+    truth = json.loads((records / "s1.meta.json").read_text())["truth"]
+    for m in ("single-ls", "ls", "ebr", "ridge-hkb", "ridge-gcv"):
+        r = d["methods"][m]
+        assert {"coef", "sd", "residual", "rank", "estimable", "warnings"} <= set(r)
+    ls, ebr = d["methods"]["ls"], d["methods"]["ebr"]
+    assert ls["rank"] == 7 and ls["sd"]["KA2"] is None and "KA2" in ls["non_estimable"]
+    names = {c["name"] for c in ls["estimable"]}
+    assert {"kA1", "kB1", "eta", "KA2+KBx", "KB2-KAx", "KA0+KA2", "KB0+KB2"} == names
+    # kA1 to the noise level (SD ~0.3 ppm; 2 ppm is > 6 SD); EBR K2 near truth with the
+    # historical prior (prior SD ~ 5 ug/g^2; 20 ug/g^2 is 4 SD)
+    assert abs(ls["coef"]["kA1"] - truth["kA1"]) < 2e-6
+    assert abs(ebr["coef"]["KA2"] - truth["KA2"]) < 2e-5
+    assert d["units"]["KA2"] == "g/g^2"
+    assert any("not estimable" in w for w in d["warnings"])
+
+
+def test_calibrate_two_orientation_and_out_dir(records, capsys, tmp_path):
+    code, out, err = run(capsys, "calibrate", "dual", records / "s5.csv",
+                         records / "s5_orient2.csv", "--method", "ls", "--json", "--out",
+                         tmp_path / "o")
+    assert code == 0, err
+    d = json.loads(out)
+    two = d["two_orientation"]
+    truth = json.loads((records / "s5.meta.json").read_text())["truth"]
+    assert two["rank"] == 14
+    for n in ("KA2", "KB2", "KAx", "KBx"):
+        assert abs(two["coef"][n] - truth[n]) < 5e-6  # ~0.7e-6 RMS (spec AC-11)
+    files = {p.name for p in (tmp_path / "o").iterdir()}
+    assert {"model.json", "result.json", "dual_residuals.png", "dual_coefficients.png",
+            "dual_head_sensitivity.png"} <= files
+    model = json.loads((tmp_path / "o" / "model.json").read_text())
+    assert model["type"] == "dual-calibration"
+
+
+@pytest.mark.parametrize("extra, pattern", [
+    (["--method", "magic"], "--method must be one of"),
+    (["--prior", "nope.json"], "no such prior file"),
+])
+def test_bad_options_exit_2_one_line(records, capsys, extra, pattern):
+    code, out, err = run(capsys, "calibrate", "dual", records / "s1.csv", *extra)
+    assert code == 2 and out == ""
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and pattern in lines[0]
+
+
+def test_bad_prior_names(records, capsys, tmp_path):
+    prior = json.loads((records / "s1.prior.json").read_text())
+    prior["coef"]["k_A2"] = prior["coef"].pop("KA2")
+    p = tmp_path / "bad.json"
+    p.write_text(json.dumps(prior))
+    code, _, err = run(capsys, "calibrate", "dual", records / "s1.csv", "--prior", p)
+    assert code == 2 and "unknown coefficient name(s) k_A2" in err
+
+
+def test_design_dual_json(capsys):
+    code, out, err = run(capsys, "design", "dual", "--positions", "12", "--json")
+    assert code == 0, err
+    d = json.loads(out)
+    np.testing.assert_allclose(d["positions_deg"], np.arange(12) * 30.0, atol=1e-9)
+    assert d["criteria"]["cond"] == pytest.approx(np.sqrt(2), abs=1e-9)
+    code, _, err = run(capsys, "design", "dual", "--positions", "5")
+    assert code == 2 and "at least 7" in err
