@@ -61,10 +61,11 @@ def _sqdist(A: np.ndarray, B: np.ndarray) -> np.ndarray:
 class _IncrementalQR:
     """Least squares with columns appended one at a time (Gram-Schmidt, twice)."""
 
-    def __init__(self, y: np.ndarray, rcond: float):
+    def __init__(self, y: np.ndarray, rcond: float, max_cols: int):
         self.y = y
         self.rcond = rcond
-        self.Q: list[np.ndarray] = []
+        self.Qm = np.zeros((y.size, max_cols))  # orthonormal columns, filled left to right
+        self.k = 0
         self.R = np.zeros((0, 0))
         self.qty: list[float] = []
         self.kept: list[int] = []  # indices (in order of addition) of independent columns
@@ -73,9 +74,10 @@ class _IncrementalQR:
     def add(self, col: np.ndarray, tag: int) -> bool:
         norm0 = float(np.linalg.norm(col))
         v = col.copy()
-        r = np.zeros(len(self.Q))
-        if self.Q:
-            Qm = np.column_stack(self.Q)
+        k = self.k
+        r = np.zeros(k)
+        if k:
+            Qm = self.Qm[:, :k]
             for _ in range(2):
                 c = Qm.T @ v
                 v -= Qm @ c
@@ -83,14 +85,16 @@ class _IncrementalQR:
         nv = float(np.linalg.norm(v))
         if norm0 == 0.0 or nv <= self.rcond * norm0:
             return False
+        if k >= self.Qm.shape[1]:  # numerically full rank reached: nothing left to add
+            return False
         q = v / nv
-        k = len(self.Q)
         R = np.zeros((k + 1, k + 1))
         R[:k, :k] = self.R
         R[:k, k] = r
         R[k, k] = nv
         self.R = R
-        self.Q.append(q)
+        self.Qm[:, k] = q
+        self.k = k + 1
         qy = float(q @ self.y)
         self.qty.append(qy)
         self.resid = self.resid - qy * q
@@ -100,7 +104,7 @@ class _IncrementalQR:
     def coef(self) -> np.ndarray:
         from scipy.linalg import solve_triangular
 
-        if not self.Q:
+        if not self.k:
             return np.zeros(0)
         return solve_triangular(self.R, np.asarray(self.qty), lower=False)
 
@@ -181,7 +185,7 @@ class RBFNetwork:
         self.b_ = math.sqrt(math.log(2.0)) / float(self.spread)
         P = self._basis(X, X)  # candidate columns, P[:, j] centred on X[j]
 
-        qr = _IncrementalQR(y, self.rcond)
+        qr = _IncrementalQR(y, self.rcond, min(n, mn + 1))
         qr.add(np.ones(n), -1)  # w_0 always present
         history = [float(np.mean(qr.resid**2))]
         chosen: list[int] = []

@@ -135,7 +135,8 @@ def decompose(x, *, wavelet: str = "db4", level: int = DEFAULT_LEVEL,
     -------
     Decomposition
     """
-    x = np.asarray(x, dtype=float)
+    # pywt needs a writeable contiguous buffer (read-only views come from pandas/memmaps)
+    x = np.require(np.asarray(x, dtype=float), requirements=["C", "W"])
     if x.ndim != 1:
         raise InputError(f"signal must be one-dimensional, got shape {x.shape}")
     if not np.all(np.isfinite(x)):
