@@ -1,0 +1,204 @@
+"""Tests of the storage-drift workflow (spec 004 §2.2, §5, §9; A9, A11, bad input)."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from inertialab.errors import DataQualityWarning, InputError
+from inertialab.io import load_model, save_model, validate_frame
+from inertialab.sim.storage_drift import benchmark_process, simulate_storage_batch
+from inertialab.workflows.storage_drift import (
+    STUDY,
+    DriftModel,
+    DriftSettings,
+    evaluate_rolling_origin,
+    fit_drift,
+    fit_series,
+    recalibration,
+    to_daily_grid,
+)
+
+FAST = DriftSettings(restarts=2, n_paths=50, baselines=("persistence", "ar_ls"))
+
+
+def _frame(days, bias_mg, unit="U1", sf=None, **extra):
+    d = {"unit_id": unit, "day": days, "bias_mg": bias_mg}
+    if sf is not None:
+        d["sf_ma_per_g"] = sf
+    d.update(extra)
+    return pd.DataFrame(d)
+
+
+def test_grid_averages_repeats_and_fills_short_gaps_only():
+    # day 0 tested twice; days 3-4 missing (gap 2 -> imputed); days 6-9 missing (gap 4 ->
+    # segment split); days 10-20 present
+    days = [0, 0, 1, 2, 5] + list(range(10, 21))
+    vals = [1.0, 3.0, 2.0, 2.0, 5.0] + [7.0] * 11
+    ts = [f"2025-01-{d + 1:02d}T08:00:00Z" for d in days]
+    ts[1] = "2025-01-01T16:00:00Z"
+    df = _frame(days, vals, timestamp=pd.to_datetime(ts, utc=True))
+    s = to_daily_grid(df, quantity="bias")["U1"]
+    assert s.unit == "ug" and s.step_days == 1
+    np.testing.assert_allclose(s.values[:3], [2000.0, 2000.0, 2000.0])  # mg -> ug, mean
+    assert s.n_rep[0] == 2 and s.rep_sd[0] == pytest.approx(np.std([1000, 3000], ddof=1))
+    # linear interpolation between day 2 (2000) and day 5 (5000)
+    np.testing.assert_allclose(s.values[3:5], [3000.0, 4000.0])
+    assert s.imputed[3] and s.imputed[4] and not s.usable[3]
+    assert np.all(np.isnan(s.values[6:10]))
+    assert s.segment[5] == 0 and s.segment[10] == 1
+    np.testing.assert_array_equal(s.day, np.arange(21))
+
+
+def test_units_of_measure_are_converted():
+    days = np.arange(30)
+    b = np.linspace(1, 2, 30)
+    a = to_daily_grid(_frame(days, b), quantity="bias")["U1"].values
+    ug = pd.DataFrame({"unit_id": "U1", "day": days, "bias_ug": b * 1000})
+    np.testing.assert_allclose(to_daily_grid(ug, quantity="bias")["U1"].values, a)
+    # scale factor in ppm of the unit's mean K1
+    sf = 1.3 * (1 + 1e-6 * np.linspace(-50, 50, 30))
+    s = to_daily_grid(_frame(days, b, sf=sf), quantity="sf")["U1"]
+    assert s.k_ref == pytest.approx(1.3, rel=1e-12)
+    np.testing.assert_allclose(s.values, np.linspace(-50, 50, 30), atol=1e-6)
+    # a bias in mA needs K1: b[g] = b[mA] / K1
+    ma = pd.DataFrame({"unit_id": "U1", "day": days, "bias_ma": b * 1.3e-3,
+                       "sf_ma_per_g": np.full(30, 1.3)})
+    np.testing.assert_allclose(to_daily_grid(ma, quantity="bias")["U1"].values, a)
+
+
+def test_weekly_programme_uses_native_step():
+    days = np.arange(0, 7 * 40, 7)
+    s = to_daily_grid(_frame(days, np.sin(days / 30.0)), quantity="bias")["U1"]
+    assert s.step_days == 7 and s.values.size == 40
+    np.testing.assert_array_equal(s.day, days)
+
+
+def test_duplicates_conflicting_is_error_identical_is_dropped():
+    ts = pd.to_datetime(["2025-01-01", "2025-01-01", "2025-01-02"], utc=True)
+    bad = pd.DataFrame({"unit_id": "U1", "timestamp": ts, "bias_mg": [1.0, 1.5, 2.0]})
+    with pytest.raises(InputError, match="rows 1 and 2"):
+        to_daily_grid(bad, quantity="bias")
+    same = pd.DataFrame({"unit_id": "U1", "timestamp": ts, "bias_mg": [1.0, 1.0, 2.0]})
+    with pytest.warns(DataQualityWarning, match="duplicate"):
+        s = to_daily_grid(same, quantity="bias")["U1"]
+    assert s.n_rep[0] == 1
+
+
+def test_dates_out_of_order_are_sorted_with_warning():
+    days = np.arange(40)
+    b = np.cos(days / 5.0)
+    df = pd.DataFrame({"unit_id": "U1", "date": pd.date_range("2025-01-01", periods=40)
+                       .strftime("%Y-%m-%d"), "bias_mg": b})
+    shuffled = df.iloc[np.random.default_rng(0).permutation(40)].reset_index(drop=True)
+    with pytest.warns(DataQualityWarning, match="sorted"):
+        rec = validate_frame(shuffled, "storage_drift")
+    s = to_daily_grid(rec.data, quantity="bias")["U1"]
+    np.testing.assert_allclose(s.values, b * 1000)
+
+
+def test_unknown_unit_is_input_error():
+    df = pd.DataFrame({"unit_id": "U1", "day": np.arange(5), "bias_furlong": np.ones(5)})
+    with pytest.raises(InputError, match="furlong"):
+        validate_frame(df, "storage_drift")
+
+
+def test_recalibration_first_passage_quantile():
+    # deterministic ramps: path j rises by (j + 1) per step; tol 10 around 0
+    paths = np.array([np.arange(1, 21) * (j + 1.0) for j in range(10)])
+    k, t_star = recalibration(paths, 0.0, 10.0, quantile=0.1)
+    # t* = first k with k (j+1) > 10 -> 11, 6, 4, 3, 3, 2, 2, 2, 2, 2 (10 is not > 10)
+    np.testing.assert_array_equal(t_star, [11, 6, 4, 3, 3, 2, 2, 2, 2, 2])
+    assert k == 2  # 10 % quantile (inverted CDF) of the ten passage times
+    k, _ = recalibration(paths[:1], 0.0, 100.0)
+    assert k is None  # never leaves the band within the horizon
+
+
+def _s1_record(seed, drop_frac=0.0, n=120):
+    y = benchmark_process("S1", n, seed)
+    days = np.arange(n)
+    keep = np.ones(n, bool)
+    if drop_frac:
+        drop = np.random.default_rng(seed + 1000).choice(np.arange(1, 99),
+                                                         int(drop_frac * 100), replace=False)
+        keep[drop] = False
+    return pd.DataFrame({"unit_id": "S1", "day": days[keep], "bias_ug": y[keep]}), y
+
+
+def test_holdout_metrics_and_skill_match_independent_computation():
+    df, y = _s1_record(3)
+    s = to_daily_grid(df, quantity="bias")["S1"]
+    r = fit_series(s, FAST, origin_day=99, rng=1)
+    assert r.origin_day == 99 and r.forecast["day"][0] == 100
+    e = y[100:120] - np.asarray(r.forecast["value"])
+    assert r.holdout["metrics"]["rmse"] == pytest.approx(np.sqrt(np.mean(e ** 2)), rel=1e-12)
+    assert r.holdout["metrics"]["max_ae"] == pytest.approx(np.max(np.abs(e)), rel=1e-12)
+    pers = np.sqrt(np.mean((y[100:120] - y[99]) ** 2))
+    assert r.baselines["persistence"]["rmse"] == pytest.approx(pers, rel=1e-12)
+    assert r.skill_vs_persistence == pytest.approx(1 - np.sqrt(np.mean(e ** 2)) / pers)
+
+
+def test_a11_gaps_pipeline_never_scores_or_cv_samples_imputed_days():
+    for seed in range(5):
+        df, _ = _s1_record(seed, drop_frac=0.1)
+        s = to_daily_grid(df, quantity="bias")["S1"]
+        assert s.imputed.sum() > 0
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", DataQualityWarning)
+            r = fit_series(s, FAST, origin_day=89, rng=seed)
+        targets = np.asarray(r.model.order_selection_.targets)
+        for k in range(r.model.order_selection_.H + 1):
+            assert not np.any(s.imputed[targets - k])
+        hd = np.asarray(r.holdout["day"])
+        assert not np.any(s.imputed[hd])
+
+
+@pytest.mark.filterwarnings("ignore::inertialab.errors.DataQualityWarning")
+def test_a9_fit_drift_reproducible_and_model_roundtrip(tmp_path):
+    b = simulate_storage_batch(2, 60, "nav", rng=5)
+    f1 = fit_drift(b.frame, meta=b.meta, settings=FAST, origin_day=49)
+    f2 = fit_drift(b.frame, meta=b.meta, settings=FAST, origin_day=49)
+    for (_, _, r1), (_, _, r2) in zip(f1.iter(), f2.iter()):
+        assert r1.forecast == r2.forecast
+        assert r1.holdout["metrics"] == r2.holdout["metrics"]
+    p = save_model(f1.model, tmp_path / "m.json", units={"bias": "ug", "sf": "ppm"})
+    m = load_model(p, expected_type="storage-drift")
+    assert isinstance(m, DriftModel)
+    again = m.forecast(20)
+    for u, q, r in f1.iter():
+        np.testing.assert_array_equal(again[u][q]["forecast"]["value"], r.forecast["value"])
+        np.testing.assert_array_equal(again[u][q]["forecast"]["hi95"], r.forecast["hi95"])
+        assert again[u][q]["recalibration_day"] == r.recalibration_day
+
+
+def test_short_record_reduces_h_and_constant_unit_warns():
+    days = np.arange(40)
+    df = pd.concat([
+        _frame(days, benchmark_process("S1", 40, 0) * 1e-3, unit="A"),
+        _frame(days, np.full(40, 0.5), unit="B"),
+    ])
+    with pytest.warns(DataQualityWarning) as rec:
+        fit = fit_drift(df, settings=FAST, quantities=("bias",))
+    msgs = " ".join(str(w.message) for w in rec)
+    assert "H reduced" in msgs and "constant" in msgs
+    const = fit.results["B"]["bias"]
+    np.testing.assert_allclose(const.forecast["value"], 500.0, rtol=1e-12)  # mg -> ug rounding
+
+
+@pytest.mark.filterwarnings("ignore::inertialab.errors.DataQualityWarning")
+def test_rolling_origin_counts_and_paired_test():
+    df, _ = _s1_record(2, n=100)
+    s = to_daily_grid(df, quantity="bias")["S1"]
+    rr = evaluate_rolling_origin(s, FAST, first=60, step=10)
+    assert rr.origins == (60, 70, 80)
+    assert len(rr.rmse["nar"]) == 3 and len(rr.rmse["persistence"]) == 3
+    win = np.mean(np.asarray(rr.rmse["nar"]) < np.asarray(rr.rmse["persistence"]))
+    assert rr.win_rate["persistence"] == pytest.approx(win)
+
+
+def test_study_registered_with_budgeted_settings():
+    assert STUDY.name == "drift"
+    assert STUDY.quick.n_units <= STUDY.full.n_units
