@@ -374,6 +374,68 @@ class _PhaseFromRate:
         return out
 
 
+class _LazyPhase:
+    """Angle source of a rate record built on first use (checkpointed, O(n/CHUNK) memory)."""
+
+    def __init__(self, y: np.ndarray, tau0: float):
+        self._y, self._tau0, self._src = y, tau0, None
+        self.n = y.size + 1
+        self.block = CHUNK
+
+    def window(self, start: int, length: int, step: int = 1) -> np.ndarray:
+        if self._src is None:
+            self._src = _PhaseFromRate(self._y, self._tau0)
+        return self._src.window(start, length, step)
+
+
+def _oadev_octaves(y: np.ndarray, tau0: float, ms: np.ndarray, *, want_decimated: bool,
+                   max_points: int = 1 << 16):
+    """OAVAR at m = 1, 2, 4, ... by lag doubling, without the angle array.
+
+    ``D_i = x_{i+m} - x_i`` starts as ``tau0 (y_i - mean)`` (m = 1); the second
+    difference is ``D_{i+m} - D_i`` and ``D`` at 2m is ``D_i + D_{i+m}``, updated in place
+    in ascending blocks. Per tau: two passes over one float64 array of the input's size
+    (the only extra memory). Also returns, per m, the central ``max_points`` decimated
+    angle points for the noise identification.
+    """
+    n = y.size
+    nx = n + 1
+    mean = _chunked_mean(y)
+    d = np.subtract(y, mean, dtype=np.float64)
+    d *= tau0
+    var = np.empty(ms.size)
+    nt = np.empty(ms.size, dtype=np.int64)
+    dec = {} if want_decimated else None
+    buf = np.empty(BLOCK)
+    for k, m in enumerate(int(v) for v in ms):
+        nterm = nx - 2 * m  # second differences available: D has n - m + 1 valid entries
+        if dec is not None:
+            count = (nx - 1) // m + 1
+            use = min(count, max_points)
+            start = ((count - use) // 2) * m
+            z = np.empty(use)
+            z[0] = 0.0
+            np.cumsum(d[start:start + (use - 1) * m:m][:use - 1], out=z[1:])
+            dec[m] = z
+        total = 0.0
+        more = k + 1 < ms.size
+        # one pass: the second difference of the block, then (while the block is in
+        # cache) D(2m)_i = D(m)_i + D(m)_{i+m} in place, for the same i <= n - 2m;
+        # ascending blocks read only entries not yet updated
+        for s in range(0, nterm, BLOCK):
+            e = min(s + BLOCK, nterm)
+            b = buf[:e - s]
+            hi = d[s + m:e + m]
+            lo = d[s:e]
+            np.subtract(hi, lo, out=b)
+            total += float(np.dot(b, b))
+            if more:
+                np.add(lo, hi, out=lo)
+        var[k] = total / (2.0 * (m * tau0) ** 2 * nterm)
+        nt[k] = nterm
+    return var, nt, dec
+
+
 def _make_source(data: np.ndarray, rate_hz: float, input: str, chunked: bool):
     tau0 = 1.0 / float(rate_hz)
     if input == "rate":
@@ -554,14 +616,22 @@ def deviation(statistic: str, data, *, rate_hz: float, taus="octave", input: str
     if chunked and input != "rate":
         raise InputError("the chunked path takes rate samples (input='rate')")
     ms = tau_grid(arr.size, taus, rate_hz=rate_hz, statistic=statistic, input=input)
-    src = _make_source(arr, rate_hz, input, chunked)
-    _check_not_constant(src)
     tau0 = 1.0 / float(rate_hz)
-    var, nt = _variances(src, statistic, ms, tau0)
+    decimated = None
+    if (statistic == "oadev" and input == "rate" and not chunked
+            and np.array_equal(ms, 2 ** np.arange(ms.size))):
+        if np.ptp(arr) == 0:
+            raise InputError("data are constant (zero deviation at every tau); nothing to analyse")
+        var, nt, decimated = _oadev_octaves(arr, tau0, ms, want_decimated=alpha is None)
+        src = _LazyPhase(arr, tau0)
+    else:
+        src = _make_source(arr, rate_hz, input, chunked)
+        _check_not_constant(src)
+        var, nt = _variances(src, statistic, ms, tau0)
     dev = np.sqrt(var)
     n_phase = src.n
     if alpha is None:
-        ident = _edf.identify_alpha(src, ms, statistic=statistic)
+        ident = _edf.identify_alpha(src, ms, statistic=statistic, decimated=decimated)
         alphas, sources, amethod = ident.alpha, ident.source, "lag1"
     else:
         alphas = np.broadcast_to(np.asarray(alpha, dtype=np.int64), ms.shape).copy()
