@@ -4,7 +4,6 @@ import numpy as np
 import pytest
 
 from inertialab.errors import InputError
-from inertialab.io import write_record
 from inertialab.noise.allan import oadev, oadev_chunked
 from inertialab.sim.triaxial_poses import simulate_line
 from inertialab.workflows.batch import (
@@ -35,8 +34,7 @@ def lot(tmp_path_factory):
     d = tmp_path_factory.mktemp("lot7")
     sim = simulate_line(N_UNITS, seed=7)
     for uid, frame in sim.data.groupby("unit_id", sort=True):
-        write_record(frame.reset_index(drop=True), d / f"{uid}.csv",
-                     {"g_local_mps2": 9.8, "source": "virtual_lab", "seed": 7})
+        frame.to_csv(d / f"{uid}.csv", index=False)   # g_local comes from the options
     (d / "U99999.csv").write_text("unit_id,pos_id,ax_mps2\nU99999,1,0.1\n")
     return d, sim.truth["X"]
 

@@ -310,6 +310,11 @@ def run_unit(command: str, path, options: dict | None = None,
                       wall_s=time.perf_counter() - t0)
 
 
+def _run_units(command: str, paths: Sequence[str], options: dict,
+               checks: Sequence[Check]) -> list[UnitResult]:
+    return [run_unit(command, p, options, checks) for p in paths]
+
+
 # ----------------------------------------------------------------------------- result
 
 @dataclass(frozen=True)
@@ -432,7 +437,7 @@ def open_client(scheduler: str = "local", workers: int = 2):
 
 def run_batch(command: str, paths: Sequence, *, options: dict | None = None,
               checks: Sequence[Check] = (), scheduler: str = "local", workers: int = 2,
-              client=None, progress=None) -> BatchResult:
+              client=None, progress=None, per_task: int | None = None) -> BatchResult:
     """Run ``command`` on every path and collect a :class:`BatchResult`.
 
     Parameters
@@ -450,6 +455,8 @@ def run_batch(command: str, paths: Sequence, *, options: dict | None = None,
         Worker processes of the LocalCluster.
     client : dask.distributed.Client, optional
         An open client to reuse (then ``scheduler``/``workers`` are only recorded).
+    per_task : int, optional
+        Units per Dask task (default: about four tasks per worker).
     """
     if command not in COMMANDS:
         raise InputError(f"batch command must be one of {', '.join(COMMANDS)}, got '{command}'")
@@ -472,22 +479,28 @@ def run_batch(command: str, paths: Sequence, *, options: dict | None = None,
     with ctx as cl:
         from dask.distributed import as_completed
 
-        futs = cl.map(run_unit, [command] * n, [str(p) for p in paths], [opts] * n,
-                      [checks] * n, pure=False)
-        index = {f.key: i for i, f in enumerate(futs)}
+        nw = len(cl.scheduler_info().get("workers", {})) or int(workers)
+        # a few tasks per worker: per-task scheduling costs more than a small unit
+        size = max(1, min(per_task or math.ceil(n / (4 * nw)), n))
+        groups = [list(range(a, min(a + size, n))) for a in range(0, n, size)]
+        futs = [cl.submit(_run_units, command, [str(paths[i]) for i in g], opts, checks,
+                          pure=False) for g in groups]
+        index = {f.key: g for f, g in zip(futs, groups)}
         rows: list = [None] * n
         done = 0
         for fut in as_completed(futs):
-            i = index[fut.key]
-            if fut.status == "error":  # the worker itself died: mark the unit, go on
+            g = index[fut.key]
+            if fut.status == "error":  # the worker itself died: mark its units, go on
                 exc = fut.exception()
-                rows[i] = UnitResult(paths[i].stem, str(paths[i]), "error",
-                                     reason=f"worker failed: {type(exc).__name__}: {exc}")
+                for i in g:
+                    rows[i] = UnitResult(paths[i].stem, str(paths[i]), "error",
+                                         reason=f"worker failed: {type(exc).__name__}: "
+                                                f"{' '.join(str(exc).split())}")
             else:
-                rows[i] = fut.result()
-            done += 1
-            progress.update(done, n, paths[i].name)
-        nw = len(cl.scheduler_info().get("workers", {})) or workers
+                for i, r in zip(g, fut.result()):
+                    rows[i] = r
+            done += len(g)
+            progress.update(done, n, paths[g[-1]].name)
     return BatchResult(command, tuple(rows), checks, scheduler, int(nw), time.perf_counter() - t0)
 
 
