@@ -214,3 +214,8 @@ def test_demo_quick_runs_and_reports():
     assert rows["LM-S12"]["rmse_mps2"] < rows["lab six-position (12 par.)"]["rmse_mps2"]
     assert res.tables["rawlog62_counts"]["static_intervals"] == 62
     assert res.name == "triaxial" and len(res.headline) == 5
+    from inertialab.report.figures.triaxial import section
+
+    sec = section(res)
+    assert sec.key == "triaxial" and len(sec.figures) == 4 and len(sec.tables) == 3
+    json.dumps(sec.results, default=float)  # results.json material is JSON-ready

@@ -317,7 +317,7 @@ def _six_faces(ref):
 
 def calibrate(a, *, ref=None, method: str = "lm", objective: str = "norm", g: float = tx.G_PAPER,
               rng=0, counts: bool = False, pop_size: int = 25, max_generations: int = 1000,
-              loss: str = "linear", f_scale: float = 1.0) -> CalibrationFit:
+              loss: str = "linear", f_scale: float | None = None) -> CalibrationFit:
     """Calibrate a triaxial accelerometer from static record means (spec 002 §3).
 
     Parameters
@@ -339,8 +339,11 @@ def calibrate(a, *, ref=None, method: str = "lm", objective: str = "norm", g: fl
         metaheuristics is centred on the initial estimate and the ellipsoid fit is strict.
     pop_size, max_generations : int, default 25, 1000
         Metaheuristic settings (spec 002 §3.3).
-    loss, f_scale :
+    loss : {"linear", "soft_l1", "huber", "cauchy"}, default "linear"
         Robust loss of the LM (spec 002 §7.3), default plain least squares.
+    f_scale : float, optional
+        Residual scale of a robust loss; default 3 x the robust scale (1.4826 x median
+        absolute residual) of a plain LM fit, i.e. about 3·sigma_rec (spec 002 §7.3).
 
     Raises
     ------
@@ -380,8 +383,12 @@ def calibrate(a, *, ref=None, method: str = "lm", objective: str = "norm", g: fl
         return _finish(a, ref, fit.x, None, "ellipsoid", "norm", g, None, 0, 1, True, wall,
                        fit.x, None)
     x_start, how = initial_estimate(a, objective=objective, g=g, ref=ref, counts=counts)
+    if loss != "linear" and f_scale is None:
+        plain = _lm(a, ref, objective, g, x_start)
+        f_scale = max(3.0 * 1.4826 * float(np.median(np.abs(plain.residuals))), 1e-12)
+        x_start = plain.x
     t0 = time.perf_counter()
-    res = _lm(a, ref, objective, g, x_start, loss=loss, f_scale=f_scale)
+    res = _lm(a, ref, objective, g, x_start, loss=loss, f_scale=1.0 if f_scale is None else f_scale)
     wall = time.perf_counter() - t0
     if method == "lm":
         x = res.x
