@@ -444,6 +444,19 @@ class SeriesResult:
     fitted: np.ndarray = field(default=None, repr=False)
     exceeded_before_schedule: bool | None = None
 
+    def figure_data(self) -> dict:
+        """Arrays the report's figures need (fit, residuals, forecast, ACF)."""
+        srs = self.series
+        return {
+            "unit_id": self.unit_id, "quantity": self.quantity, "unit": self.unit,
+            "day": srs.day, "values": srs.values, "observed": srs.observed,
+            "imputed": srs.imputed, "truth": srs.truth, "fitted_day": self.fitted_day,
+            "fitted": self.fitted, "forecast": self.forecast, "holdout": self.holdout,
+            "acf": self.whiteness["acf"], "bound": self.whiteness["bound"],
+            "origin_day": self.origin_day, "y_cal": self.y_cal, "tolerance": self.tolerance,
+            "recalibration_day": self.recalibration_day,
+        }
+
     def to_dict(self) -> dict:
         return {
             "unit": self.unit, "origin_day": self.origin_day, "step_days": self.step_days,
@@ -919,6 +932,9 @@ def run_demo(settings, progress=None) -> StudyResult:
             ok = ~np.asarray(r.holdout.get("outlier_true", [False] * len(r.holdout["covered"])))
             nav_cov.extend(np.asarray(r.holdout["covered"])[ok].tolist())
     nav_coverage = float(np.mean(nav_cov)) if nav_cov else None
+    nav_exc = [r.exceeded_before_schedule for _, _, r in nav_fit.iter()
+               if r.exceeded_before_schedule is not None]
+    nav_exceeded = float(np.mean(nav_exc)) if nav_exc else None
     b, s = summ.get("bias", {}), summ.get("sf", {})
     headline = [
         Headline("CV order, bias (mode over units)", b.get("order_mode"), 2, ""),
@@ -932,24 +948,23 @@ def run_demo(settings, progress=None) -> StudyResult:
         Headline("bias skill vs persistence (median)", b.get("median_skill_vs_persistence"),
                  None, ""),
         Headline("95 % interval coverage, nav preset (A13: 0.85-0.99)", nav_coverage, None, ""),
+        Headline("nav units leaving tolerance before their re-calibration day (target <= 0.1)",
+                 nav_exceeded, None, ""),
     ]
     # figure data: the first unit
     uid = next(iter(fit.results))
-    fig_data = {}
-    for q, r in fit.results[uid].items():
-        srs = r.series
-        fig_data[q] = {
-            "unit_id": uid, "unit": r.unit, "day": srs.day, "values": srs.values,
-            "observed": srs.observed, "imputed": srs.imputed, "truth": srs.truth,
-            "fitted_day": r.fitted_day, "fitted": r.fitted, "forecast": r.forecast,
-            "holdout": r.holdout, "acf": r.whiteness["acf"], "bound": r.whiteness["bound"],
-            "origin_day": r.origin_day, "y_cal": r.y_cal, "tolerance": r.tolerance,
-        }
+    fig_data = {q: r.figure_data() for q, r in fit.results[uid].items()}
+    # the schedule is shown for the nav preset: with the paper preset's 50 µg / 20 ppm
+    # day-to-day scatter the ±50 band is left at once by most paths
     schedule = [{"unit_id": u, "quantity": q, "recalibration_day": r.recalibration_day,
                  "origin_day": r.origin_day, "horizon_end": r.forecast["day"][-1],
                  "exceeded_before_schedule": r.exceeded_before_schedule}
-                for u, q, r in fit.iter()]
+                for u, q, r in nav_fit.iter()]
+
     tables = {"paper_preset": summ, "nav_coverage95": nav_coverage,
+              "nav_exceeded_before_schedule": nav_exceeded,
+              "nav_recalibration_days": {f"{u}/{q}": r.recalibration_day
+                                         for u, q, r in nav_fit.iter()},
               "units": fit.to_dict()["units"]}
     text = [
         f"{settings.n_units} simulated units (preset paper, seed {settings.seed}) tested daily "
@@ -962,7 +977,8 @@ def run_demo(settings, progress=None) -> StudyResult:
         "day-to-day scatter dominates. Re-calibration days are the 10 % quantile of the "
         "first passage of the bootstrap paths out of ±50 µg / ±50 ppm around the value at "
         "the origin; with the paper preset's 50 µg turn-on scatter most units leave that "
-        "band at once.",
+        "band at once, so the schedule figure shows the nav preset (strict: median of the "
+        "5 best members, block split).",
     ]
     return StudyResult(
         name="drift", title="Storage drift: NAR forecasting of bias and scale factor",

@@ -1,0 +1,84 @@
+"""CLI: drift fit, drift forecast, simulate storage-drift (spec 004, issue 8)."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from inertialab.cli.main import main
+
+
+def run(capsys, *args):
+    with pytest.raises(SystemExit) as ex:
+        main([str(a) for a in args])
+    out, err = capsys.readouterr()
+    return ex.value.code, out, err
+
+
+@pytest.fixture(scope="module")
+def record(tmp_path_factory):
+    d = tmp_path_factory.mktemp("drift")
+    with pytest.raises(SystemExit) as ex:
+        main(["simulate", "storage-drift", "--preset", "nav", "--units", "2", "--days", "70",
+              "--seed", "3", "--out", str(d / "rec.csv")])
+    assert ex.value.code == 0
+    return d
+
+
+def test_simulate_writes_record_and_sidecar(record):
+    df = pd.read_csv(record / "rec.csv")
+    side = json.loads((record / "rec.meta.json").read_text())
+    assert side["seed"] == 3 and side["preset"] == "nav" and side["source"] == "virtual_lab"
+    assert set(df["unit_id"]) == {"QA001", "QA002"}
+    assert {"bias_mg", "sf_ma_per_g", "true_bias_mg", "is_outlier_true"} <= set(df.columns)
+
+
+@pytest.mark.filterwarnings("ignore")
+def test_fit_json_shape_holdout_and_forecast_roundtrip(record, capsys, tmp_path):
+    code, out, err = run(capsys, "drift", "fit", record / "rec.csv", "--origin-day", "49",
+                         "--restarts", "2", "--horizon", "20", "--json", "--seed", "1",
+                         "--quantity", "bias",
+                         "--out", tmp_path / "o")
+    assert code == 0, err
+    obj = json.loads(out)
+    assert obj["command"] == "drift fit" and obj["settings"]["seed"] == 1
+    assert obj["units"]["bias"] == "ug" and obj["units"]["sf"] == "ppm"
+    assert set(obj["per_unit"]["QA001"]) == {"bias"}
+    u = obj["per_unit"]["QA001"]["bias"]
+    for k in ("order", "cv_scores", "fit", "forecast", "baselines", "whiteness",
+              "recalibration_day"):
+        assert k in u
+    assert set(u["fit"]) == {"mse", "rmse", "max_ae"}
+    assert set(u["forecast"]) == {"day", "value", "lo95", "hi95"}
+    assert len(u["forecast"]["value"]) == 20
+    assert set(u["baselines"]["persistence"]) == {"rmse", "max_ae"}
+    # holdout metrics recomputed from the record (bias in ug, observed days only)
+    df = pd.read_csv(record / "rec.csv")
+    g = df[(df.unit_id == "QA001") & (df.day > 49) & (df.day <= 69)]
+    fc = dict(zip(u["forecast"]["day"], u["forecast"]["value"]))
+    e = g["bias_mg"].to_numpy() * 1000 - np.array([fc[d] for d in g["day"]])
+    assert u["holdout"]["rmse"] == pytest.approx(np.sqrt(np.mean(e ** 2)), rel=1e-9)
+    # the saved model forecasts the same numbers
+    code, out2, err = run(capsys, "drift", "forecast", tmp_path / "o" / "model.json", "--json")
+    assert code == 0, err
+    again = json.loads(out2)["per_unit"]["QA001"]["bias"]["forecast"]
+    np.testing.assert_allclose(again["value"], u["forecast"]["value"], rtol=0, atol=0)
+    assert (tmp_path / "o" / "result.json").exists()
+    assert (tmp_path / "o" / "schedule.png").exists()
+
+
+def test_bad_input_exits_2_with_one_line(record, capsys, tmp_path):
+    code, _, err = run(capsys, "drift", "fit", record / "rec.csv", "--quantity", "temp")
+    assert code == 2 and err.count("\n") == 1 and "--quantity" in err
+    code, _, err = run(capsys, "drift", "fit", record / "rec.csv", "--order", "zero")
+    assert code == 2 and "--order" in err
+    bad = tmp_path / "dup.csv"
+    pd.DataFrame({"unit_id": ["A", "A", "A"], "timestamp": ["2025-01-01T08:00:00Z"] * 2
+                  + ["2025-01-02T08:00:00Z"], "bias_mg": [1.0, 2.0, 1.5]}).to_csv(bad, index=False)
+    code, _, err = run(capsys, "drift", "fit", bad)
+    assert code == 2 and "appears twice" in err and err.count("\n") == 1
+    code, _, err = run(capsys, "drift", "forecast", tmp_path / "missing.json")
+    assert code == 2
