@@ -95,10 +95,79 @@ def _click_exit(exc: BaseException) -> int | None:
     return None
 
 
+def _config_value(key: str, value) -> list[str]:
+    flag = "--" + str(key).replace("_", "-")
+    if isinstance(value, bool):
+        return [flag] if value else []
+    if isinstance(value, list):
+        return [a for v in value for a in _config_value(key, v)]
+    return [flag, str(value)]
+
+
+def expand_config(args: list[str]) -> list[str]:
+    """Expand ``--config run.toml`` into arguments and honour ``--save-config FILE``.
+
+    A configuration is TOML: either ``argv = [...]`` (what ``--save-config`` writes,
+    with ``cwd`` = the directory it ran in) or ``command = ["batch", "allan"]`` with
+    optional ``args = [...]`` (positional) and an ``[options]`` table (``json = true``
+    -> ``--json``; lists repeat the option). Arguments given beside ``--config`` follow
+    the expanded ones, so a single-valued option given there wins. A relative path in
+    a saved configuration is relative to its ``cwd``, which the run changes into.
+    """
+    if "--save-config" in args:
+        i = args.index("--save-config")
+        if i + 1 >= len(args):
+            raise InputError("--save-config needs a file name")
+        target = args[i + 1]
+        rest = args[:i] + args[i + 2:]
+        import json as _json
+
+        from inertialab.io.writers import atomic_write_text
+
+        lines = ["# inertialab run configuration: inertialab --config THIS_FILE re-runs it",
+                 f"inertialab_version = {_json.dumps(__version__)}",
+                 f"cwd = {_json.dumps(os.getcwd())}",
+                 "argv = [" + ", ".join(_json.dumps(a) for a in rest) + "]"]
+        if "--config" in rest:
+            raise InputError("--save-config and --config cannot be combined")
+        atomic_write_text(target, "\n".join(lines) + "\n")
+        args = rest
+    if "--config" not in args:
+        return args
+    i = args.index("--config")
+    if i + 1 >= len(args):
+        raise InputError("--config needs a TOML file")
+    path = args[i + 1]
+    import tomllib
+
+    try:
+        with open(path, "rb") as fh:
+            doc = tomllib.load(fh)
+    except FileNotFoundError:
+        raise InputError("no such configuration file", path=path) from None
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+        raise InputError(f"configuration is not valid TOML ({_one_line(exc)})", path=path) from None
+    if "argv" in doc:
+        expanded = [str(a) for a in doc["argv"]]
+    elif "command" in doc:
+        cmd = doc["command"]
+        expanded = [str(c) for c in (cmd if isinstance(cmd, list) else str(cmd).split())]
+        expanded += [str(a) for a in doc.get("args", [])]
+        for k, v in (doc.get("options") or {}).items():
+            expanded += _config_value(k, v)
+    else:
+        raise InputError("configuration needs 'argv' or 'command'", path=path)
+    cwd = doc.get("cwd")
+    if cwd and os.path.isdir(cwd):
+        os.chdir(cwd)
+    return expanded + args[:i] + args[i + 2:]
+
+
 def main(argv: list[str] | None = None) -> None:
     """Run the CLI; exit 0 on success, 2 on bad input or usage, 1 on an internal error."""
     args = sys.argv[1:] if argv is None else list(argv)
     try:
+        args = expand_config(args)
         cmd = typer.main.get_command(build_app())
         rv = cmd.main(args=args, prog_name="inertialab", standalone_mode=False)
         code = rv if isinstance(rv, int) else 0
