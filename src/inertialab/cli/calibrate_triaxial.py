@@ -176,6 +176,7 @@ def register(app: typer.Typer, groups: dict) -> None:
             raise InputError("--gyro needs a raw log (t_s column): static records carry no motion",
                              path=file)
         inputs = [file]
+        batch = None
         with collect_warnings(quiet=quiet or as_json) as warns, \
                 progress_bar("calibrate triaxial", quiet=quiet or as_json) as bar:
             unit_arg = None if ulower is None else {"ax": ulower, "ay": ulower, "az": ulower}
@@ -202,7 +203,18 @@ def register(app: typer.Typer, groups: dict) -> None:
             else:
                 data = fc.static_data_from_frame(rec.data, meta, lsb_per_g=lsb_per_g, path=file)
                 t = None
+                if data.unit_id is not None and len(set(data.unit_id)) > 1:
+                    if m != "lm" or obj != "scalar":
+                        raise InputError(f"{len(set(data.unit_id))} units in one file: the batch "
+                                         "solver runs --method lm --objective scalar (S9) only",
+                                         path=file)
+                    batch = fc.calibrate_batch(data)
             bar.update(0.4, 1.0, "records ready")
+        if batch is not None:
+            _report_batch(batch, file, out_dir, as_json, warns, rec.sha256)
+            return
+        with collect_warnings(quiet=quiet or as_json) as warns2, \
+                progress_bar("calibrate triaxial", quiet=quiet or as_json) as bar:
             if robust:
                 robust_kw = {"loss": "soft_l1", "f_scale": None}
             gyro_raw = gsuf = None
@@ -217,6 +229,7 @@ def register(app: typer.Typer, groups: dict) -> None:
                 gyro_suffix=gsuf, gyro_lsb_per_rps=gyro_lsb_per_rps, meta=meta,
                 max_generations=max_generations, **robust_kw)
             bar.update(1.0, 1.0, "done")
+        warns = list(warns) + [w for w in warns2 if w not in warns]
         fit = run.fit
         payload = _payload(run, fit, data)
         settings = {"method": m, "objective": obj, "unit": ulower, "lsb_per_g": lsb_per_g,
@@ -380,6 +393,35 @@ def register(app: typer.Typer, groups: dict) -> None:
                       units={"true_params": "m/s^2 (b), 1 (k), rad (theta)"})
             return
         print("written: " + ", ".join(written))
+
+
+def _report_batch(batch, file, out_dir, as_json, warns, sha):
+    """Output of a multi-unit (production-line) file: yield and per-unit table."""
+    import numpy as np
+
+    t = batch.table
+    payload = {"method": "lm-batch", "objective": "scalar", "n_units": int(len(t)),
+               "yield_fraction": batch.yield_fraction, "rmse_limit": batch.rmse_limit,
+               "rmse_median": float(np.median(t["rmse_mps2"])),
+               "rmse_p95": float(np.percentile(t["rmse_mps2"], 95)),
+               "converged_fraction": float(t["converged"].mean()), "wall_s": batch.wall_s,
+               "failed_units": t.loc[~t["pass"], "unit_id"].tolist()[:100]}
+    if out_dir is not None:
+        from inertialab.cli.common import atomic_write_text as _w
+
+        _w(out_dir / "units.csv", t.to_csv(index=False, lineterminator="\n"))
+        _w(out_dir / "result.json", json.dumps(_clean(payload), indent=2) + "\n")
+    if as_json:
+        emit_json("calibrate triaxial", payload, inputs=[file], settings={"batch": True},
+                  units={"rmse_limit": "m/s^2", "rmse_median": "m/s^2", "rmse_p95": "m/s^2",
+                         "wall_s": "s"}, warnings_=warns)
+        return
+    print(f"{payload['n_units']} units: yield {100 * batch.yield_fraction:.1f} % "
+          f"(RMSE <= {batch.rmse_limit} m/s^2 and datasheet ranges); RMSE median "
+          f"{payload['rmse_median']:.4f}, p95 {payload['rmse_p95']:.4f} m/s^2; "
+          f"solver {batch.wall_s:.2f} s")
+    if out_dir is not None:
+        print(f"written: {out_dir}")
 
 
 def _clean(obj):
