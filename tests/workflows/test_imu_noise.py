@@ -1,0 +1,117 @@
+"""Six-axis noise and Kalibr/ROS export against a simulated IMU of known densities (issue 10 item 3)."""
+
+import math
+import re
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from inertialab.errors import InputError
+from inertialab.io import validate_frame
+from inertialab.workflows.imu_noise import analyse_imu, analyse_record, export_yaml
+
+FS = 100.0
+N_SAMPLES = 200_000          # 2000 s
+# truth, continuous time, SI: white-noise density and bias random walk
+NG, KG = 2e-3, 2e-4          # rad/s/sqrt(Hz), rad/s^2/sqrt(Hz)
+NA, KA = 3e-3, 4e-4          # m/s^2/sqrt(Hz), m/s^3/sqrt(Hz)
+G = 9.80665
+
+
+def _axis(rng, n_density, k_rw):
+    # discrete: white sd = N sqrt(fs); bias steps sd = K sqrt(dt)
+    return (n_density * math.sqrt(FS) * rng.standard_normal(N_SAMPLES)
+            + np.cumsum(k_rw / math.sqrt(FS) * rng.standard_normal(N_SAMPLES)))
+
+
+@pytest.fixture(scope="module")
+def imu():
+    rng = np.random.default_rng(2024)
+    data = {"t_s": np.arange(N_SAMPLES) / FS}
+    for a in "xyz":   # gyro written in deg/h, accelerometer in mg: conversions exercised
+        data[f"g{a}_dph"] = _axis(rng, NG, KG) * 180 / math.pi * 3600
+    for a in "xyz":
+        data[f"a{a}_mg"] = _axis(rng, NA, KA) / G * 1000
+    rec = validate_frame(pd.DataFrame(data), "gyro_log", path="imu.csv")
+    return analyse_record(rec)
+
+
+def test_six_axes_against_truth(imu):
+    assert [a.axis for a in imu.axes] == ["gx", "gy", "gz", "ax", "ay", "az"]
+    assert imu.rate_hz == pytest.approx(FS, rel=1e-9)
+    for a in imu.axes:
+        n_true, k_true = (NG, KG) if a.kind == "gyro" else (NA, KA)
+        # the white-noise level is fitted over taus with EDF in the 1e4-1e5 range: 3 %
+        assert a.noise_density == pytest.approx(n_true, rel=0.03)
+        # the random walk rests on the few longest taus (EDF ~ 5-20): a factor 1.6
+        assert not a.random_walk_bound
+        assert k_true / 1.6 < a.random_walk < k_true * 1.6
+
+
+def test_numbers_are_the_noise_terms_converted_by_hand(imu):
+    gx = imu.axis("gx")
+    c = gx.terms.coefficients
+    # N^2 = c_-1 in (deg/h)^2 s -> rad/s/sqrt(Hz): times pi/180/3600
+    assert gx.noise_density == pytest.approx(math.sqrt(c[1]) * math.pi / 180 / 3600, rel=1e-12)
+    # K^2 / 3 = c_1 in (deg/h)^2 / s -> rad/s^2/sqrt(Hz)
+    assert gx.random_walk == pytest.approx(math.sqrt(3 * c[3]) * math.pi / 180 / 3600,
+                                           rel=1e-12)
+    # and the noise core's own N.density (rad/s/sqrt(Hz)) is the same number
+    assert gx.noise_density == pytest.approx(gx.terms.N.density["value"], rel=1e-12)
+    ax = imu.axis("ax")
+    ca = ax.terms.coefficients
+    # mg -> m/s^2: times g/1000
+    assert ax.noise_density == pytest.approx(math.sqrt(ca[1]) * G / 1000, rel=1e-12)
+    assert ax.random_walk == pytest.approx(math.sqrt(3 * ca[3]) * G / 1000, rel=1e-12)
+    # ug/sqrt(Hz) in the noise core: 1e-6 g
+    assert ax.noise_density == pytest.approx(ax.terms.N.density["value"] * 1e-6 * G, rel=1e-12)
+
+
+def _yaml_numbers(text):
+    return {k: float(v) for k, v in re.findall(r"^\s*([a-z_]+):\s*([-+0-9.eE]+)", text,
+                                               flags=re.M)}
+
+
+def test_kalibr_and_ros_export(imu):
+    k = export_yaml(imu, "kalibr", rostopic="/imu/data")
+    v = _yaml_numbers(k)
+    assert v["gyroscope_noise_density"] == pytest.approx(
+        max(imu.axis(a).noise_density for a in ("gx", "gy", "gz")), rel=1e-6)
+    assert v["accelerometer_random_walk"] == pytest.approx(
+        max(imu.axis(a).random_walk for a in ("ax", "ay", "az")), rel=1e-6)
+    assert v["update_rate"] == 100.0 and "rostopic: /imu/data" in k
+    assert "Continuous-time" in k and "sqrt(update_rate)" in k
+    r = export_yaml(imu, "ros", namespace="imu0")
+    assert "\nimu0:\n" in r
+    rv = _yaml_numbers(r)
+    for key in ("gyroscope_noise_density", "gyroscope_random_walk",
+                "accelerometer_noise_density", "accelerometer_random_walk", "update_rate"):
+        assert rv[key] == pytest.approx(v[key], rel=1e-12)
+    assert "gx: {noise_density:" in r
+    yaml = pytest.importorskip("yaml")
+    assert yaml.safe_load(k)["gyroscope_random_walk"] == pytest.approx(v["gyroscope_random_walk"])
+    assert yaml.safe_load(r)["imu0"]["per_axis"]["az"]["noise_density"] > 0
+    with pytest.raises(InputError, match="kalibr' or 'ros"):
+        export_yaml(imu, "matlab")
+
+
+def test_short_record_flags_random_walk_bound():
+    rng = np.random.default_rng(5)
+    y = NG * math.sqrt(FS) * rng.standard_normal(5000)    # white only, 50 s
+    res = analyse_imu({"gz": ("gz_rps", y, "rps")}, rate_hz=FS)
+    gz = res.axis("gz")
+    assert gz.random_walk_bound and np.isfinite(gz.random_walk)
+    assert "upper bound" in export_yaml(res)
+    assert gz.noise_density == pytest.approx(NG, rel=0.05)
+
+
+def test_bad_input():
+    with pytest.raises(InputError, match="no IMU axis"):
+        analyse_imu({}, rate_hz=1.0)
+    with pytest.raises(InputError, match="expected a angular_rate|angular_rate"):
+        analyse_imu({"gx": ("gx_mps2", np.ones(100), "mps2")}, rate_hz=1.0)
+    rec = validate_frame(pd.DataFrame({"t_s": np.arange(10.0), "rate_dph": np.arange(10.0)}),
+                         "gyro_log")
+    with pytest.raises(InputError, match="no IMU axis columns"):
+        analyse_record(rec)
