@@ -955,12 +955,13 @@ def run_demo(settings, progress=None) -> StudyResult:
     rb = res.residual_bias_dph or {}
 
     def ratio(a, b, k):
-        return ph[a][k]["value"] / ph[b][k]["value"]
+        num, den = ph[a][k]["value"], ph[b][k]["value"]
+        return round(num / den, 3) if den and np.isfinite(num) and np.isfinite(den) else None
 
     headline = [
-        Headline("N ratio P2/P1 (500 Hz run)", round(ratio("fixed/P2", "fixed/P1", "N"), 3),
+        Headline("N ratio P2/P1 (500 Hz run)", ratio("fixed/P2", "fixed/P1", "N"),
                  "clearly > 1", ""),
-        Headline("B ratio P2/P1 (500 Hz run)", round(ratio("fixed/P2", "fixed/P1", "B"), 3),
+        Headline("B ratio P2/P1 (500 Hz run)", ratio("fixed/P2", "fixed/P1", "B"),
                  "clearly > 1", ""),
         Headline("level L (rule / used)", f"{res.level_selection.level} / {res.level}", "6", ""),
         Headline("RBF neurons / train RMSE", f"{res.fit['rbf']['neurons']} / "
