@@ -33,7 +33,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from inertialab.errors import InputError
-from inertialab.learn.fis import TSKFIS, _as_2d, genfis, grid_fis
+from inertialab.learn.fis import TSKFIS, _as_2d, genfis, grid_fis, solve_lstsq
 
 
 class StepSizeRule:
@@ -65,14 +65,16 @@ class StepSizeRule:
         return self.k
 
 
-def premise_gradient(fis: TSKFIS, X, t) -> tuple[np.ndarray, np.ndarray]:
+def premise_gradient(fis: TSKFIS, X, t, *, wb=None) -> tuple[np.ndarray, np.ndarray]:
     """Gradient of ``E = 1/2 sum_s (y_s - t_s)^2`` w.r.t. MF centres and widths.
 
     Consequents are held fixed. Returns ``(dE/dc, dE/dsigma)``, each of shape (M,)
-    (one value per membership function, summed over the rules that use it).
+    (one value per membership function, summed over the rules that use it). ``wb``
+    (normalised firing strengths at ``X``) may be passed when already computed.
     """
     X = _as_2d(X)
-    wb = fis.normalized_firing(X)
+    if wb is None:
+        wb = fis.normalized_firing(X)
     F = fis.rule_outputs(X)
     yhat = np.sum(wb * F, axis=1)
     coef = (yhat - np.asarray(t, dtype=float).ravel())[:, None] * (F - yhat[:, None]) * wb
@@ -132,9 +134,15 @@ def train_hybrid(fis: TSKFIS, X, y, *, epochs: int = 150, validation=None,
     rule = StepSizeRule(step_size, inc=step_inc, dec=step_dec)
     tr, va, ks = [], [], []
     best, best_score = None, np.inf
+    Xe = np.hstack([X, np.ones((X.shape[0], 1))])
+    n_th = X.shape[1] + 1
     for e in range(epochs + 1):
-        cur.fit_consequents(X, y)
-        err = _rmse(cur, X, y)
+        wb = cur.normalized_firing(X)
+        A = (wb[:, :, None] * Xe[:, None, :]).reshape(X.shape[0], -1)
+        theta = solve_lstsq(A, y)
+        cur.consequents = theta.reshape(cur.n_rules, n_th)
+        r = A @ theta - y
+        err = float(np.sqrt(np.mean(r * r)))
         tr.append(err)
         verr = _rmse(cur, Xv, yv) if validation is not None else np.nan
         va.append(verr)
@@ -145,7 +153,7 @@ def train_hybrid(fis: TSKFIS, X, y, *, epochs: int = 150, validation=None,
             break
         k = rule.update(err)
         ks.append(k)
-        gc, gs = premise_gradient(cur, X, y)
+        gc, gs = premise_gradient(cur, X, y, wb=wb)
         norm = np.sqrt(np.sum(gc * gc) + np.sum(gs * gs))
         if not np.isfinite(norm) or norm == 0.0:
             break
