@@ -1,0 +1,122 @@
+"""Allan workflow: record preparation, analysis JSON, demo study."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from inertialab.errors import InputError
+from inertialab.io import read_record, write_record
+from inertialab.noise.allan import oadev
+from inertialab.workflows import allan as W
+
+ISSUE_KEYS = {"statistic", "tau0_s", "taus_s", "dev", "ci_low", "ci_high", "n_terms", "alpha",
+              "edf", "unit", "noise_terms"}
+
+
+def _log(tmp_path, df, name="log.csv", meta=None):
+    p = tmp_path / name
+    write_record(df, p, meta or {})
+    return read_record(p, "gyro_log")
+
+
+def _white(n=20_000, fs=10.0, seed=0):
+    y = np.random.default_rng(seed).normal(0.5, 2.0, n)
+    return pd.DataFrame({"t_s": np.arange(n) / fs, "rate_dph": y}), y
+
+
+def test_prepare_rate_log_from_t_s(tmp_path):
+    df, y = _white()
+    log = W.prepare_log(_log(tmp_path, df))
+    assert log.rate_hz == pytest.approx(10.0, rel=1e-9)
+    assert log.unit == "dph" and log.kind == "gyro" and log.column == "rate_dph"
+    np.testing.assert_array_equal(log.values, y)
+
+
+def test_non_uniform_time_names_rows(tmp_path):
+    df, _ = _white(200)
+    t = df["t_s"].to_numpy().copy()
+    t[50:] += 0.003  # one step of 0.103 s instead of 0.1
+    df["t_s"] = t
+    with pytest.raises(InputError, match=r"rows? 51"):
+        W.prepare_log(_log(tmp_path, df))
+    # --rate overrides the time column
+    assert W.prepare_log(_log(tmp_path, df), rate_hz=10.0).rate_hz == 10.0
+
+
+def test_dtheta_and_theta_columns(tmp_path):
+    # dtheta (arcsec per sample) / tau0 = rate in arcsec/s = deg/h; theta (cumulative)
+    # with input angle gives the same deviations (1e-10: rounding of the cumulative sum).
+    df, y = _white(8000, fs=10.0, seed=2)
+    dth = y * 0.1
+    theta = np.concatenate([[0.0], np.cumsum(dth)])
+    d1 = W.prepare_log(_log(tmp_path, pd.DataFrame({"t_s": df["t_s"], "dtheta_arcsec": dth}),
+                            "d.csv"))
+    assert d1.unit == "dph"
+    np.testing.assert_allclose(d1.values, y, rtol=1e-12)
+    d2 = W.prepare_log(_log(tmp_path, pd.DataFrame({"t_s": np.arange(8001) / 10.0,
+                                                     "theta_arcsec": theta}), "t.csv"),
+                       input="angle")
+    assert d2.input == "angle" and d2.unit == "dph"
+    a1 = W.analyze(d1, fit_terms=False)
+    a2 = W.analyze(d2, fit_terms=False)
+    np.testing.assert_allclose(a2.results[0].dev, a1.results[0].dev, rtol=1e-10)
+
+
+def test_accelerometer_log(tmp_path):
+    n, fs = 40_000, 100.0
+    y = np.random.default_rng(3).normal(0, 0.01, n)
+    rec = _log(tmp_path, pd.DataFrame({"t_s": np.arange(n) / fs, "accel_mps2": y}))
+    a = W.analyze(W.prepare_log(rec))
+    assert a.kind == "accel" and a.terms.N.unit == "m/s/sqrt(h)"
+    # white noise of per-sample std s: N = s/sqrt(fs) m/s/sqrt(s) = 60 s/sqrt(fs) m/s/sqrt(h)
+    assert a.terms.N.value == pytest.approx(60 * 0.01 / math.sqrt(fs), rel=0.02)
+
+
+def test_json_keys_single_and_multi():
+    _, y = _white()
+    a = W.analyze(y, rate_hz=10.0, unit="dph", stats="oadev")
+    j = a.to_json()
+    assert set(j) == ISSUE_KEYS
+    assert set(j["noise_terms"]) == set("QNBKR")
+    assert {"value", "unit", "ci"} <= set(j["noise_terms"]["N"])
+    m = W.analyze(y, rate_hz=10.0, unit="dph", stats="oadev,tdev").to_json()
+    assert set(m) == {"results"} and [r["statistic"] for r in m["results"]] == ["oadev", "tdev"]
+    assert m["results"][1]["unit"] == "arcsec"
+    # the terms are fitted on OADEV even when only MDEV is asked for
+    only = W.analyze(y, rate_hz=10.0, unit="dph", stats=["mdev"])
+    np.testing.assert_allclose(only.oadev.dev, oadev(y, rate_hz=10.0).dev, rtol=1e-15)
+
+
+def test_parse_helpers():
+    assert W.parse_stats("oadev, mdev,oadev") == ("oadev", "mdev")
+    assert W.parse_taus("octave") == "octave" and W.parse_taus("12") == 12
+    assert W.parse_taus("0.1,1,10") == [0.1, 1.0, 10.0]
+    with pytest.raises(InputError, match="unknown statistic"):
+        W.parse_stats("xdev")
+    with pytest.raises(InputError, match="--taus"):
+        W.parse_taus("often")
+
+
+def test_unknown_unit_and_bad_column(tmp_path):
+    df, _ = _white(100)
+    rec = _log(tmp_path, df)
+    with pytest.raises(InputError, match="no such column"):
+        W.prepare_log(rec, column="rate_dps")
+    with pytest.raises(InputError):
+        W.analyze(np.ones(10), rate_hz=1.0, unit="parsec")
+
+
+def test_demo_quick_runs_and_recovers():
+    r = W.STUDY.run(W.STUDY.quick, None)
+    assert r.name == "allan"
+    rows = {row["term"]: row for row in r.tables["allan_test"]["terms"]}
+    # 2-h allan-test record: Q and N within 3 % (edf in the thousands), B within 30 %
+    assert rows["Q"]["wls"] == pytest.approx(0.5, rel=0.03)
+    assert rows["N"]["wls"] == pytest.approx(0.01, rel=0.03)
+    assert rows["B"]["wls"] == pytest.approx(0.1, rel=0.3)
+    rec = r.tables["recovery"]
+    assert rec["N_within_5pct"][0] == rec["N_within_5pct"][1] == 10
