@@ -120,3 +120,13 @@ def test_demo_quick_runs_and_recovers():
     assert rows["B"]["wls"] == pytest.approx(0.1, rel=0.3)
     rec = r.tables["recovery"]
     assert rec["N_within_5pct"][0] == rec["N_within_5pct"][1] == 10
+
+
+def test_report_section_of_demo():
+    from inertialab.report.figures.allan import section
+
+    r = W.STUDY.run(W.QuickSettings(recovery_seeds=2, hours=0.5), None)
+    s = section(r)
+    assert s.key == "allan" and len(s.figures) == 2 and len(s.tables) == 2
+    # the recovery table reports the counts the study computed
+    assert s.tables[1].rows[0][1:] == r.tables["recovery"]["N_within_5pct"]
