@@ -1,0 +1,69 @@
+"""``inertialab allan-imu``: six axes of a vendor file, Kalibr export, gap handling (issue 10)."""
+
+import json
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+VENDORS = Path(__file__).resolve().parents[2] / "docs" / "examples" / "vendors"
+
+
+def run(*args, cwd=None):
+    return subprocess.run([sys.executable, "-m", "inertialab", *map(str, args)],
+                          capture_output=True, text=True, cwd=cwd, timeout=300)
+
+
+def test_vendor_file_six_axes_kalibr_export(tmp_path):
+    y = tmp_path / "imu.yaml"
+    res = run("allan-imu", VENDORS / "xsens.txt", "--map-file", VENDORS / "xsens.map.toml",
+              "--export", "kalibr", y, "--json", "--out", tmp_path / "o")
+    assert res.returncode == 0, res.stderr
+    obj = json.loads(res.stdout)
+    axes = obj["imu"]["axes"]
+    assert [a["axis"] for a in axes] == ["gx", "gy", "gz", "ax", "ay", "az"]
+    # the example's gyro is white noise of 1e-3 rad/s per sample at 100 Hz:
+    # density 1e-3/sqrt(100) = 1e-4 rad/s/sqrt(Hz); 200 samples give ~10 % scatter
+    for a in axes[:3]:
+        assert a["noise_density"]["value"] == pytest.approx(1e-4, rel=0.3)
+    text = y.read_text()
+    vals = dict(re.findall(r"^([a-z_]+):\s*([-+0-9.eE]+)", text, flags=re.M))
+    k = obj["imu"]["kalibr"]
+    for key in ("gyroscope_noise_density", "accelerometer_noise_density",
+                "gyroscope_random_walk", "accelerometer_random_walk", "update_rate"):
+        assert float(vals[key]) == pytest.approx(k[key], rel=1e-6)
+    assert (tmp_path / "o" / "imu_allan.png").stat().st_size > 1000
+    assert obj["settings"]["map"].startswith("t_s=SampleTimeFine:100.0us")
+
+
+def _gappy(tmp_path):
+    p = tmp_path / "gap.csv"
+    lines = ["t_ms,gz_dps"]
+    t = 0
+    for i in range(400):
+        t += 10 if i != 200 else 50          # 4 samples lost before data row 201
+        lines.append(f"{t},{(-1) ** i * 0.01 + 0.001 * (i % 7)}")
+    p.write_text("\n".join(lines) + "\n")
+    return p
+
+
+def test_gaps_error_and_split(tmp_path):
+    p = _gappy(tmp_path)
+    res = run("allan-imu", p)
+    assert res.returncode == 2 and "before row 201" in res.stderr and "~4 samples" in res.stderr
+    assert len(res.stderr.strip().splitlines()) == 1
+    res = run("allan-imu", p, "--gaps", "split")
+    assert res.returncode == 2 and "several segments" in res.stderr
+
+
+@pytest.mark.parametrize("extra, pattern", [
+    (("--export", "matlab", "x.yaml"), "kalibr' or 'ros"),
+    (("--map", "gz_rps=gz_dps:mps2"), "acceleration"),
+    (("--map", "gx_rps=NoSuchCol"), "'NoSuchCol'"),
+])
+def test_bad_input_one_line(tmp_path, extra, pattern):
+    res = run("allan-imu", _gappy(tmp_path), *extra)
+    assert res.returncode == 2 and pattern in res.stderr, res.stderr
+    assert len(res.stderr.strip().splitlines()) == 1
