@@ -199,6 +199,23 @@ def test_rolling_origin_counts_and_paired_test():
     assert rr.win_rate["persistence"] == pytest.approx(win)
 
 
+def test_model_fixture_v1_still_loads():
+    # format-version-1 fixture (tests/data/README.md); the forecast is deterministic (seeded
+    # paths), so it must reproduce the values recorded when the file was written, to 1e-9
+    # relative (DESIGN.md: across machines equal to 1e-9 relative).
+    from pathlib import Path
+
+    m = load_model(Path(__file__).parents[1] / "data" / "models" / "storage-drift-v1.json",
+                   expected_type="storage-drift")
+    r = m.forecast(5)["QA001"]["bias"]
+    np.testing.assert_allclose(r["forecast"]["value"],
+                               [-146.67990250224574, -151.26293811483035, -132.16144721236924,
+                                -147.88537436678504, -153.70912945822352], rtol=1e-9)
+    np.testing.assert_allclose(r["forecast"]["hi95"][:2],
+                               [-132.65856889665628, -125.75818281886932], rtol=1e-9)
+    assert r["forecast"]["day"] == [60, 61, 62, 63, 64]
+
+
 def test_study_registered_with_budgeted_settings():
     assert STUDY.name == "drift"
     assert STUDY.quick.n_units <= STUDY.full.n_units
