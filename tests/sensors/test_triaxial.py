@@ -97,14 +97,16 @@ def test_objective_definitions_by_hand():
     assert np.isclose(tx.s9(tx.X0, a, ref), (0.2**2 + 0.8**2) / 2)
 
 
-@pytest.mark.parametrize("objective", ["norm", "scalar"])
+@pytest.mark.parametrize("objective", ["norm", "scalar", "scalar12"])
 def test_lm_noise_free_recovery_sphere1000(objective):
-    # §7.1 item 2: LM on sphere1000-clean recovers x to 1e-9
+    # §7.1 item 2: LM on sphere1000-clean recovers x (and phi = 0 for S12) to 1e-9
     a_t = sphere(1000, 0)
     a = tx.forward(X_TRUE, a_t)
-    res = levenberg_marquardt(lambda x: tx.residuals(x, a, objective=objective, ref=a_t), tx.X0,
+    x0 = np.r_[tx.X0, 0, 0, 0] if objective == "scalar12" else tx.X0
+    truth = np.r_[X_TRUE, 0, 0, 0] if objective == "scalar12" else X_TRUE
+    res = levenberg_marquardt(lambda x: tx.residuals(x, a, objective=objective, ref=a_t), x0,
                               jac=lambda x: tx.jacobian(x, a, objective=objective, ref=a_t))
-    assert np.max(np.abs(res.x - X_TRUE)) < 1e-9
+    assert np.max(np.abs(res.x - truth)) < 1e-9
 
 
 def test_s12_removes_mount_bias_and_s9_shows_it():

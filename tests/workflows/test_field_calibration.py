@@ -39,6 +39,18 @@ def test_noisy_recovery_coverage_100_datasets():
     assert 0.8e-3 < f.stderr[0] < 2e-3 and 1.4e-4 < f.stderr[3] < 3.5e-4
 
 
+def test_eq21_metric_hand_computed():
+    # §7.1 item 7: e_l = |a_l - a_hat_l|: (3,4,0) -> 5, (0,0,1) -> 1, (0,0,0) -> 0
+    from inertialab.metrics import vector_error
+
+    ref = np.zeros((3, 3))
+    est = np.array([[3.0, 4.0, 0.0], [0.0, 0.0, 1.0], [0.0, 0.0, 0.0]])
+    ve = vector_error(ref, est)
+    assert np.isclose(ve.rmse, np.sqrt((25 + 1 + 0) / 3))
+    assert np.isclose(ve.mean, 2.0)
+    assert np.isclose(ve.sd, np.sqrt(((5 - 2) ** 2 + (1 - 2) ** 2 + (0 - 2) ** 2) / 2))
+
+
 def test_scalar_without_references_raises():
     rec, sd = static("sphere100-clean")
     with pytest.raises(MissingReferenceError, match="reference"):

@@ -953,9 +953,10 @@ def run_demo(settings=None, progress=None) -> StudyResult:
         Headline("turntable SD lab -> ACS/LM-S12", f"{lab['sd_mps2']:.4f} -> {s12['sd_mps2']:.4f}",
                  "0.0643 -> 0.0487", "m/s^2"),
         Headline(f"ACS vs CS generations ({settings.cs_seeds} seeds, {settings.cs_points} pts)",
-                 None if red is None else round(red, 1), -22.0 if settings.cs_points == 100 else -16.0,
-                 "% fewer (ours) / % change (paper)"),
-        Headline("raw log (counts, gyro): accel max |x err|", acc_err, None, "m/s^2 or 1 or rad"),
+                 None if red is None else round(-red, 1), -22.0 if settings.cs_points == 100 else -16.0,
+                 "% change"),
+        Headline("raw log (counts, gyro): accel max |x - x_true|", acc_err, None,
+                 "max over b (m/s^2), k (1), theta (rad)"),
         Headline("raw log gyro max |M_g err|", g_err, None, "rad/s per rad/s"),
     ]
     tables = {
