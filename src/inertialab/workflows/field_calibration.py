@@ -293,10 +293,10 @@ def initial_estimate(a, *, objective="norm", g=tx.G_PAPER, ref=None, counts=Fals
     return fit.x, "ellipsoid fit"
 
 
-def _lm(a, ref, objective, g, x_start, loss="linear", f_scale=1.0):
+def _lm(a, ref, objective, g, x_start, loss="linear", f_scale=1.0, bounds=None):
     fun = lambda p: tx.residuals(p, a, objective=objective, g=g, ref=ref)  # noqa: E731
     jac = lambda p: tx.jacobian(p, a, objective=objective, g=g, ref=ref)  # noqa: E731
-    return levenberg_marquardt(fun, x_start, jac=jac, loss=loss, f_scale=f_scale)
+    return levenberg_marquardt(fun, x_start, jac=jac, loss=loss, f_scale=f_scale, bounds=bounds)
 
 
 def _six_faces(ref):
@@ -317,7 +317,8 @@ def _six_faces(ref):
 
 def calibrate(a, *, ref=None, method: str = "lm", objective: str = "norm", g: float = tx.G_PAPER,
               rng=0, counts: bool = False, pop_size: int = 25, max_generations: int = 1000,
-              loss: str = "linear", f_scale: float | None = None) -> CalibrationFit:
+              loss: str = "linear", f_scale: float | None = None,
+              bounded: bool = False) -> CalibrationFit:
     """Calibrate a triaxial accelerometer from static record means (spec 002 §3).
 
     Parameters
@@ -344,6 +345,9 @@ def calibrate(a, *, ref=None, method: str = "lm", objective: str = "norm", g: fl
     f_scale : float, optional
         Residual scale of a robust loss; default 3 x the robust scale (1.4826 x median
         absolute residual) of a plain LM fit, i.e. about 3·sigma_rec (spec 002 §7.3).
+    bounded : bool, default False
+        LM only: solve with scipy's ``trf`` inside the search box of spec 002 §3.2 (the
+        bounded variant of §3.6; the box is centred on the initial estimate in counts mode).
 
     Raises
     ------
@@ -387,8 +391,13 @@ def calibrate(a, *, ref=None, method: str = "lm", objective: str = "norm", g: fl
         plain = _lm(a, ref, objective, g, x_start)
         f_scale = max(3.0 * 1.4826 * float(np.median(np.abs(plain.residuals))), 1e-12)
         x_start = plain.x
+    lm_box = None
+    if bounded:
+        bx = tx.search_box(objective, center=x_start[:9] if counts else None)
+        lm_box = (bx[:, 0], bx[:, 1])
     t0 = time.perf_counter()
-    res = _lm(a, ref, objective, g, x_start, loss=loss, f_scale=1.0 if f_scale is None else f_scale)
+    res = _lm(a, ref, objective, g, x_start, loss=loss,
+              f_scale=1.0 if f_scale is None else f_scale, bounds=lm_box)
     wall = time.perf_counter() - t0
     if method == "lm":
         x = res.x
