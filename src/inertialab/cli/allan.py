@@ -1,0 +1,156 @@
+"""``inertialab allan FILE`` and ``inertialab simulate gyro-static`` (issue 3).
+
+Thin: parse the options, read the record, call :mod:`inertialab.workflows.allan`, print
+the table and the noise terms (or the JSON object of issue 3), write the figure,
+``result.json`` and ``model.json`` with ``--out``.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import typer
+
+from inertialab.cli.common import (
+    collect_warnings,
+    emit_json,
+    json_ready,
+    prepare_out_dir,
+    print_table,
+    write_figures,
+)
+from inertialab.errors import InputError
+
+
+def register(app: typer.Typer, groups: dict) -> None:
+    @app.command("allan")
+    def allan(
+        file: Path = typer.Argument(..., help="Log file: CSV/Parquet (gyro_log) or a .npy "
+                                              "column (needs --rate and --unit)."),
+        column: str = typer.Option(None, "--column", help="Column to analyse (default: the "
+                                                          "first rate/dtheta/accel column)."),
+        rate: float = typer.Option(None, "--rate", help="Sample rate in Hz (default: from a "
+                                                        "uniform t_s or the sidecar)."),
+        input_: str = typer.Option("rate", "--input", help="rate | angle (cumulative "
+                                                           "theta_* column)."),
+        unit: str = typer.Option(None, "--unit", help="Unit suffix of the data (dph, dps, "
+                                                      "rps, mps2, g ...); overrides the "
+                                                      "column suffix."),
+        stat: str = typer.Option("oadev", "--stat", help="Comma-separated: adev, oadev, "
+                                                         "mdev, tdev, hdev, ohdev, totdev."),
+        taus: str = typer.Option("octave", "--taus", help="octave | decade | all | a count "
+                                                          "| comma-separated seconds."),
+        confidence: float = typer.Option(0.683, "--confidence", help="Two-sided confidence "
+                                                                     "of the intervals."),
+        method: str = typer.Option("wls", "--method", help="Noise terms: wls | ols | slope."),
+        g_local: float = typer.Option(None, "--g-local", help="Local gravity, m/s^2 (g-based "
+                                                              "accelerometer units)."),
+        as_json: bool = typer.Option(False, "--json", help="Print the result as JSON."),
+        out: Path = typer.Option(None, "--out", help="Directory for allan.png, result.json "
+                                                     "and model.json (noise terms)."),
+        quiet: bool = typer.Option(False, "--quiet", help="No warnings on stderr."),
+    ):
+        """Allan family with confidence intervals and the Q N B K R noise terms."""
+        from inertialab.io import read_record
+        from inertialab.workflows.allan import analyze, parse_stats, parse_taus, prepare_log
+
+        stats = parse_stats(stat)
+        tau_spec = parse_taus(taus)
+        if input_ not in ("rate", "angle"):
+            raise InputError(f"--input must be rate or angle, got '{input_}'")
+        if method not in ("wls", "ols", "slope"):
+            raise InputError(f"--method must be wls, ols or slope, got '{method}'")
+        if not 0.0 < confidence < 1.0:
+            raise InputError(f"--confidence must be in (0, 1), got {confidence}")
+        npy_col = None
+        if Path(file).suffix.lower() == ".npy" and unit is not None:
+            base = "theta" if input_ == "angle" else None
+            if column is None and base is not None:
+                npy_col = f"{base}_{unit.strip().lower()}"
+        with collect_warnings(quiet) as warns:
+            rec = read_record(file, "gyro_log", unit=unit, rate_hz=rate,
+                              column=column or npy_col, g_local=g_local)
+            log = prepare_log(rec, column=column, rate_hz=rate, input=input_, g_local=g_local)
+            res = analyze(log, stats=stats, taus=tau_spec, confidence=confidence,
+                          method=method, chunked=bool(rec.arrays))
+            payload = res.to_json()
+            if out is not None:
+                from inertialab.io import save_model
+                from inertialab.report.figures.allan import deviation_figure
+
+                d = prepare_out_dir(out)
+                write_figures([deviation_figure(res)], d)
+                from inertialab.cli.common import atomic_write_text
+
+                atomic_write_text(d / "result.json",
+                                  json.dumps(json_ready(payload), indent=2) + "\n")
+                if res.terms is not None:
+                    save_model(res.terms, d / "model.json", units={"rate": log.unit},
+                               training_data_sha256=rec.sha256)
+        settings = {"column": log.column, "rate_hz": log.rate_hz, "input": log.input,
+                    "stat": list(stats), "taus": taus, "confidence": confidence,
+                    "method": method, "unit": log.unit, "n_samples": res.n_samples}
+        if as_json:
+            units = {"tau0_s": "s", "taus_s": "s", "dev": log.unit, "ci_low": log.unit,
+                     "ci_high": log.unit, "n_terms": "1", "alpha": "1", "edf": "1"}
+            emit_json("allan", payload, inputs=[file], settings=settings, units=units,
+                      warnings_=warns)
+            return
+        for r in res.results:
+            print_table(["tau_s", "m", "dev", "ci_low", "ci_high", "n_terms", "alpha", "edf"],
+                        [[t, int(m), d, lo, hi, int(n), int(a), e] for t, m, d, lo, hi, n, a, e
+                         in zip(r.taus_s, r.m, r.dev, r.ci_low, r.ci_high, r.n_terms,
+                                r.alpha, r.edf)],
+                        title=f"{r.statistic.upper()} of {log.column} "
+                              f"({res.dev_unit(r.statistic)}), {r.confidence:.1%} intervals")
+        if res.terms is not None:
+            rows = []
+            for k, t in res.terms.terms().items():
+                rows.append([k, t.value, t.unit, t.ci[0], t.ci[1], t.method,
+                             f"{t.tau_range_s[0]:.3g}-{t.tau_range_s[1]:.3g}",
+                             ",".join(t.flags)])
+            n = res.terms.N
+            if n.density is not None:
+                rows.append(["N density", n.density["value"], n.density["unit"], None, None,
+                             n.method, "continuous-time", ""])
+            if n.per_sample_std is not None:
+                rows.append(["N per-sample std", n.per_sample_std["value"],
+                             n.per_sample_std["unit"], None, None, n.method,
+                             f"at {log.rate_hz:g} Hz", ""])
+            print_table(["term", "value", "unit", "ci_low", "ci_high", "method", "tau range s",
+                         "flags"], rows, title="Noise terms (fitted on OADEV)")
+        if out is not None:
+            print(f"wrote {Path(out) / 'allan.png'}, result.json, model.json")
+
+    simulate = groups["simulate"]
+
+    @simulate.command("gyro-static")
+    def simulate_gyro_static(
+        preset: str = typer.Option("allan-test", "--preset", help="allan-test | allan-rrw | "
+                                                                  "allan-bi | mid | nav | "
+                                                                  "tactical."),
+        hours: float = typer.Option(1.0, "--hours", help="Record length in hours."),
+        rate: float = typer.Option(10.0, "--rate", help="Output rate in Hz."),
+        seed: int = typer.Option(0, "--seed", help="Random seed."),
+        out: Path = typer.Option(..., "--out", help="Record file (.csv or .parquet); the "
+                                                    "sidecar is written beside it."),
+        as_json: bool = typer.Option(False, "--json", help="Print a summary as JSON."),
+    ):
+        """A FOG at rest (spec 001 §6.2 noise model) with known Q N B K R."""
+        from inertialab.io import write_record
+        from inertialab.sim.gyro_static import simulate as sim
+
+        if Path(out).is_dir():
+            raise InputError("--out must be a file for this command", path=out)
+        r = sim(preset, hours=hours, rate_hz=rate, seed=seed)
+        write_record(r.record, out, r.meta)
+        if as_json:
+            emit_json("simulate gyro-static",
+                      {"output": str(out), "n_samples": len(r.record),
+                       "truth_terms": r.meta["truth_terms"]},
+                      inputs=[], settings={"preset": preset, "hours": hours, "rate_hz": rate,
+                                           "seed": seed},
+                      units={"n_samples": "1"})
+            return
+        print(f"wrote {out} ({len(r.record)} samples at {rate:g} Hz, preset {preset})")

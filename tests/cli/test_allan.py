@@ -1,0 +1,150 @@
+"""CLI: inertialab allan and simulate gyro-static (issue 3 items 6 and 7)."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from inertialab.cli.main import main
+from inertialab.noise.allan import oadev
+
+ISSUE_KEYS = {"statistic", "tau0_s", "taus_s", "dev", "ci_low", "ci_high", "n_terms", "alpha",
+              "edf", "unit", "noise_terms"}
+ENVELOPE = {"command", "schema_version", "inertialab_version", "inputs", "settings", "units",
+            "warnings"}
+
+
+def run(capsys, *args):
+    with pytest.raises(SystemExit) as ex:
+        main([str(a) for a in args])
+    out, err = capsys.readouterr()
+    return ex.value.code, out, err
+
+
+@pytest.fixture(scope="module")
+def rec(tmp_path_factory):
+    d = tmp_path_factory.mktemp("allan")
+    with pytest.raises(SystemExit) as ex:
+        main(["simulate", "gyro-static", "--preset", "allan-test", "--hours", "1", "--rate",
+              "10", "--seed", "2", "--out", str(d / "g.csv")])
+    assert ex.value.code == 0
+    return d / "g.csv"
+
+
+def test_simulate_sidecar(rec):
+    side = json.loads(rec.with_name("g.meta.json").read_text())
+    assert side["seed"] == 2 and side["preset"] == "allan-test" and side["fs_hz"] == 10.0
+    assert side["truth_terms"]["B"]["value"] == 0.1
+
+
+def test_json_single_stat(rec, capsys):
+    code, out, err = run(capsys, "allan", rec, "--json")
+    assert code == 0, err
+    obj = json.loads(out)
+    assert ENVELOPE <= set(obj)
+    assert set(obj) - ENVELOPE - {"dependencies", "non_estimable"} == ISSUE_KEYS
+    assert obj["command"] == "allan" and obj["statistic"] == "oadev" and obj["unit"] == "dph"
+    # numbers equal the library on the same column (the CSV round trip is exact)
+    y = pd.read_csv(rec)["rate_dph"].to_numpy()
+    np.testing.assert_allclose(obj["dev"], oadev(y, rate_hz=10.0).dev, rtol=1e-12)
+    nt = obj["noise_terms"]
+    assert set(nt) == set("QNBKR")
+    assert nt["N"]["unit"] == "deg/sqrt(h)" and len(nt["N"]["ci"]) == 2
+    assert nt["N"]["value"] == pytest.approx(0.01, rel=0.05)  # 1 h, edf > 1000 at N's taus
+    assert nt["Q"]["value"] == pytest.approx(0.5, rel=0.05)
+
+
+def test_json_several_stats_and_out(rec, capsys, tmp_path):
+    code, out, err = run(capsys, "allan", rec, "--stat", "oadev,mdev,totdev", "--taus",
+                         "decade", "--confidence", "0.95", "--json", "--out", tmp_path / "o")
+    assert code == 0, err
+    obj = json.loads(out)
+    assert [r["statistic"] for r in obj["results"]] == ["oadev", "mdev", "totdev"]
+    for r in obj["results"]:
+        assert set(r) == ISSUE_KEYS
+        assert r["taus_s"][:3] == [0.1, 0.2, 0.4]
+    assert (tmp_path / "o" / "allan.png").stat().st_size > 1000
+    res = json.loads((tmp_path / "o" / "result.json").read_text())
+    assert [r["statistic"] for r in res["results"]] == ["oadev", "mdev", "totdev"]
+    model = json.loads((tmp_path / "o" / "model.json").read_text())
+    assert model["type"] == "noise-terms"
+
+
+def test_table_output(rec, capsys):
+    code, out, err = run(capsys, "allan", rec, "--method", "slope")
+    assert code == 0, err
+    assert "OADEV" in out and "Noise terms" in out and "deg/sqrt(h)" in out
+
+
+def test_npy_needs_rate_and_unit(tmp_path, capsys):
+    y = np.random.default_rng(0).normal(0, 1, 5000)
+    p = tmp_path / "r.npy"
+    np.save(p, y)
+    code, out, err = run(capsys, "allan", p, "--rate", "100", "--unit", "dps", "--json")
+    assert code == 0, err
+    obj = json.loads(out)
+    assert obj["unit"] == "dps" and obj["tau0_s"] == 0.01
+    np.testing.assert_allclose(obj["dev"], oadev(y, rate_hz=100.0).dev, rtol=1e-12)
+    code, out, err = run(capsys, "allan", p)
+    assert code == 2 and err.startswith("error:") and len(err.strip().splitlines()) == 1
+
+
+def _bad(tmp_path, name, df):
+    p = tmp_path / name
+    df.to_csv(p, index=False)
+    return p
+
+
+@pytest.mark.parametrize("case, match", [
+    ("few", "too few samples"),
+    ("nan", "NaN"),
+    ("constant", "constant"),
+    ("jitter", "not uniform"),
+    ("unit", "unit"),
+])
+def test_bad_input_exit_2_one_line(tmp_path, capsys, case, match):
+    n = 400
+    t = np.arange(n) / 10.0
+    y = np.random.default_rng(1).normal(0, 1, n)
+    if case == "few":
+        p = _bad(tmp_path, "few.csv", pd.DataFrame({"t_s": t[:3], "rate_dph": y[:3]}))
+        args = ["--taus", "5.0,10"]  # seconds: m = 50 > the largest valid m = 1
+    elif case == "nan":
+        y[17] = np.nan
+        p = _bad(tmp_path, "nan.csv", pd.DataFrame({"t_s": t, "rate_dph": y}))
+        args = []
+    elif case == "constant":
+        p = _bad(tmp_path, "c.csv", pd.DataFrame({"t_s": t, "rate_dph": np.full(n, 3.0)}))
+        args = []
+    elif case == "jitter":
+        t2 = t.copy()
+        t2[100:] += 0.01
+        p = _bad(tmp_path, "j.csv", pd.DataFrame({"t_s": t2, "rate_dph": y}))
+        args = []
+    else:
+        p = _bad(tmp_path, "u.csv", pd.DataFrame({"t_s": t, "rate_furlong": y}))
+        args = []
+    code, out, err = run(capsys, "allan", p, *args)
+    assert code == 2, (out, err)
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error:") and match in lines[0], err
+    assert "Traceback" not in err and out == ""
+
+
+def test_jitter_names_rows(tmp_path, capsys):
+    t = np.arange(300) / 10.0
+    t[100:] += 0.01
+    p = _bad(tmp_path, "j.csv", pd.DataFrame({"t_s": t, "rate_dph": np.random.default_rng(0)
+                                               .normal(size=300)}))
+    code, _, err = run(capsys, "allan", p)
+    assert code == 2 and "rows 101" in err  # the later stamp of the bad step, 1-based
+
+
+def test_bad_options(rec, capsys):
+    for args in (["--stat", "xdev"], ["--method", "guess"], ["--input", "phase"],
+                 ["--confidence", "2"], ["--taus", "sometimes"]):
+        code, out, err = run(capsys, "allan", rec, *args)
+        assert code == 2 and len(err.strip().splitlines()) == 1, (args, err)
