@@ -70,6 +70,24 @@ def test_units_of_measure_are_converted():
     np.testing.assert_allclose(to_daily_grid(ma, quantity="bias")["U1"].values, a)
 
 
+def test_hampel_screen_flags_spikes_only_and_invalid_rows_dropped():
+    # smooth drift + N(0, 10) scatter + two 8-sigma spikes; the screen (5 x 1.4826 MAD)
+    # must flag both spikes and, at 5 sigma, almost nothing else (P(|z| > 5) ~ 6e-7/day)
+    rng = np.random.default_rng(4)
+    days = np.arange(100)
+    y = 50 * (1 - np.exp(-days / 15)) + rng.normal(0, 10, 100)
+    y[[30, 70]] += 80.0
+    valid = np.ones(100, bool)
+    valid[50] = False
+    df = pd.DataFrame({"unit_id": "U1", "day": days, "bias_ug": y, "valid": valid})
+    plain = to_daily_grid(df, quantity="bias")["U1"]
+    assert plain.imputed[50] and not plain.observed[50]  # invalid row dropped, then imputed
+    s = to_daily_grid(df, quantity="bias", hampel=True)["U1"]
+    assert set(np.flatnonzero(s.screened)) == {30, 70}
+    assert not s.usable[30] and s.imputed[30]  # screened days become gaps, then imputed
+    np.testing.assert_allclose(s.values[30], (y[29] + y[31]) / 2)
+
+
 def test_weekly_programme_uses_native_step():
     days = np.arange(0, 7 * 40, 7)
     s = to_daily_grid(_frame(days, np.sin(days / 30.0)), quantity="bias")["U1"]
