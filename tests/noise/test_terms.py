@@ -149,3 +149,17 @@ def test_recovery_18_of_20_seeds():
     ok_k = sum(abs(e["K"]) <= 0.05 for e in rrw)
     ok_b = sum(abs(e["B"]) <= 0.20 for e in bi)
     assert ok_n >= 36 and ok_k >= 18 and ok_b >= 18, (ok_n, ok_k, ok_b)
+
+
+def test_model_file_fixture_v1_loads():
+    # tests/data/models/noise-terms-v1.json was written by `inertialab allan --out` with
+    # model-file format version 1 (allan-test, 0.5 h at 10 Hz, seed 1); it must keep loading.
+    from pathlib import Path
+
+    from inertialab.io import load_model
+
+    p = Path(__file__).resolve().parents[1] / "data" / "models" / "noise-terms-v1.json"
+    t = load_model(p)
+    assert isinstance(t, NoiseTerms)
+    assert t.N.unit == "deg/sqrt(h)" and t.N.value == pytest.approx(0.010094701330245405, rel=1e-15)
+    assert t.to_dict()["kind"] == "gyro"
