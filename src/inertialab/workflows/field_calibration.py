@@ -560,17 +560,26 @@ def _references(df: pd.DataFrame, g: float, *, path=None):
     return ref
 
 
-def _saturation_limits(suffix, meta, scale_g):
-    """Raw-unit rails for saturation: from ``saturation_lsb``/``range_g`` metadata or 16-bit counts."""
+def _saturation_limits(suffix, meta, scale_g, raw=None):
+    """Raw-unit rails for saturation checks, or None when unknown.
+
+    Counts: ``saturation_lsb`` (half range around ``lsb_offset``) when given; otherwise
+    16-bit rails, signed (-32768, 32767) when every value fits a signed word, else unsigned
+    (0, 65535) when every value fits that, else none. SI: ``range_g`` (0.999 of it).
+    """
     if suffix == "lsb":
+        off = float(meta.get("lsb_offset", 0.0) or 0.0)
         if "saturation_lsb" in meta:
             s = float(meta["saturation_lsb"])
-            off = float(meta.get("lsb_offset", 0.0) or 0.0)
             return off - s, off + s - 1
-        off = float(meta.get("lsb_offset", 0.0) or 0.0)
-        if off == 32768:
+        if raw is None:
+            return None
+        lo, hi = float(np.min(raw)), float(np.max(raw))
+        if lo >= -32768 and hi <= 32767:
+            return -32768.0, 32767.0
+        if lo >= 0 and hi <= 65535:
             return 0.0, 65535.0
-        return -32768.0, 32767.0
+        return None
     if "range_g" in meta:
         lim = float(meta["range_g"]) * scale_g * 0.999
         return -lim, lim
@@ -587,7 +596,8 @@ def static_data_from_frame(df: pd.DataFrame, meta: dict | None = None, *, g: flo
     raw = df[cols].to_numpy(dtype=float)
     keep = np.ones(len(df), dtype=bool)
     dropped = []
-    lim = _saturation_limits(suf, meta, units.to_si(1.0, suf, g_local=g) / g if suf != "lsb" else 1)
+    lim = _saturation_limits(suf, meta, units.to_si(1.0, suf, g_local=g) / g if suf != "lsb" else 1,
+                             raw)
     if lim is not None:
         sat = np.any((raw <= lim[0]) | (raw >= lim[1]), axis=1)
         if sat.any():
@@ -665,7 +675,7 @@ def raw_log_data(t, acc_raw, meta: dict | None = None, *, suffix: str = "mps2",
     keep = np.ones(iv.count, dtype=bool)
     dropped = []
     lim = _saturation_limits(suffix, meta, 1.0 if suffix == "lsb" else
-                             units.to_si(1.0, suffix, g_local=g) / g)
+                             units.to_si(1.0, suffix, g_local=g) / g, raw)
     if lim is not None:
         sat_s = np.any((raw <= lim[0]) | (raw >= lim[1]), axis=1)
         csum = np.r_[0, np.cumsum(sat_s)]
