@@ -157,3 +157,27 @@ def test_batch_file_runs_the_vectorised_solver(capsys, tmp_path):
     truth = pd.read_csv(path).groupby("unit_id").first()
     assert np.max(np.abs(units.set_index("unit_id")["kx"] - truth["true_kx"])) < 2e-3
     one_line_error(*cli(capsys, "calibrate", "triaxial", path)[::2], "batch solver")
+
+
+def test_counts_static_file_with_header_and_bare_columns(capsys, tmp_path):
+    # spec 002 §2.3/§7.1 item 10 through the CLI: '# key=value' header, bare ax/ay/az, units=lsb
+    # without lsb_per_g (counts mode, unsigned offset 32768 + ~200, ~640 counts per m/s^2)
+    from inertialab.sensors import triaxial as tx
+
+    rng = np.random.default_rng(5)
+    x = np.r_[32768 + rng.uniform(-200, 200, 3), 640 * (1 + rng.uniform(-0.03, 0.03, 3)),
+              rng.uniform(-0.02, 0.02, 3)]
+    d = rng.standard_normal((38, 3))
+    r = 9.80665 * d / np.linalg.norm(d, axis=1)[:, None]
+    a = tx.forward(x, r) + 2.0 * rng.standard_normal((38, 3))
+    path = tmp_path / "dev.static.csv"
+    lines = ["# units=lsb", "# g_local=9.80665", "pos_id,ax,ay,az"]
+    lines += [f"{i + 1},{v[0]:.3f},{v[1]:.3f},{v[2]:.3f}" for i, v in enumerate(a)]
+    path.write_text("\n".join(lines) + "\n")
+    code, out, err = cli(capsys, "calibrate", "triaxial", path, "--json")
+    assert code == 0, err
+    res = json.loads(out)
+    assert res["counts_mode"] is True and res["warnings"] == []
+    k = np.array([res["params"][n] for n in ("kx", "ky", "kz")])
+    th = np.array([res["params"][n] for n in ("theta_yz", "theta_zy", "theta_zx")])
+    assert np.max(np.abs(k / x[3:6] - 1)) < 1e-3 and np.max(np.abs(th - x[6:9])) < 1.5e-3
