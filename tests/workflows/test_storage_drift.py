@@ -15,6 +15,7 @@ from inertialab.workflows.storage_drift import (
     STUDY,
     DriftModel,
     DriftSettings,
+    cusum_alarms,
     evaluate_rolling_origin,
     fit_drift,
     fit_series,
@@ -133,6 +134,20 @@ def test_recalibration_first_passage_quantile():
     assert k == 2  # 10 % quantile (inverted CDF) of the ten passage times
     k, _ = recalibration(paths[:1], 0.0, 100.0)
     assert k is None  # never leaves the band within the horizon
+
+
+def test_cusum_false_alarms_rare_and_step_found_fast():
+    # k = 0.5, h = 5: in-control ARL of the two-sided scheme ~465, so 2000 white samples
+    # give ~4 alarms on average (<= 12 is > 3 Poisson SD above); a 2-sigma step is
+    # detected after ~4 samples on average (ARL1 ~ 3.4), 15 is a generous bound.
+    e = np.random.default_rng(0).normal(size=2000)
+    assert cusum_alarms(e).size <= 12
+    # step in the last 50 of 600 samples (so the robust centre and scale barely move)
+    e2 = np.random.default_rng(1).normal(size=600)
+    e2[550:] += 2.0
+    a = cusum_alarms(e2)
+    after = a[a >= 550]
+    assert after.size and after[0] - 550 <= 15
 
 
 def _s1_record(seed, drop_frac=0.0, n=120):

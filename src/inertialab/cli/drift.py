@@ -72,6 +72,7 @@ def _unit_payload(r) -> dict:
         "tolerance": r.tolerance,
         "origin_day": r.origin_day,
         "accepted": r.accepted,
+        "anomaly_days": r.anomaly_days,
     }
 
 

@@ -15,7 +15,8 @@ Pipeline for a record of the ``storage_drift`` kind (one row per test of one uni
    metrics when the record extends past the origin (§5; scored on observed, non-imputed
    days only), skill vs persistence, whiteness, and the re-calibration day (§9): for a
    tolerance Δ around the value at the origin, the first-passage step of every
-   simulated path, its 10 % quantile, as a programme day (``None``: none within horizon).
+   simulated path, its 10 % quantile, as a programme day (``None``: none within horizon);
+   CUSUM alarms on the one-step residuals flag shocks and steps (§9).
 3. :func:`fit_drift` does 1-2 for a whole record and returns a :class:`DriftFit` with a
    :class:`DriftModel` (model-file type ``storage-drift``) that forecasts again later.
 4. :func:`evaluate_rolling_origin` (§5): refit at origins T = first, first+step, ..., N-K;
@@ -54,6 +55,7 @@ __all__ = [
     "evaluate_rolling_origin",
     "fit_drift",
     "fit_series",
+    "cusum_alarms",
     "recalibration",
     "run_demo",
     "to_daily_grid",
@@ -414,6 +416,33 @@ def recalibration(paths: np.ndarray, y_cal: float, tol: float, *, quantile: floa
     return (None if not np.isfinite(q) else int(q)), t_star
 
 
+def cusum_alarms(resid, *, k: float = 0.5, h: float = 5.0) -> np.ndarray:
+    """Two-sided tabular CUSUM on robustly standardised one-step residuals (spec 004 §9).
+
+    z = (e - median e) / (1.4826 MAD e); S+ = max(0, S+ + z - k), S- = max(0, S- - z - k);
+    an alarm is raised where either exceeds ``h`` and both sums restart from 0.
+    Returns the indices (into ``resid``) of the alarms. Defaults k = 0.5, h = 5
+    (in-control average run length of the two-sided scheme ≈ 465 samples).
+    """
+    e = np.asarray(resid, dtype=float)
+    if e.size == 0:
+        return np.zeros(0, dtype=int)
+    med = float(np.median(e))
+    sig = 1.4826 * float(np.median(np.abs(e - med)))
+    if not sig > 0:
+        return np.zeros(0, dtype=int)
+    z = (e - med) / sig
+    sp = sm = 0.0
+    out = []
+    for i, v in enumerate(z):
+        sp = max(0.0, sp + v - k)
+        sm = max(0.0, sm - v - k)
+        if sp > h or sm > h:
+            out.append(i)
+            sp = sm = 0.0
+    return np.asarray(out, dtype=int)
+
+
 @dataclass
 class SeriesResult:
     """Fit and forecast of one unit's quantity (JSON keys of the CLI, issue 8 item 5)."""
@@ -443,6 +472,7 @@ class SeriesResult:
     fitted_day: np.ndarray = field(default=None, repr=False)
     fitted: np.ndarray = field(default=None, repr=False)
     exceeded_before_schedule: bool | None = None
+    anomaly_days: list = field(default_factory=list)
 
     def figure_data(self) -> dict:
         """Arrays the report's figures need (fit, residuals, forecast, ACF)."""
@@ -466,6 +496,7 @@ class SeriesResult:
             "recalibration_reason": self.recalibration_reason,
             "skill_vs_persistence": self.skill_vs_persistence, "accepted": self.accepted,
             "y_cal": self.y_cal, "tolerance": self.tolerance, "k_ref": self.k_ref,
+            "anomaly_days": self.anomaly_days,
         }
 
 
@@ -561,6 +592,9 @@ def fit_series(series: DailySeries, settings: DriftSettings = DriftSettings(), *
     fit["validation"] = fm.get("validation")
     wh = nar.residual_check()
     sel = nar.order_selection_
+    fdays_in = series.day[nar.sample_index_]
+    resid = y[nar.sample_index_] - np.asarray(nar.fitted_)
+    anomalies = fdays_in[cusum_alarms(resid)].tolist() if not nar.constant_ else []
     return SeriesResult(
         unit_id=series.unit_id, quantity=series.quantity, unit=series.unit,
         origin_day=int(series.day[T]), step_days=series.step_days, order=int(nar.order_),
@@ -578,7 +612,7 @@ def fit_series(series: DailySeries, settings: DriftSettings = DriftSettings(), *
         skill_vs_persistence=skill, accepted=bool(nar.accepted_), y_cal=y_cal,
         tolerance=tol, k_ref=series.k_ref, model=nar, series=series, origin_index=T,
         fitted_day=series.day[nar.sample_index_], fitted=np.asarray(nar.fitted_),
-        exceeded_before_schedule=exceeded)
+        exceeded_before_schedule=exceeded, anomaly_days=[int(d) for d in anomalies])
 
 
 # ==================================================================================
@@ -614,10 +648,8 @@ class DriftModel:
             out[uid] = {}
             for qn, e in qs.items():
                 nar: NARForecaster = e["nar"]
-                with warnings.catch_warnings():
-                    warnings.simplefilter("ignore", category=UserWarning)
-                    fc = nar.forecast(K)
-                    paths = nar.forecast_paths(K)
+                fc = nar.forecast(K)
+                paths = nar.forecast_paths(K)
                 k_rec, _ = recalibration(paths, e["y_cal"], e["tolerance"], quantile=q)
                 day = e["origin_day"] + e["step_days"] * np.arange(1, K + 1)
                 rec = None if k_rec is None else int(e["origin_day"] + e["step_days"] * k_rec)
