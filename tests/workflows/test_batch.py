@@ -76,7 +76,7 @@ def test_lot_parallel_equals_serial_and_truth(lot, client):
     # the broken file is one error row with a one-line reason; the lot goes on
     bad = par.units[-1]
     assert bad.status == "error" and "ay" in bad.reason and "\n" not in bad.reason
-    # against the simulated truth: rig18 with 0.1 deg reference error and 3 mm/s^2
+    # against the simulated truth (field LM, norm objective): rig18 with 3 mm/s^2
     # noise gives bias errors of a few mm/s^2; 0.02 m/s^2 is ~5 sigma of that spread
     est = np.array([[u.figures[k] for k in ("bx", "by", "bz")] for u in par.units[:-1]])
     assert np.max(np.abs(est - X[:, 0:3])) < 0.02

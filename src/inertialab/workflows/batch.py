@@ -193,28 +193,29 @@ def _unit_allan(path: Path, options: dict) -> dict:
 
 
 def _unit_triaxial(path: Path, options: dict) -> dict:
-    """Calibration of one triaxial unit's static record: bias b (record unit), scale k
-    and non-orthogonality theta (rad), residual RMS of |a| - g. Uses the triaxial
-    workflow's API when it is installed; until then the classical ellipsoid fit
-    (spec 002 §3.8) is the method, and the row says which."""
+    """Calibration of one triaxial unit's static record with the triaxial workflow
+    (:func:`inertialab.workflows.field_calibration.calibrate`, spec 002; default
+    Levenberg-Marquardt on the norm objective, ``options["method"]``/``["objective"]``
+    choose others): bias b (working unit), scale k, non-orthogonality theta (rad), the
+    residual RMS and whether the solver converged."""
+    import warnings
+
     from inertialab.io import read_record
-    from inertialab.sensors.triaxial_classic import ellipsoid_fit
+    from inertialab.workflows import field_calibration as fc
 
     rec = read_record(path, "triaxial_static", **_read_options(options))
-    cols = [rec.find(b) for b in ("ax", "ay", "az")]
-    a = rec.data[cols].to_numpy(dtype=float)
-    g = float(options.get("g_local") or rec.meta.get("g_local_mps2") or 9.80665)
-    fit = ellipsoid_fit(a, g=g, strict=True)
-    x = fit.x
-    names = ("bx", "by", "bz", "kx", "ky", "kz", "theta_yz", "theta_zy", "theta_zx")
-    out = {n: float(v) for n, v in zip(names, x)}
-    # residual: |L^-1 (a - b)| - g with L = diag(k) K (lower triangular, spec 002 eq. 2)
-    K = np.array([[1.0, 0.0, 0.0], [-x[6], 1.0, 0.0], [x[7], -x[8], 1.0]])
-    L = np.diag(x[3:6]) @ K
-    acal = np.linalg.solve(L, (a - x[:3]).T).T
-    out["resid_rms_mps2"] = float(np.sqrt(np.mean((np.linalg.norm(acal, axis=1) - g) ** 2)))
-    out["method"] = "ellipsoid"
-    out["n_positions"] = int(a.shape[0])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # per-unit warnings would flood a lot's stderr
+        data = fc.static_data_from_frame(rec.data, rec.meta, g=options.get("g_local"),
+                                         path=path)
+    fit = fc.calibrate(data.a, ref=data.ref, method=options.get("method", "lm"),
+                       objective=options.get("objective", "norm"), g=data.g, rng=0,
+                       counts=data.counts)
+    out = {k: float(v) for k, v in fit.params.items()}
+    out["resid_rms"] = float(fit.residual_rms)
+    out["converged"] = bool(fit.converged)
+    out["method"] = f"{fit.method}/{fit.objective}"
+    out["n_positions"] = int(fit.n_records)
     out["sha256"] = rec.sha256
     return out
 
