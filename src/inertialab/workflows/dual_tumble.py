@@ -357,9 +357,10 @@ def reduce_record(record, *, g_local: float | None = None) -> Reduced:
     if bad.any():
         rows = (np.flatnonzero(bad.to_numpy())[:5] + 1).tolist()
         raise InputError("direction must be CCW or CW", path=path, column="direction", row=rows)
-    runs = df["run_id"].astype(str).unique() if "run_id" in df.columns else np.array([""])
+    runs = (df["run_id"].map(lambda v: "" if pd.isna(v) else str(v)).unique()
+            if "run_id" in df.columns else np.array([""]))
     if runs.size > 1:
-        raise InputError(f"the file holds {runs.size} runs ({', '.join(runs[:4])}); give one "
+        raise InputError(f"the file holds {runs.size} runs ({', '.join(repr(str(r)) for r in runs[:4])}); give one "
                          "run per file", path=path, column="run_id")
     d = (dirs == "CW").to_numpy().astype(int)
     pos = df["pos_index"].to_numpy().astype(int)
