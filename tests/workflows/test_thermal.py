@@ -232,3 +232,23 @@ def test_warning_free_compensation_inside_the_range(quick_fit, samples):
         c = compensate(model, samples.temp_c[m][:5], samples.output_mv[m][:5],
                        samples.a_pend_g[m][:5])
     assert np.all(c.status == 0)
+
+
+# -- model-file fixtures of format version 1 -----------------------------------------------
+FIXTURE_T = np.array([-30.0, 0.0, 25.0, 60.0])
+FIXTURE_N = np.array([-700.0, 10.0, 500.0, 990.0])
+FIXTURE_NC = np.array([-699.97571242, 10.90606606, 500.91349735, 989.77578337])
+
+
+def test_model_fixtures_v1_still_load_and_predict():
+    """tests/data/models/{thermal-compensation,anfis}-v1.json (provenance in
+    tests/data/README.md) give the numbers they gave when written (8 decimals printed)."""
+    from pathlib import Path
+
+    d = Path(__file__).parent.parent / "data" / "models"
+    m = load_model(d / "thermal-compensation-v1.json")
+    np.testing.assert_allclose(m.predict_nc(FIXTURE_T, FIXTURE_N), FIXTURE_NC, atol=1e-8)
+    assert m.method == "scm-anfis" and m.ref.k1 > 900
+    a = load_model(d / "anfis-v1.json")
+    np.testing.assert_allclose(a.predict(np.column_stack([FIXTURE_T, FIXTURE_N])), FIXTURE_NC,
+                               atol=1e-8)
