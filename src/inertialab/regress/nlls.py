@@ -31,7 +31,7 @@ from scipy.optimize import least_squares
 from inertialab.errors import InputError
 
 COND_LIMIT = 1e12
-"""Covariance is reported as None above this cond(J^T J) (spec 002 §3.6)."""
+"""Covariance is reported as None above this condition number (spec 002 §3.6)."""
 
 
 @dataclass(frozen=True)
@@ -51,7 +51,8 @@ class NLLSResult:
     stderr : ndarray (p,) or None
         Square roots of the diagonal of ``cov``.
     cond : float
-        Condition number of ``J^T J`` (inf when singular).
+        Condition number of the column-scaled ``J^T J`` (inf when singular); see
+        :func:`covariance`.
     nfev, njev : int
         Residual and Jacobian evaluations.
     success : bool
@@ -78,14 +79,23 @@ def covariance(jac, resid, *, cond_limit: float = COND_LIMIT):
     """Parameter covariance of a least-squares fit at its optimum.
 
     Returns a :class:`Covariance` with ``cov = s^2 (J^T J)^-1``, ``s^2 = sum(r^2)/(m-p)``;
-    ``cov`` and ``stderr`` are None when m <= p or cond(J^T J) > ``cond_limit``.
+    ``cov`` and ``stderr`` are None when m <= p or the condition number exceeds
+    ``cond_limit``. The condition number is that of ``J^T J`` after scaling its columns
+    to unit diagonal (a correlation-type matrix), so that parameters in very different
+    units (counts mode: biases ~3e4 counts next to angles ~1e-2 rad) are not mistaken for
+    an ill-posed schedule; for parameters of similar scale it equals cond(J^T J) within a
+    small factor. The inverse is computed in the same scaling.
     """
     J = np.asarray(jac, dtype=float)
     r = np.asarray(resid, dtype=float)
     m, p = J.shape
     JtJ = J.T @ J
+    d = np.sqrt(np.diag(JtJ))
+    if np.any(d == 0) or not np.all(np.isfinite(d)):
+        return Covariance(cov=None, stderr=None, cond=float("inf"), dof=m - p)
+    Cn = JtJ / np.outer(d, d)
     try:
-        cond = float(np.linalg.cond(JtJ))
+        cond = float(np.linalg.cond(Cn))
     except np.linalg.LinAlgError:
         cond = float("inf")
     if not np.isfinite(cond):
@@ -93,7 +103,7 @@ def covariance(jac, resid, *, cond_limit: float = COND_LIMIT):
     if m <= p or cond > cond_limit:
         return Covariance(cov=None, stderr=None, cond=cond, dof=m - p)
     s2 = float(r @ r) / (m - p)
-    cov = s2 * np.linalg.inv(JtJ)
+    cov = s2 * np.linalg.inv(Cn) / np.outer(d, d)
     cov = 0.5 * (cov + cov.T)
     return Covariance(cov=cov, stderr=np.sqrt(np.clip(np.diag(cov), 0.0, None)), cond=cond,
                       dof=m - p)

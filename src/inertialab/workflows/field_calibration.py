@@ -47,7 +47,7 @@ from inertialab.noise.static_intervals import StaticIntervals, sweep_thresholds
 from inertialab.optim.base import Target
 from inertialab.optim.cuckoo import adaptive_cuckoo_search, cuckoo_search
 from inertialab.optim.pso import pso
-from inertialab.regress.nlls import batched_gauss_newton, levenberg_marquardt
+from inertialab.regress.nlls import batched_gauss_newton, covariance, levenberg_marquardt
 from inertialab.sensors import triaxial as tx
 from inertialab.sensors.gyro_triad import GyroCalibration, calibrate_gyro
 from inertialab.sensors.triaxial_classic import FACES, ellipsoid_fit, six_position
@@ -431,17 +431,14 @@ def _with_extra(fit: CalibrationFit, **kw) -> CalibrationFit:
 def _finish(a, ref, x, phi, method, objective, g, res, iterations, nfev, converged, wall,
             x_init, history) -> CalibrationFit:
     xp = x if phi is None else np.r_[x, phi]
-    obj_for_resid = objective
-    r = tx.residuals(xp, a, objective=obj_for_resid, g=g, ref=ref)
+    r = tx.residuals(xp, a, objective=objective, g=g, ref=ref)
     J = float(np.dot(r, r) / a.shape[0])
     if res is not None:
         cov, se, cond = res.cov, res.stderr, res.cond
     else:
-        from inertialab.regress.nlls import covariance
-
-        cv = covariance(tx.jacobian(xp, a, objective=obj_for_resid, g=g, ref=ref), r)
+        cv = covariance(tx.jacobian(xp, a, objective=objective, g=g, ref=ref), r)
         cov, se, cond = cv.cov, cv.stderr, cv.cond
-    if np.isfinite(cond) and cond > COND_FLAG or not np.isfinite(cond):
+    if not np.isfinite(cond) or cond > COND_FLAG:
         warnings.warn(
             f"poorly conditioned pose schedule (cond(J^T J) = {cond:.3g} > 1e8): some parameters "
             "are barely identifiable; add orientations spread over the sphere",
@@ -778,11 +775,6 @@ def calibrate_record_data(data: StaticData, *, method="lm", objective="norm", rn
         }
     return CalibrationRun(model=to_model(fit, data, gyro=gyro_block), fit=fit, data=data,
                           gyro_fit=gfit)
-
-
-def raw_to_working(model: TriaxialCalibration, raw) -> np.ndarray:
-    """Alias of ``model.apply`` (kept for symmetry with the CLI's apply command)."""
-    return model.apply(raw)
 
 
 # =========================================================================== batch
