@@ -852,8 +852,11 @@ def _truth_vec(truth: dict) -> np.ndarray:
 def monte_carlo(n_runs: int, *, seed: int = 20240603, h: float = 1.0, scenario: str = "S1",
                 prior: str = "history", methods=("single-ls", "ls", "ebr"),
                 two_orientation: bool = False, n_positions: int = 20,
-                second_order: bool = False, progress=None) -> dict:
+                second_order: bool = False, cross_fit: bool = False, overrides=None,
+                progress=None) -> dict:
     """Monte Carlo over ``n_runs`` virtual tumbles; run m uses seed ``seed + m`` (spec §6).
+
+    ``overrides`` are extra :class:`~inertialab.sim.dual_tumble.DualLabConfig` fields.
 
     ``prior``: "history" (the unit is drawn around table 6.1 with its H = 6 historical
     calibrations, spec §6.5), "certificate" or "none". Returns arrays (n_runs, ...) of
@@ -868,8 +871,10 @@ def monte_carlo(n_runs: int, *, seed: int = 20240603, h: float = 1.0, scenario: 
     )
 
     progress = progress or NullProgress()
-    cfg = scenario_config(scenario, h=h, draw_unit=True, n_positions=n_positions)
-    out = {m: {"err": [], "sd": [], "R": [], "combo_err": [], "combo_sd": []} for m in methods}
+    cfg = scenario_config(scenario, h=h, draw_unit=True, n_positions=n_positions,
+                          **(overrides or {}))
+    out = {m: {"err": [], "sd": [], "R": [], "R_val": [], "combo_err": [], "combo_sd": []}
+           for m in methods}
     out["prior_err"] = []
     out["truth"] = []
     out["lambda"] = []
@@ -903,7 +908,7 @@ def monte_carlo(n_runs: int, *, seed: int = 20240603, h: float = 1.0, scenario: 
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             fit = calibrate(red, methods=methods, prior=pr, second_order=second_order,
-                            cross_fit=False)
+                            cross_fit=cross_fit)
         combos = estimable_combinations(s_a=red.s_a, s_b=red.s_b)
         for m in methods:
             res = fit.methods[m]
@@ -916,6 +921,7 @@ def monte_carlo(n_runs: int, *, seed: int = 20240603, h: float = 1.0, scenario: 
             out[m]["err"].append(est - truth)
             out[m]["sd"].append(sd)
             out[m]["R"].append(res.residual)
+            out[m]["R_val"].append(res.r_val)
             if res.estimable:
                 out[m]["combo_err"].append([c["value"] - combos[c["name"]] @ truth
                                             for c in res.estimable])
