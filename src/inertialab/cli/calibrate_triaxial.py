@@ -81,7 +81,8 @@ def _payload(run, fit, data) -> dict:
         "offset": d["offset"], "residual_rms": d["residual_rms"], "iterations": d["iterations"],
         "nfev": d["nfev"], "n_records": d["n_records"], "static_intervals": d["static_intervals"],
         "raw_unit": d["raw_unit"], "g_local": d["g_local"], "phi": d["phi"],
-        "J": fit.J, "converged": fit.converged, "cond": fit.cond,
+        "J": fit.J, "J_final": fit.J, "x": fit.x.tolist(),
+        "x_names": list(d["params"]), "converged": fit.converged, "cond": fit.cond,
         "cov": None if fit.cov is None else fit.cov.tolist(),
         "counts_mode": bool(data.counts), "wall_s": fit.wall_s,
     }
@@ -232,6 +233,7 @@ def register(app: typer.Typer, groups: dict) -> None:
         warns = list(warns) + [w for w in warns2 if w not in warns]
         fit = run.fit
         payload = _payload(run, fit, data)
+        payload["seed"] = seed
         settings = {"method": m, "objective": obj, "unit": ulower, "lsb_per_g": lsb_per_g,
                     "gyro": gyro, "g_local": data.g, "seed": seed, "k_thr": k_thr,
                     "threshold": threshold, "t_init_s": t_init, "window_s": window,
