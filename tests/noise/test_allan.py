@@ -144,6 +144,7 @@ def test_chunked_memmap_equals_in_memory(tmp_path, monkeypatch, stat):
     # spans many chunks; the angle is recomputed from checkpoints with the same
     # sequential recurrence, so the results agree to 1e-12 (in practice bit for bit).
     monkeypatch.setattr(A, "CHUNK", 4096)
+    monkeypatch.setattr(A, "CHECKPOINT", 1024)
     rng = np.random.default_rng(7)
     y = (rng.standard_normal(50_000) * 3 + 10).astype(np.float32)
     path = tmp_path / "big.npy"

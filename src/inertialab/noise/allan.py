@@ -51,6 +51,10 @@ BLOCK = 8192
 #: Chunk length (samples) of the out-of-core path and of the mean.
 CHUNK = 1 << 20
 
+#: Spacing (samples) of the angle checkpoints of the out-of-core path; a window is
+#: recomputed from the checkpoint at or below its start.
+CHECKPOINT = 1 << 14
+
 
 @dataclass(frozen=True)
 class DeviationResult:
@@ -310,8 +314,8 @@ def _rate_to_phase(y: np.ndarray, tau0: float, mean: float) -> np.ndarray:
 class _PhaseFromRate:
     """Angle points of a (memory-mapped) rate record computed on demand.
 
-    A first pass stores the mean and the angle at every ``CHUNK`` boundary; a window
-    is recomputed from the checkpoint below it with the same sequential recurrence as
+    A first pass stores the mean and the angle at every ``CHECKPOINT``-th point; a
+    window is recomputed from the checkpoint at or below it with the same sequential recurrence as
     :func:`_rate_to_phase`, so values equal the in-memory angle bit for bit.
     """
 
@@ -320,11 +324,12 @@ class _PhaseFromRate:
         self.tau0 = tau0
         self.n = y.size + 1
         self.mean = _chunked_mean(y)
-        ck = np.empty(y.size // CHUNK + 2, dtype=np.float64)
+        # angle at every CHECKPOINT-th point (x_0 = 0), same sequential recurrence
+        ck = np.empty(y.size // CHECKPOINT + 2, dtype=np.float64)
         ck[0] = 0.0
         lo = hi = None
         x_prev = 0.0
-        for i, s in enumerate(range(0, y.size, CHUNK)):
+        for s in range(0, y.size, CHUNK):  # CHUNK is a multiple of CHECKPOINT
             e = min(s + CHUNK, y.size)
             u = np.subtract(y[s:e], self.mean, dtype=np.float64)
             bmin, bmax = float(u.min()), float(u.max())
@@ -332,8 +337,12 @@ class _PhaseFromRate:
             hi = bmax if hi is None else max(hi, bmax)
             u *= tau0
             u[0] += x_prev
-            x_prev = float(np.cumsum(u)[-1])
-            ck[i + 1] = x_prev
+            np.cumsum(u, out=u)  # u[j] = x_{s+j+1}
+            x_prev = float(u[-1])
+            first = s // CHECKPOINT + 1
+            last = e // CHECKPOINT
+            if last >= first:
+                ck[first:last + 1] = u[first * CHECKPOINT - s - 1:last * CHECKPOINT - s:CHECKPOINT]
         self.ck = ck
         self.constant = bool(lo == hi)
 
@@ -343,8 +352,8 @@ class _PhaseFromRate:
         if step != 1:
             return self._strided(start, length, step)
         stop = start + length  # exclusive, in angle-point index
-        b = start // CHUNK
-        s0 = b * CHUNK  # angle index of the checkpoint
+        b = start // CHECKPOINT
+        s0 = b * CHECKPOINT  # angle index of the checkpoint
         cnt = stop - s0  # angle points from s0 inclusive
         out = np.empty(cnt, dtype=np.float64)
         out[0] = self.ck[b]
@@ -470,12 +479,20 @@ def _sum_sq_filter(src, m: int, coeffs: Sequence[float], stride: int, nterm: int
         t = tmp[:cnt]
         i0 = start + b0 * stride
         last = len(c) - 1
+        span = last * m + cnt
+        whole = src.window(i0, span) if (stride == 1 and last * m <= 2 * cnt) else None
+
+        def tap(j, i0=i0, cnt=cnt, whole=whole):
+            if whole is not None:
+                return whole[j * m:j * m + cnt]
+            return src.window(i0 + j * m, cnt, stride)
+
         # start from the last tap (coefficient +1 for every family used here)
-        np.copyto(a, src.window(i0 + last * m, cnt, stride))
+        np.copyto(a, tap(last))
         if c[last] != 1.0:
             a *= c[last]
         for j in range(last - 1, -1, -1):
-            w = src.window(i0 + j * m, cnt, stride)
+            w = tap(j)
             cj = c[j]
             if cj == 1.0:
                 a += w
@@ -484,7 +501,7 @@ def _sum_sq_filter(src, m: int, coeffs: Sequence[float], stride: int, nterm: int
             else:
                 np.multiply(w, cj, out=t)
                 a += t
-        total += float(np.dot(a, a))
+        total += _sumsq(a) if cnt > BLOCK else float(np.dot(a, a))
     return total
 
 
