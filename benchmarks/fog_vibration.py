@@ -102,7 +102,9 @@ def run(quick: bool = False) -> dict:
     seeds = SEEDS[:2] if quick else SEEDS
     per = [_per_seed(s) for s in seeds]
     timing = _timing()
-    med = lambda xs: float(np.median(xs))  # noqa: E731
+    def med(xs):
+        a = np.asarray([np.nan if v is None else v for v in xs], dtype=float)
+        return float(np.nanmedian(a)) if np.isfinite(a).any() else float("nan")
 
     def allk(key, k):
         return [p[key][k] for p in per]
@@ -256,7 +258,10 @@ def markdown(result: dict) -> str:
             f"10 %; B, K of x-A6 <= 0.2 raw | QN(A6)/raw {_lst(cc['QN_A_over_raw'])}; K(A6)/raw "
             f"{_lst(cc['K_A_over_raw'])}; Q(x-A6)/raw {_lst(cc['Q_D_over_raw'])}; N "
             f"{_lst(cc['N_D_over_raw'])}; BK(x-A6)/raw {_lst(cc['BK_D_over_raw'])} | "
-            + "; ".join(f"{k} {ok(v)}" for k, v in p.items()) + " |")
+            + "; ".join(f"{k} {ok(v)}" for k, v in p.items())
+            + ("; on the sweep the OLS fit puts K of A6 at 0 while the raw record's K comes "
+               "from the rising bias of the sweep, so the K part fails there"
+               if rec == "sweep" and not p["K_A_within_30pct"] else "") + " |")
     c15 = c["15_table3_wls"]
     lines += [
         f"| 15 | WLS (A6 rows tau >= 2^7 tau0): K, R after RBF <= 0.5 x A6; median abs(Delta_b) RBF "
@@ -300,9 +305,11 @@ def markdown(result: dict) -> str:
         f"4th-order polynomial | train RMSE RBF {_fmt(t3['train_rmse_median']['rbf'])} vs poly "
         f"{_fmt(t3['train_rmse_median']['poly'])} deg/h; held-out {_fmt(t3['heldout_rmse_median']['rbf'])}"
         f" vs {_fmt(t3['heldout_rmse_median']['poly'])}; vs truth {_fmt(t3['truth_rmse_median']['rbf'])}"
-        f" vs {_fmt(t3['truth_rmse_median']['poly'])} | reproduces on the training data; on held-out "
-        "bins the margin shrinks and against the true curve the near-interpolating RBF is not "
-        "better than the polynomial (it fits the noise; spec §8) |")
+        f" vs {_fmt(t3['truth_rmse_median']['poly'])} | reproduces on the training data (the "
+        "seed's claim); on held-out bins the margin shrinks"
+        + (" and against the true curve the near-interpolating RBF is **worse** than the "
+           "polynomial (it fits the noise; spec §8)" if t3["truth_rmse_median"]["rbf"] >
+           t3["truth_rmse_median"]["poly"] else "") + " |")
     t4 = t["T4"]
     lines.append(
         "| T4 (Figs. 7-8) | after denoising an offset remains in P2; RBF compensation removes it "
@@ -310,9 +317,10 @@ def markdown(result: dict) -> str:
         + ", ".join(f"{k} {_fmt(v)}" for k, v in t4["delta_b_median"].items())
         + " deg/h; edge on " + ", ".join(f"{k} {_fmt(v)}" for k, v in t4["edge_on_median"].items())
         + "; edge off " + ", ".join(f"{k} {_fmt(v)}" for k, v in t4["edge_off_median"].items())
-        + " deg/h | reproduces: the 9-10 deg/h offset of A6 drops to about 1 deg/h (what "
-        "remains is mostly the fixture's thermal drift, not in the sweep targets); the edges "
-        "keep large excursions |")
+        + f" deg/h | reproduces: the {_fmt(t4['delta_b_median'][next(k for k in t4['delta_b_median'] if k.startswith('A'))])}"
+        f" deg/h offset of the denoised signal drops to {_fmt(t4['delta_b_median']['rbf'])} "
+        "deg/h (median; what remains is mostly the fixture's thermal drift, which the sweep "
+        "targets do not contain); the edges keep excursions of about 10 deg/h |")
     t5 = t["T5"]
     lines.append(
         "| T5 (Table 3) | denoising lowers Q, N markedly; compensation then lowers B, K, R "
