@@ -38,6 +38,8 @@ def register(app: typer.Typer, groups: dict) -> None:
                                   help="none (paper: beta0 = 0, W = I) | certificate | FILE "
                                        "(inertialab.prior/1 JSON)"),
         ebr_rule: str = typer.Option("E1", "--ebr-rule", help="E1 (Stein) | E2 (ML) | E3 (SURE)"),
+        lambda_combination: str = typer.Option("star", "--lambda-combination",
+                                               help="star | max | min of lambda* and lambda0"),
         second_order: bool = typer.Option(False, "--second-order",
                                           help="Iterated second-order correction of y (spec §1.5)."),
         g_local: float = typer.Option(None, "--g-local", help="Local gravity, m/s^2."),
@@ -67,15 +69,22 @@ def register(app: typer.Typer, groups: dict) -> None:
             records = [read_record(f, "dual_tumble", g_local=g_local) for f in files]
             reds = [reduce_record(r, g_local=g_local) for r in records]
             fit = calibrate(reds[0], methods=methods, prior=prior, second_order=second_order,
-                            ebr_method=ebr_rule.upper())
+                            ebr_method=ebr_rule.upper(),
+                            lambda_combination=lambda_combination.lower())
             two = fit_two_orientation(reds[0], reds[1]) if len(reds) == 2 else None
         payload = {"methods": {k: v.to_json() for k, v in fit.methods.items()},
                    "diagnostics": fit.diagnostics,
                    "model_method": fit.model.method}
         if two is not None:
             payload["two_orientation"] = two.to_json()
+        truth = records[0].meta.get("truth")
+        if isinstance(truth, dict):  # virtual-lab record: report errors vs truth (spec §4)
+            from inertialab.workflows.dual_tumble import errors_vs_truth
+
+            payload["errors_vs_truth"] = errors_vs_truth(fit, truth)
         all_warn = list(warns) + [w for w in fit.warnings if w not in warns]
         settings = {"method": m, "prior": prior, "ebr_rule": ebr_rule.upper(),
+                    "lambda_combination": lambda_combination.lower(),
                     "second_order": second_order, "g_local": g_local, "seed": None}
         if out_dir is not None:
             from inertialab.report.figures.dual import (

@@ -52,7 +52,7 @@ from inertialab.sensors.dual_meter import (
 from inertialab.workflows.base import Headline, NullProgress, Study, StudyResult, settings_dict
 
 __all__ = ["METHODS", "DualCalibration", "DualFit", "DualPrior", "MethodResult", "Reduced",
-           "fit_single", "head_error_sensitivity",
+           "errors_vs_truth", "fit_single", "head_error_sensitivity",
            "STUDY", "calibrate", "certificate_prior", "design_dual", "fit_two_orientation",
            "load_prior", "monte_carlo", "reduce_record", "reduce_run", "reduce_stops",
            "run_demo"]
@@ -727,6 +727,21 @@ def head_error_sensitivity(red: Reduced, *, methods=("single-ls", "ls"), a1_arcs
                 for k in rows:
                     rows[k].append(f.coef[k] - base[m].coef[k])
             out[m] = rows
+    return out
+
+
+def errors_vs_truth(fit: DualFit, truth: dict) -> dict:
+    """Per method, estimate minus truth for every coefficient and estimable combination
+    present in ``truth`` (simulation; spec §4 "estimate error")."""
+    out = {}
+    tv = np.array([truth.get(n, np.nan) for n in COEF_NAMES], dtype=float)
+    combos = estimable_combinations(s_a=fit.reduced.s_a, s_b=fit.reduced.s_b)
+    for m, r in fit.methods.items():
+        e = {n: float(v - truth[n]) for n, v in r.coef.items()
+             if n in truth and v is not None and np.isfinite(truth[n])}
+        ce = {c["name"]: float(c["value"] - combos[c["name"]] @ tv) for c in r.estimable
+              if np.all(np.isfinite(tv[combos[c["name"]] != 0]))}
+        out[m] = {"coef": e, "estimable": ce}
     return out
 
 
