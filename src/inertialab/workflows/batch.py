@@ -598,7 +598,8 @@ def _checkpoints(path: str, mean: float, tau0: float, chunk: int) -> tuple[np.nd
     return ck, bool(lo == hi)
 
 
-def _oadev_partial(src: _NpyPhase, ms: Sequence[int], a: int, b: int) -> list[float]:
+def _oadev_partial(src: _NpyPhase, ms: Sequence[int], a: int, b: int,
+                   block: int = 1 << 15) -> list[float]:
     """``sum_{i in [a, b)} (x[i+2m] - 2 x[i+m] + x[i])^2`` for each m (summands beyond
     ``n - 2m`` are left out), with the noise core's operation order per element."""
     out = []
@@ -624,7 +625,13 @@ def _oadev_partial(src: _NpyPhase, ms: Sequence[int], a: int, b: int) -> list[fl
         acc = np.array(w2, dtype=np.float64)
         acc += w1 * -2.0
         acc += w0
-        out.append(float(np.dot(acc, acc)))
+        # dot products over the noise core's in-memory blocks, added in order: the task's
+        # start is a multiple of the block, so the partial sums match its own
+        tot = 0.0
+        for s in range(0, cnt, block):
+            seg = acc[s:s + block]
+            tot += float(np.dot(seg, seg))
+        out.append(tot)
     return out
 
 
@@ -705,7 +712,12 @@ def oadev_dask(path, *, rate_hz: float, taus="octave", client=None, scheduler: s
         starts = list(range(0, n + 1, span))
         mlist = [int(m) for m in ms]
         sfut = cl.scatter(src, broadcast=True)
-        futs = [cl.submit(_oadev_partial, sfut, mlist, a, a + span, pure=False) for a in starts]
+        blk = int(getattr(_allan, "BLOCK", 1 << 15))
+        if span % blk:
+            span = -(-span // blk) * blk
+            starts = list(range(0, n + 1, span))
+        futs = [cl.submit(_oadev_partial, sfut, mlist, a, a + span, blk, pure=False)
+                for a in starts]
         partials = cl.gather(futs)
     var = np.empty(len(mlist))
     nt = np.empty(len(mlist), dtype=np.int64)
