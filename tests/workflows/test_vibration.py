@@ -106,6 +106,13 @@ def test_bias_targets_exact_on_a_known_curve():
     # bins at the ends are half-filled (centres at the range ends); skip them
     np.testing.assert_allclose(tg.e_dph[1:-1], bias_shift_dph(tg.f_hz[1:-1]), atol=2e-3)
     assert np.all(tg.count[1:-1] >= 8)
+    # option of spec §3.7: every 2^L-th sample of the guarded P2 window
+    ts = bias_targets(run, approx, guard_s=1.0, mode="samples", level=6)
+    k = np.arange(n1 + 200, n1 + n2 - 200)[::64]
+    np.testing.assert_array_equal(ts.f_hz, f[k])
+    np.testing.assert_allclose(ts.e_dph, approx[k] - beta)
+    with pytest.raises(InputError):
+        bias_targets(run, approx, mode="nope")
 
 
 def test_residual_metrics_on_constructed_signal():

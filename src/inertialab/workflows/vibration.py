@@ -295,6 +295,10 @@ def _terms_to_row(nt) -> dict:
                   "ci": [float(t.ci[0]), float(t.ci[1])], "method": t.method,
                   "tau_range_s": [float(t.tau_range_s[0]), float(t.tau_range_s[1])],
                   "sd": float(t.sd), "flags": list(t.flags)}
+        if getattr(t, "density", None) is not None:
+            row[k]["density"] = dict(t.density)
+        if getattr(t, "per_sample_std", None) is not None:
+            row[k]["per_sample_std"] = dict(t.per_sample_std)
     return row
 
 
@@ -338,18 +342,31 @@ class BiasTargets:
 
 
 def bias_targets(run: VibrationRun, approx: np.ndarray, *, guard_s: float = 2.0,
-                 bin_width_hz: float = 1.0, min_count: int = 8) -> BiasTargets:
+                 bin_width_hz: float = 1.0, min_count: int = 8, mode: str = "bins",
+                 level: int = 6) -> BiasTargets:
     """Training pairs (frequency, bias error) from the sweep record (spec 001 §3.7).
 
-    ``e_k = A_k - median(A[P1])`` for k in P2 without ``guard_s`` at both ends; 1-Hz bins
-    ``[c - 0.5, c + 0.5)`` centred on 1, 2, ... Hz; the target is the bin mean; bins with
-    fewer than ``min_count`` samples are dropped. Frequencies stay in Hz, unscaled.
+    ``e_k = A_k - median(A[P1])`` for k in P2 without ``guard_s`` at both ends. With
+    ``mode="bins"`` (default): 1-Hz bins ``[c - 0.5, c + 0.5)`` centred on 1, 2, ... Hz, the
+    target is the bin mean, bins with fewer than ``min_count`` samples are dropped. With
+    ``mode="samples"`` (the spec's option): every ``2^level``-th sample of that window.
+    Frequencies stay in Hz, unscaled.
     """
     a = np.asarray(approx, dtype=float)
     beta = float(np.median(a[run.p1]))
     w = run.guarded(run.p2, guard_s)
     e = a[w] - beta
     f = run.freq_hz[w]
+    if mode == "samples":
+        step = 2 ** int(level)
+        fs_, es_ = f[::step], e[::step]
+        if fs_.size < 5:
+            raise InputError(f"{run.path}: only {fs_.size} target samples at a stride of "
+                             f"{step}; the bias model needs at least 5")
+        return BiasTargets(f_hz=fs_, e_dph=es_, count=np.ones(fs_.size, dtype=np.int64),
+                           beta_dph=beta, bin_index=np.arange(1, fs_.size + 1))
+    if mode != "bins":
+        raise InputError(f"targets must be 'bins' or 'samples', got {mode!r}")
     b = np.floor(f / bin_width_hz + 0.5).astype(np.int64)
     ok = b >= 1
     b, e = b[ok], e[ok]
@@ -562,6 +579,8 @@ class VibrationConfig:
     delta_threshold : float, default=0.14
     bin_width_hz : float, default=1.0
     min_bin_count : int, default=8
+    targets : {"bins", "samples"}, default="bins"
+        1-Hz bin means, or every 2^L-th sample (spec §3.7 option).
     rng : int, default=0
         Seed of the random-fixed centre order.
     views : bool, default=True
@@ -586,6 +605,7 @@ class VibrationConfig:
     delta_threshold: float = 0.14
     bin_width_hz: float = 1.0
     min_bin_count: int = 8
+    targets: str = "bins"
     rng: int = 0
     views: bool = True
     scalogram_phase_s: float | None = None
@@ -727,7 +747,7 @@ def _views(run: VibrationRun, cfg: VibrationConfig) -> dict:
     h = int(round(cfg.emd_window_s * run.fs_hz / 2))
     lo, hi = max(0, run.k_on - h), min(run.n, run.k_on + h)
     seg = run.rate_dph[lo:hi]
-    r = emd(seg, max_imfs=6)
+    r = emd(seg)  # spec §3.5: SD < 0.3 or 10 sifts, at most 10 IMFs
     out["emd"] = {"t_s": np.arange(lo, hi) / run.fs_hz, "x": seg, "imfs": r.imfs,
                   "inst_freq_hz": hilbert_frequency(r.imfs, run.fs_hz) if r.imfs.size else
                   np.zeros((0, seg.size)), "backend": r.backend}
@@ -820,7 +840,8 @@ def analyse(sweep: VibrationRun, fixed: VibrationRun | None = None,
     prog.update(4, total, "bias targets and models")
     a_sweep = decs["sweep"].approximation(level)
     targets = bias_targets(sweep, a_sweep, guard_s=cfg.target_guard_s,
-                           bin_width_hz=cfg.bin_width_hz, min_count=cfg.min_bin_count)
+                           bin_width_hz=cfg.bin_width_hz, min_count=cfg.min_bin_count,
+                           mode=cfg.targets, level=level)
     model, fit, truth = _fit_block(targets, cfg, level, sweep)
     f_grid = np.linspace(targets.f_hz.min(), targets.f_hz.max(), 1000)
     views["targets"] = targets
@@ -858,6 +879,9 @@ def analyse(sweep: VibrationRun, fixed: VibrationRun | None = None,
             if sname == "raw":
                 raw_row = row
             metrics["ratios"][f"compensation/{sname}/raw"] = _ratios(row, raw_row)
+        # the paper's reading of Table 3: OLS over the full tau range (spec §3.4)
+        metrics["compensation_paper"] = {
+            sname: noise_terms_row(sig, fixed.fs_hz, method="ols") for sname, sig in comp.items()}
         metrics["ratios"]["compensation/rbf/A"] = _ratios(tables["compensation"]["rbf"],
                                                           tables["compensation"][f"A{level}"])
         metrics["ratios"]["compensation/poly/A"] = _ratios(tables["compensation"]["poly"],
@@ -888,7 +912,8 @@ def analyse(sweep: VibrationRun, fixed: VibrationRun | None = None,
         "max_neurons": cfg.max_neurons, "target_guard_s": cfg.target_guard_s,
         "level_guard_s": cfg.level_guard_s, "residual_guard_s": cfg.residual_guard_s,
         "edge_s": cfg.edge_s, "delta_threshold": cfg.delta_threshold,
-        "bin_width_hz": cfg.bin_width_hz, "min_bin_count": cfg.min_bin_count, "seed": cfg.rng,
+        "bin_width_hz": cfg.bin_width_hz, "min_bin_count": cfg.min_bin_count,
+        "targets": cfg.targets, "seed": cfg.rng,
         "methods": {"phases": "wls", "decomposition": "ols", "compensation": "wls"},
     }
     metrics["wall_s"] = time.perf_counter() - t_start
