@@ -73,7 +73,7 @@ def register(app: typer.Typer, groups: dict) -> None:
                               column=column or npy_col, g_local=g_local)
             log = prepare_log(rec, column=column, rate_hz=rate, input=input_, g_local=g_local)
             res = analyze(log, stats=stats, taus=tau_spec, confidence=confidence,
-                          method=method, chunked=bool(rec.arrays))
+                          method=method)
             payload = res.to_json()
             if out is not None:
                 from inertialab.io import save_model

@@ -27,6 +27,9 @@ from inertialab.workflows.base import Headline, NullProgress, Study, StudyResult
 #: Relative jitter of ``t_s`` above which a log is not uniform (spec 001 §2.2).
 T_JITTER_TOL = 1e-6
 
+#: Memory-mapped inputs longer than this (samples) take the out-of-core path.
+CHUNKED_MIN = 1 << 26
+
 _ANGLE_TO_RATE = {"arcsec": "dph", "deg": "dps", "rad": "rps"}  # (angle unit)/s
 _COLUMN_ORDER = ("rate", "dtheta", "gx", "gy", "gz", "accel", "ax", "ay", "az", "theta")
 
@@ -250,7 +253,7 @@ def parse_taus(taus: str):
 def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: str | None = None,
             stats=("oadev",), taus="octave", confidence: float = 0.683, method: str = "wls",
             input: str = "rate", kind: str | None = None, alpha=None,
-            edf_method: str = "default", chunked: bool = False,
+            edf_method: str = "default", chunked="auto",
             fit_terms: bool = True) -> AllanAnalysis:
     """Allan family with confidence intervals and the five noise terms.
 
@@ -259,7 +262,10 @@ def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: st
     log : LogData or ndarray
         A prepared log, or raw values (then ``rate_hz`` and ``unit`` are required).
     stats : str or sequence, default ("oadev",)
-    taus, confidence, alpha, edf_method, chunked : see :func:`inertialab.noise.allan.deviation`
+    taus, confidence, alpha, edf_method : see :func:`inertialab.noise.allan.deviation`
+    chunked : bool or "auto", default "auto"
+        Out-of-core path; "auto" uses it for a memory-mapped input of more than
+        :data:`CHUNKED_MIN` samples (the in-memory path needs one float64 copy).
     method : {"wls", "ols", "slope"}, default "wls"
         Noise-term method (:func:`inertialab.noise.terms.fit_noise_terms`).
     fit_terms : bool, default True
@@ -276,6 +282,8 @@ def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: st
         log = LogData(values=np.asarray(log), rate_hz=float(rate_hz), unit=unit, column="",
                       input=input, kind=kk)
     names = parse_stats(stats)
+    if chunked == "auto":
+        chunked = isinstance(log.values, np.memmap) and log.values.size > CHUNKED_MIN
     results = []
     common = dict(rate_hz=log.rate_hz, taus=taus, input=log.input, confidence=confidence,
                   alpha=alpha, edf_method=edf_method,
