@@ -59,6 +59,9 @@ def register(app: typer.Typer, groups: dict) -> None:
         goal: float = typer.Option(1e-4, "--goal", help="RBF MSE goal, (deg/h)^2 (seed 1e-4)."),
         centers: str = typer.Option("max_error", "--centers",
                                     help="RBF centres: max_error | ols | random_fixed | all."),
+        targets: str = typer.Option("bins", "--targets",
+                                    help="E1 training pairs: bins (1-Hz bin means) | samples "
+                                         "(every 2^L-th sample)."),
         seed: int = typer.Option(0, "--seed", help="Seed of the random_fixed centre order."),
         out: Path = typer.Option(None, "--out", help="Directory for the figures, model.json "
                                                      "and result.json."),
@@ -76,7 +79,7 @@ def register(app: typer.Typer, groups: dict) -> None:
             sweep = load_run(sweep_file)
             fixed = load_run(fixed_file) if fixed_file is not None else None
             cfg = VibrationConfig(level=lvl, spread=spread, goal=goal, centers=centers,
-                                  rng=seed, views=out is not None)
+                                  targets=targets, rng=seed, views=out is not None)
             with progress_bar("vibration", quiet=quiet) as bar:
                 res = analyse(sweep, fixed, cfg, bar)
             if out is not None:
