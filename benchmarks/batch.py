@@ -97,7 +97,11 @@ def markdown(result: dict) -> str:
         f"({al['n_taus']} octave taus): in-memory serial {al['serial_wall_s']:.2f} s, Dask "
         f"from the .npy file {al['dask_wall_s']:.2f} s (includes the sequential checkpoint "
         f"pass and the noise identification on the client); largest relative difference "
-        f"{al['max_rel_diff']:.1e} (target 1e-12).",
+        f"{al['max_rel_diff']:.1e} (target 1e-12"
+        + ("; met)." if al["max_rel_diff"] <= 1e-12 else
+           "; NOT met here: the noise core's in-memory octave grid uses a lag-doubling "
+           "shortcut whose rounding differs from its own angle-based kernel, which the Dask "
+           "path reproduces block for block; against the angle kernel the tests find ~1e-15)."),
         "",
         "The paper has no figure for this; the speed-up is bounded by the two cores, and "
         "on a loaded machine the Dask path can be slower than serial (it does not reproduce "
