@@ -185,6 +185,32 @@ def test_prior_files(tmp_path):
         load_prior(str(p))
 
 
+def test_prior_from_history_csv(tmp_path):
+    import pandas as pd
+
+    from inertialab.sim.dual_tumble import draw_unit
+
+    _, hist = draw_unit(np.random.default_rng(1))
+    p = tmp_path / "history.csv"
+    pd.DataFrame(hist, columns=COEF_NAMES).to_csv(p, index=False)
+    pr = load_prior(str(p))
+    np.testing.assert_allclose(pr.mean, hist.mean(axis=0), rtol=1e-12)
+    assert np.all(pr.sd >= hist.std(axis=0, ddof=1) * (1 - 1e-12))
+    pd.DataFrame(hist[:, :4], columns=COEF_NAMES[:4]).to_csv(p, index=False)
+    with pytest.raises(InputError, match="history lacks columns"):
+        load_prior(str(p))
+
+
+def test_unsorted_rows_are_sorted_with_warning(tmp_path):
+    run = simulate_run(scenario_config("S1"), 2)
+    df = run.to_frame()
+    shuffled = df.sample(frac=1.0, random_state=0)
+    red_s = reduce_record(_write(tmp_path, run, shuffled, name="s.csv"))
+    red = reduce_run(run)
+    np.testing.assert_allclose(red_s.u_a, red.u_a, rtol=0, atol=1e-15)
+    assert any("not in time order" in w for w in red_s.warnings)
+
+
 def test_model_file_round_trip(tmp_path):
     red = reduce_run(simulate_run(scenario_config("S1"), 4))
     fit = _quiet_fit(red, methods=("ls", "ebr"))

@@ -36,7 +36,7 @@ def register(app: typer.Typer, groups: dict) -> None:
                                    help="ebr | ls | single-ls | ridge-hkb | ridge-gcv | all"),
         prior: str = typer.Option("none", "--prior",
                                   help="none (paper: beta0 = 0, W = I) | certificate | FILE "
-                                       "(inertialab.prior/1 JSON)"),
+                                       "(inertialab.prior/1 JSON, or a CSV of past calibrations)"),
         ebr_rule: str = typer.Option("E1", "--ebr-rule", help="E1 (Stein) | E2 (ML) | E3 (SURE)"),
         lambda_combination: str = typer.Option("star", "--lambda-combination",
                                                help="star | max | min of lambda* and lambda0"),

@@ -126,7 +126,9 @@ def prior_from_dict(d: dict, *, path="<prior>") -> DualPrior:
 
 
 def load_prior(spec) -> DualPrior | None:
-    """``None``/"none" (paper-faithful beta0 = 0, W = I), "certificate", a path, or a DualPrior."""
+    """``None``/"none" (paper-faithful beta0 = 0, W = I), "certificate", a JSON prior file,
+    a CSV of past calibrations (one row per calibration, columns :data:`COEF_NAMES`; mean
+    and SD floored at tau/2 of spec §6.5), or a DualPrior."""
     if spec is None or isinstance(spec, DualPrior):
         return spec
     s = str(spec)
@@ -136,7 +138,21 @@ def load_prior(spec) -> DualPrior | None:
         return certificate_prior()
     p = Path(s)
     if not p.exists():
-        raise InputError("no such prior file (use none, certificate or a JSON file)", path=p)
+        raise InputError("no such prior file (use none, certificate, a JSON prior or a CSV "
+                         "of past calibrations)", path=p)
+    if p.suffix.lower() == ".csv":
+        from inertialab.sim.dual_tumble import prior_from_history
+
+        try:
+            hist = pd.read_csv(p)
+        except (OSError, ValueError) as exc:
+            raise InputError(f"cannot read the calibration history: {exc}", path=p) from None
+        try:
+            pj = prior_from_history(hist)
+        except InputError as exc:
+            raise InputError(str(exc), path=p) from None
+        return DualPrior("history", np.array([pj[n]["mean"] for n in COEF_NAMES]),
+                         np.array([pj[n]["sd"] for n in COEF_NAMES]))
     try:
         d = json.loads(p.read_text())
     except (OSError, json.JSONDecodeError) as exc:
@@ -400,9 +416,14 @@ def reduce_record(record, *, g_local: float | None = None) -> Reduced:
     if "dmm_range_v" in df.columns:
         rng_v = float(np.nanmin(df["dmm_range_v"].to_numpy(dtype=float)))
     run_id = str(runs[0]) if runs.size else ""
-    return reduce_stops(th, grid("t_s"), grid("v_a_v"), grid("v_b_v"), grid("t_r_c"),
-                        record.meta, path=path, run_id=run_id, g_local=g_local,
-                        dmm_range_v=rng_v)
+    red = reduce_stops(th, grid("t_s"), grid("v_a_v"), grid("v_b_v"), grid("t_r_c"),
+                       record.meta, path=path, run_id=run_id, g_local=g_local,
+                       dmm_range_v=rng_v)
+    unsorted = [name for k, name in ((0, "CCW"), (1, "CW")) if np.any(np.diff(t[d == k]) < 0)]
+    if unsorted:  # CONTRACTS.md: per-test tables are sorted, with a warning
+        red = replace(red, warnings=red.warnings + (
+            f"{path}: the {' and '.join(unsorted)} rows were not in time order; sorted by t_s",))
+    return red
 
 
 def reduce_run(run, *, g_local: float | None = None) -> Reduced:
