@@ -128,3 +128,15 @@ def test_bad_input_exits_2_with_one_line(records, tmp_path, capsys):
     code, text, err = run(capsys, "simulate", "fog-vibration", "--experiment", "up",
                           "--out", tmp_path / "x.csv")
     assert code == 2 and "--experiment" in err
+
+
+def test_demo_section_renders(tmp_path, capsys):
+    # the study's quick demo runs and its report section (tables + figures) renders
+    code, text, err = run(capsys, "demo", "--study", "vibration", "--quick", "--out",
+                          tmp_path / "rep", "--json", "--quiet")
+    assert code == 0, err
+    d = json.loads(text)
+    labels = {row["figure"]: row["ours"] for row in d["summary"]}
+    assert labels["level L (rule / used)"].endswith("/ 6")
+    html = (tmp_path / "rep" / "index.html").read_text()
+    assert "Table 1 analogue" in html and "data:image/png;base64" in html

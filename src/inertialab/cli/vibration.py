@@ -89,8 +89,14 @@ def register(app: typer.Typer, groups: dict) -> None:
                 save_model(res.model, out_dir / "model.json",
                            units={"f": "hz", "bias": "dph", "rate": "dph"},
                            training_data_sha256=sweep.sha256, settings=res.settings)
+                from inertialab.io.modelfile import dependency_versions
+
+                report = res.to_report()
+                report["inputs"] = [{"path": str(r.path), "sha256": r.sha256}
+                                    for r in (sweep, fixed) if r is not None]
+                report["dependencies"] = dependency_versions()
                 atomic_write_text(out_dir / "result.json",
-                                  json.dumps(_jsonable(res.to_report()), indent=1) + "\n")
+                                  json.dumps(_jsonable(report), indent=1) + "\n")
         inputs = [sweep_file] + ([fixed_file] if fixed_file is not None else [])
         if as_json:
             emit_json("vibration", res.to_json(), inputs=inputs, settings=res.settings,
