@@ -64,7 +64,8 @@ def register(app: typer.Typer, groups: dict) -> None:
         methods = METHODS if m == "all" else (m,)
         if len(files) > 2:
             raise InputError("give one record, or two for the two-orientation fit")
-        out_dir = prepare_out_dir(out) if out is not None else None
+        if out is not None and out.exists() and not out.is_dir():
+            raise InputError("--out must be a directory for this command", path=out)
         with collect_warnings(quiet=quiet or as_json) as warns:
             records = [read_record(f, "dual_tumble", g_local=g_local) for f in files]
             reds = [reduce_record(r, g_local=g_local) for r in records]
@@ -86,6 +87,7 @@ def register(app: typer.Typer, groups: dict) -> None:
         settings = {"method": m, "prior": prior, "ebr_rule": ebr_rule.upper(),
                     "lambda_combination": lambda_combination.lower(),
                     "second_order": second_order, "g_local": g_local, "seed": None}
+        out_dir = prepare_out_dir(out) if out is not None else None  # only after success
         if out_dir is not None:
             from inertialab.report.figures.dual import (
                 coefficient_figure,
