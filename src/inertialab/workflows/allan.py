@@ -279,7 +279,8 @@ def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: st
         kk = kind or {"angular_rate": "gyro", "acceleration": "accel"}.get(dim)
         if kk is None:
             raise InputError(f"unit '{unit}' is a {dim}, not a rate or acceleration")
-        log = LogData(values=np.asarray(log), rate_hz=float(rate_hz), unit=unit, column="",
+        vals = log if isinstance(log, np.ndarray) else np.asarray(log)  # keeps a memmap
+        log = LogData(values=vals, rate_hz=float(rate_hz), unit=unit, column="",
                       input=input, kind=kk)
     names = parse_stats(stats)
     if chunked == "auto":
