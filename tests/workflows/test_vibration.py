@@ -248,3 +248,27 @@ def test_bad_level():
                                  sweep_oct_per_min=60.0)
     with pytest.raises(InputError, match="level"):
         analyse(sweep, fixed, VibrationConfig(level=12, views=False))
+
+
+# ------------------------------------------------------------------ model-file fixtures
+
+def test_model_fixtures_v1_still_load():
+    # tests/data/models/{vibration-compensation,rbf}-v1.json were written by save_model
+    # (format version 1) from the noise-free b_v curve at 1, 6, ..., 496 Hz (see
+    # tests/data/README.md); they must load and give the numbers they gave when written
+    from pathlib import Path
+
+    d = Path(__file__).resolve().parents[1] / "data" / "models"
+    m = load_model(d / "vibration-compensation-v1.json", expected_type="vibration-compensation")
+    r = load_model(d / "rbf-v1.json", expected_type="rbf")
+    xs = [1.0, 251.0, 466.0, 471.0, 496.0]
+    np.testing.assert_allclose(m.predict(xs), [1.0653066257322124, 1.0653066257322124,
+                                               11.048343910112356, 11.15847209049774,
+                                               9.577668603119587], rtol=1e-12)
+    np.testing.assert_allclose(m.predict(xs, model="poly"),
+                               [0.309375921068482, 1.3899868922768408, 9.62237831701889,
+                                10.019117392023443, 12.190639731371528], rtol=1e-12)
+    np.testing.assert_allclose(r.predict(xs), [1.2734459157895253, 1.2734459157895253,
+                                               11.048343910112354, 11.158472090497739,
+                                               9.577668603119587], rtol=1e-12)
+    assert m.level == 6 and m.rbf_.n_neurons_ == 40 and r.n_neurons_ == 30
