@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import json
+from dataclasses import replace
 from pathlib import Path
 
 import typer
@@ -48,6 +49,17 @@ def _read(path: Path):
     return read_record(path, "thermal_tumble")
 
 
+def _reference_temp(meta: dict, path) -> float:
+    """The sidecar's reference temperature (``reference_temp_C``, any case), else 55 °C."""
+    for k, v in meta.items():
+        if str(k).lower() == "reference_temp_c":
+            try:
+                return float(v)
+            except (TypeError, ValueError):
+                raise InputError(f"sidecar key {k} is not a number: {v!r}", path=path) from None
+    return 55.0
+
+
 def register(app: typer.Typer, groups: dict) -> None:
     thermal, simulate = groups["thermal"], groups["simulate"]
 
@@ -87,6 +99,7 @@ def register(app: typer.Typer, groups: dict) -> None:
         out_dir = prepare_out_dir(out) if out is not None else None
         with collect_warnings(quiet=quiet or as_json) as warns:
             rec = _read(file)
+            cfg = replace(cfg, reference_temp_c=_reference_temp(rec.meta, file))
             samples = prepare_samples(rec.data, cfg, path=file)
             with progress_bar("thermal fit", quiet=quiet or as_json) as bar:
                 fit = fit_thermal(samples, cfg, progress=bar)
@@ -123,7 +136,7 @@ def register(app: typer.Typer, groups: dict) -> None:
         settings = {"method": list(methods), "split": split, "target": target, "input": input_,
                     "learn_drift": learn_drift, "radii": radii, "fish": fish,
                     "generations": generations, "epochs": epochs, "search_epochs": search_epochs,
-                    "seed": seed}
+                    "seed": seed, "reference_temp_c": cfg.reference_temp_c}
         if as_json:
             units = dict(_UNITS)
             emit_json("thermal fit", payload, inputs=[{"path": str(file), "sha256": rec.sha256}],
@@ -172,8 +185,9 @@ def register(app: typer.Typer, groups: dict) -> None:
             samples = None
             if ref_mode in ("auto", "record"):
                 try:
-                    samples = prepare_samples(d, ThermalConfig(input=mdl.input, target=mdl.target),
-                                              path=file)
+                    cfg = ThermalConfig(input=mdl.input, target=mdl.target,
+                                        reference_temp_c=mdl.reference_temp_c)
+                    samples = prepare_samples(d, cfg, path=file)
                 except InputError:
                     if ref_mode == "record":
                         raise
