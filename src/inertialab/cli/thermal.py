@@ -69,7 +69,7 @@ def register(app: typer.Typer, groups: dict) -> None:
         method: str = typer.Option("iafsa-scm-anfis", "--method",
                                    help="iafsa-scm-anfis | scm-anfis | anfis | fis | ann | "
                                         "poly-sep | poly-2d | all (or a comma list)"),
-        split: str = typer.Option("random", "--split", help="random | interp_T | leave_one_T_out"),
+        split: str = typer.Option("random", "--split", help="random | interp_T | leave_one_T_out | up_down"),
         target: str = typer.Option("linear55", "--target", help="linear55 | measured55"),
         input_: str = typer.Option("ua", "--input", help="ua (eq. 5) | raw (N = U)"),
         learn_drift: bool = typer.Option(False, "--learn-drift", help="Learn Nc - N."),

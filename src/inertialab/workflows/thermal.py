@@ -51,7 +51,7 @@ from inertialab.workflows.base import Headline, NullProgress, Study, StudyResult
 METHODS = ("ann", "fis", "anfis", "scm-anfis", "iafsa-scm-anfis", "poly-sep", "poly-2d")
 #: Models built on a TSK fuzzy system (exportable to C).
 FUZZY = ("fis", "anfis", "scm-anfis", "iafsa-scm-anfis")
-SPLITS = ("random", "interp_T", "leave_one_T_out")
+SPLITS = ("random", "interp_T", "leave_one_T_out", "up_down")
 #: IAFSA search box of spec 000 §3.5: r_a, eta, eps_up, eps_down.
 SEARCH_BOUNDS = ((0.05, 1.0), (1.0, 2.5), (0.2, 0.9), (0.01, 0.5))
 #: Objective value of an unusable rule count (mg), spec 000 §3.5 step 1.
@@ -116,7 +116,8 @@ class ThermalConfig:
     Attributes
     ----------
     methods : models to fit (subset of :data:`METHODS`)
-    split : "random" | "interp_T" | "leave_one_T_out" (§3.1 step 4)
+    split : "random" | "interp_T" | "leave_one_T_out" (§3.1 step 4) | "up_down" (train on
+        the up pass, test on the down pass: hysteresis, §8.4)
     test_positions : positions per set point in the test set of the random split (7 of 24)
     val_fraction : stratified validation share of the training set (0.2)
     target : "linear55" (eq. 6) | "measured55" (the 55 °C Ua at the same position)
@@ -331,8 +332,8 @@ def _validation(train: np.ndarray, strata: np.ndarray, frac: float, rng) -> tupl
 
 
 def make_splits(samples: ThermalSamples, config: ThermalConfig, rng=None) -> list[Split]:
-    """The split(s) of spec 000 §3.1 step 4 (one for random/interp_T, one per set point
-    for leave_one_T_out; the reference set point is always in training)."""
+    """The split(s) of spec 000 §3.1 step 4 (one for random/interp_T/up_down, one per set
+    point for leave_one_T_out; the reference set point is always in training)."""
     cfg = config.validate()
     g = as_generator(rng)
     strata = _strata(samples)
@@ -361,6 +362,14 @@ def make_splits(samples: ThermalSamples, config: ThermalConfig, rng=None) -> lis
             raise InputError("interp_T split: no intermediate set points to test on")
         fit, val = _validation(train, strata, cfg.val_fraction, g)
         splits.append(Split("interp_T", train, test, fit, val))
+    elif cfg.split == "up_down":
+        up = samples.ramp_dir == "up"
+        train, test = idx[up], idx[~up]
+        if test.size == 0 or train.size == 0:
+            raise InputError("up_down split needs a record with an up and a down pass "
+                             "(simulate with --ramp up_down)")
+        fit, val = _validation(train, strata, cfg.val_fraction, g)
+        splits.append(Split("up_down", train, test, fit, val))
     else:
         for sp in np.unique(samples.set_point_c[~is_ref]):
             test = idx[samples.set_point_c == sp]
