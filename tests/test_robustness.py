@@ -209,36 +209,123 @@ def _registered_commands() -> set[str]:
     return names
 
 
-#: command -> (example file, args template with {file} and {out}); commands whose product
-#: is a file use {out} so the sweep can check nothing partial is left behind.
+#: Base inputs for the CLI sweep, written once per session by the virtual lab (small
+#: settings) or taken from docs/examples: name -> (simulate argv | example path).
+BASES = {
+    "gyro": ["simulate", "gyro-static", "--preset", "allan-test", "--hours", "0.05",
+             "--rate", "10", "--seed", "1", "--out", "{dir}/gyro.csv"],
+    "thermal": ["simulate", "thermal-tumble", "--out", "{dir}/thermal.csv"],
+    "tri_static": ["simulate", "triaxial-poses", "--scenario", "sphere100-clean",
+                   "--out", "{dir}/tri.static.csv"],
+    "tri_raw": ["simulate", "triaxial-poses", "--scenario", "rawlog62-counts",
+                "--out", "{dir}/tri.raw.csv"],
+    "dual": ["simulate", "dual-tumble", "--scenario", "S1", "--out", "{dir}/dual.csv"],
+    "drift": ["simulate", "storage-drift", "--units", "2", "--days", "60",
+              "--out", "{dir}/drift.csv"],
+    "vib_sweep": ["simulate", "fog-vibration", "--experiment", "sweep", "--p1-s", "40",
+                  "--p3-s", "40", "--sweep-oct-per-min", "60", "--out", "{dir}/vs.csv"],
+    "vib_fixed": ["simulate", "fog-vibration", "--experiment", "fixed", "--p1-s", "40",
+                  "--p3-s", "40", "--p2-s", "40", "--out", "{dir}/vf.csv"],
+}
+#: models fitted once from the bases: name -> argv (``{dir}`` = the base directory)
+MODELS = {
+    "thermal_model": ["thermal", "fit", "{dir}/thermal.csv", "--method", "poly-2d",
+                      "--out", "{dir}/thermal_fit"],
+    "tri_model": ["calibrate", "triaxial", "{dir}/tri.static.csv", "--method", "lm",
+                  "--out", "{dir}/tri_fit"],
+    "vib_model": ["vibration", "{dir}/vs.csv", "--out", "{dir}/vib_fit"],
+    "drift_model": ["drift", "fit", "{dir}/drift.csv", "--quantity", "bias", "--order", "1",
+                    "--restarts", "1", "--horizon", "5", "--out", "{dir}/drift_fit"],
+}
+MODEL_FILES = {"thermal_model": "thermal_fit/model.json", "tri_model": "tri_fit/model.json",
+               "drift_model": "drift_fit/model.json", "vib_model": "vib_fit/model.json"}
+
+#: command -> list of (mutated input, argv template). ``{file}`` is the mutated copy,
+#: ``{out}`` an output path inside the case directory, ``{dir}`` the base directory.
 CLI_CASES = {
-    "validate": [("gyro_log.csv", ["validate", "{file}", "--kind", "gyro_log"]),
-                 ("triaxial.static.csv", ["validate", "{file}", "--kind", "triaxial_static"]),
-                 ("storage_drift.csv", ["validate", "{file}", "--kind", "storage_drift"])],
+    "validate": [("ex:gyro_log.csv", ["validate", "{file}", "--kind", "gyro_log"]),
+                 ("ex:triaxial.static.csv", ["validate", "{file}", "--kind", "triaxial_static"]),
+                 ("ex:storage_drift.csv", ["validate", "{file}", "--kind", "storage_drift"])],
+    "allan": [("gyro", ["allan", "{file}", "--json"])],
+    "allan-imu": [("ex:vendors/vectornav.csv",
+                   ["allan-imu", "{file}", "--map-file", "{examples}/vendors/vectornav.map.json",
+                    "--json"])],
+    "thermal fit": [("thermal", ["thermal", "fit", "{file}", "--method", "poly-2d", "--json"])],
+    "thermal compensate": [("thermal", ["thermal", "compensate", "{dir}/thermal_fit/model.json",
+                                        "{file}", "--out", "{out}.csv"])],
+    "thermal export": [("thermal_model", ["thermal", "export", "{file}", "--c", "{out}"])],
+    "calibrate triaxial": [("tri_static", ["calibrate", "triaxial", "{file}", "--method", "lm",
+                                           "--json"]),
+                           ("tri_raw", ["calibrate", "triaxial", "{file}", "--method", "lm",
+                                        "--k-thr", "6", "--json"])],
+    "calibrate apply": [("tri_static", ["calibrate", "apply", "{dir}/tri_fit/model.json",
+                                        "{file}", "--out", "{out}.csv"]),
+                        ("tri_model", ["calibrate", "apply", "{file}", "{dir}/tri.static.csv",
+                                       "--out", "{out}.csv"])],
+    "calibrate dual": [("dual", ["calibrate", "dual", "{file}", "--method", "ls", "--json"])],
+    "drift fit": [("drift", ["drift", "fit", "{file}", "--quantity", "bias", "--order", "1",
+                             "--restarts", "1", "--horizon", "5", "--json"])],
+    "drift forecast": [("drift_model", ["drift", "forecast", "{file}", "--json"])],
+    "vibration": [("vib_fixed", ["vibration", "{dir}/vs.csv", "{file}", "--json"])],
+    "vibration-compensate": [("vib_fixed", ["vibration-compensate", "{dir}/vib_fit/model.json",
+                                            "{file}", "--out", "{out}.csv"]),
+                             ("vib_model", ["vibration-compensate", "{file}", "{dir}/vf.csv",
+                                            "--out", "{out}.csv"])],
+    "batch": [("gyro", ["batch", "allan", "--inputs", "{casedir}/*.csv", "--scheduler",
+                        "serial", "--json"])],
 }
 
 
+@pytest.fixture(scope="module")
+def base_dir(tmp_path_factory):
+    d = tmp_path_factory.mktemp("bases")
+    for argv in list(BASES.values()) + list(MODELS.values()):
+        code, _, err = run_cli([a.format(dir=d) for a in argv])
+        assert code == 0, f"{argv}: {err}"
+    return d
+
+
+def _source(name: str, base: Path) -> Path:
+    if name.startswith("ex:"):
+        return EXAMPLES / name[3:]
+    if name in MODEL_FILES:
+        return base / MODEL_FILES[name]
+    argv = BASES[name]
+    return Path(argv[argv.index("--out") + 1].format(dir=base))
+
+
+def _mutation(src: Path):
+    original = src.read_bytes()
+    if src.suffix == ".json":
+        return edited_envelope(json.loads(original))
+    return mutated_bytes(original)
+
+
 def _cases():
-    registered = _registered_commands()
     for cmd, cases in CLI_CASES.items():
-        if cmd in registered:
-            for i, (example, args) in enumerate(cases):
-                yield pytest.param(cmd, example, args, id=f"{cmd.replace(' ', '-')}-{i}")
+        for i, (source, args) in enumerate(cases):
+            yield pytest.param(cmd, source, args, id=f"{cmd.replace(' ', '-')}-{i}")
 
 
-@pytest.mark.parametrize("cmd, example, args", list(_cases()))
-def test_cli_commands_end_in_result_or_one_line_error(cmd, example, args, tmp_path_factory):
-    original = (EXAMPLES / example).read_bytes()
+@pytest.mark.parametrize("cmd, source, args", list(_cases()))
+def test_cli_commands_end_in_result_or_one_line_error(cmd, source, args, base_dir,
+                                                      tmp_path_factory):
+    src = _source(source, base_dir)
     counter = _counter()
 
-    @settings(max_examples=12, deadline=None, derandomize=True,
+    @settings(max_examples=8, deadline=None, derandomize=True,
               suppress_health_check=list(HealthCheck))
-    @given(data=mutated_bytes(original))
+    @given(data=_mutation(src))
     def inner(data):
         d = tmp_path_factory.mktemp("c")
-        p = _copy_with_sidecar(EXAMPLES / example, d, data)
+        p = d / src.name
+        p.write_bytes(data.encode() if isinstance(data, str) else data)
+        side = src.with_name(src.name.split(".")[0] + ".meta.json")
+        if side.exists():
+            shutil.copy(side, d / side.name)
         out = d / "out"
-        argv = [a.format(file=p, out=out) for a in args]
+        argv = [a.format(file=p, out=out, dir=base_dir, casedir=d, examples=EXAMPLES)
+                for a in args]
         counter[f"cli: {cmd}"] += 1
         code, stdout, stderr = run_cli(argv)
         assert "Traceback" not in stderr
@@ -246,8 +333,9 @@ def test_cli_commands_end_in_result_or_one_line_error(cmd, example, args, tmp_pa
         if code == 2:
             assert len(stderr.strip().splitlines()) == 1, stderr
             assert not list(d.glob("**/.*.tmp")), "temporary output left behind"
-            if "{out}" in " ".join(args) and out.suffix:
-                assert not out.exists(), "partial output written on error"
+            assert not (d / "out.csv").exists(), "partial output written on error"
+        elif "--json" in argv:
+            json.loads(stdout)
 
     inner()
 

@@ -119,12 +119,20 @@ def emit_json(command: str, payload: dict, *, inputs=(), settings: dict | None =
 @contextlib.contextmanager
 def collect_warnings(quiet: bool = False):
     """Capture Python warnings raised inside; print each once to stderr (unless quiet)
-    and yield the list of their one-line messages (for the JSON ``warnings`` key)."""
+    and yield the list of their one-line messages (for the JSON ``warnings`` key).
+
+    When the block raises, nothing is printed: a failing command writes exactly one
+    line, its error."""
     messages: list[str] = []
+    failed = False
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         try:
             yield messages
+        except BaseException:
+            # the command fails: its one error line is all the user gets (DESIGN.md)
+            failed = True
+            raise
         finally:
             seen = set()
             for w in caught:
@@ -135,7 +143,7 @@ def collect_warnings(quiet: bool = False):
                     continue
                 seen.add(text)
                 messages.append(text)
-                if not quiet:
+                if not quiet and not failed:
                     sys.stderr.write(f"warning: {text}\n")
 
 
