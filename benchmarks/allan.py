@@ -1,9 +1,11 @@
 """Noise-core benchmark (issue 3): correctness oracles, recovery, CI coverage, and speed
 and memory of octave OADEV beside allantools on the same data in the same run.
 
-Speed cases run in fresh child processes (one per library and size) so that peak RSS is
-each call's own: ``extra_mb`` = high-water RSS after the call minus the RSS with the
-input already in memory. CPU time is ``time.process_time`` of the call.
+Speed cases run in fresh child processes (one per library and size): ``extra_mb`` is
+the peak of the memory the call itself allocates (tracemalloc, which numpy reports its
+buffers to), ``peak_rss_mb`` the process's high-water RSS (input, libraries and, for a
+memory map, the mapped pages included). CPU time is ``time.process_time`` of the call;
+imports happen before it.
 """
 
 from __future__ import annotations
@@ -22,7 +24,7 @@ import numpy as np
 _CHILD = textwrap.dedent("""
     import json, resource, sys, time
     import numpy as np
-    n, lib, path = int(sys.argv[1]), sys.argv[2], sys.argv[3]
+    n, lib, path, mode = int(sys.argv[1]), sys.argv[2], sys.argv[3], sys.argv[4]
     rate = 100.0
     if path != "-":
         y = np.load(path, mmap_mode="r")
@@ -41,25 +43,40 @@ _CHILD = textwrap.dedent("""
         from inertialab.noise.allan import oadev
         f = lambda: oadev(y, rate_hz=rate)
         oadev(warm, rate_hz=rate)  # imports (scipy.stats) outside the timing
+    import tracemalloc
     before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    if mode == "mem":  # tracemalloc slows every allocation: memory in its own run
+        tracemalloc.start()
     c0, w0 = time.process_time(), time.perf_counter()
     r = f()
     cpu, wall = time.process_time() - c0, time.perf_counter() - w0
+    alloc_peak = tracemalloc.get_traced_memory()[1] if mode == "mem" else float("nan")
+    tracemalloc.stop()
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
     dev = r[1] if isinstance(r, tuple) else r.dev
     taus = r[0] if isinstance(r, tuple) else r.taus_s
     print(json.dumps({"cpu_s": cpu, "wall_s": wall, "rss_before_mb": before / 1024,
-                      "peak_rss_mb": peak / 1024, "extra_mb": (peak - before) / 1024,
+                      "peak_rss_mb": peak / 1024, "extra_rss_mb": (peak - before) / 1024,
+                      "extra_mb": alloc_peak / 2**20, "input_mb": y.nbytes / 2**20,
                       "taus_s": [float(t) for t in taus], "dev": [float(d) for d in dev]}))
 """)
 
 
-def _child(n: int, lib: str, path: str = "-") -> dict:
-    out = subprocess.run([sys.executable, "-c", _CHILD, str(n), lib, path], capture_output=True,
-                         text=True, timeout=3600)
+def _run_child(n: int, lib: str, path: str, mode: str) -> dict:
+    out = subprocess.run([sys.executable, "-c", _CHILD, str(n), lib, path, mode],
+                         capture_output=True, text=True, timeout=3600)
     if out.returncode != 0:
         return {"error": out.stderr.strip().splitlines()[-1] if out.stderr else "failed"}
     return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def _child(n: int, lib: str, path: str = "-") -> dict:
+    """Timing run, then a tracemalloc run for the allocation peak (``extra_mb``)."""
+    t = _run_child(n, lib, path, "time")
+    m = _run_child(n, lib, path, "mem")
+    if "error" not in t and "error" not in m:
+        t["extra_mb"] = m["extra_mb"]
+    return t
 
 
 def speed(sizes=(10**7, 10**8), memmap_n: int | None = 10**8) -> dict:
@@ -210,12 +227,14 @@ def markdown(result: dict) -> str:
               f"(range {s['B_err_range'][0]:+.1%} … {s['B_err_range'][1]:+.1%}) | >= 18/20 |", ""]
     sp = result["speed"]
     lines += ["**Speed and memory**, octave OADEV, " + sp["data"] + " (fresh process per case; "
-              "extra = peak RSS minus RSS with the input loaded):", "",
-              "| n | inertialab CPU s | wall s | extra MB | allantools CPU s | wall s | extra MB "
-              "| CPU ratio | max rel diff |", "|---|---|---|---|---|---|---|---|---|"]
+              "extra = peak memory allocated by the call, tracemalloc; input = size of the "
+              "input array):", "",
+              "| n | input MB | inertialab CPU s | wall s | extra MB | allantools CPU s | wall s "
+              "| extra MB | CPU ratio | max rel diff |", "|---|---|---|---|---|---|---|---|---|---|"]
     for c in sp["cases"]:
         a, b = c["inertialab"], c["allantools"]
-        lines.append(f"| {c['n']:.0e} | {_f(a.get('cpu_s'))} | {_f(a.get('wall_s'))} | "
+        lines.append(f"| {c['n']:.0e} | {_f(a.get('input_mb'), '.0f')} | {_f(a.get('cpu_s'))} | "
+                     f"{_f(a.get('wall_s'))} | "
                      f"{_f(a.get('extra_mb'), '.0f')} | {_f(b.get('cpu_s'))} | "
                      f"{_f(b.get('wall_s'))} | {_f(b.get('extra_mb'), '.0f')} | "
                      f"{_f(c.get('cpu_ratio'), '.1f')}x | {_f(c.get('max_rel_diff'), '.1e')} |")

@@ -403,10 +403,13 @@ def _oadev_octaves(y: np.ndarray, tau0: float, ms: np.ndarray, *, want_decimated
 
     ``D_i = x_{i+m} - x_i`` starts as ``tau0 (y_i - mean)`` (m = 1); the second
     difference is ``D_{i+m} - D_i`` and ``D`` at 2m is ``D_i + D_{i+m}``, updated in place
-    in ascending blocks. Per tau: two passes over one float64 array of the input's size
-    (the only extra memory). Also returns, per m, the central ``max_points`` decimated
-    angle points for the noise identification.
+    in ascending blocks. Per tau: one fused pass over one float64 array of the input's
+    size (the only extra memory). Also returns, per m, the lag-1 noise verdict on the
+    central ``max_points`` decimated angle points (or the points, where fewer than 30
+    remain, for the B1 fallback).
     """
+    from inertialab.noise import edf as _edf
+
     n = y.size
     nx = n + 1
     mean = _chunked_mean(y)
@@ -425,7 +428,8 @@ def _oadev_octaves(y: np.ndarray, tau0: float, ms: np.ndarray, *, want_decimated
             z = np.empty(use)
             z[0] = 0.0
             np.cumsum(d[start:start + (use - 1) * m:m][:use - 1], out=z[1:])
-            dec[m] = z
+            # lag-1 verdict now (keeps memory at one copy); few points: keep them for B1
+            dec[m] = ("lag1", _edf.lag1_alpha(z, dmax=2)) if use >= 30 else z
         total = 0.0
         more = k + 1 < ms.size
         # one pass: the second difference of the block, then (while the block is in

@@ -325,7 +325,8 @@ def identify_alpha(src, ms, *, statistic: str = "oadev", max_points: int = 1 << 
     """Noise type per averaging factor from an angle source (see module docstring).
 
     ``src`` offers ``n`` (angle points) and ``window(start, length, step)``. At most
-    ``max_points`` decimated points (the central ones) are used per tau.
+    ``max_points`` decimated points (the central ones) are used per tau. ``decimated``
+    maps m to those points already gathered, or to ``("lag1", alpha)`` already decided.
     """
     lo, hi = _ALPHA_RANGE.get(statistic, (-2, 2))
     dmax = 3 if _family(statistic) == "hadamard" else 2
@@ -336,6 +337,10 @@ def identify_alpha(src, ms, *, statistic: str = "oadev", max_points: int = 1 << 
         start = ((count - use) // 2) * m
         if decimated is not None and m in decimated:
             z = decimated[m]
+            if isinstance(z, tuple):  # ("lag1", unrounded alpha) computed by the caller
+                alphas.append(max(lo, min(hi, int(round(z[1])))))
+                sources.append("lag1")
+                continue
             use = z.size
         else:
             z = np.asarray(src.window(start, use, m), dtype=float)
