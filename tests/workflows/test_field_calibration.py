@@ -254,3 +254,14 @@ def test_bounded_lm_equals_unbounded_inside_the_box():
     a = fc.calibrate(sd.a, ref=sd.ref, objective="scalar", g=sd.g)
     b = fc.calibrate(sd.a, ref=sd.ref, objective="scalar", g=sd.g, bounded=True)
     assert np.allclose(a.x, b.x, atol=1e-8)  # interior optimum: trf and lm agree to tolerance
+
+
+def test_absolute_threshold_in_working_units():
+    raw = tp.simulate("rawlog62-counts", seed=2)
+    d = raw.data
+    t, a = d["t_s"].to_numpy(), d[["ax_lsb", "ay_lsb", "az_lsb"]].to_numpy()
+    swept = fc.raw_log_data(t, a, raw.meta, suffix="lsb")
+    # the sweep's threshold is k * s0 in (m/s^2)^2 (lsb_per_g known); reuse it as absolute
+    fixed = fc.raw_log_data(t, a, raw.meta, suffix="lsb", threshold=swept.intervals.threshold)
+    assert np.array_equal(fixed.intervals.start, swept.intervals.start)
+    assert fixed.k_thr is None

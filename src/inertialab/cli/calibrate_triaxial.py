@@ -141,7 +141,7 @@ def register(app: typer.Typer, groups: dict) -> None:
         k_thr: float = typer.Option(None, "--k-thr", help="Static-detector threshold multiplier "
                                                           "(default: sweep 2..10)."),
         threshold: float = typer.Option(None, "--threshold",
-                                        help="Absolute detector threshold, (raw unit)^2."),
+                                        help="Absolute detector threshold on the summed moving variance, (m/s^2)^2 (counts^2 in counts mode)."),
         t_init: float = typer.Option(10.0, "--t-init", help="Initial rest used by the detector, s."),
         window: float = typer.Option(1.0, "--window", help="Moving-variance window, s."),
         min_duration: float = typer.Option(1.5, "--min-duration", help="Shortest static run, s."),

@@ -634,7 +634,8 @@ def raw_log_data(t, acc_raw, meta: dict | None = None, *, suffix: str = "mps2",
 
     The sweep keeps the k_thr whose LM-norm residual RMS is smallest among those giving the
     expected count (the schedule length, ``expected``, or >= 12). A given ``k_thr`` or
-    absolute ``threshold`` skips the sweep. Intervals with saturated samples are dropped
+    absolute ``threshold`` (on the summed moving variance in the working unit squared:
+    (m/s^2)^2, or counts^2 in counts mode) skips the sweep. Intervals with saturated samples are dropped
     with a warning. A ``schedule`` (DataFrame with ``pitch_deg, heading_deg`` or
     ``face`` or ``ref_*``) is matched in time order; a count mismatch is an InputError.
     """
@@ -660,7 +661,7 @@ def raw_log_data(t, acc_raw, meta: dict | None = None, *, suffix: str = "mps2",
     sweep_counts = None
     if threshold is not None or k_thr is not None:
         iv = detect_static_intervals(t, a_all, k_thr=6.0 if k_thr is None else k_thr,
-                                     threshold=None if threshold is None else threshold * scale**2,
+                                     threshold=threshold,
                                      **kw)
         if expected is not None and iv.count != expected:
             raise InputError(f"{iv.count} static intervals detected, the schedule has {expected}; "
