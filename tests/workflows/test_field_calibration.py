@@ -265,3 +265,19 @@ def test_absolute_threshold_in_working_units():
     fixed = fc.raw_log_data(t, a, raw.meta, suffix="lsb", threshold=swept.intervals.threshold)
     assert np.array_equal(fixed.intervals.start, swept.intervals.start)
     assert fixed.k_thr is None
+
+
+def test_poorly_conditioned_schedule_is_flagged_with_suggestions():
+    # 12 poses all within ~25 deg of +z: J_H is nearly blind to the x/y scale factors; the
+    # warning names cond(J^T J) and the D-optimal suggestions point far from +z
+    from inertialab.errors import NonIdentifiableWarning
+
+    rng = np.random.default_rng(0)
+    d = np.column_stack([rng.uniform(-0.4, 0.4, (12, 2)), np.ones(12)])
+    d /= np.linalg.norm(d, axis=1)[:, None]
+    a = tx.forward(X_TRUE, 9.8 * d) + 1e-4 * rng.standard_normal((12, 3))
+    with pytest.warns(NonIdentifiableWarning, match="cond.*gravity-up along"):
+        fc.calibrate(a, objective="norm")
+    sug = fc.suggest_orientations(X_TRUE, a, n=3)
+    assert np.allclose(np.linalg.norm(sug, axis=1), 1.0)
+    assert np.all(sug[:, 2] < 0.5)  # all well away from the crowded +z cap

@@ -439,9 +439,16 @@ def _finish(a, ref, x, phi, method, objective, g, res, iterations, nfev, converg
         cv = covariance(tx.jacobian(xp, a, objective=objective, g=g, ref=ref), r)
         cov, se, cond = cv.cov, cv.stderr, cv.cond
     if not np.isfinite(cond) or cond > COND_FLAG:
+        hint = ""
+        try:
+            sug = suggest_orientations(x, a, g=g, objective=objective, n=3)
+            hint = "; e.g. with gravity-up along " + ", ".join(
+                "(" + ", ".join(f"{v:+.2f}" for v in d) + ")" for d in sug) + " in the sensor frame"
+        except (InputError, np.linalg.LinAlgError):
+            pass
         warnings.warn(
             f"poorly conditioned pose schedule (cond(J^T J) = {cond:.3g} > 1e8): some parameters "
-            "are barely identifiable; add orientations spread over the sphere",
+            f"are barely identifiable; add orientations spread over the sphere{hint}",
             NonIdentifiableWarning, stacklevel=3)
     return CalibrationFit(
         x=np.asarray(x, dtype=float), phi=None if phi is None else np.asarray(phi, dtype=float),
@@ -450,6 +457,45 @@ def _finish(a, ref, x, phi, method, objective, g, res, iterations, nfev, converg
         converged=bool(converged), cond=float(cond), n_records=int(a.shape[0]),
         corrected=tx.correct(x, a), history=history, wall_s=float(wall),
         x_init=np.asarray(x_init, dtype=float))
+
+
+def fibonacci_sphere(n: int) -> np.ndarray:
+    """n nearly uniform unit vectors (golden-angle spiral), the candidate grid of
+    :func:`suggest_orientations`."""
+    i = np.arange(n) + 0.5
+    z = 1.0 - 2.0 * i / n
+    r = np.sqrt(1.0 - z * z)
+    phi = np.pi * (1.0 + 5**0.5) * i
+    return np.column_stack([r * np.cos(phi), r * np.sin(phi), z])
+
+
+def suggest_orientations(x, a, *, g: float = tx.G_PAPER, objective: str = "norm", n: int = 3,
+                         candidates: int = 400) -> np.ndarray:
+    """Greedy D-optimal extra poses (spec 002 §7.3): gravity-up directions in the sensor frame
+    that most increase log det(J^T J) of the calibration at ``x``.
+
+    Each candidate direction d is turned into a predicted record ``forward(x, g d)``; its
+    Jacobian rows (norm objective: one; scalar: three, with d as its own reference) are
+    added to the current normal matrix. Returns an array (n, 3) of unit vectors.
+    """
+    x = np.asarray(x, dtype=float)[:9]
+    obj = "norm" if objective in ("norm", "norm2") else "scalar"
+    a = np.asarray(a, dtype=float)
+    ref = tx.correct(x, a) if obj == "scalar" else None
+    J = tx.jacobian(x, a, objective=obj, g=g, ref=ref)
+    d = np.sqrt(np.maximum(np.sum(J * J, axis=0), 1e-300))
+    N = (J / d).T @ (J / d) + 1e-12 * np.eye(9)
+    cand = fibonacci_sphere(candidates)
+    rec = tx.forward(x, g * cand)
+    Jc = tx.jacobian(x, rec, objective=obj, g=g, ref=g * cand if obj == "scalar" else None) / d
+    rows = Jc.reshape(candidates, -1, 9)
+    picked = []
+    for _ in range(n):
+        gains = np.array([np.linalg.slogdet(N + R.T @ R)[1] for R in rows])
+        k = int(np.argmax(gains))
+        picked.append(cand[k])
+        N = N + rows[k].T @ rows[k]
+    return np.array(picked)
 
 
 def _fit_six(a, ref, g) -> CalibrationFit:
