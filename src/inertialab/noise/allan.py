@@ -419,33 +419,79 @@ def _oadev_octaves(y: np.ndarray, tau0: float, ms: np.ndarray, *, want_decimated
     nt = np.empty(ms.size, dtype=np.int64)
     dec = {} if want_decimated else None
     buf = np.empty(BLOCK)
-    for k, m in enumerate(int(v) for v in ms):
-        nterm = nx - 2 * m  # second differences available: D has n - m + 1 valid entries
+    wlo = np.empty(BLOCK)
+    whi = np.empty(BLOCK)
+    dot = np.dot
+
+    def identify(m: int, pair: bool) -> None:
+        # decimated angle at lag m (or 2m, from pairs of D(m)), central max_points points
+        lag = 2 * m if pair else m
+        count = (nx - 1) // lag + 1
+        use = min(count, max_points)
+        start = ((count - use) // 2) * lag
+        z = np.empty(use)
+        z[0] = 0.0
+        inc = d[start:start + (use - 1) * lag:m][:(use - 1) * (2 if pair else 1)]
+        if pair:
+            inc = inc[0::2] + inc[1::2]
+        np.cumsum(inc, out=z[1:])
+        # lag-1 verdict now (keeps memory at one copy); few points: keep them for B1
+        dec[lag] = ("lag1", _edf.lag1_alpha(z, dmax=2)) if use >= 30 else z
+
+    k = 0
+    while k < ms.size:
+        m = int(ms[k])
+        pair = k + 1 < ms.size and int(ms[k + 1]) == 2 * m
         if dec is not None:
-            count = (nx - 1) // m + 1
-            use = min(count, max_points)
-            start = ((count - use) // 2) * m
-            z = np.empty(use)
-            z[0] = 0.0
-            np.cumsum(d[start:start + (use - 1) * m:m][:use - 1], out=z[1:])
-            # lag-1 verdict now (keeps memory at one copy); few points: keep them for B1
-            dec[m] = ("lag1", _edf.lag1_alpha(z, dmax=2)) if use >= 30 else z
-        total = 0.0
-        more = k + 1 < ms.size
-        # one pass: the second difference of the block, then (while the block is in
-        # cache) D(2m)_i = D(m)_i + D(m)_{i+m} in place, for the same i <= n - 2m;
-        # ascending blocks read only entries not yet updated
-        for s in range(0, nterm, BLOCK):
-            e = min(s + BLOCK, nterm)
+            identify(m, False)
+            if pair:
+                identify(m, True)
+        n1 = nx - 2 * m  # second differences at m (D(m) has n - m + 1 valid entries)
+        t1 = 0.0
+        if not pair:
+            more = k + 1 < ms.size
+            # one pass: the second difference of the block, then (while the block is in
+            # cache) D(2m)_i = D(m)_i + D(m)_{i+m} in place, for the same i <= n - 2m;
+            # ascending blocks read only entries not yet updated
+            for s in range(0, n1, BLOCK):
+                e = min(s + BLOCK, n1)
+                b = buf[:e - s]
+                hi = d[s + m:e + m]
+                lo = d[s:e]
+                np.subtract(hi, lo, out=b)
+                t1 += float(dot(b, b))
+                if more:
+                    np.add(lo, hi, out=lo)
+            var[k] = t1 / (2.0 * (m * tau0) ** 2 * n1)
+            nt[k] = n1
+            k += 1
+            continue
+        # two octaves per pass: D(2m) at i and i + 2m from D(m), the second differences
+        # at m and 2m, and D(4m)_i = D(2m)_i + D(2m)_{i+2m} written in place (same
+        # operations, hence the same numbers, as two single passes)
+        more = k + 2 < ms.size
+        n2 = nx - 4 * m  # second differences at 2m = valid D(4m) entries
+        t2 = 0.0
+        for s in range(0, n1, BLOCK):
+            e = min(s + BLOCK, n1)
             b = buf[:e - s]
-            hi = d[s + m:e + m]
-            lo = d[s:e]
-            np.subtract(hi, lo, out=b)
-            total += float(np.dot(b, b))
-            if more:
-                np.add(lo, hi, out=lo)
-        var[k] = total / (2.0 * (m * tau0) ** 2 * nterm)
-        nt[k] = nterm
+            np.subtract(d[s + m:e + m], d[s:e], out=b)
+            t1 += float(dot(b, b))
+            L2 = min(s + BLOCK, n2) - s
+            if L2 > 0:
+                lo, hi = wlo[:L2], whi[:L2]
+                np.add(d[s:s + L2], d[s + m:s + m + L2], out=lo)
+                np.add(d[s + 2 * m:s + 2 * m + L2], d[s + 3 * m:s + 3 * m + L2], out=hi)
+                b2 = buf[:L2]
+                np.subtract(hi, lo, out=b2)
+                t2 += float(dot(b2, b2))
+                if more:
+                    np.add(lo, hi, out=d[s:s + L2])
+        var[k] = t1 / (2.0 * (m * tau0) ** 2 * n1)
+        nt[k] = n1
+        var[k + 1] = t2 / (2.0 * (2 * m * tau0) ** 2 * n2)
+        nt[k + 1] = n2
+        k += 2
     return var, nt, dec
 
 
