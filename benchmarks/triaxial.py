@@ -263,6 +263,7 @@ def markdown(r: dict) -> str:
              f"{_f(red1000)} % fewer generations, paper 22 % / 16 %. Our absolute generation "
              "counts are lower than the paper's derived ones (its Table 7 is an image; ACS's "
              "constants are this project's reconstruction, spec §3.4).")
+    L.append("")
     L.append(f"Accuracy at convergence: max ‖x̂ − x_true‖∞ over all seeds CS "
              f"{max(r['sphere100']['cs']['max_x_err'], r['sphere1000']['cs']['max_x_err']):.1e}, ACS "
              f"{max(r['sphere100']['acs']['max_x_err'], r['sphere1000']['acs']['max_x_err']):.1e} "
