@@ -181,3 +181,21 @@ def test_counts_static_file_with_header_and_bare_columns(capsys, tmp_path):
     k = np.array([res["params"][n] for n in ("kx", "ky", "kz")])
     th = np.array([res["params"][n] for n in ("theta_yz", "theta_zy", "theta_zx")])
     assert np.max(np.abs(k / x[3:6] - 1)) < 1e-3 and np.max(np.abs(th - x[6:9])) < 1.5e-3
+
+
+def test_suffix_contradicting_header_units_and_apply_unit_mismatch(capsys, tmp_path):
+    # spec 002 §2.3: 'ax_mps2' under '# units=lsb' is an error unless --unit overrides
+    path = tmp_path / "c.static.csv"
+    rec = tp.simulate("turntable62", seed=0).data
+    body = rec[["pos_id", "ax_mps2", "ay_mps2", "az_mps2", "ref_x", "ref_y", "ref_z"]]
+    path.write_text("# units=lsb\n# g_local=9.8\n" + body.to_csv(index=False))
+    one_line_error(*cli(capsys, "calibrate", "triaxial", path)[::2], "header says units=lsb")
+    code, out, err = cli(capsys, "calibrate", "triaxial", path, "--unit", "mps2", "--objective",
+                         "scalar", "--out", tmp_path / "res")
+    assert code == 0, err
+    # applying an m/s^2 calibration to a counts log is refused
+    log = tmp_path / "log.raw.csv"
+    cli(capsys, "simulate", "triaxial-poses", "--scenario", "rawlog62-counts", "--out", log)
+    one_line_error(*cli(capsys, "calibrate", "apply", tmp_path / "res" / "model.json", log,
+                        "--out", tmp_path / "x.csv")[::2], "expects 'mps2'")
+    assert not (tmp_path / "x.csv").exists()

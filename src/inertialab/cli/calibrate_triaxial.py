@@ -200,9 +200,11 @@ def register(app: typer.Typer, groups: dict) -> None:
                 data = fc.raw_log_data(
                     t, rec.data[cols].to_numpy(dtype=float), meta, suffix=suffix,
                     lsb_per_g=lsb_per_g, schedule=sched, k_thr=k_thr, threshold=threshold,
-                    window_s=window, t_init_s=t_init, min_duration_s=min_duration, path=file)
+                    window_s=window, t_init_s=t_init, min_duration_s=min_duration, path=file,
+                    header_check=ulower is None)
             else:
-                data = fc.static_data_from_frame(rec.data, meta, lsb_per_g=lsb_per_g, path=file)
+                data = fc.static_data_from_frame(rec.data, meta, lsb_per_g=lsb_per_g, path=file,
+                                                 header_check=ulower is None)
                 t = None
                 if data.unit_id is not None and len(set(data.unit_id)) > 1:
                     if m != "lm" or obj != "scalar":

@@ -552,8 +552,18 @@ def _acc_columns(df: pd.DataFrame):
     return cols, sufs.pop()
 
 
-def unit_conversion(suffix: str, meta: dict, *, g: float, lsb_per_g: float | None = None):
-    """``(scale, offset, counts)`` from the raw unit to the working unit (spec 002 §2.3)."""
+def unit_conversion(suffix: str, meta: dict, *, g: float, lsb_per_g: float | None = None,
+                    header_check: bool = True, path=None):
+    """``(scale, offset, counts)`` from the raw unit to the working unit (spec 002 §2.3).
+
+    With ``header_check`` a column suffix that contradicts the header's ``units`` key is
+    an :class:`InputError` (spec 002 §2.3); pass False when the user overrode the unit.
+    """
+    hu = meta.get("units")
+    if header_check and isinstance(hu, str) and hu.strip().lower() in units.SUFFIXES \
+            and hu.strip().lower() != suffix:
+        raise InputError(f"accelerometer columns are in '{suffix}' but the header says "
+                         f"units={hu}; fix one of them or give --unit", path=path)
     if suffix == "lsb":
         lpg = lsb_per_g if lsb_per_g is not None else meta.get("lsb_per_g")
         off = float(meta.get("lsb_offset", 0.0) or 0.0)
@@ -630,12 +640,17 @@ def _saturation_limits(suffix, meta, scale_g, raw=None):
 
 
 def static_data_from_frame(df: pd.DataFrame, meta: dict | None = None, *, g: float | None = None,
-                           lsb_per_g: float | None = None, path=None) -> StaticData:
-    """Static-record table (``triaxial_static`` kind, validated) -> :class:`StaticData`."""
+                           lsb_per_g: float | None = None, path=None,
+                           header_check: bool = True) -> StaticData:
+    """Static-record table (``triaxial_static`` kind, validated) -> :class:`StaticData`.
+
+    ``header_check``: refuse a column unit that contradicts the header's ``units``.
+    """
     meta = dict(meta or {})
     g = _g_from(meta, g)
     cols, suf = _acc_columns(df)
-    scale, off, counts = unit_conversion(suf, meta, g=g, lsb_per_g=lsb_per_g)
+    scale, off, counts = unit_conversion(suf, meta, g=g, lsb_per_g=lsb_per_g,
+                                         header_check=header_check, path=path)
     raw = df[cols].to_numpy(dtype=float)
     keep = np.ones(len(df), dtype=bool)
     dropped = []
@@ -675,7 +690,7 @@ def raw_log_data(t, acc_raw, meta: dict | None = None, *, suffix: str = "mps2",
                  g: float | None = None, lsb_per_g: float | None = None, schedule=None,
                  expected: int | None = None, k_thr: float | None = None,
                  threshold: float | None = None, window_s: float = 1.0, t_init_s: float = 10.0,
-                 min_duration_s: float = 1.5, path=None) -> StaticData:
+                 min_duration_s: float = 1.5, path=None, header_check: bool = True) -> StaticData:
     """Raw log -> static records by the detector of spec 002 §2.4 (with the threshold sweep).
 
     The sweep keeps the k_thr whose LM-norm residual RMS is smallest among those giving the
@@ -689,7 +704,8 @@ def raw_log_data(t, acc_raw, meta: dict | None = None, *, suffix: str = "mps2",
 
     meta = dict(meta or {})
     g = _g_from(meta, g)
-    scale, off, counts = unit_conversion(suffix, meta, g=g, lsb_per_g=lsb_per_g)
+    scale, off, counts = unit_conversion(suffix, meta, g=g, lsb_per_g=lsb_per_g,
+                                         header_check=header_check, path=path)
     raw = np.asarray(acc_raw, dtype=float)
     a_all = (raw - off) * scale
     if schedule is not None and expected is None:
