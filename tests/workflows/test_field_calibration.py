@@ -281,3 +281,23 @@ def test_poorly_conditioned_schedule_is_flagged_with_suggestions():
     sug = fc.suggest_orientations(X_TRUE, a, n=3)
     assert np.allclose(np.linalg.norm(sug, axis=1), 1.0)
     assert np.all(sug[:, 2] < 0.5)  # all well away from the crowded +z cap
+
+
+def test_model_fixture_v1_still_loads_and_applies():
+    # tests/data/models/triaxial-calibration-v1.json (provenance in tests/data/README.md):
+    # the outputs below were printed when it was written; loading must reproduce them to
+    # round-off (JSON floats round-trip exactly, so 1e-12 is ample)
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[1] / "data" / "models" / "triaxial-calibration-v1.json"
+    m = load_model(path, expected_type="triaxial-calibration")
+    pts = np.array([[0.0, 0.0, 16384.0], [16384.0, 0, 0], [-300.0, 16000.0, 2000.0]])
+    want = np.array([[-0.24492417, 0.35163958, 9.14382275],
+                     [9.35232036, 0.46605307, -0.46200555],
+                     [-0.42065496, 10.06586101, 0.78546351]])
+    assert np.allclose(m.apply(pts), want, atol=1e-8)  # printed to 8 decimals
+    gp = np.array([[157.0, -112.0, 68.0], [1000.0, 0, 0]])
+    gwant = np.array([[-6.10890060e-05, 7.02216803e-05, 4.58026332e-05],
+                      [1.10078175e-01, 1.60396953e-02, -1.05741358e-02]])
+    assert np.allclose(m.apply_gyro(gp), gwant, rtol=1e-8, atol=1e-13)
+    assert m.raw_unit == "lsb" and m.gyro["raw_unit"] == "lsb"
