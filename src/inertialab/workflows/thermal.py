@@ -65,45 +65,46 @@ PAPER_RMSE_MG = {"ann": 0.138, "fis": 0.101, "anfis": 0.034, "iafsa-scm-anfis": 
 # ---------------------------------------------------------------------------------------
 # BLAS threads
 # ---------------------------------------------------------------------------------------
-def _openblas_handles():
-    """(get, set) functions of the OpenBLAS that NumPy loaded, or None (Linux only)."""
+def _openblas_handles() -> list:
+    """(get, set) thread-count functions of every OpenBLAS loaded in this process (NumPy
+    and SciPy each bundle their own), Linux only; empty when none can be reached."""
     import ctypes
 
     try:
         with open("/proc/self/maps") as fh:
-            paths = {ln.split()[-1] for ln in fh if "openblas" in ln.lower() and "/" in ln}
+            paths = {ln.split()[-1] for ln in fh
+                     if "openblas" in ln.lower() and ln.split()[-1].startswith("/")}
     except OSError:
-        return None
+        return []
+    found = []
     for path in sorted(paths):
         try:
             lib = ctypes.CDLL(path)
         except OSError:
             continue
-        for prefix in ("scipy_openblas", "openblas"):
-            for suffix in ("64_", ""):
-                get = getattr(lib, f"{prefix}_get_num_threads{suffix}", None)
-                put = getattr(lib, f"{prefix}_set_num_threads{suffix}", None)
-                if get is not None and put is not None:
-                    return get, put
-    return None
+        for name in ("scipy_openblas{}64_", "scipy_openblas{}", "openblas{}64_", "openblas{}"):
+            get = getattr(lib, name.format("_get_num_threads"), None)
+            put = getattr(lib, name.format("_set_num_threads"), None)
+            if get is not None and put is not None:
+                found.append((get, put))
+                break
+    return found
 
 
 @contextmanager
 def single_threaded_blas():
-    """Run OpenBLAS single-threaded inside the block (spec 000 §8.2.5: multi-threaded
-    least squares on ~300 x 100 matrices was 100x slower on 2 cores). A no-op where the
-    BLAS cannot be reached; the previous thread count is restored on exit."""
-    h = _openblas_handles()
-    if h is None:
-        yield
-        return
-    get, put = h
-    old = int(get())
-    put(1)
+    """Run every loaded OpenBLAS single-threaded inside the block (spec 000 §8.2.5:
+    multi-threaded least squares on ~300 x 100 matrices was 100x slower on 2 cores). A
+    no-op where no BLAS can be reached; the previous thread counts are restored on exit."""
+    handles = _openblas_handles()
+    old = [int(get()) for get, _ in handles]
+    for _, put in handles:
+        put(1)
     try:
         yield
     finally:
-        put(old)
+        for (_, put), n in zip(handles, old):
+            put(n)
 
 
 # ---------------------------------------------------------------------------------------
