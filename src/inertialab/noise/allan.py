@@ -50,7 +50,7 @@ BLOCK = 8192
 
 #: Block length of the lag-doubling octave OADEV (its dot products are taken in
 #: BLOCK-sized pieces, below OpenBLAS's threading threshold).
-OCT_BLOCK = 1 << 15
+OCT_BLOCK = 1 << 16
 
 #: Chunk length (samples) of the out-of-core path and of the mean.
 CHUNK = 1 << 20
@@ -403,7 +403,7 @@ class _LazyPhase:
 
 
 def _oadev_octaves(y: np.ndarray, tau0: float, ms: np.ndarray, *, want_decimated: bool,
-                   max_points: int = 1 << 14):
+                   max_points: int = 1 << 13):
     """OAVAR at m = 1, 2, 4, ... by lag doubling, without the angle array.
 
     ``D_i = (x_{i+m} - x_i)/tau0`` starts as ``y_i - mean`` (m = 1); the second
@@ -430,6 +430,7 @@ def _oadev_octaves(y: np.ndarray, tau0: float, ms: np.ndarray, *, want_decimated
     buf = np.empty(B)
     wlo = np.empty(B)
     whi = np.empty(B)
+    wsh = np.empty(B + B // 4)
 
     def identify(m: int, pair: bool) -> None:
         # decimated angle at lag m (or 2m, from pairs of D(m)), central max_points points
@@ -478,6 +479,7 @@ def _oadev_octaves(y: np.ndarray, tau0: float, ms: np.ndarray, *, want_decimated
         # at m and 2m, and D(4m)_i = D(2m)_i + D(2m)_{i+2m} written in place (same
         # operations, hence the same numbers, as two single passes)
         more = k + 2 < ms.size
+        shared = 8 * m <= B
         n2 = nx - 4 * m  # second differences at 2m = valid D(4m) entries
         t2 = 0.0
         for s in range(0, n1, B):
@@ -487,9 +489,14 @@ def _oadev_octaves(y: np.ndarray, tau0: float, ms: np.ndarray, *, want_decimated
             t1 += _sumsq(b)
             L2 = min(s + B, n2) - s
             if L2 > 0:
-                lo, hi = wlo[:L2], whi[:L2]
-                np.add(d[s:s + L2], d[s + m:s + m + L2], out=lo)
-                np.add(d[s + 2 * m:s + 2 * m + L2], d[s + 3 * m:s + 3 * m + L2], out=hi)
+                if shared:  # D(2m) on [s, s + L2 + 2m) once; both taps are views of it
+                    w = wsh[:L2 + 2 * m]
+                    np.add(d[s:s + L2 + 2 * m], d[s + m:s + 3 * m + L2], out=w)
+                    lo, hi = w[:L2], w[2 * m:2 * m + L2]
+                else:
+                    lo, hi = wlo[:L2], whi[:L2]
+                    np.add(d[s:s + L2], d[s + m:s + m + L2], out=lo)
+                    np.add(d[s + 2 * m:s + 2 * m + L2], d[s + 3 * m:s + 3 * m + L2], out=hi)
                 b2 = buf[:L2]
                 np.subtract(hi, lo, out=b2)
                 t2 += _sumsq(b2)
