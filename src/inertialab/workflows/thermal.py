@@ -131,6 +131,11 @@ class ThermalConfig:
     radii : "scalar" (4-D search) | "per_dim" (6-D: r_T, r_N, r_y)
     ann_hidden, ann_max_epochs : MLP 2-10-1, up to 500 LM iterations (§4)
     poly_sep_degree : cubic K0(T), K1(T) (§4); poly2d_degrees : (m, n) = (3, 1) (§4)
+    range_margin_c, range_margin_frac : the calibrated range used for clamping is the
+        training range of T widened by 0.5 °C (chamber wander) and of N widened by 5 % of
+        its span on each side [ours]. Clamping N exactly at the training maximum would
+        saturate a +1 g reading whose position happened to fall in the test set (measured:
+        400 µg at 70 °C, +1 g), while the first-order consequents extrapolate benignly.
     seed : master seed (split, search, ANN init; spawned in that order)
     """
 
@@ -154,6 +159,8 @@ class ThermalConfig:
     ann_max_epochs: int = 500
     poly_sep_degree: int = 3
     poly2d_degrees: tuple[int, int] = (3, 1)
+    range_margin_c: float = 0.5
+    range_margin_frac: float = 0.05
     seed: int = 0
 
     def validate(self) -> ThermalConfig:
@@ -705,8 +712,11 @@ def fit_model(samples: ThermalSamples, split: Split, method: str, config: Therma
         raise InputError(f"unknown method {method!r}")
     return ThermalModel(
         method=method, ref=samples.ref, regressor=reg, input=cfg.input, target=cfg.target,
-        learn_drift=cfg.learn_drift, t_range_c=(float(bx[0, 0]), float(bx[1, 0])),
-        n_range_mv=(float(bx[0, 1]), float(bx[1, 1])), reference_temp_c=cfg.reference_temp_c,
+        learn_drift=cfg.learn_drift,
+        t_range_c=(float(bx[0, 0] - cfg.range_margin_c), float(bx[1, 0] + cfg.range_margin_c)),
+        n_range_mv=(float(bx[0, 1] - cfg.range_margin_frac * (bx[1, 1] - bx[0, 1])),
+                    float(bx[1, 1] + cfg.range_margin_frac * (bx[1, 1] - bx[0, 1]))),
+        reference_temp_c=cfg.reference_temp_c,
         scm=scm, search=search, unit_id=samples.unit_id)
 
 
