@@ -67,3 +67,33 @@ def test_bad_input_one_line(tmp_path, extra, pattern):
     res = run("allan-imu", _gappy(tmp_path), *extra)
     assert res.returncode == 2 and pattern in res.stderr, res.stderr
     assert len(res.stderr.strip().splitlines()) == 1
+
+
+def test_allan_imu_flag_gives_the_same_export_as_allan_imu(tmp_path):
+    """``inertialab allan FILE --imu --export kalibr F`` (issue 10 item 3) is the same
+    analysis as ``allan-imu``: identical YAML on a six-axis file with canonical columns."""
+    import numpy as np
+    import pandas as pd
+
+    rng = np.random.default_rng(3)
+    n, fs = 4000, 100.0
+    cols = {"t_s": np.arange(n) / fs}
+    for ax in ("gx_rps", "gy_rps", "gz_rps"):
+        cols[ax] = 1e-3 * rng.standard_normal(n)
+    for ax in ("ax_mps2", "ay_mps2", "az_mps2"):
+        cols[ax] = 2e-3 * rng.standard_normal(n)
+    f = tmp_path / "imu.csv"
+    pd.DataFrame(cols).to_csv(f, index=False)
+    a, b = tmp_path / "a.yaml", tmp_path / "b.yaml"
+    r1 = run("allan", f, "--imu", "--export", "kalibr", a, "--json")
+    r2 = run("allan-imu", f, "--export", "kalibr", b, "--json")
+    assert r1.returncode == 0 and r2.returncode == 0, r1.stderr + r2.stderr
+    assert a.read_text() == b.read_text()
+    assert json.loads(r1.stdout)["command"] == "allan"
+    # white rate noise of 1e-3 rad/s per sample at 100 Hz: density 1e-4 rad/s/sqrt(Hz);
+    # 4000 samples give a few percent scatter
+    vals = dict(re.findall(r"^([a-z_]+):\s*([-+0-9.eE]+)", a.read_text(), flags=re.M))
+    assert float(vals["gyroscope_noise_density"]) == pytest.approx(1e-4, rel=0.15)
+    assert float(vals["accelerometer_noise_density"]) == pytest.approx(2e-4, rel=0.15)
+    bad = run("allan", f, "--export", "kalibr", a)
+    assert bad.returncode == 2 and "--export needs --imu" in bad.stderr

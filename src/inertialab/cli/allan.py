@@ -50,8 +50,22 @@ def register(app: typer.Typer, groups: dict) -> None:
         out: Path = typer.Option(None, "--out", help="Directory for allan.png, result.json "
                                                      "and model.json (noise terms)."),
         quiet: bool = typer.Option(False, "--quiet", help="No warnings on stderr."),
+        imu: bool = typer.Option(False, "--imu", help="Analyse gyro x/y/z and accelerometer "
+                                 "x/y/z together (one table, one figure); see allan-imu for "
+                                 "vendor-file options."),
+        export: tuple[str, str] = typer.Option(None, "--export", help="STYLE FILE (with "
+                                               "--imu): write noise densities and random walks "
+                                               "as YAML for kalibr or ros."),
     ):
         """Allan family with confidence intervals and the Q N B K R noise terms."""
+        if imu or export:
+            from inertialab.cli.imu_noise import run_six_axes
+
+            if not imu:
+                raise InputError("--export needs --imu (six-axis noise parameters)")
+            return run_six_axes(file=file, export=export, unit=unit, rate=rate,
+                                g_local=g_local, method=method, out=out, as_json=as_json,
+                                quiet=quiet, command="allan")
         from inertialab.io import read_record
         from inertialab.workflows.allan import analyze, parse_stats, parse_taus, prepare_log
 
