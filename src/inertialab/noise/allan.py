@@ -354,38 +354,48 @@ class _PhaseFromRate:
     block = CHUNK
 
     def window(self, start: int, length: int, step: int = 1) -> np.ndarray:
-        if step != 1:
-            return self._strided(start, length, step)
-        stop = start + length  # exclusive, in angle-point index
-        b = start // CHECKPOINT
-        s0 = b * CHECKPOINT  # angle index of the checkpoint
-        cnt = stop - s0  # angle points from s0 inclusive
-        out = np.empty(cnt, dtype=np.float64)
-        out[0] = self.ck[b]
-        if cnt > 1:
-            u = np.subtract(self.y[s0:s0 + cnt - 1], self.mean, dtype=np.float64)
-            u *= self.tau0
-            # sequential in blocks of CHUNK aligned to the checkpoints (same rounding)
-            pos = 0
-            while pos < u.size:
-                e = min(pos + CHUNK, u.size)
-                u[pos] += out[pos]
-                np.cumsum(u[pos:e], out=out[pos + 1:e + 1])
-                pos = e
-        return out[start - s0:]
+        return phase_window(self.y, self.ck, self.mean, self.tau0, start, length, step=step,
+                            checkpoint=CHECKPOINT, block=CHUNK)
 
-    def _strided(self, start: int, length: int, step: int) -> np.ndarray:
-        """Points ``start + step*i``, i < length, one CHUNK-aligned window at a time."""
+
+def phase_window(y: np.ndarray, ck: np.ndarray, mean: float, tau0: float, start: int,
+                 length: int, *, step: int = 1, checkpoint: int = CHECKPOINT,
+                 block: int = CHUNK) -> np.ndarray:
+    """Angle points ``x[start + step*i]``, ``i < length``, of rate samples ``y``.
+
+    ``ck[b]`` is the angle at point ``b*checkpoint`` (``x_0 = 0``); a window is recomputed
+    from the checkpoint at or below it with the same sequential recurrence as
+    :func:`_rate_to_phase` (``x_{k+1} = x_k + tau0 (y_k - mean)``, cumulative sums in
+    blocks of ``block`` aligned to the checkpoints), so the values equal the in-memory
+    angle bit for bit. ``block`` must be a multiple of ``checkpoint``. Serves the
+    out-of-core path here and the Dask path of :mod:`inertialab.workflows.batch`.
+    """
+    if step != 1:
         idx = start + step * np.arange(length, dtype=np.int64)
         out = np.empty(length, dtype=np.float64)
-        blocks = idx // CHUNK
+        blocks = idx // block
         cuts = np.flatnonzero(np.diff(blocks)) + 1
         for lo, hi in zip(np.r_[0, cuts], np.r_[cuts, length]):
             b = int(blocks[lo])
-            last = int(idx[hi - 1])
-            w = self.window(b * CHUNK, last - b * CHUNK + 1)
-            out[lo:hi] = w[idx[lo:hi] - b * CHUNK]
+            w = phase_window(y, ck, mean, tau0, b * block, int(idx[hi - 1]) - b * block + 1,
+                             checkpoint=checkpoint, block=block)
+            out[lo:hi] = w[idx[lo:hi] - b * block]
         return out
+    b = start // checkpoint
+    s0 = b * checkpoint  # angle index of the checkpoint
+    cnt = start + length - s0  # angle points from s0 inclusive
+    out = np.empty(cnt, dtype=np.float64)
+    out[0] = ck[b]
+    if cnt > 1:
+        u = np.subtract(y[s0:s0 + cnt - 1], mean, dtype=np.float64)
+        u *= tau0
+        pos = 0
+        while pos < u.size:
+            e = min(pos + block, u.size)
+            u[pos] += out[pos]
+            np.cumsum(u[pos:e], out=out[pos + 1:e + 1])
+            pos = e
+    return out[start - s0:]
 
 
 class _LazyPhase:

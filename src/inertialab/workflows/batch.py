@@ -536,32 +536,10 @@ class _NpyPhase:
         return d
 
     def window(self, start: int, length: int, step: int = 1) -> np.ndarray:
-        if step != 1:
-            idx = start + step * np.arange(length, dtype=np.int64)
-            out = np.empty(length, dtype=np.float64)
-            blocks = idx // self.chunk
-            cuts = np.flatnonzero(np.diff(blocks)) + 1
-            for lo, hi in zip(np.r_[0, cuts], np.r_[cuts, length]):
-                b = int(blocks[lo])
-                w = self.window(b * self.chunk, int(idx[hi - 1]) - b * self.chunk + 1)
-                out[lo:hi] = w[idx[lo:hi] - b * self.chunk]
-            return out
-        C = self.chunk
-        b = start // C
-        s0 = b * C
-        cnt = start + length - s0
-        out = np.empty(cnt, dtype=np.float64)
-        out[0] = self.ck[b]
-        if cnt > 1:
-            u = np.subtract(self.y[s0:s0 + cnt - 1], self.mean, dtype=np.float64)
-            u *= self.tau0
-            pos = 0
-            while pos < u.size:
-                e = min(pos + C, u.size)
-                u[pos] += out[pos]
-                np.cumsum(u[pos:e], out=out[pos + 1:e + 1])
-                pos = e
-        return out[start - s0:]
+        from inertialab.noise.allan import phase_window
+
+        return phase_window(self.y, self.ck, self.mean, self.tau0, start, length, step=step,
+                            checkpoint=self.chunk, block=self.chunk)
 
 
 def _chunk_sums(path: str, c0: int, c1: int, chunk: int) -> list[float]:
