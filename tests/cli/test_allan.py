@@ -10,6 +10,7 @@ import pytest
 
 from inertialab.cli.main import main
 from inertialab.noise.allan import oadev
+from tests.helpers import run_inprocess as run
 
 ISSUE_KEYS = {"statistic", "tau0_s", "taus_s", "dev", "ci_low", "ci_high", "n_terms", "alpha",
               "edf", "unit", "noise_terms"}
@@ -17,11 +18,6 @@ ENVELOPE = {"command", "schema_version", "inertialab_version", "inputs", "settin
             "warnings"}
 
 
-def run(capsys, *args):
-    with pytest.raises(SystemExit) as ex:
-        main([str(a) for a in args])
-    out, err = capsys.readouterr()
-    return ex.value.code, out, err
 
 
 @pytest.fixture(scope="module")

@@ -1,18 +1,12 @@
 """``inertialab batch``: table, yield, per-unit failures, --strict, bad input (issue 10 items 5-6)."""
 
 import json
-import subprocess
-import sys
 
 import numpy as np
 import pytest
 
 from inertialab.sim.triaxial_poses import simulate_line
-
-
-def run(*args, cwd=None):
-    return subprocess.run([sys.executable, "-m", "inertialab", *map(str, args)],
-                          capture_output=True, text=True, cwd=cwd, timeout=300)
+from tests.helpers import run_subprocess as run
 
 
 def one_line_error(res, pattern):

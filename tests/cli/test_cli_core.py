@@ -1,17 +1,11 @@
 """CLI conventions: --help, --version, exit codes, one-line errors, JSON alone on stdout."""
 
 import json
-import subprocess
-import sys
 
 import pytest
 
 from inertialab import __version__
-
-
-def run(*args, cwd=None):
-    return subprocess.run([sys.executable, "-m", "inertialab", *map(str, args)],
-                          capture_output=True, text=True, cwd=cwd, timeout=120)
+from tests.helpers import run_subprocess as run
 
 
 def assert_user_error(res, pattern=None):

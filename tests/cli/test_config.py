@@ -1,19 +1,13 @@
 """``--config run.toml`` / ``--save-config``: a saved run reproduces its JSON (issue 10 item 4)."""
 
 import json
-import subprocess
-import sys
 
 import pytest
 
 from inertialab.cli.main import expand_config
 from inertialab.errors import InputError
 from inertialab.sim.triaxial_poses import simulate_line
-
-
-def run(*args, cwd=None):
-    return subprocess.run([sys.executable, "-m", "inertialab", *map(str, args)],
-                          capture_output=True, text=True, cwd=cwd, timeout=300)
+from tests.helpers import run_subprocess as run
 
 
 def _strip(obj):

@@ -2,18 +2,15 @@
 
 import json
 import re
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 
+from tests.helpers import run_subprocess as run
+
 VENDORS = Path(__file__).resolve().parents[2] / "docs" / "examples" / "vendors"
 
 
-def run(*args, cwd=None):
-    return subprocess.run([sys.executable, "-m", "inertialab", *map(str, args)],
-                          capture_output=True, text=True, cwd=cwd, timeout=300)
 
 
 def test_vendor_file_six_axes_kalibr_export(tmp_path):

@@ -9,13 +9,7 @@ import pandas as pd
 import pytest
 
 from inertialab.cli.main import main
-
-
-def run(capsys, *args):
-    with pytest.raises(SystemExit) as ex:
-        main([str(a) for a in args])
-    out, err = capsys.readouterr()
-    return ex.value.code, out, err
+from tests.helpers import run_inprocess as run
 
 
 @pytest.fixture(scope="module")

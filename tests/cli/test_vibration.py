@@ -7,15 +7,11 @@ import pandas as pd
 import pytest
 
 from inertialab.cli.main import main
+from tests.helpers import run_inprocess as run
 
 SHORT = ["--p1-s", "150", "--p3-s", "150", "--p2-s", "150"]
 
 
-def run(capsys, *args):
-    with pytest.raises(SystemExit) as ex:
-        main([str(a) for a in args])
-    out, err = capsys.readouterr()
-    return ex.value.code, out, err
 
 
 @pytest.fixture(scope="module")
