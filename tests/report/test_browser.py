@@ -74,3 +74,24 @@ def test_report_loads_in_chromium(tmp_path):
     assert errors == []
     assert shot.exists() and shot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert shot.stat().st_size > 5000
+
+
+@pytest.mark.skipif(CHROMIUM is None, reason="chromium not installed (.ci/run installs it as root)")
+def test_quick_demo_report_loads_in_chromium(tmp_path):
+    """The real report: every study's quick demo, rendered and loaded in chromium."""
+    from inertialab.report.build import section_for
+    from inertialab.workflows.demo import run_studies, summary_rows
+
+    results = run_studies(quick=True)
+    assert len(results) == 6
+    sections = [section_for(r) for r in results]
+    paths = render_report(sections, tmp_path / "rep", summary=summary_rows(results), quick=True)
+    n_figures = sum(len(s.figures) for s in sections)
+    sizes, errors, shot = check_report_in_browser(paths["index"], tmp_path)
+    assert len(sizes) == n_figures >= 12
+    for s in sizes:
+        wh, complete = s.split(":")
+        w, h = (int(v) for v in wh.split("x"))
+        assert w > 0 and h > 0 and complete == "true", s
+    assert errors == []
+    assert shot.stat().st_size > 5000

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import importlib
 
+from inertialab.report.html import rasterise
 from inertialab.report.section import Section, Table
 from inertialab.workflows.base import StudyResult
 
@@ -35,4 +36,4 @@ def section_for(result: StudyResult) -> Section:
             columns=["figure", "ours", "paper", "unit"],
             rows=[[h.label, h.ours, h.paper, h.unit] for h in result.headline]))
     sec.results.setdefault("wall_s", result.wall_s)
-    return sec
+    return rasterise(sec)

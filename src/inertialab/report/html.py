@@ -66,8 +66,18 @@ def _render_table(t: Table) -> dict:
             "rows": [[_cell(c, t.fmt) for c in r] for r in t.rows], "note": t.note}
 
 
+def rasterise(section: Section) -> Section:
+    """Turn the section's matplotlib figures into PNG bytes now and close them, so a report
+    of many studies never holds all their figures open at once."""
+    for f in section.figures:
+        if f.png is None and f.figure is not None:
+            f.png = figure_png(f.figure)
+            f.figure = None
+    return section
+
+
 def _render_figure(f: Figure) -> dict:
-    data = figure_png(f.figure)
+    data = f.png if f.png is not None else figure_png(f.figure)
     w, h = _png_size(data)
     return {"data": base64.b64encode(data).decode("ascii"), "caption": f.caption,
             "width": w, "height": h}

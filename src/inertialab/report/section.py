@@ -24,9 +24,10 @@ class Table:
 class Figure:
     """A matplotlib figure with its caption; rendered as an embedded PNG."""
 
-    figure: Any  # matplotlib.figure.Figure
+    figure: Any  # matplotlib.figure.Figure (None once rasterised into ``png``)
     caption: str
     name: str = "figure"
+    png: bytes | None = None
 
 
 @dataclass
