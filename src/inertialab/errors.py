@@ -41,6 +41,14 @@ class InputError(ValueError):
         super().__init__(f"{prefix}: {text}" if prefix else text)
 
 
+class NotFittedError(RuntimeError, AttributeError):
+    """An estimator's ``predict``/``forecast``/``to_dict`` was called before ``fit``.
+
+    The one such error of every estimator (issue 13); like scikit-learn's
+    ``NotFittedError`` it is both a ``RuntimeError`` and an ``AttributeError``.
+    """
+
+
 class MissingReferenceError(InputError):
     """An objective or method needs reference directions/values the records lack."""
 

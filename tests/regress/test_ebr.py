@@ -6,7 +6,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from inertialab.errors import InputError, NonIdentifiableWarning, ShrinkageWarning
+from inertialab.errors import InputError, NonIdentifiableWarning, NotFittedError, ShrinkageWarning
 from inertialab.regress.ebr import (
     _G,
     EmpiricalBayesRidge,
@@ -136,7 +136,7 @@ def test_lambda0_root_and_combination():
 
 
 def test_predict_before_fit_and_bad_method():
-    with pytest.raises(InputError):
+    with pytest.raises(NotFittedError):
         EmpiricalBayesRidge().predict(np.ones((2, 2)))
     with pytest.raises(InputError):
         EmpiricalBayesRidge(method="E9").fit(np.eye(3), np.ones(3))

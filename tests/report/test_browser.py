@@ -80,7 +80,7 @@ def test_report_loads_in_chromium(tmp_path):
 def test_quick_demo_report_loads_in_chromium(tmp_path):
     """The real report: every study's quick demo, rendered and loaded in chromium."""
     from inertialab.report.build import section_for
-    from inertialab.workflows.demo import run_studies, summary_rows
+    from inertialab.studies.demo import run_studies, summary_rows
 
     results = run_studies(quick=True)
     assert len(results) == 6

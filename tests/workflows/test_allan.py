@@ -135,7 +135,7 @@ def test_report_section_of_demo():
 def test_auto_chunked_for_large_memmaps(tmp_path, monkeypatch):
     # A memory-mapped log above CHUNKED_MIN samples takes the out-of-core path; its
     # numbers equal the in-memory path to 1e-12 (same angle values, other summation).
-    from inertialab.noise import allan as A
+    from inertialab.noise import _phase as A
 
     monkeypatch.setattr(W, "CHUNKED_MIN", 10_000)
     monkeypatch.setattr(A, "CHUNK", 8192)

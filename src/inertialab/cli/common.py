@@ -25,6 +25,7 @@ from inertialab import __version__
 from inertialab.errors import InputError
 from inertialab.io.modelfile import dependency_versions
 from inertialab.io.writers import atomic_path, atomic_write_bytes, atomic_write_text
+from inertialab.jsonable import to_jsonable
 
 JSON_SCHEMA_VERSION = 1
 
@@ -54,32 +55,9 @@ def file_sha256(path) -> str:
 
 
 def json_ready(obj, path: str = "", nulls: list[str] | None = None):
-    """Plain-JSON copy of ``obj``; non-finite floats become None and their key paths are
-    appended to ``nulls``."""
-    if nulls is None:
-        nulls = []
-    if isinstance(obj, dict):
-        return {str(k): json_ready(v, f"{path}.{k}" if path else str(k), nulls)
-                for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [json_ready(v, f"{path}[{i}]", nulls) for i, v in enumerate(obj)]
-    if isinstance(obj, np.ndarray):
-        return json_ready(obj.tolist(), path, nulls)
-    if hasattr(obj, "to_dict") and not isinstance(obj, type):
-        return json_ready(obj.to_dict(), path, nulls)
-    if isinstance(obj, (bool, np.bool_)):
-        return bool(obj)
-    if isinstance(obj, np.integer):
-        return int(obj)
-    if isinstance(obj, (float, np.floating)):
-        f = float(obj)
-        if not math.isfinite(f):
-            nulls.append(path)
-            return None
-        return f
-    if isinstance(obj, Path):
-        return str(obj)
-    return obj
+    """Plain-JSON copy of ``obj`` (see :func:`inertialab.jsonable.to_jsonable`); the key
+    paths of non-finite floats are appended to ``nulls``."""
+    return to_jsonable(obj, nulls=nulls, path=path)
 
 
 def emit_json(command: str, payload: dict, *, inputs=(), settings: dict | None = None,

@@ -26,7 +26,7 @@ def register(app: typer.Typer, groups: dict) -> None:
         """Run the studies on the virtual lab and write a self-contained HTML report."""
         from inertialab.report.build import section_for
         from inertialab.report.html import render_report
-        from inertialab.workflows.demo import run_studies, select_studies, summary_rows
+        from inertialab.studies.demo import run_studies, select_studies, summary_rows
 
         select_studies(study)  # validates names before any work
         with collect_warnings(quiet=quiet or as_json) as warns:

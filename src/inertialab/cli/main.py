@@ -1,8 +1,10 @@
 """``inertialab`` command line entry point.
 
 Every module ``inertialab/cli/<name>.py`` that defines ``register(app, groups)`` adds its
-commands; ``groups`` holds the shared sub-commands ``simulate``, ``calibrate``,
-``design``, ``thermal`` and ``drift`` so that two studies can share a group. User errors
+commands; ``groups`` holds one group per study (``vibration thermal triaxial dual
+drift``, command shape ``inertialab <study> fit|apply|...``) plus ``simulate`` and the
+hidden groups of the old spellings (``calibrate``, ``design``), so that modules can
+share a group. User errors
 (:class:`~inertialab.errors.InputError`, usage errors) exit 2 with one line on stderr;
 set ``INERTIALAB_DEBUG=1`` to see tracebacks of unexpected errors.
 """
@@ -29,11 +31,20 @@ from inertialab.errors import InputError  # noqa: E402
 
 _GROUP_HELP = {
     "simulate": "Write a record from the virtual lab (one rig per study).",
-    "calibrate": "Calibrate accelerometers (triaxial field/turntable, dual tumble).",
-    "design": "Design experiments (D-optimal positions).",
+    "vibration": "FOG under vibration: wavelet bias separation, RBF bias model (spec 001).",
     "thermal": "Temperature-drift compensation of quartz accelerometers (spec 000).",
-    "drift": "Long-term storage drift forecasting (spec 004).",
+    "triaxial": "Triaxial accelerometer + gyro calibration: field poses, Ferraris "
+                "protocol, apply (spec 002).",
+    "dual": "Dual-accelerometer dividing-head calibration, EBR, design (spec 003).",
+    "drift": "Long-term storage drift forecasting and compensation (spec 004).",
+    "calibrate": "Old spellings: calibrate triaxial|ferraris|dual|apply.",
+    "design": "Old spelling: design dual.",
 }
+#: Groups kept for the old spellings only (hidden in --help for one release).
+_HIDDEN_GROUPS = {"calibrate", "design"}
+#: Groups whose bare form ``inertialab GROUP FILE ...`` runs ``GROUP fit FILE ...``
+#: (the old ``inertialab vibration SWEEP [FIXED]`` spelling).
+_DEFAULT_FIT_GROUPS = {"vibration"}
 
 
 def _version_callback(value: bool):
@@ -59,13 +70,23 @@ def build_app() -> typer.Typer:
                                            is_eager=True, help="Print the version and exit.")):
         """inertialab command line."""
 
+    from typer.core import TyperGroup
+
+    class _DefaultFitGroup(TyperGroup):
+        def parse_args(self, ctx, args):
+            if args and args[0] not in self.commands and not args[0].startswith("-"):
+                args = ["fit", *args]
+            return super().parse_args(ctx, args)
+
     groups = {name: typer.Typer(help=text, no_args_is_help=True, add_completion=False,
-                                pretty_exceptions_enable=False, rich_markup_mode=None)
+                                pretty_exceptions_enable=False, rich_markup_mode=None,
+                                **({"cls": _DefaultFitGroup} if name in _DEFAULT_FIT_GROUPS
+                                   else {}))
               for name, text in _GROUP_HELP.items()}
     import inertialab.cli as pkg
 
     for info in sorted(pkgutil.iter_modules(pkg.__path__), key=lambda i: i.name):
-        if info.name in ("main", "common"):
+        if info.name in ("main", "common", "options"):
             continue
         mod = importlib.import_module(f"inertialab.cli.{info.name}")
         register = getattr(mod, "register", None)
@@ -73,7 +94,7 @@ def build_app() -> typer.Typer:
             register(app, groups)
     for name, sub in groups.items():
         if sub.registered_commands or sub.registered_groups:
-            app.add_typer(sub, name=name)
+            app.add_typer(sub, name=name, hidden=name in _HIDDEN_GROUPS)
     return app
 
 

@@ -20,12 +20,10 @@ from __future__ import annotations
 import datetime as _dt
 import importlib
 import json
-import math
 from pathlib import Path
 
-import numpy as np
-
 from inertialab.errors import InputError
+from inertialab.jsonable import to_jsonable
 
 FORMAT = "inertialab-model"
 FORMAT_VERSION = 1
@@ -58,29 +56,6 @@ def dependency_versions() -> dict[str, str]:
         except ImportError:  # pragma: no cover - core deps are installed
             out[name] = "missing"
     return out
-
-
-def to_jsonable(obj):
-    """Turn numpy scalars/arrays, tuples and non-finite floats into plain JSON values.
-
-    NaN and infinity become ``None`` (JSON has no such numbers).
-    """
-    if isinstance(obj, dict):
-        return {str(k): to_jsonable(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [to_jsonable(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return to_jsonable(obj.tolist())
-    if isinstance(obj, (np.bool_, bool)):
-        return bool(obj)
-    if isinstance(obj, (np.integer,)):
-        return int(obj)
-    if isinstance(obj, (float, np.floating)):
-        f = float(obj)
-        return f if math.isfinite(f) else None
-    if isinstance(obj, Path):
-        return str(obj)
-    return obj
 
 
 def _model_type(obj) -> str:

@@ -120,7 +120,7 @@ def _load_table(path: Path, parse=None) -> tuple[pd.DataFrame, dict]:
 def read_record(path, kind: str, *, unit=None, rate_hz: float | None = None,
                 column: str | None = None, g_local: float | None = None,
                 column_map=None, parse=None, gaps: str | None = None,
-                full_scale=None) -> Record:
+                full_scale=None, options=None) -> Record:
     """Read and validate a record file of ``kind``.
 
     Parameters
@@ -155,6 +155,10 @@ def read_record(path, kind: str, *, unit=None, rate_hz: float | None = None,
         Flag samples at full scale in a ``saturated`` column (dict: column -> value in
         the column's unit; "auto": flat runs at a column's extreme). None uses the
         sidecar's ``full_scale`` when there is one.
+    options : ReadOptions, optional
+        The reading options of the command line's front door
+        (:class:`inertialab.io.mapping.ReadOptions`); its column map and parse options
+        are used where ``column_map``/``parse`` are not given.
 
     Raises
     ------
@@ -164,6 +168,9 @@ def read_record(path, kind: str, *, unit=None, rate_hz: float | None = None,
     """
     if kind not in SCHEMAS:
         raise InputError(f"unknown record kind '{kind}' (known: {', '.join(SCHEMAS)})")
+    if options is not None:
+        column_map = options.column_map if column_map is None else column_map
+        parse = options.parse if parse is None else parse
     p = Path(path)
     if not p.exists():
         raise InputError("no such file", path=p)

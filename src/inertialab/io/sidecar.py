@@ -75,26 +75,3 @@ def parse_header_lines(lines: list[str], *, path=None) -> dict:
             raise InputError(f"header line without a key: {line.strip()!r}", path=path)
         meta[key] = _coerce(value)
     return meta
-
-
-def write_sidecar(path: str | Path, meta: dict) -> Path:
-    """Write ``meta`` as the sidecar of data file ``path`` (atomically)."""
-    from inertialab.io.writers import atomic_write_text
-
-    sp = sidecar_path(path)
-    atomic_write_text(sp, json.dumps(meta, indent=2, sort_keys=True, default=_json_default) + "\n")
-    return sp
-
-
-def _json_default(o):
-    import numpy as np
-
-    if isinstance(o, np.integer):
-        return int(o)
-    if isinstance(o, np.floating):
-        return float(o)
-    if isinstance(o, np.ndarray):
-        return o.tolist()
-    if isinstance(o, Path):
-        return str(o)
-    raise TypeError(f"not JSON serialisable: {type(o).__name__}")

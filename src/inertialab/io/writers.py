@@ -8,6 +8,7 @@ write leaves the old file (or nothing) behind.
 from __future__ import annotations
 
 import contextlib
+import json
 import os
 import tempfile
 from pathlib import Path
@@ -15,6 +16,8 @@ from pathlib import Path
 import pandas as pd
 
 from inertialab.errors import InputError
+from inertialab.io.sidecar import sidecar_path
+from inertialab.jsonable import to_jsonable
 
 
 @contextlib.contextmanager
@@ -61,8 +64,6 @@ def write_record(df: pd.DataFrame, path: str | Path, meta: dict | None = None) -
     ``schema_version`` = 1 unless given. Both files are written atomically; the
     sidecar is written only after the data file succeeded.
     """
-    from inertialab.io.sidecar import write_sidecar
-
     p = Path(path)
     suffix = p.suffix.lower()
     with atomic_path(p) as tmp:
@@ -80,3 +81,11 @@ def write_record(df: pd.DataFrame, path: str | Path, meta: dict | None = None) -
     m.update(meta or {})
     write_sidecar(p, m)
     return p
+
+
+def write_sidecar(path: str | Path, meta: dict) -> Path:
+    """Write ``meta`` as the JSON sidecar of data file ``path`` (atomically)."""
+    sp = sidecar_path(path)
+    text = json.dumps(to_jsonable(meta), indent=2, sort_keys=True, allow_nan=False)
+    atomic_write_text(sp, text + "\n")
+    return sp

@@ -32,7 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from inertialab.errors import InputError
+from inertialab.errors import InputError, NotFittedError
 from inertialab.learn.fis import TSKFIS, _as_2d, genfis, grid_fis, solve_lstsq
 
 
@@ -298,7 +298,7 @@ class ANFIS:
     def predict(self, X) -> np.ndarray:
         """Output (n,) in the units of the training ``y``."""
         if not hasattr(self, "fis_"):
-            raise RuntimeError("ANFIS.predict called before fit")
+            raise NotFittedError("ANFIS.predict called before fit")
         X = _as_2d(X)
         if X.shape[1] != self.n_features_in_:
             raise InputError(f"expected {self.n_features_in_} input columns, got {X.shape[1]}")
@@ -307,7 +307,7 @@ class ANFIS:
     # model-file support --------------------------------------------------------------
     def to_dict(self) -> dict:
         if not hasattr(self, "fis_"):
-            raise RuntimeError("ANFIS.to_dict called before fit")
+            raise NotFittedError("ANFIS.to_dict called before fit")
         params = {k: getattr(self, k) for k in (
             "partition", "n_mfs", "radius", "squash", "accept", "reject", "epochs", "step_size",
             "step_inc", "step_dec", "sigma_min", "error_goal", "scale")}

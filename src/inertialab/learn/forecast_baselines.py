@@ -29,7 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import least_squares
 
-from inertialab.errors import InputError
+from inertialab.errors import InputError, NotFittedError
 from inertialab.learn.order_cv import NadarayaWatson, lag_targets, select_order_cv
 from inertialab.learn.poly import PolynomialRegressor
 
@@ -92,7 +92,7 @@ def _check_h(h):
 class _Base:
     def _fitted(self):
         if not hasattr(self, "y_"):
-            raise RuntimeError(f"{type(self).__name__}.forecast called before fit")
+            raise NotFittedError(f"{type(self).__name__}.forecast called before fit")
 
 
 class Persistence(_Base):

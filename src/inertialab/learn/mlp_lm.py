@@ -33,7 +33,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from inertialab.errors import DataQualityWarning, InputError
+from inertialab.errors import DataQualityWarning, InputError, NotFittedError
 from inertialab.seeding import as_generator
 
 __all__ = [
@@ -445,7 +445,7 @@ class MLPRegressorLM:
     def predict(self, X) -> np.ndarray:
         """Network output for ``X`` (n, d) or (n,), in the target's units."""
         if not hasattr(self, "theta_"):
-            raise RuntimeError("MLPRegressorLM.predict called before fit")
+            raise NotFittedError("MLPRegressorLM.predict called before fit")
         X = np.asarray(X, dtype=float)
         if X.ndim == 1:
             X = X[:, None] if self.n_features_in_ == 1 else X[None, :]
@@ -463,7 +463,7 @@ class MLPRegressorLM:
     def to_dict(self) -> dict:
         """JSON-ready hyper-parameters, weights and scaling (see :mod:`inertialab.io.modelfile`)."""
         if not hasattr(self, "theta_"):
-            raise RuntimeError("MLPRegressorLM.to_dict called before fit")
+            raise NotFittedError("MLPRegressorLM.to_dict called before fit")
         params = self.get_params()
         params = {k: (v.item() if isinstance(v, np.generic) else v) for k, v in params.items()}
         return {

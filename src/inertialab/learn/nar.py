@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from inertialab.errors import DataQualityWarning, ExtrapolationWarning, InputError
+from inertialab.errors import DataQualityWarning, ExtrapolationWarning, InputError, NotFittedError
 from inertialab.learn.forecast_baselines import Forecast
 from inertialab.learn.mlp_lm import MLPRegressorLM, forward, n_params
 from inertialab.learn.order_cv import OrderSelection, select_order_cv
@@ -308,7 +308,7 @@ class NARForecaster:
     # ----------------------------------------------------------------------- forecasts
     def _check_fitted(self):
         if not hasattr(self, "order_"):
-            raise RuntimeError("NARForecaster.forecast called before fit")
+            raise NotFittedError("NARForecaster.forecast called before fit")
 
     def _tail(self):
         p = self.order_

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from inertialab.errors import DataQualityWarning, InputError
+from inertialab.errors import DataQualityWarning, InputError, NotFittedError
 
 __all__ = ["CV_GRID", "NadarayaWatson", "OrderSelection", "lag_targets", "select_order_cv"]
 
@@ -216,7 +216,7 @@ class NadarayaWatson:
 
     def predict(self, X) -> np.ndarray:
         if not hasattr(self, "X_"):
-            raise RuntimeError("NadarayaWatson.predict called before fit")
+            raise NotFittedError("NadarayaWatson.predict called before fit")
         X = np.asarray(X, dtype=float)
         if X.ndim == 1:
             X = X[:, None] if self.X_.shape[1] == 1 else X[None, :]

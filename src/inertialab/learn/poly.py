@@ -17,7 +17,7 @@ from itertools import combinations_with_replacement
 
 import numpy as np
 
-from inertialab.errors import ExtrapolationWarning, InputError
+from inertialab.errors import ExtrapolationWarning, InputError, NotFittedError
 
 
 def _monomials(n_features: int, degree: int, *, interaction: bool) -> list[tuple[int, ...]]:
@@ -101,7 +101,7 @@ class PolynomialRegressor:
     def predict(self, X) -> np.ndarray:
         """Evaluate the fitted polynomial at ``X``."""
         if not hasattr(self, "coef_"):
-            raise RuntimeError("PolynomialRegressor.predict called before fit")
+            raise NotFittedError("PolynomialRegressor.predict called before fit")
         X = self._as_2d(X)
         if X.shape[1] != self.n_features_in_:
             raise InputError(f"expected {self.n_features_in_} input columns, got {X.shape[1]}")

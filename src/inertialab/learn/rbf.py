@@ -33,7 +33,7 @@ import math
 
 import numpy as np
 
-from inertialab.errors import InputError
+from inertialab.errors import InputError, NotFittedError
 from inertialab.seeding import as_generator
 
 __all__ = ["RBFNetwork"]
@@ -244,7 +244,7 @@ class RBFNetwork:
     def predict(self, X) -> np.ndarray:
         """Network output at ``X`` (n,) or (n, d)."""
         if not hasattr(self, "weights_"):
-            raise RuntimeError("RBFNetwork.predict called before fit")
+            raise NotFittedError("RBFNetwork.predict called before fit")
         X = _as_2d(X)
         if X.shape[1] != self.centers_.shape[1]:
             raise InputError(f"expected {self.centers_.shape[1]} input columns, got {X.shape[1]}")

@@ -376,7 +376,7 @@ def _b1_alpha(src, z: np.ndarray, m: int) -> int:
     # white vs flicker angle noise: R(n) = MVAR/AVAR at this m
     if 3 * m > src.n - 1:
         return 2
-    from inertialab.noise.allan import _PhaseArray, _sum_sq_filter, _sum_sq_mod  # same package
+    from inertialab.noise._phase import _PhaseArray, _sum_sq_filter, _sum_sq_mod
 
     if not hasattr(src, "x"):
         # R(n) needs full-resolution passes; records of more than R_N_MAX points whose

@@ -204,3 +204,29 @@ class StopRule:
             success=bool(success), message=message, history=np.asarray(self.history),
             converged_at=self.converged_at, extra=dict(extra or {}),
         )
+
+
+class Evaluator:
+    """Population evaluator shared by every swarm optimiser: counts evaluations (``count``);
+    ``vectorized`` objectives take (P, d) and return (P,); non-finite values become inf."""
+
+    def __init__(self, fun, vectorized: bool, memoize):
+        self.vectorized = vectorized
+        if vectorized:
+            self.fun = fun
+            self.nfev = 0
+        else:
+            self.counted = CountedObjective(fun, memoize=memoize)
+
+    def __call__(self, X: np.ndarray) -> np.ndarray:
+        if self.vectorized:
+            f = np.asarray(self.fun(X), dtype=float).reshape(-1)
+            if f.size != X.shape[0]:
+                raise InputError(f"vectorized objective returned {f.size} values for {X.shape[0]} rows")
+            self.nfev += X.shape[0]
+            return np.where(np.isfinite(f), f, np.inf)
+        return self.counted.many(X)
+
+    @property
+    def count(self) -> int:
+        return self.nfev if self.vectorized else self.counted.nfev

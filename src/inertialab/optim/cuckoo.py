@@ -32,7 +32,7 @@ import numpy as np
 
 from inertialab.errors import InputError
 from inertialab.optim.base import (
-    CountedObjective,
+    Evaluator,
     OptimResult,
     StopRule,
     as_bounds,
@@ -69,31 +69,6 @@ def delta_factor(tau, delta_min: float = 0.2, tau_delta: float = 0.3):
     return delta_min + (1.0 - delta_min) * np.exp(-(np.asarray(tau) / tau_delta) ** 2)
 
 
-class _Evaluator:
-    """Counts evaluations; ``vectorized`` objectives take (P, d) and return (P,)."""
-
-    def __init__(self, fun, vectorized: bool, memoize):
-        self.vectorized = vectorized
-        if vectorized:
-            self.fun = fun
-            self.nfev = 0
-        else:
-            self.counted = CountedObjective(fun, memoize=memoize)
-
-    def __call__(self, X: np.ndarray) -> np.ndarray:
-        if self.vectorized:
-            f = np.asarray(self.fun(X), dtype=float).reshape(-1)
-            if f.size != X.shape[0]:
-                raise InputError(f"vectorized objective returned {f.size} values for {X.shape[0]} rows")
-            self.nfev += X.shape[0]
-            return np.where(np.isfinite(f), f, np.inf)
-        return self.counted.many(X)
-
-    @property
-    def count(self) -> int:
-        return self.nfev if self.vectorized else self.counted.nfev
-
-
 def _run_cuckoo(fun, bounds, *, adaptive, pop_size, max_generations, rng, x_init, target,
                 stall, memoize, callback, vectorized, beta, alpha0, pa, mask, schedule_len,
                 omega_max, omega_min, delta_min, tau_delta) -> OptimResult:
@@ -105,7 +80,7 @@ def _run_cuckoo(fun, bounds, *, adaptive, pop_size, max_generations, rng, x_init
     gen = as_generator(rng)
     N, d = int(pop_size), lo.size
     nests = initial_population(lo, hi, N, gen, x_init)
-    ev = _Evaluator(fun, vectorized, memoize)
+    ev = Evaluator(fun, vectorized, memoize)
     fit = ev(nests)
     stop = StopRule(max_generations, target=target, stall=stall)
     ib = int(np.argmin(fit))

@@ -24,8 +24,13 @@ from collections.abc import Callable
 import numpy as np
 
 from inertialab.errors import InputError
-from inertialab.optim.base import OptimResult, StopRule, as_bounds, initial_population
-from inertialab.optim.cuckoo import _Evaluator
+from inertialab.optim.base import (
+    Evaluator,
+    OptimResult,
+    StopRule,
+    as_bounds,
+    initial_population,
+)
 from inertialab.seeding import as_generator
 
 __all__ = ["pso"]
@@ -62,7 +67,7 @@ def pso(fun: Callable, bounds, *, pop_size: int = 25, max_generations: int = 100
     x = initial_population(lo, hi, N, gen, x_init)
     v = np.zeros_like(x)
     vmax = vmax_frac * (hi - lo)
-    ev = _Evaluator(fun, vectorized, memoize)
+    ev = Evaluator(fun, vectorized, memoize)
     f = ev(x)
     pbest, pf = x.copy(), f.copy()
     ib = int(np.argmin(pf))

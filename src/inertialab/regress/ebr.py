@@ -41,6 +41,7 @@ from scipy.optimize import brentq, minimize_scalar
 from inertialab.errors import (
     InputError,
     NonIdentifiableWarning,
+    NotFittedError,
     ShrinkageWarning,
     UnderdeterminedError,
 )
@@ -269,7 +270,7 @@ class EmpiricalBayesRidge:
 
     def _check(self):
         if not hasattr(self, "coef_"):
-            raise InputError("EmpiricalBayesRidge is not fitted; call fit(X, y) first")
+            raise NotFittedError("EmpiricalBayesRidge is not fitted; call fit(X, y) first")
 
     def predict(self, X) -> np.ndarray:
         """``X @ coef_``."""

@@ -6,7 +6,7 @@ import importlib
 
 from inertialab.report.html import rasterise
 from inertialab.report.section import Section, Table
-from inertialab.workflows.base import StudyResult
+from inertialab.studies.base import StudyResult
 
 
 def section_for(result: StudyResult) -> Section:

@@ -19,12 +19,12 @@ from __future__ import annotations
 
 import time
 import warnings
-from contextlib import contextmanager
 from dataclasses import asdict, dataclass, field, replace
 
 import numpy as np
 import pandas as pd
 
+from inertialab._blas import single_threaded_blas
 from inertialab.errors import (
     ExtrapolationWarning,
     InputError,
@@ -61,50 +61,6 @@ STATUS_OK, STATUS_T_CLAMPED, STATUS_N_CLAMPED = 0, 1, 2
 #: Paper figures (spec 000 §6): test RMSE in mg.
 PAPER_RMSE_MG = {"ann": 0.138, "fis": 0.101, "anfis": 0.034, "iafsa-scm-anfis": 0.004}
 
-
-# ---------------------------------------------------------------------------------------
-# BLAS threads
-# ---------------------------------------------------------------------------------------
-def _openblas_handles() -> list:
-    """(get, set) thread-count functions of every OpenBLAS loaded in this process (NumPy
-    and SciPy each bundle their own), Linux only; empty when none can be reached."""
-    import ctypes
-
-    try:
-        with open("/proc/self/maps") as fh:
-            paths = {ln.split()[-1] for ln in fh
-                     if "openblas" in ln.lower() and ln.split()[-1].startswith("/")}
-    except OSError:
-        return []
-    found = []
-    for path in sorted(paths):
-        try:
-            lib = ctypes.CDLL(path)
-        except OSError:
-            continue
-        for name in ("scipy_openblas{}64_", "scipy_openblas{}", "openblas{}64_", "openblas{}"):
-            get = getattr(lib, name.format("_get_num_threads"), None)
-            put = getattr(lib, name.format("_set_num_threads"), None)
-            if get is not None and put is not None:
-                found.append((get, put))
-                break
-    return found
-
-
-@contextmanager
-def single_threaded_blas():
-    """Run every loaded OpenBLAS single-threaded inside the block (spec 000 §8.2.5:
-    multi-threaded least squares on ~300 x 100 matrices was 100x slower on 2 cores). A
-    no-op where no BLAS can be reached; the previous thread counts are restored on exit."""
-    handles = _openblas_handles()
-    old = [int(get()) for get, _ in handles]
-    for _, put in handles:
-        put(1)
-    try:
-        yield
-    finally:
-        for (_, put), n in zip(handles, old):
-            put(n)
 
 
 # ---------------------------------------------------------------------------------------

@@ -16,7 +16,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from inertialab.report.section import Figure, Section, Table
-from inertialab.workflows.base import StudyResult
+from inertialab.studies.base import StudyResult
 
 _UNIT_LABEL = {"dph": "deg/h", "dps": "deg/s", "rps": "rad/s", "mps2": "m/s²", "g": "g",
                "mg": "mg", "ug": "µg"}

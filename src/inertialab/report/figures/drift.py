@@ -17,7 +17,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from inertialab.report.section import Figure, Section, Table
-from inertialab.workflows.base import StudyResult
+from inertialab.studies.base import StudyResult
 
 _LABEL = {"bias": "bias", "sf": "scale factor"}
 _UNIT = {"ug": "µg", "ppm": "ppm"}

@@ -11,7 +11,7 @@ import time
 from collections.abc import Callable
 
 from inertialab.errors import InputError
-from inertialab.workflows.base import (
+from inertialab.studies.base import (
     STUDY_ORDER,
     NullProgress,
     Progress,
