@@ -102,6 +102,9 @@ FLAG_OF: dict[str, str] = {
     "reference": "--reference",
     "horizon": "--horizon",
     "seed": "--seed",
+    "gyro_lsb_per_rps": "--gyro-lsb-per-rps",
+    "k_thr": "--k-thr",
+    "threshold": "--threshold",
 }
 
 
