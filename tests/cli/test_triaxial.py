@@ -235,3 +235,12 @@ def test_old_spellings_are_hidden_aliases_and_reading_options_apply(capsys, tmp_
     b = pd.read_csv(tmp_path / "calibrate.csv")
     pd.testing.assert_frame_equal(a, b)
     assert {"ax_mps2", "ay_mps2", "az_mps2"} <= set(a.columns)
+
+
+def test_detector_messages_name_the_flags(capsys, tmp_path):
+    # issue 13: the library names arguments ('t_init_s'); the command line shows its flags
+    log = tmp_path / "r.raw.csv"
+    cli(capsys, "simulate", "triaxial-poses", "--scenario", "rawlog62", "--out", log)
+    one_line_error(*cli(capsys, "triaxial", "fit", log, "--t-init", "60")[::2], "--t-init")
+    code, out, err = cli(capsys, "triaxial", "fit", log, "--min-duration", "30")
+    one_line_error(code, err, "lower --min-duration or --window, or give --threshold")

@@ -105,6 +105,9 @@ FLAG_OF: dict[str, str] = {
     "gyro_lsb_per_rps": "--gyro-lsb-per-rps",
     "k_thr": "--k-thr",
     "threshold": "--threshold",
+    "t_init_s": "--t-init",
+    "min_duration_s": "--min-duration",
+    "window_s": "--window",
 }
 
 
