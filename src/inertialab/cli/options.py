@@ -102,6 +102,12 @@ FLAG_OF: dict[str, str] = {
     "reference": "--reference",
     "horizon": "--horizon",
     "seed": "--seed",
+    "gyro_lsb_per_rps": "--gyro-lsb-per-rps",
+    "k_thr": "--k-thr",
+    "threshold": "--threshold",
+    "t_init_s": "--t-init",
+    "min_duration_s": "--min-duration",
+    "window_s": "--window",
 }
 
 

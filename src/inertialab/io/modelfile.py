@@ -38,7 +38,7 @@ MODEL_TYPES: dict[str, str] = {
     "noise-terms": "inertialab.noise.terms:NoiseTerms",
     "vibration-compensation": "inertialab.workflows.vibration:VibrationModel",
     "thermal-compensation": "inertialab.workflows.thermal:ThermalModel",
-    "triaxial-calibration": "inertialab.workflows.field_calibration:TriaxialCalibration",
+    "triaxial-calibration": "inertialab.calib.triaxial:TriaxialCalibration",
     "dual-calibration": "inertialab.workflows.dual_tumble:DualCalibration",
     "storage-drift": "inertialab.workflows.storage_drift:DriftModel",
 }
