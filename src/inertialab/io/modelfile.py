@@ -37,7 +37,7 @@ MODEL_TYPES: dict[str, str] = {
     "nar": "inertialab.learn.nar:NARForecaster",
     "noise-terms": "inertialab.noise.terms:NoiseTerms",
     "vibration-compensation": "inertialab.workflows.vibration:VibrationModel",
-    "thermal-compensation": "inertialab.workflows.thermal:ThermalModel",
+    "thermal-compensation": "inertialab.calib.thermal:ThermalModel",
     "triaxial-calibration": "inertialab.calib.triaxial:TriaxialCalibration",
     "dual-calibration": "inertialab.workflows.dual_tumble:DualCalibration",
     "storage-drift": "inertialab.workflows.storage_drift:DriftModel",
