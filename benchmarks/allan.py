@@ -171,7 +171,7 @@ def coverage(trials: int = 1000) -> dict:
 
 
 def recovery(seeds: int = 20) -> dict:
-    from inertialab.workflows.allan import recovery as rec
+    from inertialab.studies.allan import recovery as rec
 
     out = {}
     for preset in ("allan-rrw", "allan-bi"):

@@ -1,4 +1,4 @@
-"""Allan workflow: record preparation, analysis JSON, demo study."""
+"""Allan workflow: record preparation, analysis JSON (the demo study: tests/studies)."""
 
 from __future__ import annotations
 
@@ -110,28 +110,6 @@ def test_unknown_unit_and_bad_column(tmp_path):
         W.analyze(np.ones(10), rate_hz=1.0, unit="parsec")
 
 
-def test_demo_quick_runs_and_recovers():
-    r = W.STUDY.run(W.STUDY.quick, None)
-    assert r.name == "allan"
-    rows = {row["term"]: row for row in r.tables["allan_test"]["terms"]}
-    # 2-h allan-test record: Q and N within 3 % (edf in the thousands), B within 30 %
-    assert rows["Q"]["wls"] == pytest.approx(0.5, rel=0.03)
-    assert rows["N"]["wls"] == pytest.approx(0.01, rel=0.03)
-    assert rows["B"]["wls"] == pytest.approx(0.1, rel=0.3)
-    rec = r.tables["recovery"]
-    assert rec["N_within_5pct"][0] == rec["N_within_5pct"][1] == 10
-
-
-def test_report_section_of_demo():
-    from inertialab.report.figures.allan import section
-
-    r = W.STUDY.run(W.QuickSettings(recovery_seeds=2, hours=0.5), None)
-    s = section(r)
-    assert s.key == "allan" and len(s.figures) == 2 and len(s.tables) == 2
-    # the recovery table reports the counts the study computed
-    assert s.tables[1].rows[0][1:] == r.tables["recovery"]["N_within_5pct"]
-
-
 def test_auto_chunked_for_large_memmaps(tmp_path, monkeypatch):
     # A memory-mapped log above CHUNKED_MIN samples takes the out-of-core path; its
     # numbers equal the in-memory path to 1e-12 (same angle values, other summation).
@@ -157,3 +135,7 @@ def test_auto_chunked_for_large_memmaps(tmp_path, monkeypatch):
     assert calls  # the chunked source was used for the memmap
     for ra, rb in zip(a.results, b.results):
         np.testing.assert_allclose(ra.dev, rb.dev, rtol=1e-12)
+
+
+def test_verbs_are_the_workflow_functions():
+    assert W.prepare is W.prepare_log and W.fit is W.analyze

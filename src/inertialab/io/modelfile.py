@@ -36,7 +36,7 @@ MODEL_TYPES: dict[str, str] = {
     "mlp-lm": "inertialab.learn.mlp_lm:MLPRegressorLM",
     "nar": "inertialab.learn.nar:NARForecaster",
     "noise-terms": "inertialab.noise.terms:NoiseTerms",
-    "vibration-compensation": "inertialab.workflows.vibration:VibrationModel",
+    "vibration-compensation": "inertialab.calib.vibration:VibrationModel",
     "thermal-compensation": "inertialab.calib.thermal:ThermalModel",
     "triaxial-calibration": "inertialab.calib.triaxial:TriaxialCalibration",
     "dual-calibration": "inertialab.workflows.dual_tumble:DualCalibration",

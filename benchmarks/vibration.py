@@ -1,4 +1,4 @@
-"""Benchmark ``fog_vibration``: spec 001 checks 11-16 and the seed's targets T1-T5.
+"""Benchmark ``vibration``: spec 001 checks 11-16 and the seed's targets T1-T5.
 
 Runs the default virtual lab (spec 001 §6: fs 200 Hz, P1 = P3 = 1800 s, 1-500 Hz sweep at
 1 oct/min plus a 5-s dwell, 500 Hz fixed run, 5 g, preset "mid") for seeds 0-4 through
@@ -31,7 +31,8 @@ def _ratio(a, b):
 
 
 def _per_seed(seed: int) -> dict:
-    from inertialab.workflows.vibration import VibrationConfig, analyse, simulate_pair
+    from inertialab.studies.vibration import simulate_pair
+    from inertialab.workflows.vibration import VibrationConfig, analyse
 
     sweep, fixed = simulate_pair(seed)
     with warnings.catch_warnings():
@@ -330,5 +331,5 @@ def markdown(result: dict) -> str:
         "and the residual bias reproduce (medians); B falls only a little; N of the A6-derived "
         "rows is read on tau >= 2^7 tau0 (physical range) where the low-pass keeps the white "
         "noise, so it does not fall there (with the paper's OLS over all taus it goes to 0) |")
-    lines += ["", "Per-seed numbers, tables and settings: `benchmarks/results/fog_vibration.json`."]
+    lines += ["", "Per-seed numbers, tables and settings: `benchmarks/results/vibration.json`."]
     return "\n".join(lines) + "\n"
