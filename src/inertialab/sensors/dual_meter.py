@@ -37,6 +37,7 @@ from inertialab.errors import InputError
 __all__ = [
     "COEF_NAMES",
     "COEF_UNITS",
+    "TURN_ON_TAU",
     "SINGLE_NAMES",
     "average_directions",
     "estimable_combinations",
@@ -65,6 +66,11 @@ SINGLE_NAMES = {"A": ("KA0", "kA1", "delta_A", "KA2", "KAx"),
                 "B": ("KB0", "kB1", "delta_B", "KB2", "KBx")}
 #: Harmonic columns of the standard form (spec §1.6 order).
 HARMONIC_NAMES = ("h0", "hc2", "hs2", "hs1", "hc1", "hs3", "hc3")
+#: Turn-on repeatability tau of each coefficient (spec §6.5): K0 20 ug, k1 30 ppm,
+#: eta 5 urad, K2/Kx 5 ug/g^2 (assumed, QA-2000-class one-year repeatabilities). The
+#: virtual lab draws units with it; a prior from past calibrations floors its SDs at tau/2.
+TURN_ON_TAU = {"KA0": 2e-5, "KB0": 2e-5, "kA1": 3e-5, "kB1": 3e-5, "eta": 5e-6,
+               "KA2": 5e-6, "KB2": 5e-6, "KAx": 5e-6, "KBx": 5e-6}
 
 
 def ieee1293_output(a_i, a_p=0.0, a_o=0.0, *, K0=0.0, K2=0.0, K3=0.0, K_ip=0.0, K_io=0.0,
