@@ -1,5 +1,6 @@
 """calib.dual: the g^2 fits, priors, design and model of spec 003 (§3, §4, §7.1)."""
 
+import json
 import warnings
 from dataclasses import replace
 
@@ -13,6 +14,7 @@ from inertialab.calib.dual import (
     fit_single,
     fit_two_orientation,
 )
+from inertialab.errors import InputError
 from inertialab.io import load_model, save_model
 from inertialab.sensors.dual_meter import (
     COEF_NAMES,
@@ -138,3 +140,55 @@ def test_design_tool_finds_equal_spacing():
     assert d["g2_design_rank"] == 7
     half = design_dual(12, range_deg=(0, 180))
     assert all(0 <= a <= 180 for a in half["positions_deg"])
+
+
+def test_model_fixture_v1_still_loads():
+    # format-version-1 fixture (tests/data/README.md): written from S1 seed 4, ls + ebr,
+    # certificate prior. It must load as the current class and hold the coefficients a
+    # fresh fit of the same virtual tumble gives (1e-9 relative: across machines, DESIGN.md).
+    from pathlib import Path
+
+    from inertialab.calib.dual_prior import certificate_prior
+    from inertialab.io.modelfile import read_envelope
+
+    path = Path(__file__).parents[1] / "data" / "models" / "dual-calibration-v1.json"
+    env = read_envelope(path)
+    assert env["format_version"] == DualCalibration.FORMAT_VERSION == 1
+    m = load_model(path, expected_type="dual-calibration")
+    assert isinstance(m, DualCalibration) and m.method == "ebr"
+    fresh = _quiet_fit(reduce_run(simulate_run(scenario_config("S1"), 4)),
+                       methods=("ls", "ebr"), prior=certificate_prior()).model
+    for n in COEF_NAMES:
+        assert m.coef[n] == pytest.approx(fresh.coef[n], rel=1e-9, abs=1e-15)
+        assert m.sd[n] == pytest.approx(fresh.sd[n], rel=1e-9)
+    assert (m.s_a, m.s_b) == (1, 1) and m.g_local_mps2 == fresh.g_local_mps2
+    ua, ub = m.predict_outputs(np.deg2rad([0.0, 90.0]))
+    # A's IA horizontal at 0 deg (spec §1.2): u_A = KA0; vertical at 90 deg: KA0 + 1 + kA1 + KA2
+    assert ua[0] == pytest.approx(m.coef["KA0"], abs=1e-15)
+    assert ua[1] == pytest.approx(m.coef["KA0"] + 1 + m.coef["kA1"] + m.coef["KA2"], abs=1e-12)
+
+
+def test_paper_alias_kip_names_kx(tmp_path):
+    # spec 003 §1.3: the seed's "Kip" is K_io, named Kx; KAip_paper / KBip_paper are aliases
+    from inertialab.calib.dual_prior import certificate_prior, prior_from_dict
+    from inertialab.sensors.dual_meter import PAPER_ALIASES, canonical_coef_name
+
+    assert PAPER_ALIASES == {"KAx": "KAip_paper", "KBx": "KBip_paper"}
+    assert canonical_coef_name("KBip_paper") == "KBx" and canonical_coef_name("KA2") == "KA2"
+    good = certificate_prior().to_json()
+    aliased = json.loads(json.dumps(good))
+    aliased["coef"]["KAip_paper"] = aliased["coef"].pop("KAx")
+    aliased["coef"]["KAx"] = dict(aliased["coef"]["KAip_paper"])
+    with pytest.raises(InputError, match="KAx twice"):
+        prior_from_dict(aliased)
+    del aliased["coef"]["KAx"]
+    pr = prior_from_dict(aliased)
+    np.testing.assert_array_equal(pr.sd, certificate_prior().sd)
+    # a model payload written with the paper's names loads as KAx / KBx
+    red = reduce_run(simulate_run(scenario_config("S1"), 4))
+    d = _quiet_fit(red, methods=("ls",)).model.to_dict()
+    for canon, alias in PAPER_ALIASES.items():
+        d["coef"][alias] = d["coef"].pop(canon)
+        d["sd"][alias] = d["sd"].pop(canon)
+    m = DualCalibration.from_dict(d)
+    assert set(m.coef) >= set(COEF_NAMES) and "KAip_paper" not in m.coef

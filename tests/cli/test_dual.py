@@ -49,6 +49,7 @@ def test_calibrate_json_shape_and_accuracy(records, capsys):
     assert abs(ls["coef"]["kA1"] - truth["kA1"]) < 2e-6
     assert abs(ebr["coef"]["KA2"] - truth["KA2"]) < 2e-5
     assert d["units"]["KA2"] == "g/g^2"
+    assert d["paper_aliases"] == {"KAx": "KAip_paper", "KBx": "KBip_paper"}  # spec §1.3
     err = d["errors_vs_truth"]["ebr"]["coef"]["KA2"]
     assert err == pytest.approx(ebr["coef"]["KA2"] - truth["KA2"], abs=1e-15)
     assert any("not estimable" in w for w in d["warnings"])

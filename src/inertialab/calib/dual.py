@@ -18,7 +18,10 @@ EBR warns that along the null directions it returns the prior centre.
 
 Coefficient names (spec §1.3, CONTRACTS "calibrate dual"): ``KA0 KB0 kA1 kB1 eta KA2 KB2
 KAx KBx``. The paper calls the cross-coupling term "Kip"; for a tumble about the
-pendulous axis it is K_io (spec §1.3), named ``Kx`` here.
+pendulous axis it is K_io (spec §1.3), named ``Kx`` here; tables that mirror the paper
+label ``KAx``/``KBx`` with the aliases ``KAip_paper``/``KBip_paper``
+(:data:`~inertialab.sensors.dual_meter.PAPER_ALIASES`), which prior and model files may
+also use.
 """
 
 from __future__ import annotations
@@ -40,7 +43,9 @@ from inertialab.regress.ridge import ridge
 from inertialab.sensors.dual_meter import (
     COEF_NAMES,
     COEF_UNITS,
+    PAPER_ALIASES,
     SINGLE_NAMES,
+    canonical_coef_name,
     estimable_combinations,
     g2_design,
     g2_exact,
@@ -50,7 +55,7 @@ from inertialab.sensors.dual_meter import (
     single_design,
 )
 
-__all__ = ["CERT_LIMITS", "METHODS", "DualCalibration", "DualFit", "DualPrior", "MethodResult",
+__all__ = ["CERT_LIMITS", "METHODS", "PAPER_ALIASES", "DualCalibration", "DualFit", "DualPrior", "MethodResult",
            "Reduced", "calibrate", "design_dual", "errors_vs_truth", "fit_single",
            "fit_two_orientation", "head_error_sensitivity", "reduce_stops"]
 
@@ -484,11 +489,13 @@ class DualCalibration:
     @classmethod
     def from_dict(cls, d: dict) -> DualCalibration:
         try:
-            missing = [n for n in COEF_NAMES if n not in d["coef"]]
+            coef = {canonical_coef_name(k): float(v) for k, v in d["coef"].items()}
+            missing = [n for n in COEF_NAMES if n not in coef]
             if missing:
                 raise InputError(f"dual-calibration model lacks {', '.join(missing)}")
-            sd = {k: (float("inf") if v is None else float(v)) for k, v in d["sd"].items()}
-            return cls(method=str(d["method"]), coef={k: float(v) for k, v in d["coef"].items()},
+            sd = {canonical_coef_name(k): (float("inf") if v is None else float(v))
+                  for k, v in d["sd"].items()}
+            return cls(method=str(d["method"]), coef=coef,
                        sd=sd, s_a=int(d["s_a"]), s_b=int(d["s_b"]),
                        g_local_mps2=float(d["g_local_mps2"]),
                        estimable=d.get("estimable", []),

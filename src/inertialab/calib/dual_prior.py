@@ -20,7 +20,13 @@ import numpy as np
 import pandas as pd
 
 from inertialab.errors import InputError
-from inertialab.sensors.dual_meter import COEF_NAMES, COEF_UNITS, TURN_ON_TAU
+from inertialab.sensors.dual_meter import (
+    COEF_NAMES,
+    COEF_UNITS,
+    PAPER_ALIASES,
+    TURN_ON_TAU,
+    canonical_coef_name,
+)
 
 __all__ = ["CERT_LIMITS", "DualPrior", "certificate_prior", "history_prior", "prior_from_dict",
            "prior_from_history", "resolve_prior"]
@@ -58,6 +64,18 @@ _UNIT_ALIASES = {"g/g": {"g/g", "1", "", "ratio"}, "rad": {"rad"}, "g": {"g"},
                  "g/g^2": {"g/g^2", "g/g2", "1/g"}}
 
 
+def _canonical_keys(coef: dict, path) -> dict:
+    """Paper aliases (``KAip_paper``, spec §1.3) to canonical names; both at once is an error."""
+    out: dict = {}
+    for k, v in coef.items():
+        c = canonical_coef_name(k) if isinstance(k, str) else k
+        if c in out:
+            raise InputError(f"prior gives {c} twice (as {c} and its alias "
+                             f"{PAPER_ALIASES[c]})", path=path)
+        out[c] = v
+    return out
+
+
 def prior_from_dict(d: dict, *, path="<prior>") -> DualPrior:
     """Validate a prior JSON object ``{"schema": "inertialab.prior/1", "coef": {...}}``."""
     if not isinstance(d, dict) or d.get("schema") != "inertialab.prior/1":
@@ -65,10 +83,12 @@ def prior_from_dict(d: dict, *, path="<prior>") -> DualPrior:
     coef = d.get("coef")
     if not isinstance(coef, dict):
         raise InputError("prior file needs a \"coef\" object", path=path)
+    coef = _canonical_keys(coef, path)
     unknown = [k for k in coef if k not in COEF_NAMES]
     if unknown:
         raise InputError(f"unknown coefficient name(s) {', '.join(unknown)}; names are "
-                         f"case-sensitive: {' '.join(COEF_NAMES)}", path=path)
+                         f"case-sensitive: {' '.join(COEF_NAMES)} (paper aliases "
+                         f"{' '.join(PAPER_ALIASES.values())})", path=path)
     missing = [n for n in COEF_NAMES if n not in coef]
     if missing:
         raise InputError(f"prior lacks {', '.join(missing)}", path=path)

@@ -25,6 +25,7 @@ from inertialab.cli.common import (
 from inertialab.cli.options import JsonOpt, OutDirOpt, QuietOpt, flagged, reading_options
 from inertialab.errors import InputError
 from inertialab.io.mapping import ReadOptions
+from inertialab.sensors.dual_meter import PAPER_ALIASES
 
 
 @contextlib.contextmanager
@@ -114,7 +115,8 @@ def dual_fit(
     cols = list(fit.methods)
     rows = []
     for n, (f, u) in _SCALE.items():
-        row = [f"{n} ({u})"]
+        label = f"{n} = {PAPER_ALIASES[n]}" if n in PAPER_ALIASES else n
+        row = [f"{label} ({u})"]
         for k in cols:
             r = fit.methods[k]
             v, sd = r.coef.get(n), r.sd.get(n)

@@ -40,7 +40,7 @@ from inertialab.calib.dual_prior import (
 )
 from inertialab.calib.dual_reduce import Reduced, reduce_stops
 from inertialab.errors import InputError
-from inertialab.sensors.dual_meter import COEF_UNITS
+from inertialab.sensors.dual_meter import COEF_UNITS, PAPER_ALIASES
 
 __all__ = ["METHOD_CHOICES", "UNITS", "DualConfig", "DualResult", "design", "fit", "load_prior",
            "parse_methods", "prepare"]
@@ -197,10 +197,12 @@ class DualResult:
 
     def payload(self) -> dict:
         """The command's JSON keys (``methods``, ``diagnostics``, ``model_method``,
+        ``paper_aliases`` (canonical name -> the paper's "Kip" spelling, spec §1.3),
         ``two_orientation``, ``errors_vs_truth``)."""
         out = {"methods": {k: v.to_json() for k, v in self.fit.methods.items()},
                "diagnostics": self.fit.diagnostics,
-               "model_method": self.fit.model.method}
+               "model_method": self.fit.model.method,
+               "paper_aliases": dict(PAPER_ALIASES)}
         if self.two_orientation is not None:
             out["two_orientation"] = self.two_orientation.to_json()
         if self.errors_vs_truth is not None:

@@ -15,7 +15,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from inertialab.report.section import Figure, Section, Table
-from inertialab.sensors.dual_meter import COEF_NAMES, g2_design, single_design
+from inertialab.sensors.dual_meter import COEF_NAMES, PAPER_ALIASES, g2_design, single_design
 
 __all__ = ["coefficient_figure", "residual_figure", "section", "sensitivity_figure"]
 
@@ -67,7 +67,7 @@ def coefficient_figure(fit, truth: dict | None = None,
                         color=_COLORS.get(m, "k"), capsize=3)
         if truth is not None and n in truth:
             ax.axhline(truth[n] * 1e6, color="k", lw=0.8, ls="--")
-        ax.set_title(n, fontsize=9)
+        ax.set_title(f"{n} ({PAPER_ALIASES[n]})" if n in PAPER_ALIASES else n, fontsize=9)
         ax.set_xticks(range(len(methods)))
         ax.set_xticklabels(methods, rotation=60, fontsize=7)
         ax.tick_params(axis="y", labelsize=7)
