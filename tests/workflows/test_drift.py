@@ -144,3 +144,34 @@ def test_short_record_reduces_h_and_constant_unit_warns():
     assert "H reduced" in msgs and "constant" in msgs
     const = fit.results["B"]["bias"]
     np.testing.assert_allclose(const.forecast["value"], 500.0, rtol=1e-12)  # mg -> ug rounding
+
+
+def test_sf_in_volts_per_g_uses_the_load_resistor():
+    # issue 18 item 7 / spec 004 §1: k[mA/g] = 1000 k[V/g] / R[ohm]; 6.5 V/g over 5000 ohm
+    # is 1.3 mA/g (not 6.5 "mA/g")
+    days = np.arange(30)
+    ppm = 20.0 * np.sin(days / 5.0)
+    k_vpg = 6.5 * (1 + 1e-6 * ppm)
+    col = pd.DataFrame({"unit_id": "U1", "day": days, "sf_v_per_g": k_vpg,
+                        "load_ohm": np.full(30, 5000.0)})
+    s = to_daily_grid(col, quantity="sf")["U1"]
+    assert s.k_ref == pytest.approx(1000 * np.mean(k_vpg) / 5000.0, rel=1e-12)
+    assert s.k_ref == pytest.approx(1.3, rel=1e-4)
+    np.testing.assert_allclose(s.values, 1e6 * (k_vpg - k_vpg.mean()) / k_vpg.mean(),
+                               rtol=0, atol=1e-8)
+    # the same from the sidecar, per unit; and the native (mA/g) figures follow k_ref
+    side = col.drop(columns="load_ohm")
+    s2 = to_daily_grid(side, quantity="sf", meta={"load_ohm": {"U1": 5000.0}})["U1"]
+    assert s2.k_ref == pytest.approx(s.k_ref, rel=1e-15)
+    assert s2.to_native(100.0) == pytest.approx(1e-4 * 1.3, rel=1e-4)
+    # a bias in mA converts with that K1 in mA/g: 1.3e-3 mA over 1.3 mA/g is 1000 ug
+    side["bias_ma"] = 1.3e-3
+    b = to_daily_grid(side, quantity="bias", meta={"load_ohm": 5000.0})["U1"]
+    np.testing.assert_allclose(b.values, 1e6 * 1.3e-3 / (1000 * k_vpg / 5000.0), rtol=1e-12)
+    # no resistor anywhere, or a non-positive one: one-line InputError naming the fix
+    with pytest.raises(InputError, match="needs the load resistor"):
+        to_daily_grid(side, quantity="sf")
+    bad = col.copy()
+    bad.loc[3, "load_ohm"] = 0.0
+    with pytest.raises(InputError, match="row 4"):
+        to_daily_grid(bad, quantity="sf")

@@ -54,12 +54,46 @@ def _find(frame: pd.DataFrame, base: str) -> str | None:
     return None
 
 
+def _load_ohm(frame, meta, path, col) -> np.ndarray:
+    """Load resistor per row, ohm: a ``load_ohm`` column, else the sidecar's ``load_ohm``
+    (a number or ``{unit_id: number}``); needed to read a scale factor in V/g (spec 004 §1)."""
+    if "load_ohm" in frame.columns:
+        r = pd.to_numeric(frame["load_ohm"], errors="coerce").to_numpy(dtype=float)
+    else:
+        ref = meta.get("load_ohm")
+        if isinstance(ref, dict):
+            r = frame["unit_id"].astype(str).map(
+                lambda u: ref.get(u, float("nan"))).to_numpy(dtype=float)
+        elif isinstance(ref, (int, float)) and not isinstance(ref, bool):
+            r = np.full(len(frame), float(ref))
+        else:
+            raise InputError("a scale factor in V/g needs the load resistor: a load_ohm "
+                             "column or 'load_ohm' in the sidecar (k[mA/g] = 1000 k[V/g] / "
+                             "R[ohm], spec 004 §1)", path=path, column=col)
+    bad = ~(np.isfinite(r) & (r > 0))
+    if bad.any():
+        rows = (np.flatnonzero(bad)[:5] + 1).tolist()
+        raise InputError("load_ohm must be a positive number of ohms for every test of a "
+                         "scale factor in V/g", path=path, column="load_ohm",
+                         row=rows[0] if len(rows) == 1 else rows)
+    return r
+
+
+def _sf_ma_per_g(frame, col, meta, path) -> np.ndarray:
+    """A scale-factor column in mA/g: V/g through the load resistor (k[mA/g] =
+    1000 k[V/g] / R[ohm], spec 004 §1), mA/g as it is."""
+    x = frame[col].to_numpy(dtype=float)
+    if split_suffix(col)[1] == "v_per_g":
+        return 1000.0 * x / _load_ohm(frame, meta, path, col)
+    return x
+
+
 def _bias_ug(frame, col, meta, path, k1_col):
     _, suf = split_suffix(col)
     x = frame[col].to_numpy(dtype=float)
     if suf in ("ma",):
-        if k1_col is not None and split_suffix(k1_col)[1] == "ma_per_g":
-            k1 = frame[k1_col].to_numpy(dtype=float)
+        if k1_col is not None and split_suffix(k1_col)[1] in ("ma_per_g", "v_per_g"):
+            k1 = _sf_ma_per_g(frame, k1_col, meta, path)
         else:
             nom = meta.get("k1_nominal_ma_per_g")
             if isinstance(nom, dict):
@@ -74,7 +108,8 @@ def _bias_ug(frame, col, meta, path, k1_col):
 
 
 def _sf_values(frame, col, meta, path):
-    """Scale factor as ppm relative to k_ref per unit; returns (ppm array, k_ref per unit)."""
+    """Scale factor as ppm relative to k_ref per unit; returns (ppm array, k_ref per unit
+    in mA/g; a V/g column is converted with the load resistor first)."""
     _, suf = split_suffix(col)
     x = frame[col].to_numpy(dtype=float)
     units = frame["unit_id"].to_numpy()
@@ -86,6 +121,7 @@ def _sf_values(frame, col, meta, path):
             kref[str(u)] = float(ref[u]) if isinstance(ref, dict) and u in ref else \
                 (float(ref) if isinstance(ref, (int, float)) else float("nan"))
         return ppm, kref
+    x = _sf_ma_per_g(frame, col, meta, path)  # k_ref and ppm relative to mA/g (spec §1)
     ppm = np.empty_like(x)
     for u in np.unique(units):
         m = units == u
@@ -181,7 +217,8 @@ def to_daily_grid(frame: pd.DataFrame, *, quantity: str, meta: dict | None = Non
         if quantity == "bias":
             truth = _bias_ug(df, tcol, meta, path, _find(df, "sf"))
         else:
-            tv = df[tcol].to_numpy(dtype=float)
+            tv = (_sf_ma_per_g(df, tcol, meta, path)
+                  if split_suffix(tcol)[1] == "v_per_g" else df[tcol].to_numpy(dtype=float))
             truth = np.array([1e6 * (v - kref[str(u)]) / kref[str(u)]
                               for v, u in zip(tv, df["unit_id"])]) \
                 if split_suffix(tcol)[1] not in ("ppm", "pct") else convert(tv, split_suffix(tcol)[1], "ppm")
