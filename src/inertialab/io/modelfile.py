@@ -39,8 +39,8 @@ MODEL_TYPES: dict[str, str] = {
     "vibration-compensation": "inertialab.calib.vibration:VibrationModel",
     "thermal-compensation": "inertialab.calib.thermal:ThermalModel",
     "triaxial-calibration": "inertialab.calib.triaxial:TriaxialCalibration",
-    "dual-calibration": "inertialab.workflows.dual_tumble:DualCalibration",
-    "storage-drift": "inertialab.workflows.storage_drift:DriftModel",
+    "dual-calibration": "inertialab.calib.dual:DualCalibration",
+    "storage-drift": "inertialab.calib.drift:DriftModel",
 }
 
 _DEPENDENCIES = ("numpy", "scipy", "pandas", "pywt", "statsmodels")
