@@ -26,13 +26,17 @@ class Headline:
     """One line of the demo summary table: our figure beside the paper's.
 
     ``ours`` and ``paper`` are numbers or short strings (the paper may give only a
-    qualitative claim, or nothing: ``None``); ``unit`` names their unit.
+    qualitative claim, or nothing: ``None``); ``unit`` names their unit ("1" for a
+    dimensionless ratio or count; an empty unit is shown as "1"). ``data`` says where
+    ``ours`` comes from: ``"virtual lab"`` (the demo's simulated rigs) or ``"user data"``
+    (a record the user supplied); the paper's figure is always the paper's own rig.
     """
 
     label: str
     ours: float | str | None
     paper: float | str | None = None
     unit: str = ""
+    data: str = "virtual lab"
 
 
 @dataclass
