@@ -244,3 +244,33 @@ def test_detector_messages_name_the_flags(capsys, tmp_path):
     one_line_error(*cli(capsys, "triaxial", "fit", log, "--t-init", "60")[::2], "--t-init")
     code, out, err = cli(capsys, "triaxial", "fit", log, "--min-duration", "30")
     one_line_error(code, err, "lower --min-duration or --window, or give --threshold")
+
+
+def test_garbage_calibration_exits_2_and_force_writes_it_flagged(capsys, tmp_path):
+    # issue 17 item 1: records in g labelled m/s^2 -> refused, nothing written; --force writes
+    # a flagged model that apply refuses unless --force again
+    from inertialab.sensors import triaxial as tx
+
+    d = np.random.default_rng(2).standard_normal((30, 3))
+    d /= np.linalg.norm(d, axis=1)[:, None]
+    a = tx.forward(tp.X_MPU6050_A, 9.8 * d) / 9.8
+    path = tmp_path / "g.static.csv"
+    pd.DataFrame({"pos_id": range(1, 31), "ax_mps2": a[:, 0], "ay_mps2": a[:, 1],
+                  "az_mps2": a[:, 2]}).to_csv(path, index=False)
+    out = tmp_path / "res"
+    code, _, err = cli(capsys, "triaxial", "fit", path, "--g-local", "9.8", "--out", out)
+    one_line_error(code, err, "calibration refused, nothing written: ")
+    assert "implausible: kx, ky, kz" in err and "set --force to write it flagged" in err
+    assert not (out / "model.json").exists()
+    code, stdout, err = cli(capsys, "triaxial", "fit", path, "--g-local", "9.8", "--out", out,
+                            "--force")
+    assert code == 0 and "FLAGGED: " in stdout
+    model = json.loads((out / "model.json").read_text())
+    assert model["payload"]["flags"]
+    dst = tmp_path / "cal.csv"
+    one_line_error(*cli(capsys, "triaxial", "apply", out / "model.json", path, "--out",
+                        dst)[::2], "flagged")
+    assert not dst.exists()
+    code, _, err = cli(capsys, "triaxial", "apply", out / "model.json", path, "--out", dst,
+                       "--force")
+    assert code == 0 and dst.exists()

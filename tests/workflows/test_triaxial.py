@@ -101,3 +101,53 @@ def test_absolute_threshold_in_working_units():
     fixed = fc.raw_log_data(t, a, raw.meta, suffix="lsb", threshold=swept.intervals.threshold)
     assert np.array_equal(fixed.intervals.start, swept.intervals.start)
     assert fixed.k_thr is None
+
+
+def _g_as_mps2_record(tmp_path):
+    # static records in g written as m/s^2: the silent-garbage case of issue 17
+    from inertialab.sensors import triaxial as tx
+
+    d = np.random.default_rng(2).standard_normal((30, 3))
+    d /= np.linalg.norm(d, axis=1)[:, None]
+    a = tx.forward(X_TRUE, 9.8 * d) / 9.8
+    path = tmp_path / "g.static.csv"
+    path.write_text("# g_local=9.8\npos_id,ax_mps2,ay_mps2,az_mps2\n" + "".join(
+        f"{i + 1},{v[0]:.9f},{v[1]:.9f},{v[2]:.9f}\n" for i, v in enumerate(a)))
+    return path
+
+
+def test_garbage_fit_is_refused_forced_fit_is_flagged_and_apply_refuses_it(tmp_path):
+    from inertialab.calib.triaxial_checks import ImplausibleCalibrationError
+
+    rec = fc.read(_g_as_mps2_record(tmp_path))
+    session = fc.prepare(rec)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        with pytest.raises(ImplausibleCalibrationError, match="implausible: bx, by, bz"):
+            fc.fit(session)
+        run = fc.fit(session, fc.Config(force=True))
+    assert run.model.flags and any("kx, ky, kz" in f for f in run.model.flags)
+    d = run.model.to_dict()
+    assert d["flags"] == run.model.flags
+    assert type(run.model).from_dict(d).flags == run.model.flags
+    with pytest.raises(InputError, match="flagged.*argument 'force'"):
+        fc.apply(run.model, rec)
+    out = fc.apply(run.model, rec, force=True)
+    assert {"ax_mps2", "ay_mps2", "az_mps2"} <= set(out.data.columns)
+
+
+def test_wrong_gyro_sensitivity_is_refused():
+    # gyro counts per rad/s given 10x too small: the LM starts 10x off and ends in a M_g far
+    # from any plausible gyro (measured: scale 0.27, misalignments up to 4.6 relative to the
+    # stated nominal)
+    raw = tp.simulate("rawlog62-counts", seed=2)
+    d = raw.data
+    data = fc.raw_log_data(d["t_s"].to_numpy(), d[["ax_lsb", "ay_lsb", "az_lsb"]].to_numpy(),
+                           raw.meta, suffix="lsb")
+    session = fc.Session(data=data, meta=raw.meta, t=d["t_s"].to_numpy(),
+                         gyro_raw=d[["gx_lsb", "gy_lsb", "gz_lsb"]].to_numpy(), gyro_suffix="lsb")
+    from inertialab.calib.triaxial_checks import ImplausibleCalibrationError
+
+    with pytest.raises(ImplausibleCalibrationError, match=r"implausible: m11 \(gyro scale.*gyro misalignment"):
+        fc.fit(session, fc.Config(gyro_lsb_per_rps=tp.GYRO_LSB_PER_RPS / 10))
+    assert not fc.fit(session, fc.Config()).model.flags  # the header's value is right

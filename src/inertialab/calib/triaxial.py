@@ -59,7 +59,9 @@ class TriaxialCalibration:
     counts in counts mode: ``bx`` in counts, ``kx`` in counts per m/s^2).
 
     The gyro block (``gyro``) is a dict with ``correction_matrix`` (raw gyro unit ->
-    rad/s), ``offset`` (raw gyro unit) and ``raw_unit``.
+    rad/s), ``offset`` (raw gyro unit) and ``raw_unit``. ``flags`` lists what made the
+    fit implausible or not identifiable when it was written anyway (issue 17 item 1,
+    :mod:`inertialab.calib.triaxial_checks`); a flagged model is applied only on request.
     """
 
     MODEL_TYPE = "triaxial-calibration"
@@ -81,6 +83,7 @@ class TriaxialCalibration:
     n_records: int = 0
     static_intervals: int | None = None
     gyro: dict | None = None
+    flags: list = field(default_factory=list)
 
     def apply(self, raw) -> np.ndarray:
         """Calibrated accelerations (m/s^2) for raw samples of shape (n, 3)."""
@@ -110,6 +113,7 @@ class TriaxialCalibration:
             "nfev": int(self.nfev), "n_records": int(self.n_records),
             "static_intervals": self.static_intervals,
             "gyro": None if self.gyro is None else to_jsonable(self.gyro),
+            "flags": [str(f) for f in self.flags],
         }
 
     @classmethod
@@ -136,7 +140,7 @@ class TriaxialCalibration:
                                    else float("nan")),
                 iterations=int(d.get("iterations", 0)), nfev=int(d.get("nfev", 0)),
                 n_records=int(d.get("n_records", 0)), static_intervals=d.get("static_intervals"),
-                gyro=gy)
+                gyro=gy, flags=[str(f) for f in (d.get("flags") or [])])
         except (KeyError, TypeError, ValueError) as exc:
             raise InputError(f"not a valid triaxial-calibration payload ({exc})") from None
 

@@ -52,6 +52,7 @@ class CalibrationRun:
     fit: CalibrationFit
     data: StaticData
     gyro_fit: GyroCalibration | None = None
+    gyro_nominal: np.ndarray | None = None
 
 
 def to_model(fit: CalibrationFit, data: StaticData, *, gyro: dict | None = None) -> TriaxialCalibration:
@@ -120,5 +121,5 @@ def calibrate_record_data(data: StaticData, *, method="lm", objective="norm", rn
             "n_records": gfit.n_pairs, "static_intervals": int(start.size), "cond": gfit.cond,
         }
     return CalibrationRun(model=to_model(fit, data, gyro=gyro_block), fit=fit, data=data,
-                          gyro_fit=gfit)
+                          gyro_fit=gfit, gyro_nominal=None if gfit is None else M0)
 

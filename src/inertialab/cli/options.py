@@ -108,6 +108,9 @@ FLAG_OF: dict[str, str] = {
     "t_init_s": "--t-init",
     "min_duration_s": "--min-duration",
     "window_s": "--window",
+    "force": "--force",
+    "bias_limit": "--bias-limit",
+    "norm_tol": "--norm-tol",
 }
 
 

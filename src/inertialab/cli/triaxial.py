@@ -97,6 +97,15 @@ def triaxial_fit(
                                                         "the robust residual scale of a plain fit)."),
     max_generations: int = typer.Option(1000, "--max-generations",
                                         help="Metaheuristic generation budget."),
+    bias_limit: float = typer.Option(None, "--bias-limit",
+                                     help="Largest plausible |accelerometer bias|, m/s^2 "
+                                          "(default 0.5 g)."),
+    norm_tol: float = typer.Option(None, "--norm-tol",
+                                   help="Largest plausible | |a| - g | of a calibrated pose, "
+                                        "m/s^2 (default 0.02 g)."),
+    force: bool = typer.Option(False, "--force",
+                               help="Write a non-identifiable or implausible calibration "
+                                    "anyway, flagged (apply then needs --force too)."),
     seed: SeedOpt = 0,
     out: OutDirOpt = None,
     as_json: JsonOpt = False,
@@ -106,12 +115,14 @@ def triaxial_fit(
     """Calibrate a triaxial accelerometer (and gyro) from static records or a raw log."""
     import numpy as np
 
+    from inertialab.calib.triaxial_checks import Limits
     from inertialab.io import save_model
     from inertialab.workflows import triaxial as wf
 
     config = wf.Config(method=method, objective=objective, seed=seed,
                        max_generations=max_generations, robust=robust,
-                       gyro_lsb_per_rps=gyro_lsb_per_rps)
+                       gyro_lsb_per_rps=gyro_lsb_per_rps, force=force,
+                       limits=Limits(bias=bias_limit, norm_tol=norm_tol))
     ulower = None if unit is None else unit.lower()
     out_dir = prepare_out_dir(out) if out is not None else None
     inputs = [file]
@@ -146,7 +157,8 @@ def triaxial_fit(
                 "gyro": gyro, "g_local": data.g, "seed": seed, "k_thr": k_thr,
                 "threshold": threshold, "t_init_s": t_init, "window_s": window,
                 "min_duration_s": min_duration, "robust": robust,
-                "max_generations": max_generations}
+                "max_generations": max_generations, "bias_limit_mps2": bias_limit,
+                "norm_tol_mps2": norm_tol, "force": force}
     if out_dir is not None:
         from inertialab.report.figures.triaxial import (
             convergence_figure,
@@ -193,6 +205,8 @@ def triaxial_fit(
             print("  [" + "  ".join(f"{v:+.9g}" for v in row) + "]")
         print("bias = [" + ", ".join(f"{v:.6g}" for v in gf.bias) + f"] {gsuf}; "
               f"direction residual RMS = {gf.residual_rms:.3g} rad over {gf.n_pairs} motions")
+    for flag in run.model.flags:
+        print(f"FLAGGED: {flag}")
     if out_dir is not None:
         print(f"written: {out_dir}")
 
@@ -203,6 +217,7 @@ def triaxial_apply(
     out: Path = typer.Option(..., "--out", help="Output record file (.csv or .parquet); a "
                                                 "sidecar .meta.json is written beside it."),
     unit: str = typer.Option(None, "--unit", help="Unit of suffix-less ax/ay/az (mps2 | g | lsb)."),
+    force: bool = typer.Option(False, "--force", help="Apply a flagged calibration anyway."),
     as_json: JsonOpt = False,
     quiet: QuietOpt = False,
     read: ReadOptions = None,
@@ -217,7 +232,7 @@ def triaxial_apply(
     with collect_warnings(quiet=quiet or as_json) as warns:
         model = load_model(model_file, expected_type="triaxial-calibration")
         rec = wf.read(file, options=read, unit=ulower)
-        cal = wf.apply(model, rec, model_path=model_file)
+        cal = wf.apply(model, rec, model_path=model_file, force=force)
         write_record(cal.data, out, cal.meta)
     cols = [rec.find(b) for b in ("ax", "ay", "az")]
     gyro_done = wf.gyro_applied(model, rec)
@@ -225,7 +240,7 @@ def triaxial_apply(
                "gyro_calibrated": gyro_done, "raw_unit": model.raw_unit}
     if as_json:
         emit_json("triaxial apply", summary, inputs=[model_file, file],
-                  settings={"unit": ulower}, units={}, warnings_=warns)
+                  settings={"unit": ulower, "force": force}, units={}, warnings_=warns)
         return
     print(f"written: {out} ({len(cal.data)} rows, calibrated to m/s^2"
           + (" and rad/s" if gyro_done else "") + ")")

@@ -21,6 +21,7 @@ is :mod:`inertialab.studies.triaxial`.
 
 from __future__ import annotations
 
+import dataclasses
 import warnings
 from dataclasses import dataclass
 
@@ -37,6 +38,13 @@ from inertialab.calib.triaxial import (  # noqa: F401 - re-exported for callers 
     initial_estimate,
 )
 from inertialab.calib.triaxial_batch import BatchCalibration, calibrate_batch  # noqa: F401
+from inertialab.calib.triaxial_checks import (
+    ImplausibleCalibrationError,
+    Limits,
+    check_accel,
+    check_gyro,
+    refusal,
+)
 from inertialab.calib.triaxial_session import (  # noqa: F401 - re-exported
     CalibrationRun,
     StaticData,
@@ -382,6 +390,9 @@ class Config:
 
     ``robust`` uses the soft-L1 loss with f_scale = 3 x the robust residual scale of a
     plain fit (§7.3); ``seed`` and ``max_generations`` drive the metaheuristics (§3.3).
+    ``limits`` bound what counts as a plausible calibration
+    (:mod:`inertialab.calib.triaxial_checks`); a fit beyond them is refused
+    (:class:`ImplausibleCalibrationError`) unless ``force``, which writes it flagged.
     """
 
     method: str = "lm"
@@ -390,6 +401,8 @@ class Config:
     max_generations: int = 1000
     robust: bool = False
     gyro_lsb_per_rps: float | None = None
+    force: bool = False
+    limits: Limits = Limits()
 
 
 def is_batch(session: Session) -> bool:
@@ -416,10 +429,22 @@ def fit(session: Session, config: Config | None = None):
                              "argument 'method' 'lm' with argument 'objective' 'scalar' (S9) only")
         return calibrate_batch(data)
     robust_kw = {"loss": "soft_l1", "f_scale": None} if config.robust else {}
-    return calibrate_record_data(
+    run = calibrate_record_data(
         data, method=m, objective=obj, rng=config.seed, gyro_raw=session.gyro_raw, t=session.t,
         gyro_suffix=session.gyro_suffix, gyro_lsb_per_rps=config.gyro_lsb_per_rps,
         meta=session.meta, max_generations=config.max_generations, **robust_kw)
+    findings = check_accel(run.fit, data.a, data.ref, data.g, counts=data.counts,
+                           limits=config.limits)
+    if run.gyro_fit is not None:
+        findings += check_gyro(run.gyro_fit, run.gyro_nominal, limits=config.limits)
+    if findings:
+        if not config.force:
+            raise ImplausibleCalibrationError(refusal(findings))
+        flags = [f.text() for f in findings]
+        warnings.warn("calibration written flagged: " + " | ".join(flags), DataQualityWarning,
+                      stacklevel=2)
+        run = dataclasses.replace(run, model=dataclasses.replace(run.model, flags=flags))
+    return run
 
 
 def result_payload(run: CalibrationRun) -> dict:
@@ -435,7 +460,7 @@ def result_payload(run: CalibrationRun) -> dict:
         "J": fit_.J, "J_final": fit_.J, "x": fit_.x.tolist(),
         "x_names": list(d["params"]), "converged": fit_.converged, "cond": fit_.cond,
         "cov": None if fit_.cov is None else fit_.cov.tolist(),
-        "counts_mode": bool(data.counts), "wall_s": fit_.wall_s,
+        "counts_mode": bool(data.counts), "wall_s": fit_.wall_s, "flags": d["flags"],
     }
     if data.intervals is not None:
         out["detection"] = {"k_thr": data.k_thr, "threshold": data.intervals.threshold,
@@ -469,14 +494,20 @@ def result_units(run: CalibrationRun) -> dict:
     return u
 
 
-def apply(model: TriaxialCalibration, record: Record, *, model_path=None) -> Record:
+def apply(model: TriaxialCalibration, record: Record, *, model_path=None,
+          force: bool = False) -> Record:
     """Calibrated record: ``ax_mps2 ay_mps2 az_mps2`` = correction_matrix @ (raw - offset)
     in place of the raw accelerometer columns and, when the model has a gyro block and
-    the record gyro columns, ``gx_rps gy_rps gz_rps`` likewise.
+    the record gyro columns, ``gx_rps gy_rps gz_rps`` likewise. A flagged model
+    (``model.flags``) is refused unless ``force``.
 
     The record must be in the model's raw unit(s); the metadata loses the raw-unit keys
     (``lsb_per_g``, ``lsb_offset``, ``gyro_lsb_per_rps``) and names its sources.
     """
+    if model.flags and not force:
+        raise InputError("the calibration is flagged as not identifiable or implausible ("
+                         + " | ".join(model.flags) + "); set argument 'force' to apply it anyway",
+                         path=model_path)
     cols = _acc_cols(record)
     suffix = units.split_suffix(cols[0])[1]
     if suffix != model.raw_unit:
