@@ -158,7 +158,7 @@ def _turntable(seeds, max_generations):
             "LM-S12": fc.calibrate(sd.a, ref=sd.ref, objective="scalar12", g=sd.g),
             "LM-S9": fc.calibrate(sd.a, ref=sd.ref, objective="scalar", g=sd.g),
             "LM-norm": fc.calibrate(sd.a, objective="norm", g=sd.g),
-            "lab six-position (12 par.)": fc.calibrate(sd.a, ref=sd.ref, method="six-position",
+            "lab six-position (12 par.)": fc.calibrate(sd.a, ref=sd.ref, refine_faces=False, method="six-position",
                                                        g=sd.g),
         }
         six = fits["lab six-position (12 par.)"]
@@ -183,7 +183,7 @@ def _sixface(seeds):
     for s in seeds:
         rec = tp.simulate("sixface", seed=s)
         sd = fc.static_data_from_frame(rec.data, rec.meta)
-        six = fc.calibrate(sd.a, ref=sd.ref, method="six-position", g=sd.g)
+        six = fc.calibrate(sd.a, ref=sd.ref, refine_faces=False, method="six-position", g=sd.g)
         s9 = fc.calibrate(sd.a, ref=sd.ref, objective="scalar", g=sd.g)
         xt = rec.truth["x"]
         out["six-position 6 par."].append(float(np.max(np.abs(np.array(six.extra["x_6param"]) - xt))))

@@ -35,7 +35,13 @@ from inertialab.optim.cuckoo import adaptive_cuckoo_search, cuckoo_search
 from inertialab.optim.pso import pso
 from inertialab.regress.nlls import covariance, levenberg_marquardt
 from inertialab.sensors import triaxial as tx
-from inertialab.sensors.triaxial_classic import FACES, ellipsoid_fit, six_position
+from inertialab.sensors.triaxial_classic import (
+    FACES,
+    PLACEMENT_RAD,
+    ellipsoid_fit,
+    face_fit,
+    six_position,
+)
 
 METHODS = ("lm", "acs", "cs", "pso", "six-position", "ellipsoid")
 OBJECTIVE_ALIASES = {"norm": "norm", "norm2": "norm2", "scalar": "scalar", "s9": "scalar",
@@ -296,7 +302,8 @@ def _six_faces(ref):
 def calibrate(a, *, ref=None, method: str = "lm", objective: str = "norm", g: float = tx.G_PAPER,
               rng=0, counts: bool = False, pop_size: int = 25, max_generations: int = 1000,
               loss: str = "linear", f_scale: float | None = None,
-              bounded: bool = False) -> CalibrationFit:
+              bounded: bool = False, refine_faces: bool = True,
+              placement_rad: float = PLACEMENT_RAD) -> CalibrationFit:
     """Calibrate a triaxial accelerometer from static record means (spec 002 §3).
 
     Parameters
@@ -326,6 +333,12 @@ def calibrate(a, *, ref=None, method: str = "lm", objective: str = "norm", g: fl
     bounded : bool, default False
         LM only: solve with scipy's ``trf`` inside the search box of spec 002 §3.2 (the
         bounded variant of §3.6; the box is centred on the initial estimate in counts mode).
+    refine_faces : bool, default True
+        Six-position only: refine the 12-parameter closed form so that every face has
+        |a| = g (:func:`~inertialab.sensors.triaxial_classic.face_fit`, issue 17 item 3:
+        hand-placed faces); False is the classic closed form of spec 002 §3.7.
+    placement_rad : float, default 2 deg
+        Six-position with ``refine_faces``: standard deviation of a face's tilt.
 
     Raises
     ------
@@ -355,7 +368,7 @@ def calibrate(a, *, ref=None, method: str = "lm", objective: str = "norm", g: fl
             f"{what} needs a reference direction for every record (ref_x/ref_y/ref_z, "
             "pitch_deg/heading_deg or face); in field mode set argument 'objective' to 'norm'")
     if method == "six-position":
-        return _fit_six(a, ref, g)
+        return _fit_six(a, ref, g, refine=refine_faces, placement_rad=placement_rad)
     _check_design(a, ref, objective)
     n = a.shape[0]
     if method == "ellipsoid":
@@ -476,16 +489,24 @@ def suggest_orientations(x, a, *, g: float = tx.G_PAPER, objective: str = "norm"
     return np.array(picked)
 
 
-def _fit_six(a, ref, g) -> CalibrationFit:
+def _fit_six(a, ref, g, *, refine: bool = True, placement_rad: float = PLACEMENT_RAD
+             ) -> CalibrationFit:
     idx = _six_faces(ref)
     t0 = time.perf_counter()
     r12 = six_position(a[idx], g=g, form=12)
     r6 = six_position(a[idx], g=g, form=6)
+    x = r12.x
+    rot = r12.rotation
+    extra = {}
+    if refine:
+        ff = face_fit(a[idx], g=g, placement_rad=placement_rad)
+        x, rot = ff.x, ff.rotation
+        extra = {"x_closed_form": r12.x.tolist(), "face_tilt_deg": np.rad2deg(ff.tilt_rad).tolist(),
+                 "face_norm_residual": ff.norm_residual.tolist()}
     wall = time.perf_counter() - t0
-    fit = _finish(a[idx], ref[idx], r12.x, None, "six-position", "scalar", g, None, 0, 1, True,
-                  wall, r12.x, None)
-    fit = CalibrationFit(**{**fit.__dict__, "corrected": tx.correct(r12.x, a),
+    fit = _finish(a[idx], ref[idx], x, None, "six-position", "scalar", g, None, 0, 1, True,
+                  wall, x, None)
+    fit = CalibrationFit(**{**fit.__dict__, "corrected": tx.correct(x, a),
                             "n_records": int(a.shape[0])})
-    return _with_extra(fit, x_6param=r6.x.tolist(), rotation_12param=r12.rotation.tolist(),
-                       face_rows=idx.tolist())
-
+    return _with_extra(fit, x_6param=r6.x.tolist(), rotation_12param=rot.tolist(),
+                       face_rows=idx.tolist(), refined=bool(refine), **extra)

@@ -111,6 +111,9 @@ FLAG_OF: dict[str, str] = {
     "force": "--force",
     "bias_limit": "--bias-limit",
     "norm_tol": "--norm-tol",
+    "max_generations": "--max-generations",
+    "robust": "--robust",
+    "placement_deg": "--placement-deg",
 }
 
 

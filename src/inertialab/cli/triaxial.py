@@ -70,9 +70,10 @@ def triaxial_fit(
     file: Path = typer.Argument(..., help="Static-record CSV (one row per pose) or raw log "
                                           "(t_s, ax, ay, az [, gx, gy, gz]); told apart by columns."),
     method: str = typer.Option("lm", "--method", help="lm | acs | cs | pso | six-position | ellipsoid"),
-    objective: str = typer.Option("norm", "--objective",
-                                  help="norm (J_H, field mode) | norm2 (J_H2) | scalar (S9, "
-                                       "needs references) | scalar12 (S12, with mount rotation)"),
+    objective: str = typer.Option(None, "--objective",
+                                  help="norm (J_H, field mode; default) | norm2 (J_H2) | scalar "
+                                       "(S9, needs references) | scalar12 (S12, with mount "
+                                       "rotation). lm, acs, cs, pso only."),
     unit: str = typer.Option(None, "--unit", help="Unit of suffix-less ax/ay/az: mps2 | g | lsb "
                                                   "(overrides suffixes and header)."),
     lsb_per_g: float = typer.Option(None, "--lsb-per-g", help="Counts per g (e.g. 16384); "
@@ -95,8 +96,12 @@ def triaxial_fit(
     min_duration: float = typer.Option(1.5, "--min-duration", help="Shortest static run, s."),
     robust: bool = typer.Option(False, "--robust", help="soft-L1 loss in the LM (f_scale = 3 x "
                                                         "the robust residual scale of a plain fit)."),
-    max_generations: int = typer.Option(1000, "--max-generations",
-                                        help="Metaheuristic generation budget."),
+    max_generations: int = typer.Option(None, "--max-generations",
+                                        help="Metaheuristic generation budget (acs, cs, pso; "
+                                             "default 1000)."),
+    placement_deg: float = typer.Option(None, "--placement-deg",
+                                        help="six-position: standard deviation of a hand-placed "
+                                             "face's tilt, deg (default 2)."),
     bias_limit: float = typer.Option(None, "--bias-limit",
                                      help="Largest plausible |accelerometer bias|, m/s^2 "
                                           "(default 0.5 g)."),
@@ -121,6 +126,7 @@ def triaxial_fit(
 
     config = wf.Config(method=method, objective=objective, seed=seed,
                        max_generations=max_generations, robust=robust,
+                       placement_deg=placement_deg,
                        gyro_lsb_per_rps=gyro_lsb_per_rps, force=force,
                        limits=Limits(bias=bias_limit, norm_tol=norm_tol))
     ulower = None if unit is None else unit.lower()
@@ -148,7 +154,7 @@ def triaxial_fit(
         bar.update(1.0, 1.0, "done")
     warns = list(warns) + [w for w in warns2 if w not in warns]
     fit, data = run.fit, run.data
-    m, obj = fit.method, config.objective.strip().lower()
+    m, obj = fit.method, run.model.objective
     payload = wf.result_payload(run)
     payload["seed"] = seed
     units_ = wf.result_units(run)
@@ -157,7 +163,8 @@ def triaxial_fit(
                 "gyro": gyro, "g_local": data.g, "seed": seed, "k_thr": k_thr,
                 "threshold": threshold, "t_init_s": t_init, "window_s": window,
                 "min_duration_s": min_duration, "robust": robust,
-                "max_generations": max_generations, "bias_limit_mps2": bias_limit,
+                "max_generations": max_generations, "placement_deg": placement_deg,
+                "bias_limit_mps2": bias_limit,
                 "norm_tol_mps2": norm_tol, "force": force}
     if out_dir is not None:
         from inertialab.report.figures.triaxial import (

@@ -62,7 +62,8 @@ def run_demo(settings=None, progress=None) -> StudyResult:
         "LM-S12": calibrate(sd.a, ref=sd.ref, objective="scalar12", g=sd.g),
         "LM-S9": calibrate(sd.a, ref=sd.ref, objective="scalar", g=sd.g),
         "LM-norm": calibrate(sd.a, objective="norm", g=sd.g),
-        "lab six-position (12 par.)": calibrate(sd.a, ref=sd.ref, method="six-position", g=sd.g),
+        "lab six-position (12 par.)": calibrate(sd.a, ref=sd.ref, method="six-position", g=sd.g,
+                                                refine_faces=False),
     }
     if settings.acs_on_turntable:
         fits["ACS-S12"] = calibrate(sd.a, ref=sd.ref, method="acs", objective="scalar12", g=sd.g,

@@ -388,6 +388,13 @@ def prepare(record: Record, *, lsb_per_g: float | None = None, schedule: pd.Data
 class Config:
     """Fit settings of :func:`fit` (defaults: spec 002 §3.6 LM on the field objective J_H).
 
+    ``None`` means the method's own default: objective ``norm`` (``scalar`` for the
+    six-position method), 1000 generations for the metaheuristics, a 2 deg face tilt for
+    the six-position refinement. A setting the method does not use is refused, not
+    ignored (issue 17 item 3): ``objective`` with ``six-position``/``ellipsoid``,
+    ``max_generations`` outside ``acs cs pso``, ``robust`` outside ``lm``,
+    ``placement_deg`` outside ``six-position``.
+
     ``robust`` uses the soft-L1 loss with f_scale = 3 x the robust residual scale of a
     plain fit (§7.3); ``seed`` and ``max_generations`` drive the metaheuristics (§3.3).
     ``limits`` bound what counts as a plausible calibration
@@ -396,10 +403,11 @@ class Config:
     """
 
     method: str = "lm"
-    objective: str = "norm"
+    objective: str | None = None
     seed: int = 0
-    max_generations: int = 1000
+    max_generations: int | None = None
     robust: bool = False
+    placement_deg: float | None = None
     gyro_lsb_per_rps: float | None = None
     force: bool = False
     limits: Limits = Limits()
@@ -418,7 +426,9 @@ def fit(session: Session, config: Config | None = None):
     m = config.method.strip().lower()
     if m not in METHODS:
         raise InputError(f"argument 'method' must be one of {', '.join(METHODS)}, got '{config.method}'")
-    obj = config.objective.strip().lower()
+    _refuse_ignored(m, config)
+    default_obj = "scalar" if m == "six-position" else "norm"
+    obj = (config.objective or default_obj).strip().lower()
     if obj not in OBJECTIVES:
         raise InputError(f"argument 'objective' must be one of {', '.join(OBJECTIVES)}, "
                          f"got '{config.objective}'")
@@ -428,11 +438,15 @@ def fit(session: Session, config: Config | None = None):
             raise InputError(f"{len(set(data.unit_id))} units in one file: the batch solver runs "
                              "argument 'method' 'lm' with argument 'objective' 'scalar' (S9) only")
         return calibrate_batch(data)
-    robust_kw = {"loss": "soft_l1", "f_scale": None} if config.robust else {}
+    kw = {"loss": "soft_l1", "f_scale": None} if config.robust else {}
+    if config.max_generations is not None:
+        kw["max_generations"] = int(config.max_generations)
+    if config.placement_deg is not None:
+        kw["placement_rad"] = float(np.deg2rad(config.placement_deg))
     run = calibrate_record_data(
         data, method=m, objective=obj, rng=config.seed, gyro_raw=session.gyro_raw, t=session.t,
         gyro_suffix=session.gyro_suffix, gyro_lsb_per_rps=config.gyro_lsb_per_rps,
-        meta=session.meta, max_generations=config.max_generations, **robust_kw)
+        meta=session.meta, **kw)
     findings = check_accel(run.fit, data.a, data.ref, data.g, counts=data.counts,
                            limits=config.limits)
     if run.gyro_fit is not None:
@@ -445,6 +459,25 @@ def fit(session: Session, config: Config | None = None):
                       stacklevel=2)
         run = dataclasses.replace(run, model=dataclasses.replace(run.model, flags=flags))
     return run
+
+
+_USES = {
+    "objective": ("lm", "acs", "cs", "pso"),
+    "max_generations": ("acs", "cs", "pso"),
+    "robust": ("lm",),
+    "placement_deg": ("six-position",),
+}
+
+
+def _refuse_ignored(method: str, config: Config) -> None:
+    """A setting the method would ignore is an error (issue 17 item 3)."""
+    given = {"objective": config.objective is not None,
+             "max_generations": config.max_generations is not None,
+             "robust": bool(config.robust), "placement_deg": config.placement_deg is not None}
+    for name, methods in _USES.items():
+        if given[name] and method not in methods:
+            raise InputError(f"method '{method}' does not use argument '{name}' (used by "
+                             f"{', '.join(repr(x) for x in methods)}); drop it")
 
 
 def result_payload(run: CalibrationRun) -> dict:
