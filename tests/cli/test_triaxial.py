@@ -316,3 +316,37 @@ def test_six_position_on_hand_placed_faces_gives_gravity_on_every_face(capsys, t
                    "method 'lm' does not use --max-generations")
     one_line_error(*cli(capsys, "triaxial", "fit", sph, "--placement-deg", "1")[::2],
                    "does not use --placement-deg")
+
+
+def test_ferraris_command_detects_sections_writes_model_figure_and_sections(capsys, tmp_path):
+    # issue 17 item 2 end to end: simulate a hand-made session, calibrate, apply
+    path = tmp_path / "session.csv"
+    assert cli(capsys, "simulate", "ferraris-session", "--seed", "3", "--out", path)[0] == 0
+    truth_sections = json.loads((tmp_path / "session.sections.json").read_text())
+    out = tmp_path / "res"
+    code, stdout, err = cli(capsys, "triaxial", "ferraris", path, "--json", "--out", out)
+    assert code == 0, err
+    d = json.loads(stdout)
+    assert d["sections_detected"] is True and set(d["sections"]) == set(truth_sections)
+    assert all(abs(f["norm_error_mps2"]) < 1e-4 * 9.81 for f in d["faces"].values())
+    for name in ("model.json", "result.json", "sections.json", "ferraris_sections.png"):
+        assert (out / name).exists(), name
+    # the written sections feed back through --sections (imucal's format), same model
+    code, stdout2, err = cli(capsys, "calibrate", "ferraris", path, "--json", "--sections",
+                             out / "sections.json")
+    assert code == 0, err
+    d2 = json.loads(stdout2)
+    assert d2["sections_detected"] is False
+    assert np.allclose(d2["correction_matrix"], d["correction_matrix"], rtol=1e-12)
+    # apply: calibrated accelerometer and gyro columns
+    dst = tmp_path / "cal.csv"
+    code, _, err = cli(capsys, "triaxial", "apply", out / "model.json", path, "--out", dst)
+    assert code == 0, err
+    cal = pd.read_csv(dst)
+    assert {"ax_mps2", "ay_mps2", "az_mps2", "gx_rps", "gy_rps", "gz_rps"} <= set(cal.columns)
+    # a bad section list is a one-line error naming the section
+    bad = dict(truth_sections)
+    bad.pop("z_rot")
+    (tmp_path / "bad.json").write_text(json.dumps(bad))
+    one_line_error(*cli(capsys, "triaxial", "ferraris", path, "--sections",
+                        tmp_path / "bad.json")[::2], "lacks z_rot")

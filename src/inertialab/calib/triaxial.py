@@ -98,12 +98,24 @@ class TriaxialCalibration:
             raise InputError(f"raw samples must have shape (n, 3), got {raw.shape}")
         return (raw - self.offset) @ np.asarray(self.correction_matrix).T
 
-    def apply_gyro(self, raw) -> np.ndarray:
-        """Calibrated rates (rad/s) for raw gyro samples (n, 3); needs the gyro block."""
+    def apply_gyro(self, raw, acc=None) -> np.ndarray:
+        """Calibrated rates (rad/s) for raw gyro samples (n, 3); needs the gyro block.
+
+        A gyro block with a ``g_sensitivity`` (Ferraris calibrations) also needs the
+        calibrated specific force ``acc`` (n, 3) in m/s^2 (:meth:`apply` of the same
+        samples): ``rate = M_g (raw - offset - g_sensitivity @ acc)``.
+        """
         if self.gyro is None:
-            raise InputError("this calibration has no gyro block; calibrate with gyro data (argument 'gyro_raw')")
-        raw = np.asarray(raw, dtype=float)
-        return (raw - np.asarray(self.gyro["offset"])) @ np.asarray(self.gyro["correction_matrix"]).T
+            raise InputError("this calibration has no gyro block; calibrate with gyro data "
+                             "(argument 'gyro_raw')")
+        raw = np.asarray(raw, dtype=float) - np.asarray(self.gyro["offset"])
+        kga = self.gyro.get("g_sensitivity")
+        if kga is not None:
+            if acc is None:
+                raise InputError("this gyro calibration corrects the g-sensitivity: give the "
+                                 "calibrated accelerations (argument 'acc')")
+            raw = raw - np.asarray(acc, dtype=float) @ np.asarray(kga, dtype=float).T
+        return raw @ np.asarray(self.gyro["correction_matrix"]).T
 
     def to_dict(self) -> dict:
         return {
@@ -136,6 +148,10 @@ class TriaxialCalibration:
                 gy["offset"] = np.asarray(gy["offset"], dtype=float)
                 if gy["correction_matrix"].shape != (3, 3) or gy["offset"].shape != (3,):
                     raise ValueError("gyro shapes")
+                if gy.get("g_sensitivity") is not None:
+                    gy["g_sensitivity"] = np.asarray(gy["g_sensitivity"], dtype=float)
+                    if gy["g_sensitivity"].shape != (3, 3):
+                        raise ValueError("g_sensitivity shape")
             return cls(
                 method=str(d["method"]), objective=str(d["objective"]),
                 params={str(k): float(v) for k, v in d["params"].items()},

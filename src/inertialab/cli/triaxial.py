@@ -11,6 +11,7 @@ import functools
 import json
 from pathlib import Path
 
+import numpy as np
 import typer
 
 from inertialab.cli.common import (
@@ -253,6 +254,94 @@ def triaxial_apply(
           + (" and rad/s" if gyro_done else "") + ")")
 
 
+def triaxial_ferraris(
+    file: Path = typer.Argument(..., help="Raw log of a Ferraris session: t_s, ax ay az, gx gy gz "
+                                          "(six static faces, then one turn about each axis)."),
+    sections: Path = typer.Option(None, "--sections",
+                                  help="imucal section list (JSON {\"x_p\": {\"start\": i, "
+                                       "\"end\": j}, ..., \"z_rot\": ...}); default: detected "
+                                       "from the accelerometer and the gyro."),
+    rotation_deg: float = typer.Option(360.0, "--rotation-deg",
+                                       help="Angle of every turn, deg (the sense is detected)."),
+    placement_deg: float = typer.Option(2.0, "--placement-deg",
+                                        help="Standard deviation of a face's hand-placement "
+                                             "tilt, deg."),
+    no_g_sensitivity: bool = typer.Option(False, "--no-g-sensitivity",
+                                          help="Do not estimate the gyro's g-sensitivity."),
+    g_local: float = typer.Option(None, "--g-local", help="Local gravity, m/s^2 (else header, "
+                                                          "else 9.80665 with a warning)."),
+    unit: str = typer.Option(None, "--unit", help="Unit of suffix-less ax/ay/az (mps2 | g | lsb)."),
+    bias_limit: float = typer.Option(None, "--bias-limit",
+                                     help="Largest plausible |accelerometer bias|, m/s^2."),
+    force: bool = typer.Option(False, "--force", help="Write an implausible calibration "
+                                                      "anyway, flagged."),
+    out: OutDirOpt = None,
+    as_json: JsonOpt = False,
+    quiet: QuietOpt = False,
+    read: ReadOptions = None,
+):
+    """Ferraris protocol: accelerometer (12 parameters) and gyro (scale, misalignment, bias,
+    g-sensitivity) from six static faces and a turn about each axis."""
+    from inertialab.calib.triaxial_checks import Limits
+    from inertialab.io import save_model
+    from inertialab.workflows import ferraris as wf
+    from inertialab.workflows import triaxial as wt
+
+    out_dir = prepare_out_dir(out) if out is not None else None
+    config = wf.Config(rotation_deg=rotation_deg, placement_deg=placement_deg,
+                       g_sensitivity=not no_g_sensitivity, force=force,
+                       limits=Limits(bias=bias_limit))
+    inputs = [file] + ([sections] if sections is not None else [])
+    with collect_warnings(quiet=quiet or as_json) as warns, \
+            progress_bar("triaxial ferraris", quiet=quiet or as_json) as bar:
+        rec = wt.read(file, options=read, unit=unit, g_local=g_local)
+        session = wf.prepare(rec, sections=sections, g_local=g_local)
+        bar.update(0.5, 1.0, "sections ready")
+        run = wf.fit(session, config)
+        bar.update(1.0, 1.0, "done")
+    payload = wf.result_payload(run)
+    units_ = wf.result_units(run)
+    settings = {"sections": None if sections is None else str(sections),
+                "rotation_deg": rotation_deg, "placement_deg": placement_deg,
+                "g_sensitivity": not no_g_sensitivity, "g_local": session.g, "unit": unit,
+                "bias_limit_mps2": bias_limit, "force": force}
+    if out_dir is not None:
+        from inertialab.report.figures.triaxial import sections_figure
+
+        save_model(run.model, out_dir / "model.json", units=units_,
+                   training_data_sha256=rec.sha256)
+        atomic_write_text(out_dir / "result.json",
+                          json.dumps(to_jsonable(payload), indent=2, allow_nan=False) + "\n")
+        atomic_write_text(out_dir / "sections.json",
+                          json.dumps(payload["sections"], indent=1) + "\n")
+        write_figures([sections_figure(session.t, session.acc, session.gyro, session.sections,
+                                       detection=session.detection,
+                                       title=f"{file.name}: Ferraris sections")], out_dir)
+    if as_json:
+        emit_json("triaxial ferraris", payload, inputs=inputs, settings=settings, units=units_,
+                  warnings_=warns)
+        return
+    how = "detected" if session.detection is not None else f"from {sections}"
+    print(f"triaxial ferraris: {file.name}, sections {how}, {session.fs:g} Hz, g = {session.g:g}")
+    rows = [[name, f"{d['norm_error_mps2']:+.2e}", f"{d['tilt_deg']:.2f}"]
+            for name, d in payload["faces"].items()]
+    print_table(["face", "|a| - g (m/s^2)", "tilt (deg)"], rows, title="faces")
+    for name, d in payload["turns"].items():
+        sense = "counterclockwise" if d["sense"] > 0 else "clockwise"
+        print(f"{name}: {sense} seen from above, axis ("
+              + ", ".join(f"{v:+.3f}" for v in d["axis"]) + ")")
+    print("accelerometer: a = correction_matrix @ (raw - offset)   [m/s^2]")
+    for row in payload["correction_matrix"]:
+        print("  [" + "  ".join(f"{v:+.9g}" for v in row) + "]")
+    print("gyro: rate = M_g @ (raw - offset - g_sensitivity @ a)   [rad/s]")
+    for row in payload["gyro"]["correction_matrix"]:
+        print("  [" + "  ".join(f"{v:+.9g}" for v in row) + "]")
+    for flag in run.model.flags:
+        print(f"FLAGGED: {flag}")
+    if out_dir is not None:
+        print(f"written: {out_dir}")
+
+
 def simulate_triaxial(
     out: Path = typer.Option(..., "--out", help="Record file (.csv or .parquet)."),
     scenario: str = typer.Option("turntable62", "--scenario",
@@ -299,15 +388,53 @@ def simulate_triaxial(
     print("written: " + ", ".join(written))
 
 
+def simulate_ferraris(
+    out: Path = typer.Option(..., "--out", help="Record file (.csv or .parquet); the true "
+                                                "sections go to <stem>.sections.json."),
+    seed: int = typer.Option(0, "--seed", help="Random seed."),
+    placement_deg: float = typer.Option(2.0, "--placement-deg",
+                                        help="Hand-placement tilt per axis, deg (1 sigma)."),
+    angle_sigma_deg: float = typer.Option(1.0, "--angle-sigma-deg",
+                                          help="Error of each 360-deg turn, deg (1 sigma)."),
+    counts: bool = typer.Option(False, "--counts", help="16-bit counts instead of m/s^2, deg/s."),
+    as_json: JsonOpt = False,
+):
+    """Write a virtual Ferraris session (six hand-placed faces, three turns; 102.4 Hz)."""
+    from inertialab.io import write_record
+    from inertialab.sim.ferraris_session import simulate_ferraris as sim
+
+    if out.exists() and out.is_dir():
+        raise InputError("--out must be a file for this command", path=out)
+    rec = sim(seed=seed, placement_deg=placement_deg, angle_sigma_deg=angle_sigma_deg,
+              counts=counts)
+    write_record(rec.data, out, rec.meta)
+    sp = out.with_name(out.name.split(".")[0] + ".sections.json")
+    atomic_write_text(sp, json.dumps(rec.truth["sections"], indent=1) + "\n")
+    summary = {"written": [str(out), str(sp)], "rows": int(len(rec.data)), "seed": seed,
+               "senses": rec.truth["senses"].tolist(),
+               "angles_deg": [float(v) for v in np.rad2deg(rec.truth["angles_rad"])]}
+    if as_json:
+        emit_json("simulate ferraris-session", summary,
+                  settings={"seed": seed, "placement_deg": placement_deg,
+                            "angle_sigma_deg": angle_sigma_deg, "counts": counts},
+                  units={"angles_deg": "deg"})
+        return
+    print("written: " + ", ".join(summary["written"]))
+
+
 def register(app: typer.Typer, groups: dict) -> None:
     triaxial, calibrate, simulate = groups["triaxial"], groups["calibrate"], groups["simulate"]
     fit_cmd = _flag_errors(reading_options(triaxial_fit))
     apply_cmd = _flag_errors(reading_options(triaxial_apply))
     triaxial.command("fit")(fit_cmd)
+    ferraris_cmd = _flag_errors(reading_options(triaxial_ferraris))
     triaxial.command("apply")(apply_cmd)
+    triaxial.command("ferraris")(ferraris_cmd)
     calibrate.command("triaxial", hidden=True)(fit_cmd)
     calibrate.command("apply", hidden=True)(apply_cmd)
+    calibrate.command("ferraris", hidden=True)(ferraris_cmd)
     simulate.command("triaxial-poses")(_flag_errors(simulate_triaxial))
+    simulate.command("ferraris-session")(_flag_errors(simulate_ferraris))
 
 
 def _report_batch(batch, file, out_dir, as_json, warns):

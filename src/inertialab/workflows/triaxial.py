@@ -560,7 +560,7 @@ def apply(model: TriaxialCalibration, record: Record, *, model_path=None,
         if gs != model.gyro.get("raw_unit"):
             raise InputError(f"the file's gyro unit is '{gs}', the calibration expects "
                              f"'{model.gyro.get('raw_unit')}'", path=record.path, column=gcols[0])
-        gcal = model.apply_gyro(df[gcols].to_numpy(dtype=float))
+        gcal = model.apply_gyro(df[gcols].to_numpy(dtype=float), acc=cal)
         gpos = df.columns.get_loc(gcols[0])
         df = df.drop(columns=gcols)
         for i, c in enumerate(("gx_rps", "gy_rps", "gz_rps")):

@@ -111,3 +111,45 @@ def section(result) -> Section:
     return Section(key="triaxial", title=result.title, paragraphs=list(result.text),
                    tables=[t1, t2, t3], figures=figs, results=result.tables,
                    settings=result.settings)
+
+
+def sections_figure(t, acc, gyro, sections: dict, *, detection=None, title: str = "") -> Figure:
+    """A Ferraris session with its sections shaded (faces blue, turns orange) over the raw
+    accelerometer and gyro, and, for detected sections, the detector's two statistics
+    against their thresholds (issue 17 item 2: the user checks the detection)."""
+    t = np.asarray(t, dtype=float)
+    acc = np.asarray(acc, dtype=float)
+    gyro = np.asarray(gyro, dtype=float)
+    rows = 3 if detection is not None else 2
+    fig, axes = plt.subplots(rows, 1, figsize=(11, 2.4 * rows), sharex=True)
+    for j, c in enumerate("xyz"):
+        axes[0].plot(t, acc[:, j], lw=0.6, label=f"a{c}")
+        axes[1].plot(t, gyro[:, j], lw=0.6, label=f"g{c}")
+    for name, (i0, i1) in sections.items():
+        turn = name.endswith("_rot")
+        for ax in axes[:2]:
+            ax.axvspan(t[i0], t[min(i1, len(t)) - 1], color="tab:orange" if turn else "tab:blue",
+                       alpha=0.15, lw=0)
+        axes[0].text((t[i0] + t[min(i1, len(t)) - 1]) / 2, axes[0].get_ylim()[1], name,
+                     ha="center", va="top", fontsize=7)
+    axes[0].set_ylabel("accelerometer (raw)")
+    axes[1].set_ylabel("gyro (raw)")
+    axes[0].legend(fontsize=7, ncol=3, loc="lower right")
+    axes[1].legend(fontsize=7, ncol=3, loc="lower right")
+    if detection is not None:
+        ax = axes[2]
+        ax.semilogy(t, np.maximum(detection.acc_var / detection.thresholds["acc_var"], 1e-6),
+                    lw=0.6, label="accelerometer moving variance / threshold")
+        ax.semilogy(t, np.maximum(detection.gyro_dev / detection.thresholds["gyro_dev"], 1e-6),
+                    lw=0.6, label="|gyro - rest| / threshold")
+        ax.axhline(1.0, color="k", lw=0.8)
+        ax.fill_between(t, 1e-6, 1.0, where=detection.rest_mask, color="0.85", step="mid",
+                        label="rest")
+        ax.set_ylabel("detector")
+        ax.legend(fontsize=7, loc="upper right")
+    axes[-1].set_xlabel("time (s)")
+    fig.suptitle(title or "Ferraris session: sections")
+    fig.tight_layout()
+    return Figure(fig, "The session's sections (blue: static faces, orange: turns) over the raw "
+                  "channels; with detection, the two detector statistics over their thresholds "
+                  "(rest = both below 1).", name="ferraris_sections")
