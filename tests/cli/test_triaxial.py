@@ -350,3 +350,36 @@ def test_ferraris_command_detects_sections_writes_model_figure_and_sections(caps
     (tmp_path / "bad.json").write_text(json.dumps(bad))
     one_line_error(*cli(capsys, "triaxial", "ferraris", path, "--sections",
                         tmp_path / "bad.json")[::2], "lacks z_rot")
+
+
+def test_apply_gives_physics_back_on_a_parquet_log(capsys, tmp_path):
+    # issue 17 item 4: a raw log of the same sensor, in another readable format (Parquet),
+    # comes back as calibrated m/s^2 and rad/s: |a| = g at rest, the motion between two
+    # poses integrates to the true rotation angle
+    pytest.importorskip("pyarrow")
+    raw = tmp_path / "log.raw.csv"
+    cli(capsys, "simulate", "triaxial-poses", "--scenario", "rawlog62-counts", "--seed", "2",
+        "--out", raw)
+    code, _, err = cli(capsys, "triaxial", "fit", raw, "--gyro", "--out", tmp_path / "cal")
+    assert code == 0, err
+    log = tmp_path / "log2.parquet"
+    rec = tp.simulate("rawlog62-counts", seed=5)
+    from inertialab.io import write_record
+
+    write_record(rec.data, log, rec.meta)
+    dst = tmp_path / "out.csv"
+    code, _, err = cli(capsys, "triaxial", "apply", tmp_path / "cal" / "model.json", log,
+                       "--out", dst)
+    assert code == 0, err
+    cal = pd.read_csv(dst)
+    a = cal[["ax_mps2", "ay_mps2", "az_mps2"]].to_numpy()
+    w = cal[["gx_rps", "gy_rps", "gz_rps"]].to_numpy()
+    bounds = rec.truth["dwell_bounds"]
+    for k in (0, 10, 30, 61):
+        i, j = bounds[k]
+        assert abs(np.linalg.norm(a[i:j].mean(axis=0)) - 9.8) < 0.01  # 16-bit counts, 1e-3 g
+    # motion 10 -> 11: the integrated calibrated rate equals the true rotation vector
+    i, j = bounds[10][1], bounds[11][0]
+    true_rot = rec.truth["omega_body_rps"][i:j].sum(axis=0) / 100.0
+    got = w[i:j].sum(axis=0) / 100.0
+    assert np.linalg.norm(got - true_rot) < 2e-3 * max(np.linalg.norm(true_rot), 1.0)
