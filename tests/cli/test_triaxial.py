@@ -97,13 +97,19 @@ def test_static_turntable_acs_s12_and_determinism(capsys, tmp_path):
 def test_lm_s12_recovers_mount(capsys, tmp_path):
     path = tmp_path / "tt.csv"
     cli(capsys, "simulate", "triaxial-poses", "--scenario", "turntable62-mount", "--out", path)
-    code, out, err = cli(capsys, "triaxial", "fit", path, "--objective", "scalar12", "--json")
+    code, out, err = cli(capsys, "triaxial", "fit", path, "--objective", "scalar12", "--json",
+                         "--out", tmp_path / "s12")
     d = json.loads(out)
     x = np.array([d["params"][k] for k in ("bx", "by", "bz", "kx", "ky", "kz", "theta_yz",
                                             "theta_zy", "theta_zx")])
     se = np.array([d["stderr"][k] for k in d["params"]])
     assert np.all(np.abs(x - tp.X_MPU6050_A) < 5 * se)  # 5 sigma: one seed, 9 parameters
     assert np.allclose(d["phi"], tp.PHI_MOUNT, atol=5e-4)
+    # issue 17 item 5: eq.-21 RMSE/SD in the sensor frame, per-pose residuals, intervals
+    q = d["quality"]
+    assert q["eq21"]["frame"] == "sensor" and 0 < q["eq21"]["rmse_mps2"] < 0.05
+    assert len(q["per_pose"]) == 62 and set(q["ci95"]) >= {"bx", "kx", "theta_zx", "phi_z"}
+    assert (tmp_path / "s12" / "triaxial_coverage.png").exists()
 
 
 def test_bad_inputs_exit_2_with_one_line(capsys, tmp_path):

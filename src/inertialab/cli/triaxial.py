@@ -170,6 +170,7 @@ def triaxial_fit(
     if out_dir is not None:
         from inertialab.report.figures.triaxial import (
             convergence_figure,
+            coverage_figure,
             norm_error_figure,
             sphere_figure,
         )
@@ -183,7 +184,8 @@ def triaxial_fit(
         cor = correct(fit.x, data.a)
         figs = [sphere_figure(data.a, cor, data.g,
                               title=f"{file.name}: measured vs corrected ({m}, {obj})"),
-                norm_error_figure({f"{m}-{obj}": np.linalg.norm(cor, axis=1) - data.g})]
+                norm_error_figure({f"{m}-{obj}": np.linalg.norm(cor, axis=1) - data.g}),
+                coverage_figure(cor, title=f"{file.name}: pose coverage")]
         if fit.history is not None:
             figs.append(convergence_figure({m: [fit.history]}))
         write_figures(figs, out_dir)
@@ -206,6 +208,15 @@ def triaxial_fit(
     print("offset = [" + ", ".join(f"{v:.9g}" for v in payload["offset"]) + f"] {data.raw_unit}")
     print(f"residual RMS = {fit.residual_rms:.4g}, iterations = {fit.iterations}, "
           f"nfev = {fit.nfev}")
+    q = payload["quality"]
+    ne = q["norm_error"]
+    print(f"| |a| - g |: RMSE {ne['rmse_mps2']:.4g}, max {ne['max_abs_mps2']:.4g} m/s^2 over "
+          f"{len(q['per_pose'])} poses")
+    if "eq21" in q:
+        print(f"eq. 21 vector error: RMSE {q['eq21']['rmse_mps2']:.4g}, SD {q['eq21']['sd_mps2']:.4g}"
+              f" m/s^2 ({q['eq21']['frame']} frame)")
+    print(f"95 % intervals (t, {q['dof']} dof): " + "; ".join(
+        f"{k} [{lo:.6g}, {hi:.6g}]" for k, (lo, hi) in q["ci95"].items()))
     if run.gyro_fit is not None:
         gf = run.gyro_fit
         print("gyro: rate = M_g @ (raw - bias)   [rad/s]")

@@ -49,6 +49,7 @@ from inertialab.calib.triaxial_session import (  # noqa: F401 - re-exported
     CalibrationRun,
     StaticData,
     calibrate_record_data,
+    quality,
     to_model,
 )
 from inertialab.errors import DataQualityWarning, InputError
@@ -494,6 +495,7 @@ def result_payload(run: CalibrationRun) -> dict:
         "x_names": list(d["params"]), "converged": fit_.converged, "cond": fit_.cond,
         "cov": None if fit_.cov is None else fit_.cov.tolist(),
         "counts_mode": bool(data.counts), "wall_s": fit_.wall_s, "flags": d["flags"],
+        "quality": quality(run),
     }
     if data.intervals is not None:
         out["detection"] = {"k_thr": data.k_thr, "threshold": data.intervals.threshold,
@@ -520,7 +522,9 @@ def result_units(run: CalibrationRun) -> dict:
          "params.theta_yz": "rad", "params.theta_zy": "rad", "params.theta_zx": "rad",
          "phi": "rad", "correction_matrix": f"m/s^2 per {data.raw_unit}",
          "offset": data.raw_unit, "residual_rms": work, "J": f"({work})^2",
-         "g_local": "m/s^2", "wall_s": "s"}
+         "g_local": "m/s^2", "wall_s": "s", "quality.norm_error": "m/s^2",
+         "quality.eq21": "m/s^2", "quality.per_pose": "m/s^2",
+         "quality.ci95": "unit of each parameter", "quality.coverage": "1"}
     if gyro_unit is not None:
         u.update({"gyro.correction_matrix": f"rad/s per {gyro_unit}", "gyro.offset": gyro_unit,
                   "gyro.residual_rms": "rad"})

@@ -153,3 +153,26 @@ def sections_figure(t, acc, gyro, sections: dict, *, detection=None, title: str 
     return Figure(fig, "The session's sections (blue: static faces, orange: turns) over the raw "
                   "channels; with detection, the two detector statistics over their thresholds "
                   "(rest = both below 1).", name="ferraris_sections")
+
+
+def coverage_figure(directions, *, title: str = "") -> Figure:
+    """Pose coverage: the calibrated gravity directions of the records in the sensor frame
+    as longitude (atan2(y, x)) and latitude (asin z), with the six faces marked."""
+    d = np.asarray(directions, dtype=float)
+    d = d / np.linalg.norm(d, axis=1)[:, None]
+    lon = np.degrees(np.arctan2(d[:, 1], d[:, 0]))
+    lat = np.degrees(np.arcsin(np.clip(d[:, 2], -1, 1)))
+    fig, ax = plt.subplots(figsize=(8, 4))
+    ax.scatter(lon, lat, s=14, color="tab:blue", label="poses")
+    for name, (lo, la) in {"+x": (0, 0), "-x": (180, 0), "+y": (90, 0), "-y": (-90, 0),
+                           "+z": (0, 90), "-z": (0, -90)}.items():
+        ax.plot(lo, la, marker="+", color="0.4", ms=10)
+        ax.annotate(name, (lo, la), textcoords="offset points", xytext=(4, 4), fontsize=7)
+    ax.set_xlim(-185, 185)
+    ax.set_ylim(-95, 95)
+    ax.set_xlabel("longitude of gravity-up in the sensor frame (deg)")
+    ax.set_ylabel("latitude (deg)")
+    ax.set_title(title or "Pose coverage on the sphere")
+    fig.tight_layout()
+    return Figure(fig, "Gravity-up direction of every record in the sensor frame; gaps on the "
+                  "sphere are directions no pose constrains.", name="triaxial_coverage")
