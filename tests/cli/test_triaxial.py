@@ -389,3 +389,25 @@ def test_apply_gives_physics_back_on_a_parquet_log(capsys, tmp_path):
     true_rot = rec.truth["omega_body_rps"][i:j].sum(axis=0) / 100.0
     got = w[i:j].sum(axis=0) / 100.0
     assert np.linalg.norm(got - true_rot) < 2e-3 * max(np.linalg.norm(true_rot), 1.0)
+
+
+def test_export_to_imucal_imu_tk_and_kalibr(capsys, tmp_path):
+    path = tmp_path / "session.csv"
+    cli(capsys, "simulate", "ferraris-session", "--seed", "1", "--placement-deg", "0.5",
+        "--out", path)
+    assert cli(capsys, "triaxial", "ferraris", path, "--out", tmp_path / "cal")[0] == 0
+    model = tmp_path / "cal" / "model.json"
+    code, out, err = cli(capsys, "triaxial", "export", model, "--to", "imucal", "--out",
+                         tmp_path / "imucal.json")
+    assert code == 0, err
+    assert json.loads((tmp_path / "imucal.json").read_text())["cal_type"] == "Ferraris"
+    one_line_error(*cli(capsys, "triaxial", "export", model, "--to", "imu_tk", "--out",
+                        tmp_path / "imu")[::2], "--drop-g-sensitivity")
+    code, out, err = cli(capsys, "triaxial", "export", model, "--to", "imu_tk", "--out",
+                         tmp_path / "imu", "--drop-g-sensitivity")
+    assert code == 0 and (tmp_path / "imu_gyro.calib").exists()
+    code, out, err = cli(capsys, "triaxial", "export", model, "--to", "kalibr", "--out",
+                         tmp_path / "imu.yaml")
+    assert code == 0 and "scale-misalignment" in (tmp_path / "imu.yaml").read_text()
+    one_line_error(*cli(capsys, "triaxial", "export", model, "--to", "matlab", "--out",
+                        tmp_path / "x")[::2], "--to must be")

@@ -114,6 +114,7 @@ FLAG_OF: dict[str, str] = {
     "max_generations": "--max-generations",
     "robust": "--robust",
     "placement_deg": "--placement-deg",
+    "drop_g_sensitivity": "--drop-g-sensitivity",
 }
 
 

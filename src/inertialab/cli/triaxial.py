@@ -353,6 +353,45 @@ def triaxial_ferraris(
         print(f"written: {out_dir}")
 
 
+def triaxial_export(
+    model_file: Path = typer.Argument(..., help="model.json from 'triaxial fit' or 'triaxial "
+                                                "ferraris'."),
+    to: str = typer.Option(..., "--to", help="imucal (JSON, format 2.0.0) | imu_tk (.calib text, "
+                                             "one per triad) | kalibr (scale-misalignment YAML)"),
+    out: Path = typer.Option(..., "--out", help="Output file (imu_tk: the stem of "
+                                                "<stem>_acc.calib and <stem>_gyro.calib)."),
+    drop_g_sensitivity: bool = typer.Option(False, "--drop-g-sensitivity",
+                                            help="imu_tk: export a gyro with a g-sensitivity "
+                                                 "without it."),
+    force: bool = typer.Option(False, "--force", help="Export a flagged calibration anyway."),
+    as_json: JsonOpt = False,
+):
+    """Export a triaxial calibration for imucal, imu_tk or Kalibr."""
+    from inertialab.io import load_model
+    from inertialab.io.exporters import imu_tk, imucal, kalibr_intrinsics
+
+    model = load_model(model_file, expected_type="triaxial-calibration")
+    fmt = to.strip().lower().replace("-", "_")
+    if fmt == "imucal":
+        imucal.write_imucal(model, out, force=force)
+        written = [str(out)]
+    elif fmt == "imu_tk":
+        stem = str(out)[:-6] if str(out).endswith(".calib") else str(out)
+        written = imu_tk.write_imu_tk(model, stem, drop_g_sensitivity=drop_g_sensitivity,
+                                      force=force)
+    elif fmt == "kalibr":
+        kalibr_intrinsics.write_kalibr(model, out, force=force)
+        written = [str(out)]
+    else:
+        raise InputError(f"--to must be imucal, imu_tk or kalibr, got '{to}'")
+    if as_json:
+        emit_json("triaxial export", {"written": written, "format": fmt}, inputs=[model_file],
+                  settings={"to": fmt, "drop_g_sensitivity": drop_g_sensitivity, "force": force},
+                  units={})
+        return
+    print("written: " + ", ".join(written))
+
+
 def simulate_triaxial(
     out: Path = typer.Option(..., "--out", help="Record file (.csv or .parquet)."),
     scenario: str = typer.Option("turntable62", "--scenario",
@@ -441,6 +480,7 @@ def register(app: typer.Typer, groups: dict) -> None:
     ferraris_cmd = _flag_errors(reading_options(triaxial_ferraris))
     triaxial.command("apply")(apply_cmd)
     triaxial.command("ferraris")(ferraris_cmd)
+    triaxial.command("export")(_flag_errors(triaxial_export))
     calibrate.command("triaxial", hidden=True)(fit_cmd)
     calibrate.command("apply", hidden=True)(apply_cmd)
     calibrate.command("ferraris", hidden=True)(ferraris_cmd)
