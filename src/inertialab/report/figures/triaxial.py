@@ -80,10 +80,12 @@ def section(result) -> Section:
             for r in t["turntable62_realistic"]]
     rows.append(["paper: laboratory", 0.1103, 0.0643, None, None])
     rows.append(["paper: ACS", 0.0826, 0.0487, None, None])
-    t1 = Table("turntable62-realistic: eq.-21 vector error against the rig references",
+    t1 = Table("turntable62-realistic: eq.-21 vector error against the sensor-frame truth",
                ["method", "RMSE (m/s^2)", "SD (m/s^2)", "max |x - x_true|", "iterations"], rows,
-               note="S12 fits the mount rotation phi; S9/six-position/norm cannot. The paper's "
-                    "numbers come from a real MPU6050 and a real laboratory calibration.")
+               note="Every method scored against the same truth: the true gravity vectors in the "
+                    "sensor frame. S12 fits the mount rotation phi; S9/six-position/norm cannot. "
+                    "The paper's numbers come from a real MPU6050 and a real laboratory "
+                    "calibration.")
     cs = t["cs_acs"]
     t2 = Table(f"Generations to J <= 1e-10 ({cs['seeds']} seeds, {cs['points']} points)",
                ["method", "mean generations", "paper"],
