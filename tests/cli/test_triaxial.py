@@ -97,13 +97,19 @@ def test_static_turntable_acs_s12_and_determinism(capsys, tmp_path):
 def test_lm_s12_recovers_mount(capsys, tmp_path):
     path = tmp_path / "tt.csv"
     cli(capsys, "simulate", "triaxial-poses", "--scenario", "turntable62-mount", "--out", path)
-    code, out, err = cli(capsys, "triaxial", "fit", path, "--objective", "scalar12", "--json")
+    code, out, err = cli(capsys, "triaxial", "fit", path, "--objective", "scalar12", "--json",
+                         "--out", tmp_path / "s12")
     d = json.loads(out)
     x = np.array([d["params"][k] for k in ("bx", "by", "bz", "kx", "ky", "kz", "theta_yz",
                                             "theta_zy", "theta_zx")])
     se = np.array([d["stderr"][k] for k in d["params"]])
     assert np.all(np.abs(x - tp.X_MPU6050_A) < 5 * se)  # 5 sigma: one seed, 9 parameters
     assert np.allclose(d["phi"], tp.PHI_MOUNT, atol=5e-4)
+    # issue 17 item 5: eq.-21 RMSE/SD in the sensor frame, per-pose residuals, intervals
+    q = d["quality"]
+    assert q["eq21"]["frame"] == "sensor" and 0 < q["eq21"]["rmse_mps2"] < 0.05
+    assert len(q["per_pose"]) == 62 and set(q["ci95"]) >= {"bx", "kx", "theta_zx", "phi_z"}
+    assert (tmp_path / "s12" / "triaxial_coverage.png").exists()
 
 
 def test_bad_inputs_exit_2_with_one_line(capsys, tmp_path):
@@ -244,3 +250,164 @@ def test_detector_messages_name_the_flags(capsys, tmp_path):
     one_line_error(*cli(capsys, "triaxial", "fit", log, "--t-init", "60")[::2], "--t-init")
     code, out, err = cli(capsys, "triaxial", "fit", log, "--min-duration", "30")
     one_line_error(code, err, "lower --min-duration or --window, or give --threshold")
+
+
+def test_garbage_calibration_exits_2_and_force_writes_it_flagged(capsys, tmp_path):
+    # issue 17 item 1: records in g labelled m/s^2 -> refused, nothing written; --force writes
+    # a flagged model that apply refuses unless --force again
+    from inertialab.sensors import triaxial as tx
+
+    d = np.random.default_rng(2).standard_normal((30, 3))
+    d /= np.linalg.norm(d, axis=1)[:, None]
+    a = tx.forward(tp.X_MPU6050_A, 9.8 * d) / 9.8
+    path = tmp_path / "g.static.csv"
+    pd.DataFrame({"pos_id": range(1, 31), "ax_mps2": a[:, 0], "ay_mps2": a[:, 1],
+                  "az_mps2": a[:, 2]}).to_csv(path, index=False)
+    out = tmp_path / "res"
+    code, _, err = cli(capsys, "triaxial", "fit", path, "--g-local", "9.8", "--out", out)
+    one_line_error(code, err, "calibration refused, nothing written: ")
+    assert "implausible: kx, ky, kz" in err and "set --force to write it flagged" in err
+    assert not (out / "model.json").exists()
+    code, stdout, err = cli(capsys, "triaxial", "fit", path, "--g-local", "9.8", "--out", out,
+                            "--force")
+    assert code == 0 and "FLAGGED: " in stdout
+    model = json.loads((out / "model.json").read_text())
+    assert model["payload"]["flags"]
+    dst = tmp_path / "cal.csv"
+    one_line_error(*cli(capsys, "triaxial", "apply", out / "model.json", path, "--out",
+                        dst)[::2], "flagged")
+    assert not dst.exists()
+    code, _, err = cli(capsys, "triaxial", "apply", out / "model.json", path, "--out", dst,
+                       "--force")
+    assert code == 0 and dst.exists()
+
+
+def _hand_placed_faces(path, deg=3.0, seed=0, g=9.81):
+    from inertialab.sensors import triaxial as tx
+
+    rng = np.random.default_rng(seed)
+    faces = ["+x", "-x", "+y", "-y", "+z", "-z"]
+    d = np.array([[1.0, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]])
+    up = []
+    for v in d:
+        w = rng.standard_normal(3) * np.deg2rad(deg)
+        w -= v * (w @ v)
+        up.append(tx.rotation(w) @ v)
+    a = tx.forward(tp.X_MPU6050_A, g * np.array(up)) + 2e-4 * rng.standard_normal((6, 3))
+    pd.DataFrame({"pos_id": range(1, 7), "ax_mps2": a[:, 0], "ay_mps2": a[:, 1],
+                  "az_mps2": a[:, 2], "face": faces}).to_csv(path, index=False)
+    return a
+
+
+def test_six_position_on_hand_placed_faces_gives_gravity_on_every_face(capsys, tmp_path):
+    # issue 17 item 3: |a| within 1e-4 g on every face after calibration (faces tilted ~3 deg)
+    path = tmp_path / "faces.csv"
+    a = _hand_placed_faces(path)
+    code, out, err = cli(capsys, "triaxial", "fit", path, "--method", "six-position",
+                         "--g-local", "9.81", "--json", "--out", tmp_path / "res")
+    assert code == 0, err
+    d = json.loads(out)
+    cal = (a - np.array(d["offset"])) @ np.array(d["correction_matrix"]).T
+    assert np.max(np.abs(np.linalg.norm(cal, axis=1) - 9.81)) < 1e-4 * 9.81
+    assert d["extra"]["refined"] is True and len(d["extra"]["face_tilt_deg"]) == 6
+    # options the method does not use are refused, not ignored
+    for extra, flag in ((["--objective", "scalar"], "--objective"),
+                        (["--max-generations", "50"], "--max-generations"),
+                        (["--robust"], "--robust")):
+        one_line_error(*cli(capsys, "triaxial", "fit", path, "--method", "six-position",
+                            "--g-local", "9.81", *extra)[::2], f"does not use {flag}")
+    sph = tmp_path / "sph.csv"
+    cli(capsys, "simulate", "triaxial-poses", "--scenario", "sphere100-clean", "--out", sph)
+    one_line_error(*cli(capsys, "triaxial", "fit", sph, "--max-generations", "50")[::2],
+                   "method 'lm' does not use --max-generations")
+    one_line_error(*cli(capsys, "triaxial", "fit", sph, "--placement-deg", "1")[::2],
+                   "does not use --placement-deg")
+
+
+def test_ferraris_command_detects_sections_writes_model_figure_and_sections(capsys, tmp_path):
+    # issue 17 item 2 end to end: simulate a hand-made session, calibrate, apply
+    path = tmp_path / "session.csv"
+    assert cli(capsys, "simulate", "ferraris-session", "--seed", "3", "--out", path)[0] == 0
+    truth_sections = json.loads((tmp_path / "session.sections.json").read_text())
+    out = tmp_path / "res"
+    code, stdout, err = cli(capsys, "triaxial", "ferraris", path, "--json", "--out", out)
+    assert code == 0, err
+    d = json.loads(stdout)
+    assert d["sections_detected"] is True and set(d["sections"]) == set(truth_sections)
+    assert all(abs(f["norm_error_mps2"]) < 1e-4 * 9.81 for f in d["faces"].values())
+    for name in ("model.json", "result.json", "sections.json", "ferraris_sections.png"):
+        assert (out / name).exists(), name
+    # the written sections feed back through --sections (imucal's format), same model
+    code, stdout2, err = cli(capsys, "calibrate", "ferraris", path, "--json", "--sections",
+                             out / "sections.json")
+    assert code == 0, err
+    d2 = json.loads(stdout2)
+    assert d2["sections_detected"] is False
+    assert np.allclose(d2["correction_matrix"], d["correction_matrix"], rtol=1e-12)
+    # apply: calibrated accelerometer and gyro columns
+    dst = tmp_path / "cal.csv"
+    code, _, err = cli(capsys, "triaxial", "apply", out / "model.json", path, "--out", dst)
+    assert code == 0, err
+    cal = pd.read_csv(dst)
+    assert {"ax_mps2", "ay_mps2", "az_mps2", "gx_rps", "gy_rps", "gz_rps"} <= set(cal.columns)
+    # a bad section list is a one-line error naming the section
+    bad = dict(truth_sections)
+    bad.pop("z_rot")
+    (tmp_path / "bad.json").write_text(json.dumps(bad))
+    one_line_error(*cli(capsys, "triaxial", "ferraris", path, "--sections",
+                        tmp_path / "bad.json")[::2], "lacks z_rot")
+
+
+def test_apply_gives_physics_back_on_a_parquet_log(capsys, tmp_path):
+    # issue 17 item 4: a raw log of the same sensor, in another readable format (Parquet),
+    # comes back as calibrated m/s^2 and rad/s: |a| = g at rest, the motion between two
+    # poses integrates to the true rotation angle
+    pytest.importorskip("pyarrow")
+    raw = tmp_path / "log.raw.csv"
+    cli(capsys, "simulate", "triaxial-poses", "--scenario", "rawlog62-counts", "--seed", "2",
+        "--out", raw)
+    code, _, err = cli(capsys, "triaxial", "fit", raw, "--gyro", "--out", tmp_path / "cal")
+    assert code == 0, err
+    log = tmp_path / "log2.parquet"
+    rec = tp.simulate("rawlog62-counts", seed=5)
+    from inertialab.io import write_record
+
+    write_record(rec.data, log, rec.meta)
+    dst = tmp_path / "out.csv"
+    code, _, err = cli(capsys, "triaxial", "apply", tmp_path / "cal" / "model.json", log,
+                       "--out", dst)
+    assert code == 0, err
+    cal = pd.read_csv(dst)
+    a = cal[["ax_mps2", "ay_mps2", "az_mps2"]].to_numpy()
+    w = cal[["gx_rps", "gy_rps", "gz_rps"]].to_numpy()
+    bounds = rec.truth["dwell_bounds"]
+    for k in (0, 10, 30, 61):
+        i, j = bounds[k]
+        assert abs(np.linalg.norm(a[i:j].mean(axis=0)) - 9.8) < 0.01  # 16-bit counts, 1e-3 g
+    # motion 10 -> 11: the integrated calibrated rate equals the true rotation vector
+    i, j = bounds[10][1], bounds[11][0]
+    true_rot = rec.truth["omega_body_rps"][i:j].sum(axis=0) / 100.0
+    got = w[i:j].sum(axis=0) / 100.0
+    assert np.linalg.norm(got - true_rot) < 2e-3 * max(np.linalg.norm(true_rot), 1.0)
+
+
+def test_export_to_imucal_imu_tk_and_kalibr(capsys, tmp_path):
+    path = tmp_path / "session.csv"
+    cli(capsys, "simulate", "ferraris-session", "--seed", "1", "--placement-deg", "0.5",
+        "--out", path)
+    assert cli(capsys, "triaxial", "ferraris", path, "--out", tmp_path / "cal")[0] == 0
+    model = tmp_path / "cal" / "model.json"
+    code, out, err = cli(capsys, "triaxial", "export", model, "--to", "imucal", "--out",
+                         tmp_path / "imucal.json")
+    assert code == 0, err
+    assert json.loads((tmp_path / "imucal.json").read_text())["cal_type"] == "Ferraris"
+    one_line_error(*cli(capsys, "triaxial", "export", model, "--to", "imu_tk", "--out",
+                        tmp_path / "imu")[::2], "--drop-g-sensitivity")
+    code, out, err = cli(capsys, "triaxial", "export", model, "--to", "imu_tk", "--out",
+                         tmp_path / "imu", "--drop-g-sensitivity")
+    assert code == 0 and (tmp_path / "imu_gyro.calib").exists()
+    code, out, err = cli(capsys, "triaxial", "export", model, "--to", "kalibr", "--out",
+                         tmp_path / "imu.yaml")
+    assert code == 0 and "scale-misalignment" in (tmp_path / "imu.yaml").read_text()
+    one_line_error(*cli(capsys, "triaxial", "export", model, "--to", "matlab", "--out",
+                        tmp_path / "x")[::2], "--to must be")

@@ -54,15 +54,22 @@ def test_raw_counts_log_with_gyro_end_to_end():
     assert m.gyro["raw_unit"] == "lsb" and m.static_intervals == 62
 
 
-def test_gyro_counts_need_sensitivity():
+def test_gyro_counts_start_from_the_data_without_a_sensitivity():
+    # issue 17 item 5: a counts log without gyro_lsb_per_rps starts M_g from the data (motion
+    # angle between gravity directions / integrated raw rate) and reaches the same optimum
     raw = tp.simulate("rawlog62-counts", seed=2)
     d = raw.data
     meta = {k: v for k, v in raw.meta.items() if k != "gyro_lsb_per_rps"}
     data = fc.raw_log_data(d["t_s"].to_numpy(), d[["ax_lsb", "ay_lsb", "az_lsb"]].to_numpy(), meta,
                            suffix="lsb", k_thr=6)
-    with pytest.raises(InputError, match="gyro_lsb_per_rps"):
-        fc.calibrate_record_data(data, gyro_raw=d[["gx_lsb", "gy_lsb", "gz_lsb"]].to_numpy(),
-                                 t=d["t_s"].to_numpy(), gyro_suffix="lsb", meta=meta)
+    kw = dict(gyro_raw=d[["gx_lsb", "gy_lsb", "gz_lsb"]].to_numpy(), t=d["t_s"].to_numpy(),
+              gyro_suffix="lsb")
+    free = fc.calibrate_record_data(data, meta=meta, **kw)
+    hinted = fc.calibrate_record_data(data, meta=raw.meta, **kw)
+    assert free.model.gyro["start_from"] == "data" and hinted.model.gyro["start_from"] == "unit"
+    # the start is within a few per cent of the true 1/(131 LSB per deg/s)
+    assert abs(free.gyro_nominal[0, 0] * tp.GYRO_LSB_PER_RPS - 1) < 0.05
+    assert np.allclose(free.gyro_fit.matrix, hinted.gyro_fit.matrix, rtol=1e-6, atol=1e-12)
 
 
 def test_schedule_matched_in_time_order_and_count_mismatch():
@@ -101,3 +108,91 @@ def test_absolute_threshold_in_working_units():
     fixed = fc.raw_log_data(t, a, raw.meta, suffix="lsb", threshold=swept.intervals.threshold)
     assert np.array_equal(fixed.intervals.start, swept.intervals.start)
     assert fixed.k_thr is None
+
+
+def _g_as_mps2_record(tmp_path):
+    # static records in g written as m/s^2: the silent-garbage case of issue 17
+    from inertialab.sensors import triaxial as tx
+
+    d = np.random.default_rng(2).standard_normal((30, 3))
+    d /= np.linalg.norm(d, axis=1)[:, None]
+    a = tx.forward(X_TRUE, 9.8 * d) / 9.8
+    path = tmp_path / "g.static.csv"
+    path.write_text("# g_local=9.8\npos_id,ax_mps2,ay_mps2,az_mps2\n" + "".join(
+        f"{i + 1},{v[0]:.9f},{v[1]:.9f},{v[2]:.9f}\n" for i, v in enumerate(a)))
+    return path
+
+
+def test_garbage_fit_is_refused_forced_fit_is_flagged_and_apply_refuses_it(tmp_path):
+    from inertialab.calib.triaxial_checks import ImplausibleCalibrationError
+
+    rec = fc.read(_g_as_mps2_record(tmp_path))
+    session = fc.prepare(rec)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        with pytest.raises(ImplausibleCalibrationError, match="implausible: bx, by, bz"):
+            fc.fit(session)
+        run = fc.fit(session, fc.Config(force=True))
+    assert run.model.flags and any("kx, ky, kz" in f for f in run.model.flags)
+    d = run.model.to_dict()
+    assert d["flags"] == run.model.flags
+    assert type(run.model).from_dict(d).flags == run.model.flags
+    with pytest.raises(InputError, match="flagged.*argument 'force'"):
+        fc.apply(run.model, rec)
+    out = fc.apply(run.model, rec, force=True)
+    assert {"ax_mps2", "ay_mps2", "az_mps2"} <= set(out.data.columns)
+
+
+def test_wrong_gyro_sensitivity_is_refused():
+    # gyro counts per rad/s given 10x too small: the LM starts 10x off and ends in a M_g far
+    # from any plausible gyro (measured: scale 0.27, misalignments up to 4.6 relative to the
+    # stated nominal)
+    raw = tp.simulate("rawlog62-counts", seed=2)
+    d = raw.data
+    data = fc.raw_log_data(d["t_s"].to_numpy(), d[["ax_lsb", "ay_lsb", "az_lsb"]].to_numpy(),
+                           raw.meta, suffix="lsb")
+    session = fc.Session(data=data, meta=raw.meta, t=d["t_s"].to_numpy(),
+                         gyro_raw=d[["gx_lsb", "gy_lsb", "gz_lsb"]].to_numpy(), gyro_suffix="lsb")
+    from inertialab.calib.triaxial_checks import ImplausibleCalibrationError
+
+    with pytest.raises(ImplausibleCalibrationError, match=r"implausible: m11 \(gyro scale.*gyro misalignment"):
+        fc.fit(session, fc.Config(gyro_lsb_per_rps=tp.GYRO_LSB_PER_RPS / 10))
+    assert not fc.fit(session, fc.Config()).model.flags  # the header's value is right
+
+
+def test_quality_eq21_per_pose_intervals_and_coverage():
+    # issue 17 item 5 on a turntable record with references (LM-S9)
+    from scipy import stats
+
+    from inertialab.metrics import vector_error
+    from inertialab.sensors import triaxial as tx
+
+    rec = tp.simulate("turntable62", seed=3)
+    data = fc.static_data_from_frame(rec.data, rec.meta)
+    run = fc.calibrate_record_data(data, objective="scalar")
+    q = fc.quality(run)
+    a_cal = tx.correct(run.fit.x, data.a)
+    ve = vector_error(data.ref, a_cal)
+    assert q["eq21"]["rmse_mps2"] == ve.rmse and q["eq21"]["sd_mps2"] == ve.sd
+    assert len(q["per_pose"]) == 62 and q["per_pose"][0]["pos_id"] == 1
+    assert np.isclose(q["per_pose"][5]["vector_error_mps2"], np.linalg.norm(data.ref[5] - a_cal[5]))
+    assert q["dof"] == 62 * 3 - 9
+    lo, hi = q["ci95"]["kx"]
+    se = run.fit.stderr[3]
+    assert np.isclose(hi - lo, 2 * stats.t.ppf(0.975, q["dof"]) * se)
+    ev = q["coverage"]["eigenvalues"]
+    assert np.isclose(sum(ev), 1.0) and min(ev) > 0.2  # the 62 poses cover the sphere
+
+
+def test_ci95_covers_the_truth_about_95_percent():
+    # 40 noisy sphere sets x 9 parameters: the fraction of intervals holding the truth
+    hits = []
+    for s in range(40):
+        rec = tp.simulate("sphere1000-noisy", seed=300 + s)
+        data = fc.static_data_from_frame(rec.data, rec.meta)
+        q = fc.quality(fc.calibrate_record_data(data, objective="scalar"))
+        for j, name in enumerate(("bx", "by", "bz", "kx", "ky", "kz", "theta_yz", "theta_zy",
+                                  "theta_zx")):
+            lo, hi = q["ci95"][name]
+            hits.append(lo <= X_TRUE[j] <= hi)
+    assert 0.90 <= np.mean(hits) <= 0.99

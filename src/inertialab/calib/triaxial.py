@@ -35,7 +35,13 @@ from inertialab.optim.cuckoo import adaptive_cuckoo_search, cuckoo_search
 from inertialab.optim.pso import pso
 from inertialab.regress.nlls import covariance, levenberg_marquardt
 from inertialab.sensors import triaxial as tx
-from inertialab.sensors.triaxial_classic import FACES, ellipsoid_fit, six_position
+from inertialab.sensors.triaxial_classic import (
+    FACES,
+    PLACEMENT_RAD,
+    ellipsoid_fit,
+    face_fit,
+    six_position,
+)
 
 METHODS = ("lm", "acs", "cs", "pso", "six-position", "ellipsoid")
 OBJECTIVE_ALIASES = {"norm": "norm", "norm2": "norm2", "scalar": "scalar", "s9": "scalar",
@@ -59,7 +65,9 @@ class TriaxialCalibration:
     counts in counts mode: ``bx`` in counts, ``kx`` in counts per m/s^2).
 
     The gyro block (``gyro``) is a dict with ``correction_matrix`` (raw gyro unit ->
-    rad/s), ``offset`` (raw gyro unit) and ``raw_unit``.
+    rad/s), ``offset`` (raw gyro unit) and ``raw_unit``. ``flags`` lists what made the
+    fit implausible or not identifiable when it was written anyway (issue 17 item 1,
+    :mod:`inertialab.calib.triaxial_checks`); a flagged model is applied only on request.
     """
 
     MODEL_TYPE = "triaxial-calibration"
@@ -81,6 +89,7 @@ class TriaxialCalibration:
     n_records: int = 0
     static_intervals: int | None = None
     gyro: dict | None = None
+    flags: list = field(default_factory=list)
 
     def apply(self, raw) -> np.ndarray:
         """Calibrated accelerations (m/s^2) for raw samples of shape (n, 3)."""
@@ -89,12 +98,24 @@ class TriaxialCalibration:
             raise InputError(f"raw samples must have shape (n, 3), got {raw.shape}")
         return (raw - self.offset) @ np.asarray(self.correction_matrix).T
 
-    def apply_gyro(self, raw) -> np.ndarray:
-        """Calibrated rates (rad/s) for raw gyro samples (n, 3); needs the gyro block."""
+    def apply_gyro(self, raw, acc=None) -> np.ndarray:
+        """Calibrated rates (rad/s) for raw gyro samples (n, 3); needs the gyro block.
+
+        A gyro block with a ``g_sensitivity`` (Ferraris calibrations) also needs the
+        calibrated specific force ``acc`` (n, 3) in m/s^2 (:meth:`apply` of the same
+        samples): ``rate = M_g (raw - offset - g_sensitivity @ acc)``.
+        """
         if self.gyro is None:
-            raise InputError("this calibration has no gyro block; calibrate with gyro data (argument 'gyro_raw')")
-        raw = np.asarray(raw, dtype=float)
-        return (raw - np.asarray(self.gyro["offset"])) @ np.asarray(self.gyro["correction_matrix"]).T
+            raise InputError("this calibration has no gyro block; calibrate with gyro data "
+                             "(argument 'gyro_raw')")
+        raw = np.asarray(raw, dtype=float) - np.asarray(self.gyro["offset"])
+        kga = self.gyro.get("g_sensitivity")
+        if kga is not None:
+            if acc is None:
+                raise InputError("this gyro calibration corrects the g-sensitivity: give the "
+                                 "calibrated accelerations (argument 'acc')")
+            raw = raw - np.asarray(acc, dtype=float) @ np.asarray(kga, dtype=float).T
+        return raw @ np.asarray(self.gyro["correction_matrix"]).T
 
     def to_dict(self) -> dict:
         return {
@@ -110,6 +131,7 @@ class TriaxialCalibration:
             "nfev": int(self.nfev), "n_records": int(self.n_records),
             "static_intervals": self.static_intervals,
             "gyro": None if self.gyro is None else to_jsonable(self.gyro),
+            "flags": [str(f) for f in self.flags],
         }
 
     @classmethod
@@ -126,6 +148,10 @@ class TriaxialCalibration:
                 gy["offset"] = np.asarray(gy["offset"], dtype=float)
                 if gy["correction_matrix"].shape != (3, 3) or gy["offset"].shape != (3,):
                     raise ValueError("gyro shapes")
+                if gy.get("g_sensitivity") is not None:
+                    gy["g_sensitivity"] = np.asarray(gy["g_sensitivity"], dtype=float)
+                    if gy["g_sensitivity"].shape != (3, 3):
+                        raise ValueError("g_sensitivity shape")
             return cls(
                 method=str(d["method"]), objective=str(d["objective"]),
                 params={str(k): float(v) for k, v in d["params"].items()},
@@ -136,7 +162,7 @@ class TriaxialCalibration:
                                    else float("nan")),
                 iterations=int(d.get("iterations", 0)), nfev=int(d.get("nfev", 0)),
                 n_records=int(d.get("n_records", 0)), static_intervals=d.get("static_intervals"),
-                gyro=gy)
+                gyro=gy, flags=[str(f) for f in (d.get("flags") or [])])
         except (KeyError, TypeError, ValueError) as exc:
             raise InputError(f"not a valid triaxial-calibration payload ({exc})") from None
 
@@ -292,7 +318,8 @@ def _six_faces(ref):
 def calibrate(a, *, ref=None, method: str = "lm", objective: str = "norm", g: float = tx.G_PAPER,
               rng=0, counts: bool = False, pop_size: int = 25, max_generations: int = 1000,
               loss: str = "linear", f_scale: float | None = None,
-              bounded: bool = False) -> CalibrationFit:
+              bounded: bool = False, refine_faces: bool = True,
+              placement_rad: float = PLACEMENT_RAD) -> CalibrationFit:
     """Calibrate a triaxial accelerometer from static record means (spec 002 §3).
 
     Parameters
@@ -322,6 +349,12 @@ def calibrate(a, *, ref=None, method: str = "lm", objective: str = "norm", g: fl
     bounded : bool, default False
         LM only: solve with scipy's ``trf`` inside the search box of spec 002 §3.2 (the
         bounded variant of §3.6; the box is centred on the initial estimate in counts mode).
+    refine_faces : bool, default True
+        Six-position only: refine the 12-parameter closed form so that every face has
+        |a| = g (:func:`~inertialab.sensors.triaxial_classic.face_fit`, issue 17 item 3:
+        hand-placed faces); False is the classic closed form of spec 002 §3.7.
+    placement_rad : float, default 2 deg
+        Six-position with ``refine_faces``: standard deviation of a face's tilt.
 
     Raises
     ------
@@ -351,7 +384,7 @@ def calibrate(a, *, ref=None, method: str = "lm", objective: str = "norm", g: fl
             f"{what} needs a reference direction for every record (ref_x/ref_y/ref_z, "
             "pitch_deg/heading_deg or face); in field mode set argument 'objective' to 'norm'")
     if method == "six-position":
-        return _fit_six(a, ref, g)
+        return _fit_six(a, ref, g, refine=refine_faces, placement_rad=placement_rad)
     _check_design(a, ref, objective)
     n = a.shape[0]
     if method == "ellipsoid":
@@ -472,16 +505,24 @@ def suggest_orientations(x, a, *, g: float = tx.G_PAPER, objective: str = "norm"
     return np.array(picked)
 
 
-def _fit_six(a, ref, g) -> CalibrationFit:
+def _fit_six(a, ref, g, *, refine: bool = True, placement_rad: float = PLACEMENT_RAD
+             ) -> CalibrationFit:
     idx = _six_faces(ref)
     t0 = time.perf_counter()
     r12 = six_position(a[idx], g=g, form=12)
     r6 = six_position(a[idx], g=g, form=6)
+    x = r12.x
+    rot = r12.rotation
+    extra = {}
+    if refine:
+        ff = face_fit(a[idx], g=g, placement_rad=placement_rad)
+        x, rot = ff.x, ff.rotation
+        extra = {"x_closed_form": r12.x.tolist(), "face_tilt_deg": np.rad2deg(ff.tilt_rad).tolist(),
+                 "face_norm_residual": ff.norm_residual.tolist()}
     wall = time.perf_counter() - t0
-    fit = _finish(a[idx], ref[idx], r12.x, None, "six-position", "scalar", g, None, 0, 1, True,
-                  wall, r12.x, None)
-    fit = CalibrationFit(**{**fit.__dict__, "corrected": tx.correct(r12.x, a),
+    fit = _finish(a[idx], ref[idx], x, None, "six-position", "scalar", g, None, 0, 1, True,
+                  wall, x, None)
+    fit = CalibrationFit(**{**fit.__dict__, "corrected": tx.correct(x, a),
                             "n_records": int(a.shape[0])})
-    return _with_extra(fit, x_6param=r6.x.tolist(), rotation_12param=r12.rotation.tolist(),
-                       face_rows=idx.tolist())
-
+    return _with_extra(fit, x_6param=r6.x.tolist(), rotation_12param=rot.tolist(),
+                       face_rows=idx.tolist(), refined=bool(refine), **extra)

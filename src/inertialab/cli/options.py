@@ -172,6 +172,13 @@ FLAG_OF: dict[str, str] = {
     "t_init_s": "--t-init",
     "min_duration_s": "--min-duration",
     "window_s": "--window",
+    "force": "--force",
+    "bias_limit": "--bias-limit",
+    "norm_tol": "--norm-tol",
+    "max_generations": "--max-generations",
+    "robust": "--robust",
+    "placement_deg": "--placement-deg",
+    "drop_g_sensitivity": "--drop-g-sensitivity",
 }
 
 

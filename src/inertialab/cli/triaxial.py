@@ -11,6 +11,7 @@ import functools
 import json
 from pathlib import Path
 
+import numpy as np
 import typer
 
 from inertialab.cli.common import (
@@ -70,9 +71,10 @@ def triaxial_fit(
     file: Path = typer.Argument(..., help="Static-record CSV (one row per pose) or raw log "
                                           "(t_s, ax, ay, az [, gx, gy, gz]); told apart by columns."),
     method: str = typer.Option("lm", "--method", help="lm | acs | cs | pso | six-position | ellipsoid"),
-    objective: str = typer.Option("norm", "--objective",
-                                  help="norm (J_H, field mode) | norm2 (J_H2) | scalar (S9, "
-                                       "needs references) | scalar12 (S12, with mount rotation)"),
+    objective: str = typer.Option(None, "--objective",
+                                  help="norm (J_H, field mode; default) | norm2 (J_H2) | scalar "
+                                       "(S9, needs references) | scalar12 (S12, with mount "
+                                       "rotation). lm, acs, cs, pso only."),
     unit: str = typer.Option(None, "--unit", help="Unit of suffix-less ax/ay/az: mps2 | g | lsb "
                                                   "(overrides suffixes and header)."),
     lsb_per_g: float = typer.Option(None, "--lsb-per-g", help="Counts per g (e.g. 16384); "
@@ -95,8 +97,21 @@ def triaxial_fit(
     min_duration: float = typer.Option(1.5, "--min-duration", help="Shortest static run, s."),
     robust: bool = typer.Option(False, "--robust", help="soft-L1 loss in the LM (f_scale = 3 x "
                                                         "the robust residual scale of a plain fit)."),
-    max_generations: int = typer.Option(1000, "--max-generations",
-                                        help="Metaheuristic generation budget."),
+    max_generations: int = typer.Option(None, "--max-generations",
+                                        help="Metaheuristic generation budget (acs, cs, pso; "
+                                             "default 1000)."),
+    placement_deg: float = typer.Option(None, "--placement-deg",
+                                        help="six-position: standard deviation of a hand-placed "
+                                             "face's tilt, deg (default 2)."),
+    bias_limit: float = typer.Option(None, "--bias-limit",
+                                     help="Largest plausible |accelerometer bias|, m/s^2 "
+                                          "(default 0.5 g)."),
+    norm_tol: float = typer.Option(None, "--norm-tol",
+                                   help="Largest plausible | |a| - g | of a calibrated pose, "
+                                        "m/s^2 (default 0.02 g)."),
+    force: bool = typer.Option(False, "--force",
+                               help="Write a non-identifiable or implausible calibration "
+                                    "anyway, flagged (apply then needs --force too)."),
     seed: SeedOpt = 0,
     out: OutDirOpt = None,
     as_json: JsonOpt = False,
@@ -106,12 +121,15 @@ def triaxial_fit(
     """Calibrate a triaxial accelerometer (and gyro) from static records or a raw log."""
     import numpy as np
 
+    from inertialab.calib.triaxial_checks import Limits
     from inertialab.io import save_model
     from inertialab.workflows import triaxial as wf
 
     config = wf.Config(method=method, objective=objective, seed=seed,
                        max_generations=max_generations, robust=robust,
-                       gyro_lsb_per_rps=gyro_lsb_per_rps)
+                       placement_deg=placement_deg,
+                       gyro_lsb_per_rps=gyro_lsb_per_rps, force=force,
+                       limits=Limits(bias=bias_limit, norm_tol=norm_tol))
     ulower = None if unit is None else unit.lower()
     out_dir = prepare_out_dir(out) if out is not None else None
     inputs = [file]
@@ -137,7 +155,7 @@ def triaxial_fit(
         bar.update(1.0, 1.0, "done")
     warns = list(warns) + [w for w in warns2 if w not in warns]
     fit, data = run.fit, run.data
-    m, obj = fit.method, config.objective.strip().lower()
+    m, obj = fit.method, run.model.objective
     payload = wf.result_payload(run)
     payload["seed"] = seed
     units_ = wf.result_units(run)
@@ -146,10 +164,13 @@ def triaxial_fit(
                 "gyro": gyro, "g_local": data.g, "seed": seed, "k_thr": k_thr,
                 "threshold": threshold, "t_init_s": t_init, "window_s": window,
                 "min_duration_s": min_duration, "robust": robust,
-                "max_generations": max_generations}
+                "max_generations": max_generations, "placement_deg": placement_deg,
+                "bias_limit_mps2": bias_limit,
+                "norm_tol_mps2": norm_tol, "force": force}
     if out_dir is not None:
         from inertialab.report.figures.triaxial import (
             convergence_figure,
+            coverage_figure,
             norm_error_figure,
             sphere_figure,
         )
@@ -163,7 +184,8 @@ def triaxial_fit(
         cor = correct(fit.x, data.a)
         figs = [sphere_figure(data.a, cor, data.g,
                               title=f"{file.name}: measured vs corrected ({m}, {obj})"),
-                norm_error_figure({f"{m}-{obj}": np.linalg.norm(cor, axis=1) - data.g})]
+                norm_error_figure({f"{m}-{obj}": np.linalg.norm(cor, axis=1) - data.g}),
+                coverage_figure(cor, title=f"{file.name}: pose coverage")]
         if fit.history is not None:
             figs.append(convergence_figure({m: [fit.history]}))
         write_figures(figs, out_dir)
@@ -186,6 +208,15 @@ def triaxial_fit(
     print("offset = [" + ", ".join(f"{v:.9g}" for v in payload["offset"]) + f"] {data.raw_unit}")
     print(f"residual RMS = {fit.residual_rms:.4g}, iterations = {fit.iterations}, "
           f"nfev = {fit.nfev}")
+    q = payload["quality"]
+    ne = q["norm_error"]
+    print(f"| |a| - g |: RMSE {ne['rmse_mps2']:.4g}, max {ne['max_abs_mps2']:.4g} m/s^2 over "
+          f"{len(q['per_pose'])} poses")
+    if "eq21" in q:
+        print(f"eq. 21 vector error: RMSE {q['eq21']['rmse_mps2']:.4g}, SD {q['eq21']['sd_mps2']:.4g}"
+              f" m/s^2 ({q['eq21']['frame']} frame)")
+    print(f"95 % intervals (t, {q['dof']} dof): " + "; ".join(
+        f"{k} [{lo:.6g}, {hi:.6g}]" for k, (lo, hi) in q["ci95"].items()))
     if run.gyro_fit is not None:
         gf = run.gyro_fit
         print("gyro: rate = M_g @ (raw - bias)   [rad/s]")
@@ -193,6 +224,8 @@ def triaxial_fit(
             print("  [" + "  ".join(f"{v:+.9g}" for v in row) + "]")
         print("bias = [" + ", ".join(f"{v:.6g}" for v in gf.bias) + f"] {gsuf}; "
               f"direction residual RMS = {gf.residual_rms:.3g} rad over {gf.n_pairs} motions")
+    for flag in run.model.flags:
+        print(f"FLAGGED: {flag}")
     if out_dir is not None:
         print(f"written: {out_dir}")
 
@@ -203,6 +236,7 @@ def triaxial_apply(
     out: Path = typer.Option(..., "--out", help="Output record file (.csv or .parquet); a "
                                                 "sidecar .meta.json is written beside it."),
     unit: str = typer.Option(None, "--unit", help="Unit of suffix-less ax/ay/az (mps2 | g | lsb)."),
+    force: bool = typer.Option(False, "--force", help="Apply a flagged calibration anyway."),
     as_json: JsonOpt = False,
     quiet: QuietOpt = False,
     read: ReadOptions = None,
@@ -217,7 +251,7 @@ def triaxial_apply(
     with collect_warnings(quiet=quiet or as_json) as warns:
         model = load_model(model_file, expected_type="triaxial-calibration")
         rec = wf.read(file, options=read, unit=ulower)
-        cal = wf.apply(model, rec, model_path=model_file)
+        cal = wf.apply(model, rec, model_path=model_file, force=force)
         write_record(cal.data, out, cal.meta)
     cols = [rec.find(b) for b in ("ax", "ay", "az")]
     gyro_done = wf.gyro_applied(model, rec)
@@ -225,10 +259,137 @@ def triaxial_apply(
                "gyro_calibrated": gyro_done, "raw_unit": model.raw_unit}
     if as_json:
         emit_json("triaxial apply", summary, inputs=[model_file, file],
-                  settings={"unit": ulower}, units={}, warnings_=warns)
+                  settings={"unit": ulower, "force": force}, units={}, warnings_=warns)
         return
     print(f"written: {out} ({len(cal.data)} rows, calibrated to m/s^2"
           + (" and rad/s" if gyro_done else "") + ")")
+
+
+def triaxial_ferraris(
+    file: Path = typer.Argument(..., help="Raw log of a Ferraris session: t_s, ax ay az, gx gy gz "
+                                          "(six static faces, then one turn about each axis)."),
+    sections: Path = typer.Option(None, "--sections",
+                                  help="imucal section list (JSON {\"x_p\": {\"start\": i, "
+                                       "\"end\": j}, ..., \"z_rot\": ...}); default: detected "
+                                       "from the accelerometer and the gyro."),
+    rotation_deg: float = typer.Option(360.0, "--rotation-deg",
+                                       help="Angle of every turn, deg (the sense is detected)."),
+    placement_deg: float = typer.Option(2.0, "--placement-deg",
+                                        help="Standard deviation of a face's hand-placement "
+                                             "tilt, deg."),
+    no_g_sensitivity: bool = typer.Option(False, "--no-g-sensitivity",
+                                          help="Do not estimate the gyro's g-sensitivity."),
+    g_local: float = typer.Option(None, "--g-local", help="Local gravity, m/s^2 (else header, "
+                                                          "else 9.80665 with a warning)."),
+    unit: str = typer.Option(None, "--unit", help="Unit of suffix-less ax/ay/az (mps2 | g | lsb)."),
+    bias_limit: float = typer.Option(None, "--bias-limit",
+                                     help="Largest plausible |accelerometer bias|, m/s^2."),
+    force: bool = typer.Option(False, "--force", help="Write an implausible calibration "
+                                                      "anyway, flagged."),
+    out: OutDirOpt = None,
+    as_json: JsonOpt = False,
+    quiet: QuietOpt = False,
+    read: ReadOptions = None,
+):
+    """Ferraris protocol: accelerometer (12 parameters) and gyro (scale, misalignment, bias,
+    g-sensitivity) from six static faces and a turn about each axis."""
+    from inertialab.calib.triaxial_checks import Limits
+    from inertialab.io import save_model
+    from inertialab.workflows import ferraris as wf
+    from inertialab.workflows import triaxial as wt
+
+    out_dir = prepare_out_dir(out) if out is not None else None
+    config = wf.Config(rotation_deg=rotation_deg, placement_deg=placement_deg,
+                       g_sensitivity=not no_g_sensitivity, force=force,
+                       limits=Limits(bias=bias_limit))
+    inputs = [file] + ([sections] if sections is not None else [])
+    with collect_warnings(quiet=quiet or as_json) as warns, \
+            progress_bar("triaxial ferraris", quiet=quiet or as_json) as bar:
+        rec = wt.read(file, options=read, unit=unit, g_local=g_local)
+        session = wf.prepare(rec, sections=sections, g_local=g_local)
+        bar.update(0.5, 1.0, "sections ready")
+        run = wf.fit(session, config)
+        bar.update(1.0, 1.0, "done")
+    payload = wf.result_payload(run)
+    units_ = wf.result_units(run)
+    settings = {"sections": None if sections is None else str(sections),
+                "rotation_deg": rotation_deg, "placement_deg": placement_deg,
+                "g_sensitivity": not no_g_sensitivity, "g_local": session.g, "unit": unit,
+                "bias_limit_mps2": bias_limit, "force": force}
+    if out_dir is not None:
+        from inertialab.report.figures.triaxial import sections_figure
+
+        save_model(run.model, out_dir / "model.json", units=units_,
+                   training_data_sha256=rec.sha256)
+        atomic_write_text(out_dir / "result.json",
+                          json.dumps(to_jsonable(payload), indent=2, allow_nan=False) + "\n")
+        atomic_write_text(out_dir / "sections.json",
+                          json.dumps(payload["sections"], indent=1) + "\n")
+        write_figures([sections_figure(session.t, session.acc, session.gyro, session.sections,
+                                       detection=session.detection,
+                                       title=f"{file.name}: Ferraris sections")], out_dir)
+    if as_json:
+        emit_json("triaxial ferraris", payload, inputs=inputs, settings=settings, units=units_,
+                  warnings_=warns)
+        return
+    how = "detected" if session.detection is not None else f"from {sections}"
+    print(f"triaxial ferraris: {file.name}, sections {how}, {session.fs:g} Hz, g = {session.g:g}")
+    rows = [[name, f"{d['norm_error_mps2']:+.2e}", f"{d['tilt_deg']:.2f}"]
+            for name, d in payload["faces"].items()]
+    print_table(["face", "|a| - g (m/s^2)", "tilt (deg)"], rows, title="faces")
+    for name, d in payload["turns"].items():
+        sense = "counterclockwise" if d["sense"] > 0 else "clockwise"
+        print(f"{name}: {sense} seen from above, axis ("
+              + ", ".join(f"{v:+.3f}" for v in d["axis"]) + ")")
+    print("accelerometer: a = correction_matrix @ (raw - offset)   [m/s^2]")
+    for row in payload["correction_matrix"]:
+        print("  [" + "  ".join(f"{v:+.9g}" for v in row) + "]")
+    print("gyro: rate = M_g @ (raw - offset - g_sensitivity @ a)   [rad/s]")
+    for row in payload["gyro"]["correction_matrix"]:
+        print("  [" + "  ".join(f"{v:+.9g}" for v in row) + "]")
+    for flag in run.model.flags:
+        print(f"FLAGGED: {flag}")
+    if out_dir is not None:
+        print(f"written: {out_dir}")
+
+
+def triaxial_export(
+    model_file: Path = typer.Argument(..., help="model.json from 'triaxial fit' or 'triaxial "
+                                                "ferraris'."),
+    to: str = typer.Option(..., "--to", help="imucal (JSON, format 2.0.0) | imu_tk (.calib text, "
+                                             "one per triad) | kalibr (scale-misalignment YAML)"),
+    out: Path = typer.Option(..., "--out", help="Output file (imu_tk: the stem of "
+                                                "<stem>_acc.calib and <stem>_gyro.calib)."),
+    drop_g_sensitivity: bool = typer.Option(False, "--drop-g-sensitivity",
+                                            help="imu_tk: export a gyro with a g-sensitivity "
+                                                 "without it."),
+    force: bool = typer.Option(False, "--force", help="Export a flagged calibration anyway."),
+    as_json: JsonOpt = False,
+):
+    """Export a triaxial calibration for imucal, imu_tk or Kalibr."""
+    from inertialab.io import load_model
+    from inertialab.io.exporters import imu_tk, imucal, kalibr_intrinsics
+
+    model = load_model(model_file, expected_type="triaxial-calibration")
+    fmt = to.strip().lower().replace("-", "_")
+    if fmt == "imucal":
+        imucal.write_imucal(model, out, force=force)
+        written = [str(out)]
+    elif fmt == "imu_tk":
+        stem = str(out)[:-6] if str(out).endswith(".calib") else str(out)
+        written = imu_tk.write_imu_tk(model, stem, drop_g_sensitivity=drop_g_sensitivity,
+                                      force=force)
+    elif fmt == "kalibr":
+        kalibr_intrinsics.write_kalibr(model, out, force=force)
+        written = [str(out)]
+    else:
+        raise InputError(f"--to must be imucal, imu_tk or kalibr, got '{to}'")
+    if as_json:
+        emit_json("triaxial export", {"written": written, "format": fmt}, inputs=[model_file],
+                  settings={"to": fmt, "drop_g_sensitivity": drop_g_sensitivity, "force": force},
+                  units={})
+        return
+    print("written: " + ", ".join(written))
 
 
 def simulate_triaxial(
@@ -277,15 +438,54 @@ def simulate_triaxial(
     print("written: " + ", ".join(written))
 
 
+def simulate_ferraris(
+    out: Path = typer.Option(..., "--out", help="Record file (.csv or .parquet); the true "
+                                                "sections go to <stem>.sections.json."),
+    seed: int = typer.Option(0, "--seed", help="Random seed."),
+    placement_deg: float = typer.Option(2.0, "--placement-deg",
+                                        help="Hand-placement tilt per axis, deg (1 sigma)."),
+    angle_sigma_deg: float = typer.Option(1.0, "--angle-sigma-deg",
+                                          help="Error of each 360-deg turn, deg (1 sigma)."),
+    counts: bool = typer.Option(False, "--counts", help="16-bit counts instead of m/s^2, deg/s."),
+    as_json: JsonOpt = False,
+):
+    """Write a virtual Ferraris session (six hand-placed faces, three turns; 102.4 Hz)."""
+    from inertialab.io import write_record
+    from inertialab.sim.ferraris_session import simulate_ferraris as sim
+
+    if out.exists() and out.is_dir():
+        raise InputError("--out must be a file for this command", path=out)
+    rec = sim(seed=seed, placement_deg=placement_deg, angle_sigma_deg=angle_sigma_deg,
+              counts=counts)
+    write_record(rec.data, out, rec.meta)
+    sp = out.with_name(out.name.split(".")[0] + ".sections.json")
+    atomic_write_text(sp, json.dumps(rec.truth["sections"], indent=1) + "\n")
+    summary = {"written": [str(out), str(sp)], "rows": int(len(rec.data)), "seed": seed,
+               "senses": rec.truth["senses"].tolist(),
+               "angles_deg": [float(v) for v in np.rad2deg(rec.truth["angles_rad"])]}
+    if as_json:
+        emit_json("simulate ferraris-session", summary,
+                  settings={"seed": seed, "placement_deg": placement_deg,
+                            "angle_sigma_deg": angle_sigma_deg, "counts": counts},
+                  units={"angles_deg": "deg"})
+        return
+    print("written: " + ", ".join(summary["written"]))
+
+
 def register(app: typer.Typer, groups: dict) -> None:
     triaxial, calibrate, simulate = groups["triaxial"], groups["calibrate"], groups["simulate"]
     fit_cmd = _flag_errors(reading_options(triaxial_fit))
     apply_cmd = _flag_errors(reading_options(triaxial_apply))
     triaxial.command("fit")(fit_cmd)
+    ferraris_cmd = _flag_errors(reading_options(triaxial_ferraris))
     triaxial.command("apply")(apply_cmd)
+    triaxial.command("ferraris")(ferraris_cmd)
+    triaxial.command("export")(_flag_errors(triaxial_export))
     calibrate.command("triaxial", hidden=True)(fit_cmd)
     calibrate.command("apply", hidden=True)(apply_cmd)
+    calibrate.command("ferraris", hidden=True)(ferraris_cmd)
     simulate.command("triaxial-poses")(_flag_errors(simulate_triaxial))
+    simulate.command("ferraris-session")(_flag_errors(simulate_ferraris))
 
 
 def _report_batch(batch, file, out_dir, as_json, warns):

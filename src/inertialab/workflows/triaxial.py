@@ -21,6 +21,7 @@ is :mod:`inertialab.studies.triaxial`.
 
 from __future__ import annotations
 
+import dataclasses
 import warnings
 from dataclasses import dataclass
 
@@ -37,10 +38,18 @@ from inertialab.calib.triaxial import (  # noqa: F401 - re-exported for callers 
     initial_estimate,
 )
 from inertialab.calib.triaxial_batch import BatchCalibration, calibrate_batch  # noqa: F401
+from inertialab.calib.triaxial_checks import (
+    ImplausibleCalibrationError,
+    Limits,
+    check_accel,
+    check_gyro,
+    refusal,
+)
 from inertialab.calib.triaxial_session import (  # noqa: F401 - re-exported
     CalibrationRun,
     StaticData,
     calibrate_record_data,
+    quality,
     to_model,
 )
 from inertialab.errors import DataQualityWarning, InputError
@@ -380,16 +389,29 @@ def prepare(record: Record, *, lsb_per_g: float | None = None, schedule: pd.Data
 class Config:
     """Fit settings of :func:`fit` (defaults: spec 002 §3.6 LM on the field objective J_H).
 
+    ``None`` means the method's own default: objective ``norm`` (``scalar`` for the
+    six-position method), 1000 generations for the metaheuristics, a 2 deg face tilt for
+    the six-position refinement. A setting the method does not use is refused, not
+    ignored (issue 17 item 3): ``objective`` with ``six-position``/``ellipsoid``,
+    ``max_generations`` outside ``acs cs pso``, ``robust`` outside ``lm``,
+    ``placement_deg`` outside ``six-position``.
+
     ``robust`` uses the soft-L1 loss with f_scale = 3 x the robust residual scale of a
     plain fit (§7.3); ``seed`` and ``max_generations`` drive the metaheuristics (§3.3).
+    ``limits`` bound what counts as a plausible calibration
+    (:mod:`inertialab.calib.triaxial_checks`); a fit beyond them is refused
+    (:class:`ImplausibleCalibrationError`) unless ``force``, which writes it flagged.
     """
 
     method: str = "lm"
-    objective: str = "norm"
+    objective: str | None = None
     seed: int = 0
-    max_generations: int = 1000
+    max_generations: int | None = None
     robust: bool = False
+    placement_deg: float | None = None
     gyro_lsb_per_rps: float | None = None
+    force: bool = False
+    limits: Limits = Limits()
 
 
 def is_batch(session: Session) -> bool:
@@ -405,7 +427,9 @@ def fit(session: Session, config: Config | None = None):
     m = config.method.strip().lower()
     if m not in METHODS:
         raise InputError(f"argument 'method' must be one of {', '.join(METHODS)}, got '{config.method}'")
-    obj = config.objective.strip().lower()
+    _refuse_ignored(m, config)
+    default_obj = "scalar" if m == "six-position" else "norm"
+    obj = (config.objective or default_obj).strip().lower()
     if obj not in OBJECTIVES:
         raise InputError(f"argument 'objective' must be one of {', '.join(OBJECTIVES)}, "
                          f"got '{config.objective}'")
@@ -415,11 +439,46 @@ def fit(session: Session, config: Config | None = None):
             raise InputError(f"{len(set(data.unit_id))} units in one file: the batch solver runs "
                              "argument 'method' 'lm' with argument 'objective' 'scalar' (S9) only")
         return calibrate_batch(data)
-    robust_kw = {"loss": "soft_l1", "f_scale": None} if config.robust else {}
-    return calibrate_record_data(
+    kw = {"loss": "soft_l1", "f_scale": None} if config.robust else {}
+    if config.max_generations is not None:
+        kw["max_generations"] = int(config.max_generations)
+    if config.placement_deg is not None:
+        kw["placement_rad"] = float(np.deg2rad(config.placement_deg))
+    run = calibrate_record_data(
         data, method=m, objective=obj, rng=config.seed, gyro_raw=session.gyro_raw, t=session.t,
         gyro_suffix=session.gyro_suffix, gyro_lsb_per_rps=config.gyro_lsb_per_rps,
-        meta=session.meta, max_generations=config.max_generations, **robust_kw)
+        meta=session.meta, **kw)
+    findings = check_accel(run.fit, data.a, data.ref, data.g, counts=data.counts,
+                           limits=config.limits)
+    if run.gyro_fit is not None:
+        findings += check_gyro(run.gyro_fit, run.gyro_nominal, limits=config.limits)
+    if findings:
+        if not config.force:
+            raise ImplausibleCalibrationError(refusal(findings))
+        flags = [f.text() for f in findings]
+        warnings.warn("calibration written flagged: " + " | ".join(flags), DataQualityWarning,
+                      stacklevel=2)
+        run = dataclasses.replace(run, model=dataclasses.replace(run.model, flags=flags))
+    return run
+
+
+_USES = {
+    "objective": ("lm", "acs", "cs", "pso"),
+    "max_generations": ("acs", "cs", "pso"),
+    "robust": ("lm",),
+    "placement_deg": ("six-position",),
+}
+
+
+def _refuse_ignored(method: str, config: Config) -> None:
+    """A setting the method would ignore is an error (issue 17 item 3)."""
+    given = {"objective": config.objective is not None,
+             "max_generations": config.max_generations is not None,
+             "robust": bool(config.robust), "placement_deg": config.placement_deg is not None}
+    for name, methods in _USES.items():
+        if given[name] and method not in methods:
+            raise InputError(f"method '{method}' does not use argument '{name}' (used by "
+                             f"{', '.join(repr(x) for x in methods)}); drop it")
 
 
 def result_payload(run: CalibrationRun) -> dict:
@@ -435,7 +494,8 @@ def result_payload(run: CalibrationRun) -> dict:
         "J": fit_.J, "J_final": fit_.J, "x": fit_.x.tolist(),
         "x_names": list(d["params"]), "converged": fit_.converged, "cond": fit_.cond,
         "cov": None if fit_.cov is None else fit_.cov.tolist(),
-        "counts_mode": bool(data.counts), "wall_s": fit_.wall_s,
+        "counts_mode": bool(data.counts), "wall_s": fit_.wall_s, "flags": d["flags"],
+        "quality": quality(run),
     }
     if data.intervals is not None:
         out["detection"] = {"k_thr": data.k_thr, "threshold": data.intervals.threshold,
@@ -462,21 +522,29 @@ def result_units(run: CalibrationRun) -> dict:
          "params.theta_yz": "rad", "params.theta_zy": "rad", "params.theta_zx": "rad",
          "phi": "rad", "correction_matrix": f"m/s^2 per {data.raw_unit}",
          "offset": data.raw_unit, "residual_rms": work, "J": f"({work})^2",
-         "g_local": "m/s^2", "wall_s": "s"}
+         "g_local": "m/s^2", "wall_s": "s", "quality.norm_error": "m/s^2",
+         "quality.eq21": "m/s^2", "quality.per_pose": "m/s^2",
+         "quality.ci95": "unit of each parameter", "quality.coverage": "1"}
     if gyro_unit is not None:
         u.update({"gyro.correction_matrix": f"rad/s per {gyro_unit}", "gyro.offset": gyro_unit,
                   "gyro.residual_rms": "rad"})
     return u
 
 
-def apply(model: TriaxialCalibration, record: Record, *, model_path=None) -> Record:
+def apply(model: TriaxialCalibration, record: Record, *, model_path=None,
+          force: bool = False) -> Record:
     """Calibrated record: ``ax_mps2 ay_mps2 az_mps2`` = correction_matrix @ (raw - offset)
     in place of the raw accelerometer columns and, when the model has a gyro block and
-    the record gyro columns, ``gx_rps gy_rps gz_rps`` likewise.
+    the record gyro columns, ``gx_rps gy_rps gz_rps`` likewise. A flagged model
+    (``model.flags``) is refused unless ``force``.
 
     The record must be in the model's raw unit(s); the metadata loses the raw-unit keys
     (``lsb_per_g``, ``lsb_offset``, ``gyro_lsb_per_rps``) and names its sources.
     """
+    if model.flags and not force:
+        raise InputError("the calibration is flagged as not identifiable or implausible ("
+                         + " | ".join(model.flags) + "); set argument 'force' to apply it anyway",
+                         path=model_path)
     cols = _acc_cols(record)
     suffix = units.split_suffix(cols[0])[1]
     if suffix != model.raw_unit:
@@ -496,7 +564,7 @@ def apply(model: TriaxialCalibration, record: Record, *, model_path=None) -> Rec
         if gs != model.gyro.get("raw_unit"):
             raise InputError(f"the file's gyro unit is '{gs}', the calibration expects "
                              f"'{model.gyro.get('raw_unit')}'", path=record.path, column=gcols[0])
-        gcal = model.apply_gyro(df[gcols].to_numpy(dtype=float))
+        gcal = model.apply_gyro(df[gcols].to_numpy(dtype=float), acc=cal)
         gpos = df.columns.get_loc(gcols[0])
         df = df.drop(columns=gcols)
         for i, c in enumerate(("gx_rps", "gy_rps", "gz_rps")):
