@@ -154,3 +154,21 @@ def test_fit_reads_through_the_mapping_front_door(records, tmp_path, capsys):
                        "--map", "output_mv=Vout", "--json")
     assert code == 0
     assert json.loads(out)["models"]["fis"]["rules"] >= 2
+
+
+def test_fit_all_saves_the_proposed_model_and_export_works(records, tmp_path, capsys):
+    """Issue 18 item 1: the documented fit -> export sequence with --method all."""
+    out = tmp_path / "all"
+    code, _, err = run(capsys, "thermal", "fit", records / "a.csv", "--method", "all",
+                       "--fish", "3", "--generations", "1", "--search-epochs", "3",
+                       "--epochs", "10", "--out", out, "--quiet")
+    assert code == 0, err
+    res = json.loads((out / "result.json").read_text())
+    assert res["model_method"] == "iafsa-scm-anfis"
+    assert list(res["models"])[0] == "ann"  # the table keeps the paper's order
+    saved = json.loads((out / "model.json").read_text())
+    assert saved["payload"]["method"] == "iafsa-scm-anfis"
+    assert res["drift"]["comp_max_drift_ug"] < res["drift"]["raw_max_drift_ug"] / 10
+    code, _, err = run(capsys, "thermal", "export", out / "model.json", "--c", tmp_path / "c")
+    assert code == 0, err
+    assert (tmp_path / "c" / "qfa_comp.c").exists()

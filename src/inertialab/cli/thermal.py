@@ -125,7 +125,8 @@ def register(app: typer.Typer, groups: dict) -> None:
     ):
         """Fit integrated temperature-compensation models on a thermal tumble record.
 
-        --out writes model.json (the first method), models/, result.json and figures."""
+        --out writes model.json (IAFSA-SCM-ANFIS when fitted, else the first method),
+        models/ (every method), result.json and figures of the saved model."""
         from inertialab.io import save_model
         from inertialab.workflows.thermal import ThermalConfig, fit, prepare
 

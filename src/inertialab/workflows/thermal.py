@@ -199,8 +199,9 @@ class ThermalFit:
 
     @property
     def model_method(self) -> str:
-        """The method saved as *the* model of a fit: the first requested."""
-        return self.config.methods[0]
+        """The method saved as *the* model of a fit (``model.json``): the proposed
+        IAFSA-SCM-ANFIS (spec 000 §3.6) when it was fitted, else the first requested."""
+        return PROPOSED if PROPOSED in self.models else self.config.methods[0]
 
     def own_drift(self, method: str | None = None) -> DriftResult:
         """Drift of the training unit compensated with its own model (default: the
