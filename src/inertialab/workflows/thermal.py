@@ -22,6 +22,7 @@ virtual lab.
 from __future__ import annotations
 
 import time
+import zlib
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -229,12 +230,25 @@ class ThermalFit:
         }
 
 
+def method_stream(parent: np.random.SeedSequence, fold: int, method: str) -> np.random.Generator:
+    """The random stream of ``method`` on fold ``fold``: the child of ``parent`` with
+    spawn key ``parent.spawn_key + (fold, crc32(method))`` (CRC-32 of the UTF-8 name,
+    stable across runs and machines)."""
+    key = zlib.crc32(str(method).encode("utf-8"))
+    child = np.random.SeedSequence(parent.entropy,
+                                   spawn_key=tuple(parent.spawn_key) + (int(fold), key))
+    return np.random.Generator(np.random.PCG64(child))
+
+
 def fit_thermal(samples: ThermalSamples, config: ThermalConfig | None = None, *,
                 progress=None) -> ThermalFit:
     """Fit the requested models on the configured split and score them (spec 000 §3-§5).
 
-    Random streams: ``SeedSequence(config.seed)`` spawns the split stream, then one
-    stream per (fold, method) in the order of ``config.methods``.
+    Random streams: ``SeedSequence(config.seed)`` spawns the split stream and a model
+    stream; each (fold, method) draws from its own child of the model stream keyed by
+    the fold index and the method's *name* (:func:`method_stream`), so a model gets the
+    same numbers whether it is fitted alone or beside others, in any order (issue 18
+    item 2).
     """
     cfg = (config or ThermalConfig()).validate()
     progress = progress or NullProgress()
@@ -242,16 +256,15 @@ def fit_thermal(samples: ThermalSamples, config: ThermalConfig | None = None, *,
     split_ss, model_ss = ss.spawn(2)
     splits = make_splits(samples, cfg, rng=np.random.Generator(np.random.PCG64(split_ss)))
     n_folds = len(splits)
-    streams = model_ss.spawn(n_folds * len(cfg.methods))
     preds = {m: [] for m in cfg.methods}
     models, walls, search = {}, {m: 0.0 for m in cfg.methods}, None
     total = n_folds * len(cfg.methods)
     done = 0
     for f, sp in enumerate(splits):
-        for j, m in enumerate(cfg.methods):
+        for m in cfg.methods:
             progress.update(done, total, f"{m} ({sp.name})")
             t0 = time.perf_counter()
-            rng = np.random.Generator(np.random.PCG64(streams[f * len(cfg.methods) + j]))
+            rng = method_stream(model_ss, f, m)
             with single_threaded_blas():
                 model = fit_model(samples, sp, m, cfg, rng=rng)
             walls[m] += time.perf_counter() - t0
