@@ -10,11 +10,11 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from inertialab.calib.thermal import ThermalConfig, compensate, fit_model, make_splits
+from inertialab.calib.thermal import ThermalConfig, compensate, fit_model
 from inertialab.calib.thermal_export import export_c
 from inertialab.errors import ExtrapolationWarning, InputError
 from inertialab.sim.thermal_tumble import simulate
-from inertialab.workflows.thermal import prepare_samples
+from inertialab.workflows.thermal import make_splits, prepare_samples
 
 CC = shutil.which("cc") or shutil.which("gcc")
 

@@ -102,6 +102,10 @@ FLAG_OF: dict[str, str] = {
     "reference": "--reference",
     "horizon": "--horizon",
     "seed": "--seed",
+    "fish_visual": "--visual",
+    "fish_step": "--step",
+    "fish_try_number": "--try-number",
+    "fish_crowd": "--crowd",
 }
 
 

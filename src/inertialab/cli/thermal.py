@@ -27,7 +27,11 @@ _METHOD_CHOICES = ("iafsa-scm-anfis", "scm-anfis", "anfis", "fis", "ann", "poly-
                    "all")
 _UNITS = {"temp": "degC", "output": "mV", "k0": "mV", "k1": "mV/g", "k2": "mV/g^2",
           "kip": "mV/g^2", "kp": "mV/g", "wall_s": "s", "fun": "mg", "f_default": "mg",
-          "radius": "1 (scaled)", "squash": "1", "accept": "1", "reject": "1"}
+          "radius": "1 (scaled)", "squash": "1", "accept": "1", "reject": "1",
+          "visual": "1 (unit cube)", "step": "1 (unit cube)", "visual_min": "1 (unit cube)",
+          "step_min": "1 (unit cube)", "crowd": "1", "try_number": "1", "n_fish": "1",
+          "max_generations": "1", "adaptive_exponent": "1", "r_max": "1",
+          "search_epochs": "1"}
 
 
 def _methods(method: str) -> tuple[str, ...]:
@@ -42,6 +46,11 @@ def _methods(method: str) -> tuple[str, ...]:
         raise InputError(f"--method must be one of {', '.join(_METHOD_CHOICES)} "
                          f"(or a comma-separated list), got '{method}'")
     return parts
+
+
+def _plain(text: str) -> str:
+    """Data-derived text for a matplotlib title: no mathtext (``$``), one line."""
+    return " ".join(str(text).replace("$", r"\$").split())[:200]
 
 
 def _read(path: Path, read: ReadOptions):
@@ -65,6 +74,10 @@ def _apply_command(name: str):
                                 "coefficients, or with the record's own 55 °C tumble "
                                 "(transfer to another unit, spec 000 §3.7); auto = record "
                                 "when it has a full 55 °C tumble of another unit.")] = "auto",
+        figure: Annotated[Path | None, typer.Option(
+            "--figure", help="Also write the drift before/after compensation per input "
+                             "level (seed Fig. 9, the transfer figure) to this .png; needs "
+                             "a full tumble with a 55 °C set point.")] = None,
         as_json: JsonOpt = False,
         quiet: QuietOpt = False,
         read: ReadOptions | None = None,
@@ -79,8 +92,23 @@ def _apply_command(name: str):
             res = apply(mdl, rec, reference=reference, source=str(model))
         if Path(out).is_dir():
             raise InputError("--out must be a file for this command", path=out)
+        fig = None
+        if figure is not None:
+            if Path(figure).suffix.lower() != ".png" or Path(figure).is_dir():
+                raise InputError("--figure must name a .png file", path=figure)
+            if res.drift is None:
+                raise InputError("--figure needs a record with a full tumble at every set "
+                                 "point and one at the reference temperature", path=file)
+            from inertialab.report.figures.thermal import drift_figure
+
+            who = "transfer" if res.reference == "record" else "own unit"
+            fig = drift_figure(res.samples, res.drift, name=Path(figure).stem,
+                               title=_plain(f"unit {res.samples.unit_id or '?'} with the model of unit "
+                                     f"{mdl.unit_id or '?'} ({mdl.method}, {who})"))
         # everything is computed before this point: a failure leaves no output behind
         write_record(res.frame, out, res.meta)
+        if fig is not None:
+            write_figures([fig], Path(figure).parent)
         payload = res.summary() | {"out": str(out)}
         if as_json:
             emit_json(name, payload, inputs=[str(model), {"path": str(file), "sha256": rec.sha256}],
@@ -117,6 +145,14 @@ def register(app: typer.Typer, groups: dict) -> None:
         epochs: Annotated[int, typer.Option("--epochs", help="Final ANFIS epochs (150).")] = 150,
         search_epochs: Annotated[int, typer.Option(
             "--search-epochs", help="ANFIS epochs inside the IAFSA objective (20).")] = 20,
+        visual: Annotated[float, typer.Option(
+            "--visual", help="IAFSA initial visual range, unit-cube units (0.30).")] = 0.30,
+        step: Annotated[float, typer.Option(
+            "--step", help="IAFSA initial step, unit-cube units (0.10).")] = 0.10,
+        try_number: Annotated[int, typer.Option(
+            "--try-number", help="IAFSA prey attempts (5).")] = 5,
+        crowd: Annotated[float, typer.Option(
+            "--crowd", help="IAFSA crowd factor (0.618).")] = 0.618,
         seed: SeedOpt = 0,
         out: OutDirOpt = None,
         as_json: JsonOpt = False,
@@ -128,13 +164,21 @@ def register(app: typer.Typer, groups: dict) -> None:
         --out writes model.json (IAFSA-SCM-ANFIS when fitted, else the first method),
         models/ (every method), result.json and figures of the saved model."""
         from inertialab.io import save_model
-        from inertialab.workflows.thermal import ThermalConfig, fit, prepare
+        from inertialab.workflows.thermal import (
+            ThermalConfig,
+            bias_scale_factor,
+            bias_scale_factor_table,
+            fit,
+            markdown_table,
+            prepare,
+        )
 
         methods = _methods(method)
         cfg = ThermalConfig(methods=methods, split=split, target=target, input=input_,
                             learn_drift=learn_drift, radii=radii, fish=fish,
                             generations=generations, epochs=epochs, search_epochs=search_epochs,
-                            seed=seed).validate()
+                            fish_visual=visual, fish_step=step, fish_try_number=try_number,
+                            fish_crowd=crowd, seed=seed).validate()
         if "poly-sep" in methods and (learn_drift or input_ == "raw"):
             raise InputError("poly-sep needs --input ua without --learn-drift")
         out_dir = prepare_out_dir(out) if out is not None else None
@@ -147,7 +191,12 @@ def register(app: typer.Typer, groups: dict) -> None:
         own = result.own_drift()
         payload = result.summary(own)
         if out_dir is not None:
-            from inertialab.report.figures.thermal import drift_figure, residual_figure
+            from inertialab.report.figures.thermal import (
+                bias_figure,
+                drift_figure,
+                residual_figure,
+                scale_factor_figure,
+            )
 
             units = {"temp": "degC", "output": "mV"}
             save_model(main_model, out_dir / "model.json", units=units,
@@ -158,11 +207,23 @@ def register(app: typer.Typer, groups: dict) -> None:
                            training_data_sha256=rec.sha256)
             atomic_write_text(out_dir / "result.json",
                               json.dumps(json_ready(payload), indent=2, allow_nan=False) + "\n")
+            for name, table, title in (
+                    ("table1", result.table1(), "Table 1: fish-swarm parameters"),
+                    ("table2", result.table2(), f"Table 2: test errors per model "
+                                                f"({split} split, {result.test_index.size} "
+                                                "test samples)")):
+                atomic_write_text(out_dir / f"{name}.csv", table.to_csv(index=False))
+                atomic_write_text(out_dir / f"{name}.md", markdown_table(table, title=title))
+            bsf = bias_scale_factor(samples)
+            atomic_write_text(out_dir / "bias_scale_factor.csv",
+                              bias_scale_factor_table(bsf).to_csv(index=False))
             write_figures([drift_figure(samples, own, title=result.model_method),
-                           residual_figure(result)], out_dir)
+                           residual_figure(result), bias_figure(bsf),
+                           scale_factor_figure(bsf)], out_dir)
         settings = {"method": list(methods), "split": split, "target": target, "input": input_,
                     "learn_drift": learn_drift, "radii": radii, "fish": fish,
                     "generations": generations, "epochs": epochs, "search_epochs": search_epochs,
+                    "visual": visual, "step": step, "try_number": try_number, "crowd": crowd,
                     "seed": seed, "reference_temp_c": samples.reference_temp_c}
         if as_json:
             emit_json("thermal fit", payload, inputs=[{"path": str(file), "sha256": rec.sha256}],
@@ -179,6 +240,8 @@ def register(app: typer.Typer, groups: dict) -> None:
             print(f"IAFSA: radius={p['radius']}, squash={p['squash']:.4g}, accept={p['accept']:.4g}, "
                   f"reject={p['reject']:.4g}, rules={s['n_rules']}, "
                   f"F*={s['fun'] * 1e3:.2f} µg (default {s['f_default'] * 1e3:.2f})")
+            t1 = payload["fish"]
+            print("fish swarm (Table 1): " + ", ".join(f"{k}={v:g}" for k, v in t1.items()))
         if out_dir is not None:
             print(f"written: {out_dir}")
 

@@ -46,14 +46,15 @@ from inertialab.calib.thermal import (  # noqa: F401 - re-exported for callers o
     compensate,
     drift,
     fit_model,
-    make_splits,
     raw_drift_rms_ug,
     recalibrate,
     score,
 )
 from inertialab.errors import InputError, MissingReferenceError
 from inertialab.progress import NullProgress
+from inertialab.seeding import as_generator
 from inertialab.sensors.pendulous import (
+    bias_scale_factor_drift,
     fit_single_axis,
     higher_order_terms,
     integrated_output,
@@ -174,6 +175,76 @@ def prepare(record, config: ThermalConfig | None = None) -> ThermalSamples:
 # ---------------------------------------------------------------------------------------
 # fit: samples -> models and metrics
 # ---------------------------------------------------------------------------------------
+def strata_of(s: ThermalSamples) -> np.ndarray:
+    """Stratum index of every sample: one stratum per (ramp pass, set point)."""
+    keys = [f"{r}|{t:g}" for r, t in zip(s.ramp_dir, s.set_point_c)]
+    _, inv = np.unique(keys, return_inverse=True)
+    return inv
+
+
+def validation_subset(train: np.ndarray, strata: np.ndarray, frac: float,
+                      rng) -> tuple[np.ndarray, np.ndarray]:
+    """Stratified validation subset of ``train`` (round(frac x members) per stratum,
+    spec 000 §3.1 step 4): returns ``(fit, val)``."""
+    val = []
+    for k in np.unique(strata[train]):
+        members = train[strata[train] == k]
+        m = int(np.floor(frac * members.size + 0.5))
+        if m:
+            val.extend(rng.choice(members, size=m, replace=False).tolist())
+    val = np.sort(np.asarray(val, dtype=int))
+    fit = np.setdiff1d(train, val)
+    return fit, val
+
+
+def make_splits(samples: ThermalSamples, config: ThermalConfig, rng=None) -> list[Split]:
+    """The split(s) of spec 000 §3.1 step 4 (one for random/interp_T/up_down, one per set
+    point for leave_one_T_out; the reference set point is always in training)."""
+    cfg = config.validate()
+    g = as_generator(rng)
+    strata = strata_of(samples)
+    idx = np.arange(samples.n)
+    is_ref = np.isclose(samples.set_point_c, cfg.reference_temp_c, atol=1e-6)
+    splits = []
+    if cfg.split == "random":
+        test = []
+        for k in np.unique(strata):
+            members = idx[strata == k]
+            if cfg.test_positions >= members.size:
+                raise InputError(f"test_positions {cfg.test_positions} leaves no training data")
+            test.extend(g.choice(members, size=cfg.test_positions, replace=False).tolist())
+        test = np.sort(np.asarray(test, dtype=int))
+        train = np.setdiff1d(idx, test)
+        fit, val = validation_subset(train, strata, cfg.val_fraction, g)
+        splits.append(Split("random", train, test, fit, val))
+    elif cfg.split == "interp_T":
+        sps = np.unique(samples.set_point_c)
+        lo = sps.min()
+        step = np.min(np.diff(sps)) if sps.size > 1 else 1.0
+        k = np.rint((samples.set_point_c - lo) / step).astype(int)
+        train_mask = (k % 2 == 0) | is_ref
+        train, test = idx[train_mask], idx[~train_mask]
+        if test.size == 0:
+            raise InputError("interp_T split: no intermediate set points to test on")
+        fit, val = validation_subset(train, strata, cfg.val_fraction, g)
+        splits.append(Split("interp_T", train, test, fit, val))
+    elif cfg.split == "up_down":
+        up = samples.ramp_dir == "up"
+        train, test = idx[up], idx[~up]
+        if test.size == 0 or train.size == 0:
+            raise InputError("up_down split needs a record with an up and a down pass "
+                             "(a virtual-lab record simulated with ramp='up_down')")
+        fit, val = validation_subset(train, strata, cfg.val_fraction, g)
+        splits.append(Split("up_down", train, test, fit, val))
+    else:
+        for sp in np.unique(samples.set_point_c[~is_ref]):
+            test = idx[samples.set_point_c == sp]
+            train = idx[samples.set_point_c != sp]
+            fit, val = validation_subset(train, strata, cfg.val_fraction, g)
+            splits.append(Split(f"leave_out_{sp:g}", train, test, fit, val))
+    return splits
+
+
 @dataclass
 class ThermalFit:
     """Result of :func:`fit_thermal`.
@@ -227,7 +298,86 @@ class ThermalFit:
             "model_method": self.model_method,
             "drift": own.summary(),
             "n_samples": self.samples.n, "n_test": int(self.test_index.size),
+            "fish": self.config.fish_table(),
+            "bias_scale_factor": bias_scale_factor(self.samples).summary(),
         }
+
+    def table2(self) -> pd.DataFrame:
+        """The paper's Table 2 from this fit: per model ME, AE, MAXE, MARE and RMSE on the
+        test set (spec 000 §5; absolute errors in µg and mg, relative in ppm), with MBE,
+        the rule count, the SCM parameters and the wall time (spec 000 §8.2.6)."""
+        rows = []
+        for m, v in self.metrics.items():
+            scm = self.models[m].scm or {}
+            radius = scm.get("radius")
+            rows.append({
+                "model": LABELS.get(m, m), "method": m,
+                "me_ug": v.me_ug, "ae_ug": v.ae_ug, "maxe_ppm": v.maxe_ppm,
+                "mare_ppm": v.mare_ppm, "rmse_ug": v.rmse_ug,
+                "me_mg": v.me_ug / 1e3, "ae_mg": v.ae_ug / 1e3, "rmse_mg": v.rmse_ug / 1e3,
+                "mbe_ug": v.mbe_ug, "n_test": v.n, "rules": v.rules,
+                "radius": (None if radius is None else
+                           " ".join(f"{r:.6g}" for r in np.atleast_1d(radius))),
+                "squash": scm.get("squash"), "accept": scm.get("accept"),
+                "reject": scm.get("reject"), "wall_s": v.wall_s})
+        return pd.DataFrame(rows)
+
+    def table1(self) -> pd.DataFrame:
+        """The paper's Table 1: the fish-swarm parameters used (quantity, value)."""
+        t = self.config.fish_table()
+        return pd.DataFrame({"quantity": list(t), "value": [t[k] for k in t]})
+
+
+def bias_scale_factor(samples: ThermalSamples):
+    """Bias (0°/180°) and eq.-3 scale factor per set point and input level, and their
+    drift against the reference set point, from the first ramp pass of the samples (the
+    seed's Figs. 3 and 4; :func:`inertialab.sensors.pendulous.bias_scale_factor_drift`)."""
+    m = samples.ramp_dir == samples.ramp_dir[0]
+    return bias_scale_factor_drift(samples.set_point_c[m], samples.temp_c[m],
+                                   samples.a_in_g[m], samples.output_mv[m], k1_ref=samples.k1,
+                                   reference_temp_c=samples.reference_temp_c)
+
+
+def bias_scale_factor_table(bsf) -> pd.DataFrame:
+    """The data of Figs. 3 and 4 as one long table: one row per (set point, input level)."""
+    n_t, n_l = bsf.scale_factor_mv_per_g.shape
+    return pd.DataFrame({
+        "set_point_c": np.repeat(bsf.set_point_c, n_l), "temp_c": np.repeat(bsf.temp_c, n_l),
+        "bias_mv": np.repeat(bsf.bias_mv, n_l), "bias_drift_mg": np.repeat(bsf.bias_drift_mg, n_l),
+        "a_in_g": np.tile(bsf.levels_g, n_t),
+        "scale_factor_mv_per_g": bsf.scale_factor_mv_per_g.ravel(),
+        "scale_factor_drift_mv_per_g": bsf.scale_factor_drift_mv_per_g.ravel(),
+        "scale_factor_drift_ppm": bsf.scale_factor_drift_ppm.ravel()})
+
+
+#: Display names of the methods (the paper's spelling).
+LABELS = {"ann": "ANN", "fis": "FIS", "anfis": "ANFIS (grid)", "scm-anfis": "SCM-ANFIS",
+          "iafsa-scm-anfis": "IAFSA-SCM-ANFIS", "poly-sep": "POLY-SEP", "poly-2d": "POLY-2D"}
+
+_MD_HEAD = {"me_ug": "ME (µg)", "ae_ug": "AE (µg)", "maxe_ppm": "MAXE (ppm)",
+            "mare_ppm": "MARE (ppm)", "rmse_ug": "RMSE (µg)", "me_mg": "ME (mg)",
+            "ae_mg": "AE (mg)", "rmse_mg": "RMSE (mg)", "mbe_ug": "MBE (µg)",
+            "n_test": "n", "wall_s": "wall (s)"}
+
+
+def markdown_table(frame: pd.DataFrame, *, title: str = "", drop=("method",)) -> str:
+    """A GitHub-flavoured Markdown table of ``frame`` (numbers to 4 significant digits,
+    units in the headers)."""
+    cols = [c for c in frame.columns if c not in drop]
+
+    def cell(v):
+        if v is None or (isinstance(v, float) and not np.isfinite(v)):
+            return "–"
+        if isinstance(v, (float, np.floating)):
+            return f"{v:.4g}"
+        return str(v).replace("|", "\\|")
+
+    lines = [f"**{title}**", ""] if title else []
+    lines.append("| " + " | ".join(_MD_HEAD.get(c, c) for c in cols) + " |")
+    lines.append("|" + "---|" * len(cols))
+    for _, r in frame.iterrows():
+        lines.append("| " + " | ".join(cell(r[c]) for c in cols) + " |")
+    return "\n".join(lines) + "\n"
 
 
 def method_stream(parent: np.random.SeedSequence, fold: int, method: str) -> np.random.Generator:
@@ -396,4 +546,5 @@ __all__ = [
     "FUZZY", "METHODS", "PROPOSED", "REFERENCES", "ThermalApplied", "ThermalConfig",
     "ThermalFit", "ThermalModel", "ThermalSamples", "apply", "compensate", "drift", "fit",
     "fit_thermal", "make_splits", "prepare", "prepare_samples", "reference_temperature",
+    "strata_of", "validation_subset",
 ]
