@@ -36,13 +36,22 @@ int main(void) {
 
 @pytest.fixture(scope="module")
 def models():
-    s = prepare_samples(simulate("paper", 0, 0).frame)
+    frame = simulate("paper", 0, 0).frame
+    s = prepare_samples(frame)
     (sp,) = make_splits(s, ThermalConfig(), rng=0)
     cfg = ThermalConfig(epochs=20)
+    raw_cfg = replace(cfg, input="raw")
     out = {"plain": fit_model(s, sp, "scm-anfis", cfg),
            "drift": fit_model(s, sp, "scm-anfis", replace(cfg, learn_drift=True)),
+           "raw": fit_model(prepare_samples(frame, raw_cfg), sp, "scm-anfis", raw_cfg),
            "poly": fit_model(s, sp, "poly-2d", cfg)}
     return s, out
+
+
+@pytest.fixture(scope="module")
+def unit_b():
+    """Unit 1 of the lot: its own 55 °C coefficients (spec 000 §3.7 transfer)."""
+    return prepare_samples(simulate("paper", 0, 1, seed=1000).frame).ref
 
 
 def _inputs(model, n=10_000, seed=0):
@@ -52,6 +61,45 @@ def _inputs(model, n=10_000, seed=0):
     U = rng.uniform(-1200, 1200, n)  # beyond the +-1 g output range too
     ap = rng.uniform(-1, 1, n)
     return T, U, ap
+
+
+def _compile(ex, tmp_path):
+    (tmp_path / ex.header_name).write_text(ex.header)
+    (tmp_path / ex.source_name).write_text(ex.source)
+    (tmp_path / "main.c").write_text(DRIVER.replace("qfa_", ex.header_name[:-len("_comp.h")] + "_"))
+    exe = tmp_path / "comp"
+    subprocess.run([CC, "-std=c99", "-O2", "-Wall", "-Wextra", "-Werror", "-pedantic",
+                    "-o", str(exe), str(tmp_path / "main.c"), str(tmp_path / ex.source_name),
+                    "-lm"], check=True, capture_output=True)
+    return exe
+
+
+def _run(exe, T, U, ap):
+    text = "\n".join(f"{a:.17g} {b:.17g} {c:.17g}" for a, b, c in zip(T, U, ap))
+    out = subprocess.run([str(exe)], input=text, capture_output=True, text=True, check=True)
+    return np.loadtxt(out.stdout.splitlines())
+
+
+@pytest.mark.skipif(CC is None, reason="no C compiler (cc) on this machine")
+@pytest.mark.parametrize("which", ["plain", "raw"])
+def test_compiled_c_carries_the_second_unit_mapping(models, unit_b, which, tmp_path):
+    """Issue 18 item 4: code for unit B runs A's model through B's own 55 °C coefficients
+    (spec 000 §3.7) and agrees with compensate(..., unit_ref=B) on 10 000 inputs."""
+    _, ms = models
+    model = ms[which]
+    ex = export_c(model, unit_ref=unit_b, unit_id="QFA-0-001")
+    assert "MAP_UNIT = 1" in ex.source and "QFA-0-001" in ex.header
+    res = _run(_compile(ex, tmp_path), *_inputs(model))
+    T, U, ap = _inputs(model)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ExtrapolationWarning)
+        py = compensate(model, T, U, ap, unit_ref=unit_b)
+        own = compensate(model, T, U, ap)
+    assert np.max(np.abs(res[:, 0] - py.nc_mv)) <= 1e-9
+    assert np.max(np.abs(res[:, 1] - py.a_g)) <= 1e-12
+    np.testing.assert_array_equal(res[:, 2].astype(int), py.status)
+    # the mapping matters: unit B's K0c/K1c differ from A's by mg-level amounts
+    assert np.median(np.abs(py.a_g - own.a_g)) > 1e-4
 
 
 @pytest.mark.skipif(CC is None, reason="no C compiler (cc) on this machine")

@@ -234,3 +234,14 @@ def test_apply_writes_the_transfer_figure(records, fitted, tmp_path, capsys):
     code, _, err = run(capsys, "thermal", "apply", fitted / "model.json", records / "b.csv",
                        "--out", tmp_path / "c.csv", "--figure", tmp_path / "fig9.pdf")
     assert code == 2 and ".png" in err and not (tmp_path / "c.csv").exists()
+
+
+def test_export_for_another_unit_carries_its_mapping(records, fitted, tmp_path, capsys):
+    code, out, err = run(capsys, "thermal", "export", fitted / "model.json", "--c",
+                         tmp_path / "cb", "--unit-record", records / "b.csv", "--json")
+    assert code == 0, err
+    obj = json.loads(out)
+    b_id = pd.read_csv(records / "b.csv").unit_id.iloc[0]
+    assert obj["mapped_unit"] == b_id
+    src = (tmp_path / "cb" / "qfa_comp.c").read_text()
+    assert "MAP_UNIT = 1" in src

@@ -40,6 +40,7 @@ class CExport:
     n_rules: int
     exp_calls: int
     flops: int
+    unit_id: str = ""
 
 
 def _f(x: float) -> str:
@@ -51,8 +52,19 @@ def _arr(name: str, values) -> str:
     return f"static const double {name}[] = {{{vals}}};"
 
 
-def export_c(model, *, prefix: str = "qfa") -> CExport:
-    """C99 source for ``model`` (a fuzzy :class:`ThermalModel`)."""
+def export_c(model, *, prefix: str = "qfa", unit_ref=None, unit_id: str = "") -> CExport:
+    """C99 source for ``model`` (a fuzzy :class:`ThermalModel`).
+
+    Parameters
+    ----------
+    prefix : C identifier prefix of the two functions and the header (default ``qfa``)
+    unit_ref : :class:`~inertialab.sensors.pendulous.SingleAxisCoefficients`, optional
+        55 °C coefficients of the unit the code will run on, when it is not the model's
+        own unit: the generated code then applies the transfer mapping of spec 000 §3.7
+        (Ua from this unit's coefficients, ``N_A = K0c_A + K1c_A (Ua_B - K0c_B)/K1c_B``),
+        exactly as :func:`inertialab.calib.thermal.compensate` with ``unit_ref``.
+    unit_id : that unit's serial, for the header comment
+    """
     if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]{0,30}", prefix):
         raise InputError(f"C prefix must be a C identifier, got {prefix!r}")
     reg = getattr(model, "regressor", None)
@@ -69,6 +81,8 @@ def export_c(model, *, prefix: str = "qfa") -> CExport:
     s = fis.mf_sigma[fis.rule_mf]
     q = fis.consequents  # (R, 3)
     ref = model.ref
+    ref_b = ref if unit_ref is None else unit_ref
+    map_unit = unit_ref is not None
     P = prefix
     guard = f"{P.upper()}_COMP_H"
     header = f"""/* {P}_comp.h - temperature compensation of a quartz accelerometer.
@@ -76,7 +90,9 @@ def export_c(model, *, prefix: str = "qfa") -> CExport:
  * Inputs: T_C (internal sensor, deg C), U_mV (raw output, mV), a_p_g (pendulous-axis
  * specific force, g, from the IMU's other axes; ignored by raw-input models).
  * status (may be NULL): 0 ok, 1 temperature clamped, 2 output clamped, 3 both.
- * Calibrated range: T {_f(model.t_range_c[0])} .. {_f(model.t_range_c[1])} deg C. */
+ * Calibrated range: T {_f(model.t_range_c[0])} .. {_f(model.t_range_c[1])} deg C.
+ * Runs on: {"unit '" + unit_id + "' through its own 55 deg C coefficients (transfer, "
+             "spec 000 s3.7)" if map_unit else "the model's own unit"}. */
 #ifndef {guard}
 #define {guard}
 
@@ -100,9 +116,15 @@ double {P}_comp_g(double T_C, double U_mV, double a_p_g, int *status);
 #define NR {R}
 static const double K0C = {_f(ref.k0)};
 static const double K1C = {_f(ref.k1)};
-static const double K2C = {_f(ref.k2)};
-static const double KIPC = {_f(ref.kip)};
-static const double KPC = {_f(ref.kp)};
+/* model unit's K2c, Kipc, Kpc: {_f(ref.k2)}, {_f(ref.kip)}, {_f(ref.kp)} (the code uses K2B, KIPB, KPB,
+   equal to them unless it runs on another unit) */
+/* 55 deg C coefficients of the unit this code runs on (= the model's unless mapped) */
+static const double K0B = {_f(ref_b.k0)};
+static const double K1B = {_f(ref_b.k1)};
+static const double K2B = {_f(ref_b.k2)};
+static const double KIPB = {_f(ref_b.kip)};
+static const double KPB = {_f(ref_b.kp)};
+static const int MAP_UNIT = {1 if map_unit else 0};
 static const int RAW_INPUT = {raw};
 static const int LEARN_DRIFT = {1 if model.learn_drift else 0};
 static const double T_LO = {_f(model.t_range_c[0])}, T_HI = {_f(model.t_range_c[1])};
@@ -123,12 +145,12 @@ double {P}_comp_mV(double T_C, double U_mV, double a_p_g, int *status)
     double N, a, a0, xt, xn, lw[NR], mx, sw = 0.0, sf = 0.0, y;
     int st = 0, i;
     if (RAW_INPUT) {{
-        N = U_mV;
+        N = MAP_UNIT ? K0C + K1C * (U_mV - K0B) / K1B : U_mV;
     }} else {{
-        a0 = (U_mV - K0C - KPC * a_p_g) / K1C;
-        a = (U_mV - K0C - KPC * a_p_g - K2C * a0 * a0 - KIPC * a0 * a_p_g) / K1C;
-        N = U_mV - K2C * a * a - KIPC * a * a_p_g - KPC * a_p_g;
-        N = K0C + K1C * (N - K0C) / K1C;
+        a0 = (U_mV - K0B - KPB * a_p_g) / K1B;
+        a = (U_mV - K0B - KPB * a_p_g - K2B * a0 * a0 - KIPB * a0 * a_p_g) / K1B;
+        N = U_mV - K2B * a * a - KIPB * a * a_p_g - KPB * a_p_g;
+        N = K0C + K1C * (N - K0B) / K1B;
     }}
     if (T_C < T_LO) {{ T_C = T_LO; st |= 1; }} else if (T_C > T_HI) {{ T_C = T_HI; st |= 1; }}
     if (N < N_LO) {{ y = N_LO; st |= 2; }} else if (N > N_HI) {{ y = N_HI; st |= 2; }} else {{ y = N; }}
@@ -158,4 +180,5 @@ double {P}_comp_g(double T_C, double U_mV, double a_p_g, int *status)
 }}
 """
     return CExport(header=header, source=source, header_name=f"{P}_comp.h",
-                   source_name=f"{P}_comp.c", n_rules=R, exp_calls=R, flops=14 * R + 30)
+                   source_name=f"{P}_comp.c", n_rules=R, exp_calls=R, flops=14 * R + 30,
+                   unit_id=str(unit_id) if map_unit else "")

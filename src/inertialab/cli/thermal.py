@@ -249,27 +249,38 @@ def register(app: typer.Typer, groups: dict) -> None:
     thermal.command("compensate", hidden=True)(_apply_command("thermal compensate"))
 
     @thermal.command("export")
+    @reading_options
     def thermal_export(
         model: Annotated[Path, typer.Argument(help="model.json of a fuzzy thermal model.")],
         c: Annotated[Path, typer.Option("--c", help="Directory for the C99 .h/.c pair.")],
         prefix: Annotated[str, typer.Option("--prefix", help="C identifier prefix.")] = "qfa",
+        unit_record: Annotated[Path | None, typer.Option(
+            "--unit-record", help="thermal_tumble record of the unit the code will run on, "
+                                  "when it is another unit of the lot: its 55 °C tumble "
+                                  "gives the transfer mapping of spec 000 §3.7.")] = None,
         as_json: JsonOpt = False,
+        read: ReadOptions | None = None,
     ):
         """Export a fuzzy thermal model as dependency-free C99 (inputs clamped, status flag)."""
-        from inertialab.calib.thermal_export import export_c
         from inertialab.io import load_model
+        from inertialab.workflows.thermal import export
 
         mdl = load_model(model, expected_type="thermal-compensation")
-        ex = export_c(mdl, prefix=prefix)
+        rec = _read(unit_record, read) if unit_record is not None else None
+        ex = export(mdl, prefix=prefix, unit_record=rec)
         out_dir = prepare_out_dir(c)
         atomic_write_text(out_dir / ex.header_name, ex.header)
         atomic_write_text(out_dir / ex.source_name, ex.source)
         payload = {"files": [str(out_dir / ex.header_name), str(out_dir / ex.source_name)],
                    "n_rules": ex.n_rules, "exp_calls": ex.exp_calls, "flops": ex.flops,
-                   "functions": [f"{prefix}_comp_mV", f"{prefix}_comp_g"]}
+                   "functions": [f"{prefix}_comp_mV", f"{prefix}_comp_g"],
+                   "mapped_unit": None if rec is None else ex.unit_id}
         if as_json:
-            emit_json("thermal export", payload, inputs=[str(model)], settings={"prefix": prefix},
-                      units={}, warnings_=[])
+            inputs = [str(model)] + ([] if rec is None else
+                                     [{"path": str(unit_record), "sha256": rec.sha256}])
+            emit_json("thermal export", payload, inputs=inputs,
+                      settings={"prefix": prefix, "unit_record": unit_record}, units={},
+                      warnings_=[])
             return
         print(f"written: {payload['files'][0]}, {payload['files'][1]} "
               f"({ex.n_rules} rules, {ex.exp_calls} exp calls per reading)")

@@ -50,6 +50,7 @@ from inertialab.calib.thermal import (  # noqa: F401 - re-exported for callers o
     recalibrate,
     score,
 )
+from inertialab.calib.thermal_export import export_c
 from inertialab.errors import InputError, MissingReferenceError
 from inertialab.progress import NullProgress
 from inertialab.seeding import as_generator
@@ -542,8 +543,21 @@ def apply(model: ThermalModel, record, *, reference: str = "auto",
                           samples=samples)
 
 
+def export(model: ThermalModel, *, prefix: str = "qfa", unit_record=None):
+    """C99 source of a fuzzy thermal model (:func:`inertialab.calib.thermal_export.export_c`).
+    ``unit_record``: a thermal-tumble record of the unit the code will run on, when it is
+    another unit of the lot; its 55 °C tumble gives the coefficients of the §3.7 mapping."""
+    unit_ref, unit_id = None, ""
+    if unit_record is not None:
+        cfg = ThermalConfig(input=model.input, target=model.target,
+                            reference_temp_c=model.reference_temp_c)
+        s = prepare_samples(unit_record.data, cfg, path=unit_record.path)
+        unit_ref, unit_id = s.ref, s.unit_id
+    return export_c(model, prefix=prefix, unit_ref=unit_ref, unit_id=unit_id)
+
+
 __all__ = [
-    "FUZZY", "METHODS", "PROPOSED", "REFERENCES", "ThermalApplied", "ThermalConfig",
+    "FUZZY", "METHODS", "PROPOSED", "REFERENCES", "ThermalApplied", "export", "ThermalConfig",
     "ThermalFit", "ThermalModel", "ThermalSamples", "apply", "compensate", "drift", "fit",
     "fit_thermal", "make_splits", "prepare", "prepare_samples", "reference_temperature",
     "strata_of", "validation_subset",
