@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 import shutil
 import subprocess
 import warnings
@@ -145,3 +146,71 @@ def test_non_fuzzy_models_and_bad_prefix_are_refused(models):
         export_c(ms["poly"])
     with pytest.raises(InputError, match="identifier"):
         export_c(ms["plain"], prefix="9-bad")
+
+
+HOSTILE = [
+    "U */ int evil(void){return 1;} /*",
+    "A\n#define K1C 0\n",
+    "x\\",
+    "??/ trigraph ??= here",
+    "caf\u00e9 \u2603 */",
+    "*/" * 200,
+]
+
+
+@pytest.mark.skipif(CC is None, reason="no C compiler (cc) on this machine")
+@pytest.mark.parametrize("text", HOSTILE)
+def test_data_derived_text_cannot_inject_code(models, unit_b, text, tmp_path):
+    """Issue 19 item 2: unit ids and the method name come from records and model files;
+    in the generated C they are reduced to a safe character set, so the code compiles
+    with -Werror -pedantic and defines no symbol of the payload."""
+    _, ms = models
+    model = replace(ms["plain"], unit_id=text, method=text)
+    ex = export_c(model, unit_ref=unit_b, unit_id=text)
+    for code in (ex.header, ex.source):
+        assert code.isascii()
+        assert "\\" not in code and "??" not in code
+        # every comment closes where the generator closes it: one "*/" per "/*", and
+        # outside the comments nothing of the payload is left
+        assert code.count("/*") == code.count("*/")
+        bare = re.sub(r"/\*.*?\*/", "", code, flags=re.S)
+        assert "evil" not in bare and "define K1C" not in bare and "trigraph" not in bare
+    exe = _compile(ex, tmp_path)
+    syms = subprocess.run(["nm", str(exe)], capture_output=True, text=True).stdout
+    assert "evil" not in syms
+    # and the code still computes what Python computes
+    T, U, ap = (np.array([20.0]), np.array([500.0]), np.array([0.1]))
+    py = compensate(model, T, U, ap, unit_ref=unit_b)
+    assert abs(_run(exe, T, U, ap)[0] - py.nc_mv[0]) <= 1e-9
+
+
+@pytest.mark.parametrize("where", ["k0", "consequent", "sigma", "range"])
+@pytest.mark.parametrize("value", [float("nan"), float("inf"), -float("inf")])
+def test_non_finite_constants_are_refused(models, where, value):
+    """Issue 19 item 2: NaN/Infinity would be written as 'nan'/'inf', which is not C."""
+    from inertialab.learn.anfis import ANFIS
+
+    _, ms = models
+    m = ms["plain"]
+    reg = ANFIS.from_dict(m.regressor.to_dict())
+    if where == "k0":
+        bad = replace(m, ref=replace(m.ref, k0=value))
+    elif where == "consequent":
+        reg.fis_.consequents[1, 2] = value
+        bad = replace(m, regressor=reg)
+    elif where == "sigma":
+        reg.fis_.mf_sigma[0] = value
+        bad = replace(m, regressor=reg)
+    else:
+        bad = replace(m, t_range_c=(m.t_range_c[0], value))
+    with pytest.raises(InputError, match="not finite"):
+        export_c(bad)
+
+
+def test_degenerate_constants_are_refused(models):
+    _, ms = models
+    m = ms["plain"]
+    with pytest.raises(InputError, match="K1C"):
+        export_c(replace(m, ref=replace(m.ref, k1=0.0)))
+    with pytest.raises(InputError, match="range is empty"):
+        export_c(replace(m, t_range_c=(10.0, 10.0)))

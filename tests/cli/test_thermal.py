@@ -245,3 +245,21 @@ def test_export_for_another_unit_carries_its_mapping(records, fitted, tmp_path, 
     assert obj["mapped_unit"] == b_id
     src = (tmp_path / "cb" / "qfa_comp.c").read_text()
     assert "MAP_UNIT = 1" in src
+
+
+def test_export_of_a_hostile_model_file(fitted, tmp_path, capsys):
+    """Issue 19 item 2 through the CLI: an injected unit_id stays inside a comment; a
+    NaN coefficient (JSON NaN) is refused with exit 2 and nothing written."""
+    env = json.loads((fitted / "model.json").read_text())
+    env["payload"]["unit_id"] = "U */ int evil(void){return 1;} /*"
+    (tmp_path / "evil.json").write_text(json.dumps(env))
+    code, _, err = run(capsys, "thermal", "export", tmp_path / "evil.json", "--c", tmp_path / "c")
+    assert code == 0, err
+    src = (tmp_path / "c" / "qfa_comp.h").read_text()
+    assert src.count("/*") == src.count("*/") and "*/ int evil" not in src
+    env["payload"]["ref"]["k1"] = float("nan")
+    (tmp_path / "nan.json").write_text(json.dumps(env))  # writes NaN, as the fuzz did
+    code, _, err = run(capsys, "thermal", "export", tmp_path / "nan.json", "--c",
+                       tmp_path / "c2")
+    assert code == 2 and "not finite" in err and len(err.strip().splitlines()) == 1
+    assert not (tmp_path / "c2").exists()
