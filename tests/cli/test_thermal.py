@@ -249,7 +249,8 @@ def test_export_for_another_unit_carries_its_mapping(records, fitted, tmp_path, 
 
 def test_export_of_a_hostile_model_file(fitted, tmp_path, capsys):
     """Issue 19 item 2 through the CLI: an injected unit_id stays inside a comment; a
-    NaN coefficient (JSON NaN) is refused with exit 2 and nothing written."""
+    NaN coefficient (JSON NaN) is refused (on load since issue 19 item 5) with exit 2 and
+    nothing written."""
     env = json.loads((fitted / "model.json").read_text())
     env["payload"]["unit_id"] = "U */ int evil(void){return 1;} /*"
     (tmp_path / "evil.json").write_text(json.dumps(env))
@@ -261,5 +262,25 @@ def test_export_of_a_hostile_model_file(fitted, tmp_path, capsys):
     (tmp_path / "nan.json").write_text(json.dumps(env))  # writes NaN, as the fuzz did
     code, _, err = run(capsys, "thermal", "export", tmp_path / "nan.json", "--c",
                        tmp_path / "c2")
-    assert code == 2 and "not finite" in err and len(err.strip().splitlines()) == 1
+    assert code == 2 and "finite" in err and len(err.strip().splitlines()) == 1
     assert not (tmp_path / "c2").exists()
+
+
+def test_a_1e308_cell_and_nan_models_exit_2_and_write_nothing(records, fitted, tmp_path,
+                                                               capsys):
+    """Issue 19 item 5: thermal fit with one 1e308 cell wrote a model with null metrics;
+    thermal compensate with a NaN model wrote all-NaN outputs. Both are bad input now."""
+    f = pd.read_csv(records / "a.csv")
+    f.loc[200, "output_mv"] = 1e308
+    f.to_csv(tmp_path / "big.csv", index=False)
+    code, _, err = run(capsys, "thermal", "fit", tmp_path / "big.csv", "--method", "fis",
+                       "--out", tmp_path / "fit_big")
+    assert code == 2 and "row 201" in err and len(err.strip().splitlines()) == 1
+    assert not (tmp_path / "fit_big").exists()
+    env = json.loads((fitted / "model.json").read_text())
+    env["payload"]["regressor"]["y_span"] = float("nan")
+    (tmp_path / "nan.json").write_text(json.dumps(env))
+    code, _, err = run(capsys, "thermal", "apply", tmp_path / "nan.json", records / "b.csv",
+                       "--out", tmp_path / "nan_out.csv")
+    assert code == 2 and "not finite" in err
+    assert not (tmp_path / "nan_out.csv").exists()

@@ -251,6 +251,29 @@ def _regressor_to_dict(reg) -> tuple[str, dict]:
     raise TypeError(f"unsupported regressor {type(reg).__name__}")
 
 
+#: Keys of regressor payloads that hold training diagnostics, not parameters (may be nan).
+_DIAGNOSTICS = {"report", "history", "train_mse", "val_mse", "mu", "trace", "stop_reason"}
+
+
+def _non_finite(obj, path: str) -> str | None:
+    """Key path of the first non-finite number in a JSON-like payload, else None."""
+    if isinstance(obj, dict):
+        for k, v in obj.items():
+            if k in _DIAGNOSTICS:
+                continue
+            hit = _non_finite(v, f"{path}.{k}")
+            if hit:
+                return hit
+    elif isinstance(obj, (list, tuple)):
+        for i, v in enumerate(obj):
+            hit = _non_finite(v, f"{path}[{i}]")
+            if hit:
+                return hit
+    elif isinstance(obj, (float, np.floating)) and not np.isfinite(obj):
+        return path
+    return None
+
+
 _FROM_DICT = {"anfis": ANFIS.from_dict, "mlp-lm": MLPRegressorLM.from_dict,
               "tensor-poly": _tensor_from_dict, "poly-sep": SeparatePolynomials.from_dict}
 
@@ -317,6 +340,35 @@ class ThermalModel:
 
     @classmethod
     def from_dict(cls, d: dict) -> ThermalModel:
+        model = cls._from_dict(d)
+        model.check()
+        return model
+
+    def check(self) -> ThermalModel:
+        """Plausibility of a loaded model (issue 19 item 5): known method, input and
+        target, finite reference coefficients with a non-zero scale factor, finite
+        non-empty calibrated ranges, a finite regressor. Raises InputError."""
+        if self.method not in METHODS:
+            raise InputError(f"thermal model: unknown method {str(self.method)[:40]!r}")
+        if self.input not in ("ua", "raw") or self.target not in ("linear55", "measured55"):
+            raise InputError("thermal model: input must be ua or raw and target linear55 or "
+                             "measured55")
+        ref = [self.ref.k0, self.ref.k1, self.ref.k2, self.ref.kip, self.ref.kp]
+        if not np.all(np.isfinite(ref)) or self.ref.k1 == 0.0:
+            raise InputError("thermal model: reference coefficients must be finite with k1 != 0")
+        for name in ("t_range_c", "n_range_mv"):
+            lo, hi = (float(v) for v in getattr(self, name))
+            if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
+                raise InputError(f"thermal model: {name} must be a finite, non-empty range")
+        if not np.isfinite(float(self.reference_temp_c)):
+            raise InputError("thermal model: reference_temp_c is not finite")
+        bad = _non_finite(_regressor_to_dict(self.regressor)[1], "regressor")
+        if bad:
+            raise InputError(f"thermal model: {bad} is not finite")
+        return self
+
+    @classmethod
+    def _from_dict(cls, d: dict) -> ThermalModel:
         try:
             tag = d["regressor_type"]
             if tag not in _FROM_DICT:
@@ -499,11 +551,23 @@ def compensate(model: ThermalModel, temp_c, output_mv, a_pend_g=None, *,
     (no silent extrapolation); partial excursions are clamped, flagged and warned about.
     """
     T = np.asarray(temp_c, float).ravel()
-    N = model_input(model, output_mv, a_pend_g, unit_ref).ravel()
+    U = np.asarray(output_mv, float).ravel()
+    for name, v in (("temp_meas_c", T), ("output_mv", U)) + (
+            () if a_pend_g is None else (("a_pend_g", np.asarray(a_pend_g, float).ravel()),)):
+        if not np.all(np.isfinite(v)):
+            rows = (np.flatnonzero(~np.isfinite(v)) + 1)[:5].tolist()
+            raise InputError("NaN or infinite value", path=path, column=name,
+                             row=rows[0] if len(rows) == 1 else rows)
+    with np.errstate(all="ignore"):
+        N = model_input(model, U, a_pend_g, unit_ref).ravel()
     if T.size != N.size:
         raise InputError("temperature and output have different lengths", path=path)
     if T.size == 0:
         raise InputError("no readings to compensate", path=path)
+    if not np.all(np.isfinite(N)):
+        rows = (np.flatnonzero(~np.isfinite(N)) + 1)[:5].tolist()
+        raise InputError("output out of range: the model input overflows", path=path,
+                         column="output_mv", row=rows[0] if len(rows) == 1 else rows)
     tlo, thi = model.t_range_c
     nlo, nhi = model.n_range_mv
     t_out = (T < tlo) | (T > thi)
@@ -521,6 +585,10 @@ def compensate(model: ThermalModel, temp_c, output_mv, a_pend_g=None, *,
     # raw-input models keep the 55 °C higher-order terms in Nc; with a_i unknown the
     # linear inverse is used for both (those terms are µg-level)
     a = (nc - model.ref.k0) / model.ref.k1
+    if not (np.all(np.isfinite(nc)) and np.all(np.isfinite(a))):
+        # finite readings in, NaN out: the model's parameters are not usable
+        raise InputError("the thermal model gives non-finite output for finite readings; "
+                         "its parameters are not usable", path=path)
     return Compensation(nc_mv=nc, a_g=a, status=status.astype(int), n_mv=N)
 
 

@@ -181,7 +181,8 @@ def register(app: typer.Typer, groups: dict) -> None:
                             fish_crowd=crowd, seed=seed).validate()
         if "poly-sep" in methods and (learn_drift or input_ == "raw"):
             raise InputError("poly-sep needs --input ua without --learn-drift")
-        out_dir = prepare_out_dir(out) if out is not None else None
+        if out is not None and Path(out).exists() and not Path(out).is_dir():
+            raise InputError("--out must be a directory for this command", path=out)
         with collect_warnings(quiet=quiet or as_json) as warns:
             rec = _read(file, read)
             samples = prepare(rec, cfg)
@@ -190,6 +191,9 @@ def register(app: typer.Typer, groups: dict) -> None:
         main_model = result.models[result.model_method]
         own = result.own_drift()
         payload = result.summary(own)
+        # everything is computed before the output folder is touched: bad input leaves
+        # nothing behind
+        out_dir = prepare_out_dir(out) if out is not None else None
         if out_dir is not None:
             from inertialab.report.figures.thermal import (
                 bias_figure,

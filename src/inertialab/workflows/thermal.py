@@ -127,19 +127,27 @@ def prepare_samples(frame: pd.DataFrame, config: ThermalConfig | None = None, *,
     sp = g.temp_set_c.to_numpy(float)
     rd = g.ramp_dir.to_numpy(str)
     ref_rows = np.isclose(sp, cfg.reference_temp_c, atol=1e-6) & (rd == rd[0])
-    fit = fit_single_axis(a_i[ref_rows], a_p[ref_rows], U[ref_rows], include_kp=cfg.include_kp)
-    ref = fit.coefficients
-    ua = integrated_output(U, a_i, a_p, ref)
-    if cfg.target == "linear55":
-        y = reference_target(a_i, ref)
-    else:  # measured55: the 55 °C Ua at the same position (same pass)
-        lut = {int(p): v for p, v in zip(g.pos_index.to_numpy()[ref_rows], ua[ref_rows])}
-        y = np.array([lut[int(p)] for p in g.pos_index.to_numpy()])
-    if cfg.input == "raw":
-        n = U
-        y = y + higher_order_terms(a_i, a_p, ref)
-    else:
-        n = ua
+    # values near the float range overflow below; _plausible turns that into one error
+    with np.errstate(all="ignore"):
+        try:
+            fit = fit_single_axis(a_i[ref_rows], a_p[ref_rows], U[ref_rows],
+                                  include_kp=cfg.include_kp)
+        except np.linalg.LinAlgError:
+            raise InputError("the reference-temperature tumble cannot be fitted (values out "
+                             "of range?)", path=path, column="output_mv") from None
+        ref = fit.coefficients
+        ua = integrated_output(U, a_i, a_p, ref)
+        if cfg.target == "linear55":
+            y = reference_target(a_i, ref)
+        else:  # measured55: the 55 °C Ua at the same position (same pass)
+            lut = {int(p): v for p, v in zip(g.pos_index.to_numpy()[ref_rows], ua[ref_rows])}
+            y = np.array([lut[int(p)] for p in g.pos_index.to_numpy()])
+        if cfg.input == "raw":
+            n = U
+            y = y + higher_order_terms(a_i, a_p, ref)
+        else:
+            n = ua
+    _plausible(f, g, ref, fit.residual_rms, np.asarray(n, float), np.asarray(y, float), path)
     unit_id = str(f["unit_id"].iloc[0]) if "unit_id" in f.columns else ""
     return ThermalSamples(
         temp_c=g.temp_meas_c.to_numpy(float), set_point_c=sp,
@@ -150,6 +158,45 @@ def prepare_samples(frame: pd.DataFrame, config: ThermalConfig | None = None, *,
         target=cfg.target, unit_id=unit_id, reference_temp_c=float(cfg.reference_temp_c))
 
 
+
+
+#: Plausibility limits of a thermal tumble (issue 19 item 5) [ours]: a 55 °C tumble that
+#: leaves more than 10 mg rms around eq. 1 (a healthy one leaves µg), or a sample whose
+#: output differs from the 55 °C model by more than 1 g (the seed's drift is 5 mg), is
+#: not a temperature drift but a broken cell; refusing it keeps NaN and nonsense out of
+#: the models.
+MAX_REFERENCE_RESIDUAL_G = 0.01
+MAX_DRIFT_G = 1.0
+
+
+def _rows_of(frame: pd.DataFrame, ramp: str, set_point: float, pos: int) -> list[int]:
+    m = ((frame["ramp_dir"].to_numpy(str) == ramp) & (frame["temp_set_c"].to_numpy() == set_point)
+         & (frame["pos_index"].to_numpy() == pos))
+    return (np.flatnonzero(m) + 1)[:5].tolist()
+
+
+def _plausible(frame, g, ref, residual_mv, n, y, path) -> None:
+    """Refuse a record whose numbers cannot be a thermal tumble (values near the float
+    range, a 55 °C tumble that does not fit eq. 1, a 1 g "drift")."""
+    coef = np.array([ref.k0, ref.k1, ref.k2, ref.kip, ref.kp, residual_mv])
+    if not np.all(np.isfinite(coef)) or ref.k1 == 0.0:
+        raise InputError("the reference-temperature tumble gives no finite, non-zero scale "
+                         "factor (values out of range?)", path=path, column="output_mv")
+    if residual_mv / abs(ref.k1) > MAX_REFERENCE_RESIDUAL_G:
+        raise InputError(f"the reference-temperature tumble leaves "
+                         f"{residual_mv / abs(ref.k1) * 1e3:.4g} mg rms around eq. 1 (limit "
+                         f"{MAX_REFERENCE_RESIDUAL_G * 1e3:g} mg): a broken output cell?",
+                         path=path, column="output_mv")
+    with np.errstate(over="ignore", invalid="ignore"):
+        d = np.abs(n - y) / abs(ref.k1)
+    bad = ~np.isfinite(d) | (d > MAX_DRIFT_G)
+    if np.any(bad):
+        i = int(np.flatnonzero(bad)[0])
+        rows = _rows_of(frame, g.ramp_dir.iloc[i], g.temp_set_c.iloc[i], g.pos_index.iloc[i])
+        raise InputError(f"output at set point {g.temp_set_c.iloc[i]:g} °C, position "
+                         f"{int(g.pos_index.iloc[i])} differs from the reference-temperature "
+                         f"model by more than {MAX_DRIFT_G:g} g: not a temperature drift",
+                         path=path, column="output_mv", row=rows[0] if len(rows) == 1 else rows)
 
 
 def reference_temperature(meta: dict, path=None, default: float = 55.0) -> float:
@@ -430,6 +477,10 @@ def fit_thermal(samples: ThermalSamples, config: ThermalConfig | None = None, *,
     metrics = {}
     for m in cfg.methods:
         pm = np.concatenate(preds[m])
+        if not np.all(np.isfinite(pm)):
+            # finite samples in, NaN out: an error, never a model with null metrics
+            raise InputError(f"the {m} model gives non-finite predictions on finite data "
+                             "(values out of range for this model)")
         proxy = _FixedPrediction(pm, test)
         met = score(proxy, samples, test, wall_s=walls[m])
         met = replace(met, rules=models[m].n_rules)
