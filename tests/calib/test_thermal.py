@@ -17,14 +17,13 @@ from inertialab.calib.thermal import (
     compensate,
     drift,
     fit_model,
-    make_splits,
     recalibrate,
     score,
 )
 from inertialab.errors import ExtrapolationWarning, InputError
 from inertialab.io import load_model, save_model
 from inertialab.sim.thermal_tumble import simulate
-from inertialab.workflows.thermal import fit_thermal, prepare_samples
+from inertialab.workflows.thermal import fit_thermal, make_splits, prepare_samples
 
 FAST = ThermalConfig(fish=4, generations=2, search_epochs=5, epochs=30, ann_max_epochs=60)
 

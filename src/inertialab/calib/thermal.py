@@ -2,8 +2,9 @@
 
 On arrays, no files and no records: the settings of a fit (:class:`ThermalConfig`), the
 (T, N) -> Nc samples of one unit (:class:`ThermalSamples`, built from a record by
-:func:`inertialab.workflows.thermal.prepare`), the splits of spec 000 §3.1 step 4, the
-seven estimators (ANN, FIS, ANFIS on a grid, SCM-ANFIS, IAFSA-SCM-ANFIS, POLY-SEP,
+:func:`inertialab.workflows.thermal.prepare`), a split of the samples (:class:`Split`; the splits
+of §3.1 step 4 are made by :func:`inertialab.workflows.thermal.make_splits`), the seven
+estimators (ANN, FIS, ANFIS on a grid, SCM-ANFIS, IAFSA-SCM-ANFIS, POLY-SEP,
 POLY-2D; :func:`fit_model`), the metrics of §5 (:func:`score`), the fitted artefact
 (:class:`ThermalModel`, model-file type ``thermal-compensation``, format version 1) and
 its use: :func:`compensate` with the status codes shared with the C export
@@ -29,10 +30,9 @@ from inertialab.errors import ExtrapolationWarning, InputError, MissingReference
 from inertialab.learn.anfis import ANFIS
 from inertialab.learn.mlp_lm import MLPRegressorLM
 from inertialab.learn.poly import PolynomialRegressor, SeparatePolynomials, _monomials
-from inertialab.learn.scm_search import search_scm
+from inertialab.learn.scm_search import FISH_DEFAULTS, search_scm
 from inertialab.learn.subclust import DEFAULTS as SCM_DEFAULTS
 from inertialab.optim.fish_swarm import iafsa
-from inertialab.seeding import as_generator
 from inertialab.sensors.pendulous import (
     SingleAxisCoefficients,
     estimate_input,
@@ -72,6 +72,10 @@ class ThermalConfig:
     reference_temp_c : 55 °C; temp_tolerance_c : ±2 °C around each set point (§2.3)
     epochs : final ANFIS epochs (150); search_epochs : ANFIS epochs inside IAFSA (20)
     fish, generations : IAFSA N_fish (10) and G_max (30); r_max : rule cap (40)
+    fish_visual, fish_step : initial visual range (0.30) and step (0.10) of the fish, in
+        unit-cube coordinates; fish_try_number : prey attempts (5); fish_crowd : crowd
+        factor (0.618). Spec 000 §3.5's values (the seed's Table 1 is lost); the floors
+        Visual_min = 0.02, Step_min = 0.005 and the exponent s = 3 stay fixed.
     radii : "scalar" (4-D search) | "per_dim" (6-D: r_T, r_N, r_y)
     ann_hidden, ann_max_epochs : MLP 2-10-1, up to 500 LM iterations (§4)
     poly_sep_degree : cubic K0(T), K1(T) (§4); poly2d_degrees : (m, n) = (3, 1) (§4)
@@ -80,7 +84,7 @@ class ThermalConfig:
         its span on each side [ours]. Clamping N exactly at the training maximum would
         saturate a +1 g reading whose position happened to fall in the test set (measured:
         400 µg at 70 °C, +1 g), while the first-order consequents extrapolate benignly.
-    seed : master seed (split, search, ANN init; spawned in that order)
+    seed : master seed (split stream, then one stream per fold and method name)
     """
 
     methods: tuple[str, ...] = METHODS
@@ -106,6 +110,10 @@ class ThermalConfig:
     range_margin_c: float = 0.5
     range_margin_frac: float = 0.05
     seed: int = 0
+    fish_visual: float = 0.30
+    fish_step: float = 0.10
+    fish_try_number: int = 5
+    fish_crowd: float = 0.618
 
     def validate(self) -> ThermalConfig:
         bad = [m for m in self.methods if m not in METHODS]
@@ -121,7 +129,35 @@ class ThermalConfig:
             raise InputError(f"radii must be scalar or per_dim, got {self.radii!r}")
         if not 0 < self.val_fraction < 1:
             raise InputError(f"val_fraction must be in (0, 1), got {self.val_fraction}")
+        for name in ("fish_visual", "fish_step"):
+            v = getattr(self, name)
+            if not (np.isfinite(v) and 0 < v <= 1):
+                raise InputError(f"argument '{name}' must be in (0, 1] (unit-cube "
+                                 f"coordinates), got {v}")
+        if int(self.fish_try_number) != self.fish_try_number or self.fish_try_number < 1:
+            raise InputError(f"argument 'fish_try_number' must be a positive integer, "
+                             f"got {self.fish_try_number}")
+        if not (np.isfinite(self.fish_crowd) and 0 < self.fish_crowd <= 1):
+            raise InputError(f"argument 'fish_crowd' must be in (0, 1], got {self.fish_crowd}")
+        if int(self.fish) < 1 or int(self.generations) < 1:
+            raise InputError("arguments 'fish' and 'generations' must be at least 1")
         return self
+
+    def fish_params(self) -> dict:
+        """The settable fish-swarm parameters as :func:`~inertialab.optim.fish_swarm.iafsa`
+        takes them."""
+        return {"visual": float(self.fish_visual), "step": float(self.fish_step),
+                "try_number": int(self.fish_try_number), "crowd": float(self.fish_crowd)}
+
+    def fish_table(self) -> dict:
+        """Table 1 of the paper (fish-swarm parameters), with the values used."""
+        return {"n_fish": int(self.fish), "max_generations": int(self.generations),
+                "visual": float(self.fish_visual), "step": float(self.fish_step),
+                "visual_min": FISH_DEFAULTS["visual_min"],
+                "step_min": FISH_DEFAULTS["step_min"],
+                "try_number": int(self.fish_try_number), "crowd": float(self.fish_crowd),
+                "adaptive_exponent": FISH_DEFAULTS["s"],
+                "search_epochs": int(self.search_epochs), "r_max": int(self.r_max)}
 
 
 # ---------------------------------------------------------------------------------------
@@ -180,76 +216,6 @@ class Split:
     val: np.ndarray
 
 
-def strata_of(s: ThermalSamples) -> np.ndarray:
-    """Stratum index of every sample: one stratum per (ramp pass, set point)."""
-    keys = [f"{r}|{t:g}" for r, t in zip(s.ramp_dir, s.set_point_c)]
-    _, inv = np.unique(keys, return_inverse=True)
-    return inv
-
-
-def validation_subset(train: np.ndarray, strata: np.ndarray, frac: float,
-                      rng) -> tuple[np.ndarray, np.ndarray]:
-    """Stratified validation subset of ``train`` (round(frac x members) per stratum,
-    spec 000 §3.1 step 4): returns ``(fit, val)``."""
-    val = []
-    for k in np.unique(strata[train]):
-        members = train[strata[train] == k]
-        m = int(np.floor(frac * members.size + 0.5))
-        if m:
-            val.extend(rng.choice(members, size=m, replace=False).tolist())
-    val = np.sort(np.asarray(val, dtype=int))
-    fit = np.setdiff1d(train, val)
-    return fit, val
-
-
-def make_splits(samples: ThermalSamples, config: ThermalConfig, rng=None) -> list[Split]:
-    """The split(s) of spec 000 §3.1 step 4 (one for random/interp_T/up_down, one per set
-    point for leave_one_T_out; the reference set point is always in training)."""
-    cfg = config.validate()
-    g = as_generator(rng)
-    strata = strata_of(samples)
-    idx = np.arange(samples.n)
-    is_ref = np.isclose(samples.set_point_c, cfg.reference_temp_c, atol=1e-6)
-    splits = []
-    if cfg.split == "random":
-        test = []
-        for k in np.unique(strata):
-            members = idx[strata == k]
-            if cfg.test_positions >= members.size:
-                raise InputError(f"test_positions {cfg.test_positions} leaves no training data")
-            test.extend(g.choice(members, size=cfg.test_positions, replace=False).tolist())
-        test = np.sort(np.asarray(test, dtype=int))
-        train = np.setdiff1d(idx, test)
-        fit, val = validation_subset(train, strata, cfg.val_fraction, g)
-        splits.append(Split("random", train, test, fit, val))
-    elif cfg.split == "interp_T":
-        sps = np.unique(samples.set_point_c)
-        lo = sps.min()
-        step = np.min(np.diff(sps)) if sps.size > 1 else 1.0
-        k = np.rint((samples.set_point_c - lo) / step).astype(int)
-        train_mask = (k % 2 == 0) | is_ref
-        train, test = idx[train_mask], idx[~train_mask]
-        if test.size == 0:
-            raise InputError("interp_T split: no intermediate set points to test on")
-        fit, val = validation_subset(train, strata, cfg.val_fraction, g)
-        splits.append(Split("interp_T", train, test, fit, val))
-    elif cfg.split == "up_down":
-        up = samples.ramp_dir == "up"
-        train, test = idx[up], idx[~up]
-        if test.size == 0 or train.size == 0:
-            raise InputError("up_down split needs a record with an up and a down pass "
-                             "(a virtual-lab record simulated with ramp='up_down')")
-        fit, val = validation_subset(train, strata, cfg.val_fraction, g)
-        splits.append(Split("up_down", train, test, fit, val))
-    else:
-        for sp in np.unique(samples.set_point_c[~is_ref]):
-            test = idx[samples.set_point_c == sp]
-            train = idx[samples.set_point_c != sp]
-            fit, val = validation_subset(train, strata, cfg.val_fraction, g)
-            splits.append(Split(f"leave_out_{sp:g}", train, test, fit, val))
-    return splits
-
-
 # ---------------------------------------------------------------------------------------
 # the compensation model
 # ---------------------------------------------------------------------------------------
@@ -283,6 +249,29 @@ def _regressor_to_dict(reg) -> tuple[str, dict]:
     if isinstance(reg, SeparatePolynomials):
         return "poly-sep", reg.to_dict()
     raise TypeError(f"unsupported regressor {type(reg).__name__}")
+
+
+#: Keys of regressor payloads that hold training diagnostics, not parameters (may be nan).
+_DIAGNOSTICS = {"report", "history", "train_mse", "val_mse", "mu", "trace", "stop_reason"}
+
+
+def _non_finite(obj, path: str) -> str | None:
+    """Key path of the first non-finite number in a JSON-like payload, else None."""
+    if isinstance(obj, dict):
+        for k, v in obj.items():
+            if k in _DIAGNOSTICS:
+                continue
+            hit = _non_finite(v, f"{path}.{k}")
+            if hit:
+                return hit
+    elif isinstance(obj, (list, tuple)):
+        for i, v in enumerate(obj):
+            hit = _non_finite(v, f"{path}[{i}]")
+            if hit:
+                return hit
+    elif isinstance(obj, (float, np.floating)) and not np.isfinite(obj):
+        return path
+    return None
 
 
 _FROM_DICT = {"anfis": ANFIS.from_dict, "mlp-lm": MLPRegressorLM.from_dict,
@@ -351,6 +340,35 @@ class ThermalModel:
 
     @classmethod
     def from_dict(cls, d: dict) -> ThermalModel:
+        model = cls._from_dict(d)
+        model.check()
+        return model
+
+    def check(self) -> ThermalModel:
+        """Plausibility of a loaded model (issue 19 item 5): known method, input and
+        target, finite reference coefficients with a non-zero scale factor, finite
+        non-empty calibrated ranges, a finite regressor. Raises InputError."""
+        if self.method not in METHODS:
+            raise InputError(f"thermal model: unknown method {str(self.method)[:40]!r}")
+        if self.input not in ("ua", "raw") or self.target not in ("linear55", "measured55"):
+            raise InputError("thermal model: input must be ua or raw and target linear55 or "
+                             "measured55")
+        ref = [self.ref.k0, self.ref.k1, self.ref.k2, self.ref.kip, self.ref.kp]
+        if not np.all(np.isfinite(ref)) or self.ref.k1 == 0.0:
+            raise InputError("thermal model: reference coefficients must be finite with k1 != 0")
+        for name in ("t_range_c", "n_range_mv"):
+            lo, hi = (float(v) for v in getattr(self, name))
+            if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
+                raise InputError(f"thermal model: {name} must be a finite, non-empty range")
+        if not np.isfinite(float(self.reference_temp_c)):
+            raise InputError("thermal model: reference_temp_c is not finite")
+        bad = _non_finite(_regressor_to_dict(self.regressor)[1], "regressor")
+        if bad:
+            raise InputError(f"thermal model: {bad} is not finite")
+        return self
+
+    @classmethod
+    def _from_dict(cls, d: dict) -> ThermalModel:
         try:
             tag = d["regressor_type"]
             if tag not in _FROM_DICT:
@@ -404,7 +422,8 @@ def fit_model(samples: ThermalSamples, split: Split, method: str, config: Therma
             sr = search_scm(X[fi], y[fi], X[va], y[va], k1=samples.k1, bounds_x=bx, bounds_y=by,
                             optimizer=iafsa, radii=cfg.radii, fish=cfg.fish,
                             generations=cfg.generations, search_epochs=cfg.search_epochs,
-                            r_max=cfg.r_max, rng=rng, progress=progress)
+                            r_max=cfg.r_max, fish_params=cfg.fish_params(), rng=rng,
+                            progress=progress)
             scm, search = sr.params, sr.to_dict()
         else:
             scm = dict(scm_params)
@@ -532,11 +551,23 @@ def compensate(model: ThermalModel, temp_c, output_mv, a_pend_g=None, *,
     (no silent extrapolation); partial excursions are clamped, flagged and warned about.
     """
     T = np.asarray(temp_c, float).ravel()
-    N = model_input(model, output_mv, a_pend_g, unit_ref).ravel()
+    U = np.asarray(output_mv, float).ravel()
+    for name, v in (("temp_meas_c", T), ("output_mv", U)) + (
+            () if a_pend_g is None else (("a_pend_g", np.asarray(a_pend_g, float).ravel()),)):
+        if not np.all(np.isfinite(v)):
+            rows = (np.flatnonzero(~np.isfinite(v)) + 1)[:5].tolist()
+            raise InputError("NaN or infinite value", path=path, column=name,
+                             row=rows[0] if len(rows) == 1 else rows)
+    with np.errstate(all="ignore"):
+        N = model_input(model, U, a_pend_g, unit_ref).ravel()
     if T.size != N.size:
         raise InputError("temperature and output have different lengths", path=path)
     if T.size == 0:
         raise InputError("no readings to compensate", path=path)
+    if not np.all(np.isfinite(N)):
+        rows = (np.flatnonzero(~np.isfinite(N)) + 1)[:5].tolist()
+        raise InputError("output out of range: the model input overflows", path=path,
+                         column="output_mv", row=rows[0] if len(rows) == 1 else rows)
     tlo, thi = model.t_range_c
     nlo, nhi = model.n_range_mv
     t_out = (T < tlo) | (T > thi)
@@ -554,6 +585,10 @@ def compensate(model: ThermalModel, temp_c, output_mv, a_pend_g=None, *,
     # raw-input models keep the 55 °C higher-order terms in Nc; with a_i unknown the
     # linear inverse is used for both (those terms are µg-level)
     a = (nc - model.ref.k0) / model.ref.k1
+    if not (np.all(np.isfinite(nc)) and np.all(np.isfinite(a))):
+        # finite readings in, NaN out: the model's parameters are not usable
+        raise InputError("the thermal model gives non-finite output for finite readings; "
+                         "its parameters are not usable", path=path)
     return Compensation(nc_mv=nc, a_g=a, status=status.astype(int), n_mv=N)
 
 
@@ -647,6 +682,6 @@ def recalibrate(model: ThermalModel, samples_b: ThermalSamples, *,
 __all__ = [
     "FUZZY", "METHODS", "PROPOSED", "SPLITS", "STATUS_N_CLAMPED", "STATUS_OK",
     "STATUS_T_CLAMPED", "Compensation", "DriftResult", "ModelMetrics", "Split", "ThermalConfig",
-    "ThermalModel", "ThermalSamples", "compensate", "drift", "fit_model", "make_splits",
-    "model_input", "raw_drift_rms_ug", "strata_of", "validation_subset", "recalibrate", "score",
+    "ThermalModel", "ThermalSamples", "compensate", "drift", "fit_model",
+    "model_input", "raw_drift_rms_ug", "recalibrate", "score",
 ]

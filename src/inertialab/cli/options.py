@@ -179,6 +179,10 @@ FLAG_OF: dict[str, str] = {
     "robust": "--robust",
     "placement_deg": "--placement-deg",
     "drop_g_sensitivity": "--drop-g-sensitivity",
+    "fish_visual": "--visual",
+    "fish_step": "--step",
+    "fish_try_number": "--try-number",
+    "fish_crowd": "--crowd",
 }
 
 

@@ -27,7 +27,11 @@ _METHOD_CHOICES = ("iafsa-scm-anfis", "scm-anfis", "anfis", "fis", "ann", "poly-
                    "all")
 _UNITS = {"temp": "degC", "output": "mV", "k0": "mV", "k1": "mV/g", "k2": "mV/g^2",
           "kip": "mV/g^2", "kp": "mV/g", "wall_s": "s", "fun": "mg", "f_default": "mg",
-          "radius": "1 (scaled)", "squash": "1", "accept": "1", "reject": "1"}
+          "radius": "1 (scaled)", "squash": "1", "accept": "1", "reject": "1",
+          "visual": "1 (unit cube)", "step": "1 (unit cube)", "visual_min": "1 (unit cube)",
+          "step_min": "1 (unit cube)", "crowd": "1", "try_number": "1", "n_fish": "1",
+          "max_generations": "1", "adaptive_exponent": "1", "r_max": "1",
+          "search_epochs": "1"}
 
 
 def _methods(method: str) -> tuple[str, ...]:
@@ -42,6 +46,11 @@ def _methods(method: str) -> tuple[str, ...]:
         raise InputError(f"--method must be one of {', '.join(_METHOD_CHOICES)} "
                          f"(or a comma-separated list), got '{method}'")
     return parts
+
+
+def _plain(text: str) -> str:
+    """Data-derived text for a matplotlib title: no mathtext (``$``), one line."""
+    return " ".join(str(text).replace("$", r"\$").split())[:200]
 
 
 def _read(path: Path, read: ReadOptions):
@@ -65,6 +74,10 @@ def _apply_command(name: str):
                                 "coefficients, or with the record's own 55 °C tumble "
                                 "(transfer to another unit, spec 000 §3.7); auto = record "
                                 "when it has a full 55 °C tumble of another unit.")] = "auto",
+        figure: Annotated[Path | None, typer.Option(
+            "--figure", help="Also write the drift before/after compensation per input "
+                             "level (seed Fig. 9, the transfer figure) to this .png; needs "
+                             "a full tumble with a 55 °C set point.")] = None,
         as_json: JsonOpt = False,
         quiet: QuietOpt = False,
         read: ReadOptions | None = None,
@@ -79,8 +92,23 @@ def _apply_command(name: str):
             res = apply(mdl, rec, reference=reference, source=str(model))
         if Path(out).is_dir():
             raise InputError("--out must be a file for this command", path=out)
+        fig = None
+        if figure is not None:
+            if Path(figure).suffix.lower() != ".png" or Path(figure).is_dir():
+                raise InputError("--figure must name a .png file", path=figure)
+            if res.drift is None:
+                raise InputError("--figure needs a record with a full tumble at every set "
+                                 "point and one at the reference temperature", path=file)
+            from inertialab.report.figures.thermal import drift_figure
+
+            who = "transfer" if res.reference == "record" else "own unit"
+            fig = drift_figure(res.samples, res.drift, name=Path(figure).stem,
+                               title=_plain(f"unit {res.samples.unit_id or '?'} with the model of unit "
+                                     f"{mdl.unit_id or '?'} ({mdl.method}, {who})"))
         # everything is computed before this point: a failure leaves no output behind
         write_record(res.frame, out, res.meta)
+        if fig is not None:
+            write_figures([fig], Path(figure).parent)
         payload = res.summary() | {"out": str(out)}
         if as_json:
             emit_json(name, payload, inputs=[str(model), {"path": str(file), "sha256": rec.sha256}],
@@ -117,6 +145,14 @@ def register(app: typer.Typer, groups: dict) -> None:
         epochs: Annotated[int, typer.Option("--epochs", help="Final ANFIS epochs (150).")] = 150,
         search_epochs: Annotated[int, typer.Option(
             "--search-epochs", help="ANFIS epochs inside the IAFSA objective (20).")] = 20,
+        visual: Annotated[float, typer.Option(
+            "--visual", help="IAFSA initial visual range, unit-cube units (0.30).")] = 0.30,
+        step: Annotated[float, typer.Option(
+            "--step", help="IAFSA initial step, unit-cube units (0.10).")] = 0.10,
+        try_number: Annotated[int, typer.Option(
+            "--try-number", help="IAFSA prey attempts (5).")] = 5,
+        crowd: Annotated[float, typer.Option(
+            "--crowd", help="IAFSA crowd factor (0.618).")] = 0.618,
         seed: SeedOpt = 0,
         out: OutDirOpt = None,
         as_json: JsonOpt = False,
@@ -125,18 +161,28 @@ def register(app: typer.Typer, groups: dict) -> None:
     ):
         """Fit integrated temperature-compensation models on a thermal tumble record.
 
-        --out writes model.json (the first method), models/, result.json and figures."""
+        --out writes model.json (IAFSA-SCM-ANFIS when fitted, else the first method),
+        models/ (every method), result.json and figures of the saved model."""
         from inertialab.io import save_model
-        from inertialab.workflows.thermal import ThermalConfig, fit, prepare
+        from inertialab.workflows.thermal import (
+            ThermalConfig,
+            bias_scale_factor,
+            bias_scale_factor_table,
+            fit,
+            markdown_table,
+            prepare,
+        )
 
         methods = _methods(method)
         cfg = ThermalConfig(methods=methods, split=split, target=target, input=input_,
                             learn_drift=learn_drift, radii=radii, fish=fish,
                             generations=generations, epochs=epochs, search_epochs=search_epochs,
-                            seed=seed).validate()
+                            fish_visual=visual, fish_step=step, fish_try_number=try_number,
+                            fish_crowd=crowd, seed=seed).validate()
         if "poly-sep" in methods and (learn_drift or input_ == "raw"):
             raise InputError("poly-sep needs --input ua without --learn-drift")
-        out_dir = prepare_out_dir(out) if out is not None else None
+        if out is not None and Path(out).exists() and not Path(out).is_dir():
+            raise InputError("--out must be a directory for this command", path=out)
         with collect_warnings(quiet=quiet or as_json) as warns:
             rec = _read(file, read)
             samples = prepare(rec, cfg)
@@ -145,8 +191,16 @@ def register(app: typer.Typer, groups: dict) -> None:
         main_model = result.models[result.model_method]
         own = result.own_drift()
         payload = result.summary(own)
+        # everything is computed before the output folder is touched: bad input leaves
+        # nothing behind
+        out_dir = prepare_out_dir(out) if out is not None else None
         if out_dir is not None:
-            from inertialab.report.figures.thermal import drift_figure, residual_figure
+            from inertialab.report.figures.thermal import (
+                bias_figure,
+                drift_figure,
+                residual_figure,
+                scale_factor_figure,
+            )
 
             units = {"temp": "degC", "output": "mV"}
             save_model(main_model, out_dir / "model.json", units=units,
@@ -157,11 +211,23 @@ def register(app: typer.Typer, groups: dict) -> None:
                            training_data_sha256=rec.sha256)
             atomic_write_text(out_dir / "result.json",
                               json.dumps(json_ready(payload), indent=2, allow_nan=False) + "\n")
+            for name, table, title in (
+                    ("table1", result.table1(), "Table 1: fish-swarm parameters"),
+                    ("table2", result.table2(), f"Table 2: test errors per model "
+                                                f"({split} split, {result.test_index.size} "
+                                                "test samples)")):
+                atomic_write_text(out_dir / f"{name}.csv", table.to_csv(index=False))
+                atomic_write_text(out_dir / f"{name}.md", markdown_table(table, title=title))
+            bsf = bias_scale_factor(samples)
+            atomic_write_text(out_dir / "bias_scale_factor.csv",
+                              bias_scale_factor_table(bsf).to_csv(index=False))
             write_figures([drift_figure(samples, own, title=result.model_method),
-                           residual_figure(result)], out_dir)
+                           residual_figure(result), bias_figure(bsf),
+                           scale_factor_figure(bsf)], out_dir)
         settings = {"method": list(methods), "split": split, "target": target, "input": input_,
                     "learn_drift": learn_drift, "radii": radii, "fish": fish,
                     "generations": generations, "epochs": epochs, "search_epochs": search_epochs,
+                    "visual": visual, "step": step, "try_number": try_number, "crowd": crowd,
                     "seed": seed, "reference_temp_c": samples.reference_temp_c}
         if as_json:
             emit_json("thermal fit", payload, inputs=[{"path": str(file), "sha256": rec.sha256}],
@@ -178,6 +244,8 @@ def register(app: typer.Typer, groups: dict) -> None:
             print(f"IAFSA: radius={p['radius']}, squash={p['squash']:.4g}, accept={p['accept']:.4g}, "
                   f"reject={p['reject']:.4g}, rules={s['n_rules']}, "
                   f"F*={s['fun'] * 1e3:.2f} µg (default {s['f_default'] * 1e3:.2f})")
+            t1 = payload["fish"]
+            print("fish swarm (Table 1): " + ", ".join(f"{k}={v:g}" for k, v in t1.items()))
         if out_dir is not None:
             print(f"written: {out_dir}")
 
@@ -185,27 +253,38 @@ def register(app: typer.Typer, groups: dict) -> None:
     thermal.command("compensate", hidden=True)(_apply_command("thermal compensate"))
 
     @thermal.command("export")
+    @reading_options
     def thermal_export(
         model: Annotated[Path, typer.Argument(help="model.json of a fuzzy thermal model.")],
         c: Annotated[Path, typer.Option("--c", help="Directory for the C99 .h/.c pair.")],
         prefix: Annotated[str, typer.Option("--prefix", help="C identifier prefix.")] = "qfa",
+        unit_record: Annotated[Path | None, typer.Option(
+            "--unit-record", help="thermal_tumble record of the unit the code will run on, "
+                                  "when it is another unit of the lot: its 55 °C tumble "
+                                  "gives the transfer mapping of spec 000 §3.7.")] = None,
         as_json: JsonOpt = False,
+        read: ReadOptions | None = None,
     ):
         """Export a fuzzy thermal model as dependency-free C99 (inputs clamped, status flag)."""
-        from inertialab.calib.thermal_export import export_c
         from inertialab.io import load_model
+        from inertialab.workflows.thermal import export
 
         mdl = load_model(model, expected_type="thermal-compensation")
-        ex = export_c(mdl, prefix=prefix)
+        rec = _read(unit_record, read) if unit_record is not None else None
+        ex = export(mdl, prefix=prefix, unit_record=rec)
         out_dir = prepare_out_dir(c)
         atomic_write_text(out_dir / ex.header_name, ex.header)
         atomic_write_text(out_dir / ex.source_name, ex.source)
         payload = {"files": [str(out_dir / ex.header_name), str(out_dir / ex.source_name)],
                    "n_rules": ex.n_rules, "exp_calls": ex.exp_calls, "flops": ex.flops,
-                   "functions": [f"{prefix}_comp_mV", f"{prefix}_comp_g"]}
+                   "functions": [f"{prefix}_comp_mV", f"{prefix}_comp_g"],
+                   "mapped_unit": None if rec is None else ex.unit_id}
         if as_json:
-            emit_json("thermal export", payload, inputs=[str(model)], settings={"prefix": prefix},
-                      units={}, warnings_=[])
+            inputs = [str(model)] + ([] if rec is None else
+                                     [{"path": str(unit_record), "sha256": rec.sha256}])
+            emit_json("thermal export", payload, inputs=inputs,
+                      settings={"prefix": prefix, "unit_record": unit_record}, units={},
+                      warnings_=[])
             return
         print(f"written: {payload['files'][0]}, {payload['files'][1]} "
               f"({ex.n_rules} rules, {ex.exp_calls} exp calls per reading)")

@@ -26,13 +26,16 @@ from inertialab.calib.thermal import (
     ThermalSamples,
     drift,
     fit_model,
-    strata_of,
-    validation_subset,
 )
 from inertialab.progress import NullProgress
 from inertialab.seeding import as_generator
 from inertialab.studies.base import Headline, Study, StudyResult, settings_dict
-from inertialab.workflows.thermal import fit_thermal, prepare_samples
+from inertialab.workflows.thermal import (
+    fit_thermal,
+    prepare_samples,
+    strata_of,
+    validation_subset,
+)
 
 #: Paper figures (spec 000 §6): test RMSE in mg.
 PAPER_RMSE_MG = {"ann": 0.138, "fis": 0.101, "anfis": 0.034, "iafsa-scm-anfis": 0.004}

@@ -22,6 +22,7 @@ virtual lab.
 from __future__ import annotations
 
 import time
+import zlib
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -45,14 +46,16 @@ from inertialab.calib.thermal import (  # noqa: F401 - re-exported for callers o
     compensate,
     drift,
     fit_model,
-    make_splits,
     raw_drift_rms_ug,
     recalibrate,
     score,
 )
+from inertialab.calib.thermal_export import export_c
 from inertialab.errors import InputError, MissingReferenceError
 from inertialab.progress import NullProgress
+from inertialab.seeding import as_generator
 from inertialab.sensors.pendulous import (
+    bias_scale_factor_drift,
     fit_single_axis,
     higher_order_terms,
     integrated_output,
@@ -124,19 +127,27 @@ def prepare_samples(frame: pd.DataFrame, config: ThermalConfig | None = None, *,
     sp = g.temp_set_c.to_numpy(float)
     rd = g.ramp_dir.to_numpy(str)
     ref_rows = np.isclose(sp, cfg.reference_temp_c, atol=1e-6) & (rd == rd[0])
-    fit = fit_single_axis(a_i[ref_rows], a_p[ref_rows], U[ref_rows], include_kp=cfg.include_kp)
-    ref = fit.coefficients
-    ua = integrated_output(U, a_i, a_p, ref)
-    if cfg.target == "linear55":
-        y = reference_target(a_i, ref)
-    else:  # measured55: the 55 °C Ua at the same position (same pass)
-        lut = {int(p): v for p, v in zip(g.pos_index.to_numpy()[ref_rows], ua[ref_rows])}
-        y = np.array([lut[int(p)] for p in g.pos_index.to_numpy()])
-    if cfg.input == "raw":
-        n = U
-        y = y + higher_order_terms(a_i, a_p, ref)
-    else:
-        n = ua
+    # values near the float range overflow below; _plausible turns that into one error
+    with np.errstate(all="ignore"):
+        try:
+            fit = fit_single_axis(a_i[ref_rows], a_p[ref_rows], U[ref_rows],
+                                  include_kp=cfg.include_kp)
+        except np.linalg.LinAlgError:
+            raise InputError("the reference-temperature tumble cannot be fitted (values out "
+                             "of range?)", path=path, column="output_mv") from None
+        ref = fit.coefficients
+        ua = integrated_output(U, a_i, a_p, ref)
+        if cfg.target == "linear55":
+            y = reference_target(a_i, ref)
+        else:  # measured55: the 55 °C Ua at the same position (same pass)
+            lut = {int(p): v for p, v in zip(g.pos_index.to_numpy()[ref_rows], ua[ref_rows])}
+            y = np.array([lut[int(p)] for p in g.pos_index.to_numpy()])
+        if cfg.input == "raw":
+            n = U
+            y = y + higher_order_terms(a_i, a_p, ref)
+        else:
+            n = ua
+    _plausible(f, g, ref, fit.residual_rms, np.asarray(n, float), np.asarray(y, float), path)
     unit_id = str(f["unit_id"].iloc[0]) if "unit_id" in f.columns else ""
     return ThermalSamples(
         temp_c=g.temp_meas_c.to_numpy(float), set_point_c=sp,
@@ -147,6 +158,45 @@ def prepare_samples(frame: pd.DataFrame, config: ThermalConfig | None = None, *,
         target=cfg.target, unit_id=unit_id, reference_temp_c=float(cfg.reference_temp_c))
 
 
+
+
+#: Plausibility limits of a thermal tumble (issue 19 item 5) [ours]: a 55 °C tumble that
+#: leaves more than 10 mg rms around eq. 1 (a healthy one leaves µg), or a sample whose
+#: output differs from the 55 °C model by more than 1 g (the seed's drift is 5 mg), is
+#: not a temperature drift but a broken cell; refusing it keeps NaN and nonsense out of
+#: the models.
+MAX_REFERENCE_RESIDUAL_G = 0.01
+MAX_DRIFT_G = 1.0
+
+
+def _rows_of(frame: pd.DataFrame, ramp: str, set_point: float, pos: int) -> list[int]:
+    m = ((frame["ramp_dir"].to_numpy(str) == ramp) & (frame["temp_set_c"].to_numpy() == set_point)
+         & (frame["pos_index"].to_numpy() == pos))
+    return (np.flatnonzero(m) + 1)[:5].tolist()
+
+
+def _plausible(frame, g, ref, residual_mv, n, y, path) -> None:
+    """Refuse a record whose numbers cannot be a thermal tumble (values near the float
+    range, a 55 °C tumble that does not fit eq. 1, a 1 g "drift")."""
+    coef = np.array([ref.k0, ref.k1, ref.k2, ref.kip, ref.kp, residual_mv])
+    if not np.all(np.isfinite(coef)) or ref.k1 == 0.0:
+        raise InputError("the reference-temperature tumble gives no finite, non-zero scale "
+                         "factor (values out of range?)", path=path, column="output_mv")
+    if residual_mv / abs(ref.k1) > MAX_REFERENCE_RESIDUAL_G:
+        raise InputError(f"the reference-temperature tumble leaves "
+                         f"{residual_mv / abs(ref.k1) * 1e3:.4g} mg rms around eq. 1 (limit "
+                         f"{MAX_REFERENCE_RESIDUAL_G * 1e3:g} mg): a broken output cell?",
+                         path=path, column="output_mv")
+    with np.errstate(over="ignore", invalid="ignore"):
+        d = np.abs(n - y) / abs(ref.k1)
+    bad = ~np.isfinite(d) | (d > MAX_DRIFT_G)
+    if np.any(bad):
+        i = int(np.flatnonzero(bad)[0])
+        rows = _rows_of(frame, g.ramp_dir.iloc[i], g.temp_set_c.iloc[i], g.pos_index.iloc[i])
+        raise InputError(f"output at set point {g.temp_set_c.iloc[i]:g} °C, position "
+                         f"{int(g.pos_index.iloc[i])} differs from the reference-temperature "
+                         f"model by more than {MAX_DRIFT_G:g} g: not a temperature drift",
+                         path=path, column="output_mv", row=rows[0] if len(rows) == 1 else rows)
 
 
 def reference_temperature(meta: dict, path=None, default: float = 55.0) -> float:
@@ -173,6 +223,76 @@ def prepare(record, config: ThermalConfig | None = None) -> ThermalSamples:
 # ---------------------------------------------------------------------------------------
 # fit: samples -> models and metrics
 # ---------------------------------------------------------------------------------------
+def strata_of(s: ThermalSamples) -> np.ndarray:
+    """Stratum index of every sample: one stratum per (ramp pass, set point)."""
+    keys = [f"{r}|{t:g}" for r, t in zip(s.ramp_dir, s.set_point_c)]
+    _, inv = np.unique(keys, return_inverse=True)
+    return inv
+
+
+def validation_subset(train: np.ndarray, strata: np.ndarray, frac: float,
+                      rng) -> tuple[np.ndarray, np.ndarray]:
+    """Stratified validation subset of ``train`` (round(frac x members) per stratum,
+    spec 000 §3.1 step 4): returns ``(fit, val)``."""
+    val = []
+    for k in np.unique(strata[train]):
+        members = train[strata[train] == k]
+        m = int(np.floor(frac * members.size + 0.5))
+        if m:
+            val.extend(rng.choice(members, size=m, replace=False).tolist())
+    val = np.sort(np.asarray(val, dtype=int))
+    fit = np.setdiff1d(train, val)
+    return fit, val
+
+
+def make_splits(samples: ThermalSamples, config: ThermalConfig, rng=None) -> list[Split]:
+    """The split(s) of spec 000 §3.1 step 4 (one for random/interp_T/up_down, one per set
+    point for leave_one_T_out; the reference set point is always in training)."""
+    cfg = config.validate()
+    g = as_generator(rng)
+    strata = strata_of(samples)
+    idx = np.arange(samples.n)
+    is_ref = np.isclose(samples.set_point_c, cfg.reference_temp_c, atol=1e-6)
+    splits = []
+    if cfg.split == "random":
+        test = []
+        for k in np.unique(strata):
+            members = idx[strata == k]
+            if cfg.test_positions >= members.size:
+                raise InputError(f"test_positions {cfg.test_positions} leaves no training data")
+            test.extend(g.choice(members, size=cfg.test_positions, replace=False).tolist())
+        test = np.sort(np.asarray(test, dtype=int))
+        train = np.setdiff1d(idx, test)
+        fit, val = validation_subset(train, strata, cfg.val_fraction, g)
+        splits.append(Split("random", train, test, fit, val))
+    elif cfg.split == "interp_T":
+        sps = np.unique(samples.set_point_c)
+        lo = sps.min()
+        step = np.min(np.diff(sps)) if sps.size > 1 else 1.0
+        k = np.rint((samples.set_point_c - lo) / step).astype(int)
+        train_mask = (k % 2 == 0) | is_ref
+        train, test = idx[train_mask], idx[~train_mask]
+        if test.size == 0:
+            raise InputError("interp_T split: no intermediate set points to test on")
+        fit, val = validation_subset(train, strata, cfg.val_fraction, g)
+        splits.append(Split("interp_T", train, test, fit, val))
+    elif cfg.split == "up_down":
+        up = samples.ramp_dir == "up"
+        train, test = idx[up], idx[~up]
+        if test.size == 0 or train.size == 0:
+            raise InputError("up_down split needs a record with an up and a down pass "
+                             "(a virtual-lab record simulated with ramp='up_down')")
+        fit, val = validation_subset(train, strata, cfg.val_fraction, g)
+        splits.append(Split("up_down", train, test, fit, val))
+    else:
+        for sp in np.unique(samples.set_point_c[~is_ref]):
+            test = idx[samples.set_point_c == sp]
+            train = idx[samples.set_point_c != sp]
+            fit, val = validation_subset(train, strata, cfg.val_fraction, g)
+            splits.append(Split(f"leave_out_{sp:g}", train, test, fit, val))
+    return splits
+
+
 @dataclass
 class ThermalFit:
     """Result of :func:`fit_thermal`.
@@ -199,8 +319,9 @@ class ThermalFit:
 
     @property
     def model_method(self) -> str:
-        """The method saved as *the* model of a fit: the first requested."""
-        return self.config.methods[0]
+        """The method saved as *the* model of a fit (``model.json``): the proposed
+        IAFSA-SCM-ANFIS (spec 000 §3.6) when it was fitted, else the first requested."""
+        return PROPOSED if PROPOSED in self.models else self.config.methods[0]
 
     def own_drift(self, method: str | None = None) -> DriftResult:
         """Drift of the training unit compensated with its own model (default: the
@@ -225,15 +346,107 @@ class ThermalFit:
             "model_method": self.model_method,
             "drift": own.summary(),
             "n_samples": self.samples.n, "n_test": int(self.test_index.size),
+            "fish": self.config.fish_table(),
+            "bias_scale_factor": bias_scale_factor(self.samples).summary(),
         }
+
+    def table2(self) -> pd.DataFrame:
+        """The paper's Table 2 from this fit: per model ME, AE, MAXE, MARE and RMSE on the
+        test set (spec 000 §5; absolute errors in µg and mg, relative in ppm), with MBE,
+        the rule count, the SCM parameters and the wall time (spec 000 §8.2.6)."""
+        rows = []
+        for m, v in self.metrics.items():
+            scm = self.models[m].scm or {}
+            radius = scm.get("radius")
+            rows.append({
+                "model": LABELS.get(m, m), "method": m,
+                "me_ug": v.me_ug, "ae_ug": v.ae_ug, "maxe_ppm": v.maxe_ppm,
+                "mare_ppm": v.mare_ppm, "rmse_ug": v.rmse_ug,
+                "me_mg": v.me_ug / 1e3, "ae_mg": v.ae_ug / 1e3, "rmse_mg": v.rmse_ug / 1e3,
+                "mbe_ug": v.mbe_ug, "n_test": v.n, "rules": v.rules,
+                "radius": (None if radius is None else
+                           " ".join(f"{r:.6g}" for r in np.atleast_1d(radius))),
+                "squash": scm.get("squash"), "accept": scm.get("accept"),
+                "reject": scm.get("reject"), "wall_s": v.wall_s})
+        return pd.DataFrame(rows)
+
+    def table1(self) -> pd.DataFrame:
+        """The paper's Table 1: the fish-swarm parameters used (quantity, value)."""
+        t = self.config.fish_table()
+        return pd.DataFrame({"quantity": list(t), "value": [t[k] for k in t]})
+
+
+def bias_scale_factor(samples: ThermalSamples):
+    """Bias (0°/180°) and eq.-3 scale factor per set point and input level, and their
+    drift against the reference set point, from the first ramp pass of the samples (the
+    seed's Figs. 3 and 4; :func:`inertialab.sensors.pendulous.bias_scale_factor_drift`)."""
+    m = samples.ramp_dir == samples.ramp_dir[0]
+    return bias_scale_factor_drift(samples.set_point_c[m], samples.temp_c[m],
+                                   samples.a_in_g[m], samples.output_mv[m], k1_ref=samples.k1,
+                                   reference_temp_c=samples.reference_temp_c)
+
+
+def bias_scale_factor_table(bsf) -> pd.DataFrame:
+    """The data of Figs. 3 and 4 as one long table: one row per (set point, input level)."""
+    n_t, n_l = bsf.scale_factor_mv_per_g.shape
+    return pd.DataFrame({
+        "set_point_c": np.repeat(bsf.set_point_c, n_l), "temp_c": np.repeat(bsf.temp_c, n_l),
+        "bias_mv": np.repeat(bsf.bias_mv, n_l), "bias_drift_mg": np.repeat(bsf.bias_drift_mg, n_l),
+        "a_in_g": np.tile(bsf.levels_g, n_t),
+        "scale_factor_mv_per_g": bsf.scale_factor_mv_per_g.ravel(),
+        "scale_factor_drift_mv_per_g": bsf.scale_factor_drift_mv_per_g.ravel(),
+        "scale_factor_drift_ppm": bsf.scale_factor_drift_ppm.ravel()})
+
+
+#: Display names of the methods (the paper's spelling).
+LABELS = {"ann": "ANN", "fis": "FIS", "anfis": "ANFIS (grid)", "scm-anfis": "SCM-ANFIS",
+          "iafsa-scm-anfis": "IAFSA-SCM-ANFIS", "poly-sep": "POLY-SEP", "poly-2d": "POLY-2D"}
+
+_MD_HEAD = {"me_ug": "ME (µg)", "ae_ug": "AE (µg)", "maxe_ppm": "MAXE (ppm)",
+            "mare_ppm": "MARE (ppm)", "rmse_ug": "RMSE (µg)", "me_mg": "ME (mg)",
+            "ae_mg": "AE (mg)", "rmse_mg": "RMSE (mg)", "mbe_ug": "MBE (µg)",
+            "n_test": "n", "wall_s": "wall (s)"}
+
+
+def markdown_table(frame: pd.DataFrame, *, title: str = "", drop=("method",)) -> str:
+    """A GitHub-flavoured Markdown table of ``frame`` (numbers to 4 significant digits,
+    units in the headers)."""
+    cols = [c for c in frame.columns if c not in drop]
+
+    def cell(v):
+        if v is None or (isinstance(v, float) and not np.isfinite(v)):
+            return "–"
+        if isinstance(v, (float, np.floating)):
+            return f"{v:.4g}"
+        return str(v).replace("|", "\\|")
+
+    lines = [f"**{title}**", ""] if title else []
+    lines.append("| " + " | ".join(_MD_HEAD.get(c, c) for c in cols) + " |")
+    lines.append("|" + "---|" * len(cols))
+    for _, r in frame.iterrows():
+        lines.append("| " + " | ".join(cell(r[c]) for c in cols) + " |")
+    return "\n".join(lines) + "\n"
+
+
+def method_stream(parent: np.random.SeedSequence, fold: int, method: str) -> np.random.Generator:
+    """The random stream of ``method`` on fold ``fold``: the child of ``parent`` with
+    spawn key ``parent.spawn_key + (fold, crc32(method))`` (CRC-32 of the UTF-8 name,
+    stable across runs and machines)."""
+    key = zlib.crc32(str(method).encode("utf-8"))
+    child = np.random.SeedSequence(parent.entropy,
+                                   spawn_key=tuple(parent.spawn_key) + (int(fold), key))
+    return np.random.Generator(np.random.PCG64(child))
 
 
 def fit_thermal(samples: ThermalSamples, config: ThermalConfig | None = None, *,
                 progress=None) -> ThermalFit:
     """Fit the requested models on the configured split and score them (spec 000 §3-§5).
 
-    Random streams: ``SeedSequence(config.seed)`` spawns the split stream, then one
-    stream per (fold, method) in the order of ``config.methods``.
+    Random streams: ``SeedSequence(config.seed)`` spawns the split stream and a model
+    stream; each (fold, method) draws from its own child of the model stream keyed by
+    the fold index and the method's *name* (:func:`method_stream`), so a model gets the
+    same numbers whether it is fitted alone or beside others, in any order (issue 18
+    item 2).
     """
     cfg = (config or ThermalConfig()).validate()
     progress = progress or NullProgress()
@@ -241,16 +454,15 @@ def fit_thermal(samples: ThermalSamples, config: ThermalConfig | None = None, *,
     split_ss, model_ss = ss.spawn(2)
     splits = make_splits(samples, cfg, rng=np.random.Generator(np.random.PCG64(split_ss)))
     n_folds = len(splits)
-    streams = model_ss.spawn(n_folds * len(cfg.methods))
     preds = {m: [] for m in cfg.methods}
     models, walls, search = {}, {m: 0.0 for m in cfg.methods}, None
     total = n_folds * len(cfg.methods)
     done = 0
     for f, sp in enumerate(splits):
-        for j, m in enumerate(cfg.methods):
+        for m in cfg.methods:
             progress.update(done, total, f"{m} ({sp.name})")
             t0 = time.perf_counter()
-            rng = np.random.Generator(np.random.PCG64(streams[f * len(cfg.methods) + j]))
+            rng = method_stream(model_ss, f, m)
             with single_threaded_blas():
                 model = fit_model(samples, sp, m, cfg, rng=rng)
             walls[m] += time.perf_counter() - t0
@@ -265,6 +477,10 @@ def fit_thermal(samples: ThermalSamples, config: ThermalConfig | None = None, *,
     metrics = {}
     for m in cfg.methods:
         pm = np.concatenate(preds[m])
+        if not np.all(np.isfinite(pm)):
+            # finite samples in, NaN out: an error, never a model with null metrics
+            raise InputError(f"the {m} model gives non-finite predictions on finite data "
+                             "(values out of range for this model)")
         proxy = _FixedPrediction(pm, test)
         met = score(proxy, samples, test, wall_s=walls[m])
         met = replace(met, rules=models[m].n_rules)
@@ -378,8 +594,22 @@ def apply(model: ThermalModel, record, *, reference: str = "auto",
                           samples=samples)
 
 
+def export(model: ThermalModel, *, prefix: str = "qfa", unit_record=None):
+    """C99 source of a fuzzy thermal model (:func:`inertialab.calib.thermal_export.export_c`).
+    ``unit_record``: a thermal-tumble record of the unit the code will run on, when it is
+    another unit of the lot; its 55 °C tumble gives the coefficients of the §3.7 mapping."""
+    unit_ref, unit_id = None, ""
+    if unit_record is not None:
+        cfg = ThermalConfig(input=model.input, target=model.target,
+                            reference_temp_c=model.reference_temp_c)
+        s = prepare_samples(unit_record.data, cfg, path=unit_record.path)
+        unit_ref, unit_id = s.ref, s.unit_id
+    return export_c(model, prefix=prefix, unit_ref=unit_ref, unit_id=unit_id)
+
+
 __all__ = [
-    "FUZZY", "METHODS", "PROPOSED", "REFERENCES", "ThermalApplied", "ThermalConfig",
+    "FUZZY", "METHODS", "PROPOSED", "REFERENCES", "ThermalApplied", "export", "ThermalConfig",
     "ThermalFit", "ThermalModel", "ThermalSamples", "apply", "compensate", "drift", "fit",
     "fit_thermal", "make_splits", "prepare", "prepare_samples", "reference_temperature",
+    "strata_of", "validation_subset",
 ]
