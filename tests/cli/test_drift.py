@@ -76,3 +76,29 @@ def test_bad_input_exits_2_with_one_line(record, capsys, tmp_path):
     assert code == 2 and "appears twice" in err and err.count("\n") == 1
     code, _, err = run(capsys, "drift", "forecast", tmp_path / "missing.json")
     assert code == 2
+
+
+@pytest.mark.filterwarnings("ignore")
+def test_unit_ids_become_safe_figure_names(record, capsys, tmp_path):
+    # issue 19 item 1: a unit_id with a path in it, or 300 characters long, never escapes
+    # --out and never collides: figure names are safe slugs with a collision-free suffix
+    df = pd.read_csv(record / "rec.csv")
+    evil, long_id = "x/../../../ESCAPED", "U" * 300
+    df["unit_id"] = df["unit_id"].map({"QA001": evil, "QA002": long_id})
+    work = tmp_path / "deep" / "er"
+    work.mkdir(parents=True)
+    df.to_csv(work / "evil.csv", index=False)
+    out = work / "out"
+    code, _, err = run(capsys, "drift", "fit", work / "evil.csv", "--quantity", "bias",
+                       "--restarts", "1", "--out", out, "--quiet")
+    assert code == 0, err
+    outside = [p for p in tmp_path.rglob("*") if p.is_file() and out not in p.parents
+               and p.name != "evil.csv"]
+    assert outside == []
+    names = sorted(p.name for p in out.iterdir())
+    assert all(len(n) < 100 and "/" not in n and not n.startswith(".") for n in names)
+    pngs = [n for n in names if n.endswith(".png")]
+    assert len(pngs) == 2 * 3 + 1  # fit, forecast, acf per unit + the schedule
+    assert any(n.startswith("fit_bias_x_") and "ESCAPED-" in n for n in pngs)
+    res = json.loads((out / "result.json").read_text())
+    assert set(res["per_unit"]) == {evil, long_id}  # the ids themselves stay as data

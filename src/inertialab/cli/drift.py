@@ -25,6 +25,7 @@ from inertialab.cli.common import (
 from inertialab.cli.options import JsonOpt, OutDirOpt, QuietOpt, reading_options
 from inertialab.errors import InputError
 from inertialab.io.mapping import ReadOptions
+from inertialab.io.names import safe_slug
 
 _UNITS = {"bias": "ug", "sf": "ppm", "day": "day", "order": "1", "cv_scores": "1",
           "ljung_box_p": "1", "recalibration_day": "day", "tolerance": "ug (bias) | ppm (sf)",
@@ -155,10 +156,15 @@ def register(app: typer.Typer, groups: dict) -> None:
                        training_data_sha256=rec.sha256, settings=sett)
             atomic_write_text(out_dir / "result.json", json.dumps(
                 json_ready({"settings": sett, **payload}), indent=2, allow_nan=False) + "\n")
+            # file names from unit ids only as safe, collision-free slugs (issue 19 item 1)
+            taken = {"schedule"}
+            slugs: dict = {}
             figs = []
-            for _, _, r in fit.iter():
+            for u, q, r in fit.iter():
+                s = slugs.setdefault(u, safe_slug(u, taken=taken))
                 d = r.figure_data()
-                figs.extend([fit_figure(d), forecast_figure(d), acf_figure(d)])
+                figs.extend([fit_figure(d, f"fit_{q}_{s}"), forecast_figure(d, f"forecast_{q}_{s}"),
+                             acf_figure(d, f"acf_{q}_{s}")])
             figs.append(schedule_figure([
                 {"unit_id": u, "quantity": q, "recalibration_day": r.recalibration_day,
                  "origin_day": r.origin_day, "horizon_end": r.forecast["day"][-1]}

@@ -16,6 +16,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
+from inertialab.io.names import safe_slug
 from inertialab.report.section import Figure, Section, Table
 from inertialab.studies.base import StudyResult
 
@@ -54,7 +55,7 @@ def fit_figure(d: dict, name: str | None = None) -> Figure:
     ax2.set_xlabel("programme day")
     fig.tight_layout()
     return Figure(fig, f"One-step NAR fit and residuals, {_LABEL.get(d['quantity'])} of "
-                       f"unit {d['unit_id']}.", name or f"fit_{d['quantity']}_{d['unit_id']}")
+                       f"unit {d['unit_id']}.", name or f"fit_{d['quantity']}_{safe_slug(d['unit_id'])}")
 
 
 def forecast_figure(d: dict, name: str | None = None) -> Figure:
@@ -90,7 +91,7 @@ def forecast_figure(d: dict, name: str | None = None) -> Figure:
     return Figure(fig, f"20-step closed-loop forecast of the {_LABEL.get(d['quantity'])} of unit "
                        f"{d['unit_id']} with its 95 % bootstrap interval; dashed: the tolerance "
                        "band around the value at the origin.",
-                  name or f"forecast_{d['quantity']}_{d['unit_id']}")
+                  name or f"forecast_{d['quantity']}_{safe_slug(d['unit_id'])}")
 
 
 def acf_figure(d: dict, name: str | None = None) -> Figure:
@@ -109,7 +110,7 @@ def acf_figure(d: dict, name: str | None = None) -> Figure:
     fig.tight_layout()
     return Figure(fig, f"Residual autocorrelation ({_LABEL.get(d['quantity'])}, unit "
                        f"{d['unit_id']}) with the 95 % bounds of spec 004 §3.9.",
-                  name or f"acf_{d['quantity']}_{d['unit_id']}")
+                  name or f"acf_{d['quantity']}_{safe_slug(d['unit_id'])}")
 
 
 def schedule_figure(rows: list[dict], name: str = "schedule") -> Figure:
