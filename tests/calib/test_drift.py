@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -10,7 +11,7 @@ import pytest
 
 from inertialab.calib.drift import DriftSettings, fit_series
 from inertialab.calib.drift_eval import evaluate_rolling_origin
-from inertialab.errors import DataQualityWarning
+from inertialab.errors import DataQualityWarning, InputError
 from inertialab.io import load_model
 from inertialab.sim.storage_drift import benchmark_process
 from inertialab.workflows.drift import to_daily_grid
@@ -83,3 +84,15 @@ def test_model_fixture_v1_still_loads():
     np.testing.assert_allclose(r["forecast"]["hi95"][:2],
                                [-132.65856889665628, -125.75818281886932], rtol=1e-9)
     assert r["forecast"]["day"] == [60, 61, 62, 63, 64]
+
+
+def test_check_horizon_bounds():
+    from inertialab.calib.drift import MAX_HORIZON, check_horizon
+
+    assert check_horizon(20) == 20 and check_horizon(MAX_HORIZON) == MAX_HORIZON
+    for bad in (0, -1, MAX_HORIZON + 1, 10**8, 2.5, "x", None):
+        with pytest.raises(InputError, match="argument 'horizon'"):
+            check_horizon(bad)
+    m = load_model(Path(__file__).parents[1] / "data" / "models" / "storage-drift-v1.json")
+    with pytest.raises(InputError, match="from 1 to 1000"):
+        m.forecast(10**8)

@@ -102,3 +102,21 @@ def test_unit_ids_become_safe_figure_names(record, capsys, tmp_path):
     assert any(n.startswith("fit_bias_x_") and "ESCAPED-" in n for n in pngs)
     res = json.loads((out / "result.json").read_text())
     assert set(res["per_unit"]) == {evil, long_id}  # the ids themselves stay as data
+
+
+def test_horizon_is_bounded(capsys, record):
+    # issue 19 item 8: --horizon 100000000 ran past 120 s; now one line, exit 2, at once
+    import time
+    from pathlib import Path
+
+    model = Path(__file__).parents[1] / "data" / "models" / "storage-drift-v1.json"
+    t0 = time.perf_counter()
+    code, out, err = run(capsys, "drift", "forecast", model, "--horizon", "100000000")
+    assert code == 2 and out == "" and err.count("\n") == 1
+    assert "--horizon must be an integer from 1 to 1000" in err
+    assert time.perf_counter() - t0 < 10
+    code, _, err = run(capsys, "drift", "fit", record / "rec.csv", "--horizon", "0")
+    assert code == 2 and "--horizon" in err
+    code, out, err = run(capsys, "drift", "forecast", model, "--horizon", "1000", "--json")
+    assert code == 0, err
+    assert len(json.loads(out)["per_unit"]["QA001"]["bias"]["forecast"]["day"]) == 1000

@@ -31,11 +31,28 @@ from inertialab.learn.forecast_baselines import make_baseline
 from inertialab.learn.monitoring import cusum_alarms, first_passage
 from inertialab.learn.nar import NARForecaster
 
-__all__ = ["DEFAULT_BASELINES", "QUANTITIES", "DailySeries", "DriftModel", "DriftSettings",
+__all__ = ["DEFAULT_BASELINES", "MAX_HORIZON", "QUANTITIES", "check_horizon", "DailySeries", "DriftModel", "DriftSettings",
            "SeriesResult", "error_metrics", "fill_gaps", "fit_series"]
 
 #: quantity -> working unit (CONTRACTS.md "drift": bias µg, scale factor ppm)
 QUANTITIES = {"bias": "ug", "sf": "ppm"}
+
+#: Longest forecast horizon in grid steps (about 2.7 years of a daily programme). A
+#: closed-loop forecast far past the 20 steps of spec 004 §5 says nothing, and its cost
+#: (bootstrap paths x steps) grows linearly: 1e8 steps ran for minutes (issue 19 item 8).
+MAX_HORIZON = 1000
+
+
+def check_horizon(horizon) -> int:
+    """``horizon`` as an int in 1..:data:`MAX_HORIZON`, else an InputError naming it."""
+    try:
+        k = int(horizon)
+    except (TypeError, ValueError, OverflowError):
+        raise InputError(f"argument 'horizon' must be an integer, got {horizon!r}") from None
+    if k != horizon or not 1 <= k <= MAX_HORIZON:
+        raise InputError(f"argument 'horizon' must be an integer from 1 to {MAX_HORIZON} "
+                         f"steps, got {horizon}")
+    return k
 
 DEFAULT_BASELINES = ("persistence", "window_mean", "ar_ls", "ar_aic", "poly_trend",
                      "exp_saturation", "exp_ar1", "kernel_nar")
@@ -237,9 +254,7 @@ def fit_series(series: DailySeries, settings: DriftSettings = DriftSettings(), *
     ``origin_day``; default the last observed step). Steps after it, up to the horizon,
     are the holdout, scored on observed, non-imputed, non-screened steps only.
     """
-    K = int(settings.horizon)
-    if K < 1:
-        raise InputError(f"horizon must be >= 1, got {settings.horizon}")
+    K = check_horizon(settings.horizon)
     T = _origin_index(series, origin_day)
     y = series.values[: T + 1]
     usable = series.usable[: T + 1]
@@ -354,9 +369,7 @@ class DriftModel:
         Returns ``{unit_id: {quantity: {"unit", "forecast": {"day", "value", "lo95",
         "hi95"}, "recalibration_day", "recalibration_reason"}}}``.
         """
-        K = int(horizon or self.settings.get("horizon", 20))
-        if K < 1:
-            raise InputError(f"horizon must be >= 1, got {horizon}")
+        K = check_horizon(self.settings.get("horizon", 20) if horizon is None else horizon)
         q = float(self.settings.get("recal_quantile", 0.1))
         out: dict = {}
         for uid, qs in self.entries.items():

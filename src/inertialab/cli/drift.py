@@ -22,6 +22,7 @@ from inertialab.cli.common import (
     progress_bar,
     write_figures,
 )
+from inertialab.cli.dual import flag_names
 from inertialab.cli.options import JsonOpt, OutDirOpt, QuietOpt, reading_options
 from inertialab.errors import InputError
 from inertialab.io.mapping import ReadOptions
@@ -89,7 +90,8 @@ def register(app: typer.Typer, groups: dict) -> None:
     def drift_fit(
         file: Path = typer.Argument(..., help="storage_drift record (CSV or Parquet)."),
         quantity: str = typer.Option("both", "--quantity", help="bias | sf | both"),
-        horizon: int = typer.Option(20, "--horizon", help="Forecast horizon K in grid steps."),
+        horizon: int = typer.Option(20, "--horizon", help="Forecast horizon K in grid steps "
+                                                          "(1 to 1000)."),
         order: str = typer.Option("auto", "--order", help="auto (kernel CV, H = 6) or N."),
         restarts: int = typer.Option(10, "--restarts", help="Training restarts R."),
         preset: str = typer.Option("paper", "--preset",
@@ -119,8 +121,8 @@ def register(app: typer.Typer, groups: dict) -> None:
 
         qs = _quantities(quantity)
         p = _order(order)
-        if horizon < 1:
-            raise InputError(f"--horizon must be >= 1, got {horizon}")
+        with flag_names():
+            wf.check_horizon(horizon)
         if restarts < 1:
             raise InputError(f"--restarts must be >= 1, got {restarts}")
         if preset not in ("paper", "strict"):
@@ -189,16 +191,18 @@ def register(app: typer.Typer, groups: dict) -> None:
     @drift.command("forecast")
     def drift_forecast(
         model: Path = typer.Argument(..., help="model.json written by 'drift fit --out'."),
-        horizon: int = typer.Option(None, "--horizon", help="Steps K (default: the fit's)."),
+        horizon: int = typer.Option(None, "--horizon", help="Steps K, 1 to 1000 (default: "
+                                                            "the fit's)."),
         as_json: JsonOpt = False,
         quiet: QuietOpt = False,
     ):
         """Forecast again from a saved storage-drift model."""
         from inertialab.io import load_model
-        from inertialab.workflows.drift import forecast
+        from inertialab.workflows.drift import check_horizon, forecast
 
-        if horizon is not None and horizon < 1:
-            raise InputError(f"--horizon must be >= 1, got {horizon}")
+        if horizon is not None:
+            with flag_names():
+                check_horizon(horizon)
         with collect_warnings(quiet=quiet or as_json) as warns:
             m = load_model(model, expected_type="storage-drift")
             res = forecast(m, horizon)

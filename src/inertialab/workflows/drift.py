@@ -30,10 +30,12 @@ import pandas as pd
 
 from inertialab.calib.drift import (
     DEFAULT_BASELINES,
+    MAX_HORIZON,
     QUANTITIES,
     DailySeries,
     DriftModel,
     DriftSettings,
+    check_horizon,
     fill_gaps,
     fit_series,
 )
@@ -42,8 +44,8 @@ from inertialab.learn.monitoring import hampel_flags
 from inertialab.progress import NullProgress
 from inertialab.units import convert, split_suffix
 
-__all__ = ["DEFAULT_BASELINES", "QUANTITIES", "DriftFit", "DriftSettings", "fit", "fit_drift",
-           "forecast", "prepare", "to_daily_grid"]
+__all__ = ["DEFAULT_BASELINES", "MAX_HORIZON", "QUANTITIES", "DriftFit", "DriftSettings",
+           "check_horizon", "fit", "fit_drift", "forecast", "prepare", "to_daily_grid"]
 
 
 def _find(frame: pd.DataFrame, base: str) -> str | None:
