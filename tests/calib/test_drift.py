@@ -9,7 +9,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from inertialab.calib.drift import DriftSettings, fit_series
+from inertialab.calib.drift import DriftModel, DriftSettings, fit_series
 from inertialab.calib.drift_eval import evaluate_rolling_origin
 from inertialab.errors import DataQualityWarning, InputError
 from inertialab.io import load_model
@@ -96,3 +96,42 @@ def test_check_horizon_bounds():
     m = load_model(Path(__file__).parents[1] / "data" / "models" / "storage-drift-v1.json")
     with pytest.raises(InputError, match="from 1 to 1000"):
         m.forecast(10**8)
+
+
+def test_model_payload_fuzz_is_always_input_error():
+    # issue 19 items 5/7: wrong-typed, non-finite or out-of-range payload fields are an
+    # InputError at load (or the model forecasts finitely), never another exception
+    import copy
+    import json
+
+    payload = json.loads((Path(__file__).parents[1] / "data" / "models"
+                          / "storage-drift-v1.json").read_text())["payload"]
+    e = payload["entries"]["QA001"]["bias"]
+    cases = [("settings", "x"), ("settings", {"recal_quantile": 1.5}),
+             ("settings", {"horizon": 10**8})]
+    for key in ("origin_day", "step_days", "y_cal", "tolerance", "k_ref", "unit"):
+        for v in (None, "x", [], float("nan"), 1e308, -1):
+            cases.append((key, v))
+    cases += [("nar", {"tail": None}), ("nar", {"members": []})]
+    loaded = []
+    for key, v in cases:
+        q = copy.deepcopy(payload)
+        if key == "settings":
+            q["settings"] = v
+        elif key == "nar":
+            q["entries"]["QA001"]["bias"]["nar"].update(v)
+        else:
+            q["entries"]["QA001"]["bias"][key] = v
+        try:
+            m = DriftModel.from_dict(q)
+        except InputError:
+            continue
+        r = m.forecast(3)["QA001"]["bias"]["forecast"]
+        assert np.all(np.isfinite(r["value"])), (key, v)
+        loaded.append((key, v))
+    # legitimate (finite, in range): a negative origin day or calibrated value, a huge
+    # calibrated value, tolerance or k_ref, and no k_ref (a bias entry)
+    assert sorted(loaded, key=str) == sorted([
+        ("origin_day", -1), ("y_cal", 1e308), ("y_cal", -1), ("tolerance", 1e308),
+        ("k_ref", None), ("k_ref", 1e308)], key=str)
+    assert e["origin_day"] == 59  # the fixture itself untouched

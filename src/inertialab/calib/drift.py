@@ -402,20 +402,61 @@ class DriftModel:
 
     @classmethod
     def from_dict(cls, d: dict) -> DriftModel:
+        """Rebuild from :meth:`to_dict`, validating every field (issue 19 items 5 and 7):
+        types, finiteness and ranges, and a one-step forecast of every entry; anything
+        else is an :class:`InputError`."""
         try:
+            settings = d.get("settings", {})
+            if not isinstance(settings, dict):
+                raise InputError("settings must be an object")
+            settings = dict(settings)
+            if "horizon" in settings:
+                settings["horizon"] = check_horizon(settings["horizon"])
+            q = float(settings.get("recal_quantile", 0.1))
+            if not 0.0 <= q <= 1.0:
+                raise InputError(f"recal_quantile must lie in [0, 1], got {q}")
+            if not isinstance(d["entries"], dict):
+                raise InputError("entries must be an object")
             ent = {}
             for uid, qs in d["entries"].items():
                 ent[uid] = {}
+                if not isinstance(qs, dict):
+                    raise InputError(f"entry {uid!r} must be an object")
                 for qn, e in qs.items():
                     if qn not in QUANTITIES:
                         raise InputError(f"storage-drift model: unknown quantity {qn!r}")
                     x = dict(e)
                     x["nar"] = NARForecaster.from_dict(e["nar"])
                     for key in ("origin_day", "step_days"):
-                        x[key] = int(x[key])
+                        v = float(x[key])
+                        if not (np.isfinite(v) and v == int(v) and abs(v) <= 1e7):
+                            raise InputError(f"{uid}/{qn}: {key} must be a whole number of "
+                                             "days (|value| <= 1e7)")
+                        x[key] = int(v)
+                    if x["step_days"] < 1:
+                        raise InputError(f"{uid}/{qn}: step_days must be >= 1")
                     for key in ("y_cal", "tolerance"):
                         x[key] = float(x[key])
+                        if not np.isfinite(x[key]):
+                            raise InputError(f"{uid}/{qn}: {key} must be finite")
+                    if not x["tolerance"] > 0:
+                        raise InputError(f"{uid}/{qn}: tolerance must be positive")
+                    if x.get("k_ref") is not None:
+                        x["k_ref"] = float(x["k_ref"])
+                        if not (np.isfinite(x["k_ref"]) and x["k_ref"] > 0):
+                            raise InputError(f"{uid}/{qn}: k_ref must be positive")
+                    if x.get("unit", QUANTITIES[qn]) != QUANTITIES[qn]:
+                        raise InputError(f"{uid}/{qn}: unit must be {QUANTITIES[qn]!r}")
+                    with warnings.catch_warnings():
+                        warnings.simplefilter("ignore")
+                        check = x["nar"].forecast(1)
+                    if not np.all(np.isfinite([check.values, check.lo95, check.hi95])):
+                        raise InputError(f"{uid}/{qn}: the network gives a non-finite forecast")
                     ent[uid][qn] = x
-            return cls(ent, dict(d.get("settings", {})))
-        except (KeyError, TypeError, AttributeError) as exc:
+            return cls(ent, settings)
+        except InputError as exc:
             raise InputError(f"storage-drift model: bad payload ({exc})") from None
+        except (KeyError, TypeError, AttributeError, ValueError, IndexError,
+                OverflowError) as exc:
+            raise InputError(f"storage-drift model: bad payload ({type(exc).__name__}: "
+                             f"{exc})") from None

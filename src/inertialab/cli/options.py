@@ -102,6 +102,10 @@ FLAG_OF: dict[str, str] = {
     "reference": "--reference",
     "horizon": "--horizon",
     "seed": "--seed",
+    "n_positions": "--positions",
+    "step_deg": "--step-deg",
+    "range_deg": "--range-deg",
+    "prior": "--prior",
 }
 
 
