@@ -67,6 +67,27 @@ def test_rolling_origin_counts_and_paired_test():
     assert len(rr.rmse["nar"]) == 3 and len(rr.rmse["persistence"]) == 3
     win = np.mean(np.asarray(rr.rmse["nar"]) < np.asarray(rr.rmse["persistence"]))
     assert rr.win_rate["persistence"] == pytest.approx(win)
+    # the per-step error curve (seed Figs. 6/8): persistence checked independently
+    y = s.values
+    want = [np.mean([abs(y[T - 1 + k] - y[T - 1]) for T in (60, 70, 80)]) for k in range(1, 21)]
+    np.testing.assert_allclose(rr.step_mae["persistence"], want, rtol=1e-12)
+    assert rr.step_n == (3,) * 20 and len(rr.step_mae["nar"]) == 20
+
+
+@pytest.mark.filterwarnings("ignore::inertialab.errors.DataQualityWarning")
+def test_direct_strategy_beside_recursive():
+    # issue 18 item 8: the direct strategy (one net per step) is scored like a baseline
+    from dataclasses import replace
+
+    df, y = _s1_record(4, n=120)
+    s = to_daily_grid(df, quantity="bias")["S1"]
+    st = replace(FAST, baselines=("persistence", "nar_direct"), horizon=5)
+    r = fit_series(s, st, origin_day=99, rng=2)
+    d = r.baselines["nar_direct"]
+    assert "error" not in d and len(d["value"]) == 5
+    assert d["rmse"] == pytest.approx(np.sqrt(np.mean((np.asarray(d["value"]) - y[100:105]) ** 2)))
+    # same step-1 information as the recursive NAR: both close to the truth's scale
+    assert d["rmse"] < 3 * np.std(y)
 
 
 def test_model_fixture_v1_still_loads():

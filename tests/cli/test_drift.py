@@ -120,3 +120,24 @@ def test_horizon_is_bounded(capsys, record):
     code, out, err = run(capsys, "drift", "forecast", model, "--horizon", "1000", "--json")
     assert code == 0, err
     assert len(json.loads(out)["per_unit"]["QA001"]["bias"]["forecast"]["day"]) == 1000
+
+
+@pytest.mark.filterwarnings("ignore")
+def test_evaluate_rolling_origin_and_hidden_grid(record, capsys, tmp_path):
+    # issue 18 item 8: rolling-origin evaluation in the CLI with the per-step error curve,
+    # the hidden size chosen by validation from a grid
+    code, out, err = run(capsys, "drift", "evaluate", record / "rec.csv", "--quantity", "bias",
+                         "--unit", "QA001", "--first", "40", "--step", "10", "--horizon", "10",
+                         "--restarts", "2", "--hidden-grid", "2,4", "--json", "--out",
+                         tmp_path / "ev")
+    assert code == 0, err
+    r = json.loads(out)["per_unit"]["QA001"]["bias"]
+    assert r["origins"] == [40, 50, 60]  # 70 days, K = 10: T <= 60
+    assert len(r["rmse"]["nar"]) == 3 and len(r["step_mae"]["nar"]) == 10
+    pers = np.asarray(r["rmse"]["persistence"])
+    assert r["win_rate"]["persistence"] == pytest.approx(np.mean(np.asarray(r["rmse"]["nar"]) < pers))
+    assert (tmp_path / "ev" / "error_curve_bias_QA001.png").exists()
+    code, _, err = run(capsys, "drift", "evaluate", record / "rec.csv", "--unit", "NOPE")
+    assert code == 2 and "no unit(s) NOPE" in err
+    code, _, err = run(capsys, "drift", "fit", record / "rec.csv", "--hidden-grid", "2,x")
+    assert code == 2 and "--hidden-grid" in err

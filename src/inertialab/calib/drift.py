@@ -30,8 +30,9 @@ from inertialab.errors import InputError
 from inertialab.learn.forecast_baselines import make_baseline
 from inertialab.learn.monitoring import cusum_alarms, first_passage
 from inertialab.learn.nar import NARForecaster
+from inertialab.learn.nar_direct import DirectNARForecaster
 
-__all__ = ["DEFAULT_BASELINES", "MAX_HORIZON", "QUANTITIES", "check_horizon", "DailySeries", "DriftModel", "DriftSettings",
+__all__ = ["DEFAULT_BASELINES", "DIRECT", "MAX_HORIZON", "QUANTITIES", "check_horizon", "DailySeries", "DriftModel", "DriftSettings",
            "SeriesResult", "error_metrics", "fill_gaps", "fit_series"]
 
 #: quantity -> working unit (CONTRACTS.md "drift": bias µg, scale factor ppm)
@@ -138,7 +139,8 @@ def fill_gaps(values, observed, max_gap):
 class DriftSettings:
     """Settings of :func:`fit_drift` / :func:`fit_series` (spec 004 defaults).
 
-    horizon K = 20 steps; order None = kernel CV with H = 6; hidden S = 10; restarts
+    horizon K = 20 steps; order None = kernel CV with H = 6; hidden S = 10 (or chosen from
+    ``hidden_grid`` by validation, §3.2); restarts
     R = 10; preset "paper" (best member, random split) or "strict" (median, block split);
     n_paths B = 200; max_gap 3; Hampel screen off; tolerances 50 µg and 50 ppm
     (CONTRACTS.md "drift"); re-calibration at the 10 % quantile of the first passage.
@@ -148,6 +150,7 @@ class DriftSettings:
     order: int | None = None
     H: int = 6
     hidden: int = 10
+    hidden_grid: tuple | None = None
     restarts: int = 10
     preset: str = "paper"
     combine: str | None = None
@@ -163,6 +166,21 @@ class DriftSettings:
 
     def tolerance(self, quantity: str) -> float:
         return float(self.tol_bias_ug if quantity == "bias" else self.tol_sf_ppm)
+
+
+#: The direct-strategy NAR (one net per step, :mod:`inertialab.learn.nar_direct`) is asked
+#: for like a baseline: add this name to ``DriftSettings.baselines`` (spec 004 §3.8 ablation).
+DIRECT = "nar_direct"
+
+
+def _baseline(name: str, nar: NARForecaster, settings: DriftSettings, K: int):
+    """A baseline forecaster; ``"nar_direct"`` is the direct NAR with the recursive NAR's
+    order, hidden size, restarts and preset, seeded from the NAR's stream."""
+    if name != DIRECT:
+        return make_baseline(name)
+    return DirectNARForecaster(horizon=K, order=nar.order_, H=settings.H, hidden=nar.hidden_,
+                               restarts=settings.restarts, preset=settings.preset,
+                               rng=nar.seed_seq_.spawn(1)[0])
 
 
 def error_metrics(actual, predicted) -> dict | None:
@@ -208,6 +226,17 @@ class SeriesResult:
     exceeded_before_schedule: bool | None = None
     anomaly_days: list = field(default_factory=list)
 
+    @property
+    def hidden(self) -> int:
+        """Hidden neurons S of the NAR (given, or chosen from the grid by validation)."""
+        return int(self.model.hidden_)
+
+    @property
+    def hidden_scores(self) -> dict | None:
+        """{S: mean validation MSE over the restarts} when a grid was searched (§3.2)."""
+        sc = self.model.hidden_scores_
+        return None if sc is None else {str(k): v for k, v in sc.items()}
+
     def figure_data(self) -> dict:
         """Arrays the report's figures need (fit, residuals, forecast, ACF)."""
         srs = self.series
@@ -221,6 +250,23 @@ class SeriesResult:
             "recalibration_day": self.recalibration_day,
         }
 
+    def error_curve(self) -> dict | None:
+        """|e_k| per forecast step k = 1..K on the holdout for the NAR and each baseline
+        (None on steps with no scored day); None without a holdout (seed Figs. 6/8)."""
+        if not self.holdout:
+            return None
+        K = len(self.forecast["value"])
+        k = np.asarray(self.holdout["step"]) - 1
+        actual = np.asarray(self.holdout["actual"])
+        out = {}
+        for name, pred in [("nar", self.forecast["value"])] + [
+                (b, e["value"]) for b, e in self.baselines.items() if "value" in e]:
+            curve = [None] * K
+            for kk, a in zip(k, actual):
+                curve[kk] = float(abs(a - pred[kk]))
+            out[name] = curve
+        return out
+
     def to_dict(self) -> dict:
         return {
             "unit": self.unit, "origin_day": self.origin_day, "step_days": self.step_days,
@@ -230,7 +276,8 @@ class SeriesResult:
             "recalibration_reason": self.recalibration_reason,
             "skill_vs_persistence": self.skill_vs_persistence, "accepted": self.accepted,
             "y_cal": self.y_cal, "tolerance": self.tolerance, "k_ref": self.k_ref,
-            "anomaly_days": self.anomaly_days,
+            "anomaly_days": self.anomaly_days, "hidden": self.hidden,
+            "hidden_scores": self.hidden_scores,
         }
 
 
@@ -263,6 +310,7 @@ def fit_series(series: DailySeries, settings: DriftSettings = DriftSettings(), *
     # the NAR skips samples touching gaps; all segments contribute (spec §2.2 item 4).
     del seg
     nar = NARForecaster(order=settings.order, H=settings.H, hidden=settings.hidden,
+                        hidden_grid=settings.hidden_grid,
                         restarts=settings.restarts, preset=settings.preset,
                         combine=settings.combine, split=settings.split,
                         n_paths=settings.n_paths, rng=rng)
@@ -305,7 +353,7 @@ def fit_series(series: DailySeries, settings: DriftSettings = DriftSettings(), *
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
-                bf = make_baseline(name).fit(y, usable=usable).forecast(K)
+                bf = _baseline(name, nar, settings, K).fit(y, usable=usable).forecast(K)
         except (InputError, ValueError, np.linalg.LinAlgError) as exc:
             base_out[name] = {"error": str(exc)}
             continue

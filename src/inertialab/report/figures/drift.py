@@ -113,6 +113,26 @@ def acf_figure(d: dict, name: str | None = None) -> Figure:
                   name or f"acf_{d['quantity']}_{safe_slug(d['unit_id'])}")
 
 
+def error_curve_figure(curves: dict, *, unit_id: str, quantity: str, unit: str,
+                       n_origins: int | None = None, name: str | None = None) -> Figure:
+    """Forecast error per step: mean |e_k| over origins for each method (the seed's
+    Figs. 6/8; spec 004 §5 "per-step curve")."""
+    fig, ax = plt.subplots(figsize=(6.5, 3.6))
+    for m, v in curves.items():
+        arr = np.array([np.nan if x is None else x for x in v], dtype=float)
+        k = np.arange(1, arr.size + 1)
+        style = {"lw": 2.0, "color": "tab:blue"} if m == "nar" else {"lw": 1.0, "alpha": 0.8}
+        ax.plot(k, arr, ".-", label=m, **style)
+    ax.set_xlabel("forecast step k")
+    ax.set_ylabel(f"mean |error| ({_UNIT.get(unit, unit)})")
+    ax.legend(fontsize=7, ncol=2)
+    fig.tight_layout()
+    over = f" over {n_origins} origins" if n_origins else ""
+    return Figure(fig, f"Forecast error per step{over}, {_LABEL.get(quantity, quantity)} of unit "
+                       f"{unit_id}: NAR and baselines (spec 004 §5).",
+                  name or f"error_curve_{quantity}_{safe_slug(unit_id)}")
+
+
 def schedule_figure(rows: list[dict], name: str = "schedule") -> Figure:
     """Per-unit re-calibration schedule: origin to the recommended day (or horizon end)."""
     units = sorted({r["unit_id"] for r in rows})
