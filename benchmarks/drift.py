@@ -18,7 +18,7 @@ from inertialab.calib.drift_eval import evaluate_rolling_origin
 from inertialab.learn.forecast_baselines import ARLeastSquares, Persistence
 from inertialab.learn.nar import NARForecaster
 from inertialab.learn.order_cv import select_order_cv
-from inertialab.sim.storage_drift import benchmark_process, simulate_storage_batch
+from inertialab.sim.storage_drift import benchmark_process, mackey_glass, simulate_storage_batch
 from inertialab.studies.drift import summarise
 from inertialab.workflows.drift import fit_drift, to_daily_grid
 
@@ -54,6 +54,44 @@ def _nar_vs_linear(proc, n_seeds, split):
             "ratio_vs_ar": med(r_nar) / med(r_ar), "ratio_vs_persistence": med(r_nar) / med(r_p),
             "median_rmse1": {"nar": med(o_nar), "ar": med(o_ar)},
             "ratio_one_step_vs_ar": med(o_nar) / med(o_ar)}
+
+
+#: NAR settings compared on Mackey-Glass (issue 18 item 9): the spec default (order by
+#: kernel CV with H = 6), the CV with a wider lag bound, and a fixed order.
+MG_NARS = {"nar_default_H6": {}, "nar_cv_H12": {"H": 12}, "nar_p10": {"order": 10}}
+
+
+def _mackey_glass(n_origins, n_train=500, horizon=20, step=20):
+    """NAR vs AR(6) and persistence on Mackey-Glass (tau = 17, sampled each time unit from
+    t = 118): at origins T = 500, 520, ... every model is refitted on the 500 values before
+    T and forecasts 20 steps closed loop; RMSE pooled over origins and steps."""
+    x = mackey_glass(n_train + step * (n_origins - 1) + horizon)
+    origins = [n_train + step * j for j in range(n_origins)]
+    errs = {k: [] for k in (*MG_NARS, "ar6", "persistence")}
+    orders = {k: [] for k in MG_NARS}
+    cpu = {k: 0.0 for k in MG_NARS}
+    for T in origins:
+        train, truth = x[T - n_train:T], x[T:T + horizon]
+        for name, kw in MG_NARS.items():
+            c0 = time.process_time()
+            m = NARForecaster(rng=T, **kw).fit(train)
+            errs[name].append(m.forecast(horizon, intervals=False).values - truth)
+            cpu[name] += time.process_time() - c0
+            orders[name].append(int(m.order_))
+        errs["ar6"].append(ARLeastSquares(order=6).fit(train).forecast(horizon).values - truth)
+        errs["persistence"].append(Persistence().fit(train).forecast(horizon).values - truth)
+    rmse = {k: float(np.sqrt(np.mean(np.square(v)))) for k, v in errs.items()}
+    per_origin = {k: [float(np.sqrt(np.mean(np.square(e)))) for e in v] for k, v in errs.items()}
+    step_curve = {k: np.sqrt(np.mean(np.square(v), axis=0)).tolist() for k, v in errs.items()}
+    return {"series": "Mackey-Glass tau = 17, dt = 0.1 RK4, sampled each time unit, t >= 118",
+            "n_train": n_train, "horizon": horizon, "origins": origins,
+            "rmse": rmse, "rmse_per_origin": per_origin, "rmse_per_step": step_curve,
+            "orders": orders, "cpu_s_per_fit": {k: v / n_origins for k, v in cpu.items()},
+            "ratio_vs_ar6": {k: rmse[k] / rmse["ar6"] for k in MG_NARS},
+            "ratio_vs_persistence": {k: rmse[k] / rmse["persistence"] for k in MG_NARS},
+            "settings": {k: {"hidden": 10, "restarts": 10, "preset": "paper", **v}
+                         for k, v in MG_NARS.items()},
+            "targets": {"vs_ar6": 0.5, "vs_persistence": 0.25}}
 
 
 def _a8(n_units, arima_units):
@@ -135,6 +173,7 @@ def run(quick: bool = False) -> dict:
         out["A7"] = _nar_vs_linear("AR2", n, "block")
         out["A8"] = _a8(6 if quick else 20, 0 if quick else 4)
         out["A13"] = _a13(6 if quick else 20)
+        out["mackey_glass"] = _mackey_glass(6 if quick else 12)
     out["wall_s"] = time.perf_counter() - t0
     return out
 
@@ -227,4 +266,29 @@ def markdown(r: dict) -> str:
              f"{_f(a13['recal_exceeded_share'])} (mean interval "
              f"{_f(a13['recal_mean_interval_days'])} days; none within horizon: "
              f"{_f(a13['recal_none_within_horizon_share'], '.2f')}) |")
+    if "mackey_glass" in r:
+        mg = r["mackey_glass"]
+        L.append("")
+        L.append(f"**The NAR as a learner** (issue 18 item 9): {mg['series']}; "
+                 f"{mg['n_train']} training values before each of {len(mg['origins'])} origins "
+                 f"(T = {mg['origins'][0]}, {mg['origins'][1]}, ...), refit at each, "
+                 f"{mg['horizon']}-step closed-loop forecast; RMSE pooled over origins and "
+                 "steps. Target: NAR ≤ 0.5 × AR(6) and ≤ 0.25 × persistence.")
+        L.append("")
+        L.append("| model | orders chosen | 20-step RMSE | / AR(6) | / persistence | CPU s per fit |")
+        L.append("|---|---|---|---|---|---|")
+        for k in MG_NARS:
+            L.append(f"| {k} | {sorted(set(mg['orders'][k]))} | {_f(mg['rmse'][k])} | "
+                     f"{_f(mg['ratio_vs_ar6'][k], '.2f')} | "
+                     f"{_f(mg['ratio_vs_persistence'][k], '.3f')} | "
+                     f"{_f(mg['cpu_s_per_fit'][k], '.1f')} |")
+        L.append(f"| AR(6) least squares | 6 | {_f(mg['rmse']['ar6'])} | 1 | "
+                 f"{_f(mg['rmse']['ar6'] / mg['rmse']['persistence'], '.3f')} | – |")
+        L.append(f"| persistence | – | {_f(mg['rmse']['persistence'])} | – | 1 | – |")
+        L.append("")
+        L.append("The spec's lag bound H = 6 [R-2] caps the order at 5-6 on this smooth, "
+                 "chaotic series: six consecutive samples of a curve with a 17-unit delay "
+                 "barely constrain its future, and the closed loop drifts. With H = 12 the "
+                 "kernel CV picks the bound itself (the criterion keeps falling with more "
+                 "lags on a noise-free series), and the NAR meets the target.")
     return "\n".join(L) + "\n"

@@ -192,3 +192,25 @@ def test_paper_alias_kip_names_kx(tmp_path):
         d["sd"][alias] = d["sd"].pop(canon)
     m = DualCalibration.from_dict(d)
     assert set(m.coef) >= set(COEF_NAMES) and "KAip_paper" not in m.coef
+
+
+def test_model_payload_validation():
+    # issue 19 items 5/7: non-finite or wrong-typed payload fields are an InputError
+    red = reduce_run(simulate_run(scenario_config("S1"), 4))
+    good = _quiet_fit(red, methods=("ls",)).model.to_dict()
+    for key, v in (("coef", None), ("coef", [1, 2]), ("s_a", 0), ("s_a", "x"),
+                   ("g_local_mps2", float("nan")), ("g_local_mps2", 1e308), ("method", None)):
+        d = json.loads(json.dumps(good))
+        d[key] = v
+        if key == "method":
+            del d["method"]
+        with pytest.raises(InputError):
+            DualCalibration.from_dict(d)
+    d = json.loads(json.dumps(good))
+    d["coef"]["KA2"] = float("inf")
+    with pytest.raises(InputError, match="non-finite KA2"):
+        DualCalibration.from_dict(d)
+    d = json.loads(json.dumps(good))
+    d["sd"]["KA2"] = -1.0
+    with pytest.raises(InputError, match="sd must be"):
+        DualCalibration.from_dict(d)

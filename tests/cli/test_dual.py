@@ -113,3 +113,47 @@ def test_old_spellings_are_hidden_aliases(records, capsys):
     assert code == 0 and "dual" in out and "calibrate" not in out
     code, out, _ = run(capsys, "dual", "--help")
     assert "fit" in out and "design" in out
+
+
+@pytest.mark.parametrize("args, pattern", [
+    (["--positions", "100000000"], "--positions must be an integer from 7 to 360"),
+    (["--positions", "20", "--step-deg", "1e-9"], "--step-deg = 1e-09 gives"),
+    (["--range-deg", "0", "inf"], "must be finite"),
+    (["--positions", "300", "--range-deg", "0", "90"], "exceeds the 91 candidate angles"),
+])
+def test_design_sizes_are_bounded(capsys, args, pattern):
+    # issue 19 item 7: --positions 1e8 was a MemoryError (exit 1)
+    code, out, err = run(capsys, "dual", "design", *args)
+    assert code == 2 and out == "" and err.count("\n") == 1 and pattern in err, err
+
+
+def _prior_cases(tmp_path):
+    cases = {
+        "latin1.json": ("bytes", "{\"schema\": \"caf\xe9\"}".encode("latin-1"), "not UTF-8"),
+        "utf16.json": ("bytes", "{}".encode("utf-16"), "not UTF-8"),
+        "deep.json": ("text", "[" * 100000 + "]" * 100000, "nested too deeply"),
+        "digits.json": ("text", "{\"schema\": " + "9" * 5000 + "}", "cannot be read as JSON"),
+        "empty.json": ("text", "", "not JSON"),
+        "text.csv": ("text", "KA0,KB0\nx,y\n", "history lacks columns"),
+        "nonnum.csv": ("text", ",".join(["KA0", "KB0", "kA1", "kB1", "eta", "KA2", "KB2", "KAx",
+                                         "KBx"]) + "\n" + "1," * 8 + "x\n" + "2," * 8 + "3\n",
+                       "numbers only"),
+        "binary.csv": ("bytes", bytes(range(256)) * 4, "calibration history"),
+    }
+    return cases
+
+
+def test_hostile_prior_files_exit_2_one_line(records, capsys, tmp_path):
+    # issue 19 item 7: a non-UTF-8 prior JSON (and its kin) was exit 1
+    for name, (kind, content, pattern) in _prior_cases(tmp_path).items():
+        p = tmp_path / name
+        if kind == "bytes":
+            p.write_bytes(content)
+        else:
+            p.write_text(content)
+        code, out, err = run(capsys, "dual", "fit", records / "s1.csv", "--method", "ebr",
+                             "--prior", p)
+        assert code == 2 and out == "" and err.count("\n") == 1, (name, err)
+        assert pattern in err, (name, err)
+    code, _, err = run(capsys, "dual", "fit", records / "s1.csv", "--prior", tmp_path)
+    assert code == 2 and "is a directory" in err

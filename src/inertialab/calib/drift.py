@@ -30,12 +30,30 @@ from inertialab.errors import InputError
 from inertialab.learn.forecast_baselines import make_baseline
 from inertialab.learn.monitoring import cusum_alarms, first_passage
 from inertialab.learn.nar import NARForecaster
+from inertialab.learn.nar_direct import DirectNARForecaster
 
-__all__ = ["DEFAULT_BASELINES", "QUANTITIES", "DailySeries", "DriftModel", "DriftSettings",
+__all__ = ["DEFAULT_BASELINES", "DIRECT", "MAX_HORIZON", "QUANTITIES", "check_horizon", "DailySeries", "DriftModel", "DriftSettings",
            "SeriesResult", "error_metrics", "fill_gaps", "fit_series"]
 
 #: quantity -> working unit (CONTRACTS.md "drift": bias µg, scale factor ppm)
 QUANTITIES = {"bias": "ug", "sf": "ppm"}
+
+#: Longest forecast horizon in grid steps (about 2.7 years of a daily programme). A
+#: closed-loop forecast far past the 20 steps of spec 004 §5 says nothing, and its cost
+#: (bootstrap paths x steps) grows linearly: 1e8 steps ran for minutes (issue 19 item 8).
+MAX_HORIZON = 1000
+
+
+def check_horizon(horizon) -> int:
+    """``horizon`` as an int in 1..:data:`MAX_HORIZON`, else an InputError naming it."""
+    try:
+        k = int(horizon)
+    except (TypeError, ValueError, OverflowError):
+        raise InputError(f"argument 'horizon' must be an integer, got {horizon!r}") from None
+    if k != horizon or not 1 <= k <= MAX_HORIZON:
+        raise InputError(f"argument 'horizon' must be an integer from 1 to {MAX_HORIZON} "
+                         f"steps, got {horizon}")
+    return k
 
 DEFAULT_BASELINES = ("persistence", "window_mean", "ar_ls", "ar_aic", "poly_trend",
                      "exp_saturation", "exp_ar1", "kernel_nar")
@@ -121,7 +139,8 @@ def fill_gaps(values, observed, max_gap):
 class DriftSettings:
     """Settings of :func:`fit_drift` / :func:`fit_series` (spec 004 defaults).
 
-    horizon K = 20 steps; order None = kernel CV with H = 6; hidden S = 10; restarts
+    horizon K = 20 steps; order None = kernel CV with H = 6; hidden S = 10 (or chosen from
+    ``hidden_grid`` by validation, §3.2); restarts
     R = 10; preset "paper" (best member, random split) or "strict" (median, block split);
     n_paths B = 200; max_gap 3; Hampel screen off; tolerances 50 µg and 50 ppm
     (CONTRACTS.md "drift"); re-calibration at the 10 % quantile of the first passage.
@@ -131,6 +150,7 @@ class DriftSettings:
     order: int | None = None
     H: int = 6
     hidden: int = 10
+    hidden_grid: tuple | None = None
     restarts: int = 10
     preset: str = "paper"
     combine: str | None = None
@@ -146,6 +166,21 @@ class DriftSettings:
 
     def tolerance(self, quantity: str) -> float:
         return float(self.tol_bias_ug if quantity == "bias" else self.tol_sf_ppm)
+
+
+#: The direct-strategy NAR (one net per step, :mod:`inertialab.learn.nar_direct`) is asked
+#: for like a baseline: add this name to ``DriftSettings.baselines`` (spec 004 §3.8 ablation).
+DIRECT = "nar_direct"
+
+
+def _baseline(name: str, nar: NARForecaster, settings: DriftSettings, K: int):
+    """A baseline forecaster; ``"nar_direct"`` is the direct NAR with the recursive NAR's
+    order, hidden size, restarts and preset, seeded from the NAR's stream."""
+    if name != DIRECT:
+        return make_baseline(name)
+    return DirectNARForecaster(horizon=K, order=nar.order_, H=settings.H, hidden=nar.hidden_,
+                               restarts=settings.restarts, preset=settings.preset,
+                               rng=nar.seed_seq_.spawn(1)[0])
 
 
 def error_metrics(actual, predicted) -> dict | None:
@@ -191,6 +226,17 @@ class SeriesResult:
     exceeded_before_schedule: bool | None = None
     anomaly_days: list = field(default_factory=list)
 
+    @property
+    def hidden(self) -> int:
+        """Hidden neurons S of the NAR (given, or chosen from the grid by validation)."""
+        return int(self.model.hidden_)
+
+    @property
+    def hidden_scores(self) -> dict | None:
+        """{S: mean validation MSE over the restarts} when a grid was searched (§3.2)."""
+        sc = self.model.hidden_scores_
+        return None if sc is None else {str(k): v for k, v in sc.items()}
+
     def figure_data(self) -> dict:
         """Arrays the report's figures need (fit, residuals, forecast, ACF)."""
         srs = self.series
@@ -204,6 +250,23 @@ class SeriesResult:
             "recalibration_day": self.recalibration_day,
         }
 
+    def error_curve(self) -> dict | None:
+        """|e_k| per forecast step k = 1..K on the holdout for the NAR and each baseline
+        (None on steps with no scored day); None without a holdout (seed Figs. 6/8)."""
+        if not self.holdout:
+            return None
+        K = len(self.forecast["value"])
+        k = np.asarray(self.holdout["step"]) - 1
+        actual = np.asarray(self.holdout["actual"])
+        out = {}
+        for name, pred in [("nar", self.forecast["value"])] + [
+                (b, e["value"]) for b, e in self.baselines.items() if "value" in e]:
+            curve = [None] * K
+            for kk, a in zip(k, actual):
+                curve[kk] = float(abs(a - pred[kk]))
+            out[name] = curve
+        return out
+
     def to_dict(self) -> dict:
         return {
             "unit": self.unit, "origin_day": self.origin_day, "step_days": self.step_days,
@@ -213,7 +276,8 @@ class SeriesResult:
             "recalibration_reason": self.recalibration_reason,
             "skill_vs_persistence": self.skill_vs_persistence, "accepted": self.accepted,
             "y_cal": self.y_cal, "tolerance": self.tolerance, "k_ref": self.k_ref,
-            "anomaly_days": self.anomaly_days,
+            "anomaly_days": self.anomaly_days, "hidden": self.hidden,
+            "hidden_scores": self.hidden_scores,
         }
 
 
@@ -237,9 +301,7 @@ def fit_series(series: DailySeries, settings: DriftSettings = DriftSettings(), *
     ``origin_day``; default the last observed step). Steps after it, up to the horizon,
     are the holdout, scored on observed, non-imputed, non-screened steps only.
     """
-    K = int(settings.horizon)
-    if K < 1:
-        raise InputError(f"horizon must be >= 1, got {settings.horizon}")
+    K = check_horizon(settings.horizon)
     T = _origin_index(series, origin_day)
     y = series.values[: T + 1]
     usable = series.usable[: T + 1]
@@ -248,6 +310,7 @@ def fit_series(series: DailySeries, settings: DriftSettings = DriftSettings(), *
     # the NAR skips samples touching gaps; all segments contribute (spec §2.2 item 4).
     del seg
     nar = NARForecaster(order=settings.order, H=settings.H, hidden=settings.hidden,
+                        hidden_grid=settings.hidden_grid,
                         restarts=settings.restarts, preset=settings.preset,
                         combine=settings.combine, split=settings.split,
                         n_paths=settings.n_paths, rng=rng)
@@ -290,7 +353,7 @@ def fit_series(series: DailySeries, settings: DriftSettings = DriftSettings(), *
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
-                bf = make_baseline(name).fit(y, usable=usable).forecast(K)
+                bf = _baseline(name, nar, settings, K).fit(y, usable=usable).forecast(K)
         except (InputError, ValueError, np.linalg.LinAlgError) as exc:
             base_out[name] = {"error": str(exc)}
             continue
@@ -354,9 +417,7 @@ class DriftModel:
         Returns ``{unit_id: {quantity: {"unit", "forecast": {"day", "value", "lo95",
         "hi95"}, "recalibration_day", "recalibration_reason"}}}``.
         """
-        K = int(horizon or self.settings.get("horizon", 20))
-        if K < 1:
-            raise InputError(f"horizon must be >= 1, got {horizon}")
+        K = check_horizon(self.settings.get("horizon", 20) if horizon is None else horizon)
         q = float(self.settings.get("recal_quantile", 0.1))
         out: dict = {}
         for uid, qs in self.entries.items():
@@ -389,20 +450,61 @@ class DriftModel:
 
     @classmethod
     def from_dict(cls, d: dict) -> DriftModel:
+        """Rebuild from :meth:`to_dict`, validating every field (issue 19 items 5 and 7):
+        types, finiteness and ranges, and a one-step forecast of every entry; anything
+        else is an :class:`InputError`."""
         try:
+            settings = d.get("settings", {})
+            if not isinstance(settings, dict):
+                raise InputError("settings must be an object")
+            settings = dict(settings)
+            if "horizon" in settings:
+                settings["horizon"] = check_horizon(settings["horizon"])
+            q = float(settings.get("recal_quantile", 0.1))
+            if not 0.0 <= q <= 1.0:
+                raise InputError(f"recal_quantile must lie in [0, 1], got {q}")
+            if not isinstance(d["entries"], dict):
+                raise InputError("entries must be an object")
             ent = {}
             for uid, qs in d["entries"].items():
                 ent[uid] = {}
+                if not isinstance(qs, dict):
+                    raise InputError(f"entry {uid!r} must be an object")
                 for qn, e in qs.items():
                     if qn not in QUANTITIES:
                         raise InputError(f"storage-drift model: unknown quantity {qn!r}")
                     x = dict(e)
                     x["nar"] = NARForecaster.from_dict(e["nar"])
                     for key in ("origin_day", "step_days"):
-                        x[key] = int(x[key])
+                        v = float(x[key])
+                        if not (np.isfinite(v) and v == int(v) and abs(v) <= 1e7):
+                            raise InputError(f"{uid}/{qn}: {key} must be a whole number of "
+                                             "days (|value| <= 1e7)")
+                        x[key] = int(v)
+                    if x["step_days"] < 1:
+                        raise InputError(f"{uid}/{qn}: step_days must be >= 1")
                     for key in ("y_cal", "tolerance"):
                         x[key] = float(x[key])
+                        if not np.isfinite(x[key]):
+                            raise InputError(f"{uid}/{qn}: {key} must be finite")
+                    if not x["tolerance"] > 0:
+                        raise InputError(f"{uid}/{qn}: tolerance must be positive")
+                    if x.get("k_ref") is not None:
+                        x["k_ref"] = float(x["k_ref"])
+                        if not (np.isfinite(x["k_ref"]) and x["k_ref"] > 0):
+                            raise InputError(f"{uid}/{qn}: k_ref must be positive")
+                    if x.get("unit", QUANTITIES[qn]) != QUANTITIES[qn]:
+                        raise InputError(f"{uid}/{qn}: unit must be {QUANTITIES[qn]!r}")
+                    with warnings.catch_warnings():
+                        warnings.simplefilter("ignore")
+                        check = x["nar"].forecast(1)
+                    if not np.all(np.isfinite([check.values, check.lo95, check.hi95])):
+                        raise InputError(f"{uid}/{qn}: the network gives a non-finite forecast")
                     ent[uid][qn] = x
-            return cls(ent, dict(d.get("settings", {})))
-        except (KeyError, TypeError, AttributeError) as exc:
+            return cls(ent, settings)
+        except InputError as exc:
             raise InputError(f"storage-drift model: bad payload ({exc})") from None
+        except (KeyError, TypeError, AttributeError, ValueError, IndexError,
+                OverflowError) as exc:
+            raise InputError(f"storage-drift model: bad payload ({type(exc).__name__}: "
+                             f"{exc})") from None

@@ -29,6 +29,9 @@ class RollingResult:
     win_rate : baseline -> share of origins where NAR's RMSE is lower
     wilcoxon_p : baseline -> paired Wilcoxon signed-rank p-value on per-origin RMSE
     orders : NAR order per origin
+    step_mae : method -> mean |e_k| over origins for steps k = 1..K (None where no origin
+        scored step k): the forecast-error curve per step (the seed's Figs. 6/8)
+    step_n : number of origins scored at each step
     """
 
     origins: tuple
@@ -38,6 +41,8 @@ class RollingResult:
     win_rate: dict
     wilcoxon_p: dict
     orders: tuple
+    step_mae: dict = None
+    step_n: tuple = ()
 
     def to_dict(self) -> dict:
         return asdict(self)
@@ -62,6 +67,8 @@ def evaluate_rolling_origin(series: DailySeries, settings: DriftSettings = Drift
     names = ["nar", *settings.baselines]
     rm = {n: [] for n in names}
     mx = {n: [] for n in names}
+    abs_sum = {n: np.zeros(K) for n in names}
+    abs_cnt = {n: np.zeros(K, dtype=int) for n in names}
     orders = []
     order = settings.order
     for T, sd in zip(origins, seeds):
@@ -73,10 +80,18 @@ def evaluate_rolling_origin(series: DailySeries, settings: DriftSettings = Drift
         hm = r.holdout["metrics"] if r.holdout else None
         rm["nar"].append(hm["rmse"] if hm else np.nan)
         mx["nar"].append(hm["max_ae"] if hm else np.nan)
+        if r.holdout:
+            k = np.asarray(r.holdout["step"]) - 1
+            actual = np.asarray(r.holdout["actual"])
+            np.add.at(abs_sum["nar"], k, np.asarray(r.holdout["abs_error"]))
+            np.add.at(abs_cnt["nar"], k, 1)
         for b in settings.baselines:
             e = r.baselines.get(b, {})
             rm[b].append(e.get("rmse", np.nan))
             mx[b].append(e.get("max_ae", np.nan))
+            if r.holdout and "value" in e:
+                np.add.at(abs_sum[b], k, np.abs(actual - np.asarray(e["value"])[k]))
+                np.add.at(abs_cnt[b], k, 1)
     summary, win, wp = {}, {}, {}
     a = np.asarray(rm["nar"], dtype=float)
     for n in names:
@@ -94,6 +109,8 @@ def evaluate_rolling_origin(series: DailySeries, settings: DriftSettings = Drift
             wp[n] = float(wilcoxon(a[ok], v[ok]).pvalue)
         else:
             wp[n] = None
+    curve = {n: [float(a / c) if c else None for a, c in zip(abs_sum[n], abs_cnt[n])]
+             for n in names}
     return RollingResult(tuple(origins), {k: list(map(float, v)) for k, v in rm.items()},
                          {k: list(map(float, v)) for k, v in mx.items()}, summary, win, wp,
-                         tuple(orders))
+                         tuple(orders), curve, tuple(int(c) for c in abs_cnt["nar"]))

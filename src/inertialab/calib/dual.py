@@ -428,6 +428,13 @@ def fit_two_orientation(red1: Reduced, red2: Reduced) -> MethodResult:
 
 # ------------------------------------------------------------------------------ design
 
+#: Bounds of :func:`design_dual` (issue 19 item 7: 1e8 positions ran out of memory). The
+#: exchange algorithm costs positions x candidates 7x7 determinants per sweep; 360
+#: positions on a 0.1-deg grid take seconds. Spec S4 uses 8 to 36 positions.
+MAX_DESIGN_POSITIONS = 360
+MAX_DESIGN_CANDIDATES = 3601
+
+
 def design_dual(n_positions: int = 20, *, range_deg=(0.0, 360.0), step_deg: float = 1.0,
                 noise_sd=None) -> dict:
     """D-optimal positions for the identifiable 7-harmonic g^2 model (spec §7.2).
@@ -437,9 +444,24 @@ def design_dual(n_positions: int = 20, *, range_deg=(0.0, 360.0), step_deg: floa
     JSON-ready dict with the angles and D/A/E criteria, beside those of equal spacing.
     """
     lo, hi = float(range_deg[0]), float(range_deg[1])
+    step_deg = float(step_deg)
+    if not (np.isfinite(lo) and np.isfinite(hi) and np.isfinite(step_deg)):
+        raise InputError("argument 'range_deg' and 'step_deg' must be finite")
     if not hi > lo or step_deg <= 0:
         raise InputError("the angle range must be increasing and the step positive")
+    if not isinstance(n_positions, (int, np.integer)) or isinstance(n_positions, bool) \
+            or not 1 <= n_positions <= MAX_DESIGN_POSITIONS:
+        raise InputError(f"argument 'n_positions' must be an integer from 7 to "
+                         f"{MAX_DESIGN_POSITIONS}, got {n_positions}")
+    n_cand = int(min(hi - lo, 360.0) // step_deg) + 1
+    if n_cand > MAX_DESIGN_CANDIDATES:
+        raise InputError(f"argument 'step_deg' = {step_deg:g} gives {n_cand} candidate angles; "
+                         f"at most {MAX_DESIGN_CANDIDATES} (a step of at least "
+                         f"{min(hi - lo, 360.0) / (MAX_DESIGN_CANDIDATES - 1):.3g} deg here)")
     cand_deg = np.arange(lo, hi - 1e-9 if hi - lo >= 360 else hi + 1e-9, step_deg)
+    if n_positions > cand_deg.size:
+        raise InputError(f"argument 'n_positions' = {n_positions} exceeds the {cand_deg.size} "
+                         "candidate angles of the range and step")
     w = None
     if noise_sd is not None:
         w = 1.0 / np.asarray([noise_sd(a) for a in cand_deg], dtype=float) ** 2
@@ -493,15 +515,28 @@ class DualCalibration:
             missing = [n for n in COEF_NAMES if n not in coef]
             if missing:
                 raise InputError(f"dual-calibration model lacks {', '.join(missing)}")
+            bad = [k for k, v in coef.items() if not np.isfinite(v)]
+            if bad:
+                raise InputError(f"dual-calibration model has non-finite {', '.join(bad)}")
             sd = {canonical_coef_name(k): (float("inf") if v is None else float(v))
                   for k, v in d["sd"].items()}
+            if any(np.isnan(v) or v < 0 for v in sd.values()):
+                raise InputError("dual-calibration model: sd must be >= 0 or null")
+            if int(d["s_a"]) not in (1, -1) or int(d["s_b"]) not in (1, -1):
+                raise InputError("dual-calibration model: s_a and s_b must be +1 or -1")
+            g = float(d["g_local_mps2"])
+            if not (np.isfinite(g) and 9.7 < g < 9.9):
+                raise InputError(f"dual-calibration model: g_local_mps2 {g} is not a local "
+                                 "gravity on Earth")
             return cls(method=str(d["method"]), coef=coef,
                        sd=sd, s_a=int(d["s_a"]), s_b=int(d["s_b"]),
                        g_local_mps2=float(d["g_local_mps2"]),
                        estimable=d.get("estimable", []),
                        residual=float(d["residual"]) if d.get("residual") is not None
                        else float("nan"))
-        except (KeyError, TypeError, ValueError) as exc:
+        except (KeyError, TypeError, ValueError, AttributeError, OverflowError) as exc:
+            if isinstance(exc, InputError):
+                raise
             raise InputError(f"malformed dual-calibration model: {exc}") from None
 
     def predict_outputs(self, phi):

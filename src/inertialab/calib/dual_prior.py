@@ -125,6 +125,9 @@ def prior_from_history(history) -> dict:
         H = np.asarray(history, dtype=float)
     if H.ndim != 2 or H.shape[1] != 9 or H.shape[0] < 2:
         raise InputError("history needs at least 2 calibrations of the 9 coefficients")
+    if not np.all(np.isfinite(H)):
+        rows = (np.flatnonzero(~np.all(np.isfinite(H), axis=1))[:5] + 1).tolist()
+        raise InputError(f"history has missing or non-finite values (rows {rows})")
     mean = H.mean(axis=0)
     sd = H.std(axis=0, ddof=1)
     floor = np.array([TURN_ON_TAU[n] / 2 for n in COEF_NAMES])

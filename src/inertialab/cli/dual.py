@@ -144,16 +144,17 @@ def dual_fit(
 
 
 def dual_design(
-    positions: int = typer.Option(20, "--positions", help="Number of positions."),
+    positions: int = typer.Option(20, "--positions", help="Number of positions (7 to 360)."),
     range_deg: tuple[float, float] = typer.Option((0.0, 360.0), "--range-deg",
                                                   help="Allowed angle range LO HI (deg)."),
-    step_deg: float = typer.Option(1.0, "--step-deg", help="Candidate grid step (deg)."),
+    step_deg: float = typer.Option(1.0, "--step-deg", help="Candidate grid step (deg; at "
+                                                           "most 3601 candidates)."),
     as_json: JsonOpt = False,
 ):
     """D-optimal dividing-head positions for the identifiable g^2 harmonic model."""
     from inertialab.workflows.dual import design
 
-    with collect_warnings(quiet=as_json) as warns:
+    with collect_warnings(quiet=as_json) as warns, flag_names():
         res = design(positions, range_deg=range_deg, step_deg=step_deg)
     if as_json:
         emit_json("dual design", res, settings={"positions": positions,

@@ -183,6 +183,10 @@ FLAG_OF: dict[str, str] = {
     "fish_step": "--step",
     "fish_try_number": "--try-number",
     "fish_crowd": "--crowd",
+    "n_positions": "--positions",
+    "step_deg": "--step-deg",
+    "range_deg": "--range-deg",
+    "prior": "--prior",
 }
 
 

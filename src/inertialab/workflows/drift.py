@@ -30,10 +30,12 @@ import pandas as pd
 
 from inertialab.calib.drift import (
     DEFAULT_BASELINES,
+    MAX_HORIZON,
     QUANTITIES,
     DailySeries,
     DriftModel,
     DriftSettings,
+    check_horizon,
     fill_gaps,
     fit_series,
 )
@@ -42,8 +44,8 @@ from inertialab.learn.monitoring import hampel_flags
 from inertialab.progress import NullProgress
 from inertialab.units import convert, split_suffix
 
-__all__ = ["DEFAULT_BASELINES", "QUANTITIES", "DriftFit", "DriftSettings", "fit", "fit_drift",
-           "forecast", "prepare", "to_daily_grid"]
+__all__ = ["DEFAULT_BASELINES", "MAX_HORIZON", "QUANTITIES", "DriftFit", "DriftSettings",
+           "check_horizon", "evaluate", "fit", "fit_drift", "forecast", "prepare", "to_daily_grid"]
 
 
 def _find(frame: pd.DataFrame, base: str) -> str | None:
@@ -377,3 +379,40 @@ def forecast(model: DriftModel, horizon: int | None = None) -> dict:
     """Forecast every unit and quantity of a saved model ``horizon`` steps past its origin
     (:meth:`~inertialab.calib.drift.DriftModel.forecast`)."""
     return model.forecast(horizon)
+
+
+def evaluate(record, settings: DriftSettings = DriftSettings(), *, quantities=("bias", "sf"),
+             first: int = 50, step: int = 5, units=None, progress=None) -> dict:
+    """Rolling-origin evaluation (spec 004 §5) of every (or the named) unit and quantity of
+    a record: ``{unit_id: {quantity: RollingResult}}``. Each series gets its own seed,
+    spawned like :func:`fit_drift`'s (sorted units, then bias, sf)."""
+    from inertialab.calib.drift_eval import evaluate_rolling_origin
+
+    progress = progress or NullProgress()
+    check_horizon(settings.horizon)
+    if int(first) < 10 or int(step) < 1:
+        raise InputError(f"argument 'first' must be >= 10 and 'step' >= 1, got {first}, {step}")
+    grids = prepare(record, settings=settings, quantities=quantities)
+    if not grids:
+        raise InputError(f"record has none of the columns {', '.join(quantities)}",
+                         path=record.path)
+    all_units = sorted(set().union(*[set(g) for g in grids.values()]))
+    if units is not None:
+        missing = [u for u in units if u not in all_units]
+        if missing:
+            raise InputError(f"no unit(s) {', '.join(missing)} in the record", path=record.path)
+    chosen = all_units if units is None else [u for u in all_units if u in set(units)]
+    children = dict(zip(all_units, np.random.SeedSequence(int(settings.seed)).spawn(
+        len(all_units))))
+    out: dict = {}
+    total, done = len(chosen) * len(grids), 0
+    for uid in chosen:
+        qseeds = dict(zip(("bias", "sf"), children[uid].spawn(2)))
+        out[uid] = {}
+        for q, g in grids.items():
+            if uid in g:
+                out[uid][q] = evaluate_rolling_origin(g[uid], settings, first=first, step=step,
+                                                      rng=int(qseeds[q].generate_state(1)[0]))
+            done += 1
+            progress.update(done, total, f"{uid} {q}")
+    return out

@@ -74,19 +74,33 @@ def load_prior(spec) -> DualPrior | None:
     if not p.exists():
         raise InputError("no such prior file (use none, certificate, a JSON prior or a CSV "
                          "of past calibrations)", path=p)
+    if p.is_dir():
+        raise InputError("prior is a directory, expected a JSON or CSV file", path=p)
     if p.suffix.lower() == ".csv":
         try:
             hist = pd.read_csv(p)
-        except (OSError, ValueError) as exc:
-            raise InputError(f"cannot read the calibration history: {exc}", path=p) from None
+        except (OSError, ValueError) as exc:  # UnicodeDecodeError and ParserError too
+            raise InputError(f"cannot read the calibration history: {' '.join(str(exc).split())}",
+                             path=p) from None
         try:
             return history_prior(hist)
         except InputError as exc:
             raise InputError(str(exc), path=p) from None
+        except (TypeError, ValueError):
+            raise InputError("the calibration history must hold numbers only in the "
+                             "coefficient columns", path=p) from None
     try:
-        d = json.loads(p.read_text())
-    except (OSError, json.JSONDecodeError) as exc:
-        raise InputError(f"prior file is not JSON: {exc}", path=p) from None
+        d = json.loads(p.read_text(encoding="utf-8"))
+    except UnicodeDecodeError:
+        raise InputError("prior file is not UTF-8 JSON", path=p) from None
+    except json.JSONDecodeError as exc:
+        raise InputError(f"prior file is not JSON (line {exc.lineno}: {exc.msg})",
+                         path=p) from None
+    except RecursionError:
+        raise InputError("prior file is nested too deeply to be a prior", path=p) from None
+    except (OSError, ValueError) as exc:  # e.g. an integer of more than 4300 digits
+        raise InputError(f"prior file cannot be read as JSON ({' '.join(str(exc).split())})",
+                         path=p) from None
     prior = prior_from_dict(d, path=p)
     return replace(prior, kind="file")
 
