@@ -97,7 +97,7 @@ def test_parse_helpers():
     assert W.parse_taus("0.1,1,10") == [0.1, 1.0, 10.0]
     with pytest.raises(InputError, match="unknown statistic"):
         W.parse_stats("xdev")
-    with pytest.raises(InputError, match="--taus"):
+    with pytest.raises(InputError, match="argument 'taus'"):
         W.parse_taus("often")
 
 

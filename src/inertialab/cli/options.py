@@ -102,6 +102,13 @@ FLAG_OF: dict[str, str] = {
     "reference": "--reference",
     "horizon": "--horizon",
     "seed": "--seed",
+    "input": "--input",
+    "stats": "--stat",
+    "export": "--export",
+    "gaps": "--gaps",
+    "model": "--model",
+    "workers": "--workers",
+    "scheduler": "--scheduler",
 }
 
 

@@ -66,7 +66,7 @@ def _rate_from_time(t: np.ndarray, path) -> float:
         rows = [int(i) + 2 for i in bad[:5]]  # 1-based data row of the later stamp
         raise InputError(
             f"time stamps not uniform (step deviates from {step:.9g} s by more than "
-            f"{T_JITTER_TOL:g} relative at {bad.size} step(s)); give --rate to ignore t_s",
+            f"{T_JITTER_TOL:g} relative at {bad.size} step(s)); give argument 'rate_hz' to ignore t_s",
             path=path, column="t_s", row=rows)
     return 1.0 / tau0
 
@@ -90,7 +90,7 @@ def prepare_log(record, *, column: str | None = None, rate_hz: float | None = No
     """
     path = record.path
     if input not in ("rate", "angle"):
-        raise InputError(f"--input must be rate or angle, got '{input}'")
+        raise InputError(f"argument 'input' must be rate or angle, got '{input}'")
     names = list(record.arrays) + [c for c in record.data.columns if c not in record.arrays]
     if column is not None:
         col = column.strip().lower()
@@ -109,11 +109,11 @@ def prepare_log(record, *, column: str | None = None, rate_hz: float | None = No
     base, suf = units.split_suffix(col)
     suf = record.units.get(col, suf)
     if suf is None:
-        raise InputError("column has no unit; give --unit", path=path, column=col)
+        raise InputError("column has no unit; give argument 'unit'", path=path, column=col)
     if rate_hz is not None:
         fs = float(rate_hz)
         if not math.isfinite(fs) or fs <= 0:
-            raise InputError(f"--rate must be positive, got {rate_hz}")
+            raise InputError(f"argument 'rate_hz' must be positive, got {rate_hz}")
     elif record.meta.get("fs_hz") is not None and "t_s" not in record.data.columns:
         fs = float(record.meta["fs_hz"])
     elif "t_s" in record.data.columns:
@@ -121,7 +121,7 @@ def prepare_log(record, *, column: str | None = None, rate_hz: float | None = No
     elif record.meta.get("fs_hz") is not None:
         fs = float(record.meta["fs_hz"])
     else:
-        raise InputError("no sample rate: give --rate or a t_s column", path=path)
+        raise InputError("no sample rate: give argument 'rate_hz' or a t_s column", path=path)
     values = record.column(col)
     dim = units.dimension(suf)
     kind_input = input
@@ -138,16 +138,16 @@ def prepare_log(record, *, column: str | None = None, rate_hz: float | None = No
     elif dim == "angular_rate":
         rate_unit, kind = suf, "gyro"
         if input == "angle":
-            raise InputError("--input angle needs a cumulative angle column (theta_<unit>)",
+            raise InputError("argument 'input' angle needs a cumulative angle column (theta_<unit>)",
                              path=path, column=col)
     elif dim == "acceleration":
         rate_unit, kind = suf, "accel"
         if input == "angle":
-            raise InputError("--input angle needs a cumulative angle column (theta_<unit>)",
+            raise InputError("argument 'input' angle needs a cumulative angle column (theta_<unit>)",
                              path=path, column=col)
     else:
         raise InputError(f"unit '{suf}' is a {dim}; the Allan analysis needs a rate, "
-                         "acceleration or angle (give --unit)", path=path, column=col)
+                         "acceleration or angle (give argument 'unit')", path=path, column=col)
     g = g_local if g_local is not None else float(record.meta.get("g_local_mps2",
                                                                    units.G_STANDARD))
     return LogData(values=values, rate_hz=fs, unit=rate_unit, column=col, input=kind_input,
@@ -226,7 +226,7 @@ def parse_stats(stats) -> tuple:
         if s not in out:
             out.append(s)
     if not out:
-        raise InputError("no statistic given (use e.g. --stat oadev,mdev)")
+        raise InputError("no statistic given (argument 'stats', e.g. 'oadev,mdev')")
     return tuple(out)
 
 
@@ -240,10 +240,10 @@ def parse_taus(taus: str):
     try:
         vals = [float(v) for v in t.split(",") if v.strip()]
     except ValueError:
-        raise InputError(f"--taus must be octave, decade, all, a count or seconds, got "
+        raise InputError(f"argument 'taus' must be octave, decade, all, a count or seconds, got "
                          f"'{taus}'") from None
     if not vals:
-        raise InputError("--taus is empty")
+        raise InputError("argument 'taus' is empty")
     return vals
 
 
