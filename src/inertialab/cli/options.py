@@ -109,6 +109,9 @@ FLAG_OF: dict[str, str] = {
     "model": "--model",
     "workers": "--workers",
     "scheduler": "--scheduler",
+    "nominal_hz": "--nominal",
+    "fit_terms": "--terms",
+    "column": "--column",
 }
 
 
