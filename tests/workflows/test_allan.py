@@ -195,3 +195,28 @@ def test_many_taus():
                   fit_terms=False)
     m = a.results[0].m
     assert 30 <= m.size <= 40 and m[0] == 1 and np.all(np.diff(m) > 0)
+
+
+def test_clock_time_stamp_gaps_become_nan_and_are_reported(tmp_path):
+    rng = np.random.default_rng(4)
+    x = np.cumsum(rng.standard_normal(1200)) * 1e-9
+    t = np.arange(1200) * 1.0
+    keep = np.ones(1200, dtype=bool)
+    keep[300:305] = False  # five samples lost: the stamps jump by 6 s
+    p = tmp_path / "gap.csv"
+    pd.DataFrame({"t_s": t[keep], "phase_s": x[keep]}).to_csv(p, index=False)
+    log = W.read_clock(p, input="phase")
+    assert log.values.size == 1200 and np.isnan(log.values[300:305]).all()
+    assert log.rate_hz == pytest.approx(1.0)
+    with pytest.warns(Warning, match="5 missing sample"):
+        a = W.analyze(log, stats="oadev", taus="octave")
+    j = a.to_json()
+    assert j["n_gaps"] == 1 and j["n_missing"] == 5 and min(j["used_fraction"]) < 1.0
+    with pytest.warns(Warning), pytest.raises(InputError, match="no gap-resistant form"):
+        W.analyze(log, stats="mdev")
+    bad = tmp_path / "off.csv"
+    t2 = t.copy()
+    t2[600:] += 0.4
+    pd.DataFrame({"t_s": t2, "phase_s": x}).to_csv(bad, index=False)
+    with pytest.raises(InputError, match="off the uniform grid"):
+        W.read_clock(bad, input="phase")

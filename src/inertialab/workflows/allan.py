@@ -217,6 +217,32 @@ def clock_log(values, *, input: str, unit: str | None, rate_hz: float,
                    kind="clock", path=str(path), sha256=sha256)
 
 
+def on_grid(t: np.ndarray, values: np.ndarray, path="") -> tuple[float, np.ndarray]:
+    """``(rate_hz, values on the nominal grid)``: time stamps that skip whole sample
+    intervals (a gap) leave NaN at the missing samples (never interpolated); stamps off
+    the grid by more than :data:`T_JITTER_TOL` of a step are an InputError naming rows."""
+    t = np.asarray(t, dtype=float)
+    if t.size < 2:
+        raise InputError("needs at least two time stamps", path=path or None, column="t_s")
+    dt = np.diff(t)
+    step = float(np.median(dt))
+    if not step > 0:
+        raise InputError("time stamps do not increase", path=path or None, column="t_s")
+    k = np.round((t - t[0]) / step)
+    off = np.abs((t - t[0]) - k * step)
+    bad = np.flatnonzero((off > T_JITTER_TOL * step * np.maximum(1.0, k)) |
+                         np.concatenate(([False], np.diff(k) < 1)))
+    if bad.size:
+        raise InputError("time stamps off the uniform grid (neither one step nor a whole "
+                         "number of missing steps)", path=path or None, column="t_s",
+                         row=[int(i) + 1 for i in bad[:5]])
+    if k[-1] == t.size - 1:
+        return (t.size - 1) / (float(t[-1]) - float(t[0])), values
+    out = np.full(int(k[-1]) + 1, np.nan)
+    out[k.astype(np.int64)] = values
+    return 1.0 / step, out
+
+
 def prepare_clock(frame, meta: dict | None = None, *, input: str, column: str | None = None,
                   unit: str | None = None, rate_hz: float | None = None,
                   nominal_hz: float | None = None, path: str = "",
@@ -252,19 +278,20 @@ def prepare_clock(frame, meta: dict | None = None, *, input: str, column: str | 
         base, s_ = units.split_suffix(str(col).strip().lower())
         if s_ is not None and (s_ in CLOCK_TIME or s_ in CLOCK_RATIO or s_ == "hz"):
             suf = s_
+    try:
+        vals = np.asarray(frame[col], dtype=np.float64)
+    except (TypeError, ValueError):
+        raise InputError("column is not numeric", path=path or None, column=str(col)) from None
     if rate_hz is not None:
         fs = float(rate_hz)
     elif meta.get("fs_hz") is not None:
         fs = float(meta["fs_hz"])
     elif "t_s" in cols:
-        fs = _rate_from_time(np.asarray(frame[cols["t_s"]], dtype=float), path)
+        t = np.asarray(frame[cols["t_s"]], dtype=float)
+        fs, vals = on_grid(t, vals, path)
     else:
         raise InputError("no sample rate: give argument 'rate_hz', a t_s column or the "
                          "sidecar key fs_hz", path=path or None)
-    try:
-        vals = np.asarray(frame[col], dtype=np.float64)
-    except (TypeError, ValueError):
-        raise InputError("column is not numeric", path=path or None, column=str(col)) from None
     return clock_log(vals, input=input, unit=suf, rate_hz=fs, nominal_hz=nominal_hz,
                      column=str(col), path=path, sha256=sha256)
 
@@ -350,10 +377,16 @@ class AllanAnalysis:
                 if t.flags:
                     d["flags"] = list(t.flags)
                 terms[k] = d
-        return {"statistic": r.statistic, "tau0_s": r.tau0_s, "taus_s": r.taus_s,
-                "dev": r.dev, "ci_low": r.ci_low, "ci_high": r.ci_high,
-                "n_terms": r.n_terms, "alpha": r.alpha, "edf": r.edf,
-                "unit": self.dev_unit(r.statistic), "noise_terms": terms}
+        out = {"statistic": r.statistic, "tau0_s": r.tau0_s, "taus_s": r.taus_s,
+               "dev": r.dev, "ci_low": r.ci_low, "ci_high": r.ci_high,
+               "n_terms": r.n_terms, "alpha": r.alpha, "edf": r.edf,
+               "unit": self.dev_unit(r.statistic), "noise_terms": terms}
+        if hasattr(r, "used_fraction"):  # a record with gaps (noise.gaps)
+            out.update({"n_gaps": r.n_gaps, "n_missing": r.n_missing,
+                        "used_fraction": r.used_fraction})
+        if hasattr(r, "bias"):  # Stable32 bias factors (noise.total)
+            out["bias_factor"] = r.bias
+        return out
 
     def to_json(self) -> dict:
         """One statistic: its object; several: ``{"results": [...]}`` (issue 3 item 6)."""
@@ -448,13 +481,39 @@ def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: st
     common = dict(rate_hz=log.rate_hz, taus=taus, input=log.input, confidence=confidence,
                   alpha=alpha, edf_method=edf_method,
                   chunked=chunked and log.input == "rate")
+    gappy = not isinstance(log.values, np.memmap) and bool(np.isnan(log.values).any())
+    if gappy:
+        import warnings
+
+        from inertialab.errors import DataQualityWarning
+        from inertialab.noise.gaps import GAP_STATISTICS, count_gaps, gap_deviation
+
+        g, miss = count_gaps(log.values)
+        warnings.warn(f"{log.path or 'data'}: {miss} missing sample(s) in {g} gap(s); "
+                      "gap-resistant statistics (no interpolation), the fraction of "
+                      "summands used per tau is reported", DataQualityWarning, stacklevel=2)
+        no_gap = [s for s in names if s not in GAP_STATISTICS]
+        if no_gap:
+            raise InputError(f"the record has missing samples (NaN or time-stamp gaps); "
+                             f"{', '.join(no_gap)} has no gap-resistant form (use "
+                             f"{', '.join(GAP_STATISTICS)}; argument 'stats')", path=log.path
+                             or None, column=log.column or None)
+
+        def one(stat, **kw):
+            return gap_deviation(stat, log.values, rate_hz=log.rate_hz, input=log.input,
+                                 confidence=confidence, alpha=alpha,
+                                 taus=kw.get("taus", taus))
+    else:
+        def one(stat, **kw):
+            return compute(stat, log.values, bias_correction=bias_correction,
+                           **{**common, **kw})
     for s in names:
-        results.append(compute(s, log.values, bias_correction=bias_correction, **common))
+        results.append(one(s))
     oad = next((r for r in results if r.statistic == "oadev"), None)
     terms = None
     if fit_terms:
         if oad is None:
-            oad = compute("oadev", log.values, **{**common, "taus": "octave"})
+            oad = one("oadev", taus="octave")
         try:
             terms = fit_noise_terms(oad, unit=log.unit, kind=kind or log.kind, method=method,
                                     rate_hz=log.rate_hz, g_local=log.g_local)
