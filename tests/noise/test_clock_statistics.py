@@ -120,3 +120,21 @@ def test_intervals_and_edf_present():
     assert np.all(r.dev < r.ci_high)
     h = htotdev(y, rate_hz=1.0, taus="octave")
     assert np.all(np.isfinite(h.edf)) and np.all(h.ci_low < h.dev)
+
+
+def test_family_dispatch_and_totdev_bias():
+    from inertialab.noise.family import ALL_STATISTICS, compute
+
+    y, x = _series(800)
+    plain = compute("totdev", y, rate_hz=1.0, taus="octave", alpha=-2)
+    corr = compute("totdev", y, rate_hz=1.0, taus="octave", alpha=-2, bias_correction=True)
+    T = 800.0
+    np.testing.assert_allclose(corr.dev, plain.dev / np.sqrt(1 - 0.750 * plain.taus_s / T),
+                               rtol=1e-12)
+    wfm = compute("totdev", y, rate_hz=1.0, taus="octave", alpha=0, bias_correction=True)
+    np.testing.assert_allclose(wfm.dev, plain.dev, rtol=1e-12)  # a = 0 for white FM
+    for s in ALL_STATISTICS:
+        r = compute(s, x, rate_hz=2.0, taus="octave", input="angle")
+        assert r.statistic == s and np.all(np.isfinite(r.dev)) and np.all(r.dev > 0)
+    with pytest.raises(InputError, match="unknown statistic"):
+        compute("xdev", y, rate_hz=1.0)
