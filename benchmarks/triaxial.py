@@ -26,7 +26,7 @@ from inertialab.optim.pso import pso
 from inertialab.regress.nlls import levenberg_marquardt
 from inertialab.sensors import triaxial as tx
 from inertialab.sim import triaxial_poses as tp
-from inertialab.workflows import field_calibration as fc
+from inertialab.workflows import triaxial as fc
 
 PAPER = {"acs_vs_cs_100_pct": -22.0, "acs_vs_cs_1000_pct": -16.0, "cs_100": 636, "acs_100": 496,
          "cs_1000": 750, "acs_1000": 630, "rmse_lab": 0.1103, "rmse_acs": 0.0826,

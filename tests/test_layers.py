@@ -9,7 +9,7 @@ SRC = Path(__file__).resolve().parent.parent / "src" / "inertialab"
 # exceptions listed below.
 RANK = {
     "units": 0, "errors": 0, "seeding": 0, "__init__": 0, "jsonable": 0, "_blas": 0,
-    "progress": 0,
+    "progress": 0, "estimator": 0,
     "io": 1,
     "metrics": 2, "regress": 2, "noise": 2,
     "learn": 3, "optim": 3,

@@ -1,4 +1,5 @@
-"""CLI: thermal fit / compensate / export and simulate thermal-tumble (spec 000, issue 5)."""
+"""CLI: thermal fit / apply / export (compensate: the old spelling of apply) and simulate
+thermal-tumble (spec 000, issue 5, issue 13)."""
 
 from __future__ import annotations
 
@@ -74,10 +75,11 @@ def test_fit_out_dir_and_search_parameters(fitted):
 
 
 def test_compensate_transfers_to_another_unit(records, fitted, capsys):
-    code, out, _ = run(capsys, "thermal", "compensate", fitted / "model.json", records / "b.csv",
+    code, out, _ = run(capsys, "thermal", "apply", fitted / "model.json", records / "b.csv",
                        "--out", records / "b_comp.csv", "--json")
     assert code == 0
     obj = json.loads(out)
+    assert obj["command"] == "thermal apply"
     assert obj["reference"] == "record"  # another unit: its own 55 °C tumble (§3.7)
     assert obj["drift"]["raw_max_drift_ug"] > 3000
     assert obj["drift"]["comp_max_drift_ug"] < 100  # short search here; >= 50x reduction
@@ -118,9 +120,37 @@ def test_bad_inputs_exit_2_with_one_line(records, fitted, tmp_path, capsys):
     h["temp_meas_c"] = h["temp_meas_c"] + 200.0
     h["temp_set_c"] = h["temp_set_c"] + 200.0
     h.to_csv(tmp_path / "hot.csv", index=False)
-    code, _, err = run(capsys, "thermal", "compensate", fitted / "model.json",
+    code, _, err = run(capsys, "thermal", "apply", fitted / "model.json",
                        tmp_path / "hot.csv", "--out", tmp_path / "hot_comp.csv")
     assert code == 2 and "outside the model's calibrated range" in err
     assert not (tmp_path / "hot_comp.csv").exists()
     code, _, err = run(capsys, "thermal", "fit", records / "a.csv", "--method", "magic")
     assert code == 2 and "--method" in err
+
+
+def test_compensate_is_a_hidden_alias_of_apply(records, fitted, capsys):
+    code, out, _ = run(capsys, "thermal", "--help")
+    assert code == 0 and "apply" in out and "compensate" not in out
+    code, out, _ = run(capsys, "thermal", "compensate", fitted / "model.json", records / "b.csv",
+                       "--out", records / "b_comp2.csv", "--json")
+    assert code == 0
+    obj = json.loads(out)
+    assert obj["command"] == "thermal compensate" and obj["reference"] == "record"
+    a = pd.read_csv(records / "b_comp2.csv")
+    code, _, _ = run(capsys, "thermal", "apply", fitted / "model.json", records / "b.csv",
+                     "--out", records / "b_comp3.csv")
+    assert code == 0
+    b = pd.read_csv(records / "b_comp3.csv")
+    np.testing.assert_array_equal(a.comp_a_g.to_numpy(), b.comp_a_g.to_numpy())
+
+
+def test_fit_reads_through_the_mapping_front_door(records, tmp_path, capsys):
+    # a file whose output column has a foreign name loads with --map
+    f = pd.read_csv(records / "a.csv").rename(columns={"output_mv": "Vout"})
+    f.to_csv(tmp_path / "renamed.csv", index=False)
+    code, _, err = run(capsys, "thermal", "fit", tmp_path / "renamed.csv", "--method", "fis")
+    assert code == 2
+    code, out, _ = run(capsys, "thermal", "fit", tmp_path / "renamed.csv", "--method", "fis",
+                       "--map", "output_mv=Vout", "--json")
+    assert code == 0
+    assert json.loads(out)["models"]["fis"]["rules"] >= 2

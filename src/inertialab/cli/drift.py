@@ -1,8 +1,10 @@
 """``inertialab drift fit``, ``inertialab drift forecast`` and ``inertialab simulate
-storage-drift`` (spec 004). Thin: parse, call :mod:`inertialab.workflows.storage_drift`,
-print or write."""
+storage-drift`` (spec 004). Thin: parse, call :mod:`inertialab.workflows.drift`, print or
+write.
 
-from __future__ import annotations
+No ``from __future__ import annotations`` here: the shared options are ``Annotated``
+aliases that typer must see as objects through :func:`~inertialab.cli.options.reading_options`.
+"""
 
 import json
 import sys
@@ -20,7 +22,9 @@ from inertialab.cli.common import (
     progress_bar,
     write_figures,
 )
+from inertialab.cli.options import JsonOpt, OutDirOpt, QuietOpt, reading_options
 from inertialab.errors import InputError
+from inertialab.io.mapping import ReadOptions
 
 _UNITS = {"bias": "ug", "sf": "ppm", "day": "day", "order": "1", "cv_scores": "1",
           "ljung_box_p": "1", "recalibration_day": "day", "tolerance": "ug (bias) | ppm (sf)",
@@ -62,7 +66,7 @@ def _unit_payload(r) -> dict:
         "forecast": {k: r.forecast[k] for k in ("day", "value", "lo95", "hi95")},
         "holdout": None if r.holdout is None else {
             "day": r.holdout["day"], "actual": r.holdout["actual"],
-            **{k: r.holdout["metrics"][k] for k in ("max_ae", "mae", "me", "rmse")}},
+            **{k: r.holdout["metrics"][k] for k in ("max_ae", "mae", "me", "mbe", "rmse")}},
         "baselines": base,
         "skill_vs_persistence": r.skill_vs_persistence,
         "whiteness": {"passed": r.whiteness["passed"],
@@ -80,6 +84,7 @@ def register(app: typer.Typer, groups: dict) -> None:
     drift, simulate = groups["drift"], groups["simulate"]
 
     @drift.command("fit")
+    @reading_options
     def drift_fit(
         file: Path = typer.Argument(..., help="storage_drift record (CSV or Parquet)."),
         quantity: str = typer.Option("both", "--quantity", help="bias | sf | both"),
@@ -101,14 +106,15 @@ def register(app: typer.Typer, groups: dict) -> None:
         hampel: bool = typer.Option(False, "--hampel", help="Hampel outlier screen (§2.2)."),
         arima: bool = typer.Option(False, "--arima", help="Add the ARIMA-by-AIC baseline (slow)."),
         seed: int = typer.Option(0, "--seed", help="Seed of the restarts and bootstrap paths."),
-        out: Path = typer.Option(None, "--out", help="Directory for model.json, result.json "
-                                                     "and figures."),
-        as_json: bool = typer.Option(False, "--json", help="Print the result as JSON."),
-        quiet: bool = typer.Option(False, "--quiet", help="No progress or warnings on stderr."),
+        out: OutDirOpt = None,
+        as_json: JsonOpt = False,
+        quiet: QuietOpt = False,
+        *,
+        read: ReadOptions,
     ):
         """Fit NAR models per unit and quantity, forecast, and schedule re-calibration."""
         from inertialab.io import read_record, save_model
-        from inertialab.workflows.storage_drift import DEFAULT_BASELINES, DriftSettings, fit_drift
+        from inertialab.workflows import drift as wf
 
         qs = _quantities(quantity)
         p = _order(order)
@@ -120,16 +126,16 @@ def register(app: typer.Typer, groups: dict) -> None:
             raise InputError(f"--preset must be paper or strict, got '{preset}'")
         out_dir = prepare_out_dir(out) if out is not None else None
         with collect_warnings(quiet=quiet or as_json) as warns:
-            rec = read_record(file, "storage_drift")
+            rec = read_record(file, "storage_drift", options=read)
             tb = tol_bias_ug if tol_bias_ug is not None else float(rec.meta.get("tol_bias_ug", 50.0))
             ts = tol_sf_ppm if tol_sf_ppm is not None else float(rec.meta.get("tol_sf_ppm", 50.0))
-            base = DEFAULT_BASELINES + (("arima",) if arima else ())
-            settings = DriftSettings(horizon=horizon, order=p, restarts=restarts, preset=preset,
-                                     max_gap=max_gap, hampel=hampel, baselines=base,
-                                     tol_bias_ug=tb, tol_sf_ppm=ts, seed=seed)
+            base = wf.DEFAULT_BASELINES + (("arima",) if arima else ())
+            settings = wf.DriftSettings(horizon=horizon, order=p, restarts=restarts,
+                                        preset=preset, max_gap=max_gap, hampel=hampel,
+                                        baselines=base, tol_bias_ug=tb, tol_sf_ppm=ts,
+                                        seed=seed)
             with progress_bar("drift fit", quiet=quiet or as_json) as bar:
-                fit = fit_drift(rec.data, meta=rec.meta, settings=settings, quantities=qs,
-                                origin_day=origin_day, path=file, progress=bar)
+                fit = wf.fit(rec, settings, quantities=qs, origin_day=origin_day, progress=bar)
         # "per_unit" (not "units": that envelope key maps numeric keys to their units)
         payload = {"per_unit": {uid: {q: _unit_payload(r) for q, r in qsr.items()}
                                 for uid, qsr in fit.results.items()}}
@@ -178,17 +184,18 @@ def register(app: typer.Typer, groups: dict) -> None:
     def drift_forecast(
         model: Path = typer.Argument(..., help="model.json written by 'drift fit --out'."),
         horizon: int = typer.Option(None, "--horizon", help="Steps K (default: the fit's)."),
-        as_json: bool = typer.Option(False, "--json", help="Print the result as JSON."),
-        quiet: bool = typer.Option(False, "--quiet", help="No warnings on stderr."),
+        as_json: JsonOpt = False,
+        quiet: QuietOpt = False,
     ):
         """Forecast again from a saved storage-drift model."""
         from inertialab.io import load_model
+        from inertialab.workflows.drift import forecast
 
         if horizon is not None and horizon < 1:
             raise InputError(f"--horizon must be >= 1, got {horizon}")
         with collect_warnings(quiet=quiet or as_json) as warns:
             m = load_model(model, expected_type="storage-drift")
-            res = m.forecast(horizon)
+            res = forecast(m, horizon)
         if as_json:
             emit_json("drift forecast", {"per_unit": res}, inputs=[model],
                       settings={"horizon": horizon, "seed": m.settings.get("seed")},
@@ -218,7 +225,7 @@ def register(app: typer.Typer, groups: dict) -> None:
                                            help="No tests on Saturdays and Sundays."),
         out: Path = typer.Option(..., "--out", help="Record file (.csv or .parquet); the "
                                                     "sidecar is written beside it."),
-        as_json: bool = typer.Option(False, "--json", help="Print a summary as JSON."),
+        as_json: JsonOpt = False,
     ):
         """Simulate a storage programme (spec 004 §7) with ground-truth columns."""
         from inertialab.io import write_record

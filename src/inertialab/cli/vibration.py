@@ -6,8 +6,8 @@ Thin: parse, call :mod:`inertialab.workflows.vibration` (``fit``, ``apply``) /
 ``vibration-compensate`` spelling stays as a hidden alias of ``vibration apply``.
 """
 
-# no "from __future__ import annotations": cli.options.reading_options reads the
-# signature unevaluated, and typer must see the Annotated shared options themselves
+# typer reads these signatures (the Annotated shared options of cli.options);
+# plain annotations keep that independent of how reading_options evaluates them
 import json
 from pathlib import Path
 

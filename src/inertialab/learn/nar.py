@@ -26,6 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from inertialab import metrics
 from inertialab.errors import DataQualityWarning, ExtrapolationWarning, InputError, NotFittedError
 from inertialab.learn.forecast_baselines import Forecast
 from inertialab.learn.mlp_lm import MLPRegressorLM, forward, n_params
@@ -412,12 +413,12 @@ class NARForecaster:
         """In-sample open-loop errors (original units): MSE, RMSE, MaxAE for training,
         validation (of the best retained member's split) and all samples (spec §5)."""
         self._check_fitted()
-        e = self.y_[self.sample_index_] - self.fitted_
-        out = {"all": _err(e)}
+        y, f = self.y_[self.sample_index_], np.asarray(self.fitted_, dtype=float)
+        out = {"all": _err(y, f)}
         if self.members_:
             vm = self.members_[self.chosen_[0]].val_mask
-            out["train"] = _err(e[~vm])
-            out["validation"] = _err(e[vm]) if vm.any() else None
+            out["train"] = _err(y[~vm], f[~vm])
+            out["validation"] = _err(y[vm], f[vm]) if vm.any() else None
         return out
 
     def fit_report(self) -> dict:
@@ -502,11 +503,10 @@ class NARForecaster:
         return obj
 
 
-def _err(e) -> dict:
-    e = np.asarray(e, dtype=float)
-    if e.size == 0:
+def _err(actual, fitted) -> dict:
+    """MSE, RMSE and MaxAE (= ME of the glossary) of ``fitted - actual`` (metrics.py)."""
+    if np.size(actual) == 0:
         return {"mse": None, "rmse": None, "max_ae": None, "n": 0}
-    mse = float(np.mean(e * e))
-    return {"mse": mse, "rmse": math.sqrt(mse), "max_ae": float(np.max(np.abs(e))),
-            "n": int(e.size)}
+    return {"mse": metrics.mse(actual, fitted), "rmse": metrics.rmse(actual, fitted),
+            "max_ae": metrics.max_abs_error(actual, fitted), "n": int(np.size(actual))}
 

@@ -125,7 +125,7 @@ def _unit_triaxial(path: Path, options: dict) -> dict:
     import warnings
 
     from inertialab.io import read_record
-    from inertialab.workflows import field_calibration as fc
+    from inertialab.workflows import triaxial as fc
 
     rec = read_record(path, "triaxial_static", **_read_options(options))
     with warnings.catch_warnings():

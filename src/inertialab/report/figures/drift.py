@@ -3,7 +3,7 @@
 Figures: fit and residuals, forecast with its 95 % interval beside the holdout and the
 simulated truth, residual autocorrelation with its bounds, and the per-unit
 re-calibration schedule. Each figure function takes the plain dict of
-:meth:`inertialab.workflows.storage_drift.SeriesResult.figure_data` (or a list of
+:meth:`inertialab.calib.drift.SeriesResult.figure_data` (or a list of
 schedule rows), so the CLI and the demo draw the same pictures.
 """
 

@@ -73,7 +73,7 @@ def convergence_figure(histories: dict, *, floor: float = 1e-16) -> Figure:
 
 
 def section(result) -> Section:
-    """The ``triaxial`` demo section from :func:`inertialab.workflows.field_calibration.run_demo`."""
+    """The ``triaxial`` demo section from :func:`inertialab.studies.triaxial.run_demo`."""
     t = result.tables
     d = result.data
     rows = [[r["method"], r["rmse_mps2"], r["sd_mps2"], r["max_param_error"], r["iterations"]]

@@ -1,4 +1,5 @@
-"""CLI: calibrate dual, design dual, simulate dual-tumble (spec 003, issue 7)."""
+"""CLI: dual fit, dual design (and their hidden old spellings calibrate dual, design dual),
+simulate dual-tumble (spec 003, issue 7)."""
 
 import json
 
@@ -31,7 +32,7 @@ def test_simulate_writes_record_sidecar_and_prior(records):
 
 
 def test_calibrate_json_shape_and_accuracy(records, capsys):
-    code, out, err = run(capsys, "calibrate", "dual", records / "s1.csv", "--prior",
+    code, out, err = run(capsys, "dual", "fit", records / "s1.csv", "--prior",
                          records / "s1.prior.json", "--json")
     assert code == 0, err
     d = json.loads(out)
@@ -48,6 +49,7 @@ def test_calibrate_json_shape_and_accuracy(records, capsys):
     assert abs(ls["coef"]["kA1"] - truth["kA1"]) < 2e-6
     assert abs(ebr["coef"]["KA2"] - truth["KA2"]) < 2e-5
     assert d["units"]["KA2"] == "g/g^2"
+    assert d["paper_aliases"] == {"KAx": "KAip_paper", "KBx": "KBip_paper"}  # spec §1.3
     err = d["errors_vs_truth"]["ebr"]["coef"]["KA2"]
     assert err == pytest.approx(ebr["coef"]["KA2"] - truth["KA2"], abs=1e-15)
     assert any("not estimable" in w for w in d["warnings"])
@@ -76,7 +78,7 @@ def test_calibrate_two_orientation_and_out_dir(records, capsys, tmp_path):
     (["--prior", "nope.json"], "no such prior file"),
 ])
 def test_bad_options_exit_2_one_line(records, capsys, extra, pattern):
-    code, out, err = run(capsys, "calibrate", "dual", records / "s1.csv", *extra)
+    code, out, err = run(capsys, "dual", "fit", records / "s1.csv", *extra)
     assert code == 2 and out == ""
     lines = err.strip().splitlines()
     assert len(lines) == 1 and pattern in lines[0]
@@ -92,10 +94,22 @@ def test_bad_prior_names(records, capsys, tmp_path):
 
 
 def test_design_dual_json(capsys):
-    code, out, err = run(capsys, "design", "dual", "--positions", "12", "--json")
+    code, out, err = run(capsys, "dual", "design", "--positions", "12", "--json")
     assert code == 0, err
     d = json.loads(out)
     np.testing.assert_allclose(d["positions_deg"], np.arange(12) * 30.0, atol=1e-9)
     assert d["criteria"]["cond"] == pytest.approx(np.sqrt(2), abs=1e-9)
     code, _, err = run(capsys, "design", "dual", "--positions", "5")
     assert code == 2 and "at least 7" in err
+
+
+def test_old_spellings_are_hidden_aliases(records, capsys):
+    # calibrate dual / design dual run the same commands, hidden from --help (issue 13)
+    code, out, _ = run(capsys, "design", "dual", "--positions", "12", "--json")
+    code2, out2, _ = run(capsys, "dual", "design", "--positions", "12", "--json")
+    assert code == code2 == 0
+    assert json.loads(out)["positions_deg"] == json.loads(out2)["positions_deg"]
+    code, out, _ = run(capsys, "--help")
+    assert code == 0 and "dual" in out and "calibrate" not in out
+    code, out, _ = run(capsys, "dual", "--help")
+    assert "fit" in out and "design" in out

@@ -13,18 +13,14 @@ import warnings
 
 import numpy as np
 
+from inertialab.calib.drift import DEFAULT_BASELINES, DriftSettings
+from inertialab.calib.drift_eval import evaluate_rolling_origin
 from inertialab.learn.forecast_baselines import ARLeastSquares, Persistence
 from inertialab.learn.nar import NARForecaster
 from inertialab.learn.order_cv import select_order_cv
 from inertialab.sim.storage_drift import benchmark_process, simulate_storage_batch
-from inertialab.workflows.storage_drift import (
-    DEFAULT_BASELINES,
-    DriftSettings,
-    evaluate_rolling_origin,
-    fit_drift,
-    summarise,
-    to_daily_grid,
-)
+from inertialab.studies.drift import summarise
+from inertialab.workflows.drift import fit_drift, to_daily_grid
 
 
 def _a1(n_seeds):

@@ -1,13 +1,13 @@
 """C99 export of a fuzzy thermal-compensation model (spec 000 §8.4).
 
-:func:`export_c` turns a :class:`~inertialab.workflows.thermal.ThermalModel` whose map is
+:func:`export_c` turns a :class:`~inertialab.calib.thermal.ThermalModel` whose map is
 a TSK fuzzy system (FIS, ANFIS, SCM-ANFIS, IAFSA-SCM-ANFIS) into one dependency-free
 ``.h``/``.c`` pair for a navigation computer: double precision, no allocation, only
 ``exp`` from libm, constants written with ``%.17g`` so they round-trip exactly. The C
 code repeats the Python computation step by step (deployment ``a_i`` estimate, eq. 5,
 clamping to the calibrated range with the status codes of CONTRACTS.md, [0, 1]
 scaling, the normalised firing strengths with the max-log shift, the consequents), so
-both agree to rounding. The workflow returns the text; the CLI writes the files.
+both agree to rounding. This module returns the text; the CLI writes the files.
 
 Entry points (``PREFIX`` defaults to ``qfa``)::
 

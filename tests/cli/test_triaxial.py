@@ -1,4 +1,5 @@
-"""CLI: calibrate triaxial / calibrate apply / simulate triaxial-poses (issue 6 items 1, 5, 8)."""
+"""CLI: triaxial fit / triaxial apply (old spellings calibrate triaxial / calibrate apply) and
+simulate triaxial-poses (issue 6 items 1, 5, 8; issue 13)."""
 
 import json
 
@@ -43,7 +44,7 @@ def test_simulate_writes_record_sidecar_and_schedule(counts_log):
 
 
 def test_raw_counts_log_with_gyro_json_contract(capsys, counts_log, tmp_path):
-    code, out, err = cli(capsys, "calibrate", "triaxial", counts_log, "--gyro", "--json",
+    code, out, err = cli(capsys, "triaxial", "fit", counts_log, "--gyro", "--json",
                          "--out", tmp_path / "res")
     assert code == 0, err
     d = json.loads(out)
@@ -66,7 +67,7 @@ def test_raw_counts_log_with_gyro_json_contract(capsys, counts_log, tmp_path):
     for f in ("model.json", "result.json", "triaxial_sphere.png", "triaxial_norm_error.png"):
         assert (tmp_path / "res" / f).exists()
     # apply the model to the log
-    code, out, err = cli(capsys, "calibrate", "apply", tmp_path / "res" / "model.json", counts_log,
+    code, out, err = cli(capsys, "triaxial", "apply", tmp_path / "res" / "model.json", counts_log,
                          "--out", tmp_path / "cal.csv")
     assert code == 0, err
     cal_df = pd.read_csv(tmp_path / "cal.csv")
@@ -82,7 +83,7 @@ def test_static_turntable_acs_s12_and_determinism(capsys, tmp_path):
                "--out", path)[0] == 0
     outs = []
     for _ in range(2):
-        code, out, err = cli(capsys, "calibrate", "triaxial", path, "--method", "acs",
+        code, out, err = cli(capsys, "triaxial", "fit", path, "--method", "acs",
                              "--objective", "scalar12", "--seed", "3", "--max-generations", "150",
                              "--json")
         assert code == 0, err
@@ -96,7 +97,7 @@ def test_static_turntable_acs_s12_and_determinism(capsys, tmp_path):
 def test_lm_s12_recovers_mount(capsys, tmp_path):
     path = tmp_path / "tt.csv"
     cli(capsys, "simulate", "triaxial-poses", "--scenario", "turntable62-mount", "--out", path)
-    code, out, err = cli(capsys, "calibrate", "triaxial", path, "--objective", "scalar12", "--json")
+    code, out, err = cli(capsys, "triaxial", "fit", path, "--objective", "scalar12", "--json")
     d = json.loads(out)
     x = np.array([d["params"][k] for k in ("bx", "by", "bz", "kx", "ky", "kz", "theta_yz",
                                             "theta_zy", "theta_zx")])
@@ -108,31 +109,31 @@ def test_lm_s12_recovers_mount(capsys, tmp_path):
 def test_bad_inputs_exit_2_with_one_line(capsys, tmp_path):
     six = tmp_path / "six.csv"
     cli(capsys, "simulate", "triaxial-poses", "--scenario", "sixface", "--out", six)
-    one_line_error(*cli(capsys, "calibrate", "triaxial", six)[::2], "at least 9")
+    one_line_error(*cli(capsys, "triaxial", "fit", six)[::2], "at least 9")
     sph = tmp_path / "sph.csv"
     cli(capsys, "simulate", "triaxial-poses", "--scenario", "sphere100-clean", "--out", sph)
     df = pd.read_csv(sph)
     df[["pos_id", "ax_mps2", "ay_mps2", "az_mps2"]].to_csv(tmp_path / "noref.csv", index=False)
-    one_line_error(*cli(capsys, "calibrate", "triaxial", tmp_path / "noref.csv", "--objective",
+    one_line_error(*cli(capsys, "triaxial", "fit", tmp_path / "noref.csv", "--objective",
                         "scalar", "--g-local", "9.8")[::2], "needs a reference")
     df.rename(columns={"ax_mps2": "ax", "ay_mps2": "ay", "az_mps2": "az"}).to_csv(
         tmp_path / "nounit.csv", index=False)
-    one_line_error(*cli(capsys, "calibrate", "triaxial", tmp_path / "nounit.csv")[::2], "no unit")
+    one_line_error(*cli(capsys, "triaxial", "fit", tmp_path / "nounit.csv")[::2], "no unit")
     # a coplanar design
     ang = np.linspace(0, 2 * np.pi, 12, endpoint=False)
     flat = pd.DataFrame({"pos_id": range(12), "ax_mps2": 9.8 * np.cos(ang),
                          "ay_mps2": 9.8 * np.sin(ang), "az_mps2": 0.01 * np.ones(12)})
     flat.to_csv(tmp_path / "flat.csv", index=False)
-    one_line_error(*cli(capsys, "calibrate", "triaxial", tmp_path / "flat.csv", "--g-local",
+    one_line_error(*cli(capsys, "triaxial", "fit", tmp_path / "flat.csv", "--g-local",
                         "9.8")[::2], "condition number")
-    one_line_error(*cli(capsys, "calibrate", "triaxial", sph, "--method", "bogus")[::2], "--method")
+    one_line_error(*cli(capsys, "triaxial", "fit", sph, "--method", "bogus")[::2], "--method")
     # saturated samples: too few usable records left
     sat = df.copy()
     for c in "xyz":
         sat[f"a{c}_lsb"] = np.round(sat.pop(f"a{c}_mps2") / 9.8 * 16384)
     sat.loc[:95, "az_lsb"] = 32767
     sat.to_csv(tmp_path / "sat.csv", index=False)
-    code, out, err = cli(capsys, "calibrate", "triaxial", tmp_path / "sat.csv", "--lsb-per-g",
+    code, out, err = cli(capsys, "triaxial", "fit", tmp_path / "sat.csv", "--lsb-per-g",
                          "16384", "--g-local", "9.8")
     assert code == 2 and "saturated" in err and "4 usable records" in err
 
@@ -140,14 +141,14 @@ def test_bad_inputs_exit_2_with_one_line(capsys, tmp_path):
 def test_static_gyro_flag_refused(capsys, tmp_path):
     sph = tmp_path / "sph.csv"
     cli(capsys, "simulate", "triaxial-poses", "--scenario", "sphere100-clean", "--out", sph)
-    one_line_error(*cli(capsys, "calibrate", "triaxial", sph, "--gyro")[::2], "raw log")
+    one_line_error(*cli(capsys, "triaxial", "fit", sph, "--gyro")[::2], "raw log")
 
 
 def test_batch_file_runs_the_vectorised_solver(capsys, tmp_path):
     path = tmp_path / "line.csv"
     assert cli(capsys, "simulate", "triaxial-poses", "--scenario", "line5000", "--n-units", "40",
                "--out", path)[0] == 0
-    code, out, err = cli(capsys, "calibrate", "triaxial", path, "--objective", "scalar", "--json",
+    code, out, err = cli(capsys, "triaxial", "fit", path, "--objective", "scalar", "--json",
                          "--out", tmp_path / "res")
     assert code == 0, err
     d = json.loads(out)
@@ -156,7 +157,7 @@ def test_batch_file_runs_the_vectorised_solver(capsys, tmp_path):
     units = pd.read_csv(tmp_path / "res" / "units.csv")
     truth = pd.read_csv(path).groupby("unit_id").first()
     assert np.max(np.abs(units.set_index("unit_id")["kx"] - truth["true_kx"])) < 2e-3
-    one_line_error(*cli(capsys, "calibrate", "triaxial", path)[::2], "batch solver")
+    one_line_error(*cli(capsys, "triaxial", "fit", path)[::2], "batch solver")
 
 
 def test_counts_static_file_with_header_and_bare_columns(capsys, tmp_path):
@@ -174,7 +175,7 @@ def test_counts_static_file_with_header_and_bare_columns(capsys, tmp_path):
     lines = ["# units=lsb", "# g_local=9.80665", "pos_id,ax,ay,az"]
     lines += [f"{i + 1},{v[0]:.3f},{v[1]:.3f},{v[2]:.3f}" for i, v in enumerate(a)]
     path.write_text("\n".join(lines) + "\n")
-    code, out, err = cli(capsys, "calibrate", "triaxial", path, "--json")
+    code, out, err = cli(capsys, "triaxial", "fit", path, "--json")
     assert code == 0, err
     res = json.loads(out)
     assert res["counts_mode"] is True and res["warnings"] == []
@@ -189,13 +190,57 @@ def test_suffix_contradicting_header_units_and_apply_unit_mismatch(capsys, tmp_p
     rec = tp.simulate("turntable62", seed=0).data
     body = rec[["pos_id", "ax_mps2", "ay_mps2", "az_mps2", "ref_x", "ref_y", "ref_z"]]
     path.write_text("# units=lsb\n# g_local=9.8\n" + body.to_csv(index=False))
-    one_line_error(*cli(capsys, "calibrate", "triaxial", path)[::2], "header says units=lsb")
-    code, out, err = cli(capsys, "calibrate", "triaxial", path, "--unit", "mps2", "--objective",
+    one_line_error(*cli(capsys, "triaxial", "fit", path)[::2], "header says units=lsb")
+    code, out, err = cli(capsys, "triaxial", "fit", path, "--unit", "mps2", "--objective",
                          "scalar", "--out", tmp_path / "res")
     assert code == 0, err
     # applying an m/s^2 calibration to a counts log is refused
     log = tmp_path / "log.raw.csv"
     cli(capsys, "simulate", "triaxial-poses", "--scenario", "rawlog62-counts", "--out", log)
-    one_line_error(*cli(capsys, "calibrate", "apply", tmp_path / "res" / "model.json", log,
+    one_line_error(*cli(capsys, "triaxial", "apply", tmp_path / "res" / "model.json", log,
                         "--out", tmp_path / "x.csv")[::2], "expects 'mps2'")
     assert not (tmp_path / "x.csv").exists()
+
+
+def test_old_spellings_are_hidden_aliases_and_reading_options_apply(capsys, tmp_path):
+    # issue 13: 'calibrate triaxial|apply' still run (hidden) and give the same numbers as
+    # 'triaxial fit|apply'; the reading options of the front door (--map) work here too
+    sph = tmp_path / "sph.csv"
+    cli(capsys, "simulate", "triaxial-poses", "--scenario", "turntable62", "--seed", "3",
+        "--out", sph)
+    new = cli(capsys, "triaxial", "fit", sph, "--objective", "scalar", "--json",
+              "--out", tmp_path / "new")
+    old = cli(capsys, "calibrate", "triaxial", sph, "--objective", "scalar", "--json",
+              "--out", tmp_path / "old")
+    assert new[0] == 0 and old[0] == 0, old[2]
+    assert json.loads(new[1])["params"] == json.loads(old[1])["params"]
+    code, out, err = cli(capsys, "--help")
+    assert "calibrate" not in out and "triaxial" in out
+    # vendor-style names mapped with --map
+    df = pd.read_csv(sph)
+    df.rename(columns={"ax_mps2": "Acc X", "ay_mps2": "Acc Y", "az_mps2": "Acc Z"}).to_csv(
+        tmp_path / "vendor.csv", index=False)
+    code, out, err = cli(capsys, "triaxial", "fit", tmp_path / "vendor.csv", "--objective",
+                         "scalar", "--json", "--g-local", "9.8", "--map",
+                         "ax_mps2=Acc X,ay_mps2=Acc Y,az_mps2=Acc Z")
+    assert code == 0, err
+    mapped, plain = json.loads(out)["params"], json.loads(new[1])["params"]
+    assert np.allclose([mapped[k] for k in plain], list(plain.values()), rtol=1e-12, atol=1e-15)
+    # apply under both spellings writes the same calibrated columns
+    for spelling in (("triaxial", "apply"), ("calibrate", "apply")):
+        dst = tmp_path / f"{spelling[0]}.csv"
+        code, out, err = cli(capsys, *spelling, tmp_path / "new" / "model.json", sph, "--out", dst)
+        assert code == 0, err
+    a = pd.read_csv(tmp_path / "triaxial.csv")
+    b = pd.read_csv(tmp_path / "calibrate.csv")
+    pd.testing.assert_frame_equal(a, b)
+    assert {"ax_mps2", "ay_mps2", "az_mps2"} <= set(a.columns)
+
+
+def test_detector_messages_name_the_flags(capsys, tmp_path):
+    # issue 13: the library names arguments ('t_init_s'); the command line shows its flags
+    log = tmp_path / "r.raw.csv"
+    cli(capsys, "simulate", "triaxial-poses", "--scenario", "rawlog62", "--out", log)
+    one_line_error(*cli(capsys, "triaxial", "fit", log, "--t-init", "60")[::2], "--t-init")
+    code, out, err = cli(capsys, "triaxial", "fit", log, "--min-duration", "30")
+    one_line_error(code, err, "lower --min-duration or --window, or give --threshold")

@@ -1,4 +1,4 @@
-"""Tests of inertialab.workflows.thermal_export (spec 000 §8.4, issue 5 item 4)."""
+"""Tests of inertialab.calib.thermal_export (spec 000 §8.4, issue 5 item 4)."""
 
 from __future__ import annotations
 
@@ -10,16 +10,11 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from inertialab.calib.thermal import ThermalConfig, compensate, fit_model, make_splits
+from inertialab.calib.thermal_export import export_c
 from inertialab.errors import ExtrapolationWarning, InputError
 from inertialab.sim.thermal_tumble import simulate
-from inertialab.workflows.thermal import (
-    ThermalConfig,
-    compensate,
-    fit_model,
-    make_splits,
-    prepare_samples,
-)
-from inertialab.workflows.thermal_export import export_c
+from inertialab.workflows.thermal import prepare_samples
 
 CC = shutil.which("cc") or shutil.which("gcc")
 

@@ -14,7 +14,7 @@ import warnings
 import numpy as np
 
 from inertialab.sensors.dual_meter import COEF_NAMES
-from inertialab.workflows.dual_tumble import monte_carlo
+from inertialab.studies.dual import monte_carlo
 
 SEED = 20240603
 IDX = {n: i for i, n in enumerate(COEF_NAMES)}

@@ -1,24 +1,27 @@
-"""Workflow field_calibration (spec 002 §3, §6, §7.1 items 3, 4, 9; issue 6 items 4, 7, 8)."""
+"""calib.triaxial: the estimators and the artefact on arrays (spec 002 §3, §6, §7.1 items 3, 4, 9;
+issue 6 items 4, 8)."""
 
 import json
-import warnings
 
 import numpy as np
 import pytest
 
-from inertialab.errors import InputError, MissingReferenceError, UnderdeterminedError
+from inertialab.calib import triaxial as fc
+from inertialab.calib.triaxial_batch import calibrate_batch
+from inertialab.calib.triaxial_session import to_model
+from inertialab.errors import MissingReferenceError, UnderdeterminedError
 from inertialab.io.modelfile import load_model, save_model
 from inertialab.regress.nlls import levenberg_marquardt
 from inertialab.sensors import triaxial as tx
 from inertialab.sim import triaxial_poses as tp
-from inertialab.workflows import field_calibration as fc
+from inertialab.workflows.triaxial import static_data_from_frame
 
 X_TRUE = tp.X_MPU6050_A
 
 
 def static(scenario, seed=0):
     rec = tp.simulate(scenario, seed=seed)
-    return rec, fc.static_data_from_frame(rec.data, rec.meta)
+    return rec, static_data_from_frame(rec.data, rec.meta)
 
 
 def test_noisy_recovery_coverage_100_datasets():
@@ -102,7 +105,7 @@ def test_determinism_bit_identical():
         rec, sd = static("turntable62-mount", seed=4)
         f = fc.calibrate(sd.a, ref=sd.ref, method="acs", objective="scalar12", g=sd.g, rng=9,
                          max_generations=200)
-        m = fc.to_model(f, sd)
+        m = to_model(f, sd)
         outs.append(json.dumps(m.to_dict(), sort_keys=True))
     assert outs[0] == outs[1]
 
@@ -110,7 +113,7 @@ def test_determinism_bit_identical():
 def test_model_contract_and_file_round_trip(tmp_path):
     rec, sd = static("turntable62")
     f = fc.calibrate(sd.a, ref=sd.ref, objective="scalar", g=sd.g)
-    m = fc.to_model(f, sd)
+    m = to_model(f, sd)
     raw = rec.data[["ax_mps2", "ay_mps2", "az_mps2"]].to_numpy()
     # calibrated = correction_matrix @ (raw - offset) equals the model's correction
     assert np.allclose(m.apply(raw), tx.correct(f.x, raw), atol=1e-13)
@@ -122,90 +125,11 @@ def test_model_contract_and_file_round_trip(tmp_path):
     assert np.array_equal(m2.apply(raw), m.apply(raw))
 
 
-def test_counts_with_lsb_per_g_folds_conversion_into_the_matrix():
-    rec = tp.simulate("turntable62", seed=2)
-    df = rec.data.copy()
-    q = 16384 / 9.8
-    for c in "xyz":
-        df[f"a{c}_lsb"] = df.pop(f"a{c}_mps2") * q + 100.0
-    meta = dict(rec.meta, units="lsb", lsb_per_g=16384, lsb_offset=100.0)
-    sd = fc.static_data_from_frame(df, meta)
-    assert not sd.counts
-    f = fc.calibrate(sd.a, ref=sd.ref, objective="scalar", g=sd.g)
-    m = fc.to_model(f, sd)
-    raw = df[["ax_lsb", "ay_lsb", "az_lsb"]].to_numpy()
-    ref = sd.ref
-    # calibrated vectors agree with references to the noise + 0.05 deg reference error level
-    assert np.sqrt(np.mean(np.sum((m.apply(raw) - ref) ** 2, axis=1))) < 0.03
-
-
-def test_raw_counts_log_with_gyro_end_to_end():
-    # issue 6 item 7: counts log -> detection -> accelerometer -> gyro
-    raw = tp.simulate("rawlog62-counts", seed=2)
-    d = raw.data
-    t = d["t_s"].to_numpy()
-    data = fc.raw_log_data(t, d[["ax_lsb", "ay_lsb", "az_lsb"]].to_numpy(), raw.meta, suffix="lsb")
-    assert data.intervals.count == 62
-    run = fc.calibrate_record_data(data, objective="norm",
-                                   gyro_raw=d[["gx_lsb", "gy_lsb", "gz_lsb"]].to_numpy(), t=t,
-                                   gyro_suffix="lsb", meta=raw.meta)
-    # accelerometer: sigma_rec ~ 0.04/sqrt(400) = 2e-3 m/s^2 -> parameter SEs ~1e-3; 3e-3 bound
-    assert np.max(np.abs(run.fit.x - X_TRUE)) < 3e-3
-    # gyro: within 4 standard errors (+1e-4 for the rest-bias leak, see test_gyro_triad)
-    Mt = raw.truth["gyro_M"] / tp.GYRO_LSB_PER_RPS
-    err = np.abs(run.gyro_fit.matrix - Mt) * tp.GYRO_LSB_PER_RPS
-    assert np.all(err <= 4 * run.gyro_fit.stderr_matrix * tp.GYRO_LSB_PER_RPS + 1e-4)
-    assert np.allclose(run.gyro_fit.bias / tp.GYRO_LSB_PER_RPS, tp.GYRO_BIAS, atol=1e-4)
-    # the model maps raw gyro counts at rest to ~0 rad/s
-    m = run.model
-    rest = d[["gx_lsb", "gy_lsb", "gz_lsb"]].to_numpy()[:1000]
-    assert np.max(np.abs(m.apply_gyro(rest).mean(axis=0))) < 1e-4
-    assert m.gyro["raw_unit"] == "lsb" and m.static_intervals == 62
-
-
-def test_gyro_counts_need_sensitivity():
-    raw = tp.simulate("rawlog62-counts", seed=2)
-    d = raw.data
-    meta = {k: v for k, v in raw.meta.items() if k != "gyro_lsb_per_rps"}
-    data = fc.raw_log_data(d["t_s"].to_numpy(), d[["ax_lsb", "ay_lsb", "az_lsb"]].to_numpy(), meta,
-                           suffix="lsb", k_thr=6)
-    with pytest.raises(InputError, match="gyro-lsb-per-rps"):
-        fc.calibrate_record_data(data, gyro_raw=d[["gx_lsb", "gy_lsb", "gz_lsb"]].to_numpy(),
-                                 t=d["t_s"].to_numpy(), gyro_suffix="lsb", meta=meta)
-
-
-def test_schedule_matched_in_time_order_and_count_mismatch():
-    raw = tp.simulate("rawlog62", seed=0)
-    d = raw.data
-    t, a = d["t_s"].to_numpy(), d[["ax_mps2", "ay_mps2", "az_mps2"]].to_numpy()
-    data = fc.raw_log_data(t, a, raw.meta, suffix="mps2", schedule=raw.schedule)
-    f = fc.calibrate(data.a, ref=data.ref, objective="scalar", g=data.g)
-    assert np.max(np.abs(f.x - X_TRUE)) < 3e-3
-    with pytest.raises(InputError, match="exactly 61"):
-        fc.raw_log_data(t, a, raw.meta, suffix="mps2", schedule=raw.schedule.iloc[:61])
-
-
-def test_saturated_static_records_are_dropped_then_refused():
-    rec = tp.simulate("turntable62", seed=0)
-    df = rec.data.copy()
-    for c in "xyz":
-        df[f"a{c}_lsb"] = np.round(df.pop(f"a{c}_mps2") / 9.8 * 16384)
-    df.loc[:55, "az_lsb"] = 32767  # 56 records at the rail
-    meta = dict(rec.meta, units="lsb", lsb_per_g=16384)
-    with warnings.catch_warnings(record=True) as w:
-        warnings.simplefilter("always")
-        sd = fc.static_data_from_frame(df, meta)
-    assert any("saturated" in str(x.message) for x in w)
-    assert sd.a.shape[0] == 6
-    with pytest.raises(UnderdeterminedError, match="6 usable records"):
-        fc.calibrate(sd.a, objective="norm", g=sd.g)
-
-
 def test_batch_matches_per_unit_scipy_lm():
     # §7.2 batch: vectorised GN equals per-unit scipy LM to 1e-8 (same unique minimum)
     rec = tp.simulate_line(60, seed=3)
-    sd = fc.static_data_from_frame(rec.data, rec.meta)
-    b = fc.calibrate_batch(sd)
+    sd = static_data_from_frame(rec.data, rec.meta)
+    b = calibrate_batch(sd)
     assert b.table["converged"].all()
     A = sd.a.reshape(60, 18, 3)
     R = sd.ref.reshape(60, 18, 3)
@@ -217,20 +141,6 @@ def test_batch_matches_per_unit_scipy_lm():
     # fixture error 0.1 deg dominates: RMSE ~0.023 m/s^2, so nearly every unit passes 0.04
     assert b.yield_fraction > 0.95
     assert np.max(np.abs(b.X - rec.truth["X"])) < 0.02
-
-
-def test_demo_quick_runs_and_reports():
-    res = fc.run_demo(fc.QuickSettings(cs_seeds=1, acs_on_turntable=False))
-    rows = {r["method"]: r for r in res.tables["turntable62_realistic"]}
-    # S12 removes the mount bias: its eq.-21 RMSE is below the six-position baseline's
-    assert rows["LM-S12"]["rmse_mps2"] < rows["lab six-position (12 par.)"]["rmse_mps2"]
-    assert res.tables["rawlog62_counts"]["static_intervals"] == 62
-    assert res.name == "triaxial" and len(res.headline) == 5
-    from inertialab.report.figures.triaxial import section
-
-    sec = section(res)
-    assert sec.key == "triaxial" and len(sec.figures) == 4 and len(sec.tables) == 3
-    json.dumps(sec.results, default=float)  # results.json material is JSON-ready
 
 
 def test_robust_loss_resists_bumped_records():
@@ -254,17 +164,6 @@ def test_bounded_lm_equals_unbounded_inside_the_box():
     a = fc.calibrate(sd.a, ref=sd.ref, objective="scalar", g=sd.g)
     b = fc.calibrate(sd.a, ref=sd.ref, objective="scalar", g=sd.g, bounded=True)
     assert np.allclose(a.x, b.x, atol=1e-8)  # interior optimum: trf and lm agree to tolerance
-
-
-def test_absolute_threshold_in_working_units():
-    raw = tp.simulate("rawlog62-counts", seed=2)
-    d = raw.data
-    t, a = d["t_s"].to_numpy(), d[["ax_lsb", "ay_lsb", "az_lsb"]].to_numpy()
-    swept = fc.raw_log_data(t, a, raw.meta, suffix="lsb")
-    # the sweep's threshold is k * s0 in (m/s^2)^2 (lsb_per_g known); reuse it as absolute
-    fixed = fc.raw_log_data(t, a, raw.meta, suffix="lsb", threshold=swept.intervals.threshold)
-    assert np.array_equal(fixed.intervals.start, swept.intervals.start)
-    assert fixed.k_thr is None
 
 
 def test_poorly_conditioned_schedule_is_flagged_with_suggestions():
