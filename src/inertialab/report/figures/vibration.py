@@ -207,7 +207,7 @@ def _fig_waterfall(res):
         ax2 = ax.twiny()
         on = f > 0
         if on.any():
-            ticks = [p for p in (1, 10, 50, 100, 200, 500) if f[on].min() <= p <= f[on].max()]
+            ticks = [p for p in (1, 10, 100, 500) if f[on].min() <= p <= f[on].max()]
             pos = [float(np.argmin(np.abs(np.where(on, f, np.inf) - p))) / fs for p in ticks]
             ax2.set_xlim(ax.get_xlim())
             ax2.set_xticks(pos)
