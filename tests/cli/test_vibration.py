@@ -122,6 +122,8 @@ def test_bad_input_exits_2_with_one_line(records, tmp_path, capsys):
     assert code == 2 and text == "" and err.count("\n") == 1 and "vib_on" in err
     code, text, err = run(capsys, "vibration", records / "sweep.csv", "--level", "12")
     assert code == 2 and "--level" in err
+    code, text, err = run(capsys, "vibration", records / "sweep.csv", "--spread", "wide")
+    assert code == 2 and "--spread" in err
     code, text, err = run(capsys, "simulate", "fog-vibration", "--experiment", "up",
                           "--out", tmp_path / "x.csv")
     assert code == 2 and "--experiment" in err

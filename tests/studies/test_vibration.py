@@ -93,3 +93,29 @@ def test_study_is_registered():
 
     assert discover_studies()["vibration"] is STUDY
     assert STUDY.quick.p1_s < STUDY.full.p1_s
+
+
+def test_spread_by_validation_and_raw_phase_figures(short_pair):
+    from inertialab.report.figures.vibration import figures, tables
+
+    sweep, fixed = short_pair
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        r = analyse(sweep, fixed, VibrationConfig(spread="validate",
+                                                  spread_grid=(0.6, 1.2, 20.0),
+                                                  scalogram_phase_s=20.0))
+    sel = r.fit["rbf"]["spread_selection"]
+    assert r.fit["rbf"]["spread"] == sel["chosen"] == sel["grid"][
+        int(sel["heldout_rmse"].index(min(sel["heldout_rmse"])))]
+    assert r.model.spread == sel["chosen"]
+    # raw per-phase bias and 10-s stability: vibration shifts the 500-Hz run's P2 bias
+    raw = r.metrics["raw_phases"]
+    assert set(raw) == {"sweep", "fixed"}
+    shift = raw["fixed"]["bias"]["P2"] - raw["fixed"]["bias"]["P1"]
+    assert shift == pytest.approx(float(bias_shift_dph(500.0)), abs=1.5)
+    names = [f.name for f in figures(r)]
+    assert "separation" in names and "sweep_waterfall" in names
+    titles = [t.title for t in tables(r)]
+    assert any("Raw records" in t for t in titles) and any("spread" in t for t in titles)
+    with pytest.raises(InputError, match="spread"):
+        analyse(sweep, None, VibrationConfig(spread="auto", views=False))

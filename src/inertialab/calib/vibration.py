@@ -24,8 +24,8 @@ from inertialab.learn.poly import PolynomialRegressor
 from inertialab.learn.rbf import RBFNetwork
 from inertialab.noise import wavelet as wv
 
-__all__ = ["BiasTargets", "VibrationModel", "VibrationRun", "bias_targets",
-           "residual_metrics"]
+__all__ = ["SPREAD_GRID", "BiasTargets", "VibrationModel", "VibrationRun", "bias_targets",
+           "phase_stats", "residual_metrics", "select_spread"]
 
 #: Units of the model's inputs and outputs (model-file ``units``).
 UNITS = {"f": "hz", "bias": "dph", "rate": "dph"}
@@ -361,3 +361,52 @@ def residual_metrics(omega_c, run: VibrationRun, *, guard_s: float = 10.0,
     return out
 
 
+
+
+def phase_stats(x, run: VibrationRun, *, stability_s: float = 10.0) -> dict:
+    """Bias (mean) and 10-s bias stability (std of consecutive 10-s means) of a rate per
+    phase P1/P2/P3 (spec 001 §2.3 definitions), deg/h: the raw record's figures beside
+    the compensated ones of :func:`residual_metrics` (issue 18 item 5)."""
+    x = np.asarray(x, dtype=float)
+    nb = max(1, int(round(stability_s * run.fs_hz)))
+    out = {"bias": {}, "stability_10s": {}}
+    for name, sl in run.phase_slices().items():
+        out["bias"][name] = float(np.mean(x[sl]))
+        out["stability_10s"][name] = _block_std(x[sl], nb)
+    return out
+
+
+#: Spreads (Hz) tried by :func:`select_spread` by default: the seed's 1.2 Hz and a
+#: factor-of-two ladder around it up to a few bin widths.
+SPREAD_GRID = (0.3, 0.6, 1.2, 2.5, 5.0, 10.0, 20.0, 40.0)
+
+
+def select_spread(f_hz, e_dph, train, *, grid=SPREAD_GRID, goal: float = 1e-4,
+                  centers: str = "max_error", max_neurons: int | None = None,
+                  rng=0) -> dict:
+    """RBF spread chosen by held-out error (issue 18 item 6; spec 001 §8 "held-out tuning").
+
+    The network is fitted on the targets where ``train`` is True (the odd 1-Hz bins in the
+    workflow) and scored by the RMSE on the others; the spread with the least held-out
+    RMSE wins. Returns ``{"grid", "heldout_rmse", "neurons", "chosen", "chosen_rmse"}``
+    (Hz, deg/h). The seed's 1.2 Hz stays the default of the model; this is the option.
+    """
+    from inertialab import metrics as _metrics
+
+    f = np.asarray(f_hz, dtype=float)
+    e = np.asarray(e_dph, dtype=float)
+    tr = np.asarray(train, dtype=bool)
+    if tr.sum() < 5 or (~tr).sum() < 2:
+        raise InputError("spread selection needs at least 5 training and 2 held-out targets")
+    grid = [float(s) for s in grid]
+    if not grid or any(not (np.isfinite(s) and s > 0) for s in grid):
+        raise InputError("argument 'spread' grid must hold positive spreads in Hz")
+    rmse, neurons = [], []
+    for s in grid:
+        net = RBFNetwork(spread=s, goal=goal, centers=centers, max_neurons=max_neurons,
+                         rng=rng).fit(f[tr], e[tr])
+        rmse.append(_metrics.rmse(e[~tr], net.predict(f[~tr])))
+        neurons.append(int(net.n_neurons_))
+    k = int(np.argmin(rmse))
+    return {"grid": grid, "heldout_rmse": rmse, "neurons": neurons, "chosen": grid[k],
+            "chosen_rmse": rmse[k]}

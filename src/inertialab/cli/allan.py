@@ -44,14 +44,24 @@ def _allan_command(imu_default: bool):
         rate: float = typer.Option(None, "--rate", help="Sample rate in Hz (default: from a "
                                                         "uniform t_s or the sidecar)."),
         input_: str = typer.Option("rate", "--input", help="rate | angle (cumulative "
-                                                           "theta_* column)."),
-        unit: str = typer.Option(None, "--unit", help="Unit suffix of the data (dph, dps, "
-                                                      "rps, mps2, g ...); overrides the "
-                                                      "column suffix."),
+                                   "theta_* column) | phase (clock time error) | frequency "
+                                   "(clock fractional frequency)."),
+        unit: str = typer.Option(None, "--unit", help="Unit of the data: dph, dps, rps, "
+                                 "mps2, g ... (IMU); s, ms, us, ns, ps (phase); 1, ppm, ppb, "
+                                 "ppt, hz (frequency; hz needs --nominal). Overrides the "
+                                 "column suffix."),
+        nominal: float = typer.Option(None, "--nominal", help="Nominal frequency, Hz, of a "
+                                      "frequency record in hz: y = (f - nominal)/nominal."),
         stat: str = typer.Option("oadev", "--stat", help="Comma-separated: adev, oadev, "
-                                                         "mdev, tdev, hdev, ohdev, totdev."),
-        taus: str = typer.Option("octave", "--taus", help="octave | decade | all | a count "
-                                                          "| comma-separated seconds."),
+                                 "mdev, tdev, hdev, ohdev, totdev, mtotdev, ttotdev, "
+                                 "htotdev, theo1, theobr, theoh, mtie, tierms."),
+        taus: str = typer.Option("octave", "--taus", help="octave | decade | many | all | a "
+                                 "count | comma-separated seconds."),
+        terms: bool = typer.Option(None, "--terms/--no-terms", help="Fit the IMU noise terms "
+                                   "Q N B K R (default: on for IMU logs, off for clocks)."),
+        bias: bool = typer.Option(None, "--bias-correction/--no-bias-correction",
+                                  help="Stable32 bias corrections of TOTDEV, MTOT, TTOT, "
+                                  "HTOT, Theo1 (default: on for clocks, off for IMU logs)."),
         confidence: float = typer.Option(0.683, "--confidence", help="Two-sided confidence "
                                                                      "of the intervals."),
         method: str = typer.Option("wls", "--method", help="Noise terms: wls | ols | slope | "
@@ -85,23 +95,30 @@ def _allan_command(imu_default: bool):
                                 method=method, out=out, as_json=as_json, quiet=quiet,
                                 command=command)
         return _single(file=file, column=column, rate=rate, input_=input_, unit=unit,
-                       stat=stat, taus=taus, confidence=confidence, method=method,
-                       g_local=g_local, gaps=gaps, as_json=as_json, out=out, quiet=quiet,
-                       read=read)
+                       nominal=nominal, stat=stat, taus=taus, confidence=confidence,
+                       method=method, terms=terms, bias=bias, g_local=g_local, gaps=gaps,
+                       as_json=as_json, out=out, quiet=quiet, read=read)
 
     return allan
 
 
-def _single(*, file, column, rate, input_, unit, stat, taus, confidence, method, g_local, gaps,
-            as_json, out, quiet, read):
+def _single(*, file, column, rate, input_, unit, nominal, stat, taus, confidence, method, terms,
+            bias, g_local, gaps, as_json, out, quiet, read):
     """One series: the table of each statistic and the noise terms."""
     from inertialab.io import read_record
-    from inertialab.workflows.allan import analyze, parse_stats, parse_taus, prepare_log
+    from inertialab.workflows.allan import (
+        analyze,
+        parse_stats,
+        parse_taus,
+        prepare_log,
+        read_clock,
+    )
 
     stats = parse_stats(stat)
     tau_spec = parse_taus(taus)
-    if input_ not in ("rate", "angle"):
-        raise InputError(f"--input must be rate or angle, got '{input_}'")
+    if input_ not in ("rate", "angle", "phase", "frequency"):
+        raise InputError(f"--input must be rate, angle, phase or frequency, got '{input_}'")
+    clock = input_ in ("phase", "frequency")
     if not 0.0 < confidence < 1.0:
         raise InputError(f"--confidence must be in (0, 1), got {confidence}")
     npy_col = None
@@ -110,10 +127,18 @@ def _single(*, file, column, rate, input_, unit, stat, taus, confidence, method,
         if column is None and base is not None:
             npy_col = f"{base}_{unit.strip().lower()}"
     with collect_warnings(quiet) as warns:
-        rec = read_record(file, "gyro_log", unit=unit, rate_hz=rate, column=column or npy_col,
-                          g_local=g_local, gaps=gaps, options=read)
-        log = prepare_log(rec, column=column, rate_hz=rate, input=input_, g_local=g_local)
-        res = analyze(log, stats=stats, taus=tau_spec, confidence=confidence, method=method)
+        if clock:
+            log = read_clock(file, input=input_, column=column, unit=unit, rate_hz=rate,
+                             nominal_hz=nominal, options=read)
+            sha = log.sha256
+        else:
+            rec = read_record(file, "gyro_log", unit=unit, rate_hz=rate,
+                              column=column or npy_col, g_local=g_local, gaps=gaps,
+                              options=read)
+            log = prepare_log(rec, column=column, rate_hz=rate, input=input_, g_local=g_local)
+            sha = rec.sha256
+        res = analyze(log, stats=stats, taus=tau_spec, confidence=confidence, method=method,
+                      fit_terms=terms, bias_correction=bias)
         payload = res.to_json()
         if out is not None:
             from inertialab.io import save_model
@@ -124,13 +149,20 @@ def _single(*, file, column, rate, input_, unit, stat, taus, confidence, method,
             atomic_write_text(d / "result.json", json.dumps(json_ready(payload), indent=2) + "\n")
             if res.terms is not None:
                 save_model(res.terms, d / "model.json", units={"rate": log.unit},
-                           training_data_sha256=rec.sha256)
+                           training_data_sha256=sha)
     settings = {"column": log.column, "rate_hz": log.rate_hz, "input": log.input,
                 "stat": list(stats), "taus": taus, "confidence": confidence,
                 "method": method, "unit": log.unit, "n_samples": res.n_samples}
+    if clock:
+        settings.update({"input": input_, "nominal_hz": nominal,
+                         "bias_correction": res.settings.get("bias_correction"),
+                         "noise_terms": res.settings.get("fit_terms")})
     if as_json:
-        units = {"tau0_s": "s", "taus_s": "s", "dev": log.unit, "ci_low": log.unit,
-                 "ci_high": log.unit, "n_terms": "1", "alpha": "1", "edf": "1"}
+        dev_units = {r.statistic: res.dev_unit(r.statistic) for r in res.results}
+        one = next(iter(dev_units.values())) if len(set(dev_units.values())) == 1 else \
+            "per statistic: see each result's unit"
+        units = {"tau0_s": "s", "taus_s": "s", "dev": one, "ci_low": one,
+                 "ci_high": one, "n_terms": "1", "alpha": "1", "edf": "1"}
         emit_json("allan", payload, inputs=[file], settings=settings, units=units,
                   warnings_=warns)
         return

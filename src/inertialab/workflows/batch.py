@@ -99,7 +99,7 @@ def _unit_allan(path: Path, options: dict) -> dict:
     elif "t_s" in rec.data.columns:
         fs = 1.0 / float(np.median(np.diff(rec.data["t_s"].to_numpy())))
     else:
-        raise InputError("needs t_s or --rate", path=path)
+        raise InputError("needs t_s or argument 'rate_hz'", path=path)
     res = oadev(y, rate_hz=fs, taus=options.get("taus", "octave"))
     lt, ld = np.log(res.taus_s), np.log(res.dev)
 
@@ -151,7 +151,7 @@ def _unit_thermal(path: Path, options: dict) -> dict:
 
     model_path = options.get("model")
     if not model_path:
-        raise InputError("thermal-compensate needs --model MODEL.json")
+        raise InputError("thermal-compensate needs argument 'model' (a model file)")
     try:
         from inertialab.workflows.thermal import compensate
     except ImportError:  # pragma: no cover - the thermal workflow ships with inertialab

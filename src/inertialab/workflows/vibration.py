@@ -36,11 +36,14 @@ import numpy as np
 from inertialab import metrics as _metrics
 from inertialab import units
 from inertialab.calib.vibration import (
+    SPREAD_GRID,
     BiasTargets,
     VibrationModel,
     VibrationRun,
     bias_targets,
+    phase_stats,
     residual_metrics,
+    select_spread,
 )
 from inertialab.errors import DataQualityWarning, ExtrapolationWarning, InputError
 from inertialab.noise import wavelet as wv
@@ -269,10 +272,14 @@ class VibrationConfig:
     wavelet_level : int, default=10
         J (seed: 10).
     spread, goal : float, default 1.2 and 1e-4
-        RBF settings of the seed.
+        RBF settings of the seed; ``spread="validate"`` picks it from ``spread_grid`` by
+        the held-out RMSE on the even bins (issue 18 item 6; the seed "tuned 1.2 after many
+        validations"), reported in ``fit["rbf"]["spread_selection"]``.
     centers : str, default="max_error"
         RBF centre selection (seed wording "random fixed"; spec default newrb's).
     max_neurons : int or None
+    spread_grid : tuple of float, default SPREAD_GRID
+        Candidate spreads (Hz) for ``spread="validate"``.
     target_guard_s : float, default=2.0
         Guards of the E1 targets (§3.7).
     level_guard_s : float, default=5.0
@@ -297,10 +304,11 @@ class VibrationConfig:
 
     level: int | str = 6
     wavelet_level: int = 10
-    spread: float = 1.2
+    spread: float | str = 1.2
     goal: float = 1e-4
     centers: str = "max_error"
     max_neurons: int | None = None
+    spread_grid: tuple = SPREAD_GRID
     target_guard_s: float = 2.0
     level_guard_s: float = 5.0
     residual_guard_s: float = 10.0
@@ -389,12 +397,19 @@ def _true_curve(run: VibrationRun, f_hz: np.ndarray):
 
 
 def _fit_block(targets: BiasTargets, cfg: VibrationConfig, level: int, run: VibrationRun):
-    model = VibrationModel(level=level, wavelet_level=cfg.wavelet_level, spread=cfg.spread,
-                           goal=cfg.goal, centers=cfg.centers, max_neurons=cfg.max_neurons,
-                           rng=cfg.rng).fit(targets.f_hz, targets.e_dph)
     f, e = targets.f_hz, targets.e_dph
     odd = targets.bin_index % 2 == 1
-    held = VibrationModel(level=level, wavelet_level=cfg.wavelet_level, spread=cfg.spread,
+    selection = None
+    spread = cfg.spread
+    if spread == "validate":  # issue 18 item 6: the spread with the least held-out RMSE
+        selection = select_spread(f, e, odd, grid=cfg.spread_grid, goal=cfg.goal,
+                                  centers=cfg.centers, max_neurons=cfg.max_neurons,
+                                  rng=cfg.rng)
+        spread = selection["chosen"]
+    model = VibrationModel(level=level, wavelet_level=cfg.wavelet_level, spread=spread,
+                           goal=cfg.goal, centers=cfg.centers, max_neurons=cfg.max_neurons,
+                           rng=cfg.rng).fit(targets.f_hz, targets.e_dph)
+    held = VibrationModel(level=level, wavelet_level=cfg.wavelet_level, spread=spread,
                           goal=cfg.goal, centers=cfg.centers, max_neurons=cfg.max_neurons,
                           rng=cfg.rng).fit(f[odd], e[odd])
     truth = _true_curve(run, f)
@@ -410,7 +425,9 @@ def _fit_block(targets: BiasTargets, cfg: VibrationConfig, level: int, run: Vibr
             "truth_rmse": None if truth is None else _metrics.rmse(truth, pred),
         }
     fit["poly"]["degree"] = int(model.poly_degree)
-    fit["rbf"]["spread"] = float(cfg.spread)
+    fit["rbf"]["spread"] = float(spread)
+    if selection is not None:
+        fit["rbf"]["spread_selection"] = selection
     fit["rbf"]["goal"] = float(cfg.goal)
     fit["rbf"]["centers"] = cfg.centers
     fit["n_bins"] = int(f.size)
@@ -464,6 +481,10 @@ def analyse(sweep: VibrationRun, fixed: VibrationRun | None = None,
     prog = progress or NullProgress()
     total = 8.0
     t_start = time.perf_counter()
+    if not (cfg.spread == "validate" or (isinstance(cfg.spread, (int, float, np.number))
+                                         and np.isfinite(cfg.spread) and cfg.spread > 0)):
+        raise InputError(f"spread must be a positive number (Hz) or 'validate', "
+                         f"got {cfg.spread!r}")
     if cfg.level != "auto" and not (isinstance(cfg.level, (int, np.integer))
                                     and 1 <= int(cfg.level) <= 9):
         raise InputError(f"level must be an integer in 1..9 or 'auto', got {cfg.level!r}")
@@ -534,6 +555,8 @@ def analyse(sweep: VibrationRun, fixed: VibrationRun | None = None,
         metrics["decomposition_physical"][f"{rname}/A{level}"] = noise_terms_row(
             sigs[f"A{level}"], r.fs_hz, method="wls", tau_min_s=tmin_phys)
     metrics["tau_ranges_s"]["A_L_physical_min"] = tmin_phys
+    # issue 18 item 5: bias and 10-s stability per phase of the raw records
+    metrics["raw_phases"] = {rname: phase_stats(r.rate_dph, r) for rname, r in runs.items()}
 
     # 6: targets and models
     prog.update(4, total, "bias targets and models")
@@ -549,7 +572,8 @@ def analyse(sweep: VibrationRun, fixed: VibrationRun | None = None,
     views["curve_poly"] = model.poly_.predict(f_grid)
     views["curve_truth"] = _true_curve(sweep, f_grid)
     views["sweep"] = {"rate": sweep.rate_dph, "approx": a_sweep, "fs_hz": sweep.fs_hz,
-                      "k_on": sweep.k_on, "k_off": sweep.k_off, "freq": sweep.freq_hz}
+                      "k_on": sweep.k_on, "k_off": sweep.k_off, "freq": sweep.freq_hz,
+                      "dec": decs["sweep"]}
 
     # 7: compensation of the fixed run
     prog.update(5, total, "compensation")
