@@ -186,6 +186,42 @@ def read_record(path, kind: str, *, unit=None, rate_hz: float | None = None,
                    options=opts)
 
 
+def peek_columns(path, options=None) -> list[str]:
+    """Column names of a file as :func:`read_record` will see them before validation:
+    lower-case, BOM dropped, the column map's targets in place of their sources, a time
+    column given by the options as ``t_s``. Reads a few rows of a text file (after the
+    size and content checks), so a CLI can choose a record kind (``t_s`` present: a raw
+    log) without reading the file twice or sniffing headers itself."""
+    from inertialab.io.formats.dispatch import format_of, load_frame
+    from inertialab.io.formats.text import load_text
+    from inertialab.io.mapping import ReadOptions
+
+    opts = options if options is not None else ReadOptions()
+    p = Path(path)
+    if not p.exists():
+        raise InputError("no such file", path=p)
+    if p.is_file() and p.stat().st_size == 0:
+        raise InputError("empty file", path=p)
+    if format_of(p) == "text":
+        names = list(load_text(p, opts.parse, nrows=5).frame.columns)
+    elif p.suffix.lower() == ".npy" and _open_npy(p).dtype.names is None \
+            and _open_npy(p).ndim == 1:
+        names = []  # one unnamed column: its name comes from the column/unit arguments
+    else:
+        names = list(load_frame(p, parse=opts.parse, options=opts).frame.columns)
+    cmap = opts.effective_map()
+    sources = {e.source.strip().lower(): e.target for e in cmap.entries}
+    out = []
+    for j, n in enumerate(names):
+        low = str(n).strip().lower()
+        out.append(sources.get(low) or sources.get(f"col{j + 1}") or low)
+    if opts.time_unit is not None and opts.time_column is None:
+        out = ["t_s" if n in _TIME_NAMES else n for n in out]
+    if any(n in ("t_ms", "t_us", "t_ns") for n in out) and "t_s" not in out:
+        out = ["t_s" if n in ("t_ms", "t_us", "t_ns") else n for n in out]
+    return out
+
+
 def _finish(df, kind, p, merged, *, header_units, column_map, parse, unit, rate_hz, gaps,
             full_scale, options) -> Record:
     """Map, time base, audit, validate: the part every format shares."""
