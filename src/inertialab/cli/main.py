@@ -31,7 +31,7 @@ import warnings  # noqa: E402
 import typer  # noqa: E402
 
 from inertialab import __version__  # noqa: E402
-from inertialab.cli.options import check_limits  # noqa: E402
+from inertialab.cli.options import check_limits, check_out_targets  # noqa: E402
 from inertialab.errors import InputError  # noqa: E402
 
 _GROUP_HELP = {
@@ -313,6 +313,7 @@ def main(argv: list[str] | None = None) -> None:
     try:
         args = expand_config(args)
         check_limits(args)
+        check_out_targets(args)
         cmd = typer.main.get_command(build_app())
         with outputs.transaction(protect=files) as tx:
             rv = cmd.main(args=args, prog_name="inertialab", standalone_mode=False)

@@ -194,6 +194,39 @@ def check_limits(args: list[str]) -> None:
             check_value(flag, args[i + 1])
 
 
+#: Options that name an output (file or directory); see :func:`check_out_targets`.
+#: (flag -> position of the path among its values: ``--export STYLE FILE`` -> 2).
+OUTPUT_FLAGS = {"--out": 1, "--c": 1, "--truth": 1, "--save-config": 1, "--export": 2}
+
+
+def check_out_targets(args: list[str]) -> None:
+    """Refuse, before any work, an output option naming an existing device, FIFO or
+    socket (or a link to one): an output replaces only a regular file or fills a
+    directory (issue 19). Which of the two a command wants it checks itself."""
+    import os
+    import stat
+
+    from inertialab.errors import InputError
+
+    for i, a in enumerate(args):
+        flag, eq, value = a.partition("=")
+        if flag not in OUTPUT_FLAGS:
+            continue
+        k = i + OUTPUT_FLAGS[flag]
+        target = value if eq else (args[k] if k < len(args) else None)
+        if not target:
+            continue
+        try:
+            mode = os.stat(target).st_mode
+        except (OSError, ValueError):
+            continue
+        if not (stat.S_ISREG(mode) or stat.S_ISDIR(mode)):
+            kind = ("a device" if stat.S_ISCHR(mode) or stat.S_ISBLK(mode) else
+                    "a FIFO" if stat.S_ISFIFO(mode) else "a socket")
+            raise InputError(f"{flag} is {kind}; an output replaces only a regular file or "
+                             "fills a directory", path=target)
+
+
 def bounded(flag: str):
     """A typer callback enforcing :data:`LIMITS` for ``flag`` on one option."""
     def callback(value):
