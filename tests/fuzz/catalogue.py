@@ -215,6 +215,9 @@ class Case:
     owner: str | None = None
     check: Callable[[Path, Outcome], list[str]] | None = None
     slow: bool = False
+    runner: Callable[[list[str], Path], Outcome] | None = None
+    teardown: Callable[[Path], None] | None = None
+    #: entries of the case directory that a successful run may leave changed
 
     @property
     def id(self) -> str:
@@ -224,10 +227,14 @@ class Case:
 def run_case(case: Case, d: Path, runner=run_inprocess) -> tuple[Outcome, list[str]]:
     """Set up ``case`` in ``d``, run it, return the outcome and its violations."""
     d.mkdir(parents=True, exist_ok=True)
-    argv = case.setup(d)
-    before = snapshot(d)
-    o = runner(argv, cwd=d)
-    after = snapshot(d)
+    try:
+        argv = case.setup(d)
+        before = snapshot(d)
+        o = (case.runner or runner)(argv, d)
+        after = snapshot(d)
+    finally:
+        if case.teardown is not None:
+            case.teardown(d)
     bad = violations(o, before, after, case.allowed, case.codes)
     if case.expect_code is not None and o.code != case.expect_code:
         bad.append(f"expected exit {case.expect_code}, got {o.code}: {o.stderr.strip()[:200]}")
@@ -578,3 +585,224 @@ def fast_cases() -> list[Case]:
     return (_traversal_cases() + _codegen_cases() + _out_target_cases() +
             _non_finite_cases() + _half_written_cases() + _exit_code_cases() +
             _hang_cases() + _smaller_cases())
+
+
+# ------------------------------------------------------------------ the slow set
+
+def _interrupt(signum: int, after_s: float):
+    """A runner: start the command in a subprocess, send ``signum`` after ``after_s``."""
+    import signal as _signal
+    import time
+
+    def runner(argv, cwd):
+        env = dict(os.environ)
+        env["PYTHONPATH"] = os.pathsep.join([str(ROOT / "src"), env.get("PYTHONPATH", "")])
+        p = subprocess.Popen([sys.executable, "-m", "inertialab", *map(str, argv)], cwd=cwd,
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+        deadline = time.monotonic() + 60
+        while time.monotonic() < deadline and p.poll() is None and not _catches(p.pid, 15):
+            time.sleep(0.1)  # the CLI's handler is installed: the run has started
+        time.sleep(after_s)
+        p.send_signal(signum)
+        try:
+            out, err = p.communicate(timeout=60)
+        except subprocess.TimeoutExpired:
+            p.kill()
+            out, err = p.communicate()
+            return Outcome(-9, out, err + "did not stop within 60 s of the signal")
+        if p.returncode == 0:  # finished before the signal: not an interruption case
+            return Outcome(0, out, err)
+        return Outcome(p.returncode, out, err)
+
+    runner.signum = _signal.Signals(signum).name
+    return runner
+
+
+def _catches(pid: int, signum: int) -> bool:
+    """Whether process ``pid`` has a handler for ``signum`` (Linux /proc SigCgt)."""
+    try:
+        with open(f"/proc/{pid}/status") as fh:
+            for line in fh:
+                if line.startswith("SigCgt:"):
+                    return bool(int(line.split()[1], 16) >> (signum - 1) & 1)
+    except OSError:
+        return True  # no /proc: fall back on the delay alone
+    return False
+
+
+def _concurrent(argv, cwd) -> Outcome:
+    """Two identical runs into one output at the same time."""
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join([str(ROOT / "src"), env.get("PYTHONPATH", "")])
+    procs = [subprocess.Popen([sys.executable, "-m", "inertialab", *map(str, argv)], cwd=cwd,
+                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+             for _ in range(2)]
+    res = [p.communicate(timeout=300) for p in procs]
+    codes = [p.returncode for p in procs]
+    # the pair is fine when both ended in 0/2 and at least one succeeded
+    code = 0 if 0 in codes and set(codes) <= {0, 2} else max(codes)
+    err = "".join(r[1] for r, c in zip(res, codes, strict=True) if c != 0 or code != 0)
+    return Outcome(code, res[0][0], err if code else "")
+
+
+def _mount_tmpfs(where: Path, size: str, ro: bool = False) -> bool:
+    where.mkdir(exist_ok=True)
+    opts = f"size={size}" + (",ro" if ro else "")
+    r = subprocess.run(["mount", "-t", "tmpfs", "-o", opts, "tmpfs", str(where)],
+                       capture_output=True)
+    return r.returncode == 0
+
+
+def _umount(d: Path) -> None:
+    for name in ("full", "ro"):
+        if (d / name).is_mount():
+            subprocess.run(["umount", "-l", str(d / name)], capture_output=True)
+
+
+def tmpfs_available(tmp: Path) -> bool:
+    """Whether this machine lets us mount a small tmpfs (root, no container veto)."""
+    probe = tmp / "probe"
+    ok = _mount_tmpfs(probe, "16k")
+    if ok:
+        subprocess.run(["umount", str(probe)], capture_output=True)
+    return ok
+
+
+def _sim(kind_argv: list[str]):
+    """Setup writing a virtual-lab record first (subprocess), then the command."""
+    def make(d: Path, then: list[str]) -> list[str]:
+        o = run_subprocess(kind_argv, cwd=d)
+        if o.code != 0:
+            raise RuntimeError(f"simulate failed: {o.stderr}")
+        return then
+    return make
+
+
+def slow_cases() -> list[Case]:
+    """Subprocess cases: 2 GB sparse file, disk full and read-only (tmpfs), SIGTERM and
+    SIGINT mid-run, two concurrent writers, a re-used folder, names from data, horizon."""
+    import signal as _signal
+
+    cases = []
+    for role in ("validate", "allan", "triaxial fit"):
+        spellings, _b, _k, src = _recipes()[role]
+
+        def setup(d, role=role, src=src):
+            f = d / src.name
+            with open(f, "wb") as fh:
+                fh.write(src.read_bytes()[:200])
+                fh.truncate(2 << 30)  # 2 GiB, sparse: zeros after a real header
+            return argv_for(role, d, f)
+
+        cases.append(Case("memory", resolve(*spellings), "2GB-sparse", setup, slow=True,
+                          expect_code=2, owner="io helper (issue 19 item 3)",
+                          runner=lambda a, c: run_subprocess(a, c, timeout=60,
+                                                             limit_as=3 << 30)))
+    tfit = resolve("thermal fit")
+    tapply = resolve("thermal apply", "thermal compensate")
+    th = EXAMPLES / "thermal_tumble.csv"
+
+    def full_dir(d):
+        if not _mount_tmpfs(d / "full", "48k"):
+            raise _Skip("cannot mount tmpfs here")
+        return [*tfit.split(), str(_copy(th, d)), "--method", "poly-2d", "--out",
+                str(d / "full" / "out")]
+
+    def full_file(d):
+        if not _mount_tmpfs(d / "full", "48k"):
+            raise _Skip("cannot mount tmpfs here")
+        return ["simulate", "gyro-static", "--preset", "allan-test", "--hours", "0.5",
+                "--rate", "100", "--out", str(d / "full" / "out.csv")]
+
+    def read_only(d):
+        if not _mount_tmpfs(d / "ro", "1m", ro=True):
+            raise _Skip("cannot mount tmpfs here")
+        return [*tapply.split(), str(_model("thermal-compensation", d)), str(_copy(th, d)),
+                "--out", str(d / "ro" / "out.csv")]
+
+    for label, setup in [("disk-full-dir", full_dir), ("disk-full-file", full_file),
+                         ("read-only", read_only)]:
+        cases.append(Case("half-written" if "full" in label else "exit-code",
+                          {"disk-full-dir": tfit, "disk-full-file": "simulate gyro-static"}.get(
+                              label, tapply), label, setup,
+                          slow=True, expect_code=2, teardown=_umount,
+                          runner=lambda a, c: run_subprocess(a, c, timeout=120)))
+    for signum, code in ((_signal.SIGTERM, 143), (_signal.SIGINT, 130)):
+        name = _signal.Signals(signum).name
+
+        def sig_dir(d):
+            return [*tfit.split(), str(_copy(th, d)), "--out", str(d / "out"), "--quiet"]
+
+        def sig_reused(d):
+            argv = sig_dir(d)
+            (d / "out").mkdir()
+            (d / "out" / ".inertialab").write_text("{}")
+            (d / "out" / "model.json").write_text("{\"old\": true}")
+            return argv
+
+        def sig_file(d):
+            return ["simulate", "gyro-static", "--preset", "allan-test", "--hours", "40",
+                    "--rate", "100", "--out", str(d / "out.csv")]
+
+        for label, setup in (("dir", sig_dir), ("reused-dir", sig_reused), ("file", sig_file)):
+            cases.append(Case("half-written", tfit if "dir" in label else "simulate gyro-static",
+                              f"{name}-{label}", setup, slow=True, codes=(code,),
+                              expect_code=code, runner=_interrupt(signum, 3.0)))
+
+    def concurrent(d):
+        return [*tfit.split(), str(_copy(th, d)), "--method", "poly-2d", "--out",
+                str(d / "out"), "--quiet"]
+
+    def complete(d, o):
+        files = sorted(p.name for p in (d / "out").iterdir()) if (d / "out").is_dir() else []
+        need = {"model.json", "result.json", ".inertialab"}
+        return [] if need <= set(files) else [f"output incomplete: {files}"]
+
+    cases.append(Case("half-written", tfit, "two-concurrent-writers", concurrent, slow=True,
+                      runner=_concurrent, check=complete))
+
+    def stale(d):
+        argv = concurrent(d)
+        (d / "out" / "models").mkdir(parents=True)
+        (d / "out" / ".inertialab").write_text("{}")
+        (d / "out" / "models" / "stale.json").write_text("{}")
+        return argv
+
+    def no_stale(d, o):
+        return ["stale models/stale.json kept"] if (d / "out/models/stale.json").exists() else []
+
+    cases.append(Case("half-written", tfit, "reused-folder-replaced-whole", stale, slow=True,
+                      check=no_stale, runner=lambda a, c: run_subprocess(a, c, timeout=300)))
+
+    dfit = resolve("drift fit")
+
+    def traversal(d):
+        o = run_subprocess(["simulate", "storage-drift", "--units", "2", "--days", "40",
+                            "--out", str(d / "drift.csv")], cwd=d)
+        if o.code != 0:
+            raise RuntimeError(o.stderr)
+        text = (d / "drift.csv").read_text()
+        ids = sorted(set(re.findall(r"^[^,\n]*?,?(QA\d+)", text, re.M)))
+        if len(ids) >= 2:
+            text = text.replace(ids[0], "x/../../../ESCAPED").replace(ids[1], "U" * 300)
+        (d / "drift.csv").write_text(text)
+        return [*dfit.split(), str(d / "drift.csv"), "--quantity", "bias", "--order", "1",
+                "--restarts", "1", "--horizon", "5", "--out", str(d / "out")]
+
+    def escaped(d, o):
+        return [f"escaped: {p}" for p in list(d.parent.rglob("ESCAPED*"))]
+
+    cases.append(Case("traversal", dfit, "unit_id-traversal-and-300-chars", traversal,
+                      slow=True, check=escaped, owner="drift helper (issue 19 item 1)",
+                      allowed=["out", "drift.csv", "drift.meta.json"],
+                      runner=lambda a, c: run_subprocess(a, c, timeout=300)))
+    fc = resolve("drift forecast")
+    cases.append(Case("hang", fc, "--horizon 36500", lambda d: [
+        *fc.split(), str(_model("storage-drift", d)), "--horizon", "36500", "--json"],
+        slow=True, owner="drift helper (issue 19 item 8)", allowed=["model.json"],
+        runner=lambda a, c: run_subprocess(a, c, timeout=60)))
+    return cases
+
+
+class _Skip(Exception):
+    """A case this machine cannot run (e.g. no tmpfs mount): skipped, with the reason."""

@@ -7,7 +7,7 @@ import pytest
 
 
 def pytest_collection_modifyitems(config, items):
-    wanted = "hostile_slow" in (config.getoption("-m") or "") or \
+    wanted = "hostile_slow" in (config.option.markexpr or "") or \
         os.environ.get("INERTIALAB_HOSTILE_SLOW") == "1"
     if wanted:
         return

@@ -200,7 +200,13 @@ class Terminated(BaseException):
         self.signum = signum
 
 
+#: The signal that interrupted the run (an import interrupted by it surfaces as another
+#: exception, e.g. ``ImportError: initialization failed``).
+_SIGNALLED: list[int] = []
+
+
 def _on_signal(signum, frame):  # pragma: no cover - exercised in a subprocess test
+    _SIGNALLED.append(signum)
     raise Terminated(signum)
 
 
@@ -293,6 +299,12 @@ def _read_config(path) -> dict:
                          path=path) from None
 
 
+def _interrupted(signum: int) -> int:
+    sys.stderr.write(f"error: interrupted by {signal.Signals(signum).name}; nothing was "
+                     "written\n")
+    return 128 + signum
+
+
 def main(argv: list[str] | None = None) -> None:
     """Run the CLI; exit 0 on success, 2 on bad input or usage (or an output that cannot
     be written), 130/143 when interrupted by SIGINT/SIGTERM, 1 on an internal error.
@@ -304,6 +316,7 @@ def main(argv: list[str] | None = None) -> None:
 
     args = sys.argv[1:] if argv is None else list(argv)
     files = _input_files(args)
+    _SIGNALLED.clear()
     old_handlers = {}
     for signum in (signal.SIGTERM, signal.SIGINT):
         with contextlib.suppress(ValueError):  # not the main thread: leave signals alone
@@ -321,15 +334,14 @@ def main(argv: list[str] | None = None) -> None:
             if code != 0:  # a command that exits non-zero writes nothing
                 tx.rollback()
     except (Terminated, KeyboardInterrupt) as exc:
-        signum = getattr(exc, "signum", signal.SIGINT)
-        sys.stderr.write(f"error: interrupted by {signal.Signals(signum).name}; nothing was "
-                         "written\n")
-        code = 128 + signum
+        code = _interrupted(getattr(exc, "signum", signal.SIGINT))
     except BrokenPipeError:
         code = 1
     except Exception as exc:
-        message = user_error(exc, files)
-        if message is not None:
+        message = None if _SIGNALLED else user_error(exc, files)
+        if _SIGNALLED:  # the signal landed inside code that wrapped it (an import)
+            code = _interrupted(_SIGNALLED[-1])
+        elif message is not None:
             sys.stderr.write(f"error: {message}\n")
             code = 2
         else:
