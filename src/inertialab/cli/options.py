@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import functools
 import inspect
+import math
 import re
 from pathlib import Path
 from typing import Annotated, Any
@@ -32,10 +33,11 @@ QuietOpt = Annotated[bool, typer.Option("--quiet", help="No progress bar or warn
 SeedOpt = Annotated[int, typer.Option("--seed", help="Random seed (same seed, same numbers).")]
 OutDirOpt = Annotated[Path | None, typer.Option(
     "--out", help="Output directory (figures, model.json, result.json); built aside and "
-                  "moved into place only when complete.")]
+                  "moved into place only when complete. A directory inertialab wrote before "
+                  "is replaced whole; a file, device or FIFO there is refused.")]
 OutFileOpt = Annotated[Path | None, typer.Option(
-    "--out", help="Output file (a sidecar .meta.json is written beside it); replaces only "
-                  "a regular file.")]
+    "--out", help="Output file (a sidecar .meta.json is written beside it); overwrites only "
+                  "a regular file (a directory, device or FIFO there is refused).")]
 
 
 def _opt(name: str, annotation, default=None) -> inspect.Parameter:
@@ -207,3 +209,127 @@ def flagged(message: str) -> str:
         return flag if flag else m.group(0)
 
     return re.sub(r"argument '([a-z_]+)'", sub, message)
+
+
+#: Bounds of the size arguments (issue 19): flag -> (lowest, highest, what it is). A value
+#: outside is a usage error (exit 2) before any work starts, instead of a MemoryError or a
+#: run that does not end. :func:`check_limits` applies them to every command line (main
+#: calls it); a command may also declare ``callback=bounded("--rate")`` on its option.
+LIMITS: dict[str, tuple[float, float, str]] = {
+    "--rate": (1e-9, 1e9, "a sample rate in Hz"),
+    "--hours": (1e-6, 1e4, "a duration in hours"),
+    "--days": (1, 36_500, "a number of days"),
+    "--horizon": (1, 36_500, "a forecast horizon in days"),
+    "--units": (1, 10_000, "a number of units"),
+    "--n-units": (1, 1_000_000, "a number of units"),
+    "--positions": (1, 10_000, "a number of positions"),
+    "--restarts": (1, 1_000, "a number of restarts"),
+    "--fish": (1, 10_000, "a population size"),
+    "--generations": (1, 100_000, "a number of generations"),
+    "--max-generations": (1, 1_000_000, "a number of generations"),
+    "--epochs": (1, 1_000_000, "a number of epochs"),
+    "--search-epochs": (1, 1_000_000, "a number of epochs"),
+    "--max-gap": (0, 36_500, "a gap length"),
+    "--p1-s": (0, 1e6, "a duration in seconds"),
+    "--p2-s": (0, 1e6, "a duration in seconds"),
+    "--p3-s": (0, 1e6, "a duration in seconds"),
+}
+#: ``--taus``: at most this many log-spaced taus, and taus in seconds up to this.
+MAX_TAU_COUNT = 100_000
+MAX_TAU_S = 1e10
+
+
+def _number(text: str) -> float | None:
+    try:
+        return float(text)
+    except (TypeError, ValueError, OverflowError):
+        return None
+
+
+def check_value(flag: str, text: str) -> None:
+    """Raise :class:`~inertialab.errors.InputError` when ``text`` (the value given to
+    ``flag``) is a number outside :data:`LIMITS` (or a ``--taus`` count/list out of
+    bounds); a value that is not a number is left to the command's own parsing."""
+    from inertialab.errors import InputError
+
+    text = str(text).strip()
+    if flag == "--taus":
+        if text.isdigit():
+            if len(text) > 12 or not 1 <= int(text) <= MAX_TAU_COUNT:
+                raise InputError(f"--taus count must be 1 .. {MAX_TAU_COUNT}, got {text[:20]}")
+            return
+        vals = [_number(v) for v in text.split(",") if v.strip()]
+        if vals and all(v is not None for v in vals):
+            if not all(math.isfinite(v) and 0 < v <= MAX_TAU_S for v in vals):
+                raise InputError(f"--taus in seconds must be finite, > 0 and <= {MAX_TAU_S:g}, "
+                                 f"got {text[:40]}")
+        return
+    if flag not in LIMITS:
+        return
+    lo, hi, what = LIMITS[flag]
+    v = _number(text)
+    if v is None:
+        return
+    if not math.isfinite(v) or not lo <= v <= hi:
+        raise InputError(f"{flag} is {what} and must be between {lo:g} and {hi:g}, "
+                         f"got {text[:40]}")
+
+
+def check_limits(args: list[str]) -> None:
+    """Check every bounded flag of a command line (``--flag VALUE`` and ``--flag=VALUE``)."""
+    for i, a in enumerate(args):
+        if not a.startswith("--"):
+            continue
+        flag, eq, value = a.partition("=")
+        if flag not in LIMITS and flag != "--taus":
+            continue
+        if eq:
+            check_value(flag, value)
+        elif i + 1 < len(args):
+            check_value(flag, args[i + 1])
+
+
+#: Options that name an output (file or directory); see :func:`check_out_targets`.
+#: (flag -> position of the path among its values: ``--export STYLE FILE`` -> 2).
+OUTPUT_FLAGS = {"--out": 1, "--c": 1, "--truth": 1, "--save-config": 1, "--export": 2}
+
+
+def check_out_targets(args: list[str]) -> None:
+    """Refuse, before any work, an output option naming an existing device, FIFO or
+    socket (or a link to one): an output replaces only a regular file or fills a
+    directory (issue 19). Which of the two a command wants it checks itself."""
+    import os
+    import stat
+
+    from inertialab.errors import InputError
+
+    for i, a in enumerate(args):
+        flag, eq, value = a.partition("=")
+        if flag not in OUTPUT_FLAGS:
+            continue
+        k = i + OUTPUT_FLAGS[flag]
+        target = value if eq else (args[k] if k < len(args) else None)
+        if not target:
+            continue
+        try:
+            mode = os.stat(target).st_mode
+        except (OSError, ValueError):
+            continue
+        if not (stat.S_ISREG(mode) or stat.S_ISDIR(mode)):
+            kind = ("a device" if stat.S_ISCHR(mode) or stat.S_ISBLK(mode) else
+                    "a FIFO" if stat.S_ISFIFO(mode) else "a socket")
+            raise InputError(f"{flag} is {kind}; an output replaces only a regular file or "
+                             "fills a directory", path=target)
+
+
+def bounded(flag: str):
+    """A typer callback enforcing :data:`LIMITS` for ``flag`` on one option."""
+    def callback(value):
+        if value is not None:
+            try:
+                check_value(flag, str(value))
+            except ValueError as exc:
+                raise typer.BadParameter(str(exc)) from None
+        return value
+
+    return callback
