@@ -304,3 +304,30 @@ def test_terms_json_one_serialisation_with_reason():
     assert "upper_bound" in d["Q"]["flags"] and d["Q"]["reason"]
     assert d["Q"]["upper_bound"] >= 0
     assert NoiseTerms.from_dict(d).to_dict() == d
+
+
+def test_robotics_values_kalibr_vins_gtsam():
+    # white gyro noise 0.01 deg/sqrt(h) + RW 1 deg/h/sqrt(h), known axis; SI conversions by
+    # hand: N 0.01 deg/sqrt(h) = 0.01*pi/180/60 rad/s/sqrt(Hz); K 1 deg/h/sqrt(h) =
+    # pi/180/3600/60 rad/s^2/sqrt(Hz); discrete: x sqrt(f), / sqrt(f)
+    from inertialab.noise.robotics import robotics_values
+
+    r = _curve(np.geomspace(0.01, 1e4, 30), q=0.0, n=0.6, b=0.0, k=1 / 60, r=0.0)
+    tx = fit_noise_terms(r, unit="dph", tau_range_s=(0.01, 1e4))
+    r2 = _curve(np.geomspace(0.01, 1e4, 30), q=0.0, n=1.2, b=0.0, k=1 / 60, r=0.0)
+    ty = fit_noise_terms(r2, unit="dph", tau_range_s=(0.01, 1e4))
+    v = robotics_values({"x": tx, "y": ty}, rate_hz=100.0, inflation=2.0)
+    n_si = 0.01 * math.pi / 180 / 60
+    k_si = math.pi / 180 / 3600 / 60
+    ax = v["gyro"]["axes"]["x"]
+    assert ax["noise_density"] == pytest.approx(2 * n_si, rel=1e-6)
+    assert ax["random_walk"] == pytest.approx(2 * k_si, rel=1e-6)
+    assert ax["noise_discrete"] == pytest.approx(2 * n_si * 10, rel=1e-6)
+    assert ax["random_walk_discrete"] == pytest.approx(2 * k_si / 10, rel=1e-6)
+    assert v["gyro"]["worst_axis"] == "y"
+    assert v["kalibr"]["gyroscope_noise_density"] == pytest.approx(4 * n_si, rel=1e-6)
+    assert v["vins"]["gyr_n"] == v["kalibr"]["gyroscope_noise_density"]
+    assert v["gtsam"]["gyroscopeCovariance"] == pytest.approx((4 * n_si) ** 2, rel=1e-6)
+    assert v["sqrt_rate_factor"] == 10.0 and v["inflation"] == 2.0
+    with pytest.raises(InputError):
+        robotics_values({"x": tx}, rate_hz=100.0, inflation=0.0)
