@@ -399,7 +399,15 @@ def edf_greenhall(statistic: str, n_phase: int, m: int, alpha: int) -> float:
             inv = float(np.dot(w, sz * sz)) / ((b0 + b1 * math.log(m)) ** 2 * J_MAX)
     else:  # alpha == 2, unmodified
         if math.ceil(r) <= d:
-            inv = _inv_edf_sum(int(J), M, S, float(m), 2, d)
+            # white phase: sz(j/S) vanishes unless j is a multiple of S (finite support),
+            # so the basic sum runs over those lags only
+            j = np.arange(0, int(J) + 1, int(S), dtype=float)
+            sz = _sz(j / S, float(m), 2, d)
+            w = 2.0 * (1.0 - j / M)
+            w[0] = 1.0
+            if j[-1] == J:
+                w[-1] = 1.0 - J / M
+            inv = float(np.dot(w, sz * sz) / (sz[0] ** 2 * M))
         else:
             a0 = math.comb(4 * d, 2 * d) / math.comb(2 * d, d) ** 2
             inv = (a0 - (d / 2.0) / r) / M
