@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from inertialab.errors import ExtrapolationWarning, InputError, NotFittedError
+from inertialab.estimator import Estimator
 from inertialab.learn.poly import PolynomialRegressor
 from inertialab.learn.rbf import RBFNetwork
 from inertialab.noise import wavelet as wv
@@ -171,7 +172,7 @@ def bias_targets(run: VibrationRun, approx: np.ndarray, *, guard_s: float = 2.0,
 
 
 
-class VibrationModel:
+class VibrationModel(Estimator):
     """Vibration-bias compensation model (spec 001 §3.8-3.10).
 
     Parameters

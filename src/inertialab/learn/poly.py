@@ -19,6 +19,7 @@ from itertools import combinations_with_replacement
 import numpy as np
 
 from inertialab.errors import ExtrapolationWarning, InputError, NotFittedError
+from inertialab.estimator import Estimator
 
 
 def _monomials(n_features: int, degree: int, *, interaction: bool,
@@ -45,7 +46,7 @@ def _monomials(n_features: int, degree: int, *, interaction: bool,
     return terms
 
 
-class PolynomialRegressor:
+class PolynomialRegressor(Estimator):
     """Least-squares polynomial in one or more inputs.
 
     Parameters
@@ -179,7 +180,7 @@ class PolynomialRegressor:
         return obj
 
 
-class SeparatePolynomials:
+class SeparatePolynomials(Estimator):
     """POLY-SEP, the industry practice of spec 000 §4: bias and scale factor as separate
     polynomials of temperature.
 
