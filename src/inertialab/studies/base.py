@@ -89,16 +89,15 @@ def settings_dict(settings) -> dict:
 
 def discover_studies() -> dict[str, Study]:
     """All ``STUDY`` objects of the study modules, in :data:`STUDY_ORDER`."""
+    import inertialab.studies as pkg
+
     found: dict[str, Study] = {}
-    # TRANSITION (issue 13): studies still defined in workflows/ are found too.
-    for pkg_name in ("inertialab.workflows", "inertialab.studies"):
-        pkg = importlib.import_module(pkg_name)
-        for info in pkgutil.iter_modules(pkg.__path__):
-            if info.name in ("base", "demo"):
-                continue
-            mod = importlib.import_module(f"{pkg_name}.{info.name}")
-            study = getattr(mod, "STUDY", None)
-            if isinstance(study, Study):
-                found[study.name] = study
+    for info in pkgutil.iter_modules(pkg.__path__):
+        if info.name in ("base", "demo"):
+            continue
+        mod = importlib.import_module(f"inertialab.studies.{info.name}")
+        study = getattr(mod, "STUDY", None)
+        if isinstance(study, Study):
+            found[study.name] = study
     order = {n: i for i, n in enumerate(STUDY_ORDER)}
     return dict(sorted(found.items(), key=lambda kv: order.get(kv[0], len(order))))
