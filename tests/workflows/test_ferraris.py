@@ -77,3 +77,14 @@ def test_wrong_turn_angle_is_refused_and_force_flags(session_file):
         warnings.simplefilter("ignore")
         run = wf.fit(session, wf.Config(rotation_deg=90, force=True))
     assert run.model.flags
+
+
+def test_intervals_cover_the_truth_on_a_careful_session(session_file):
+    path, rec = session_file
+    run = wf.fit(wf.prepare(wt.read(path)))
+    ci = wf.result_payload(run)["ci95"]
+    assert {"bx", "kz", "theta_zx", "bgx", "kga11"} <= set(ci)
+    # gyro bias (deg/s raw): the truth inside its 95 % interval on every axis
+    for c, b in zip("xyz", rec.truth["b_g_dps"]):
+        lo, hi = ci[f"bg{c}"]
+        assert lo <= b <= hi

@@ -144,19 +144,20 @@ def test_garbage_fit_is_refused_forced_fit_is_flagged_and_apply_refuses_it(tmp_p
 
 
 def test_wrong_gyro_sensitivity_is_refused():
-    # gyro counts per rad/s given 10x too small: the LM starts 10x off and ends in a M_g far
-    # from any plausible gyro (measured: scale 0.27, misalignments up to 4.6 relative to the
-    # stated nominal)
+    # a stated gyro sensitivity (counts per rad/s) 4x off either way: the LM still finds the
+    # gyro, whose scale relative to the stated nominal is then 1/4 or 4 - implausible
     raw = tp.simulate("rawlog62-counts", seed=2)
     d = raw.data
     data = fc.raw_log_data(d["t_s"].to_numpy(), d[["ax_lsb", "ay_lsb", "az_lsb"]].to_numpy(),
-                           raw.meta, suffix="lsb")
+                           raw.meta, suffix="lsb", k_thr=6)
     session = fc.Session(data=data, meta=raw.meta, t=d["t_s"].to_numpy(),
                          gyro_raw=d[["gx_lsb", "gy_lsb", "gz_lsb"]].to_numpy(), gyro_suffix="lsb")
     from inertialab.calib.triaxial_checks import ImplausibleCalibrationError
 
-    with pytest.raises(ImplausibleCalibrationError, match=r"implausible: m11 \(gyro scale.*gyro misalignment"):
-        fc.fit(session, fc.Config(gyro_lsb_per_rps=tp.GYRO_LSB_PER_RPS / 10))
+    for factor, scale in ((4.0, "0.2"), (0.25, "3.9")):
+        with pytest.raises(ImplausibleCalibrationError,
+                           match=rf"implausible: m11, m22, m33 \(gyro scale m11 = {scale}"):
+            fc.fit(session, fc.Config(gyro_lsb_per_rps=tp.GYRO_LSB_PER_RPS / factor))
     assert not fc.fit(session, fc.Config()).model.flags  # the header's value is right
 
 

@@ -161,8 +161,33 @@ def result_payload(run: FerrarisRun) -> dict:
                          float(np.rad2deg(np.linalg.norm(f.integrated[j]) / gn))}
                   for j, name in enumerate(fr.ROT_SECTIONS)},
         "gyro_static_rms": f.gyro_static_rms, "rotation_deg": f.rotation_deg,
-        "flags": d["flags"],
+        "flags": d["flags"], "ci95": _intervals(run),
     }
+    return out
+
+
+def _intervals(run: FerrarisRun) -> dict:
+    """95 % intervals: accelerometer (b, k, theta) from the face fit's covariance (its
+    residuals are in units of their stated sigmas, so normal quantiles), gyro bias and
+    g-sensitivity from the static least squares (Student t, 2 degrees of freedom per axis:
+    six faces, four unknowns). The gyro T_g is exactly determined by three turns: no
+    interval (its error is the turn-angle error, see docs/ferraris.md)."""
+    from scipy import stats
+
+    out = {}
+    for name, v in run.model.params.items():
+        se = (run.model.stderr or {}).get(name)
+        if se is not None and np.isfinite(se):
+            out[name] = [float(v - 1.959964 * se), float(v + 1.959964 * se)]
+    cov = run.fit.cov_gyro_static
+    if cov is not None:
+        t = float(stats.t.ppf(0.975, 2))
+        se = np.sqrt(np.maximum(np.diag(cov), 0.0))
+        vals = np.r_[run.fit.b_g, run.fit.K_ga.ravel()]
+        names = [f"bg{c}" for c in "xyz"] + [f"kga{i + 1}{j + 1}" for i in range(3)
+                                             for j in range(3)]
+        for n, v, s in zip(names, vals, se):
+            out[n] = [float(v - t * s), float(v + t * s)]
     return out
 
 
