@@ -89,7 +89,8 @@ def run(quick: bool = False) -> dict:
                          "transfer_seed": "run seed + 1000", "splits": list(splits),
                          "fish": defaults.fish, "generations": defaults.generations,
                          "search_epochs": defaults.search_epochs, "epochs": defaults.epochs,
-                         "ann_max_epochs": defaults.ann_max_epochs, "quick": quick},
+                         "ann_max_epochs": defaults.ann_max_epochs, "quick": quick,
+                         "fish_table": defaults.fish_table()},
             "runs": runs, "realistic": realistic, "checks": _checks(runs)}
 
 
@@ -107,6 +108,9 @@ def markdown(result: dict) -> str:
         f"unit {st['transfer_unit']} is compensated with its model; run seeds {st['run_seeds']} "
         f"(medians), IAFSA {st['fish']} fish x {st['generations']} generations, "
         f"{st['search_epochs']}-epoch objective, {st['epochs']} final epochs.")
+    if st.get("fish_table"):
+        lines.append("Fish-swarm parameters (the paper's Table 1, spec 000 §3.5 values): "
+                     + ", ".join(f"{k} {v:g}" for k, v in st["fish_table"].items()) + ".")
     lines.append("")
     splits = [s for s in st["splits"] if s in ch]
     head = "| model | paper RMSE (µg) | " + " | ".join(f"ours, {s} (µg)" for s in splits)

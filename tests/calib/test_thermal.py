@@ -102,6 +102,8 @@ def test_model_ordering_and_drift_reduction(quick_fit):
 
 
 def test_iafsa_never_worse_than_the_default_start(quick_fit):
+    # holds by construction (fish 0 starts at the defaults, the bulletin board keeps the
+    # best): a check of the implementation, not a reproduction of the paper
     s = quick_fit.search
     assert s["fun"] <= s["f_default"]  # spec 8.2.3 (fish 0 starts at the defaults)
     assert 2 <= s["n_rules"] <= 40
@@ -168,11 +170,34 @@ def test_transfer_to_another_unit_of_the_lot(quick_fit, run_b):
     sb = prepare_samples(run_b.frame)
     d = drift(quick_fit.models["iafsa-scm-anfis"], sb)
     assert d.raw_max_ug >= 3000  # spec 8.2.4: raw max drift >= 3 mg
-    # the quick search here is short; the full benchmark checks <= 30 µg. 60 µg still
-    # demands a > 50x reduction of the 5 mg raw drift.
+    # a 30-epoch model from a 4x2 search: > 50x reduction of the 5 mg raw drift (measured
+    # 47 µg); the spec's 30 µg is held by test_transfer_meets_the_spec_bound below
     assert d.comp_max_ug <= 60.0
     # unit B's sensor reads slightly beyond A's calibrated 70 °C: clamped and flagged
     assert set(np.unique(d.status)) <= {0, STATUS_T_CLAMPED}
+
+
+@pytest.mark.slow
+def test_transfer_meets_the_spec_bound():
+    """Spec 000 §8.2.4 at its own tolerance (issue 18 item 10): paper preset, lot 0, unit 0
+    trains IAFSA-SCM-ANFIS, unit 1 is compensated through its own 55 °C tumble (§3.7);
+    median over run seeds 0, 1, 2 of the maximum compensated drift <= 30 µg, raw >= 3 mg.
+
+    Reduced for CI: a 4-fish x 3-generation search with a 5-epoch objective (the spec's
+    is 10 x 30 x 20) and the spec's 150 final epochs; ~20 s. Measured: 27.7, 30.0,
+    24.9 µg (median 27.7); the full demo's 8 x 10 search gives 14.1 µg. This holds the
+    bound, not the paper's 9.3 µg."""
+    comp, raw = [], []
+    for seed in (0, 1, 2):
+        sa = prepare_samples(simulate("paper", 0, 0, seed=seed).frame)
+        sb = prepare_samples(simulate("paper", 0, 1, seed=seed + 1000).frame)
+        cfg = ThermalConfig(methods=("iafsa-scm-anfis",), fish=4, generations=3,
+                            search_epochs=5, epochs=150, seed=seed)
+        d = drift(fit_thermal(sa, cfg).models["iafsa-scm-anfis"], sb)
+        comp.append(d.comp_max_ug)
+        raw.append(d.raw_max_ug)
+    assert np.median(raw) >= 3000
+    assert np.median(comp) <= 30.0
 
 
 def test_same_seed_same_numbers(samples):
