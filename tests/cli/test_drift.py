@@ -141,3 +141,19 @@ def test_evaluate_rolling_origin_and_hidden_grid(record, capsys, tmp_path):
     assert code == 2 and "no unit(s) NOPE" in err
     code, _, err = run(capsys, "drift", "fit", record / "rec.csv", "--hidden-grid", "2,x")
     assert code == 2 and "--hidden-grid" in err
+
+
+@pytest.mark.filterwarnings("ignore")
+def test_apply_writes_compensated_record(record, capsys, tmp_path):
+    code, _, err = run(capsys, "drift", "fit", record / "rec.csv", "--origin-day", "49",
+                       "--restarts", "1", "--out", tmp_path / "m", "--quiet")
+    assert code == 0, err
+    code, out, err = run(capsys, "drift", "apply", tmp_path / "m" / "model.json",
+                         record / "rec.csv", "--out", tmp_path / "comp.csv", "--json")
+    assert code == 0, err
+    s = json.loads(out)["summary"]
+    assert set(s) == {"QA001", "QA002"} and s["QA001"]["bias"]["n"] > 10
+    df = pd.read_csv(tmp_path / "comp.csv")
+    assert {"bias_hat_ug", "sf_hat_ma_per_g", "bias_residual_ug", "status"} <= set(df.columns)
+    assert set(df.loc[df["day"] <= 49, "status"]) == {1}
+    assert (tmp_path / "comp.meta.json").exists()

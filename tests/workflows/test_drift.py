@@ -175,3 +175,50 @@ def test_sf_in_volts_per_g_uses_the_load_resistor():
     bad.loc[3, "load_ohm"] = 0.0
     with pytest.raises(InputError, match="row 4"):
         to_daily_grid(bad, quantity="sf")
+
+
+@pytest.mark.filterwarnings("ignore::inertialab.errors.DataQualityWarning")
+def test_apply_compensates_a_later_record_with_the_forecast():
+    # issue 18 item 8 / spec 004 §9: a = I / k_hat - b_hat on a later record; residuals
+    # with and without the forecast. Constant bias and scale factor make the forecast exact
+    # (persistence), so the compensation must return the input acceleration exactly.
+    from inertialab.io import validate_frame
+    from inertialab.workflows.drift import apply, fit
+
+    days = np.arange(40)
+    rng = np.random.default_rng(3)
+    drift_ug = 80.0 * (1 - np.exp(-days / 8.0)) + rng.normal(0, 2.0, 40)
+    fit_df = pd.concat([
+        _frame(days, np.full(40, 0.25), unit="C", sf=np.full(40, 1.3)),
+        _frame(days, 0.5 + 1e-3 * drift_ug, unit="D", sf=1.25 * (1 + 1e-6 * drift_ug)),
+    ])
+    rec = validate_frame(fit_df[fit_df["day"] <= 29], "storage_drift")
+    model = fit(rec, FAST, origin_day=29).model
+    later = fit_df[fit_df["day"] >= 28].copy()
+    a_ref = np.where(later["day"] % 2 == 0, 1.0, -1.0)
+    k_true = later["sf_ma_per_g"].to_numpy()
+    later["output_ma"] = k_true * (a_ref + 1e-3 * later["bias_mg"].to_numpy())
+    later["a_ref_g"] = a_ref
+    out, summary = apply(model, validate_frame(later, "storage_drift"))
+    c = out[out["unit_id"] == "C"]
+    np.testing.assert_array_equal(c["status"], [1, 1] + [0] * 10)  # days 28, 29 <= origin
+    np.testing.assert_allclose(c["bias_hat_ug"], 250.0, rtol=1e-12)
+    np.testing.assert_allclose(c["sf_hat_ma_per_g"], 1.3, rtol=1e-12)
+    np.testing.assert_allclose(c["a_error_ug"], 0.0, atol=1e-6)
+    assert summary["C"]["bias"]["rmse_compensated"] == pytest.approx(0.0, abs=1e-9)
+    # unit D: the forecast of day d is the model's forecast at step d - 29, and the
+    # compensated acceleration is I / k_hat - b_hat computed independently
+    d = out[(out["unit_id"] == "D") & (out["status"] == 0)]
+    fc = model.forecast(10)["D"]
+    np.testing.assert_allclose(d["bias_hat_ug"], fc["bias"]["forecast"]["value"], rtol=1e-12)
+    k_hat = model.entries["D"]["sf"]["k_ref"] * (1 + 1e-6 * np.asarray(fc["sf"]["forecast"]["value"]))
+    i_ma = later.loc[later["day"] >= 30].query("unit_id == 'D'")["output_ma"].to_numpy()
+    np.testing.assert_allclose(d["a_g"], i_ma / k_hat - 1e-6 * d["bias_hat_ug"].to_numpy(),
+                               rtol=1e-12)
+    meas = 1e3 * later.query("unit_id == 'D' and day >= 30")["bias_mg"].to_numpy()
+    assert summary["D"]["bias"]["rmse_compensated"] == pytest.approx(
+        np.sqrt(np.mean((meas - d["bias_hat_ug"].to_numpy()) ** 2)), rel=1e-12)
+    # a unit the model does not hold is an error naming it
+    bad = later.assign(unit_id="Z")
+    with pytest.raises(InputError, match="Z are not in the model"):
+        apply(model, validate_frame(bad, "storage_drift"))

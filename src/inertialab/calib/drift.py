@@ -460,6 +460,10 @@ class DriftModel:
             settings = dict(settings)
             if "horizon" in settings:
                 settings["horizon"] = check_horizon(settings["horizon"])
+            if settings.get("t0") is not None:
+                import datetime as _dt
+
+                _dt.datetime.fromisoformat(str(settings["t0"]))
             q = float(settings.get("recal_quantile", 0.1))
             if not 0.0 <= q <= 1.0:
                 raise InputError(f"recal_quantile must lie in [0, 1], got {q}")

@@ -23,7 +23,7 @@ from inertialab.cli.common import (
     write_figures,
 )
 from inertialab.cli.dual import flag_names
-from inertialab.cli.options import JsonOpt, OutDirOpt, QuietOpt, reading_options
+from inertialab.cli.options import JsonOpt, OutDirOpt, OutFileOpt, QuietOpt, reading_options
 from inertialab.errors import InputError
 from inertialab.io.mapping import ReadOptions
 from inertialab.io.names import safe_slug
@@ -305,6 +305,46 @@ def register(app: typer.Typer, groups: dict) -> None:
                      "AR(p)", "NAR win vs persistence", "Wilcoxon p", "NAR win vs AR",
                      "direct NAR"], rows,
                     title="drift evaluate (rolling origin; bias µg, scale factor ppm)")
+        if out is not None:
+            print(f"written: {out}")
+
+    @drift.command("apply")
+    @reading_options
+    def drift_apply(
+        model: Path = typer.Argument(..., help="model.json written by 'drift fit --out'."),
+        file: Path = typer.Argument(..., help="Later storage_drift record (same units; a "
+                                              "'day' column or dates; optional output_ma and "
+                                              "a_ref_g columns)."),
+        out: OutFileOpt = None,
+        as_json: JsonOpt = False,
+        quiet: QuietOpt = False,
+        *,
+        read: ReadOptions,
+    ):
+        """Compensate a later record with the forecast bias and scale factor: residuals
+        with and without the forecast, and a = I/k - b for an output current (spec 004 §9)."""
+        from inertialab.io import load_model, read_record, write_record
+        from inertialab.workflows.drift import apply
+
+        with collect_warnings(quiet=quiet or as_json) as warns:
+            m = load_model(model, expected_type="storage-drift")
+            rec = read_record(file, "storage_drift", options=read)
+            frame, summary = apply(m, rec)
+        if out is not None:
+            if out.exists() and not out.is_file():
+                raise InputError("--out must be a regular file for this command", path=out)
+            write_record(frame, out, {"source": "drift apply", "model": str(model),
+                                      "record": str(file)})
+        if as_json:
+            emit_json("drift apply", {"summary": summary, "rows": len(frame),
+                                      "written": None if out is None else str(out)},
+                      inputs=[model, file], settings={}, units=_UNITS, warnings_=warns)
+            return
+        rows = [[u, q, v["unit"], v["n"], v["rmse_uncompensated"], v["rmse_compensated"]]
+                for u, d in summary.items() for q, v in d.items()]
+        print_table(["unit", "quantity", "unit of measure", "tests", "RMSE without forecast",
+                     "RMSE with forecast"], rows,
+                    title="drift apply (residual after compensation; bias µg, SF ppm)")
         if out is not None:
             print(f"written: {out}")
 

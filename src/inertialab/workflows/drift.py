@@ -45,7 +45,8 @@ from inertialab.progress import NullProgress
 from inertialab.units import convert, split_suffix
 
 __all__ = ["DEFAULT_BASELINES", "MAX_HORIZON", "QUANTITIES", "DriftFit", "DriftSettings",
-           "check_horizon", "evaluate", "fit", "fit_drift", "forecast", "prepare", "to_daily_grid"]
+           "apply", "check_horizon", "evaluate", "fit", "fit_drift", "forecast", "prepare",
+           "to_daily_grid"]
 
 
 def _find(frame: pd.DataFrame, base: str) -> str | None:
@@ -145,6 +146,20 @@ def _programme_days(frame: pd.DataFrame, meta: dict, path) -> np.ndarray:
     t0 = pd.Timestamp(t0, tz="UTC") if t0 is not None and pd.Timestamp(t0).tzinfo is None \
         else (pd.Timestamp(t0) if t0 is not None else ts.min())
     return np.floor((ts - t0).dt.total_seconds().to_numpy() / 86400.0)
+
+
+def _programme_t0(frame: pd.DataFrame, meta: dict) -> str | None:
+    """The programme start t0 (ISO, UTC) of a dated record, for :func:`apply` on a later
+    record; None when the record counts days itself."""
+    if "day" in frame.columns:
+        return None
+    if meta.get("t0") is not None:
+        t0 = pd.Timestamp(meta["t0"])
+        t0 = t0.tz_localize("UTC") if t0.tzinfo is None else t0.tz_convert("UTC")
+    else:
+        tcol = "timestamp" if "timestamp" in frame.columns else "date"
+        t0 = pd.to_datetime(frame[tcol], utc=True).min()
+    return t0.isoformat()
 
 
 def _check_duplicates(frame: pd.DataFrame, value_cols: list[str], path):
@@ -354,7 +369,8 @@ def fit_drift(frame: pd.DataFrame, *, meta: dict | None = None,
             progress.update(done, total, f"{uid} {q}")
     model = DriftModel(entries, {"horizon": settings.horizon,
                                  "recal_quantile": settings.recal_quantile,
-                                 "seed": settings.seed, "preset": settings.preset})
+                                 "seed": settings.seed, "preset": settings.preset,
+                                 "t0": _programme_t0(frame, meta)})
     return DriftFit(results, model, settings, time.perf_counter() - t0)
 
 
@@ -416,3 +432,119 @@ def evaluate(record, settings: DriftSettings = DriftSettings(), *, quantities=("
             done += 1
             progress.update(done, total, f"{uid} {q}")
     return out
+
+
+# ---------------------------------------------------------------------------- apply
+
+#: Output columns of :func:`apply` (units in the names; DESIGN "Records").
+APPLY_STATUS = {0: "forecast used", 1: "on or before the origin: calibrated value used"}
+
+
+def apply(model: DriftModel, record) -> tuple[pd.DataFrame, dict]:
+    """Compensate a later record with the model's forecasts (spec 004 §9 "Compensation").
+
+    For every test of a unit the model holds, the forecast bias b̂ (µg) and scale factor
+    k̂ = k_ref (1 + 1e-6 ppm̂) (mA/g) of its programme day (step k = (day - origin) /
+    step; on or before the origin the calibrated value at the origin, status 1) give
+
+    * ``bias_residual_ug`` = measured bias - b̂ beside ``bias_residual_uncomp_ug`` =
+      measured - calibrated value (what is left without the forecast), and the same for
+      the scale factor in ppm of k_ref (``sf_residual_ppm``, ``sf_residual_uncomp_ppm``),
+      where the record measured them;
+    * ``a_g`` = I / k̂ - b̂ (g) for an output current column ``output_ma`` (mA), and
+      ``a_error_ug`` = a_g - ``a_ref_g`` when the known input is given.
+
+    Programme days come from a ``day`` column, else from dates with the sidecar's ``t0``
+    or the fitting record's start kept in the model. Returns the output frame and a
+    summary ``{unit_id: {quantity: {"rmse_compensated", "rmse_uncompensated", "n"}}}``
+    (RMSE through :mod:`inertialab.metrics`).
+    """
+    from inertialab import metrics
+
+    frame, meta, path = record.data.copy(), dict(record.meta), record.path
+    if "day" not in frame.columns:
+        t0 = meta.get("t0", model.settings.get("t0"))
+        if t0 is None:
+            raise InputError("the later record needs programme days: a 'day' column, or "
+                             "dates with 't0' in the sidecar (the model keeps no start)",
+                             path=path)
+        meta["t0"] = t0
+    frame["unit_id"] = frame["unit_id"].astype(str)
+    unknown = sorted(set(frame["unit_id"]) - set(model.entries))
+    if unknown:
+        raise InputError(f"unit(s) {', '.join(unknown[:5])} are not in the model "
+                         f"(it holds {', '.join(sorted(model.entries)[:5])})", path=path,
+                         column="unit_id")
+    days = _programme_days(frame, meta, path)
+    out = pd.DataFrame({"unit_id": frame["unit_id"].to_numpy(), "day": days.astype(int)})
+    status = np.zeros(len(frame), dtype=int)
+    hat = {"bias": np.full(len(frame), np.nan), "sf": np.full(len(frame), np.nan)}
+    kref = np.full(len(frame), np.nan)
+    steps = np.zeros(len(frame), dtype=int)
+    for uid, qs in model.entries.items():
+        rows = np.flatnonzero(out["unit_id"].to_numpy() == uid)
+        if rows.size == 0:
+            continue
+        for q, e in qs.items():
+            k = np.floor((days[rows] - e["origin_day"]) / e["step_days"]).astype(int)
+            kmax = int(k.max())
+            vals = np.empty(rows.size)
+            before = k < 1
+            vals[before] = e["y_cal"]
+            if kmax >= 1:
+                check_horizon(kmax)
+                fc = e["nar"].forecast(kmax, intervals=False).values
+                vals[~before] = fc[k[~before] - 1]
+            hat[q][rows] = vals
+            status[rows] = np.maximum(status[rows], before.astype(int))
+            steps[rows] = np.maximum(k, 0)
+            if q == "sf":
+                kref[rows] = e["k_ref"] if e.get("k_ref") is not None else np.nan
+    out["forecast_step"] = steps
+    out["bias_hat_ug"] = hat["bias"]
+    out["sf_hat_ppm"] = hat["sf"]
+    out["sf_hat_ma_per_g"] = kref * (1.0 + 1e-6 * hat["sf"])
+    summary: dict = {}
+    for q, unit in (("bias", "ug"), ("sf", "ppm")):
+        col = _find(frame, q)
+        if col is None:
+            continue
+        if q == "bias":
+            meas = _bias_ug(frame, col, meta, path, _find(frame, "sf"))
+        elif split_suffix(col)[1] in ("ppm", "pct"):
+            meas = np.asarray(convert(frame[col].to_numpy(dtype=float),
+                                      split_suffix(col)[1], "ppm"), dtype=float)
+        else:
+            meas = 1e6 * (_sf_ma_per_g(frame, col, meta, path) - kref) / kref
+        ycal = np.array([model.entries[u].get(q, {}).get("y_cal", np.nan)
+                         for u in out["unit_id"]])
+        out[f"{q}_residual_{unit}"] = meas - hat[q]
+        out[f"{q}_residual_uncomp_{unit}"] = meas - ycal
+        for uid in out["unit_id"].unique():
+            m = (out["unit_id"].to_numpy() == uid) & np.isfinite(meas) & np.isfinite(hat[q]) \
+                & (status == 0)
+            if m.any():
+                summary.setdefault(uid, {})[q] = {
+                    "rmse_compensated": metrics.rmse(meas[m], hat[q][m]),
+                    "rmse_uncompensated": metrics.rmse(meas[m], ycal[m]), "n": int(m.sum()),
+                    "unit": unit}
+    if "output_ma" in frame.columns:
+        missing = sorted({u for u, b, k in zip(out["unit_id"], hat["bias"],
+                                               out["sf_hat_ma_per_g"])
+                          if not (np.isfinite(b) and np.isfinite(k))})
+        if missing:
+            raise InputError(f"output_ma needs both a bias and a scale-factor model (with "
+                             f"k_ref); unit(s) {', '.join(missing[:5])} lack one", path=path,
+                             column="output_ma")
+        i_ma = pd.to_numeric(frame["output_ma"], errors="coerce").to_numpy(dtype=float)
+        if not np.all(np.isfinite(i_ma)):
+            rows = (np.flatnonzero(~np.isfinite(i_ma))[:5] + 1).tolist()
+            raise InputError("output_ma must be a finite number of mA", path=path,
+                             column="output_ma", row=rows[0] if len(rows) == 1 else rows)
+        a = i_ma / out["sf_hat_ma_per_g"].to_numpy() - 1e-6 * hat["bias"]
+        out["a_g"] = a
+        if "a_ref_g" in frame.columns:
+            out["a_error_ug"] = 1e6 * (a - pd.to_numeric(frame["a_ref_g"], errors="coerce")
+                                       .to_numpy(dtype=float))
+    out["status"] = status
+    return out, summary
