@@ -471,7 +471,10 @@ def _coerce_numeric(series: pd.Series, col: Column, *, path, name: str) -> pd.Se
             raise InputError(f"non-numeric value '{series.iloc[i]}'", path=path, column=name,
                              row=i + 1)
         series = conv.astype(float)
-    values = series.to_numpy(dtype=float, na_value=np.nan)
+    if series.dtype == np.float64:
+        values = series.to_numpy()  # a view: no copy of a long log
+    else:
+        values = series.to_numpy(dtype=float, na_value=np.nan)
     if col.finite or col.required:
         nonfinite = ~np.isfinite(values)
         if nonfinite.any():
@@ -487,6 +490,8 @@ def _coerce_numeric(series: pd.Series, col: Column, *, path, name: str) -> pd.Se
                              row=i + 1)
         if finite.all():
             return pd.Series(np.round(values).astype(np.int64), index=series.index, name=name)
+    if series.dtype == np.float64 and series.name == name:
+        return series  # unchanged: the caller keeps the frame without a copy
     return pd.Series(values, index=series.index, name=name)
 
 
@@ -529,7 +534,9 @@ def _coerce(df: pd.DataFrame, schema: Schema, *, path) -> pd.DataFrame:
             out[name] = conv
         else:  # pragma: no cover - schema error
             raise ValueError(f"unknown column kind {col.kind}")
-    return pd.DataFrame(out, index=df.index)
+    if all(out[n] is df[n] for n in df.columns) if df.columns.is_unique else False:
+        return df
+    return pd.DataFrame(out, index=df.index, copy=False)
 
 
 def _check_time(df: pd.DataFrame, schema: Schema, *, path) -> pd.DataFrame:
@@ -643,8 +650,10 @@ def validate_frame(df: pd.DataFrame, kind: str, *, path="<frame>", meta: dict | 
     if len(df) < schema.min_rows:
         raise InputError(f"too few samples: {len(df)} rows, need at least {schema.min_rows}",
                          path=path)
-    df = df.reset_index(drop=True)
-    df = _coerce(df, schema, path=path)
+    ix = df.index
+    if not (isinstance(ix, pd.RangeIndex) and ix.start == 0 and ix.step == 1):
+        df = df.reset_index(drop=True)  # (a copy: only when the index is not 0..n-1)
+    df = _coerce(df, schema, path=path).copy(deep=False)  # never alter the caller's frame
     if schema.time_order == "strict" and schema.time_column in df.columns:
         from inertialab.io.timestamps import audit
 

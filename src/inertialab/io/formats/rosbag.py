@@ -24,7 +24,6 @@ a long bag needs about twice the decoded IMU arrays plus one block of raw messag
 from __future__ import annotations
 
 import warnings
-from array import array
 from pathlib import Path
 
 import numpy as np
@@ -78,49 +77,47 @@ def read_bag(path, *, topic: str | None = None) -> Loaded:
     p = Path(path)
     src = _bag_path(p)
     store = typesys.get_typestore(typesys.Stores.LATEST)
-    stamps = array("q")
-    recv = array("q")
-    vals = array("d")
-    k = 0
+    counter = [0]
     try:
-        with hl.AnyReader([src], default_typestore=store) as reader:
-            conns, name = _choose(reader.connections, topic, p)
-            block: list = []
-            layout = None
-            for conn, t_recv, raw in reader.messages(connections=conns):
-                ros1 = _is_ros1(conn)
-                lay = _layout(raw, ros1)
-                if lay is None:
-                    _flush(block, layout, reader, conn, stamps, vals)
-                    block, layout = [], None
-                    _slow(raw, reader, conn, stamps, vals)
-                elif layout is not None and lay != layout:
-                    _flush(block, layout, reader, conn, stamps, vals)
-                    block, layout = [raw], lay
-                else:
-                    layout = lay
-                    block.append(raw)
-                    if len(block) >= BLOCK:
-                        _flush(block, layout, reader, conn, stamps, vals)
-                        block = []
-                recv.append(int(t_recv))
-                k += 1
-            if block:
-                _flush(block, layout, reader, conn, stamps, vals)
+        if src.is_file() and src.suffix.lower() == ".bag":
+            from inertialab.io.formats import rosbag1_stream as r1
+
+            conns, name = _choose(r1.connections(src), topic, p)
+            ids = {c.id for c in conns}
+            sink = _Sink(sum(c.msgcount for c in conns))
+            store1 = typesys.get_typestore(typesys.Stores.ROS1_NOETIC)
+
+            def deser(raw):
+                return store1.deserialize_ros1(bytes(raw), "sensor_msgs/msg/Imu")
+
+            _decode(r1.iter_messages(src, ids), True, deser, sink, counter)
+        else:
+            with hl.AnyReader([src], default_typestore=store) as reader:
+                conns, name = _choose(reader.connections, topic, p)
+                msgtype = conns[0].msgtype
+                ros1 = _is_ros1(conns[0])
+                sink = _Sink(sum(int(getattr(c, "msgcount", 0) or 0) for c in conns))
+
+                def deser(raw):
+                    return reader.deserialize(raw, msgtype)
+
+                _decode(((t, raw) for _, t, raw in reader.messages(connections=conns)), ros1,
+                        deser, sink, counter)
     except InputError:
         raise
     except Exception as exc:  # rosbags raises its own error types for damaged bags
         text = " ".join(str(exc).split())[:160] or type(exc).__name__
-        raise InputError(f"not a readable ROS bag: {type(exc).__name__} after {k} IMU "
+        raise InputError(f"not a readable ROS bag: {type(exc).__name__} after {counter[0]} IMU "
                          f"messages ({text})", path=p) from None
+    k = counter[0]
     if k == 0:
         raise InputError(f"IMU topic '{name}' holds no messages", path=p)
-    t_ns = np.frombuffer(stamps, dtype=np.int64)
+    t_ns, recv, v = sink.arrays()
     stamp_kind = "header.stamp"
     if not t_ns.any():
-        t_ns = np.frombuffer(recv, dtype=np.int64)
+        t_ns = recv
         stamp_kind = "receive time (header stamps are all zero)"
-    v = np.frombuffer(vals, dtype=np.float64).reshape(k, 6)
+    del recv
     return _to_loaded(t_ns, v, p, topic=name, stamp_kind=stamp_kind, source="ros bag")
 
 
@@ -151,17 +148,77 @@ def _layout(raw, ros1: bool):
     return len(raw), st, signed, d0
 
 
-def _slow(raw, reader, conn, stamps, vals):
-    msg = reader.deserialize(raw, conn.msgtype)
+class _Sink:
+    """Decoded stamps and values, preallocated from the bag's message count (grown by
+    doubling if the count was short): 8 + 8 + 48 bytes per message, nothing else."""
+
+    def __init__(self, expected: int):
+        n = max(int(expected), 1024)
+        self.t = np.empty(n, np.int64)
+        self.recv = np.empty(n, np.int64)
+        self.v = np.empty((n, 6), np.float64)
+        self.k = 0
+        self.r = 0
+
+    def _room(self, m: int):
+        need = self.k + m
+        if need > self.t.size:
+            n = max(need, 2 * self.t.size)
+            self.t = np.resize(self.t, n)
+            self.v = np.resize(self.v, (n, 6))
+            self.recv = np.resize(self.recv, n)
+
+    def add(self, t_ns, v):
+        t_ns = np.atleast_1d(t_ns)
+        m = t_ns.size
+        self._room(m)
+        self.t[self.k:self.k + m] = t_ns
+        self.v[self.k:self.k + m] = v
+        self.k += m
+
+    def add_recv(self, t):
+        if self.r >= self.recv.size:
+            self._room(self.r + 1 - self.k)
+        self.recv[self.r] = t
+        self.r += 1
+
+    def arrays(self):
+        return self.t[:self.k], self.recv[:self.r], self.v[:self.k]
+
+
+def _decode(messages, ros1: bool, deser, sink, counter) -> None:
+    """Decode ``(receive time, raw)`` pairs into the typed arrays, in blocks."""
+    block: list = []
+    layout = None
+    for t_recv, raw in messages:
+        lay = _layout(raw, ros1)
+        if lay is None:
+            _flush(block, layout, deser, sink)
+            block, layout = [], None
+            _slow(raw, deser, sink)
+        elif layout is not None and lay != layout:
+            _flush(block, layout, deser, sink)
+            block, layout = [raw], lay
+        else:
+            layout = lay
+            block.append(raw)
+            if len(block) >= BLOCK:
+                _flush(block, layout, deser, sink)
+                block = []
+        sink.add_recv(int(t_recv))
+        counter[0] += 1
+    _flush(block, layout, deser, sink)
+
+
+def _slow(raw, deser, sink):
+    msg = deser(raw)
     st = msg.header.stamp
-    sec = getattr(st, "sec", None)
-    nsec = getattr(st, "nanosec", None)
-    stamps.append(int(sec) * 1_000_000_000 + int(nsec))
     w, a = msg.angular_velocity, msg.linear_acceleration
-    vals.extend((w.x, w.y, w.z, a.x, a.y, a.z))
+    sink.add(int(st.sec) * 1_000_000_000 + int(st.nanosec),
+             np.array([[w.x, w.y, w.z, a.x, a.y, a.z]], dtype=np.float64))
 
 
-def _flush(block, layout, reader, conn, stamps, vals):
+def _flush(block, layout, deser, sink):
     """Decode a block of same-layout raw messages with numpy; check the first against the
     deserialiser (a mismatch decodes the block one by one)."""
     if not block:
@@ -174,7 +231,7 @@ def _flush(block, layout, reader, conn, stamps, vals):
     a = np.ascontiguousarray(buf[:, d0 + 200:d0 + 224]).view("<f8")
     ns = sec.astype(np.int64) * 1_000_000_000 + nsec.astype(np.int64)
     v = np.column_stack([w, a])
-    ref = reader.deserialize(block[0], conn.msgtype)
+    ref = deser(block[0])
     rs = ref.header.stamp
     ok = (int(rs.sec) * 1_000_000_000 + int(rs.nanosec) == int(ns[0])
           and np.array_equal(v[0], [ref.angular_velocity.x, ref.angular_velocity.y,
@@ -183,10 +240,9 @@ def _flush(block, layout, reader, conn, stamps, vals):
                              equal_nan=True))
     if not ok:
         for r in block:
-            _slow(r, reader, conn, stamps, vals)
+            _slow(r, deser, sink)
         return
-    stamps.frombytes(ns.tobytes())
-    vals.frombytes(np.ascontiguousarray(v, dtype=np.float64).tobytes())
+    sink.add(ns, v)
 
 
 def _to_loaded(t_ns: np.ndarray, v: np.ndarray, p: Path, *, topic: str, stamp_kind: str,
@@ -194,9 +250,14 @@ def _to_loaded(t_ns: np.ndarray, v: np.ndarray, p: Path, *, topic: str, stamp_ki
     """Audit the stamps as recorded, sort, drop duplicate stamps, build the frame."""
     dt = np.diff(t_ns)
     n_back = int(np.count_nonzero(dt < 0))
-    order = np.argsort(t_ns, kind="stable")
-    ts = t_ns[order]
-    keep = np.r_[True, np.diff(ts) != 0]
+    if n_back:
+        order = np.argsort(t_ns, kind="stable")
+        ts = t_ns[order]
+        keep = np.r_[True, np.diff(ts) != 0]
+    else:
+        order, ts = None, t_ns
+        keep = np.r_[True, dt != 0]
+    del dt
     n_dup = int(np.count_nonzero(~keep))
     info = {"format": source, "topic": topic, "n_messages": int(t_ns.size), "stamp": stamp_kind,
             "n_out_of_order": n_back, "n_duplicate_stamps": n_dup,
@@ -207,11 +268,16 @@ def _to_loaded(t_ns: np.ndarray, v: np.ndarray, p: Path, *, topic: str, stamp_ki
         warnings.warn(f"{p}: {topic}: {n_back} out-of-order and {n_dup} duplicate time stamps "
                       "among the messages; sorted by stamp and kept the first of each "
                       "duplicate", DataQualityWarning, stacklevel=3)
-    idx = order[keep]
-    t0 = int(t_ns[idx[0]])
-    data = {"t_s": (t_ns[idx] - t0).astype(np.float64) * 1e-9}
-    for j, c in enumerate(columns):
-        data[c] = v[idx, j]
+    if n_back == 0 and n_dup == 0:  # the usual case: no copies of the values
+        t0 = int(t_ns[0])
+        frame = pd.DataFrame(v, columns=list(columns), copy=False)
+        frame.insert(0, "t_s", (t_ns - t0).astype(np.float64) * 1e-9)
+    else:
+        idx = order[keep] if order is not None else np.flatnonzero(keep)
+        t0 = int(t_ns[idx[0]])
+        frame = pd.DataFrame(v[idx], columns=list(columns), copy=False)
+        frame.insert(0, "t_s", (t_ns[idx] - t0).astype(np.float64) * 1e-9)
+    del order, ts, keep
     meta = {"bag" if source == "ros bag" else "ulog": info,
             "time_origin": {"column": stamp_kind.split(" ")[0], "unit": "ns", "value": t0}}
-    return Loaded(pd.DataFrame(data), meta)
+    return Loaded(frame, meta)
