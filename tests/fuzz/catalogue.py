@@ -147,14 +147,17 @@ def resolve(*spellings: str) -> str:
 # ------------------------------------------------------------------ invariants
 
 def snapshot(root: Path) -> dict[str, object]:
-    """Every entry under ``root``: bytes of regular files, kind of the others."""
+    """Every entry under ``root``: bytes of regular files (size, mtime and inode above
+    1 MiB), kind of the others."""
     out: dict[str, object] = {}
     for dirpath, dirs, files in os.walk(root):
         for name in dirs + files:
             p = os.path.join(dirpath, name)
             rel = os.path.relpath(p, root)
             st = os.lstat(p)
-            if stat.S_ISREG(st.st_mode):
+            if stat.S_ISREG(st.st_mode) and st.st_size > 1 << 20:  # big: no reading
+                out[rel] = (st.st_size, st.st_mtime_ns, st.st_ino)
+            elif stat.S_ISREG(st.st_mode):
                 with open(p, "rb") as fh:
                     out[rel] = fh.read()
             else:
