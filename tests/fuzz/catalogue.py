@@ -26,6 +26,7 @@ import shutil
 import stat
 import subprocess
 import sys
+import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -146,14 +147,17 @@ def resolve(*spellings: str) -> str:
 # ------------------------------------------------------------------ invariants
 
 def snapshot(root: Path) -> dict[str, object]:
-    """Every entry under ``root``: bytes of regular files, kind of the others."""
+    """Every entry under ``root``: bytes of regular files (size, mtime and inode above
+    1 MiB), kind of the others."""
     out: dict[str, object] = {}
     for dirpath, dirs, files in os.walk(root):
         for name in dirs + files:
             p = os.path.join(dirpath, name)
             rel = os.path.relpath(p, root)
             st = os.lstat(p)
-            if stat.S_ISREG(st.st_mode):
+            if stat.S_ISREG(st.st_mode) and st.st_size > 1 << 20:  # big: no reading
+                out[rel] = (st.st_size, st.st_mtime_ns, st.st_ino)
+            elif stat.S_ISREG(st.st_mode):
                 with open(p, "rb") as fh:
                     out[rel] = fh.read()
             else:
@@ -217,7 +221,8 @@ class Case:
     slow: bool = False
     runner: Callable[[list[str], Path], Outcome] | None = None
     teardown: Callable[[Path], None] | None = None
-    #: entries of the case directory that a successful run may leave changed
+    #: a run longer than this (seconds) breaks the case ("fail fast", "no hang")
+    max_wall_s: float | None = None
 
     @property
     def id(self) -> str:
@@ -230,7 +235,9 @@ def run_case(case: Case, d: Path, runner=run_inprocess) -> tuple[Outcome, list[s
     try:
         argv = case.setup(d)
         before = snapshot(d)
+        t0 = time.monotonic()
         o = (case.runner or runner)(argv, d)
+        wall = time.monotonic() - t0
         after = snapshot(d)
     finally:
         if case.teardown is not None:
@@ -240,6 +247,8 @@ def run_case(case: Case, d: Path, runner=run_inprocess) -> tuple[Outcome, list[s
         bad.append(f"expected exit {case.expect_code}, got {o.code}: {o.stderr.strip()[:200]}")
     if case.check is not None:
         bad += case.check(d, o)
+    if case.max_wall_s is not None and wall > case.max_wall_s:
+        bad.append(f"took {wall:.0f} s (at most {case.max_wall_s:g} s)")
     return o, bad
 
 
@@ -695,7 +704,7 @@ def slow_cases() -> list[Case]:
             return argv_for(role, d, f)
 
         cases.append(Case("memory", resolve(*spellings), "2GB-sparse", setup, slow=True,
-                          expect_code=2, owner="io helper (issue 19 item 3)",
+                          expect_code=2, owner="io helper (issue 19 item 3)", max_wall_s=20,
                           runner=lambda a, c: run_subprocess(a, c, timeout=60,
                                                              limit_as=3 << 30)))
     tfit = resolve("thermal fit")
@@ -800,6 +809,7 @@ def slow_cases() -> list[Case]:
     cases.append(Case("hang", fc, "--horizon 36500", lambda d: [
         *fc.split(), str(_model("storage-drift", d)), "--horizon", "36500", "--json"],
         slow=True, owner="drift helper (issue 19 item 8)", allowed=["model.json"],
+        max_wall_s=30,
         runner=lambda a, c: run_subprocess(a, c, timeout=60)))
     return cases
 

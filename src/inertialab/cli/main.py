@@ -325,6 +325,7 @@ def main(argv: list[str] | None = None) -> None:
     warnings.showwarning = _one_line_warning
     try:
         args = expand_config(args)
+        files = _input_files(args)
         check_limits(args)
         check_out_targets(args)
         cmd = typer.main.get_command(build_app())

@@ -307,10 +307,10 @@ class _DirOutput:
             else:
                 self._merge()
             self.staging = None
+            self.created.clear()  # the output exists now: its parents stay
         except OSError as exc:
             raise output_error(exc, self.target) from None
         finally:
-            self.created.clear()
             self.rollback()
 
     def _merge(self) -> None:
