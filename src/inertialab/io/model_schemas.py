@@ -170,7 +170,7 @@ POLYNOMIAL = all_of(obj({
 }), same_length("powers", "coef"), same_length("x_min", "x_span"))
 
 RBF = all_of(obj({
-    "spread": num(positive=True), "goal": num(0), "max_neurons": integer(0, 10**6),
+    "spread": num(positive=True), "goal": num(0), "max_neurons": integer(0, 10**6, nullable=True),
     "b": num(), "center_values": array(None, None), "weights": array(None), "bias": num(),
     "mse": num(0, nullable=True), "mse_history": array(None, item=num(0)),
 }, optional=("mse", "mse_history")), same_length("center_values", "weights"))
