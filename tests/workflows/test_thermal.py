@@ -209,3 +209,14 @@ def test_model_files_with_nan_or_nonsense_are_refused(model, tmp_path):
         with pytest.raises(InputError, match="thermal model"):
             load_model(tmp_path / f"{name}.json")
     assert load_model(tmp_path / "m.json").method == "scm-anfis"
+
+
+def test_apply_with_a_1e308_cell_is_an_error_naming_the_row(model, run_b, tmp_path):
+    f = run_b.frame.copy()
+    f.loc[f.index[7], "output_mv"] = 1e308
+    p = tmp_path / "big.csv"
+    write_record(f, p, run_b.meta)
+    # the record's tumble is refused (auto falls back to the model's unit); then the
+    # model input overflows on that row: an error, not a NaN or clamped output
+    with pytest.raises(InputError, match="row 8"):
+        apply(model, read_record(p, "thermal_tumble"))
