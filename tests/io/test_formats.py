@@ -338,3 +338,14 @@ def test_long_bag_reads_in_bounded_memory(tmp_path):
     p1, p2 = peak_of(30_000), peak_of(120_000)
     slope = (p2 - p1) / ((120_000 - 30_000) * 7 * 8)
     assert slope < 2.0, slope
+
+
+@pytest.mark.parametrize("kind, suffix", [("sqlite3", ".db3"), ("mcap", ".mcap")])
+def test_corrupt_ros2_bag_is_one_line(tmp_path, kind, suffix):
+    t_ns, g, a = _imu_truth(200)
+    p = write_bag(tmp_path / "run", kind, {"/imu": (t_ns, g, a)})
+    f = next(p.glob(f"*{suffix}"))
+    f.write_bytes(f.read_bytes()[: f.stat().st_size // 2])
+    with pytest.raises(InputError, match="not a readable ROS bag") as exc:
+        read_record(p, "gyro_log")
+    assert str(p) in str(exc.value) and "\n" not in str(exc.value)

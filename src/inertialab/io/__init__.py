@@ -5,6 +5,7 @@ CSV/Parquet plus the JSON sidecar atomically; ``save_model``/``load_model`` hand
 JSON model-file envelope of DESIGN.md.
 """
 
+from inertialab.io.mapping import ReadOptions
 from inertialab.io.modelfile import load_model, read_envelope, save_model
 from inertialab.io.readers import Record, hash_frame, peek_columns, read_record, validate_frame
 from inertialab.io.schemas import SCHEMAS
@@ -12,6 +13,7 @@ from inertialab.io.sidecar import read_sidecar, sidecar_path
 from inertialab.io.writers import atomic_write_bytes, atomic_write_text, write_record
 
 __all__ = [
+    "ReadOptions",
     "SCHEMAS",
     "Record",
     "atomic_write_bytes",

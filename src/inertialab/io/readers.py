@@ -19,6 +19,8 @@ import numpy as np
 import pandas as pd
 
 from inertialab.errors import DataQualityWarning, InputError
+from inertialab.io.formats.npy import check_rate as _check_rate
+from inertialab.io.formats.npy import open_npy as _open_npy
 from inertialab.io.schema import Column, Schema
 from inertialab.io.schemas import SCHEMAS
 from inertialab.io.sidecar import read_sidecar
@@ -279,69 +281,10 @@ def _time_from_rate(df: pd.DataFrame, rate_hz, *, path, meta) -> pd.DataFrame:
     return out
 
 
-def _check_rate(value, *, path, where: str) -> float:
-    try:
-        fs = float(value)
-    except (TypeError, ValueError):
-        raise InputError(f"{where} must be a number in Hz, got {value!r}", path=path) from None
-    if not np.isfinite(fs) or not 1e-9 <= fs <= 1e9:
-        raise InputError(f"{where} must be a rate between 1e-9 and 1e9 Hz, got {value!r}",
-                         path=path)
-    return fs
-
-
-def _open_npy(p: Path) -> np.ndarray:
-    try:
-        return np.load(p, mmap_mode="r", allow_pickle=False)
-    except (ValueError, OSError, EOFError) as exc:
-        raise InputError(f"not a readable .npy file ({' '.join(str(exc).split())[:120]})",
-                         path=p) from None
-
-
 def _read_npy(p: Path, kind: str, meta: dict, arr, *, unit, rate_hz, column) -> Record:
-    if arr.ndim == 2 and arr.shape[1] == 1:
-        arr = arr[:, 0]
-    if arr.ndim != 1:
-        raise InputError(f".npy log must be one column, got shape {arr.shape}", path=p)
-    if not np.issubdtype(arr.dtype, np.number):
-        raise InputError(f".npy log must be numeric, got dtype {arr.dtype}", path=p)
-    name = column or meta.get("column")
-    if name is None and isinstance(unit, str):
-        dim = SUFFIXES.get(unit.lower())
-        base = {"angular_rate": "rate", "acceleration": "accel", "angle": "dtheta"}.get(
-            dim.dimension if dim else "", None)
-        if base:
-            name = f"{base}_{unit.lower()}"
-    if name is None:
-        raise InputError("a .npy log needs --unit (or --column) and --rate, or a sidecar "
-                         "with 'column' and 'fs_hz'", path=p)
-    fs = rate_hz if rate_hz is not None else meta.get("fs_hz")
-    if fs is None:
-        raise InputError("a .npy log needs --rate (Hz) or a sidecar with 'fs_hz'", path=p)
-    fs = _check_rate(fs, path=p, where="argument 'rate_hz'" if rate_hz is not None
-                     else "sidecar key 'fs_hz'")
-    base, suf = split_suffix(name)
-    if suf is None:
-        raise InputError("column name has no unit suffix", path=p, column=name)
-    if arr.shape[0] < SCHEMAS[kind].min_rows:
-        raise InputError(f"too few samples: {arr.shape[0]}", path=p, column=name)
-    # finiteness and hash in chunks: one pass over the memory map
-    h = hashlib.sha256()
-    h.update(name.encode() + b"\0")
-    chunk = 1 << 22
-    for start in range(0, arr.shape[0], chunk):
-        block = np.ascontiguousarray(arr[start:start + chunk], dtype=np.float64)
-        bad = ~np.isfinite(block)
-        if bad.any():
-            rows = (np.flatnonzero(bad)[:_MAX_ROWS_LISTED] + start + 1).tolist()
-            raise InputError("NaN or infinite value", path=p, column=name, row=rows)
-        h.update(block.tobytes())
-    meta = dict(meta)
-    meta["fs_hz"] = fs
-    meta["column"] = name
-    data = pd.DataFrame(index=pd.RangeIndex(0))
-    return Record(kind=kind, data=data, meta=meta, path=str(p), units={name: suf},
-                  sha256=h.hexdigest(), arrays={name: arr})
+    from inertialab.io.formats.npy import read_npy_column
+
+    return read_npy_column(p, kind, meta, arr, unit=unit, rate_hz=rate_hz, column=column)
 
 
 # ---------------------------------------------------------------------------- columns
