@@ -82,3 +82,17 @@ def test_rejects_non_oadev_curves():
     y = np.random.default_rng(0).standard_normal(4096)
     with pytest.raises(InputError, match="overlapping Allan"):
         G.wv_from_curve(A.mdev(y, rate_hz=1.0))
+
+
+def test_b_reads_only_the_flat_region_inside_the_fitted_scales():
+    # B of a GM sum = max sigma_GM / 0.6643 over the fitted scales; a GM whose peak lies
+    # beyond the record (it looks like random walk there) does not make B
+    tau0 = 0.01
+    gm_in = G.Process("GM", {"s2": 4.0, "tc_s": 10.0})
+    gm_out = G.Process("GM", {"s2": 400.0, "tc_s": 1e6})
+    m = np.geomspace(1, 1e8, 4000)
+    peak = math.sqrt(gm_in.avar(m, tau0).max()) / G.BI_FACTOR
+    assert G.b_of([gm_in], tau0, (0.1, 1e4)) == pytest.approx(peak, rel=1e-3)
+    both = G.b_of([gm_in, gm_out], tau0, (0.1, 1e3))
+    assert both < 1.5 * peak
+    assert G.b_of([gm_in, gm_out], tau0) > 10 * peak  # unbounded: the far peak

@@ -282,7 +282,8 @@ class GmwmFit:
                 "candidates": {k: float(v) for k, v in self.candidates.items()},
                 "tau_range_s": [float(v) for v in self.tau_range_s],
                 "n_boot": int(self.n_boot), "b_ci": [float(v) for v in self.b_ci],
-                "b": float(b_of(self.processes, self.wv.tau0_s)), "wv": self.wv.to_dict()}
+                "b": float(b_of(self.processes, self.wv.tau0_s, self.tau_range_s)),
+                "wv": self.wv.to_dict()}
 
 
 def _name(spec) -> str:
@@ -441,7 +442,8 @@ def _with_intervals(spec, theta, procs, wv, n_boot, seed, confidence):
     q = (0.5 * (1 - confidence), 0.5 * (1 + confidence))
     b_ci = nan2
     if "GM" in spec and reps.size:
-        bs = [b_of(_unpack(spec, th, tau0), tau0) for th in reps]
+        rng_s = (float(taus[0]), float(taus[-1]))
+        bs = [b_of(_unpack(spec, th, tau0), tau0, rng_s) for th in reps]
         b_ci = tuple(float(v) for v in np.quantile(bs, q))
     out, i = [], 0
     for p in procs:
@@ -454,14 +456,19 @@ def _with_intervals(spec, theta, procs, wv, n_boot, seed, confidence):
     return out, b_ci
 
 
-def b_of(processes, tau0: float) -> float:
-    """IEEE 952 flat-region B of the Gauss–Markov processes: ``max_tau sigma_GM / 0.6643``
-    on 1024 log-spaced taus over ``[tau0, 1e3 max tc]`` (rate unit; 0 without GM)."""
+def b_of(processes, tau0: float, tau_range_s=None) -> float:
+    """IEEE 952 flat-region B of the Gauss–Markov processes: ``max sigma_GM / 0.6643``
+    over 1024 log-spaced taus of ``tau_range_s`` (the fitted scales: a flat region must
+    be seen in the data — a GM whose peak lies beyond the record is read as random walk,
+    not as bias instability), else over ``[tau0, 1e3 max tc]``. Rate unit; 0 without GM."""
     gms = [p for p in processes if p.kind == "GM"]
     if not gms:
         return 0.0
-    hi = 1e3 * max(p.params["tc_s"] for p in gms)
-    m = np.geomspace(1.0, max(hi / tau0, 2.0), 1024)
+    if tau_range_s is None:
+        lo, hi = tau0, 1e3 * max(p.params["tc_s"] for p in gms)
+    else:
+        lo, hi = tau_range_s
+    m = np.geomspace(max(lo / tau0, 1.0), max(hi / tau0, 2.0), 1024)
     av = sum(p.avar(m, tau0) for p in gms)
     return float(math.sqrt(float(np.max(av))) / BI_FACTOR)
 
@@ -503,7 +510,7 @@ def gmwm_noise_terms(fit: GmwmFit, conv, rate_hz: float, result=None):
         k = conv.factor(name)
         if name == "B":
             kind = "GM"
-            a = b_of(fit.processes, tau0)
+            a = b_of(fit.processes, tau0, fit.tau_range_s)
             lo_hi = fit.b_ci
             coeffs[2] = (a * BI_FACTOR) ** 2
         else:
