@@ -95,4 +95,4 @@ def test_b_reads_only_the_flat_region_inside_the_fitted_scales():
     assert G.b_of([gm_in], tau0, (0.1, 1e4)) == pytest.approx(peak, rel=1e-3)
     both = G.b_of([gm_in, gm_out], tau0, (0.1, 1e3))
     assert both < 1.5 * peak
-    assert G.b_of([gm_in, gm_out], tau0) > 10 * peak  # unbounded: the far peak
+    assert G.b_of([gm_in, gm_out], tau0) > 5 * peak  # unbounded: the far peak
