@@ -109,7 +109,8 @@ def markdown(result: dict) -> str:
              f"{result['hours']:g}-h records of `sim.mems_presets`; seeds per preset "
              f"{result['seeds']}; GMWM on the first {result['gmwm_seeds']} seeds; 95 % "
              "intervals. Targets: coverage of N, B, K 90-98 %, median |error| N <= 2 %, "
-             "B <= 10 %, K <= 15 %.", "",
+             "B <= 10 %, K <= 15 %." + (f" Run: `{result['command']}`." if result.get("command")
+                                          else ""), "",
              "| preset | method | term | n | coverage | median abs err | median err | "
              "significant |", "|---|---|---|---|---|---|---|---|"]
     for preset, p in result["presets"].items():

@@ -82,3 +82,33 @@ def test_rejects_non_oadev_curves():
     y = np.random.default_rng(0).standard_normal(4096)
     with pytest.raises(InputError, match="overlapping Allan"):
         G.wv_from_curve(A.mdev(y, rate_hz=1.0))
+
+
+def test_b_reads_only_the_flat_region_inside_the_fitted_scales():
+    # B of a GM sum = max sigma_GM / 0.6643 over the fitted scales; a GM whose peak lies
+    # beyond the record (it looks like random walk there) does not make B
+    tau0 = 0.01
+    gm_in = G.Process("GM", {"s2": 4.0, "tc_s": 10.0})
+    gm_out = G.Process("GM", {"s2": 400.0, "tc_s": 1e6})
+    m = np.geomspace(1, 1e8, 4000)
+    peak = math.sqrt(gm_in.avar(m, tau0).max()) / G.BI_FACTOR
+    assert G.b_of([gm_in], tau0, (0.1, 1e4)) == pytest.approx(peak, rel=1e-3)
+    both = G.b_of([gm_in, gm_out], tau0, (0.1, 1e3))
+    assert both < 1.5 * peak
+    assert G.b_of([gm_in, gm_out], tau0) > 5 * peak  # unbounded: the far peak
+
+
+def test_slow_gm_counts_as_random_walk_not_bias_instability():
+    # a GM whose Allan peak (1.89 tc) is beyond half the fitted range behaves as a random
+    # walk of density 2 s2/tc there: it goes into K (flag from_gm), not into B
+    tau0, rng_s = 0.01, (0.3, 5000.0)
+    fast = G.Process("GM", {"s2": 4.0, "tc_s": 20.0})
+    slow = G.Process("GM", {"s2": 50.0, "tc_s": 4000.0})
+    assert G.b_of([fast, slow], tau0, rng_s) == pytest.approx(G.b_of([fast], tau0, rng_s))
+    assert G.k_of([fast, slow], tau0, rng_s) == pytest.approx(math.sqrt(2 * 50.0 / 4000.0))
+    rw = G.Process("RW", {"gamma2": 1e-6})
+    assert G.k_of([rw], tau0, rng_s) == pytest.approx(math.sqrt(1e-6 / tau0))
+    # the small-tau Allan variance of the slow GM is that random walk's K^2 tau/3
+    m = np.array([1000.0])
+    k2 = 2 * 50.0 / 4000.0
+    assert float(slow.avar(m, tau0)[0]) == pytest.approx(k2 * 10.0 / 3, rel=0.01)

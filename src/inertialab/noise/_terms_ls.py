@@ -97,6 +97,30 @@ def _observable(n_taus: int):
     return active, reasons
 
 
+def _fit_and_boot(X, avar, edf_tab, active, weighted, n_reweight, n_boot, seed, m):
+    """Fit, misfit ratio and correlated Allan-domain bootstrap of one active-term set."""
+    c, model, dom = _solve(X, avar, edf_tab, active, weighted, n_reweight)
+    edf_dom = edf_tab[dom, np.arange(avar.size)]
+    fit_rmse = float(np.sqrt(np.mean((0.5 * np.log(avar / model)) ** 2)))
+    # misfit (Birge) ratio: ln(avar_hat) has variance ~2/edf; a model that cannot follow
+    # the curve (e.g. Gauss-Markov bumps read as flicker) leaves larger residuals, and the
+    # bootstrap spread is widened by sqrt(chi2/dof) when that exceeds 1
+    n_par = int(np.count_nonzero(c))
+    chi2 = float(np.sum(0.5 * edf_dom * np.log(avar / model) ** 2))
+    misfit = math.sqrt(max(1.0, chi2 / max(avar.size - n_par, 1)))
+    # parametric bootstrap in the Allan domain
+    boot = None
+    if n_boot > 0:
+        rng = np.random.default_rng(seed)
+        draws = _draw_avar(model, edf_dom, dom, m, n_boot, rng)
+        boot = np.empty((n_boot, 5))
+        n_it = min(n_reweight, 3)
+        for b in range(n_boot):
+            boot[b] = _solve(X, draws[b], edf_tab, active, weighted, n_it)[0]
+        boot = c[None, :] + misfit * (boot - c[None, :])
+    return c, model, dom, boot, misfit, fit_rmse
+
+
 def fit_ls(result, sel, conv, rate_hz, method, n_reweight, confidence, n_boot, seed):
     """The "wls"/"ols" fit of the selected taus (see :mod:`inertialab.noise.terms`)."""
     weighted = method == "wls"
@@ -114,26 +138,24 @@ def fit_ls(result, sel, conv, rate_hz, method, n_reweight, confidence, n_boot, s
         idx, taus, avar, X, edf_tab = idx[keep], taus[keep], avar[keep], X[keep], edf_tab[:, keep]
         active, reasons = _observable(taus.size)
         c, model, dom = _solve(X, avar, edf_tab, active, weighted, n_reweight)
-    edf_dom = edf_tab[dom, np.arange(taus.size)]
-    fit_rmse = float(np.sqrt(np.mean((0.5 * np.log(avar / model)) ** 2)))
-    # misfit (Birge) ratio: ln(avar_hat) has variance ~2/edf; a model that cannot follow
-    # the curve (e.g. Gauss-Markov bumps read as flicker) leaves larger residuals, and the
-    # bootstrap spread is widened by sqrt(chi2/dof) when that exceeds 1
-    n_par = int(np.count_nonzero(c))
-    chi2 = float(np.sum(0.5 * edf_dom * np.log(avar / model) ** 2))
-    misfit = math.sqrt(max(1.0, chi2 / max(taus.size - n_par, 1)))
-    # parametric bootstrap in the Allan domain
-    boot = None
-    if n_boot > 0:
-        rng = np.random.default_rng(seed)
-        draws = _draw_avar(model, edf_dom, dom, np.asarray(result.m)[idx], n_boot, rng)
-        boot = np.empty((n_boot, 5))
-        n_it = min(n_reweight, 3)
-        for b in range(n_boot):
-            boot[b] = _solve(X, draws[b], edf_tab, active, weighted, n_it)[0]
-        boot = c[None, :] + misfit * (boot - c[None, :])
+    c, model, dom, boot, misfit, fit_rmse = _fit_and_boot(
+        X, avar, edf_tab, active, weighted, n_reweight, n_boot, seed,
+        np.asarray(result.m)[idx])
     terms = _terms_from_coefficients(c, boot, active, reasons, taus, conv, rate_hz, method,
                                      confidence)
+    # backward elimination of a non-significant rate ramp: R and K share the long taus,
+    # and an R read from the scatter of the last points takes its share from K; the
+    # terms are refitted without R, which keeps its upper bound from the full fit
+    if active[4] and "upper_bound" in terms["R"].flags:
+        act2 = list(active)
+        act2[4] = False
+        c, model, dom, boot, misfit, fit_rmse = _fit_and_boot(
+            X, avar, edf_tab, act2, weighted, n_reweight, n_boot, seed,
+            np.asarray(result.m)[idx])
+        t2 = _terms_from_coefficients(c, boot, act2, {"R": ""}, taus, conv, rate_hz, method,
+                                      confidence)
+        t2["R"] = terms["R"]
+        terms = t2
     dev_sel = np.sqrt(avar)
     i_min = int(np.argmin(dev_sel))
     kB = conv.factor("B")

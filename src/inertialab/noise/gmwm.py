@@ -37,7 +37,10 @@ Parameter intervals: parametric bootstrap of the selected model in the WV domain
 same copula as :mod:`inertialab.noise.terms`), refitted; percentile intervals.
 
 IEEE terms from the latent processes (:func:`gmwm_noise_terms`): ``N^2 = sigma2 tau0``,
-``K^2 = gamma2/tau0``, ``R = omega/tau0``, Q, and ``B = max_tau sigma_GM(tau)/0.6643`` —
+``K^2 = gamma2/tau0`` (plus ``2 s2/tc`` of any GM whose Allan peak 1.89 tc is not
+followed by an octave of fitted scales: within the record it is a random walk, flag
+``from_gm``), ``R = omega/tau0``, Q, and ``B = max_tau sigma_GM(tau)/0.6643`` of the other
+GMs —
 the IEEE 952 flat-region value of the Gauss–Markov sum, the same definition as the
 virtual-lab truth (:mod:`inertialab.sim.mems_presets`).
 
@@ -263,6 +266,7 @@ class GmwmFit:
     tau_range_s: tuple
     n_boot: int = 0
     b_ci: tuple = (float("nan"), float("nan"))
+    k_ci: tuple = (float("nan"), float("nan"))
 
     @property
     def name(self) -> str:
@@ -282,7 +286,9 @@ class GmwmFit:
                 "candidates": {k: float(v) for k, v in self.candidates.items()},
                 "tau_range_s": [float(v) for v in self.tau_range_s],
                 "n_boot": int(self.n_boot), "b_ci": [float(v) for v in self.b_ci],
-                "b": float(b_of(self.processes, self.wv.tau0_s)), "wv": self.wv.to_dict()}
+                "k_ci": [float(v) for v in self.k_ci],
+                "b": float(b_of(self.processes, self.wv.tau0_s, self.tau_range_s)),
+                "wv": self.wv.to_dict()}
 
 
 def _name(spec) -> str:
@@ -403,15 +409,15 @@ def fit_gmwm_wv(wv: WaveletVariance, *, max_gm: int = 3, n_boot: int = 50, seed:
     best = min(cands, key=cands.get)
     spec, theta, obj = fits[best]
     procs = _unpack(spec, theta, tau0)
-    procs, b_ci = _with_intervals(spec, theta, procs, wv, n_boot, seed, confidence)
+    procs, b_ci, k_ci = _with_intervals(spec, theta, procs, wv, n_boot, seed, confidence)
     return GmwmFit(tuple(procs), wv, cands[best], obj, cands,
-                   (float(taus[0]), float(taus[-1])), n_boot, b_ci)
+                   (float(taus[0]), float(taus[-1])), n_boot, b_ci, k_ci)
 
 
 def _with_intervals(spec, theta, procs, wv, n_boot, seed, confidence):
     nan2 = (float("nan"), float("nan"))
     if n_boot <= 0:
-        return procs, nan2
+        return procs, nan2, nan2
     from inertialab.noise.terms import OCTAVE_RHO
 
     tau0, taus, eta = wv.tau0_s, wv.taus_s, wv.eta
@@ -439,10 +445,14 @@ def _with_intervals(spec, theta, procs, wv, n_boot, seed, confidence):
             reps.append(r.x)
     reps = np.array(reps)
     q = (0.5 * (1 - confidence), 0.5 * (1 + confidence))
-    b_ci = nan2
+    b_ci = k_ci = nan2
+    rng_s = (float(taus[0]), float(taus[-1]))
     if "GM" in spec and reps.size:
-        bs = [b_of(_unpack(spec, th, tau0), tau0) for th in reps]
+        bs = [b_of(_unpack(spec, th, tau0), tau0, rng_s) for th in reps]
         b_ci = tuple(float(v) for v in np.quantile(bs, q))
+    if ("GM" in spec or "RW" in spec) and reps.size:
+        ks = [k_of(_unpack(spec, th, tau0), tau0, rng_s) for th in reps]
+        k_ci = tuple(float(v) for v in np.quantile(ks, q))
     out, i = [], 0
     for p in procs:
         ci = {}
@@ -451,17 +461,42 @@ def _with_intervals(spec, theta, procs, wv, n_boot, seed, confidence):
             ci[key] = (float(lo), float(hi))
             i += 1
         out.append(Process(p.kind, p.params, ci))
-    return out, b_ci
+    return out, b_ci, k_ci
 
 
-def b_of(processes, tau0: float) -> float:
-    """IEEE 952 flat-region B of the Gauss–Markov processes: ``max_tau sigma_GM / 0.6643``
-    on 1024 log-spaced taus over ``[tau0, 1e3 max tc]`` (rate unit; 0 without GM)."""
-    gms = [p for p in processes if p.kind == "GM"]
+def _slow(p, tau_range_s) -> bool:
+    """A GM whose Allan peak (1.89 tc) is not followed by an octave of fitted scales: in
+    the record it is indistinguishable from a random walk (its low-tau behaviour)."""
+    return (p.kind == "GM" and tau_range_s is not None
+            and 1.89 * p.params["tc_s"] > tau_range_s[1] / 2.0)
+
+
+def k_of(processes, tau0: float, tau_range_s=None) -> float:
+    """Random-walk amplitude K (rate unit/sqrt(s)): ``gamma2/tau0`` of RW plus, for each
+    slow GM (:func:`_slow`), the random walk it behaves as below its correlation time,
+    ``2 s2/tc`` (its driving-noise density)."""
+    k2 = 0.0
+    for p in processes:
+        if p.kind == "RW":
+            k2 += p.params["gamma2"] / tau0
+        elif _slow(p, tau_range_s):
+            k2 += 2.0 * p.params["s2"] / p.params["tc_s"]
+    return math.sqrt(k2)
+
+
+def b_of(processes, tau0: float, tau_range_s=None) -> float:
+    """IEEE 952 flat-region B of the Gauss–Markov processes: ``max sigma_GM / 0.6643``
+    over 1024 log-spaced taus of ``tau_range_s`` (the fitted scales: a flat region must
+    be seen in the data — a GM whose peak lies beyond the record is read as random walk,
+    not as bias instability), else over ``[tau0, 1e3 max tc]``. Rate unit; 0 without GM."""
+    gms = [p for p in processes if p.kind == "GM" and not _slow(p, tau_range_s)]
     if not gms:
         return 0.0
-    hi = 1e3 * max(p.params["tc_s"] for p in gms)
-    m = np.geomspace(1.0, max(hi / tau0, 2.0), 1024)
+    if tau_range_s is None:
+        lo, hi = tau0, 1e3 * max(p.params["tc_s"] for p in gms)
+    else:
+        lo, hi = tau_range_s
+    m = np.geomspace(max(lo / tau0, 1.0), max(hi / tau0, 2.0), 1024)
     av = sum(p.avar(m, tau0) for p in gms)
     return float(math.sqrt(float(np.max(av))) / BI_FACTOR)
 
@@ -501,11 +536,17 @@ def gmwm_noise_terms(fit: GmwmFit, conv, rate_hz: float, result=None):
     for name in ("Q", "N", "B", "K", "R"):
         unit = _REPORT[conv.kind][name]
         k = conv.factor(name)
+        extra = ()
         if name == "B":
             kind = "GM"
-            a = b_of(fit.processes, tau0)
+            a = b_of(fit.processes, tau0, fit.tau_range_s)
             lo_hi = fit.b_ci
             coeffs[2] = (a * BI_FACTOR) ** 2
+        elif name == "K" and any(_slow(p, fit.tau_range_s) for p in fit.processes):
+            kind = "GM"
+            a = k_of(fit.processes, tau0, fit.tau_range_s)
+            lo_hi = fit.k_ci
+            extra = ("from_gm",)
         else:
             kind, key, f = amp[name]
             if kind in by:
@@ -515,7 +556,7 @@ def gmwm_noise_terms(fit: GmwmFit, conv, rate_hz: float, result=None):
             else:
                 a, lo_hi = 0.0, (0.0, 0.0)
         present = kind in by
-        flags = () if present else ("absent",)
+        flags = (() if present else ("absent",)) + extra
         reason = "" if present else f"not in the model selected by the WIC ({fit.name})"
         val = k * a
         dens = per = None
