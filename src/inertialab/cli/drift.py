@@ -399,7 +399,7 @@ def register(app: typer.Typer, groups: dict) -> None:
     ):
         """Simulate a storage programme (spec 004 §7) with ground-truth columns."""
         from inertialab.io import write_record
-        from inertialab.sim.storage_drift import simulate_storage_batch
+        from inertialab.sim.drift import simulate_storage_batch
 
         if missing_prob is not None and not 0.0 <= missing_prob < 1.0:
             raise InputError(f"--missing-prob must lie in [0, 1), got {missing_prob}")

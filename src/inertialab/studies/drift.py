@@ -92,7 +92,7 @@ def summarise(fit: DriftFit) -> dict:
 def run_demo(settings, progress=None) -> StudyResult:
     """The ``drift`` study of ``inertialab demo``: the seed's 100-day protocol on the
     ``paper`` preset (§6, A8) and interval coverage on ``nav`` (A13)."""
-    from inertialab.sim.storage_drift import simulate_storage_batch
+    from inertialab.sim.drift import simulate_storage_batch
 
     progress = progress or NullProgress()
     t0 = time.perf_counter()
