@@ -188,7 +188,8 @@ def run_demo(settings, progress=None) -> StudyResult:
     progress.update(3, 3, "done")
     e1 = sweep.get("1.0") or next(iter(sweep.values()))
     head = [
-        Headline("g^2 design rank (9 coefficients)", fit.methods["ls"].rank, "collinear"),
+        Headline("g^2 design rank (9 coefficients)", fit.methods["ls"].rank, "collinear",
+                 "1"),
         Headline("EBR K2 RMS error, historical prior (h = 1)", e1["ebr_KA2_rms"] * 1e6,
                  "higher accuracy", "ug/g^2"),
         Headline("single-meter LS KA2 RMS error (h = 1)", e1["single_ls_KA2_rms"] * 1e6,
