@@ -353,3 +353,61 @@ def test_every_registered_command_is_swept():
     missing = sorted(c for c in registered
                      if c not in CLI_CASES and c not in no_input and not c.startswith("simulate"))
     assert not missing, f"commands not in the robustness sweep: {missing}"
+
+
+# ------------------------------------------------------------------ main's last line of defence
+
+def test_user_errors_from_the_environment_are_exit_2_lines():
+    """Exceptions that bad input or the machine cause (issue 19 item 7) map to one line
+    naming the file; a genuine bug does not."""
+    import errno
+
+    from inertialab.cli.main import user_error
+
+    files = ["in.csv"]
+    assert "not enough memory" in user_error(MemoryError(), files) and "in.csv" in \
+        user_error(MemoryError(), files)
+    assert "nested too deeply (in.csv)" in user_error(RecursionError(), files)
+    assert user_error(OSError(errno.ENOSPC, "No space left on device", "/o/x.csv"),
+                      files) == "/o/x.csv: No space left on device"
+    assert user_error(OSError(errno.EROFS, "Read-only file system"), files) == \
+        "in.csv: Read-only file system"
+    exc = UnicodeDecodeError("utf-8", b"\xff", 0, 1, "invalid start byte")
+    assert user_error(exc, files) == "input is not UTF-8 text (in.csv) (byte 0xff at offset 0)"
+    assert "too large" in user_error(OverflowError("int too large to convert"), files)
+    try:
+        int("9" * 5000)
+    except ValueError as e:
+        assert "too many digits" in user_error(e, files)
+    assert user_error(ZeroDivisionError("bug"), files) is None
+    assert user_error(BrokenPipeError(errno.EPIPE, "pipe"), files) is None
+
+
+@pytest.mark.parametrize("argv, what", [
+    (["allan", "x.csv", "--rate", "1e308"], "--rate is a sample rate"),
+    (["allan", "x.csv", "--rate=1e-308"], "--rate is a sample rate"),
+    (["allan", "x.csv", "--rate", "nan"], "--rate is a sample rate"),
+    (["allan", "x.csv", "--taus", "1e11"], "--taus in seconds"),
+    (["allan", "x.csv", "--taus", "99999999999999"], "--taus count"),
+    (["design", "dual", "--positions", "100000000"], "--positions is a number of positions"),
+    (["drift", "forecast", "m.json", "--horizon", "100000000"], "--horizon is a forecast"),
+    (["simulate", "gyro-static", "--out", "/dev/null"], "--out is a device"),
+])
+def test_size_arguments_and_device_outputs_refused_before_any_work(argv, what):
+    code, out, err = run_cli(argv)
+    assert code == 2 and err.count("\n") == 1 and what in err, err
+
+
+def test_warnings_print_as_one_line_and_handlers_are_restored():
+    import signal
+    import warnings
+
+    from inertialab.cli.main import _one_line_warning
+
+    buf = io.StringIO()
+    _one_line_warning(RuntimeWarning("overflow encountered\nin multiply"), RuntimeWarning,
+                      "/x/numpy/core.py", 12, file=buf, line="  y = a * b")
+    assert buf.getvalue() == "warning: RuntimeWarning: overflow encountered in multiply\n"
+    show, term = warnings.showwarning, signal.getsignal(signal.SIGTERM)
+    run_cli(["--version"])
+    assert warnings.showwarning is show and signal.getsignal(signal.SIGTERM) is term

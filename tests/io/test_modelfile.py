@@ -1,6 +1,7 @@
 """Model files: round trip, atomic write, refusal of tampered tags and newer formats."""
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -55,7 +56,7 @@ def test_wrong_expected_type_and_bad_payload(tmp_path):
     env = json.loads(p.read_text())
     del env["payload"]["coef"]
     p.write_text(json.dumps(env))
-    with pytest.raises(InputError, match="payload is invalid"):
+    with pytest.raises(InputError, match="'polynomial' model payload: lacks 'coef'"):
         load_model(p)
     p.write_text("{not json")
     with pytest.raises(InputError, match="not valid JSON"):
@@ -69,3 +70,77 @@ def test_released_format_fixture_still_loads():
     fixture = Path(__file__).parent.parent / "data" / "models" / "polynomial-v1.json"
     m = load_model(fixture)
     np.testing.assert_allclose(m.predict([0.0, 1.0, 2.0]), [1.0, 2.5, 1.0], atol=1e-9)
+
+
+# ------------------------------------------------------------------ hostile files (issue 19)
+
+FIXTURES = sorted((Path(__file__).resolve().parents[1] / "data" / "models").glob("*.json"))
+
+
+@pytest.mark.parametrize("token", ["NaN", "Infinity", "-Infinity", "1e999", "-1e400"])
+def test_non_finite_numbers_are_refused(tmp_path, token):
+    text = save_model(_model(), tmp_path / "m.json").read_text()
+    env = json.loads(text)
+    env["payload"]["coef"][0] = 12345.5
+    bad = json.dumps(env).replace("12345.5", token)
+    (tmp_path / "m.json").write_text(bad)
+    with pytest.raises(InputError, match="non-finite|overflows"):
+        load_model(tmp_path / "m.json")
+
+
+def test_nesting_size_and_huge_integers_are_bounded(tmp_path):
+    p = tmp_path / "m.json"
+    for text, msg in [("[" * 1000 + "]" * 1000, "nested"),
+                      ('{"a": ' + "[" * 40 + "]" * 40 + "}", "nested more than"),
+                      ('{"format": "inertialab-model", "n": ' + "9" * 5000 + "}", "digits"),
+                      ("\ufeff{}".encode().decode("latin-1"), "UTF-8|not an"),
+                      ]:
+        p.write_text(text, encoding="latin-1" if text.startswith("\u00ef") else "utf-8")
+        with pytest.raises(InputError, match=msg):
+            load_model(p)
+    p.write_bytes("{}".encode("utf-16"))
+    with pytest.raises(InputError, match="not UTF-8"):
+        load_model(p)
+    with pytest.raises(InputError, match="not a regular file"):
+        load_model(tmp_path)
+    with pytest.raises(InputError, match="not a regular file"):
+        load_model("/dev/null")
+
+
+def _leaves(obj, path=()):
+    if isinstance(obj, dict):
+        for k, v in obj.items():
+            yield from _leaves(v, (*path, k))
+    elif isinstance(obj, list) and obj:
+        yield from _leaves(obj[0], (*path, 0))
+        yield path, obj
+    else:
+        yield path, obj
+
+
+def _set(obj, path, value):
+    for k in path[:-1]:
+        obj = obj[k]
+    obj[path[-1]] = value
+
+
+@pytest.mark.parametrize("fixture", FIXTURES, ids=lambda p: p.stem)
+def test_wrong_typed_payloads_are_one_line_input_errors(fixture, tmp_path):
+    """Every leaf of every fixture's payload replaced by a value of the wrong type, a
+    non-finite-looking string, an empty list and a nested object: the model loads (the
+    key is optional) or the load is one InputError line; never another exception."""
+    env = json.loads(fixture.read_text())
+    paths = [p for p, _ in _leaves(env["payload"]) if p]
+    p = tmp_path / "m.json"
+    refused = 0
+    for path in paths:
+        for value in ("x", None, [], {"a": 1}, True, -1e308):
+            e = json.loads(json.dumps(env))
+            _set(e["payload"], path, value)
+            p.write_text(json.dumps(e))
+            try:
+                load_model(p)
+            except InputError as exc:
+                assert "\n" not in str(exc)
+                refused += 1
+    assert refused >= len(paths)  # most edits are refused, one message each

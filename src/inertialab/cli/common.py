@@ -13,6 +13,7 @@ import contextlib
 import hashlib
 import json
 import math
+import os
 import shutil
 import sys
 import warnings
@@ -23,7 +24,9 @@ import typer
 
 from inertialab import __version__
 from inertialab.errors import InputError
+from inertialab.io import outputs
 from inertialab.io.modelfile import dependency_versions
+from inertialab.io.names import safe_slug
 from inertialab.io.writers import atomic_path, atomic_write_bytes, atomic_write_text
 from inertialab.jsonable import to_jsonable
 
@@ -166,20 +169,34 @@ def progress_bar(label: str, *, quiet: bool = False) -> _Bar:
 
 
 def prepare_out_dir(path) -> Path:
-    """Create the ``--out`` directory (parents too); refuse a path that is a file."""
-    p = Path(path)
-    if p.exists() and not p.is_dir():
-        raise InputError("--out must be a directory for this command", path=p)
-    p.mkdir(parents=True, exist_ok=True)
-    return p
+    """Register the ``--out`` directory of a command (issue 19); nothing is created here.
+
+    Under the command line (:func:`inertialab.cli.main.main` runs every command in an
+    output transaction) the directory is built in a temporary sibling on the first write
+    and moved into place when the command succeeds; a directory inertialab wrote before
+    is replaced whole, one it did not write only receives the new files. A path that
+    exists and is not a directory is refused. The returned path prints as ``path``.
+    """
+    try:
+        return outputs.stage_dir(path)
+    except outputs.OutputError as exc:
+        raise outputs.OutputError(f"--out must be a directory for this command "
+                                  f"({_after_path(exc, path)})", path=path) from None
+
+
+def _after_path(exc: Exception, path) -> str:
+    text = str(exc)
+    prefix = f"{os.path.abspath(path)}: "
+    return text[len(prefix):] if text.startswith(prefix) else text
 
 
 @contextlib.contextmanager
 def output_file(path):
     """Yield a temporary path for a one-record output; renamed to ``path`` on success,
-    removed on error (DESIGN.md: outputs replaced atomically, removed on error)."""
+    removed on error (DESIGN.md: outputs replaced atomically, removed on error). Only a
+    regular file (or nothing) at ``path`` is replaced."""
     p = Path(path)
-    if p.exists() and p.is_dir():
+    if p.is_dir():
         raise InputError("--out must be a file for this command", path=p)
     with atomic_path(p) as tmp:
         yield tmp
@@ -187,12 +204,15 @@ def output_file(path):
 
 def write_figures(figures, out_dir, *, dpi: int = 110) -> list[Path]:
     """Write ``report.section.Figure`` objects (or (name, matplotlib figure) pairs) as PNG
-    files into ``out_dir``; return the paths."""
+    files into ``out_dir``; return the paths. Names become file names only through
+    :func:`~inertialab.io.names.safe_slug` (a figure named from data cannot leave
+    ``out_dir``)."""
     import io as _io
 
     import matplotlib.pyplot as plt
 
     paths = []
+    taken: set[str] = set()
     out = Path(out_dir)
     for i, f in enumerate(figures):
         fig = getattr(f, "figure", None) or (f[1] if isinstance(f, tuple) else f)
@@ -200,7 +220,7 @@ def write_figures(figures, out_dir, *, dpi: int = 110) -> list[Path]:
         buf = _io.BytesIO()
         fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight")
         plt.close(fig)
-        target = out / f"{name}.png"
+        target = out / f"{safe_slug(name, taken=taken)}.png"
         atomic_write_bytes(target, buf.getvalue())
         paths.append(target)
     return paths

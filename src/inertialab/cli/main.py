@@ -20,13 +20,18 @@ import os
 for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 
+import contextlib  # noqa: E402
+import errno  # noqa: E402
 import importlib  # noqa: E402
 import pkgutil  # noqa: E402
+import signal  # noqa: E402
 import sys  # noqa: E402
+import warnings  # noqa: E402
 
 import typer  # noqa: E402
 
 from inertialab import __version__  # noqa: E402
+from inertialab.cli.options import check_limits, check_out_targets  # noqa: E402
 from inertialab.errors import InputError  # noqa: E402
 
 _GROUP_HELP = {
@@ -114,8 +119,8 @@ def _click_exit(exc: BaseException) -> int | None:
     if name == "Exit" and hasattr(exc, "exit_code"):
         return int(exc.exit_code)
     if name == "Abort":
-        sys.stderr.write("error: aborted\n")
-        return 1
+        sys.stderr.write("error: interrupted; nothing was written\n")
+        return 128 + signal.SIGINT
     if hasattr(exc, "format_message") and hasattr(exc, "exit_code"):
         ctx = getattr(exc, "ctx", None)
         hint = f" (see '{ctx.command_path} --help')" if ctx is not None else ""
@@ -167,15 +172,7 @@ def expand_config(args: list[str]) -> list[str]:
     if i + 1 >= len(args):
         raise InputError("--config needs a TOML file")
     path = args[i + 1]
-    import tomllib
-
-    try:
-        with open(path, "rb") as fh:
-            doc = tomllib.load(fh)
-    except FileNotFoundError:
-        raise InputError("no such configuration file", path=path) from None
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-        raise InputError(f"configuration is not valid TOML ({_one_line(exc)})", path=path) from None
+    doc = _read_config(path)
     if "argv" in doc:
         expanded = [str(a) for a in doc["argv"]]
     elif "command" in doc:
@@ -192,26 +189,174 @@ def expand_config(args: list[str]) -> list[str]:
     return expanded + args[:i] + args[i + 2:]
 
 
+class Terminated(BaseException):
+    """Raised in the main thread by the SIGTERM/SIGINT handler of :func:`main` (a
+    ``BaseException`` that is not ``KeyboardInterrupt``, so that neither an ``except
+    Exception`` in a command nor click's own ``KeyboardInterrupt`` handling swallows it,
+    and the output transaction unwinds)."""
+
+    def __init__(self, signum: int):
+        super().__init__(signum)
+        self.signum = signum
+
+
+#: The signal that interrupted the run (an import interrupted by it surfaces as another
+#: exception, e.g. ``ImportError: initialization failed``).
+_SIGNALLED: list[int] = []
+
+
+def _on_signal(signum, frame):  # pragma: no cover - exercised in a subprocess test
+    _SIGNALLED.append(signum)
+    raise Terminated(signum)
+
+
+def _input_files(args: list[str]) -> list[str]:
+    """The arguments that name existing regular files (the run's inputs, for messages and
+    so that no directory output replaces a directory holding one)."""
+    out = []
+    for a in args:
+        if a.startswith("-") or len(a) > 4096 or "\0" in a:
+            continue
+        with contextlib.suppress(OSError, ValueError):
+            if os.path.isfile(a):
+                out.append(a)
+    return out
+
+
+def _about(files: list[str]) -> str:
+    return f" ({', '.join(files[:3])})" if files else ""
+
+
+#: errno values of an ``OSError`` that are the user's environment, not a bug: exit 2.
+_USER_ERRNOS = {errno.ENOSPC, errno.EDQUOT, errno.EROFS, errno.EACCES, errno.EPERM,
+                errno.EISDIR, errno.ENOTDIR, errno.ENOENT, errno.ENAMETOOLONG, errno.ELOOP,
+                errno.EFBIG, errno.EEXIST, errno.ENOTEMPTY, errno.EBUSY, errno.ETXTBSY,
+                errno.EXDEV, errno.EMFILE, errno.ENFILE, errno.EIO, errno.EINVAL,
+                errno.ENXIO, errno.ENODEV}
+
+
+def user_error(exc: BaseException, files: list[str]) -> str | None:
+    """The one-line message of an exception that bad input or the environment caused
+    (issue 19: exit 2, not an internal error), or None for a genuine bug."""
+    if isinstance(exc, InputError):
+        return _one_line(exc)
+    if isinstance(exc, MemoryError):
+        return (f"not enough memory for this input{_about(files)}; use a smaller file or "
+                "smaller size arguments")
+    if isinstance(exc, RecursionError):
+        return f"input nested too deeply{_about(files)}"
+    if isinstance(exc, UnicodeDecodeError):
+        return (f"input is not UTF-8 text{_about(files)} (byte 0x{exc.object[exc.start]:02x} "
+                f"at offset {exc.start})") if exc.object else f"input is not UTF-8 text{_about(files)}"
+    if isinstance(exc, UnicodeError):
+        return f"input has an encoding error{_about(files)}: {_one_line(exc)}"
+    if isinstance(exc, OverflowError):
+        return f"a number is too large{_about(files)} ({_one_line(exc)})"
+    if isinstance(exc, ValueError) and "integer string conversion" in str(exc):
+        return f"an integer has too many digits{_about(files)}"
+    if isinstance(exc, OSError) and not isinstance(exc, BrokenPipeError) and \
+            exc.errno in _USER_ERRNOS:
+        where = exc.filename if exc.filename is not None else (files[0] if files else None)
+        reason = exc.strerror or _one_line(exc)
+        return f"{where}: {reason}" if where is not None else reason
+    return None
+
+
+def _one_line_warning(message, category, filename, lineno, file=None, line=None):
+    """warnings.showwarning for the CLI: one line, no source line (issue 19)."""
+    stream = file if file is not None else sys.stderr
+    with contextlib.suppress(OSError, ValueError):
+        stream.write(f"warning: {category.__name__}: {_one_line(message)}\n")
+
+
+#: Largest configuration file read (bytes); a run configuration is a few lines.
+MAX_CONFIG_BYTES = 1 << 20
+
+
+def _read_config(path) -> dict:
+    """Parse a ``--config`` TOML file: bounded size, nesting and integers (issue 19)."""
+    import tomllib
+
+    try:
+        with open(path, "rb") as fh:
+            raw = fh.read(MAX_CONFIG_BYTES + 1)
+    except FileNotFoundError:
+        raise InputError("no such configuration file", path=path) from None
+    except IsADirectoryError:
+        raise InputError("configuration is a directory, not a TOML file", path=path) from None
+    except OSError as exc:
+        raise InputError(f"cannot read configuration ({exc.strerror})", path=path) from None
+    if len(raw) > MAX_CONFIG_BYTES:
+        raise InputError(f"configuration is larger than {MAX_CONFIG_BYTES} bytes", path=path)
+    try:
+        return tomllib.loads(raw.decode("utf-8"))
+    except UnicodeDecodeError:
+        raise InputError("configuration is not UTF-8 text", path=path) from None
+    except RecursionError:
+        raise InputError("configuration is nested too deeply", path=path) from None
+    except ValueError as exc:  # TOMLDecodeError, or an integer of thousands of digits
+        raise InputError(f"configuration is not valid TOML ({_one_line(exc)})",
+                         path=path) from None
+
+
+def _interrupted(signum: int) -> int:
+    sys.stderr.write(f"error: interrupted by {signal.Signals(signum).name}; nothing was "
+                     "written\n")
+    return 128 + signum
+
+
 def main(argv: list[str] | None = None) -> None:
-    """Run the CLI; exit 0 on success, 2 on bad input or usage, 1 on an internal error."""
+    """Run the CLI; exit 0 on success, 2 on bad input or usage (or an output that cannot
+    be written), 130/143 when interrupted by SIGINT/SIGTERM, 1 on an internal error.
+
+    The command runs inside an output transaction (:mod:`inertialab.io.outputs`): its
+    outputs are committed when it returns and removed when it fails or is interrupted.
+    """
+    from inertialab.io import outputs
+
     args = sys.argv[1:] if argv is None else list(argv)
+    files = _input_files(args)
+    _SIGNALLED.clear()
+    old_handlers = {}
+    for signum in (signal.SIGTERM, signal.SIGINT):
+        with contextlib.suppress(ValueError):  # not the main thread: leave signals alone
+            old_handlers[signum] = signal.signal(signum, _on_signal)
+    old_show = warnings.showwarning
+    warnings.showwarning = _one_line_warning
     try:
         args = expand_config(args)
+        files = _input_files(args)
+        check_limits(args)
+        check_out_targets(args)
         cmd = typer.main.get_command(build_app())
-        rv = cmd.main(args=args, prog_name="inertialab", standalone_mode=False)
-        code = rv if isinstance(rv, int) else 0
-    except InputError as exc:
-        sys.stderr.write(f"error: {_one_line(exc)}\n")
-        code = 2
-    except (BrokenPipeError, KeyboardInterrupt):
+        with outputs.transaction(protect=files) as tx:
+            rv = cmd.main(args=args, prog_name="inertialab", standalone_mode=False)
+            code = rv if isinstance(rv, int) else 0
+            if code != 0:  # a command that exits non-zero writes nothing
+                tx.rollback()
+    except (Terminated, KeyboardInterrupt) as exc:
+        code = _interrupted(getattr(exc, "signum", signal.SIGINT))
+    except BrokenPipeError:
         code = 1
     except Exception as exc:
-        code = _click_exit(exc)
+        message = None if _SIGNALLED else user_error(exc, files)
+        if _SIGNALLED:  # the signal landed inside code that wrapped it (an import)
+            code = _interrupted(_SIGNALLED[-1])
+        elif message is not None:
+            sys.stderr.write(f"error: {message}\n")
+            code = 2
+        else:
+            code = _click_exit(exc)
         if code is None:  # an inertialab bug: say so in one line
             if os.environ.get("INERTIALAB_DEBUG"):
                 raise
             sys.stderr.write(f"error: internal error ({type(exc).__name__}: {_one_line(exc)}); "
                              "rerun with INERTIALAB_DEBUG=1 and report it\n")
             code = 1
-    sys.stdout.flush()
+    finally:
+        warnings.showwarning = old_show
+        for signum, handler in old_handlers.items():
+            signal.signal(signum, handler)
+    with contextlib.suppress(BrokenPipeError, ValueError):
+        sys.stdout.flush()
     raise SystemExit(code)

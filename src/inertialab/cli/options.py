@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import functools
 import inspect
+import math
 import re
 from pathlib import Path
 from typing import Annotated, Any
@@ -32,10 +33,11 @@ QuietOpt = Annotated[bool, typer.Option("--quiet", help="No progress bar or warn
 SeedOpt = Annotated[int, typer.Option("--seed", help="Random seed (same seed, same numbers).")]
 OutDirOpt = Annotated[Path | None, typer.Option(
     "--out", help="Output directory (figures, model.json, result.json); built aside and "
-                  "moved into place only when complete.")]
+                  "moved into place only when complete. A directory inertialab wrote before "
+                  "is replaced whole; a file, device or FIFO there is refused.")]
 OutFileOpt = Annotated[Path | None, typer.Option(
-    "--out", help="Output file (a sidecar .meta.json is written beside it); replaces only "
-                  "a regular file.")]
+    "--out", help="Output file (a sidecar .meta.json is written beside it); overwrites only "
+                  "a regular file (a directory, device or FIFO there is refused).")]
 
 
 def _opt(name: str, annotation, default=None) -> inspect.Parameter:
@@ -46,15 +48,38 @@ def _opt(name: str, annotation, default=None) -> inspect.Parameter:
 #: The reading options (name -> Parameter); ReadOptions.from_cli receives them by name.
 READING_PARAMS: list[inspect.Parameter] = [
     _opt("map_text", Annotated[str | None, typer.Option(
-        "--map", help="Column map target=source[:unit],... (e.g. gx_dps='Gyro X');")]),
+        "--map", help="Column map target=source[:unit],... (e.g. gx_rps='Gyro X:dps'; "
+                      "colN = N-th column of a headerless file).")]),
     _opt("map_file", Annotated[Path | None, typer.Option(
         "--map-file", help="Column map and parse options from a JSON/TOML file.")]),
     _opt("sep", Annotated[str | None, typer.Option(
-        "--sep", help="Field separator (default: sniffed).")]),
+        "--sep", help="Field separator , ; tab or ' ' for blanks (default: sniffed).")]),
     _opt("decimal", Annotated[str | None, typer.Option(
         "--decimal", help="Decimal mark . or , (default: sniffed).")]),
     _opt("skip_rows", Annotated[int | None, typer.Option(
-        "--skip-rows", help="Preamble lines before the header (default: # lines).")]),
+        "--skip-rows", help="Preamble lines before the header (default: sniffed).")]),
+    _opt("time_col", Annotated[str | None, typer.Option(
+        "--time-col", help="Column holding the time stamps (becomes t_s).")]),
+    _opt("time_unit", Annotated[str | None, typer.Option(
+        "--time-unit", help="Unit of the time stamps: s, ms, us or ns (default s).")]),
+    _opt("rate", Annotated[float | None, typer.Option(
+        "--rate", help="Sample rate in Hz when the file has no time column.")]),
+    _opt("unit", Annotated[str | None, typer.Option(
+        "--unit", help="Unit of columns without one: a suffix (dps), one per dimension "
+                       "(g,dps) or per column (gx=dps,ax=g).")]),
+    _opt("topic", Annotated[str | None, typer.Option(
+        "--topic", help="ROS bag topic or PX4 ULog message (sensor_combined, sensor_gyro, "
+                        "sensor_accel); default: the only IMU topic.")]),
+    _opt("instance", Annotated[int | None, typer.Option(
+        "--instance", help="ULog multi-instance (sensor_gyro 0, 1, 2 ...); default 0.")]),
+    _opt("dataset", Annotated[str | None, typer.Option(
+        "--dataset", help="MATLAB variable or HDF5 dataset path (imu/gyro).")]),
+    _opt("join", Annotated[list[Path] | None, typer.Option(
+        "--join", help="Further time x y z file joined on time (imu_tk: gyro beside "
+                       "accelerometer); repeatable.")]),
+    _opt("resample", Annotated[float | None, typer.Option(
+        "--resample", help="Resample onto a uniform grid at this rate, Hz (linear; only "
+                           "when given).")]),
 ]
 
 
@@ -62,29 +87,64 @@ def _build_read(values: dict[str, Any]) -> ReadOptions:
     return ReadOptions.from_cli(values.pop("map_text"), values.pop("map_file"), **values)
 
 
+def _flags_of(param: inspect.Parameter) -> set[str]:
+    """The option flags a command parameter declares (default or Annotated form)."""
+    infos = [param.default]
+    ann = param.annotation
+    if getattr(ann, "__metadata__", None):
+        infos.extend(ann.__metadata__)
+    flags = set()
+    for info in infos:
+        if not hasattr(info, "param_decls"):
+            continue
+        decls = list(info.param_decls or ())
+        if isinstance(info.default, str):  # Annotated form: the first flag sits in default
+            decls.append(info.default)
+        flags.update(d for d in decls if isinstance(d, str) and d.startswith("--"))
+    return flags
+
+
+def _main_flag(param: inspect.Parameter) -> str:
+    return sorted(_flags_of(param))[0]
+
+
 def reading_options(fn):
     """Decorator: add the reading options to command ``fn``, which takes ``read``.
 
     ``fn`` must declare a parameter named ``read``; it receives the
-    :class:`~inertialab.io.mapping.ReadOptions` built from the flags.
+    :class:`~inertialab.io.mapping.ReadOptions` built from the flags. Where ``fn``
+    already declares one of the reading flags itself (``--rate``, ``--unit`` in commands
+    that had them before the front door), its own option stays (help text and name) and
+    the value is handed to ``fn`` and copied into ``read``.
     """
-    sig = inspect.signature(fn)
+    try:  # evaluated annotations (commands use `from __future__ import annotations`)
+        sig = inspect.signature(fn, eval_str=True)
+    except NameError:
+        sig = inspect.signature(fn)
     if "read" not in sig.parameters:
         raise TypeError(f"{fn.__name__} needs a 'read' parameter for reading_options")
-    names = [p.name for p in READING_PARAMS]
+    own = {}
+    for p in sig.parameters.values():
+        for flag in _flags_of(p):
+            own[flag] = p.name
+    added = [p for p in READING_PARAMS if _main_flag(p) not in own]
+    shared = {p.name: own[_main_flag(p)] for p in READING_PARAMS if _main_flag(p) in own}
+    names = [p.name for p in added]
 
     @functools.wraps(fn)
     def wrapper(*args, **kwargs):
         values = {n: kwargs.pop(n, None) for n in names}
+        for rname, fname in shared.items():
+            values[rname] = kwargs.get(fname)
         kwargs["read"] = _build_read(values)
         return fn(*args, **kwargs)
 
     params = [p for p in sig.parameters.values() if p.name != "read"]
     kw_only = [p for p in params if p.kind == inspect.Parameter.KEYWORD_ONLY]
     others = [p for p in params if p.kind != inspect.Parameter.KEYWORD_ONLY]
-    wrapper.__signature__ = sig.replace(parameters=others + kw_only + READING_PARAMS)
-    ann = {k: v for k, v in getattr(fn, "__annotations__", {}).items() if k != "read"}
-    ann.update({p.name: p.annotation for p in READING_PARAMS})
+    wrapper.__signature__ = sig.replace(parameters=others + kw_only + added)
+    ann = {p.name: p.annotation for p in params}
+    ann.update({p.name: p.annotation for p in added})
     wrapper.__annotations__ = ann
     return wrapper
 
@@ -95,6 +155,12 @@ FLAG_OF: dict[str, str] = {
     "rate_hz": "--rate",
     "column_map": "--map",
     "skip_rows": "--skip-rows",
+    "time_column": "--time-col",
+    "time_unit": "--time-unit",
+    "topic": "--topic",
+    "instance": "--instance",
+    "dataset": "--dataset",
+    "resample_hz": "--resample",
     "unit": "--unit",
     "g_local": "--g-local",
     "method": "--method",
@@ -102,6 +168,33 @@ FLAG_OF: dict[str, str] = {
     "reference": "--reference",
     "horizon": "--horizon",
     "seed": "--seed",
+    "input": "--input",
+    "stats": "--stat",
+    "export": "--export",
+    "gaps": "--gaps",
+    "model": "--model",
+    "workers": "--workers",
+    "scheduler": "--scheduler",
+    "nominal_hz": "--nominal",
+    "fit_terms": "--terms",
+    "column": "--column",
+    "gyro_lsb_per_rps": "--gyro-lsb-per-rps",
+    "k_thr": "--k-thr",
+    "threshold": "--threshold",
+    "t_init_s": "--t-init",
+    "min_duration_s": "--min-duration",
+    "window_s": "--window",
+    "force": "--force",
+    "bias_limit": "--bias-limit",
+    "norm_tol": "--norm-tol",
+    "max_generations": "--max-generations",
+    "robust": "--robust",
+    "placement_deg": "--placement-deg",
+    "drop_g_sensitivity": "--drop-g-sensitivity",
+    "fish_visual": "--visual",
+    "fish_step": "--step",
+    "fish_try_number": "--try-number",
+    "fish_crowd": "--crowd",
     "n_positions": "--positions",
     "step_deg": "--step-deg",
     "range_deg": "--range-deg",
@@ -116,3 +209,127 @@ def flagged(message: str) -> str:
         return flag if flag else m.group(0)
 
     return re.sub(r"argument '([a-z_]+)'", sub, message)
+
+
+#: Bounds of the size arguments (issue 19): flag -> (lowest, highest, what it is). A value
+#: outside is a usage error (exit 2) before any work starts, instead of a MemoryError or a
+#: run that does not end. :func:`check_limits` applies them to every command line (main
+#: calls it); a command may also declare ``callback=bounded("--rate")`` on its option.
+LIMITS: dict[str, tuple[float, float, str]] = {
+    "--rate": (1e-9, 1e9, "a sample rate in Hz"),
+    "--hours": (1e-6, 1e4, "a duration in hours"),
+    "--days": (1, 36_500, "a number of days"),
+    "--horizon": (1, 36_500, "a forecast horizon in days"),
+    "--units": (1, 10_000, "a number of units"),
+    "--n-units": (1, 1_000_000, "a number of units"),
+    "--positions": (1, 10_000, "a number of positions"),
+    "--restarts": (1, 1_000, "a number of restarts"),
+    "--fish": (1, 10_000, "a population size"),
+    "--generations": (1, 100_000, "a number of generations"),
+    "--max-generations": (1, 1_000_000, "a number of generations"),
+    "--epochs": (1, 1_000_000, "a number of epochs"),
+    "--search-epochs": (1, 1_000_000, "a number of epochs"),
+    "--max-gap": (0, 36_500, "a gap length"),
+    "--p1-s": (0, 1e6, "a duration in seconds"),
+    "--p2-s": (0, 1e6, "a duration in seconds"),
+    "--p3-s": (0, 1e6, "a duration in seconds"),
+}
+#: ``--taus``: at most this many log-spaced taus, and taus in seconds up to this.
+MAX_TAU_COUNT = 100_000
+MAX_TAU_S = 1e10
+
+
+def _number(text: str) -> float | None:
+    try:
+        return float(text)
+    except (TypeError, ValueError, OverflowError):
+        return None
+
+
+def check_value(flag: str, text: str) -> None:
+    """Raise :class:`~inertialab.errors.InputError` when ``text`` (the value given to
+    ``flag``) is a number outside :data:`LIMITS` (or a ``--taus`` count/list out of
+    bounds); a value that is not a number is left to the command's own parsing."""
+    from inertialab.errors import InputError
+
+    text = str(text).strip()
+    if flag == "--taus":
+        if text.isdigit():
+            if len(text) > 12 or not 1 <= int(text) <= MAX_TAU_COUNT:
+                raise InputError(f"--taus count must be 1 .. {MAX_TAU_COUNT}, got {text[:20]}")
+            return
+        vals = [_number(v) for v in text.split(",") if v.strip()]
+        if vals and all(v is not None for v in vals):
+            if not all(math.isfinite(v) and 0 < v <= MAX_TAU_S for v in vals):
+                raise InputError(f"--taus in seconds must be finite, > 0 and <= {MAX_TAU_S:g}, "
+                                 f"got {text[:40]}")
+        return
+    if flag not in LIMITS:
+        return
+    lo, hi, what = LIMITS[flag]
+    v = _number(text)
+    if v is None:
+        return
+    if not math.isfinite(v) or not lo <= v <= hi:
+        raise InputError(f"{flag} is {what} and must be between {lo:g} and {hi:g}, "
+                         f"got {text[:40]}")
+
+
+def check_limits(args: list[str]) -> None:
+    """Check every bounded flag of a command line (``--flag VALUE`` and ``--flag=VALUE``)."""
+    for i, a in enumerate(args):
+        if not a.startswith("--"):
+            continue
+        flag, eq, value = a.partition("=")
+        if flag not in LIMITS and flag != "--taus":
+            continue
+        if eq:
+            check_value(flag, value)
+        elif i + 1 < len(args):
+            check_value(flag, args[i + 1])
+
+
+#: Options that name an output (file or directory); see :func:`check_out_targets`.
+#: (flag -> position of the path among its values: ``--export STYLE FILE`` -> 2).
+OUTPUT_FLAGS = {"--out": 1, "--c": 1, "--truth": 1, "--save-config": 1, "--export": 2}
+
+
+def check_out_targets(args: list[str]) -> None:
+    """Refuse, before any work, an output option naming an existing device, FIFO or
+    socket (or a link to one): an output replaces only a regular file or fills a
+    directory (issue 19). Which of the two a command wants it checks itself."""
+    import os
+    import stat
+
+    from inertialab.errors import InputError
+
+    for i, a in enumerate(args):
+        flag, eq, value = a.partition("=")
+        if flag not in OUTPUT_FLAGS:
+            continue
+        k = i + OUTPUT_FLAGS[flag]
+        target = value if eq else (args[k] if k < len(args) else None)
+        if not target:
+            continue
+        try:
+            mode = os.stat(target).st_mode
+        except (OSError, ValueError):
+            continue
+        if not (stat.S_ISREG(mode) or stat.S_ISDIR(mode)):
+            kind = ("a device" if stat.S_ISCHR(mode) or stat.S_ISBLK(mode) else
+                    "a FIFO" if stat.S_ISFIFO(mode) else "a socket")
+            raise InputError(f"{flag} is {kind}; an output replaces only a regular file or "
+                             "fills a directory", path=target)
+
+
+def bounded(flag: str):
+    """A typer callback enforcing :data:`LIMITS` for ``flag`` on one option."""
+    def callback(value):
+        if value is not None:
+            try:
+                check_value(flag, str(value))
+            except ValueError as exc:
+                raise typer.BadParameter(str(exc)) from None
+        return value
+
+    return callback

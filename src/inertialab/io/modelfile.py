@@ -9,8 +9,11 @@
 
 Loading never executes code from the file: the type tag is looked up in the allow-list
 :data:`MODEL_TYPES` (tag -> inertialab class, imported lazily) and the class rebuilds
-itself from the plain-JSON payload with ``from_dict``. An unknown tag, a newer format
-version, a malformed envelope or a payload the class rejects is an
+itself from the plain-JSON payload with ``from_dict``. The file is parsed strictly
+(:func:`parse_json_strict`: no NaN/Infinity, bounded size, nesting and integers) and the
+payload checked against its type's schema (:mod:`inertialab.io.model_schemas`: types,
+shapes, finiteness, ranges) before ``from_dict`` runs. An unknown tag, a newer format
+version, a malformed envelope or a payload the schema or the class rejects is an
 :class:`~inertialab.errors.InputError`. Writes are atomic (temporary file + rename).
 Never pickle.
 """
@@ -20,9 +23,12 @@ from __future__ import annotations
 import datetime as _dt
 import importlib
 import json
+import math
+import stat
 from pathlib import Path
 
 from inertialab.errors import InputError
+from inertialab.io.model_schemas import SchemaError, check_payload
 from inertialab.jsonable import to_jsonable
 
 FORMAT = "inertialab-model"
@@ -36,9 +42,9 @@ MODEL_TYPES: dict[str, str] = {
     "mlp-lm": "inertialab.learn.mlp_lm:MLPRegressorLM",
     "nar": "inertialab.learn.nar:NARForecaster",
     "noise-terms": "inertialab.noise.terms:NoiseTerms",
-    "vibration-compensation": "inertialab.workflows.vibration:VibrationModel",
-    "thermal-compensation": "inertialab.workflows.thermal:ThermalModel",
-    "triaxial-calibration": "inertialab.workflows.field_calibration:TriaxialCalibration",
+    "vibration-compensation": "inertialab.calib.vibration:VibrationModel",
+    "thermal-compensation": "inertialab.calib.thermal:ThermalModel",
+    "triaxial-calibration": "inertialab.calib.triaxial:TriaxialCalibration",
     "dual-calibration": "inertialab.calib.dual:DualCalibration",
     "storage-drift": "inertialab.calib.drift:DriftModel",
 }
@@ -98,17 +104,92 @@ def save_model(obj, path, *, units: dict | None = None, training_data_sha256: st
     return atomic_write_text(path, text + "\n")
 
 
-def read_envelope(path) -> dict:
-    """Read and check a model file's envelope (without building the model)."""
-    p = Path(path)
-    if not p.exists():
-        raise InputError("no such model file", path=p)
+#: Largest model file read (bytes), deepest nesting and longest integer accepted
+#: (issue 19: a model file is data, never a way to exhaust memory or the stack).
+MAX_MODEL_BYTES = 64 << 20
+MAX_DEPTH = 32
+MAX_INT_DIGITS = 80
+
+
+def _refuse_constant(name: str):
+    raise ValueError(f"non-finite number {name} (model files hold finite numbers only)")
+
+
+def _finite_float(text: str) -> float:
+    v = float(text)
+    if not math.isfinite(v):
+        raise ValueError(f"number {text[:30]} overflows a double")
+    return v
+
+
+def _bounded_int(text: str) -> int:
+    if len(text.lstrip("-")) > MAX_INT_DIGITS:
+        raise ValueError(f"integer of {len(text)} digits (at most {MAX_INT_DIGITS})")
+    return int(text)
+
+
+def _depth(obj) -> int:
+    """Nesting depth of a parsed JSON value (iterative: no recursion)."""
+    deepest, stack = 0, [(obj, 1)]
+    while stack:
+        v, d = stack.pop()
+        if isinstance(v, dict):
+            v = list(v.values())
+        if isinstance(v, list):
+            deepest = max(deepest, d)
+            stack.extend((x, d + 1) for x in v if isinstance(x, (list, dict)))
+    return deepest
+
+
+def parse_json_strict(raw: bytes, *, what: str, path) -> object:
+    """Parse untrusted JSON bytes: UTF-8 only, no NaN/Infinity tokens, no number that
+    overflows a double, integers of at most :data:`MAX_INT_DIGITS` digits, nesting of at
+    most :data:`MAX_DEPTH`. Anything else is one :class:`InputError` naming ``path``."""
     try:
-        env = json.loads(p.read_text(encoding="utf-8"))
-    except UnicodeDecodeError:
-        raise InputError("model file is not UTF-8 JSON", path=p) from None
+        txt = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise InputError(f"{what} is not UTF-8 JSON (byte {exc.start})", path=path) from None
+    if txt.startswith("\ufeff"):
+        txt = txt[1:]
+    try:
+        obj = json.loads(txt, parse_constant=_refuse_constant, parse_float=_finite_float,
+                         parse_int=_bounded_int)
     except json.JSONDecodeError as exc:
-        raise InputError(f"model file is not valid JSON (line {exc.lineno})", path=p) from None
+        raise InputError(f"{what} is not valid JSON (line {exc.lineno})", path=path) from None
+    except RecursionError:
+        raise InputError(f"{what} is nested too deeply", path=path) from None
+    except ValueError as exc:
+        raise InputError(f"{what} is not valid: {exc}", path=path) from None
+    if _depth(obj) > MAX_DEPTH:
+        raise InputError(f"{what} is nested more than {MAX_DEPTH} deep", path=path)
+    return obj
+
+
+def read_envelope(path) -> dict:
+    """Read and check a model file's envelope (without building the model).
+
+    The file must be a regular file of at most :data:`MAX_MODEL_BYTES`; its JSON is
+    parsed by :func:`parse_json_strict`.
+    """
+    p = Path(path)
+    try:
+        st = p.stat()
+    except FileNotFoundError:
+        raise InputError("no such model file", path=p) from None
+    except OSError as exc:
+        raise InputError(f"cannot read model file ({exc.strerror})", path=p) from None
+    if not stat.S_ISREG(st.st_mode):
+        raise InputError("model file is not a regular file", path=p)
+    if st.st_size > MAX_MODEL_BYTES:
+        raise InputError(f"model file is larger than {MAX_MODEL_BYTES >> 20} MiB", path=p)
+    try:
+        with open(p, "rb") as fh:
+            raw = fh.read(MAX_MODEL_BYTES + 1)
+    except OSError as exc:
+        raise InputError(f"cannot read model file ({exc.strerror})", path=p) from None
+    if len(raw) > MAX_MODEL_BYTES:
+        raise InputError(f"model file is larger than {MAX_MODEL_BYTES >> 20} MiB", path=p)
+    env = parse_json_strict(raw, what="model file", path=p)
     if not isinstance(env, dict) or env.get("format") != FORMAT:
         raise InputError(f"not an inertialab model file (no \"format\": \"{FORMAT}\")", path=p)
     version = env.get("format_version")
@@ -138,11 +219,16 @@ def load_model(path, *, expected_type: str | None = None):
     tag = env["type"]
     if expected_type is not None and tag != expected_type:
         raise InputError(f"model file holds a '{tag}' model, expected '{expected_type}'", path=path)
+    try:
+        check_payload(tag, env["payload"])
+    except SchemaError as exc:
+        raise InputError(f"'{tag}' model {exc}", path=path) from None
     module_name, _, cls_name = MODEL_TYPES[tag].partition(":")
     cls = getattr(importlib.import_module(module_name), cls_name)
     try:
         obj = cls.from_dict(env["payload"])
-    except (KeyError, TypeError, ValueError, IndexError) as exc:
+    except (KeyError, TypeError, ValueError, IndexError, AttributeError, OverflowError,
+            ZeroDivisionError) as exc:
         if isinstance(exc, InputError):
             raise InputError(str(exc), path=path) from None
         raise InputError(f"model payload is invalid ({type(exc).__name__}: {exc})",

@@ -2,7 +2,9 @@
 
 Every write goes to a temporary file in the target's directory and is renamed into
 place with ``os.replace``, so a reader never sees a half-written file and a failed
-write leaves the old file (or nothing) behind.
+write leaves the old file (or nothing) behind. Targets that are not regular files are
+refused, and writes join the current output transaction
+(:mod:`inertialab.io.outputs`).
 """
 
 from __future__ import annotations
@@ -16,6 +18,7 @@ from pathlib import Path
 import pandas as pd
 
 from inertialab.errors import InputError
+from inertialab.io import outputs
 from inertialab.io.sidecar import sidecar_path
 from inertialab.jsonable import to_jsonable
 
@@ -24,22 +27,58 @@ from inertialab.jsonable import to_jsonable
 def atomic_path(path: str | Path):
     """Yield a temporary path beside ``path``; on success rename it to ``path``.
 
-    On an exception the temporary file is removed and the exception propagates.
+    The target must be a regular file or absent (a directory, device node, FIFO or socket
+    is refused with :class:`~inertialab.io.outputs.OutputError`; a link to a regular
+    file replaces the file it points to). Inside a
+    :func:`~inertialab.io.outputs.transaction` the rename waits for the transaction's
+    commit, and a path inside a staged directory output is written into its staging
+    directory. On an exception the temporary file is removed and the exception
+    propagates; an ``OSError`` (disk full, read-only, permission) becomes an
+    ``OutputError`` naming ``path``.
     """
-    target = Path(path)
-    if target.parent and not target.parent.exists():
-        target.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent or ".")
+    tx = outputs.current()
+    if tx is not None:
+        tx.check_inside(path)
+    routed = tx.route(path) if tx is not None else None
+    if routed is not None:  # inside a directory output: its staging directory is the temp
+        try:
+            routed.parent.mkdir(parents=True, exist_ok=True)
+            outputs.file_target(routed)
+        except OSError as exc:
+            raise outputs.output_error(exc, path) from None
+        try:
+            yield routed
+        except OSError as exc:
+            raise outputs.output_error(exc, path) from None
+        return
+    target = outputs.file_target(path)
+    if tx is not None:
+        tx.makedirs(target.parent)
+    elif not target.parent.exists():
+        try:
+            target.parent.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise outputs.output_error(exc, target.parent) from None
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
+    except OSError as exc:
+        raise outputs.output_error(exc, path) from None
     os.close(fd)
     try:
         yield Path(tmp)
         umask = os.umask(0)
         os.umask(umask)
         os.chmod(tmp, 0o666 & ~umask)
-        os.replace(tmp, target)
-    except BaseException:
+        if tx is not None:
+            tx.stage_file(Path(tmp), target)
+        else:
+            outputs.file_target(target)  # still a regular file or absent
+            os.replace(tmp, target)
+    except BaseException as exc:
         with contextlib.suppress(FileNotFoundError):
             os.unlink(tmp)
+        if isinstance(exc, OSError):
+            raise outputs.output_error(exc, path) from None
         raise
 
 
@@ -61,11 +100,20 @@ def write_record(df: pd.DataFrame, path: str | Path, meta: dict | None = None) -
     """Write a record as CSV (or Parquet for ``.parquet``) plus its JSON sidecar.
 
     Floats are written with full round-trip precision. ``meta`` gets
-    ``schema_version`` = 1 unless given. Both files are written atomically; the
-    sidecar is written only after the data file succeeded.
+    ``schema_version`` = 1 unless given. Both files are written atomically and together
+    (one transaction): a failure leaves neither.
     """
     p = Path(path)
     suffix = p.suffix.lower()
+    with outputs.transaction():
+        _write_data(df, p, suffix)
+        m = {"schema_version": 1}
+        m.update(meta or {})
+        write_sidecar(p, m)
+    return p
+
+
+def _write_data(df: pd.DataFrame, p: Path, suffix: str) -> None:
     with atomic_path(p) as tmp:
         if suffix in (".parquet", ".pq"):
             try:
@@ -77,10 +125,6 @@ def write_record(df: pd.DataFrame, path: str | Path, meta: dict | None = None) -
             df.to_csv(tmp, index=False, float_format=None, lineterminator="\n")
         else:
             raise InputError(f"unknown record file type '{suffix}' (use .csv or .parquet)", path=p)
-    m = {"schema_version": 1}
-    m.update(meta or {})
-    write_sidecar(p, m)
-    return p
 
 
 def write_sidecar(path: str | Path, meta: dict) -> Path:

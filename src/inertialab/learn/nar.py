@@ -28,6 +28,7 @@ import numpy as np
 
 from inertialab import metrics
 from inertialab.errors import DataQualityWarning, ExtrapolationWarning, InputError, NotFittedError
+from inertialab.estimator import Estimator
 from inertialab.learn.forecast_baselines import Forecast
 from inertialab.learn.mlp_lm import MLPRegressorLM, forward, n_params
 from inertialab.learn.order_cv import OrderSelection, select_order_cv
@@ -124,7 +125,7 @@ class _Member:
     val_mask: np.ndarray     # which of the Q samples were validation
 
 
-class NARForecaster:
+class NARForecaster(Estimator):
     """Nonlinear autoregressive network forecaster (spec 004 §3).
 
     Parameters

@@ -21,6 +21,7 @@ import math
 import numpy as np
 
 from inertialab.errors import InputError, NotFittedError
+from inertialab.estimator import Estimator
 from inertialab.learn.forecast_baselines import Forecast
 from inertialab.learn.mlp_lm import MLPRegressorLM, forward
 from inertialab.learn.nar import PRESETS, _seed_sequence
@@ -29,7 +30,7 @@ from inertialab.learn.order_cv import select_order_cv
 __all__ = ["DirectNARForecaster"]
 
 
-class DirectNARForecaster:
+class DirectNARForecaster(Estimator):
     """Direct strategy NAR (one net per step); scikit-learn-style forecaster.
 
     Parameters

@@ -1,0 +1,275 @@
+"""Per-type payload schemas of model files (issue 19, DESIGN.md "Model files").
+
+:func:`inertialab.io.modelfile.load_model` checks a payload here before the class's
+``from_dict`` sees it: types, shapes, finiteness and ranges, so that a wrong-typed or
+edited payload is one :class:`~inertialab.errors.InputError` naming the key, and no
+model built from a file can produce NaN from finite input. The schemas were written by
+reading each type's ``to_dict`` (and the fixtures under ``tests/data/models/``); keys a
+schema does not name are allowed (newer writers may add some) but still pass the
+generic checks of the loader (finite numbers, bounded nesting and integers).
+
+A schema is a callable ``check(value, where)`` that raises :class:`SchemaError`; the
+builders below compose them.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+
+Check = Callable[[object, str], None]
+
+#: Longest list in a payload (a model of a million numbers is not a calibration).
+MAX_ITEMS = 1_000_000
+#: Longest string value.
+MAX_TEXT = 4096
+
+
+class SchemaError(ValueError):
+    """A payload does not match its type's schema (``where`` is the key path)."""
+
+    def __init__(self, where: str, message: str):
+        self.where = where
+        super().__init__(f"payload{where}: {message}")
+
+
+def _is_num(v) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
+
+
+def num(lo: float = -math.inf, hi: float = math.inf, *, nullable: bool = False,
+        positive: bool = False) -> Check:
+    """A finite number in ``[lo, hi]`` (``> 0`` when ``positive``); ``None`` if nullable."""
+    def check(v, where):
+        if v is None and nullable:
+            return
+        if not _is_num(v):
+            raise SchemaError(where, f"must be a number, got {type(v).__name__}")
+        if not math.isfinite(v):
+            raise SchemaError(where, "must be finite")
+        if positive and not v > 0:
+            raise SchemaError(where, f"must be > 0, got {v!r}")
+        if not lo <= v <= hi:
+            raise SchemaError(where, f"must be in [{lo:g}, {hi:g}], got {v!r}")
+    return check
+
+
+def integer(lo: int = -(2**63), hi: int = 2**63, *, nullable: bool = False) -> Check:
+    """An integer (not a bool) in ``[lo, hi]``."""
+    def check(v, where):
+        if v is None and nullable:
+            return
+        if isinstance(v, bool) or not isinstance(v, int):
+            raise SchemaError(where, f"must be an integer, got {type(v).__name__}")
+        if not lo <= v <= hi:
+            raise SchemaError(where, f"must be in [{lo}, {hi}], got {v}")
+    return check
+
+
+def text(*choices: str, nullable: bool = False) -> Check:
+    """A string (one of ``choices`` when given)."""
+    def check(v, where):
+        if v is None and nullable:
+            return
+        if not isinstance(v, str):
+            raise SchemaError(where, f"must be a string, got {type(v).__name__}")
+        if len(v) > MAX_TEXT:
+            raise SchemaError(where, f"string longer than {MAX_TEXT} characters")
+        if choices and v not in choices:
+            raise SchemaError(where, f"must be one of {', '.join(choices)}, got {v[:40]!r}")
+    return check
+
+
+def boolean(v, where):
+    if not isinstance(v, bool):
+        raise SchemaError(where, f"must be true or false, got {type(v).__name__}")
+
+
+def anything(v, where):
+    """No constraint beyond the loader's generic checks."""
+
+
+def array(*shape: int | None, item: Check | None = None, min_len: int = 0) -> Check:
+    """A nested list of ``len(shape)`` dimensions (``None`` = any length) whose leaves
+    pass ``item`` (default: a finite number)."""
+    leaf = item or num()
+
+    def check(v, where, dims=shape):
+        if not isinstance(v, list):
+            raise SchemaError(where, f"must be a list, got {type(v).__name__}")
+        n = dims[0]
+        if n is not None and len(v) != n:
+            raise SchemaError(where, f"must have {n} entries, got {len(v)}")
+        if len(v) < min_len and dims is shape:
+            raise SchemaError(where, f"must have at least {min_len} entries")
+        if len(v) > MAX_ITEMS:
+            raise SchemaError(where, f"more than {MAX_ITEMS} entries")
+        for i, x in enumerate(v):
+            if len(dims) > 1:
+                check(x, f"{where}[{i}]", dims[1:])
+            else:
+                leaf(x, f"{where}[{i}]")
+    return check
+
+
+def obj(fields: dict[str, Check], *, optional: tuple[str, ...] = (),
+        nullable: bool = False) -> Check:
+    """A JSON object with (at least) ``fields``; keys in ``optional`` may be absent."""
+    def check(v, where):
+        if v is None and nullable:
+            return
+        if not isinstance(v, dict):
+            raise SchemaError(where, f"must be an object, got {type(v).__name__}")
+        for key, sub in fields.items():
+            if key not in v:
+                if key in optional:
+                    continue
+                raise SchemaError(where, f"lacks '{key}'")
+            sub(v[key], f"{where}.{key}")
+    return check
+
+
+def mapping(value: Check, *, min_len: int = 0) -> Check:
+    """An object of any keys whose values all pass ``value``."""
+    def check(v, where):
+        if not isinstance(v, dict):
+            raise SchemaError(where, f"must be an object, got {type(v).__name__}")
+        if len(v) < min_len:
+            raise SchemaError(where, f"must have at least {min_len} entries")
+        for key, sub in v.items():
+            value(sub, f"{where}.{key}")
+    return check
+
+
+def same_length(*keys: str) -> Check:
+    """The lists at ``keys`` (top-level of an object) have one length."""
+    def check(v, where):
+        lens = {k: len(v[k]) for k in keys if isinstance(v.get(k), list)}
+        if len(set(lens.values())) > 1:
+            raise SchemaError(where, "lengths differ: " +
+                              ", ".join(f"{k} {n}" for k, n in lens.items()))
+    return check
+
+
+def all_of(*checks: Check) -> Check:
+    def check(v, where):
+        for c in checks:
+            c(v, where)
+    return check
+
+
+# ------------------------------------------------------------------ the types
+
+_SPAN = num(positive=True)  # a scaling span divides: never 0
+
+POLYNOMIAL = all_of(obj({
+    "degree": integer(0, 50), "interaction": boolean,
+    "powers": array(None, None, item=integer(0, 50), min_len=1),
+    "x_min": array(None), "x_span": array(None, item=_SPAN),
+    "coef": array(None, min_len=1), "rank": integer(0, 10**6),
+}), same_length("powers", "coef"), same_length("x_min", "x_span"))
+
+RBF = all_of(obj({
+    "spread": num(positive=True), "goal": num(0), "max_neurons": integer(0, 10**6, nullable=True),
+    "b": num(), "center_values": array(None, None), "weights": array(None), "bias": num(),
+    "mse": num(0, nullable=True), "mse_history": array(None, item=num(0)),
+}, optional=("mse", "mse_history")), same_length("center_values", "weights"))
+
+_FIS = all_of(obj({
+    "mf_input": array(None, item=integer(0, 10**4)), "mf_center": array(None),
+    "mf_sigma": array(None, item=num(positive=True)),
+    "rule_mf": array(None, None, item=integer(0, 10**6)),
+    "consequents": array(None, None),
+}), same_length("mf_input", "mf_center", "mf_sigma"), same_length("rule_mf", "consequents"))
+
+ANFIS = obj({
+    "params": obj({"epochs": integer(0, 10**7)}, optional=("epochs",)),
+    "x_lo": array(None), "x_span": array(None, item=_SPAN),
+    "y_lo": num(), "y_span": _SPAN, "fis": _FIS,
+})
+
+MLP = obj({
+    "params": obj({"hidden": integer(1, 10**5)}, optional=("hidden",)),
+    "n_features_in": integer(1, 10**5), "theta": array(None, min_len=1),
+    "x_min": array(None), "x_span": array(None, item=_SPAN),
+    "y_min": num(), "y_span": _SPAN,
+})
+
+NAR = obj({
+    "settings": obj({}), "order": integer(1, 10**4), "lo": num(), "span": _SPAN,
+    "constant": boolean, "accepted": boolean, "tail": array(None, min_len=1),
+    "seed_entropy": integer(0, 2**256, nullable=True),
+    "members": array(None, item=obj({"theta": array(None, min_len=1), "resid": array(None),
+                                     "val_mse": num(nullable=True)}), min_len=1),
+})
+
+_TERM = obj({"value": num(nullable=True), "unit": text(),
+             "ci": array(2, item=num(nullable=True)),
+             "tau_range_s": array(2, item=num(nullable=True))},
+            optional=("ci", "tau_range_s"))
+
+NOISE_TERMS = obj({
+    "Q": _TERM, "N": _TERM, "B": _TERM, "K": _TERM, "R": _TERM,
+    "kind": text(), "unit": text(), "coefficients": array(5, item=num(nullable=True)),
+    "rate_hz": num(positive=True), "confidence": num(0, 1),
+}, optional=("coefficients", "confidence"))
+
+VIBRATION = obj({
+    "level": integer(0, 64), "wavelet": text(), "wavelet_level": integer(0, 64),
+    "f_range_hz": array(2, item=num(0)), "rbf": RBF, "poly": POLYNOMIAL,
+}, optional=("poly",))
+
+THERMAL = obj({
+    "method": text(), "ref": obj({k: num() for k in ("k0", "k1", "k2", "kip", "kp")}),
+    "input": text("ua", "raw"), "target": text("linear55", "measured55"),
+    "learn_drift": boolean, "t_range_c": array(2, item=num(-273.15, 1e4)),
+    "n_range_mv": array(2), "reference_temp_c": num(-273.15, 1e4),
+    "regressor_type": text(), "regressor": obj({}), "unit_id": text(nullable=True),
+}, optional=("unit_id",))
+
+_SIX = ("bx", "by", "bz", "kx", "ky", "kz", "theta_yz", "theta_zy", "theta_zx")
+TRIAXIAL = obj({
+    "method": text(), "objective": text(),
+    "params": obj({k: num() for k in _SIX}),
+    "correction_matrix": array(3, 3), "offset": array(3), "raw_unit": text(),
+    "g_local": num(0.1, 100), "residual_rms": num(0, nullable=True),
+    "gyro": obj({"correction_matrix": array(3, 3), "offset": array(3), "raw_unit": text()},
+                nullable=True),
+}, optional=("gyro", "residual_rms"))
+
+DUAL = obj({
+    "method": text(), "coef": mapping(num(), min_len=1), "sd": mapping(num(0, nullable=True)),
+    "s_a": integer(-1, 1), "s_b": integer(-1, 1), "g_local_mps2": num(0.1, 100),
+    "residual": num(0, nullable=True),
+}, optional=("residual",))
+
+DRIFT = obj({
+    "settings": obj({}),
+    "entries": mapping(mapping(obj({
+        "origin_day": integer(-10**7, 10**7), "step_days": integer(1, 10**5),
+        "y_cal": num(), "tolerance": num(positive=True), "nar": NAR,
+    }), min_len=1), min_len=1),
+})
+
+#: type tag -> payload schema (tags of :data:`inertialab.io.modelfile.MODEL_TYPES`).
+SCHEMAS: dict[str, Check] = {
+    "polynomial": POLYNOMIAL,
+    "rbf": RBF,
+    "anfis": ANFIS,
+    "mlp-lm": MLP,
+    "nar": NAR,
+    "noise-terms": NOISE_TERMS,
+    "vibration-compensation": VIBRATION,
+    "thermal-compensation": THERMAL,
+    "triaxial-calibration": TRIAXIAL,
+    "dual-calibration": DUAL,
+    "storage-drift": DRIFT,
+}
+
+
+def check_payload(tag: str, payload: dict) -> None:
+    """Raise :class:`SchemaError` when ``payload`` does not match type ``tag``'s schema
+    (a tag without a schema passes: its class's ``from_dict`` is the only check)."""
+    schema = SCHEMAS.get(tag)
+    if schema is not None:
+        schema(payload, "")
