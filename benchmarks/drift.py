@@ -18,7 +18,7 @@ from inertialab.calib.drift_eval import evaluate_rolling_origin
 from inertialab.learn.forecast_baselines import ARLeastSquares, Persistence
 from inertialab.learn.nar import NARForecaster
 from inertialab.learn.order_cv import select_order_cv
-from inertialab.sim.storage_drift import benchmark_process, mackey_glass, simulate_storage_batch
+from inertialab.sim.drift import benchmark_process, mackey_glass, simulate_storage_batch
 from inertialab.studies.drift import summarise
 from inertialab.workflows.drift import fit_drift, to_daily_grid
 

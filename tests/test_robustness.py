@@ -266,10 +266,16 @@ CLI_CASES = {
                                         "{file}", "--out", "{out}.csv"]),
                         ("tri_model", ["calibrate", "apply", "{file}", "{dir}/tri.static.csv",
                                        "--out", "{out}.csv"])],
+    "dual fit": [("dual", ["dual", "fit", "{file}", "--method", "ls", "--json"])],
     "calibrate dual": [("dual", ["calibrate", "dual", "{file}", "--method", "ls", "--json"])],
     "drift fit": [("drift", ["drift", "fit", "{file}", "--quantity", "bias", "--order", "1",
                              "--restarts", "1", "--horizon", "5", "--json"])],
     "drift forecast": [("drift_model", ["drift", "forecast", "{file}", "--json"])],
+    "drift evaluate": [("drift", ["drift", "evaluate", "{file}", "--quantity", "bias", "--order",
+                                  "1", "--restarts", "1", "--horizon", "5", "--first", "30",
+                                  "--step", "20", "--json"])],
+    "drift apply": [("drift", ["drift", "apply", "{dir}/drift_fit/model.json", "{file}",
+                               "--out", "{out}.csv"])],
     "vibration": [("vib_fixed", ["vibration", "{dir}/vs.csv", "{file}", "--json"])],
     "vibration-compensate": [("vib_fixed", ["vibration-compensate", "{dir}/vib_fit/model.json",
                                             "{file}", "--out", "{out}.csv"]),
@@ -346,7 +352,7 @@ def test_cli_commands_end_in_result_or_one_line_error(cmd, source, args, base_di
 
 def test_every_registered_command_is_swept():
     """A new command must join CLI_CASES (or be listed here as taking no input file)."""
-    no_input = {"demo", "simulate", "design dual"}
+    no_input = {"demo", "simulate", "design dual", "dual design"}
     registered = _registered_commands()
     missing = sorted(c for c in registered
                      if c not in CLI_CASES and c not in no_input and not c.startswith("simulate"))

@@ -13,7 +13,7 @@ from inertialab.calib.drift import DriftModel, DriftSettings, fit_series
 from inertialab.calib.drift_eval import evaluate_rolling_origin
 from inertialab.errors import DataQualityWarning, InputError
 from inertialab.io import load_model
-from inertialab.sim.storage_drift import benchmark_process
+from inertialab.sim.drift import benchmark_process
 from inertialab.workflows.drift import to_daily_grid
 
 FAST = DriftSettings(restarts=2, n_paths=50, baselines=("persistence", "ar_ls"))

@@ -21,7 +21,7 @@ from inertialab.sensors.dual_meter import (
     estimable_combinations,
     head_error_bias,
 )
-from inertialab.sim.dual_tumble import (
+from inertialab.sim.dual import (
     scenario_config,
     simulate_run,
     simulate_two_orientation,

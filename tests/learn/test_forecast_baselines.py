@@ -18,7 +18,7 @@ from inertialab.learn.forecast_baselines import (
     make_baseline,
 )
 from inertialab.learn.order_cv import NadarayaWatson
-from inertialab.sim.storage_drift import benchmark_process, simulate_storage_batch
+from inertialab.sim.drift import benchmark_process, simulate_storage_batch
 
 
 def test_a12_ar_ls_equals_statsmodels_autoreg():

@@ -12,7 +12,7 @@ from inertialab.errors import DataQualityWarning, InputError
 from inertialab.learn.forecast_baselines import ARLeastSquares, Persistence
 from inertialab.learn.mlp_lm import forward
 from inertialab.learn.nar import NARForecaster, whiteness
-from inertialab.sim.storage_drift import benchmark_process
+from inertialab.sim.drift import benchmark_process
 
 
 @pytest.mark.parametrize("preset", ["paper", "strict"])
@@ -178,7 +178,7 @@ def test_hidden_grid_chooses_by_mean_validation_mse():
     # spec 004 §3.2 option hidden_grid (issue 18 item 8): every size trains from the same
     # R seeds; S is the size with the lowest mean validation MSE over the restarts, and
     # the chosen members are exactly those of a plain fit with that size
-    from inertialab.sim.storage_drift import benchmark_process
+    from inertialab.sim.drift import benchmark_process
 
     y = benchmark_process("S1", 100, 5)
     g = NARForecaster(order=2, hidden_grid=(2, 6), restarts=3, preset="strict", rng=4).fit(y)

@@ -9,7 +9,7 @@ import pytest
 
 from inertialab.errors import DataQualityWarning, InputError
 from inertialab.learn.order_cv import NadarayaWatson, lag_targets, select_order_cv
-from inertialab.sim.storage_drift import benchmark_process
+from inertialab.sim.drift import benchmark_process
 
 
 @pytest.mark.parametrize(("name", "true_p", "need"), [("S1", 2, 85), ("S2", 3, 70)])

@@ -24,7 +24,7 @@ def test_a13_interval_coverage_over_the_spec_unit_count():
     # pairs. Benchmark full run: 0.969 over 738 pairs.
     import numpy as np
 
-    from inertialab.sim.storage_drift import simulate_storage_batch
+    from inertialab.sim.drift import simulate_storage_batch
     from inertialab.workflows.drift import fit_drift
 
     batch = simulate_storage_batch(20, 100, "nav", rng=np.random.SeedSequence(0))

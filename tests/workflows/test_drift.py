@@ -9,7 +9,7 @@ import pytest
 from inertialab.calib.drift import DriftModel, DriftSettings
 from inertialab.errors import DataQualityWarning, InputError
 from inertialab.io import load_model, save_model, validate_frame
-from inertialab.sim.storage_drift import benchmark_process, simulate_storage_batch
+from inertialab.sim.drift import benchmark_process, simulate_storage_batch
 from inertialab.workflows.drift import fit_drift, to_daily_grid
 
 FAST = DriftSettings(restarts=2, n_paths=50, baselines=("persistence", "ar_ls"))

@@ -9,7 +9,7 @@ from inertialab.calib.dual_prior import certificate_prior
 from inertialab.errors import InputError
 from inertialab.io import read_record, write_record
 from inertialab.sensors.dual_meter import COEF_NAMES
-from inertialab.sim.dual_tumble import scenario_config, simulate_run
+from inertialab.sim.dual import scenario_config, simulate_run
 from inertialab.studies.dual import reduce_run
 from inertialab.workflows.dual import load_prior
 from inertialab.workflows.dual import prepare as reduce_record
@@ -83,7 +83,7 @@ def test_prior_files(tmp_path):
 def test_prior_from_history_csv(tmp_path):
     import pandas as pd
 
-    from inertialab.sim.dual_tumble import draw_unit
+    from inertialab.sim.dual import draw_unit
 
     _, hist = draw_unit(np.random.default_rng(1))
     p = tmp_path / "history.csv"

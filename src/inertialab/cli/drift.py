@@ -221,7 +221,8 @@ def register(app: typer.Typer, groups: dict) -> None:
     def drift_evaluate(
         file: Path = typer.Argument(..., help="storage_drift record (CSV or Parquet)."),
         quantity: str = typer.Option("both", "--quantity", help="bias | sf | both"),
-        unit: list[str] = typer.Option(None, "--unit", help="Only this unit_id (repeatable)."),
+        unit_id: list[str] = typer.Option(None, "--unit-id",
+                                          help="Only this unit_id (repeatable)."),
         first: int = typer.Option(50, "--first", help="First origin (grid steps)."),
         step: int = typer.Option(5, "--step", help="Steps between origins."),
         horizon: int = typer.Option(20, "--horizon", help="Forecast horizon K (1 to 1000)."),
@@ -266,7 +267,7 @@ def register(app: typer.Typer, groups: dict) -> None:
             rec = read_record(file, "storage_drift", options=read)
             with progress_bar("drift evaluate", quiet=quiet or as_json) as bar:
                 res = wf.evaluate(rec, settings, quantities=qs, first=first, step=step,
-                                  units=unit or None, progress=bar)
+                                  units=unit_id or None, progress=bar)
         payload = {"per_unit": {u: {q: r.to_dict() for q, r in d.items()}
                                 for u, d in res.items()}}
         sett = {"quantity": quantity, "first": first, "step": step, "horizon": horizon,
@@ -399,7 +400,7 @@ def register(app: typer.Typer, groups: dict) -> None:
     ):
         """Simulate a storage programme (spec 004 §7) with ground-truth columns."""
         from inertialab.io import write_record
-        from inertialab.sim.storage_drift import simulate_storage_batch
+        from inertialab.sim.drift import simulate_storage_batch
 
         if missing_prob is not None and not 0.0 <= missing_prob < 1.0:
             raise InputError(f"--missing-prob must lie in [0, 1), got {missing_prob}")

@@ -185,7 +185,7 @@ def simulate_dual(
     """Write a virtual dual-tumble record (S5 writes <stem>_orient2 too)."""
     from inertialab.calib.dual_prior import prior_from_history
     from inertialab.io import write_record
-    from inertialab.sim.dual_tumble import scenario_config, simulate_run, simulate_two_orientation
+    from inertialab.sim.dual import scenario_config, simulate_run, simulate_two_orientation
     from inertialab.workflows.dual import UNITS
 
     kw = {}

@@ -92,7 +92,7 @@ def summarise(fit: DriftFit) -> dict:
 def run_demo(settings, progress=None) -> StudyResult:
     """The ``drift`` study of ``inertialab demo``: the seed's 100-day protocol on the
     ``paper`` preset (§6, A8) and interval coverage on ``nav`` (A13)."""
-    from inertialab.sim.storage_drift import simulate_storage_batch
+    from inertialab.sim.drift import simulate_storage_batch
 
     progress = progress or NullProgress()
     t0 = time.perf_counter()
@@ -127,8 +127,8 @@ def run_demo(settings, progress=None) -> StudyResult:
     nav_exceeded = float(np.mean(nav_exc)) if nav_exc else None
     b, s = summ.get("bias", {}), summ.get("sf", {})
     headline = [
-        Headline("CV order, bias (mode over units)", b.get("order_mode"), 2, ""),
-        Headline("CV order, scale factor (mode)", s.get("order_mode"), 3, ""),
+        Headline("CV order, bias (mode over units)", b.get("order_mode"), 2, "lags"),
+        Headline("CV order, scale factor (mode)", s.get("order_mode"), 3, "lags"),
         Headline("bias fit MaxAE (median)", b.get("median_fit_max_ae_native"), 2e-4, "g"),
         Headline("bias 20-day forecast MaxAE (median)", b.get("median_forecast_max_ae_native"),
                  2e-4, "g"),
@@ -136,10 +136,11 @@ def run_demo(settings, progress=None) -> StudyResult:
         Headline("SF 20-day forecast MaxAE (median)", s.get("median_forecast_max_ae_native"),
                  1e-4, "mA/g"),
         Headline("bias skill vs persistence (median)", b.get("median_skill_vs_persistence"),
-                 None, ""),
-        Headline("95 % interval coverage, nav preset (A13: 0.85-0.99)", nav_coverage, None, ""),
+                 None, "1"),
+        Headline("95 % interval coverage, nav preset (A13: 0.85-0.99)", nav_coverage, None,
+                 "fraction"),
         Headline("nav units leaving tolerance before their re-calibration day (target <= 0.1)",
-                 nav_exceeded, None, ""),
+                 nav_exceeded, None, "fraction"),
     ]
     # figure data: the first unit
     uid = next(iter(fit.results))

@@ -33,7 +33,7 @@ __all__ = ["STUDY", "FullSettings", "QuickSettings", "monte_carlo", "reduce_run"
 
 
 def reduce_run(run, *, g_local: float | None = None) -> Reduced:
-    """Reduce a simulated :class:`~inertialab.sim.dual_tumble.DualRun` without a DataFrame."""
+    """Reduce a simulated :class:`~inertialab.sim.dual.DualRun` without a DataFrame."""
     a = run.arrays
     # arrays are indexed by position in both directions already
     return reduce_stops(a["theta_cmd_deg"], a["t_s"], a["v_a_v"], a["v_b_v"], a["t_r_c"],
@@ -51,14 +51,14 @@ def monte_carlo(n_runs: int, *, seed: int = 20240603, h: float = 1.0, scenario: 
                 progress=None) -> dict:
     """Monte Carlo over ``n_runs`` virtual tumbles; run m uses seed ``seed + m`` (spec §6).
 
-    ``overrides`` are extra :class:`~inertialab.sim.dual_tumble.DualLabConfig` fields.
+    ``overrides`` are extra :class:`~inertialab.sim.dual.DualLabConfig` fields.
 
     ``prior``: "history" (the unit is drawn around table 6.1 with its H = 6 historical
     calibrations, spec §6.5), "certificate" or "none". Returns arrays (n_runs, ...) of
     errors per method, SDs, residuals and lambda; JSON-ready summaries come from the
     benchmark.
     """
-    from inertialab.sim.dual_tumble import (
+    from inertialab.sim.dual import (
         draw_unit,
         scenario_config,
         simulate_run,
@@ -151,7 +151,7 @@ class FullSettings:
 
 def run_demo(settings, progress=None) -> StudyResult:
     """The ``dual`` study of ``inertialab demo``."""
-    from inertialab.sim.dual_tumble import scenario_config, simulate_run
+    from inertialab.sim.dual import scenario_config, simulate_run
 
     progress = progress or NullProgress()
     t0 = time.perf_counter()
@@ -188,7 +188,8 @@ def run_demo(settings, progress=None) -> StudyResult:
     progress.update(3, 3, "done")
     e1 = sweep.get("1.0") or next(iter(sweep.values()))
     head = [
-        Headline("g^2 design rank (9 coefficients)", fit.methods["ls"].rank, "collinear"),
+        Headline("g^2 design rank (9 coefficients)", fit.methods["ls"].rank, "collinear",
+                 "1"),
         Headline("EBR K2 RMS error, historical prior (h = 1)", e1["ebr_KA2_rms"] * 1e6,
                  "higher accuracy", "ug/g^2"),
         Headline("single-meter LS KA2 RMS error (h = 1)", e1["single_ls_KA2_rms"] * 1e6,

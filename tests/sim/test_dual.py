@@ -10,7 +10,7 @@ from inertialab.calib.dual_prior import prior_from_history
 from inertialab.errors import InputError
 from inertialab.io import read_record, write_record
 from inertialab.sensors.dual_meter import COEF_NAMES, meter_outputs
-from inertialab.sim.dual_tumble import (
+from inertialab.sim.dual import (
     TAU,
     TRUTH_REF,
     draw_unit,

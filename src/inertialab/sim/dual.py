@@ -1,4 +1,5 @@
-"""Virtual lab rig ``dual-tumble``: two accelerometers on a dividing head (spec 003 §6).
+"""Virtual lab rig ``dual-tumble`` (``sim.dual``): two accelerometers on a dividing head
+(spec 003 §6).
 
 One run is a CCW pass over positions 0..N (N = closure at 360 deg) followed by a CW
 pass back, with the dividing-head errors (zero offset, first and second harmonic

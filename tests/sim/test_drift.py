@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from inertialab.errors import InputError
-from inertialab.sim.storage_drift import PRESETS, benchmark_process, simulate_storage_batch
+from inertialab.sim.drift import PRESETS, benchmark_process, simulate_storage_batch
 
 
 def test_batch_layout_and_truth_decomposition():
@@ -81,3 +81,14 @@ def test_bad_arguments():
         simulate_storage_batch(2, 10, "lab")
     with pytest.raises(InputError):
         benchmark_process("S9", 10)
+
+
+def test_mackey_glass_matches_the_anfis_benchmark_series():
+    # the learner benchmark of issue 18 item 9 uses Jang's Mackey-Glass set-up; the
+    # independent RK4 integration in tests/learn/test_anfis.py must give the same values
+    from inertialab.sim.drift import mackey_glass
+    from tests.learn.test_anfis import _mackey_glass
+
+    x = mackey_glass(600)
+    np.testing.assert_allclose(x, _mackey_glass(n_t=800)[118:718], rtol=0, atol=1e-12)
+    assert 0.4 < x.min() < 0.5 and 1.2 < x.max() < 1.35  # the chaotic attractor's range
