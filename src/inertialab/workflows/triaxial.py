@@ -471,6 +471,51 @@ def fit(session: Session, config: Config | None = None):
     return run
 
 
+def methods_from(text: str) -> list[str]:
+    """``'all'`` (every method, ``lm`` first) or a comma list (``'lm,acs,six-position'``)
+    -> method names; an unknown name is an InputError."""
+    t = str(text).strip().lower()
+    if t == "all":
+        return list(METHODS)
+    out = []
+    for m in (x.strip() for x in t.split(",")):
+        if m not in METHODS:
+            raise InputError(f"argument 'method' must be 'all' or a comma list of "
+                             f"{', '.join(METHODS)}, got '{m}'")
+        if m not in out:
+            out.append(m)
+    return out
+
+
+def fit_methods(session: Session, config: Config, methods) -> tuple[dict, dict]:
+    """Several methods on one session (issue 18): ``(runs, skipped)``.
+
+    Each setting of ``config`` goes to the methods that use it (``objective`` to lm, acs,
+    cs, pso; ``max_generations`` to the metaheuristics; ``robust`` to lm;
+    ``placement_deg`` to six-position); the others run with their defaults. A method that
+    cannot run on these data (too few poses, no references, an implausible fit without
+    ``force``) is left out with its one-line reason in ``skipped``; when every method
+    fails, the first failure is raised.
+    """
+    if is_batch(session):
+        raise InputError("a file of many units runs one method (argument 'method' 'lm')")
+    runs, skipped, first = {}, {}, None
+    for m in methods:
+        cfg = dataclasses.replace(
+            config, method=m,
+            **{name: (getattr(config, name) if m in users else
+                      (False if name == "robust" else None))
+               for name, users in _USES.items()})
+        try:
+            runs[m] = fit(session, cfg)
+        except (InputError, ImplausibleCalibrationError) as exc:
+            first = first or exc
+            skipped[m] = str(exc)
+    if not runs:
+        raise first
+    return runs, skipped
+
+
 _USES = {
     "objective": ("lm", "acs", "cs", "pso"),
     "max_generations": ("acs", "cs", "pso"),
