@@ -134,3 +134,26 @@ def test_a_session_without_turns_names_what_is_missing():
     n = rec.truth["sections"]["x_rot"]["start"] - 200
     with pytest.raises(InputError, match="not found: x_rot, y_rot, z_rot"):
         fr.detect_sections(acc[:n], gyr[:n], FS)
+
+
+def test_model_fixture_ferraris_v1_still_loads_and_applies():
+    # tests/data/models/triaxial-calibration-ferraris-v1.json (provenance in
+    # tests/data/README.md): a Ferraris model with g-sensitivity and a flag; the outputs
+    # below were printed (10 significant digits) when it was written
+    from pathlib import Path
+
+    from inertialab.io import load_model
+
+    path = (Path(__file__).resolve().parents[1] / "data" / "models"
+            / "triaxial-calibration-ferraris-v1.json")
+    m = load_model(path, expected_type="triaxial-calibration")
+    assert m.method == "ferraris" and m.flags == ["example flag: written with force"]
+    pa = np.array([[0.3, -0.2, 9.9], [9.7, 0.1, 0.5]])
+    pg = np.array([[1.0, -0.5, 0.4], [30.0, 2.0, -1.0]])
+    a = m.apply(pa)
+    want_a = np.array([[8.0010487094e-02, 2.0379824341e-01, 9.2421108850e+00],
+                       [9.2551069631e+00, 5.0935751676e-01, -6.8204784102e-03]])
+    assert np.allclose(a, want_a, rtol=1e-9, atol=1e-11)
+    want_w = np.array([[-0.0054506114, 0.007351117, -0.0015776419],
+                       [0.4935467686, 0.0501567982, -0.0277670934]])
+    assert np.allclose(m.apply_gyro(pg, acc=a), want_w, rtol=1e-8, atol=1e-10)

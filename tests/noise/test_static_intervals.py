@@ -102,3 +102,36 @@ def test_strictly_increasing_time_required():
     t[5] = t[4]
     with pytest.raises(InputError, match="strictly increasing"):
         detect_static_intervals(t, np.zeros((20, 3)))
+
+
+def test_turns_about_the_vertical_are_rests_to_the_accelerometer_but_not_with_the_gyro():
+    # issue 17 leftover: on a Ferraris-style log without shake, a turn about the vertical keeps
+    # the accelerometer as still as a rest; only the gyro tells it apart
+    from inertialab.sim.ferraris_session import simulate_ferraris
+
+    rec = simulate_ferraris(seed=2, shake_mps2=0.0)
+    d = rec.data
+    t = d["t_s"].to_numpy()
+    a = d[["ax_mps2", "ay_mps2", "az_mps2"]].to_numpy()
+    g = d[["gx_dps", "gy_dps", "gz_dps"]].to_numpy()
+    secs = rec.truth["sections"]
+    turns = [(secs[n]["start"], secs[n]["end"]) for n in ("x_rot", "y_rot", "z_rot")]
+
+    def turning(iv):  # samples of each interval that lie inside a true turn
+        return [sum(max(0, min(j, e) - max(i, s)) for s, e in turns)
+                for i, j in zip(iv.start, iv.stop)]
+
+    acc_only = detect_static_intervals(t, a)
+    joint = detect_static_intervals(t, a, gyro=g)
+    assert sum(turning(acc_only)) > 0.9 * sum(e - s for s, e in turns)  # every turn a "rest"
+    assert acc_only.count == 9  # the rests either side of each turn merge into one
+    assert max(turning(joint)) == 0 and joint.count == 12  # before, between and after turns
+    # the gyro does not cut genuine rests: the same intervals on the turntable log
+    raw = simulate_raw_log("rawlog62-counts", seed=0)
+    r = raw.data
+    cols = ["ax_lsb", "ay_lsb", "az_lsb"]
+    plain = detect_static_intervals(r["t_s"], r[cols].to_numpy())
+    both = detect_static_intervals(r["t_s"], r[cols].to_numpy(),
+                                   gyro=r[["gx_lsb", "gy_lsb", "gz_lsb"]].to_numpy())
+    assert both.count == plain.count == 62
+    assert np.array_equal(both.start, plain.start) and np.array_equal(both.stop, plain.stop)

@@ -37,6 +37,7 @@ import numpy as np
 
 from inertialab.calib.triaxial import TriaxialCalibration
 from inertialab.errors import InputError, UnderdeterminedError
+from inertialab.noise.static_intervals import gyro_rest
 from inertialab.sensors import triaxial as tx
 from inertialab.sensors.triaxial_classic import PLACEMENT_RAD, FaceFit, face_fit
 
@@ -149,21 +150,9 @@ def detect_sections(acc, gyro, fs: float, *, window_s: float = 0.5, min_rest_s: 
     floor = float(np.percentile(va, 10))
     floor = floor if floor > 0 else float(np.finfo(float).tiny)
     still = va < k_acc * floor
-    if not still.any():
-        raise InputError("no still accelerometer samples: the log has no rests")
-    b = np.median(gyro[still], axis=0)
-    for _ in range(2):
-        dev = np.linalg.norm(gyro - b, axis=1)
-        near = still & (dev < np.percentile(dev[still], 50) * 3)
-        b = np.median(gyro[near], axis=0)
-    dev = np.linalg.norm(gyro - b, axis=1)
-    sg = 1.4826 * np.median(np.abs(gyro[near] - b), axis=0)
-    sig = float(np.sqrt(np.sum(sg * sg))) or float(np.finfo(float).tiny)
-    # the gyro's own moving average: one sample's noise must not break a rest
-    wg = max(3, int(round(0.25 * fs)) | 1)
-    kern = np.ones(wg) / wg
-    dev_s = np.convolve(dev, kern, mode="same")
-    rest = still & (dev_s < k_gyro * sig)
+    gr = gyro_rest(gyro, still, fs, k_gyro=k_gyro)
+    b, dev_s = gr.bias, gr.dev
+    rest = still & gr.rest
     trim = int(round(trim_s * fs))
     rests = []
     for i, j in _runs(rest):
@@ -213,7 +202,7 @@ def detect_sections(acc, gyro, fs: float, *, window_s: float = 0.5, min_rest_s: 
         senses[s] = 1 if wk > 0 else -1
     return Detection(sections=sections, rests=rests, motions=motions, rest_mask=rest,
                      gyro_rest=b, senses=senses, acc_var=va, gyro_dev=dev_s,
-                     thresholds={"acc_var": k_acc * floor, "gyro_dev": k_gyro * sig})
+                     thresholds={"acc_var": k_acc * floor, "gyro_dev": gr.threshold})
 
 
 # =========================================================================== fit

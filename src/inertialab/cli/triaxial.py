@@ -70,7 +70,10 @@ def _read_schedule(file: Path, schedule: Path | None):
 def triaxial_fit(
     file: Path = typer.Argument(..., help="Static-record CSV (one row per pose) or raw log "
                                           "(t_s, ax, ay, az [, gx, gy, gz]); told apart by columns."),
-    method: str = typer.Option("lm", "--method", help="lm | acs | cs | pso | six-position | ellipsoid"),
+    method: str = typer.Option("lm", "--method", help="lm | acs | cs | pso | six-position | "
+                                                      "ellipsoid, a comma list of them, or all: "
+                                                      "several methods write the per-method "
+                                                      "parameter and error tables (--out)."),
     objective: str = typer.Option(None, "--objective",
                                   help="norm (J_H, field mode; default) | norm2 (J_H2) | scalar "
                                        "(S9, needs references) | scalar12 (S12, with mount "
@@ -125,7 +128,8 @@ def triaxial_fit(
     from inertialab.io import save_model
     from inertialab.workflows import triaxial as wf
 
-    config = wf.Config(method=method, objective=objective, seed=seed,
+    methods = wf.methods_from(method)
+    config = wf.Config(method=methods[0], objective=objective, seed=seed,
                        max_generations=max_generations, robust=robust,
                        placement_deg=placement_deg,
                        gyro_lsb_per_rps=gyro_lsb_per_rps, force=force,
@@ -144,23 +148,32 @@ def triaxial_fit(
         session = wf.prepare(rec, lsb_per_g=lsb_per_g, schedule=sched, k_thr=k_thr,
                              threshold=threshold, t_init_s=t_init, window_s=window,
                              min_duration_s=min_duration, header_check=ulower is None, gyro=gyro)
-        batch = wf.fit(session, config) if wf.is_batch(session) else None
+        batch = wf.fit(session, config) if wf.is_batch(session) and len(methods) == 1 else None
         bar.update(0.4, 1.0, "records ready")
     if batch is not None:
         _report_batch(batch, file, out_dir, as_json, warns)
         return
+    runs = skipped = None
     with collect_warnings(quiet=quiet or as_json) as warns2, \
             progress_bar("triaxial fit", quiet=quiet or as_json) as bar:
-        run = wf.fit(session, config)
+        if len(methods) > 1:
+            runs, skipped = wf.fit_methods(session, config, methods)
+            run = next(iter(runs.values()))
+        else:
+            run = wf.fit(session, config)
         bar.update(1.0, 1.0, "done")
     warns = list(warns) + [w for w in warns2 if w not in warns]
     fit, data = run.fit, run.data
     m, obj = fit.method, run.model.objective
     payload = wf.result_payload(run)
     payload["seed"] = seed
+    tables = None
+    if runs is not None:
+        tables = _method_tables(runs)
+        payload["methods"] = _methods_payload(tables, skipped)
     units_ = wf.result_units(run)
     gsuf = session.gyro_suffix
-    settings = {"method": m, "objective": obj, "unit": ulower, "lsb_per_g": lsb_per_g,
+    settings = {"method": m if runs is None else methods, "objective": obj, "unit": ulower, "lsb_per_g": lsb_per_g,
                 "gyro": gyro, "g_local": data.g, "seed": seed, "k_thr": k_thr,
                 "threshold": threshold, "t_init_s": t_init, "window_s": window,
                 "min_duration_s": min_duration, "robust": robust,
@@ -188,6 +201,8 @@ def triaxial_fit(
                 coverage_figure(cor, title=f"{file.name}: pose coverage")]
         if fit.history is not None:
             figs.append(convergence_figure({m: [fit.history]}))
+        if tables is not None:
+            figs.append(_write_method_tables(tables, skipped, out_dir, file.name))
         write_figures(figs, out_dir)
     if as_json:
         emit_json("triaxial fit", payload, inputs=inputs, settings=settings,
@@ -226,8 +241,71 @@ def triaxial_fit(
               f"direction residual RMS = {gf.residual_rms:.3g} rad over {gf.n_pairs} motions")
     for flag in run.model.flags:
         print(f"FLAGGED: {flag}")
+    if tables is not None:
+        _print_methods(tables, skipped, m)
     if out_dir is not None:
         print(f"written: {out_dir}")
+
+
+def _method_tables(runs: dict) -> dict:
+    from inertialab.calib import triaxial_compare as tc
+
+    poses = tc.pose_error_table(runs)
+    return {"params": tc.parameter_table(runs), "poses": poses,
+            "summary": tc.error_summary(poses)}
+
+
+def _methods_payload(tables: dict, skipped: dict) -> dict:
+    out = {}
+    for name, grp in tables["params"].groupby("method", sort=False):
+        out[name] = {"objective": grp["objective"].iloc[0],
+                     "params": dict(zip(grp["parameter"], grp["value"])),
+                     "stderr": dict(zip(grp["parameter"], grp["stderr"])),
+                     "ci95": {p: [lo, hi] for p, lo, hi in
+                              zip(grp["parameter"], grp["ci95_low"], grp["ci95_high"])}}
+    for row in tables["summary"].to_dict("records"):
+        out[row.pop("method")]["errors"] = row
+    return {"fitted": out, "skipped": dict(skipped)}
+
+
+def _write_method_tables(tables: dict, skipped: dict, out_dir: Path, name: str):
+    """params.csv/.md, pose_errors.csv, method_errors.csv; returns the Fig. 8 figure."""
+    from inertialab.calib.triaxial_compare import markdown
+    from inertialab.report.figures.triaxial import method_errors_figure
+
+    for key, fname in (("params", "params.csv"), ("poses", "pose_errors.csv"),
+                       ("summary", "method_errors.csv")):
+        atomic_write_text(out_dir / fname, tables[key].to_csv(index=False, float_format="%.17g"))
+    parts = [f"# Calibration parameters per method: {name}\n",
+             "Value, standard error and 95 % t-interval of every parameter (spec 002 "
+             "Tables 3-6, 8-9, 11-12 from these data). b in the working unit, k "
+             "dimensionless (counts per m/s^2 in counts mode), angles in rad.\n"]
+    for method, grp in tables["params"].groupby("method", sort=False):
+        parts.append(f"## {method} (objective {grp['objective'].iloc[0]})\n")
+        parts.append(markdown(grp[["parameter", "value", "stderr", "ci95_low", "ci95_high",
+                                   "unit"]]))
+    parts.append("## Errors per method (m/s^2)\n")
+    parts.append(markdown(tables["summary"]))
+    if skipped:
+        parts.append("## Methods left out\n")
+        parts.extend(f"- {k}: {v}\n" for k, v in skipped.items())
+    atomic_write_text(out_dir / "params.md", "\n".join(parts))
+    return method_errors_figure(tables["poses"], title=f"{name}: error per pose and method")
+
+
+def _print_methods(tables: dict, skipped: dict, primary: str) -> None:
+    wide = tables["params"].pivot(index="parameter", columns="method", values="value")
+    wide = wide.reindex(index=list(dict.fromkeys(tables["params"]["parameter"])),
+                        columns=list(dict.fromkeys(tables["params"]["method"])))
+    print_table(["parameter", *wide.columns], [[p, *row] for p, row in
+                                                zip(wide.index, wide.to_numpy().tolist())],
+                title=f"parameters per method (model.json holds {primary})")
+    summ = tables["summary"]
+    cols = [c for c in summ.columns if c.endswith("rmse_mps2") or c.endswith("sd_mps2")]
+    print_table(["method", *cols], summ[["method", *cols]].to_numpy().tolist(),
+                title="errors per method (m/s^2)")
+    for k, v in skipped.items():
+        print(f"left out {k}: {v}")
 
 
 def triaxial_apply(
@@ -351,6 +429,7 @@ def triaxial_ferraris(
         print(f"FLAGGED: {flag}")
     if out_dir is not None:
         print(f"written: {out_dir}")
+
 
 
 def triaxial_export(

@@ -10,6 +10,9 @@
    trimming) are kept, ``trim_s`` is cut from each end, and each run gives one static
    record (mean, standard deviation, n). A time gap larger than two sample periods
    ends a run.
+   With gyro channels (``gyro``), a sample is static only when the gyro is also at
+   rest (:func:`gyro_rest`): a turn about the vertical keeps the accelerometer still
+   but not the gyro (issue 17; the same joint rule as the Ferraris detector).
 4. :func:`sweep_thresholds` tries ``k_thr`` in {2, ..., 10} and keeps the value whose
    score (e.g. a calibration residual supplied by the caller) is smallest among those
    giving the expected interval count, or at least ``min_count`` intervals when no
@@ -36,8 +39,8 @@ import pandas as pd
 
 from inertialab.errors import InputError
 
-__all__ = ["StaticIntervals", "ThresholdSweep", "detect_static_intervals", "moving_variance",
-           "sweep_thresholds"]
+__all__ = ["GyroRest", "StaticIntervals", "ThresholdSweep", "detect_static_intervals",
+           "gyro_rest", "moving_variance", "sweep_thresholds"]
 
 
 @dataclass(frozen=True)
@@ -99,6 +102,75 @@ def moving_variance(x, window: int) -> np.ndarray:
     return df.rolling(w, center=True, min_periods=1).var(ddof=0).to_numpy()
 
 
+@dataclass(frozen=True)
+class GyroRest:
+    """What :func:`gyro_rest` decided: the gyro-at-rest mask and the quantities behind it.
+
+    Attributes
+    ----------
+    rest : ndarray (N,) bool
+        Gyro at rest (smoothed deviation below ``threshold``).
+    bias : ndarray (3,)
+        Rest value of the gyro (median over the still samples, refined), gyro unit.
+    dev : ndarray (N,)
+        Moving average of ``|gyro - bias|``, gyro unit.
+    threshold : float
+        ``k_gyro`` times the robust standard deviation of ``|gyro - bias|`` at rest.
+    """
+
+    rest: np.ndarray
+    bias: np.ndarray
+    dev: np.ndarray
+    threshold: float
+
+
+def gyro_rest(gyro, still, fs: float, *, k_gyro: float = 8.0, smooth_s: float = 0.25) -> GyroRest:
+    """Samples where the gyro is at rest, given where the accelerometer is still (issue 17).
+
+    The rest value is the median of the gyro over the accelerometer-still samples,
+    refined twice on the samples within three median deviations of it; a sample is at
+    rest when the moving average (``smooth_s``, so one sample's noise does not break a
+    rest) of ``|gyro - bias|`` is below ``k_gyro`` robust standard deviations (1.4826 x
+    MAD per axis, root-sum-square) of the gyro at rest. Unit-free (raw counts allowed).
+
+    Parameters
+    ----------
+    gyro : array (N, 3)
+        Gyro samples, any unit.
+    still : array (N,) bool
+        Accelerometer-still samples (at least one).
+    fs : float
+        Sample rate, Hz.
+    k_gyro : float, default 8
+        Threshold in robust standard deviations.
+    smooth_s : float, default 0.25
+        Moving-average length of the deviation, s.
+    """
+    gyro = np.asarray(gyro, dtype=float)
+    still = np.asarray(still, dtype=bool)
+    if gyro.ndim != 2 or gyro.shape[1] != 3 or gyro.shape[0] != still.size:
+        raise InputError(f"gyro samples must have shape ({still.size}, 3), got {gyro.shape}")
+    if not np.all(np.isfinite(gyro)):
+        row = int(np.flatnonzero(~np.all(np.isfinite(gyro), axis=1))[0]) + 1
+        raise InputError("non-finite gyro sample", row=row)
+    if not still.any():
+        raise InputError("no still accelerometer samples: the log has no rests")
+    b = np.median(gyro[still], axis=0)
+    near = still
+    for _ in range(2):
+        dev = np.linalg.norm(gyro - b, axis=1)
+        near = still & (dev < np.percentile(dev[still], 50) * 3)
+        b = np.median(gyro[near], axis=0)
+    dev = np.linalg.norm(gyro - b, axis=1)
+    sg = 1.4826 * np.median(np.abs(gyro[near] - b), axis=0)
+    sig = float(np.sqrt(np.sum(sg * sg))) or float(np.finfo(float).tiny)
+    wg = max(3, int(round(smooth_s * fs)) | 1)
+    kern = np.ones(wg) / wg
+    dev_s = np.convolve(dev, kern, mode="same")
+    thr = float(k_gyro) * sig
+    return GyroRest(rest=dev_s < thr, bias=b, dev=dev_s, threshold=thr)
+
+
 def _time_checks(t):
     t = np.asarray(t, dtype=float)
     if t.ndim != 1 or t.size < 10:
@@ -112,7 +184,8 @@ def _time_checks(t):
 
 def detect_static_intervals(t, acc, *, window_s: float = 1.0, t_init_s: float = 10.0,
                             k_thr: float = 6.0, threshold: float | None = None,
-                            min_duration_s: float = 1.5, trim_s: float = 0.25) -> StaticIntervals:
+                            min_duration_s: float = 1.5, trim_s: float = 0.25,
+                            gyro=None, k_gyro: float = 8.0) -> StaticIntervals:
     """Detect static intervals in a raw log (spec 002 §2.4).
 
     Parameters
@@ -133,6 +206,12 @@ def detect_static_intervals(t, acc, *, window_s: float = 1.0, t_init_s: float = 
         Minimum run length d_min before trimming, s.
     trim_s : float, default 0.25
         Cut from each end of a kept run, s.
+    gyro : array (N, 3), optional
+        Gyro samples (any unit). When given, a sample is static only if the gyro is at
+        rest too (:func:`gyro_rest` with ``k_gyro``): turns about the vertical are not
+        rests.
+    k_gyro : float, default 8
+        Gyro threshold in robust standard deviations (the Ferraris detector's default).
 
     Raises
     ------
@@ -164,6 +243,8 @@ def detect_static_intervals(t, acc, *, window_s: float = 1.0, t_init_s: float = 
         kused = None
         s0 = float("nan")
     static = s <= tau
+    if gyro is not None and static.any():
+        static = static & gyro_rest(gyro, static, fs, k_gyro=k_gyro).rest
     # a gap > 2/fs ends any static run
     gap = np.r_[False, np.diff(t) > 2.0 / fs]
     edges = np.diff(np.r_[0, static.astype(np.int8), 0])

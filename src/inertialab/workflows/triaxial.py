@@ -240,7 +240,8 @@ def raw_log_data(t, acc_raw, meta: dict | None = None, *, suffix: str = "mps2",
                  g: float | None = None, lsb_per_g: float | None = None, schedule=None,
                  expected: int | None = None, k_thr: float | None = None,
                  threshold: float | None = None, window_s: float = 1.0, t_init_s: float = 10.0,
-                 min_duration_s: float = 1.5, path=None, header_check: bool = True) -> StaticData:
+                 min_duration_s: float = 1.5, path=None, header_check: bool = True,
+                 gyro_raw=None) -> StaticData:
     """Raw log -> static records by the detector of spec 002 §2.4 (with the threshold sweep).
 
     The sweep keeps the k_thr whose LM-norm residual RMS is smallest among those giving the
@@ -249,6 +250,9 @@ def raw_log_data(t, acc_raw, meta: dict | None = None, *, suffix: str = "mps2",
     (m/s^2)^2, or counts^2 in counts mode) skips the sweep. Intervals with saturated samples are dropped
     with a warning. A ``schedule`` (DataFrame with ``pitch_deg, heading_deg`` or
     ``face`` or ``ref_*``) is matched in time order; a count mismatch is an InputError.
+    With ``gyro_raw`` (N, 3), any unit, a rest needs the gyro at rest as well
+    (:func:`~inertialab.noise.static_intervals.gyro_rest`): a turn about the vertical is
+    not taken for a rest.
     """
     from inertialab.noise.static_intervals import detect_static_intervals
 
@@ -260,7 +264,8 @@ def raw_log_data(t, acc_raw, meta: dict | None = None, *, suffix: str = "mps2",
     a_all = (raw - off) * scale
     if schedule is not None and expected is None:
         expected = len(schedule)
-    kw = dict(window_s=window_s, t_init_s=t_init_s, min_duration_s=min_duration_s)
+    kw = dict(window_s=window_s, t_init_s=t_init_s, min_duration_s=min_duration_s,
+              gyro=None if gyro_raw is None else np.asarray(gyro_raw, dtype=float))
 
     def score(iv: StaticIntervals) -> float:
         try:
@@ -354,6 +359,9 @@ def prepare(record: Record, *, lsb_per_g: float | None = None, schedule: pd.Data
         defaults: threshold sweep, 10 s initial rest, 1 s window, 1.5 s shortest run
     header_check : refuse a column unit contradicting the header's ``units``
     gyro : also keep the gyro channels (raw logs only)
+
+    Gyro columns of a raw log take part in the static detection whether or not ``gyro``
+    is asked for: a rest is the accelerometer still and the gyro at rest (issue 17).
     """
     meta = dict(record.meta)
     cols = _acc_cols(record)
@@ -362,24 +370,25 @@ def prepare(record: Record, *, lsb_per_g: float | None = None, schedule: pd.Data
     if gyro and not raw_log:
         raise InputError("gyro calibration needs a raw log (t_s column): static records carry "
                          "no motion", path=record.path)
+    gcols = _gyro_cols(record) if raw_log else None
+    if gyro and gcols is None:
+        raise InputError("gyro calibration asked for but the log has no gx, gy, gz columns",
+                         path=record.path)
+    log_gyro = None if gcols is None else record.data[gcols].to_numpy(dtype=float)
     if raw_log:
         t = record.column("t_s")
         data = raw_log_data(t, record.data[cols].to_numpy(dtype=float), meta, suffix=suffix,
                             lsb_per_g=lsb_per_g, schedule=schedule, k_thr=k_thr,
                             threshold=threshold, window_s=window_s, t_init_s=t_init_s,
                             min_duration_s=min_duration_s, path=record.path,
-                            header_check=header_check)
+                            header_check=header_check, gyro_raw=log_gyro)
     else:
         data = static_data_from_frame(record.data, meta, lsb_per_g=lsb_per_g, path=record.path,
                                       header_check=header_check)
         t = None
     gyro_raw = gsuf = None
     if gyro:
-        gcols = _gyro_cols(record)
-        if gcols is None:
-            raise InputError("gyro calibration asked for but the log has no gx, gy, gz columns",
-                             path=record.path)
-        gyro_raw = record.data[gcols].to_numpy(dtype=float)
+        gyro_raw = log_gyro
         gsuf = units.split_suffix(gcols[0])[1]
     return Session(data=data, meta=meta, t=t, gyro_raw=gyro_raw, gyro_suffix=gsuf,
                    schedule=schedule)
@@ -460,6 +469,51 @@ def fit(session: Session, config: Config | None = None):
                       stacklevel=2)
         run = dataclasses.replace(run, model=dataclasses.replace(run.model, flags=flags))
     return run
+
+
+def methods_from(text: str) -> list[str]:
+    """``'all'`` (every method, ``lm`` first) or a comma list (``'lm,acs,six-position'``)
+    -> method names; an unknown name is an InputError."""
+    t = str(text).strip().lower()
+    if t == "all":
+        return list(METHODS)
+    out = []
+    for m in (x.strip() for x in t.split(",")):
+        if m not in METHODS:
+            raise InputError(f"argument 'method' must be 'all' or a comma list of "
+                             f"{', '.join(METHODS)}, got '{m}'")
+        if m not in out:
+            out.append(m)
+    return out
+
+
+def fit_methods(session: Session, config: Config, methods) -> tuple[dict, dict]:
+    """Several methods on one session (issue 18): ``(runs, skipped)``.
+
+    Each setting of ``config`` goes to the methods that use it (``objective`` to lm, acs,
+    cs, pso; ``max_generations`` to the metaheuristics; ``robust`` to lm;
+    ``placement_deg`` to six-position); the others run with their defaults. A method that
+    cannot run on these data (too few poses, no references, an implausible fit without
+    ``force``) is left out with its one-line reason in ``skipped``; when every method
+    fails, the first failure is raised.
+    """
+    if is_batch(session):
+        raise InputError("a file of many units runs one method (argument 'method' 'lm')")
+    runs, skipped, first = {}, {}, None
+    for m in methods:
+        cfg = dataclasses.replace(
+            config, method=m,
+            **{name: (getattr(config, name) if m in users else
+                      (False if name == "robust" else None))
+               for name, users in _USES.items()})
+        try:
+            runs[m] = fit(session, cfg)
+        except (InputError, ImplausibleCalibrationError) as exc:
+            first = first or exc
+            skipped[m] = str(exc)
+    if not runs:
+        raise first
+    return runs, skipped
 
 
 _USES = {

@@ -178,3 +178,34 @@ def coverage_figure(directions, *, title: str = "") -> Figure:
     fig.tight_layout()
     return Figure(fig, "Gravity-up direction of every record in the sensor frame; gaps on the "
                   "sphere are directions no pose constrains.", name="triaxial_coverage")
+
+
+def method_errors_figure(poses, *, title: str = "") -> Figure:
+    """Error of every pose under every method (issue 18; the paper's Fig. 8 six-face
+    comparison): grouped bars of the eq.-21 vector error when the table has it, else of
+    ``|a_cal| - g``. ``poses`` is :func:`inertialab.calib.triaxial_compare.pose_error_table`."""
+    col = "vector_error_mps2" if "vector_error_mps2" in poses and \
+        poses["vector_error_mps2"].notna().all() else "norm_error_mps2"
+    methods = list(dict.fromkeys(poses["method"]))
+    labels = list(dict.fromkeys(poses["pose"]))
+    n = len(labels)
+    fig, ax = plt.subplots(figsize=(max(6.0, min(16.0, 0.25 * n * len(methods) + 3)), 3.8))
+    width = 0.8 / max(len(methods), 1)
+    x = np.arange(n)
+    for i, m in enumerate(methods):
+        e = poses.loc[poses["method"] == m].set_index("pose")[col].reindex(labels).to_numpy()
+        ax.bar(x + (i - (len(methods) - 1) / 2) * width, e, width, label=m)
+    ax.axhline(0, color="0.5", lw=0.6)
+    ax.set_xticks(x)
+    ax.set_xticklabels(labels, fontsize=7 if n <= 20 else 5, rotation=0 if n <= 20 else 90)
+    ax.set_xlabel("face" if labels and labels[0][:1] in "+-" else "pose")
+    ylabel = ("eq. 21 vector error (m/s$^2$)" if col == "vector_error_mps2"
+              else "|a_hat| - g (m/s$^2$)")
+    ax.set_ylabel(ylabel)
+    ax.legend(fontsize=7, ncol=min(len(methods), 6))
+    ax.set_title(title or "Error per pose and method")
+    fig.tight_layout()
+    what = ("eq. 21 vector error |r - a_hat| against the records' references"
+            if col == "vector_error_mps2" else "norm error |a_hat| - g (no references)")
+    return Figure(fig, f"Each pose's {what}, one bar per method (paper Fig. 8, six-face "
+                  "comparison, from the user's data).", name="triaxial_methods_errors")
