@@ -26,7 +26,7 @@ HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 RESULTS = HERE / "results"
 DOC = ROOT / "docs" / "results.md"
-ORDER = ["allan", "fog_vibration", "thermal", "triaxial", "dual_tumble", "storage_drift",
+ORDER = ["allan", "noise_terms", "vibration", "thermal", "triaxial", "dual", "drift",
          "batch", "demo"]
 
 

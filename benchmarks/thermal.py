@@ -9,7 +9,6 @@ one seed for comparison. BLAS runs single-threaded inside the workflow (spec 000
 
 from __future__ import annotations
 
-import time
 from dataclasses import replace
 
 import numpy as np
@@ -20,31 +19,9 @@ LABELS = {"ann": "ANN", "fis": "FIS", "anfis": "ANFIS (grid)", "scm-anfis": "SCM
 
 
 def _one(preset: str, seed: int, split: str, cfg_kw: dict) -> dict:
-    from inertialab.sim.thermal_tumble import simulate
-    from inertialab.workflows.thermal import ThermalConfig, drift, fit_thermal, prepare_samples
+    from inertialab.studies.thermal import virtual_lab_run
 
-    run_a = simulate(preset, 0, 0, seed=seed)
-    run_b = simulate(preset, 0, 1, seed=seed + 1000)
-    cfg = ThermalConfig(split=split, seed=seed, **cfg_kw)
-    sa = prepare_samples(run_a.frame, cfg)
-    sb = prepare_samples(run_b.frame, cfg)
-    t0, c0 = time.perf_counter(), time.process_time()
-    fit = fit_thermal(sa, cfg)
-    wall, cpu = time.perf_counter() - t0, time.process_time() - c0
-    best = fit.models["iafsa-scm-anfis"]
-    tr = drift(best, sb)
-    own = drift(best, sa, own_unit=True)
-    s = fit.search
-    return {
-        "preset": preset, "run_seed": seed, "split": split,
-        "noise_floor_ug": run_a.noise_floor_ug, "raw_rms_ug": fit.raw_rms_ug,
-        "models": fit.table(),
-        "search": {k: s[k] for k in ("params", "fun", "f_default", "n_rules", "nfev", "nit",
-                                     "wall_s", "message")},
-        "transfer": tr.summary(), "own_unit": own.summary(),
-        "transfer_clamped": int(np.count_nonzero(tr.status)),
-        "fit_wall_s": wall, "fit_cpu_s": cpu,
-    }
+    return virtual_lab_run(preset, seed, split, cfg_kw)
 
 
 def _median(runs: list[dict], model: str, key: str = "rmse_ug") -> float:
@@ -94,7 +71,7 @@ def _checks(runs: list[dict]) -> dict:
 
 
 def run(quick: bool = False) -> dict:
-    from inertialab.workflows.thermal import ThermalConfig
+    from inertialab.calib.thermal import ThermalConfig
 
     if quick:
         seeds, splits = (0,), ("random",)
@@ -112,7 +89,8 @@ def run(quick: bool = False) -> dict:
                          "transfer_seed": "run seed + 1000", "splits": list(splits),
                          "fish": defaults.fish, "generations": defaults.generations,
                          "search_epochs": defaults.search_epochs, "epochs": defaults.epochs,
-                         "ann_max_epochs": defaults.ann_max_epochs, "quick": quick},
+                         "ann_max_epochs": defaults.ann_max_epochs, "quick": quick,
+                         "fish_table": defaults.fish_table()},
             "runs": runs, "realistic": realistic, "checks": _checks(runs)}
 
 
@@ -130,6 +108,9 @@ def markdown(result: dict) -> str:
         f"unit {st['transfer_unit']} is compensated with its model; run seeds {st['run_seeds']} "
         f"(medians), IAFSA {st['fish']} fish x {st['generations']} generations, "
         f"{st['search_epochs']}-epoch objective, {st['epochs']} final epochs.")
+    if st.get("fish_table"):
+        lines.append("Fish-swarm parameters (the paper's Table 1, spec 000 §3.5 values): "
+                     + ", ".join(f"{k} {v:g}" for k, v in st["fish_table"].items()) + ".")
     lines.append("")
     splits = [s for s in st["splits"] if s in ch]
     head = "| model | paper RMSE (µg) | " + " | ".join(f"ours, {s} (µg)" for s in splits)

@@ -140,7 +140,30 @@ def test_jitter_names_rows(tmp_path, capsys):
 
 
 def test_bad_options(rec, capsys):
-    for args in (["--stat", "xdev"], ["--method", "guess"], ["--input", "phase"],
+    for args in (["--stat", "xdev"], ["--method", "guess"], ["--input", "bogus"],
                  ["--confidence", "2"], ["--taus", "sometimes"]):
         code, out, err = run(capsys, "allan", rec, *args)
         assert code == 2 and len(err.strip().splitlines()) == 1, (args, err)
+
+
+def test_clock_phase_file_json_and_figure(tmp_path, capsys):
+    # NBS14 phase in ns with an arbitrary column name, read with --column
+    x = [0.0, 103.11111, 123.22222, 157.33333, 166.44444, 48.55555, -96.33333, -2.22222,
+         111.88889, 0.0]
+    p = tmp_path / "clk.csv"
+    p.write_text("MJD;Time error\n" + "".join(f"{i};{v}\n" for i, v in enumerate(x)))
+    code, out, err = run(capsys, "allan", p, "--input", "phase", "--column", "time error",
+                         "--unit", "ns", "--rate", "1", "--sep", ";", "--stat",
+                         "adev,mtotdev,tdev", "--taus", "1,2", "--json", "--out",
+                         tmp_path / "o")
+    assert code == 0, err
+    d = json.loads(out)
+    res = {r["statistic"]: r for r in d["results"]}
+    assert res["adev"]["unit"] == "1" and res["tdev"]["unit"] == "s"
+    assert res["adev"]["noise_terms"] is None
+    assert res["adev"]["dev"][0] == pytest.approx(91.22945e-9, rel=1e-6)
+    assert d["settings"]["bias_correction"] is True and d["settings"]["input"] == "phase"
+    assert (tmp_path / "o" / "allan.png").stat().st_size > 1000
+    code, out, err = run(capsys, "allan", p, "--input", "frequency", "--column", "time error",
+                         "--unit", "hz", "--rate", "1", "--sep", ";")
+    assert code == 2 and "nominal" in err

@@ -76,3 +76,84 @@ def test_bad_input_exits_2_with_one_line(record, capsys, tmp_path):
     assert code == 2 and "appears twice" in err and err.count("\n") == 1
     code, _, err = run(capsys, "drift", "forecast", tmp_path / "missing.json")
     assert code == 2
+
+
+@pytest.mark.filterwarnings("ignore")
+def test_unit_ids_become_safe_figure_names(record, capsys, tmp_path):
+    # issue 19 item 1: a unit_id with a path in it, or 300 characters long, never escapes
+    # --out and never collides: figure names are safe slugs with a collision-free suffix
+    df = pd.read_csv(record / "rec.csv")
+    evil, long_id = "x/../../../ESCAPED", "U" * 300
+    df["unit_id"] = df["unit_id"].map({"QA001": evil, "QA002": long_id})
+    work = tmp_path / "deep" / "er"
+    work.mkdir(parents=True)
+    df.to_csv(work / "evil.csv", index=False)
+    out = work / "out"
+    code, _, err = run(capsys, "drift", "fit", work / "evil.csv", "--quantity", "bias",
+                       "--restarts", "1", "--out", out, "--quiet")
+    assert code == 0, err
+    outside = [p for p in tmp_path.rglob("*") if p.is_file() and out not in p.parents
+               and p.name != "evil.csv"]
+    assert outside == []
+    names = sorted(p.name for p in out.iterdir())
+    assert all(len(n) < 100 and "/" not in n and not n.startswith(".") for n in names)
+    pngs = [n for n in names if n.endswith(".png")]
+    assert len(pngs) == 2 * 3 + 1  # fit, forecast, acf per unit + the schedule
+    assert any(n.startswith("fit_bias_x_") and "ESCAPED-" in n for n in pngs)
+    res = json.loads((out / "result.json").read_text())
+    assert set(res["per_unit"]) == {evil, long_id}  # the ids themselves stay as data
+
+
+def test_horizon_is_bounded(capsys, record):
+    # issue 19 item 8: --horizon 100000000 ran past 120 s; now one line, exit 2, at once
+    import time
+    from pathlib import Path
+
+    model = Path(__file__).parents[1] / "data" / "models" / "storage-drift-v1.json"
+    t0 = time.perf_counter()
+    code, out, err = run(capsys, "drift", "forecast", model, "--horizon", "100000000")
+    assert code == 2 and out == "" and err.count("\n") == 1
+    assert "--horizon must be an integer from 1 to 1000" in err
+    assert time.perf_counter() - t0 < 10
+    code, _, err = run(capsys, "drift", "fit", record / "rec.csv", "--horizon", "0")
+    assert code == 2 and "--horizon" in err
+    code, out, err = run(capsys, "drift", "forecast", model, "--horizon", "1000", "--json")
+    assert code == 0, err
+    assert len(json.loads(out)["per_unit"]["QA001"]["bias"]["forecast"]["day"]) == 1000
+
+
+@pytest.mark.filterwarnings("ignore")
+def test_evaluate_rolling_origin_and_hidden_grid(record, capsys, tmp_path):
+    # issue 18 item 8: rolling-origin evaluation in the CLI with the per-step error curve,
+    # the hidden size chosen by validation from a grid
+    code, out, err = run(capsys, "drift", "evaluate", record / "rec.csv", "--quantity", "bias",
+                         "--unit", "QA001", "--first", "40", "--step", "10", "--horizon", "10",
+                         "--restarts", "2", "--hidden-grid", "2,4", "--json", "--out",
+                         tmp_path / "ev")
+    assert code == 0, err
+    r = json.loads(out)["per_unit"]["QA001"]["bias"]
+    assert r["origins"] == [40, 50, 60]  # 70 days, K = 10: T <= 60
+    assert len(r["rmse"]["nar"]) == 3 and len(r["step_mae"]["nar"]) == 10
+    pers = np.asarray(r["rmse"]["persistence"])
+    assert r["win_rate"]["persistence"] == pytest.approx(np.mean(np.asarray(r["rmse"]["nar"]) < pers))
+    assert (tmp_path / "ev" / "error_curve_bias_QA001.png").exists()
+    code, _, err = run(capsys, "drift", "evaluate", record / "rec.csv", "--unit", "NOPE")
+    assert code == 2 and "no unit(s) NOPE" in err
+    code, _, err = run(capsys, "drift", "fit", record / "rec.csv", "--hidden-grid", "2,x")
+    assert code == 2 and "--hidden-grid" in err
+
+
+@pytest.mark.filterwarnings("ignore")
+def test_apply_writes_compensated_record(record, capsys, tmp_path):
+    code, _, err = run(capsys, "drift", "fit", record / "rec.csv", "--origin-day", "49",
+                       "--restarts", "1", "--out", tmp_path / "m", "--quiet")
+    assert code == 0, err
+    code, out, err = run(capsys, "drift", "apply", tmp_path / "m" / "model.json",
+                         record / "rec.csv", "--out", tmp_path / "comp.csv", "--json")
+    assert code == 0, err
+    s = json.loads(out)["summary"]
+    assert set(s) == {"QA001", "QA002"} and s["QA001"]["bias"]["n"] > 10
+    df = pd.read_csv(tmp_path / "comp.csv")
+    assert {"bias_hat_ug", "sf_hat_ma_per_g", "bias_residual_ug", "status"} <= set(df.columns)
+    assert set(df.loc[df["day"] <= 49, "status"]) == {1}
+    assert (tmp_path / "comp.meta.json").exists()

@@ -1,4 +1,5 @@
-"""CLI: inertialab vibration, vibration-compensate, simulate fog-vibration (issue 4)."""
+"""CLI: inertialab vibration fit|apply (old spellings: bare vibration, vibration-compensate),
+simulate fog-vibration (issue 4, issue 13)."""
 
 import json
 
@@ -88,7 +89,7 @@ def test_out_dir_and_model_applies_to_a_new_record(records, tmp_path, capsys):
         assert (out / f"{name}.png").stat().st_size > 1000
     assert json.loads((out / "result.json").read_text())["level"] == 6
     comp = tmp_path / "comp.csv"
-    code, text, err = run(capsys, "vibration-compensate", out / "model.json",
+    code, text, err = run(capsys, "vibration", "apply", out / "model.json",
                           records / "fixed.csv", "--out", comp, "--json")
     assert code == 0, err
     summary = json.loads(text)
@@ -121,6 +122,8 @@ def test_bad_input_exits_2_with_one_line(records, tmp_path, capsys):
     assert code == 2 and text == "" and err.count("\n") == 1 and "vib_on" in err
     code, text, err = run(capsys, "vibration", records / "sweep.csv", "--level", "12")
     assert code == 2 and "--level" in err
+    code, text, err = run(capsys, "vibration", records / "sweep.csv", "--spread", "wide")
+    assert code == 2 and "--spread" in err
     code, text, err = run(capsys, "simulate", "fog-vibration", "--experiment", "up",
                           "--out", tmp_path / "x.csv")
     assert code == 2 and "--experiment" in err
@@ -136,3 +139,22 @@ def test_demo_section_renders(tmp_path, capsys):
     assert labels["level L (rule / used)"].endswith("/ 6")
     html = (tmp_path / "rep" / "index.html").read_text()
     assert "Table 1 analogue" in html and "data:image/png;base64" in html
+
+
+def test_canonical_verbs_and_hidden_old_spellings(records, tmp_path, capsys):
+    out = tmp_path / "fit"
+    code, text, err = run(capsys, "vibration", "fit", records / "sweep.csv", "--out", out,
+                          "--quiet", "--map", "rate_dph=rate_dph:dph")
+    assert code == 0, err
+    a, b = tmp_path / "a.csv", tmp_path / "b.csv"
+    code, _, err = run(capsys, "vibration", "apply", out / "model.json", records / "fixed.csv",
+                       "--out", a, "--model", "poly")
+    assert code == 0, err
+    code, _, err = run(capsys, "vibration-compensate", out / "model.json",
+                       records / "fixed.csv", "--out", b, "--model", "poly")
+    assert code == 0, err
+    pd.testing.assert_frame_equal(pd.read_csv(a), pd.read_csv(b))
+    code, text, _ = run(capsys, "--help")
+    assert "vibration-compensate" not in text and "vibration" in text
+    code, text, _ = run(capsys, "vibration", "--help")
+    assert "fit" in text and "apply" in text

@@ -172,3 +172,25 @@ def test_errors():
     y[-1] = np.nan
     with pytest.raises(InputError):
         NARForecaster().fit(y)
+
+
+def test_hidden_grid_chooses_by_mean_validation_mse():
+    # spec 004 §3.2 option hidden_grid (issue 18 item 8): every size trains from the same
+    # R seeds; S is the size with the lowest mean validation MSE over the restarts, and
+    # the chosen members are exactly those of a plain fit with that size
+    from inertialab.sim.storage_drift import benchmark_process
+
+    y = benchmark_process("S1", 100, 5)
+    g = NARForecaster(order=2, hidden_grid=(2, 6), restarts=3, preset="strict", rng=4).fit(y)
+    assert set(g.hidden_scores_) == {2, 6}
+    assert g.hidden_ == min(g.hidden_scores_, key=lambda k: (g.hidden_scores_[k], k))
+    for S in (2, 6):
+        plain = NARForecaster(order=2, hidden=S, restarts=3, preset="strict", rng=4).fit(y)
+        assert g.hidden_scores_[S] == pytest.approx(
+            np.mean([m.val_mse for m in plain.members_]), rel=1e-12)
+        if S == g.hidden_:
+            np.testing.assert_array_equal(g.forecast(5).values, plain.forecast(5).values)
+    back = NARForecaster.from_dict(g.to_dict())
+    np.testing.assert_array_equal(back.forecast(5).values, g.forecast(5).values)
+    with pytest.raises(InputError, match="validation split"):
+        NARForecaster(order=2, hidden_grid=(2, 4), val_fraction=0.0).fit(y)

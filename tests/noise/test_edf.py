@@ -43,28 +43,6 @@ def test_gaussian_edf_near_sp1065_for_oadev(alpha, m):
     assert g == pytest.approx(sp, rel=0.10)
 
 
-@pytest.mark.parametrize("stat, d, ov, mod", [("oadev", 2, True, False), ("adev", 2, False, False),
-                                              ("mdev", 2, True, True), ("ohdev", 3, True, False),
-                                              ("hdev", 3, False, False)])
-@pytest.mark.parametrize("alpha", [2, 0, -1, -2])
-@pytest.mark.parametrize("m", [4, 16, 100, 1000])
-def test_gaussian_edf_agrees_with_greenhall(stat, d, ov, mod, alpha, m):
-    # Independent implementation: allantools' Greenhall (2003) EDF algorithm. Both compute
-    # the same Gaussian EDF; they differ by Greenhall's continuous-time approximations
-    # (observed < 3 % for m >= 4), so 5 %.
-    at = pytest.importorskip("allantools")
-    if alpha == 0 and ov and not mod and m < 100:
-        # Here allantools' Greenhall differs from both ours and SP 1065's white-FM formula
-        # (which ours reproduces, see test_gaussian_edf_near_sp1065_for_oadev) by 5-13 %:
-        # its continuous-time approximation at small m; the discrete value is exact.
-        pytest.skip("Greenhall's small-m approximation; checked against SP 1065 instead")
-    nx = 10_001
-    nt = int(E._n_terms(stat, nx, np.array([m]))[0])
-    ours = E.edf_gaussian(stat, nx, m, alpha, nt)
-    ref = at.edf_greenhall(alpha=alpha, d=d, m=m, N=nx, overlapping=ov, modified=mod)
-    assert ours == pytest.approx(ref, rel=0.05)
-
-
 def test_gaussian_edf_white_fm_m1_exact():
     # For a sampled random-walk angle at m = 1 the SP 1065 white-FM formula is exact
     # in the limit; the numeric EDF reproduces it to 0.1 %.
@@ -123,3 +101,87 @@ def test_ci_coverage_white_rate():
         hits += (r.ci_low <= truth) & (truth <= r.ci_high)
     cov = hits / trials
     assert np.all((cov >= 0.64) & (cov <= 0.73)), cov
+
+
+# ----------------------------------------------------------------------------- Greenhall
+
+
+def _ms(nx):
+    return sorted({1, 2, 3, 4, 5, 7, 10, 16, 33, 34, 50, 51, 100, 101, 333, 1000, 4096,
+                   nx // 64, nx // 32, nx // 17, nx // 16} & set(range(1, nx // 16 + 1)))
+
+
+@pytest.mark.parametrize("stat", list(E.GREENHALL_STATS))
+@pytest.mark.parametrize("nx", [1001, 2**14 + 1, 2**20 + 1])
+def test_greenhall_matches_allantools(stat, nx):
+    # Independent implementation: allantools' edf_greenhall, alpha in {2, 1, 0, -1, -2},
+    # m from 1 to N/16 through every case of the algorithm (basic sum, F = inf variant,
+    # Tables 1-3, the m' rescaling). Agreement to 1e-6 (allantools' direct second
+    # difference loses digits at m ~ 1e5; ours uses the Taylor form there).
+    at = pytest.importorskip("allantools")
+    d, ov, mod = E.GREENHALL_STATS[stat]
+    for alpha in (2, 1, 0, -1, -2):
+        for m in _ms(nx):
+            ours = E.edf_greenhall(stat, nx, m, alpha)
+            ref = at.edf_greenhall(alpha=alpha, d=d, m=m, N=nx, overlapping=ov, modified=mod)
+            assert ours == pytest.approx(ref, rel=1e-6), (alpha, m)
+
+
+def test_totdev_default_is_sp1065_table7_like_allantools():
+    at = pytest.importorskip("allantools")
+    nx = 10_001
+    for alpha in (0, -1, -2):
+        for m in (1, 10, 100, nx // 16):
+            ours, label = E.edf("totdev", nx, [m], [alpha])
+            assert label == "sp1065-table7"
+            assert ours[0] == pytest.approx(at.edf_totdev(nx, m, alpha), rel=1e-12)
+
+
+@pytest.mark.parametrize("stat", list(E.GREENHALL_STATS) + ["totdev"])
+def test_default_edf_finite_at_every_m_and_alpha(stat):
+    # Issue 14 item 4: finite and positive at every m (1 .. N/16 for every alpha the
+    # statistic's family allows, -4 for Hadamard) - the old Gaussian path gave 0.002 for
+    # random-walk rate at m = 1.
+    nx = 2049
+    lo = -4 if stat in ("hdev", "ohdev") else -2
+    ms = np.arange(1, nx // 16 + 1)
+    for alpha in range(lo, 3):
+        e, _ = E.edf(stat, nx, ms, np.full(ms.shape, alpha))
+        assert np.all(np.isfinite(e) & (e > 0)), (alpha, e[~np.isfinite(e)][:3])
+
+
+def test_rw_rate_m1_large_n_not_collapsed():
+    # the issue's case: random-walk rate, m = 1, N = 2^20: EDF ~ 8e5, finite interval
+    e, label = E.edf("oadev", 2**20 + 1, [1], [-2])
+    assert label == "greenhall-2003"
+    assert 7e5 < e[0] < 9e5
+    lo, hi = E.chi2_interval([1.0], e, 0.95)
+    assert np.isfinite(hi[0]) and hi[0] < 1.01
+
+
+def test_white_phase_short_record_exact_sum():
+    # alpha = +2 with ceil(r) <= d: the paper's closed form does not apply; the basic sum
+    # over the finite-support covariance is exact. Check it against brute force: EDF of
+    # the sum of squares of second differences of white phase, 2 E[S]^2 / Var S.
+    nx, m = 9, 3  # adev: M = 1 + floor((9 - 7)/3) = 1 summand -> edf 1 exactly
+    assert E.edf_greenhall("adev", nx, m, 2) == pytest.approx(1.0)
+    nx, m = 12, 3  # oadev: r = M/S = 6/3 = 2 <= d
+    M = nx - 2 * m
+    w = np.zeros((M, nx))
+    for i in range(M):
+        w[i, i], w[i, i + m], w[i, i + 2 * m] = 1.0, -2.0, 1.0
+    C = w @ w.T
+    ref = 2 * np.trace(C) ** 2 / (2 * np.sum(C * C))
+    assert E.edf_greenhall("oadev", nx, m, 2) == pytest.approx(ref, rel=1e-12)
+
+
+def test_greenhall_edf_is_fast():
+    # issue 15: per-tau EDF ~0.1-0.3 ms (allantools' cost), not milliseconds
+    import time
+
+    ms = np.unique(np.geomspace(1, 2**16, 60).astype(int))
+    t0 = time.process_time()
+    for stat in E.GREENHALL_STATS:
+        E.edf(stat, 2**20 + 1, ms, np.zeros(ms.size, dtype=int))
+    per = (time.process_time() - t0) / (6 * ms.size)
+    assert per < 1e-3, per

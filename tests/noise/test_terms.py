@@ -201,3 +201,133 @@ def test_spec001_checks_2_to_4_single_noises():
     assert np.polyfit(np.log(r.taus_s[sel]), np.log(r.dev[sel]), 1)[0] == pytest.approx(-1.0, abs=0.03)
     q = fit_noise_terms(r, unit="dph", method="slope", tau_range_s=(1 / fs, T / 100)).Q
     assert q.value == pytest.approx(0.5, rel=0.01) and q.unit == "arcsec"
+
+
+# ----------------------------------------------------------------------------- issue 14
+
+
+@pytest.fixture(scope="module")
+def mems_2h():
+    from inertialab.sim import mems_presets as MP
+
+    run = MP.simulate("consumer-100hz", hours=2.0, seed=11)
+    return run, A.oadev(run.y, rate_hz=run.rate_hz)
+
+
+def test_filter_coloured_taus_cut_and_q_absent(mems_2h):
+    # The internal LPF makes sigma rise over the first taus; the fit starts at 4x the peak
+    # and reports Q as absent (signed c_-2 < 0), N within 2 % of the truth on a 2-h log.
+    run, r = mems_2h
+    from inertialab.noise.terms import auto_tau_range
+
+    k = auto_tau_range(r.taus_s, r.dev)
+    assert r.taus_s[k] >= 4 * r.taus_s[int(np.argmax(r.dev[:6]))] - 1e-12
+    t = fit_noise_terms(r, unit=run.unit)
+    assert t.tau_range_s[0] == pytest.approx(r.taus_s[k])
+    assert "filter" in t.Q.flags and "upper_bound" in t.Q.flags and t.Q.ci[0] == 0.0
+    assert t.Q.reason
+    assert t.N.value == pytest.approx(run.truth["N"]["value"], rel=0.02)
+    assert t.N.ci[0] < t.N.ci[1] and t.confidence == 0.95
+    # B per IEEE 952 near the truth; the textbook reading beside it is higher
+    assert t.B.value == pytest.approx(run.truth["B"]["value"], rel=0.2)
+    assert t.b_textbook["value"] > t.B.value and t.b_textbook["unit"] == "deg/h"
+    # each term's read range lies inside the fit range
+    for name in "NB":
+        lo, hi = getattr(t, name).tau_range_s
+        assert t.tau_range_s[0] <= lo <= hi <= t.tau_range_s[1]
+
+
+def test_methods_agree_within_intervals_on_mems(mems_2h):
+    run, r = mems_2h
+    w = fit_noise_terms(r, unit=run.unit, method="wls")
+    o = fit_noise_terms(r, unit=run.unit, method="ols")
+    for name in "NB":
+        a, b = getattr(w, name), getattr(o, name)
+        assert a.ci[0] <= b.value <= a.ci[1] or b.ci[0] <= a.value <= b.ci[1], name
+
+
+def test_no_spurious_quantisation_term():
+    # The issue's case: white + random-walk rate, no quantisation. Q must not come out
+    # as present (interval excluding 0); K within 15 % on 20 h.
+    fs, n = 10.0, 720_000
+    rng = np.random.default_rng(4)
+    nd, kd = 0.6, 1.0 / 60  # deg/h sqrt(s), deg/h/sqrt(s): N 0.01 deg/sqrt(h), K 1 deg/h/sqrt(h)
+    y = rng.standard_normal(n) * nd * math.sqrt(fs) + np.cumsum(rng.standard_normal(n)) * kd / math.sqrt(fs)
+    t = fit_noise_terms(A.oadev(y, rate_hz=fs), unit="dph")
+    assert not t.Q.significant and t.Q.ci[0] == 0.0
+    assert t.K.value == pytest.approx(1.0, rel=0.15) and t.K.significant
+    assert t.K.ci[0] <= 1.0 <= t.K.ci[1]
+    assert t.N.value == pytest.approx(nd / 60, rel=0.01)
+
+
+def test_short_record_terms_not_observable_or_bounded():
+    # 3 minutes of the consumer preset with every tau: no term is a positive number with
+    # an interval excluding 0 unless the data carry it; long-tau terms are bounded or not
+    # observable, never "B = 0" without a flag.
+    from inertialab.sim import mems_presets as MP
+
+    run = MP.simulate("consumer-100hz", hours=0.05, seed=2)
+    r = A.oadev(run.y, rate_hz=run.rate_hz, taus=40)
+    t = fit_noise_terms(r, unit=run.unit)
+    for name in "KR":
+        term = getattr(t, name)
+        assert not term.significant and term.reason, name
+    if t.B.value == 0:
+        assert "upper_bound" in t.B.flags
+    few = A.oadev(run.y[:600], rate_hz=run.rate_hz, taus="octave")
+    tf = fit_noise_terms(few, unit=run.unit, auto_range=False)
+    assert "not_observable" in tf.R.flags and "too short" in tf.R.reason
+
+
+def test_model_intervals_never_angle_noise_where_white_rate_dominates(mems_2h):
+    from dataclasses import replace
+
+    from inertialab.noise.terms import model_alpha, model_intervals
+
+    run, r = mems_2h
+    t = fit_noise_terms(r, unit=run.unit)
+    bad = replace(r, alpha=np.full(r.alpha.shape, 1))  # lag-1 said "flicker angle"
+    fixed = model_intervals(bad, t)
+    ma = model_alpha(t, r.taus_s)
+    assert np.all(fixed.alpha[ma <= 0] <= 0)
+    assert np.array_equal(fixed.alpha[ma <= 0], ma[ma <= 0])
+    assert np.all(np.isfinite(fixed.ci_high)) and fixed.alpha_method == "model"
+    # a white-rate tau: the model's interval is wider than the flicker-angle one was
+    i = int(np.nonzero((ma == 0) & (r.m >= 64))[0][0])
+    assert (fixed.ci_high[i] - fixed.ci_low[i]) > 0
+
+
+def test_terms_json_one_serialisation_with_reason():
+    r = _curve(np.geomspace(0.01, 1e4, 30), q=0.0)
+    t = fit_noise_terms(r, unit="dph", tau_range_s=(0.01, 1e4))
+    d = t.to_dict()
+    assert "upper_bound" in d["Q"]["flags"] and d["Q"]["reason"]
+    assert d["Q"]["upper_bound"] >= 0
+    assert NoiseTerms.from_dict(d).to_dict() == d
+
+
+def test_robotics_values_kalibr_vins_gtsam():
+    # white gyro noise 0.01 deg/sqrt(h) + RW 1 deg/h/sqrt(h), known axis; SI conversions by
+    # hand: N 0.01 deg/sqrt(h) = 0.01*pi/180/60 rad/s/sqrt(Hz); K 1 deg/h/sqrt(h) =
+    # pi/180/3600/60 rad/s^2/sqrt(Hz); discrete: x sqrt(f), / sqrt(f)
+    from inertialab.noise.robotics import robotics_values
+
+    r = _curve(np.geomspace(0.01, 1e4, 30), q=0.0, n=0.6, b=0.0, k=1 / 60, r=0.0)
+    tx = fit_noise_terms(r, unit="dph", tau_range_s=(0.01, 1e4))
+    r2 = _curve(np.geomspace(0.01, 1e4, 30), q=0.0, n=1.2, b=0.0, k=1 / 60, r=0.0)
+    ty = fit_noise_terms(r2, unit="dph", tau_range_s=(0.01, 1e4))
+    v = robotics_values({"x": tx, "y": ty}, rate_hz=100.0, inflation=2.0)
+    n_si = 0.01 * math.pi / 180 / 60
+    k_si = math.pi / 180 / 3600 / 60
+    ax = v["gyro"]["axes"]["x"]
+    assert ax["noise_density"] == pytest.approx(2 * n_si, rel=1e-6)
+    assert ax["random_walk"] == pytest.approx(2 * k_si, rel=1e-6)
+    assert ax["noise_discrete"] == pytest.approx(2 * n_si * 10, rel=1e-6)
+    assert ax["random_walk_discrete"] == pytest.approx(2 * k_si / 10, rel=1e-6)
+    assert v["gyro"]["worst_axis"] == "y"
+    assert v["kalibr"]["gyroscope_noise_density"] == pytest.approx(4 * n_si, rel=1e-6)
+    assert v["vins"]["gyr_n"] == v["kalibr"]["gyroscope_noise_density"]
+    assert v["gtsam"]["gyroscopeCovariance"] == pytest.approx((4 * n_si) ** 2, rel=1e-6)
+    assert v["sqrt_rate_factor"] == 10.0 and v["inflation"] == 2.0
+    with pytest.raises(InputError):
+        robotics_values({"x": tx}, rate_hz=100.0, inflation=0.0)

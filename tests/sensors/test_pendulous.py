@@ -88,3 +88,35 @@ def test_integrated_output_equals_linear_part_and_input_estimate_inverts():
 def test_coefficients_round_trip():
     assert SingleAxisCoefficients.from_dict(COEF.to_dict()) == COEF
     assert COEF.bias_g == pytest.approx(1.3 / 1012.0)
+
+
+def test_bias_and_eq3_scale_factor_drift_per_input_level():
+    """Figs. 3/4 of the seed (issue 18 item 3): noise-free tumbles at five temperatures
+    with K0(T), K1(T) known; averaging eq. 3 over the two positions of a level cancels
+    the Kip and Kp terms (a_p = ±cos), leaving K1(T) + K2 a_i exactly."""
+    from inertialab.sensors.pendulous import bias_scale_factor_drift
+
+    p = tumble_positions(24)
+    temps = np.array([-40.0, 0.0, 25.0, 55.0, 70.0])
+    sp, tt, ai, U = [], [], [], []
+    for t in temps:
+        dt = t - 55.0
+        c = SingleAxisCoefficients(k0=COEF.k0 + 2e-3 * dt, k1=COEF.k1 * (1 + 3e-5 * dt),
+                                   k2=COEF.k2, kip=COEF.kip, kp=COEF.kp)
+        sp.append(np.full(24, t))
+        tt.append(np.full(24, t + 0.1))
+        ai.append(p.a_in_g)
+        U.append(c.output(p.a_in_g, p.a_pend_g))
+    r = bias_scale_factor_drift(np.concatenate(sp), np.concatenate(tt), np.concatenate(ai),
+                                np.concatenate(U), k1_ref=COEF.k1)
+    np.testing.assert_array_equal(r.set_point_c, temps)
+    np.testing.assert_allclose(r.temp_c, temps + 0.1)
+    # bias drift 2 µV/°C... in mg: 2e-3 mV/°C x dT / K1c x 1e3
+    np.testing.assert_allclose(r.bias_drift_mg, 2e-3 * (temps - 55) / COEF.k1 * 1e3, atol=1e-12)
+    assert r.levels_g.size == 12 and 0.0 not in r.levels_g
+    k1t = COEF.k1 * (1 + 3e-5 * (temps - 55))
+    expect = k1t[:, None] + COEF.k2 * r.levels_g[None, :]
+    np.testing.assert_allclose(r.scale_factor_mv_per_g, expect, rtol=1e-12)
+    np.testing.assert_allclose(r.scale_factor_drift_mv_per_g,
+                               (k1t - COEF.k1)[:, None] * np.ones((1, 12)), atol=1e-9)
+    assert r.summary()["max_scale_factor_drift_ppm"] == pytest.approx(3e-5 * 95 * 1e6, rel=1e-9)

@@ -6,6 +6,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from inertialab.calib.dual_prior import prior_from_history
 from inertialab.errors import InputError
 from inertialab.io import read_record, write_record
 from inertialab.sensors.dual_meter import COEF_NAMES, meter_outputs
@@ -13,7 +14,6 @@ from inertialab.sim.dual_tumble import (
     TAU,
     TRUTH_REF,
     draw_unit,
-    prior_from_history,
     scenario_config,
     simulate_run,
     simulate_two_orientation,

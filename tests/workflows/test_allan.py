@@ -1,4 +1,4 @@
-"""Allan workflow: record preparation, analysis JSON, demo study."""
+"""Allan workflow: record preparation, analysis JSON (the demo study: tests/studies)."""
 
 from __future__ import annotations
 
@@ -97,7 +97,7 @@ def test_parse_helpers():
     assert W.parse_taus("0.1,1,10") == [0.1, 1.0, 10.0]
     with pytest.raises(InputError, match="unknown statistic"):
         W.parse_stats("xdev")
-    with pytest.raises(InputError, match="--taus"):
+    with pytest.raises(InputError, match="argument 'taus'"):
         W.parse_taus("often")
 
 
@@ -108,28 +108,6 @@ def test_unknown_unit_and_bad_column(tmp_path):
         W.prepare_log(rec, column="rate_dps")
     with pytest.raises(InputError):
         W.analyze(np.ones(10), rate_hz=1.0, unit="parsec")
-
-
-def test_demo_quick_runs_and_recovers():
-    r = W.STUDY.run(W.STUDY.quick, None)
-    assert r.name == "allan"
-    rows = {row["term"]: row for row in r.tables["allan_test"]["terms"]}
-    # 2-h allan-test record: Q and N within 3 % (edf in the thousands), B within 30 %
-    assert rows["Q"]["wls"] == pytest.approx(0.5, rel=0.03)
-    assert rows["N"]["wls"] == pytest.approx(0.01, rel=0.03)
-    assert rows["B"]["wls"] == pytest.approx(0.1, rel=0.3)
-    rec = r.tables["recovery"]
-    assert rec["N_within_5pct"][0] == rec["N_within_5pct"][1] == 10
-
-
-def test_report_section_of_demo():
-    from inertialab.report.figures.allan import section
-
-    r = W.STUDY.run(W.QuickSettings(recovery_seeds=2, hours=0.5), None)
-    s = section(r)
-    assert s.key == "allan" and len(s.figures) == 2 and len(s.tables) == 2
-    # the recovery table reports the counts the study computed
-    assert s.tables[1].rows[0][1:] == r.tables["recovery"]["N_within_5pct"]
 
 
 def test_auto_chunked_for_large_memmaps(tmp_path, monkeypatch):
@@ -157,3 +135,88 @@ def test_auto_chunked_for_large_memmaps(tmp_path, monkeypatch):
     assert calls  # the chunked source was used for the memmap
     for ra, rb in zip(a.results, b.results):
         np.testing.assert_allclose(ra.dev, rb.dev, rtol=1e-12)
+
+
+def test_verbs_are_the_workflow_functions():
+    assert W.prepare is W.prepare_log and W.fit is W.analyze
+
+
+# ------------------------------------------------------------------ clock inputs (issue 15)
+
+NBS14_Y = np.array([892.0, 809.0, 823.0, 798.0, 671.0, 644.0, 883.0, 903.0, 677.0])
+
+
+def test_clock_units_end_to_end():
+    # fractional frequency given in ppb, in Hz around a 10 MHz nominal, or dimensionless:
+    # the same deviations (dimensionless), TDEV/MTIE in s, no IMU terms, bias on
+    y = NBS14_Y * 1e-9
+    ref = W.analyze(W.clock_log(y, input="frequency", unit="1", rate_hz=1.0),
+                    stats="oadev,tdev,mtotdev,mtie", taus=[1.0, 2.0], alpha=0)
+    assert ref.terms is None and ref.settings["bias_correction"] is True
+    assert [ref.dev_unit(r.statistic) for r in ref.results] == ["1", "s", "1", "s"]
+    np.testing.assert_allclose(ref.result("oadev").dev, [91.22945e-9, 85.95287e-9], rtol=1e-6)
+    # published NBS14 MTOTDEV with the white-FM bias correction (SP 1065 Table 30)
+    np.testing.assert_allclose(ref.result("mtotdev").dev, [75.50203e-9, 75.83606e-9],
+                               rtol=1e-6)
+    for values, unit, nominal in ((NBS14_Y, "ppb", None),
+                                  (10e6 * (1 + y), "hz", 10e6)):
+        a = W.analyze(W.clock_log(values, input="frequency", unit=unit, rate_hz=1.0,
+                                  nominal_hz=nominal),
+                      stats="oadev,tdev,mtotdev,mtie", taus=[1.0, 2.0], alpha=0)
+        for r, q in zip(a.results, ref.results):
+            np.testing.assert_allclose(r.dev, q.dev, rtol=1e-6)
+    with pytest.raises(InputError, match="nominal"):
+        W.clock_log(NBS14_Y, input="frequency", unit="hz", rate_hz=1.0)
+    with pytest.raises(InputError, match="not a time unit"):
+        W.clock_log(NBS14_Y, input="phase", unit="ppm", rate_hz=1.0)
+    # IMU terms are refused for a clock (its noise types are the per-tau alpha)
+    with pytest.raises(InputError, match="IMU noise terms"):
+        W.analyze(W.clock_log(y, input="frequency", unit="1", rate_hz=1.0), fit_terms=True)
+
+
+def test_prepare_clock_any_column_and_rate(tmp_path):
+    x = np.cumsum(NBS14_Y) * 1e-9
+    df = pd.DataFrame({"MJD": np.arange(x.size) * 10.0, "TIC reading": x * 1e9})
+    log = W.prepare_clock(df, {}, input="phase", column="tic reading", unit="ns", rate_hz=0.1)
+    np.testing.assert_allclose(log.values, x, rtol=1e-15)
+    assert log.unit == "1" and log.input == "angle" and log.kind == "clock"
+    p = tmp_path / "clk.csv"
+    pd.DataFrame({"t_s": np.arange(x.size) * 10.0, "phase_ns": x * 1e9}).to_csv(p, index=False)
+    log2 = W.read_clock(p, input="phase")
+    assert log2.column == "phase_ns" and log2.rate_hz == pytest.approx(0.1)
+    np.testing.assert_allclose(log2.values, x, rtol=1e-12)
+    with pytest.raises(InputError, match="no such column"):
+        W.prepare_clock(df, {}, input="phase", column="nope", rate_hz=1.0)
+
+
+def test_many_taus():
+    y = np.random.default_rng(1).normal(size=5000)
+    a = W.analyze(y, rate_hz=1.0, unit="dph", stats="oadev", taus=W.parse_taus("many"),
+                  fit_terms=False)
+    m = a.results[0].m
+    assert 30 <= m.size <= 40 and m[0] == 1 and np.all(np.diff(m) > 0)
+
+
+def test_clock_time_stamp_gaps_become_nan_and_are_reported(tmp_path):
+    rng = np.random.default_rng(4)
+    x = np.cumsum(rng.standard_normal(1200)) * 1e-9
+    t = np.arange(1200) * 1.0
+    keep = np.ones(1200, dtype=bool)
+    keep[300:305] = False  # five samples lost: the stamps jump by 6 s
+    p = tmp_path / "gap.csv"
+    pd.DataFrame({"t_s": t[keep], "phase_s": x[keep]}).to_csv(p, index=False)
+    log = W.read_clock(p, input="phase")
+    assert log.values.size == 1200 and np.isnan(log.values[300:305]).all()
+    assert log.rate_hz == pytest.approx(1.0)
+    with pytest.warns(Warning, match="5 missing sample"):
+        a = W.analyze(log, stats="oadev", taus="octave")
+    j = a.to_json()
+    assert j["n_gaps"] == 1 and j["n_missing"] == 5 and min(j["used_fraction"]) < 1.0
+    with pytest.warns(Warning), pytest.raises(InputError, match="no gap-resistant form"):
+        W.analyze(log, stats="mdev")
+    bad = tmp_path / "off.csv"
+    t2 = t.copy()
+    t2[600:] += 0.4
+    pd.DataFrame({"t_s": t2, "phase_s": x}).to_csv(bad, index=False)
+    with pytest.raises(InputError, match="off the uniform grid"):
+        W.read_clock(bad, input="phase")

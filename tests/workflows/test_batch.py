@@ -1,20 +1,12 @@
-"""Fleets on Dask: a 200-unit triaxial lot and chunked Allan, parallel == serial (issue 10 item 5)."""
+"""Fleets on Dask: a 200-unit triaxial lot, parallel == serial (issue 10 item 5)."""
 
 import numpy as np
 import pytest
 
+from inertialab.cli.batch import expand_inputs, parse_tolerance
 from inertialab.errors import InputError
-from inertialab.noise.allan import oadev, oadev_chunked
 from inertialab.sim.triaxial_poses import simulate_line
-from inertialab.workflows.batch import (
-    Check,
-    expand_inputs,
-    oadev_dask,
-    open_client,
-    parse_tolerance,
-    run_batch,
-    run_unit,
-)
+from inertialab.workflows.batch import open_client, run_batch, run_unit
 
 pytest.importorskip("dask.distributed")
 
@@ -37,26 +29,6 @@ def lot(tmp_path_factory):
         frame.to_csv(d / f"{uid}.csv", index=False)   # g_local comes from the options
     (d / "U99999.csv").write_text("unit_id,pos_id,ax_mps2\nU99999,1,0.1\n")
     return d, sim.truth["X"]
-
-
-def test_parse_tolerance():
-    cs = parse_tolerance(["adev_1s<=0.01,abs(bx)<=0.05", "kx=0.99..1.01", "tau_min_s>=10"])
-    assert cs == (Check("adev_1s", hi=0.01), Check("bx", hi=0.05, abs=True),
-                  Check("kx", 0.99, 1.01), Check("tau_min_s", lo=10.0))
-    assert cs[1].passes(-0.04) and not cs[1].passes(0.06) and not cs[0].passes(float("nan"))
-    assert [c.text() for c in cs] == ["adev_1s<=0.01", "abs(bx)<=0.05", "kx=0.99..1.01",
-                                      "tau_min_s>=10"]
-    for bad in ("kx", "kx<=abc", "kx=2..1"):
-        with pytest.raises(InputError, match="tolerance"):
-            parse_tolerance(bad)
-
-
-def test_expand_inputs(tmp_path):
-    for name in ("b.csv", "a.csv", "a.meta.json"):
-        (tmp_path / name).write_text("x")
-    assert [p.name for p in expand_inputs(str(tmp_path / "*"))] == ["a.csv", "b.csv"]
-    with pytest.raises(InputError, match="matches no file"):
-        expand_inputs(str(tmp_path / "*.parquet"))
 
 
 def test_lot_parallel_equals_serial_and_truth(lot, client):
@@ -98,65 +70,3 @@ def test_run_unit_bad_command_and_missing_figure(lot):
     r = run_unit("calibrate-triaxial", d / "U00000.csv", {"g_local": 9.8},
                  parse_tolerance("adev_1s<=1"))
     assert r.status == "fail" and "no figure 'adev_1s'" in r.failed[0]
-
-
-def _white_plus_rw(n, seed):
-    rng = np.random.default_rng(seed)
-    return (0.1 * rng.standard_normal(n) + np.cumsum(1e-4 * rng.standard_normal(n)) + 5.0)
-
-
-def test_chunked_allan_dask_equals_in_memory(tmp_path, client):
-    y = _white_plus_rw(1_000_003, 11)
-    p = tmp_path / "long.npy"
-    np.save(p, y)
-    # decade taus: the noise core's angle-based kernel (its octave grid may take a
-    # lag-doubling shortcut with different rounding)
-    ref = oadev(y, rate_hz=100.0, taus="decade")
-    # small checkpoint spacing: many chunks and many tasks, taus straddling them
-    r = oadev_dask(p, rate_hz=100.0, taus="decade", client=client, chunk=1 << 15,
-                   range_chunks=3)
-    np.testing.assert_array_equal(r.m, ref.m)
-    np.testing.assert_array_equal(r.n_terms, ref.n_terms)
-    # only the order of the final additions differs: 1e-12 relative (issue 10 item 5)
-    np.testing.assert_allclose(r.dev, ref.dev, rtol=1e-12, atol=0)
-    np.testing.assert_array_equal(r.alpha, ref.alpha)
-    np.testing.assert_allclose(r.ci_low, ref.ci_low, rtol=1e-12)
-    np.testing.assert_allclose(r.ci_high, ref.ci_high, rtol=1e-12)
-
-
-def test_chunked_allan_bad_input(tmp_path, client):
-    with pytest.raises(InputError, match=".npy"):
-        oadev_dask(tmp_path / "x.csv", rate_hz=1.0, client=client)
-    p = tmp_path / "const.npy"
-    np.save(p, np.ones(1000))
-    with pytest.raises(InputError, match="constant"):
-        oadev_dask(p, rate_hz=1.0, client=client)
-    q = tmp_path / "nan.npy"
-    y = np.ones(1000)
-    y[500] = np.nan
-    np.save(q, y)
-    with pytest.raises(InputError, match="index 500"):
-        oadev_dask(q, rate_hz=1.0, client=client)
-
-
-@pytest.mark.slow
-def test_chunked_allan_1e8_samples(tmp_path, client):
-    """The issue's size: 1e8 samples on disk (float32, 400 MB, memory-mapped), the
-    noise core's serial out-of-core path against Dask on 2 workers."""
-    n = 100_000_000
-    p = tmp_path / "1e8.npy"
-    rng = np.random.default_rng(5)
-    mm = np.lib.format.open_memmap(p, mode="w+", dtype=np.float32, shape=(n,))
-    step = 1 << 24
-    for s in range(0, n, step):
-        e = min(s + step, n)
-        mm[s:e] = rng.standard_normal(e - s, dtype=np.float32)
-    mm.flush()
-    del mm
-    taus = [0.01, 1.0, 100.0, 10_000.0, 300_000.0]   # m from 1 to 3e7
-    y = np.load(p, mmap_mode="r")
-    ref = oadev_chunked(y, rate_hz=100.0, taus=taus)
-    r = oadev_dask(p, rate_hz=100.0, taus=taus, client=client)
-    np.testing.assert_array_equal(r.m, ref.m)
-    np.testing.assert_allclose(r.dev, ref.dev, rtol=1e-12, atol=0)
-    np.testing.assert_array_equal(r.alpha, ref.alpha)

@@ -1,32 +1,27 @@
-"""Tests of inertialab.workflows.thermal (spec 000 §3-§5, §8.1, issue 5 items 3 and 7)."""
+"""Tests of inertialab.workflows.thermal: prepare (record validation, reference
+temperature from the sidecar), fit and apply with its reference-temperature policy
+(spec 000 §2.3, §3.1, §3.7)."""
 
 from __future__ import annotations
 
-import warnings
 from dataclasses import replace
 
 import numpy as np
 import pytest
 
-from inertialab.errors import ExtrapolationWarning, InputError, MissingReferenceError
-from inertialab.io import load_model, save_model
+from inertialab.errors import InputError, MissingReferenceError
+from inertialab.io import read_record, write_record
 from inertialab.sim.thermal_tumble import simulate
 from inertialab.workflows.thermal import (
-    STATUS_N_CLAMPED,
-    STATUS_T_CLAMPED,
-    TensorPolynomial,
     ThermalConfig,
-    bootstrap,
-    compensate,
+    apply,
     drift,
+    fit,
     fit_model,
-    fit_thermal,
     make_splits,
+    prepare,
     prepare_samples,
-    score,
 )
-
-FAST = ThermalConfig(fish=4, generations=2, search_epochs=5, epochs=30, ann_max_epochs=60)
 
 
 @pytest.fixture(scope="module")
@@ -40,31 +35,13 @@ def run_b():
 
 
 @pytest.fixture(scope="module")
-def samples(run_a):
-    return prepare_samples(run_a.frame)
+def model(run_a):
+    s = prepare_samples(run_a.frame)
+    (sp,) = make_splits(s, ThermalConfig(), rng=0)
+    return fit_model(s, sp, "scm-anfis", ThermalConfig(epochs=20))
 
 
-@pytest.fixture(scope="module")
-def quick_fit(samples):
-    cfg = replace(FAST, methods=("fis", "scm-anfis", "iafsa-scm-anfis", "poly-sep", "poly-2d"))
-    return fit_thermal(samples, cfg)
-
-
-# -- samples and validation ----------------------------------------------------------------
-def test_reference_fit_recovers_the_unit_constants(samples, run_a):
-    true = run_a.unit.ref
-    got = samples.ref
-    # 24 positions with ~4.5 µg noise; the bias random walk (~3.5 µg 1-sigma at the 55 °C
-    # plateau, 12 h into the run) shifts K0 as a whole: allow 12 µg (measured 5.5 µg)
-    assert got.k0 == pytest.approx(true.k0, abs=12e-6 * true.k1)
-    assert got.k1 == pytest.approx(true.k1, rel=2e-5)
-    assert got.kp == pytest.approx(true.kp, abs=5e-3)
-    assert samples.n == 552
-    # at 55 °C the integrated output equals the target up to the fit residual
-    m = samples.set_point_c == 55.0
-    assert np.max(np.abs(samples.n_mv[m] - samples.y_mv[m])) < 0.02
-
-
+# -- prepare -------------------------------------------------------------------------------
 def test_missing_reference_set_point_is_refused(run_a):
     f = run_a.frame[run_a.frame.temp_set_c != 55.0]
     with pytest.raises(MissingReferenceError, match="reference temperature 55"):
@@ -85,205 +62,150 @@ def test_temperature_far_from_set_point_is_refused_with_the_row(run_a):
         prepare_samples(f)
 
 
-# -- splits --------------------------------------------------------------------------------
-def test_random_split_is_stratified(samples):
-    (sp,) = make_splits(samples, ThermalConfig(), rng=0)
-    assert np.intersect1d(sp.train, sp.test).size == 0
-    assert sp.train.size + sp.test.size == samples.n
-    counts = np.unique(samples.set_point_c[sp.test], return_counts=True)[1]
-    assert np.all(counts == 7)
-    assert np.array_equal(np.sort(np.r_[sp.fit, sp.val]), sp.train)
-    # 17 training positions per set point, round(0.2*17) = 3 to validation
-    assert sp.val.size == 23 * 3
+def test_prepare_takes_the_reference_temperature_from_the_sidecar(run_a, tmp_path):
+    # shift every temperature by -5 °C: the reference set point is now 50 °C, which
+    # only the sidecar's reference_temp_C can tell
+    f = run_a.frame.copy()
+    for c in ("temp_set_c", "temp_meas_c"):
+        f[c] = f[c] - 5.0
+    p = tmp_path / "shifted.csv"
+    write_record(f, p, dict(run_a.meta) | {"reference_temp_C": 50.0})
+    s = prepare(read_record(p, "thermal_tumble"))
+    assert s.reference_temp_c == 50.0
+    base = prepare_samples(run_a.frame)
+    np.testing.assert_allclose(s.y_mv, base.y_mv, rtol=0, atol=1e-9)
+    write_record(f, p, dict(run_a.meta) | {"reference_temp_C": "hot"})
+    with pytest.raises(InputError, match="not a number"):
+        prepare(read_record(p, "thermal_tumble"))
 
 
-def test_interp_and_leave_one_out_splits(samples):
-    (sp,) = make_splits(samples, ThermalConfig(split="interp_T"), rng=0)
-    test_T = np.unique(samples.set_point_c[sp.test])
-    np.testing.assert_array_equal(test_T, [-35, -25, -15, -5, 5, 15, 25, 35, 45, 65])
-    assert 55.0 in samples.set_point_c[sp.train]
-    folds = make_splits(samples, ThermalConfig(split="leave_one_T_out"), rng=0)
-    assert len(folds) == 22
-    assert all(55.0 not in samples.set_point_c[f.test] for f in folds)
+def test_fit_verb_scores_the_requested_models(run_a):
+    s = prepare_samples(run_a.frame)
+    res = fit(s, ThermalConfig(methods=("fis", "poly-2d")))
+    assert list(res.metrics) == ["fis", "poly-2d"]
+    summ = res.summary()
+    assert summ["model_method"] == "fis" and summ["n_samples"] == 552
+    assert summ["models"]["fis"]["rmse_ug"] < res.raw_rms_ug / 10
 
 
-# -- models --------------------------------------------------------------------------------
-def test_model_ordering_and_drift_reduction(quick_fit):
-    m = quick_fit.metrics
-    raw = quick_fit.raw_rms_ug
-    assert raw > 1000  # spec 8.2.2: ~1.5 mg raw RMS drift
-    # SCM-ANFIS <= FIS (training the premises on top of the same FIS; best epoch on
-    # validation can cost a little on test, measured 10 vs 30 µg here)
-    assert m["scm-anfis"].rmse_ug <= m["fis"].rmse_ug
-    # every fuzzy model reduces the raw drift >= 10x (spec 8.2.2)
-    for k in ("fis", "scm-anfis", "iafsa-scm-anfis"):
-        assert m[k].rmse_ug < raw / 10
-    # POLY-2D (linear in N) cannot follow the sign-dependent scale factor (~90 µg, spec §4)
-    assert m["poly-2d"].rmse_ug > 3 * m["scm-anfis"].rmse_ug
+def test_random_streams_are_keyed_by_method_name_not_position(run_a):
+    """Issue 18 item 2: a model's numbers do not depend on which other models are fitted
+    beside it or in which order (before: IAFSA on interp_T seed 2 gave 4.15 µg alone and
+    26.8 µg with all methods)."""
+    s = prepare_samples(run_a.frame)
+    cfg = ThermalConfig(fish=3, generations=2, search_epochs=3, epochs=10, ann_max_epochs=30,
+                        seed=2)
+    alone = fit(s, replace(cfg, methods=("iafsa-scm-anfis",)))
+    mixed = fit(s, replace(cfg, methods=("ann", "fis", "iafsa-scm-anfis")))
+    swapped = fit(s, replace(cfg, methods=("iafsa-scm-anfis", "fis", "ann")))
+    a = alone.metrics["iafsa-scm-anfis"].rmse_ug
+    assert mixed.metrics["iafsa-scm-anfis"].rmse_ug == a
+    assert swapped.metrics["iafsa-scm-anfis"].rmse_ug == a
+    assert mixed.search["params"] == alone.search["params"]
+    assert mixed.metrics["ann"].rmse_ug == swapped.metrics["ann"].rmse_ug
+    # different methods still draw different streams, and the seed still matters
+    other = fit(s, replace(cfg, methods=("iafsa-scm-anfis",), seed=3))
+    assert other.search["params"] != alone.search["params"]
 
 
-def test_iafsa_never_worse_than_the_default_start(quick_fit):
-    s = quick_fit.search
-    assert s["fun"] <= s["f_default"]  # spec 8.2.3 (fish 0 starts at the defaults)
-    assert 2 <= s["n_rules"] <= 40
-    assert s["history"][0] <= s["f_default"]
+# -- apply ---------------------------------------------------------------------------------
+def _record(run, tmp_path, name):
+    p = tmp_path / f"{name}.csv"
+    write_record(run.frame, p, run.meta)
+    return read_record(p, "thermal_tumble")
 
 
-def test_metrics_match_a_hand_computed_example(samples):
-    class Offset:
-        n_rules = None
-
-        def predict_nc(self, T, N):
-            # +10 µg on every sample, expressed in mV through K1c
-            return samples.y_mv[idx] + 10e-6 * samples.k1
-
-    idx = np.arange(48, 72)  # one set point, 24 positions
-    met = score(Offset(), samples, idx)
-    assert met.rmse_ug == pytest.approx(10.0, rel=1e-9)
-    assert met.me_ug == pytest.approx(10.0, rel=1e-9)
-    assert met.mbe_ug == pytest.approx(10.0, rel=1e-9)
-    a = np.abs(samples.a_in_g[idx])
-    keep = a >= 0.25
-    # 10 µg over |a_i| g = 10/|a_i| ppm: max at 0.2588 g -> 38.6 ppm
-    assert met.maxe_ppm == pytest.approx(np.max(10.0 / a[keep]), rel=1e-9)
-    assert met.mare_ppm == pytest.approx(np.mean(10.0 / a[keep]), rel=1e-9)
-
-
-def test_tensor_polynomial_is_least_squares_on_its_monomials():
-    rng = np.random.default_rng(0)
-    X = rng.random((50, 2)) * [100, 1000]
-    y = 3 + 0.2 * X[:, 0] - 1e-3 * X[:, 0] ** 2 * X[:, 1] + 1e-5 * X[:, 0] ** 3
-    tp = TensorPolynomial(degrees=(3, 1)).fit(X, y)
-    np.testing.assert_allclose(tp.predict(X), y, rtol=1e-9, atol=1e-8)
-
-
-def test_learn_drift_and_raw_input_variants(samples, run_a):
-    (sp,) = make_splits(samples, ThermalConfig(), rng=0)
-    base = score(fit_model(samples, sp, "scm-anfis", FAST), samples, sp.test).rmse_ug
-    cfg = replace(FAST, learn_drift=True)
-    ld = score(fit_model(samples, sp, "scm-anfis", cfg), samples, sp.test).rmse_ug
-    raw_s = prepare_samples(run_a.frame, ThermalConfig(input="raw"))
-    raw = score(fit_model(raw_s, sp, "scm-anfis", replace(FAST, input="raw")), raw_s, sp.test)
-    # same model class and data: all within 3x of each other and far below the raw drift
-    for v in (ld, raw.rmse_ug):
-        assert v < 3 * base and v < 100
-
-
-def test_model_file_round_trip(quick_fit, samples, tmp_path):
-    for name in ("iafsa-scm-anfis", "poly-sep", "poly-2d"):
-        model = quick_fit.models[name]
-        path = tmp_path / f"{name}.json"
-        save_model(model, path, units={"temp": "C", "output": "mV"})
-        back = load_model(path)
-        np.testing.assert_array_equal(back.predict_nc(samples.temp_c, samples.n_mv),
-                                      model.predict_nc(samples.temp_c, samples.n_mv))
-        assert back.metrics["rmse_ug"] == model.metrics["rmse_ug"]
-
-
-# -- compensation and transfer -------------------------------------------------------------
-def test_compensation_clamps_and_flags_outside_the_calibrated_range(quick_fit, samples):
-    model = quick_fit.models["scm-anfis"]
-    T = np.array([20.0, 90.0, 20.0])
-    U = np.array([500.0, 500.0, 5000.0])
-    with pytest.warns(ExtrapolationWarning):
-        c = compensate(model, T, U, np.zeros(3))
-    assert list(c.status) == [0, STATUS_T_CLAMPED, STATUS_N_CLAMPED]
-    assert np.all(np.isfinite(c.a_g))
-    with pytest.raises(InputError, match="outside the model's calibrated range"):
-        compensate(model, np.array([120.0, 130.0]), np.array([1.0, 2.0]))
-
-
-def test_transfer_to_another_unit_of_the_lot(quick_fit, run_b):
+def test_apply_uses_the_records_own_tumble_for_another_unit(model, run_b, tmp_path):
+    rec = _record(run_b, tmp_path, "b")
+    res = apply(model, rec, source="m.json")
+    assert res.reference == "record"
+    assert res.meta["compensated_with"] == "m.json" and res.meta["reference"] == "record"
+    assert {"comp_output_mv", "comp_a_g", "status"} <= set(res.frame.columns)
+    assert len(res.frame) == len(rec.data)
+    # the §3.7 mapping through unit B's own 55 °C coefficients is what makes transfer
+    # work: the drift equals calib's transfer drift, and the acceleration is far closer
+    # to the truth than when B is read in A's frame
     sb = prepare_samples(run_b.frame)
-    d = drift(quick_fit.models["iafsa-scm-anfis"], sb)
-    assert d.raw_max_ug >= 3000  # spec 8.2.4: raw max drift >= 3 mg
-    # the quick search here is short; the full benchmark checks <= 30 µg. 60 µg still
-    # demands a > 50x reduction of the 5 mg raw drift.
-    assert d.comp_max_ug <= 60.0
-    # unit B's sensor reads slightly beyond A's calibrated 70 °C: clamped and flagged
-    assert set(np.unique(d.status)) <= {0, STATUS_T_CLAMPED}
+    assert res.drift.comp_max_ug == pytest.approx(drift(model, sb).comp_max_ug, rel=1e-12)
+    forced = apply(model, rec, reference="model")
+    assert forced.reference == "model" and forced.drift is None
+
+    def err(r):
+        return np.sqrt(np.mean((r.frame.comp_a_g - r.frame.true_a_in_g) ** 2)) * 1e6
+
+    assert err(res) < 50 and err(forced) > 10 * err(res)
 
 
-def test_bootstrap_bands_contain_the_point_estimate(quick_fit, samples):
-    model = quick_fit.models["scm-anfis"]
-    b = bootstrap(samples, model, FAST, n_boot=4, epochs=5, rng=1)
-    own = drift(model, samples, own_unit=True)
-    assert b.std_ug.shape == (samples.n,)
-    assert np.all(b.band_hi_ug >= b.band_lo_ug)
-    # bands are tens of µg at most where the drift is millig-level: resampling works
-    assert np.median(b.band_hi_ug - b.band_lo_ug) < 100
-    inside = (own.comp_ug >= b.band_lo_ug - 20) & (own.comp_ug <= b.band_hi_ug + 20)
-    assert inside.mean() > 0.9
+def test_apply_keeps_the_model_unit_for_its_own_record(model, run_a, tmp_path):
+    res = apply(model, _record(run_a, tmp_path, "a"))
+    assert res.reference == "model"
+    assert res.summary()["n_rows"] == 552
 
 
-def test_same_seed_same_numbers(samples):
-    cfg = replace(FAST, methods=("fis", "ann"))
-    a = fit_thermal(samples, cfg).table()
-    b = fit_thermal(samples, cfg).table()
-    for k in a:
-        assert a[k]["rmse_ug"] == b[k]["rmse_ug"]
+def test_apply_reference_argument_is_checked(model, run_a, run_b, tmp_path):
+    with pytest.raises(InputError, match="argument 'reference'"):
+        apply(model, _record(run_a, tmp_path, "a"), reference="magic")
+    part = replace(run_b, frame=run_b.frame[run_b.frame.temp_set_c != 55.0])
+    rec = _record(part, tmp_path, "no55")
+    with pytest.raises(MissingReferenceError):
+        apply(model, rec, reference="record")
+    assert apply(model, rec).reference == "model"  # auto falls back to the model's unit
 
 
-def test_warning_free_compensation_inside_the_range(quick_fit, samples):
-    model = quick_fit.models["fis"]
-    m = (samples.temp_c > model.t_range_c[0]) & (samples.temp_c < model.t_range_c[1])
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")
-        c = compensate(model, samples.temp_c[m][:5], samples.output_mv[m][:5],
-                       samples.a_pend_g[m][:5])
-    assert np.all(c.status == 0)
+# -- non-finite and out-of-range numbers (issue 19 item 5) ---------------------------------
+@pytest.mark.parametrize("set_point", [10.0, 55.0])
+def test_a_1e308_cell_is_an_input_error_naming_the_row(run_a, set_point):
+    f = run_a.frame.copy()
+    i = int(np.flatnonzero((f.temp_set_c == set_point) & (f.pos_index == 3))[0])
+    f.loc[f.index[i], "output_mv"] = 1e308
+    with pytest.raises(InputError, match="output_mv") as ex:
+        prepare_samples(f)
+    if set_point != 55.0:
+        assert f"row {i + 1}" in str(ex.value)
 
 
-# -- model-file fixtures of format version 1 -----------------------------------------------
-FIXTURE_T = np.array([-30.0, 0.0, 25.0, 60.0])
-FIXTURE_N = np.array([-700.0, 10.0, 500.0, 990.0])
-FIXTURE_NC = np.array([-699.97571242, 10.90606606, 500.91349735, 989.77578337])
+def test_a_large_but_finite_glitch_is_refused_too(run_a):
+    f = run_a.frame.copy()
+    f.loc[f.index[100], "output_mv"] += 5000.0  # a 5 g "drift"
+    with pytest.raises(InputError, match="row 101.*not a temperature drift"):
+        prepare_samples(f)
 
 
-def test_model_fixtures_v1_still_load_and_predict():
-    """tests/data/models/{thermal-compensation,anfis}-v1.json (provenance in
-    tests/data/README.md) give the numbers they gave when written (8 decimals printed)."""
-    from pathlib import Path
+def test_compensate_refuses_nan_in_and_nan_out(model, run_a):
+    from inertialab.calib.thermal import compensate
 
-    d = Path(__file__).parent.parent / "data" / "models"
-    m = load_model(d / "thermal-compensation-v1.json")
-    np.testing.assert_allclose(m.predict_nc(FIXTURE_T, FIXTURE_N), FIXTURE_NC, atol=1e-8)
-    assert m.method == "scm-anfis" and m.ref.k1 > 900
-    a = load_model(d / "anfis-v1.json")
-    np.testing.assert_allclose(a.predict(np.column_stack([FIXTURE_T, FIXTURE_N])), FIXTURE_NC,
-                               atol=1e-8)
+    T = np.array([20.0, 25.0])
+    with pytest.raises(InputError, match="column 'output_mv', row 2"):
+        compensate(model, T, np.array([500.0, np.nan]))
+    from inertialab.learn.anfis import ANFIS
 
-
-def test_few_point_recalibration_helps_on_the_realistic_preset():
-    from inertialab.workflows.thermal import recalibrate
-
-    sa = prepare_samples(simulate("realistic", 0, 0).frame)
-    sb = prepare_samples(simulate("realistic", 0, 1, seed=1000).frame)
-    (sp,) = make_splits(sa, ThermalConfig(), rng=0)
-    m = fit_model(sa, sp, "scm-anfis", replace(FAST, epochs=60))
-    direct = drift(m, sb).comp_max_ug
-    recal = drift(recalibrate(m, sb), sb).comp_max_ug
-    # measured 386 -> 208 µg (150 epochs); the spec's 10x is out of reach because the
-    # misalignment drift (a_p-dependent, ~95 µg) is not a function of (T, N): ask for 1.4x
-    assert recal < direct / 1.4
-    with pytest.raises(InputError, match="recalibration set points"):
-        recalibrate(m, sb, set_points=(33.0,))
+    reg = ANFIS.from_dict(model.regressor.to_dict())
+    reg.fis_.consequents[:] = np.nan
+    with pytest.raises(InputError, match="non-finite output"):
+        compensate(replace(model, regressor=reg), T, np.array([500.0, 600.0]))
 
 
-def test_up_down_split_trains_on_one_pass_and_tests_on_the_other():
-    from inertialab.sim.thermal_tumble import Schedule, make_lot, run_tumble
-    from inertialab.workflows.thermal import raw_drift_rms_ug
+def test_model_files_with_nan_or_nonsense_are_refused(model, tmp_path):
+    import json
 
-    run = run_tumble(make_lot(0, "realistic"), 0, schedule=replace(Schedule(), ramp="up_down"))
-    s = prepare_samples(run.frame)
-    assert s.n == (23 + 22) * 24
-    (sp,) = make_splits(s, ThermalConfig(split="up_down"), rng=0)
-    assert set(s.ramp_dir[sp.train]) == {"up"} and set(s.ramp_dir[sp.test]) == {"down"}
-    m = fit_model(s, sp, "scm-anfis", FAST)
-    down = score(m, s, sp.test)
-    # hysteresis (3 µg), sensor lag and misalignment drift keep the realistic preset at tens
-    # of µg (measured 40 µg), still > 10x below the raw drift of the down pass
-    assert down.rmse_ug < raw_drift_rms_ug(s, sp.test) / 10
-    with pytest.raises(InputError, match="up and a down pass"):
-        make_splits(prepare_samples(simulate("paper", 0, 0).frame),
-                    ThermalConfig(split="up_down"), rng=0)
+    from inertialab.io import load_model, save_model
+
+    save_model(model, tmp_path / "m.json")
+    env = json.loads((tmp_path / "m.json").read_text())
+    cases = {"ref": ("ref", "k1", float("nan")), "cons": None, "range": None,
+             "method": ("method", None, "rm -rf")}
+    for name, change in cases.items():
+        e = json.loads(json.dumps(env))
+        pl = e["payload"]
+        if name == "cons":
+            pl["regressor"]["fis"]["consequents"][0][0] = float("inf")
+        elif name == "range":
+            pl["t_range_c"] = [70.0, -40.0]
+        elif change[1] is None:
+            pl[change[0]] = change[2]
+        else:
+            pl[change[0]][change[1]] = change[2]
+        (tmp_path / f"{name}.json").write_text(json.dumps(e))
+        with pytest.raises(InputError, match="thermal model"):
+            load_model(tmp_path / f"{name}.json")
+    assert load_model(tmp_path / "m.json").method == "scm-anfis"

@@ -1,8 +1,16 @@
-"""``inertialab batch CMD --inputs GLOB``: one command over many files on Dask."""
+"""``inertialab batch CMD --inputs GLOB``: one command over many files on Dask.
 
-from __future__ import annotations
+Thin: the ``--tolerance`` rules (:func:`parse_tolerance`) and the ``--inputs`` globs
+(:func:`expand_inputs`) are parsed here; the fleet runner is
+:func:`inertialab.workflows.batch.run_batch`.
+"""
 
+# no "from __future__ import annotations": typer must see the Annotated shared options
+import fnmatch
+import glob as _glob
+import re
 import sys
+from collections.abc import Sequence
 from pathlib import Path
 
 import typer
@@ -16,15 +24,79 @@ from inertialab.cli.common import (
     progress_bar,
     write_figures,
 )
+from inertialab.cli.options import JsonOpt, OutDirOpt, QuietOpt, reading_options
 from inertialab.errors import InputError
+from inertialab.io.mapping import ReadOptions
 
 _ALIASES = {"allan": "allan", "calibrate-triaxial": "calibrate-triaxial",
             "calibrate triaxial": "calibrate-triaxial", "thermal-compensate": "thermal-compensate",
             "thermal compensate": "thermal-compensate"}
 
+_CHECK = re.compile(r"^\s*([A-Za-z_][A-Za-z0-9_.]*)\s*(<=|>=|<|>|=)\s*(.+?)\s*$")
+
+
+def parse_tolerance(text: str | Sequence[str] | None) -> tuple:
+    """Parse ``--tolerance`` (``"adev_1s<=0.01,abs(bx)<=0.05,kx=0.99..1.01"``; repeated
+    options or a list are joined) into :class:`inertialab.workflows.batch.Check` rules."""
+    from inertialab.workflows.batch import Check
+
+    if text is None:
+        return ()
+    parts = [text] if isinstance(text, str) else list(text)
+    checks = []
+    for part in parts:
+        for raw in str(part).split(","):
+            if not raw.strip():
+                continue
+            s = raw.strip()
+            is_abs = False
+            m_abs = re.match(r"^abs\(\s*([^)]+?)\s*\)(.*)$", s)
+            if m_abs:
+                is_abs = True
+                s = m_abs.group(1) + m_abs.group(2)
+            m = _CHECK.match(s)
+            if m is None:
+                raise InputError(f"--tolerance: {raw.strip()!r} is not KEY<=VALUE, KEY>=VALUE "
+                                 "or KEY=LO..HI")
+            key, op, val = m.groups()
+            try:
+                if op == "=":
+                    lo_s, hi_s = val.split("..")
+                    lo, hi = float(lo_s), float(hi_s)
+                    if lo > hi:
+                        raise ValueError
+                    checks.append(Check(key, lo, hi, is_abs))
+                elif op in ("<=", "<"):
+                    checks.append(Check(key, hi=float(val), abs=is_abs))
+                else:
+                    checks.append(Check(key, lo=float(val), abs=is_abs))
+            except ValueError:
+                raise InputError(f"--tolerance: bad number or range in {raw.strip()!r}") from None
+    return tuple(checks)
+
+
+def expand_inputs(patterns: str | Sequence[str]) -> list[Path]:
+    """Sorted files matching the glob pattern(s) (``**`` recurses); sidecars
+    (``*.meta.json``) and directories are left out. Nothing matched is an InputError."""
+    pats = [patterns] if isinstance(patterns, str) else list(patterns)
+    found: set[Path] = set()
+    for pat in pats:
+        hits = _glob.glob(str(pat), recursive=True)
+        if not hits and Path(pat).is_file():
+            hits = [str(pat)]
+        for h in hits:
+            p = Path(h)
+            if p.is_file() and not fnmatch.fnmatch(p.name, "*.meta.json") \
+                    and not p.name.endswith(".schedule.csv"):
+                found.add(p)
+    if not found:
+        raise InputError(f"--inputs {' '.join(map(str, pats))!s}: the glob matches no file")
+    return sorted(found)
+
 
 def register(app: typer.Typer, groups: dict) -> None:
     @app.command("batch")
+    @reading_options
     def batch(
         cmd: list[str] = typer.Argument(..., help="allan | calibrate triaxial | thermal compensate"),
         inputs: list[str] = typer.Option(..., "--inputs", help="Glob of input files, e.g. "
@@ -37,21 +109,19 @@ def register(app: typer.Typer, groups: dict) -> None:
                                             "separated or repeated)."),
         strict: bool = typer.Option(False, "--strict", help="Exit 2 when any unit could not "
                                     "be processed."),
-        map_: str = typer.Option(None, "--map", help="Column map target=source[:unit],..."),
-        map_file: Path = typer.Option(None, "--map-file", help="Column map JSON/TOML file."),
         unit: str = typer.Option(None, "--unit", help="Unit suffix for columns without one."),
         rate: float = typer.Option(None, "--rate", help="Sample rate in Hz (allan)."),
         gaps: str = typer.Option("error", "--gaps", help="error | split (allan logs)."),
         g_local: float = typer.Option(None, "--g-local", help="Local gravity, m/s^2."),
         model: Path = typer.Option(None, "--model", help="Model file (thermal compensate)."),
-        out: Path = typer.Option(None, "--out", help="Directory for units.csv, summary.json "
-                                 "and batch.png."),
-        as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
-        quiet: bool = typer.Option(False, "--quiet"),
+        out: OutDirOpt = None,
+        as_json: JsonOpt = False,
+        quiet: QuietOpt = False,
+        read: ReadOptions = None,
     ):
         """Run CMD on every file of --inputs (Dask), and write one table: per unit its
         key figures and pass/fail against --tolerance, plus the yield summary."""
-        from inertialab.workflows.batch import expand_inputs, parse_tolerance, run_batch
+        from inertialab.workflows.batch import run_batch
 
         name = _ALIASES.get(" ".join(cmd).strip().lower())
         if name is None:
@@ -59,13 +129,13 @@ def register(app: typer.Typer, groups: dict) -> None:
                              "triaxial, thermal compensate)")
         if gaps not in ("error", "split"):
             raise InputError(f"--gaps must be 'error' or 'split', got '{gaps}'")
-        from inertialab.io.mapping import ReadOptions
-
-        ReadOptions.from_cli(map_, map_file)  # a bad map is a usage error, not 200 unit errors
+        # the reading options were built (and checked) once here: a bad map is a usage
+        # error, not 200 unit errors; the workers get their plain-text form
         paths = expand_inputs(inputs)
         checks = parse_tolerance(tolerance)
         options = {k: v for k, v in {
-            "map": map_, "map_file": str(map_file) if map_file else None, "unit": unit,
+            "map": read.column_map.to_text() or None, "sep": read.parse.sep,
+            "decimal": read.parse.decimal, "skip_rows": read.parse.skip_rows, "unit": unit,
             "rate": rate, "gaps": gaps if name == "allan" else None, "g_local": g_local,
             "model": str(model) if model else None}.items() if v is not None}
         with collect_warnings(quiet=quiet or as_json) as warns:

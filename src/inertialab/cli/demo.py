@@ -24,23 +24,18 @@ def register(app: typer.Typer, groups: dict) -> None:
         quiet: bool = typer.Option(False, "--quiet", help="No progress bars."),
     ):
         """Run the studies on the virtual lab and write a self-contained HTML report."""
-        from inertialab.report.build import section_for
-        from inertialab.report.html import render_report
-        from inertialab.studies.demo import run_studies, select_studies, summary_rows
+        from inertialab.report.build import write_report
+        from inertialab.studies.demo import SUMMARY_COLUMNS, run_studies, select_studies
 
         select_studies(study)  # validates names before any work
         with collect_warnings(quiet=quiet or as_json) as warns:
             results = run_studies(study, quick=quick, seed=seed,
                                   progress=lambda label: progress_bar(label, quiet=quiet))
-            sections = [section_for(r) for r in results]
-            rows = summary_rows(results)
-            notes = [f"{r.name}: {r.wall_s:.1f} s" for r in results]
-            paths = render_report(sections, out, summary=rows, notes=notes, quick=quick,
-                                  extra={"wall_s": {r.name: r.wall_s for r in results}})
+            paths = write_report(results, out, quick=quick)
+        rows = paths["rows"]
         if as_json:
             emit_json("demo", {"report": str(paths["index"]), "results": str(paths["results"]),
-                               "summary": [dict(zip(["study", "figure", "ours", "paper", "unit"], r))
-                                           for r in rows],
+                               "summary": [dict(zip(SUMMARY_COLUMNS, r)) for r in rows],
                                "wall_s": {r.name: r.wall_s for r in results}},
                       settings={"quick": quick, "study": study or [], "seed": seed},
                       warnings_=warns)
@@ -48,7 +43,7 @@ def register(app: typer.Typer, groups: dict) -> None:
         if not results:
             print("No studies are registered yet; the report says so.")
         else:
-            print_table(["study", "figure", "ours", "paper", "unit"], rows,
+            print_table(list(SUMMARY_COLUMNS), rows,
                         title="inertialab demo: our figures beside the papers'")
         print(f"report: {paths['index']}")
         print(f"results: {paths['results']}")

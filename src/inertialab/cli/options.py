@@ -48,15 +48,38 @@ def _opt(name: str, annotation, default=None) -> inspect.Parameter:
 #: The reading options (name -> Parameter); ReadOptions.from_cli receives them by name.
 READING_PARAMS: list[inspect.Parameter] = [
     _opt("map_text", Annotated[str | None, typer.Option(
-        "--map", help="Column map target=source[:unit],... (e.g. gx_dps='Gyro X');")]),
+        "--map", help="Column map target=source[:unit],... (e.g. gx_rps='Gyro X:dps'; "
+                      "colN = N-th column of a headerless file).")]),
     _opt("map_file", Annotated[Path | None, typer.Option(
         "--map-file", help="Column map and parse options from a JSON/TOML file.")]),
     _opt("sep", Annotated[str | None, typer.Option(
-        "--sep", help="Field separator (default: sniffed).")]),
+        "--sep", help="Field separator , ; tab or ' ' for blanks (default: sniffed).")]),
     _opt("decimal", Annotated[str | None, typer.Option(
         "--decimal", help="Decimal mark . or , (default: sniffed).")]),
     _opt("skip_rows", Annotated[int | None, typer.Option(
-        "--skip-rows", help="Preamble lines before the header (default: # lines).")]),
+        "--skip-rows", help="Preamble lines before the header (default: sniffed).")]),
+    _opt("time_col", Annotated[str | None, typer.Option(
+        "--time-col", help="Column holding the time stamps (becomes t_s).")]),
+    _opt("time_unit", Annotated[str | None, typer.Option(
+        "--time-unit", help="Unit of the time stamps: s, ms, us or ns (default s).")]),
+    _opt("rate", Annotated[float | None, typer.Option(
+        "--rate", help="Sample rate in Hz when the file has no time column.")]),
+    _opt("unit", Annotated[str | None, typer.Option(
+        "--unit", help="Unit of columns without one: a suffix (dps), one per dimension "
+                       "(g,dps) or per column (gx=dps,ax=g).")]),
+    _opt("topic", Annotated[str | None, typer.Option(
+        "--topic", help="ROS bag topic or PX4 ULog message (sensor_combined, sensor_gyro, "
+                        "sensor_accel); default: the only IMU topic.")]),
+    _opt("instance", Annotated[int | None, typer.Option(
+        "--instance", help="ULog multi-instance (sensor_gyro 0, 1, 2 ...); default 0.")]),
+    _opt("dataset", Annotated[str | None, typer.Option(
+        "--dataset", help="MATLAB variable or HDF5 dataset path (imu/gyro).")]),
+    _opt("join", Annotated[list[Path] | None, typer.Option(
+        "--join", help="Further time x y z file joined on time (imu_tk: gyro beside "
+                       "accelerometer); repeatable.")]),
+    _opt("resample", Annotated[float | None, typer.Option(
+        "--resample", help="Resample onto a uniform grid at this rate, Hz (linear; only "
+                           "when given).")]),
 ]
 
 
@@ -64,29 +87,64 @@ def _build_read(values: dict[str, Any]) -> ReadOptions:
     return ReadOptions.from_cli(values.pop("map_text"), values.pop("map_file"), **values)
 
 
+def _flags_of(param: inspect.Parameter) -> set[str]:
+    """The option flags a command parameter declares (default or Annotated form)."""
+    infos = [param.default]
+    ann = param.annotation
+    if getattr(ann, "__metadata__", None):
+        infos.extend(ann.__metadata__)
+    flags = set()
+    for info in infos:
+        if not hasattr(info, "param_decls"):
+            continue
+        decls = list(info.param_decls or ())
+        if isinstance(info.default, str):  # Annotated form: the first flag sits in default
+            decls.append(info.default)
+        flags.update(d for d in decls if isinstance(d, str) and d.startswith("--"))
+    return flags
+
+
+def _main_flag(param: inspect.Parameter) -> str:
+    return sorted(_flags_of(param))[0]
+
+
 def reading_options(fn):
     """Decorator: add the reading options to command ``fn``, which takes ``read``.
 
     ``fn`` must declare a parameter named ``read``; it receives the
-    :class:`~inertialab.io.mapping.ReadOptions` built from the flags.
+    :class:`~inertialab.io.mapping.ReadOptions` built from the flags. Where ``fn``
+    already declares one of the reading flags itself (``--rate``, ``--unit`` in commands
+    that had them before the front door), its own option stays (help text and name) and
+    the value is handed to ``fn`` and copied into ``read``.
     """
-    sig = inspect.signature(fn)
+    try:  # evaluated annotations (commands use `from __future__ import annotations`)
+        sig = inspect.signature(fn, eval_str=True)
+    except NameError:
+        sig = inspect.signature(fn)
     if "read" not in sig.parameters:
         raise TypeError(f"{fn.__name__} needs a 'read' parameter for reading_options")
-    names = [p.name for p in READING_PARAMS]
+    own = {}
+    for p in sig.parameters.values():
+        for flag in _flags_of(p):
+            own[flag] = p.name
+    added = [p for p in READING_PARAMS if _main_flag(p) not in own]
+    shared = {p.name: own[_main_flag(p)] for p in READING_PARAMS if _main_flag(p) in own}
+    names = [p.name for p in added]
 
     @functools.wraps(fn)
     def wrapper(*args, **kwargs):
         values = {n: kwargs.pop(n, None) for n in names}
+        for rname, fname in shared.items():
+            values[rname] = kwargs.get(fname)
         kwargs["read"] = _build_read(values)
         return fn(*args, **kwargs)
 
     params = [p for p in sig.parameters.values() if p.name != "read"]
     kw_only = [p for p in params if p.kind == inspect.Parameter.KEYWORD_ONLY]
     others = [p for p in params if p.kind != inspect.Parameter.KEYWORD_ONLY]
-    wrapper.__signature__ = sig.replace(parameters=others + kw_only + READING_PARAMS)
-    ann = {k: v for k, v in getattr(fn, "__annotations__", {}).items() if k != "read"}
-    ann.update({p.name: p.annotation for p in READING_PARAMS})
+    wrapper.__signature__ = sig.replace(parameters=others + kw_only + added)
+    ann = {p.name: p.annotation for p in params}
+    ann.update({p.name: p.annotation for p in added})
     wrapper.__annotations__ = ann
     return wrapper
 
@@ -97,6 +155,12 @@ FLAG_OF: dict[str, str] = {
     "rate_hz": "--rate",
     "column_map": "--map",
     "skip_rows": "--skip-rows",
+    "time_column": "--time-col",
+    "time_unit": "--time-unit",
+    "topic": "--topic",
+    "instance": "--instance",
+    "dataset": "--dataset",
+    "resample_hz": "--resample",
     "unit": "--unit",
     "g_local": "--g-local",
     "method": "--method",
@@ -104,6 +168,37 @@ FLAG_OF: dict[str, str] = {
     "reference": "--reference",
     "horizon": "--horizon",
     "seed": "--seed",
+    "input": "--input",
+    "stats": "--stat",
+    "export": "--export",
+    "gaps": "--gaps",
+    "model": "--model",
+    "workers": "--workers",
+    "scheduler": "--scheduler",
+    "nominal_hz": "--nominal",
+    "fit_terms": "--terms",
+    "column": "--column",
+    "gyro_lsb_per_rps": "--gyro-lsb-per-rps",
+    "k_thr": "--k-thr",
+    "threshold": "--threshold",
+    "t_init_s": "--t-init",
+    "min_duration_s": "--min-duration",
+    "window_s": "--window",
+    "force": "--force",
+    "bias_limit": "--bias-limit",
+    "norm_tol": "--norm-tol",
+    "max_generations": "--max-generations",
+    "robust": "--robust",
+    "placement_deg": "--placement-deg",
+    "drop_g_sensitivity": "--drop-g-sensitivity",
+    "fish_visual": "--visual",
+    "fish_step": "--step",
+    "fish_try_number": "--try-number",
+    "fish_crowd": "--crowd",
+    "n_positions": "--positions",
+    "step_deg": "--step-deg",
+    "range_deg": "--range-deg",
+    "prior": "--prior",
 }
 
 

@@ -1,11 +1,11 @@
-"""``inertialab thermal fit / compensate / export`` and ``inertialab simulate thermal-tumble``
-(spec 000). Thin: parse, call :mod:`inertialab.workflows.thermal`, print or write."""
+"""``inertialab thermal fit / apply / export`` and ``inertialab simulate thermal-tumble``
+(spec 000). Thin: parse, call :mod:`inertialab.workflows.thermal`, print or write.
+``thermal compensate`` is the old spelling of ``thermal apply`` (hidden, one release)."""
 
-from __future__ import annotations
 
 import json
-from dataclasses import replace
 from pathlib import Path
+from typing import Annotated
 
 import typer
 
@@ -13,20 +13,25 @@ from inertialab.cli.common import (
     atomic_write_text,
     collect_warnings,
     emit_json,
+    json_ready,
     prepare_out_dir,
     print_table,
     progress_bar,
     write_figures,
 )
+from inertialab.cli.options import JsonOpt, OutDirOpt, QuietOpt, SeedOpt, reading_options
 from inertialab.errors import InputError
+from inertialab.io.mapping import ReadOptions
 
 _METHOD_CHOICES = ("iafsa-scm-anfis", "scm-anfis", "anfis", "fis", "ann", "poly-sep", "poly-2d",
                    "all")
-_MODEL_KEYS = ("rmse_ug", "me_ug", "ae_ug", "mbe_ug", "maxe_ppm", "mare_ppm", "rmse_truth_ug",
-               "rules", "wall_s")
 _UNITS = {"temp": "degC", "output": "mV", "k0": "mV", "k1": "mV/g", "k2": "mV/g^2",
           "kip": "mV/g^2", "kp": "mV/g", "wall_s": "s", "fun": "mg", "f_default": "mg",
-          "radius": "1 (scaled)", "squash": "1", "accept": "1", "reject": "1"}
+          "radius": "1 (scaled)", "squash": "1", "accept": "1", "reject": "1",
+          "visual": "1 (unit cube)", "step": "1 (unit cube)", "visual_min": "1 (unit cube)",
+          "step_min": "1 (unit cube)", "crowd": "1", "try_number": "1", "n_fish": "1",
+          "max_generations": "1", "adaptive_exponent": "1", "r_max": "1",
+          "search_epochs": "1"}
 
 
 def _methods(method: str) -> tuple[str, ...]:
@@ -43,223 +48,258 @@ def _methods(method: str) -> tuple[str, ...]:
     return parts
 
 
-def _read(path: Path):
+def _plain(text: str) -> str:
+    """Data-derived text for a matplotlib title: no mathtext (``$``), one line."""
+    return " ".join(str(text).replace("$", r"\$").split())[:200]
+
+
+def _read(path: Path, read: ReadOptions):
     from inertialab.io import read_record
 
-    return read_record(path, "thermal_tumble")
+    return read_record(path, "thermal_tumble", options=read)
 
 
-def _reference_temp(meta: dict, path) -> float:
-    """The sidecar's reference temperature (``reference_temp_C``, any case), else 55 °C."""
-    for k, v in meta.items():
-        if str(k).lower() == "reference_temp_c":
-            try:
-                return float(v)
-            except (TypeError, ValueError):
-                raise InputError(f"sidecar key {k} is not a number: {v!r}", path=path) from None
-    return 55.0
+def _apply_command(name: str):
+    """The body of ``thermal apply`` (and of its old spelling ``thermal compensate``)."""
+
+    @reading_options
+    def thermal_apply(
+        model: Annotated[Path, typer.Argument(help="model.json from 'thermal fit'.")],
+        file: Annotated[Path, typer.Argument(help="thermal_tumble record to compensate.")],
+        out: Annotated[Path, typer.Option("--out", help="Output record (.csv or .parquet); "
+                                                        "a sidecar .meta.json is written "
+                                                        "beside it.")],
+        reference: Annotated[str, typer.Option(
+            "--reference", help="model | record | auto: Ua with the model unit's 55 °C "
+                                "coefficients, or with the record's own 55 °C tumble "
+                                "(transfer to another unit, spec 000 §3.7); auto = record "
+                                "when it has a full 55 °C tumble of another unit.")] = "auto",
+        figure: Annotated[Path | None, typer.Option(
+            "--figure", help="Also write the drift before/after compensation per input "
+                             "level (seed Fig. 9, the transfer figure) to this .png; needs "
+                             "a full tumble with a 55 °C set point.")] = None,
+        as_json: JsonOpt = False,
+        quiet: QuietOpt = False,
+        read: ReadOptions | None = None,
+    ):
+        """Compensate a record with a thermal model; writes comp_output_mv, comp_a_g, status."""
+        from inertialab.io import load_model, write_record
+        from inertialab.workflows.thermal import apply
+
+        with collect_warnings(quiet=quiet or as_json) as warns:
+            mdl = load_model(model, expected_type="thermal-compensation")
+            rec = _read(file, read)
+            res = apply(mdl, rec, reference=reference, source=str(model))
+        if Path(out).is_dir():
+            raise InputError("--out must be a file for this command", path=out)
+        fig = None
+        if figure is not None:
+            if Path(figure).suffix.lower() != ".png" or Path(figure).is_dir():
+                raise InputError("--figure must name a .png file", path=figure)
+            if res.drift is None:
+                raise InputError("--figure needs a record with a full tumble at every set "
+                                 "point and one at the reference temperature", path=file)
+            from inertialab.report.figures.thermal import drift_figure
+
+            who = "transfer" if res.reference == "record" else "own unit"
+            fig = drift_figure(res.samples, res.drift, name=Path(figure).stem,
+                               title=_plain(f"unit {res.samples.unit_id or '?'} with the model of unit "
+                                     f"{mdl.unit_id or '?'} ({mdl.method}, {who})"))
+        # everything is computed before this point: a failure leaves no output behind
+        write_record(res.frame, out, res.meta)
+        if fig is not None:
+            write_figures([fig], Path(figure).parent)
+        payload = res.summary() | {"out": str(out)}
+        if as_json:
+            emit_json(name, payload, inputs=[str(model), {"path": str(file), "sha256": rec.sha256}],
+                      settings={"reference": reference.strip().lower()}, units={},
+                      warnings_=warns)
+            return
+        print(f"compensated {payload['n_rows']} rows ({payload['n_clamped']} clamped) -> {out}")
+        if res.drift is not None:
+            print(f"drift vs 55 °C: raw max {res.drift.raw_max_ug / 1e3:.3f} mg, compensated max "
+                  f"{res.drift.comp_max_ug:.2f} µg")
+
+    return thermal_apply
 
 
 def register(app: typer.Typer, groups: dict) -> None:
     thermal, simulate = groups["thermal"], groups["simulate"]
 
     @thermal.command("fit")
+    @reading_options
     def thermal_fit(
-        file: Path = typer.Argument(..., help="thermal_tumble record (CSV or Parquet)."),
-        method: str = typer.Option("iafsa-scm-anfis", "--method",
-                                   help="iafsa-scm-anfis | scm-anfis | anfis | fis | ann | "
-                                        "poly-sep | poly-2d | all (or a comma list)"),
-        split: str = typer.Option("random", "--split", help="random | interp_T | leave_one_T_out | up_down"),
-        target: str = typer.Option("linear55", "--target", help="linear55 | measured55"),
-        input_: str = typer.Option("ua", "--input", help="ua (eq. 5) | raw (N = U)"),
-        learn_drift: bool = typer.Option(False, "--learn-drift", help="Learn Nc - N."),
-        radii: str = typer.Option("scalar", "--radii", help="scalar | per_dim (IAFSA)"),
-        fish: int = typer.Option(10, "--fish", help="IAFSA fish (spec: 10)."),
-        generations: int = typer.Option(30, "--generations", help="IAFSA generations (30)."),
-        epochs: int = typer.Option(150, "--epochs", help="Final ANFIS epochs (150)."),
-        search_epochs: int = typer.Option(20, "--search-epochs",
-                                          help="ANFIS epochs inside the IAFSA objective (20)."),
-        seed: int = typer.Option(0, "--seed", help="Seed of split, search and ANN."),
-        out: Path = typer.Option(None, "--out", help="Directory for model.json (the first "
-                                                     "method), models/, result.json, figures."),
-        as_json: bool = typer.Option(False, "--json", help="Print the result as JSON."),
-        quiet: bool = typer.Option(False, "--quiet", help="No progress or warnings on stderr."),
+        file: Annotated[Path, typer.Argument(help="thermal_tumble record (CSV or Parquet).")],
+        method: Annotated[str, typer.Option(
+            "--method", help="iafsa-scm-anfis | scm-anfis | anfis | fis | ann | poly-sep | "
+                             "poly-2d | all (or a comma list)")] = "iafsa-scm-anfis",
+        split: Annotated[str, typer.Option(
+            "--split", help="random | interp_T | leave_one_T_out | up_down")] = "random",
+        target: Annotated[str, typer.Option("--target", help="linear55 | measured55")] = "linear55",
+        input_: Annotated[str, typer.Option("--input", help="ua (eq. 5) | raw (N = U)")] = "ua",
+        learn_drift: Annotated[bool, typer.Option("--learn-drift", help="Learn Nc - N.")] = False,
+        radii: Annotated[str, typer.Option("--radii", help="scalar | per_dim (IAFSA)")] = "scalar",
+        fish: Annotated[int, typer.Option("--fish", help="IAFSA fish (spec: 10).")] = 10,
+        generations: Annotated[int, typer.Option(
+            "--generations", help="IAFSA generations (30).")] = 30,
+        epochs: Annotated[int, typer.Option("--epochs", help="Final ANFIS epochs (150).")] = 150,
+        search_epochs: Annotated[int, typer.Option(
+            "--search-epochs", help="ANFIS epochs inside the IAFSA objective (20).")] = 20,
+        visual: Annotated[float, typer.Option(
+            "--visual", help="IAFSA initial visual range, unit-cube units (0.30).")] = 0.30,
+        step: Annotated[float, typer.Option(
+            "--step", help="IAFSA initial step, unit-cube units (0.10).")] = 0.10,
+        try_number: Annotated[int, typer.Option(
+            "--try-number", help="IAFSA prey attempts (5).")] = 5,
+        crowd: Annotated[float, typer.Option(
+            "--crowd", help="IAFSA crowd factor (0.618).")] = 0.618,
+        seed: SeedOpt = 0,
+        out: OutDirOpt = None,
+        as_json: JsonOpt = False,
+        quiet: QuietOpt = False,
+        read: ReadOptions | None = None,
     ):
-        """Fit integrated temperature-compensation models on a thermal tumble record."""
+        """Fit integrated temperature-compensation models on a thermal tumble record.
+
+        --out writes model.json (IAFSA-SCM-ANFIS when fitted, else the first method),
+        models/ (every method), result.json and figures of the saved model."""
         from inertialab.io import save_model
-        from inertialab.workflows.thermal import ThermalConfig, drift, fit_thermal, prepare_samples
+        from inertialab.workflows.thermal import (
+            ThermalConfig,
+            bias_scale_factor,
+            bias_scale_factor_table,
+            fit,
+            markdown_table,
+            prepare,
+        )
 
         methods = _methods(method)
         cfg = ThermalConfig(methods=methods, split=split, target=target, input=input_,
                             learn_drift=learn_drift, radii=radii, fish=fish,
                             generations=generations, epochs=epochs, search_epochs=search_epochs,
-                            seed=seed).validate()
+                            fish_visual=visual, fish_step=step, fish_try_number=try_number,
+                            fish_crowd=crowd, seed=seed).validate()
         if "poly-sep" in methods and (learn_drift or input_ == "raw"):
             raise InputError("poly-sep needs --input ua without --learn-drift")
-        out_dir = prepare_out_dir(out) if out is not None else None
+        if out is not None and Path(out).exists() and not Path(out).is_dir():
+            raise InputError("--out must be a directory for this command", path=out)
         with collect_warnings(quiet=quiet or as_json) as warns:
-            rec = _read(file)
-            cfg = replace(cfg, reference_temp_c=_reference_temp(rec.meta, file))
-            samples = prepare_samples(rec.data, cfg, path=file)
+            rec = _read(file, read)
+            samples = prepare(rec, cfg)
             with progress_bar("thermal fit", quiet=quiet or as_json) as bar:
-                fit = fit_thermal(samples, cfg, progress=bar)
-        main_model = fit.models[methods[0]]
-        own = drift(main_model, samples, own_unit=True)
-        payload = {
-            "models": {m: {k: v.to_dict()[k] for k in _MODEL_KEYS} for m, v in fit.metrics.items()},
-            "scm": {m: mod.scm for m, mod in fit.models.items() if mod.scm is not None},
-            "search": None if fit.search is None else {
-                k: fit.search[k] for k in ("params", "fun", "f_default", "n_rules", "nfev", "nit",
-                                           "wall_s", "message")},
-            "raw_rms_ug": fit.raw_rms_ug,
-            "reference": samples.ref.to_dict(),
-            "model_method": methods[0],
-            "drift": own.summary(),
-            "n_samples": samples.n, "n_test": int(fit.test_index.size),
-        }
+                result = fit(samples, cfg, progress=bar)
+        main_model = result.models[result.model_method]
+        own = result.own_drift()
+        payload = result.summary(own)
+        # everything is computed before the output folder is touched: bad input leaves
+        # nothing behind
+        out_dir = prepare_out_dir(out) if out is not None else None
         if out_dir is not None:
-            from inertialab.report.figures.thermal import drift_figure, residual_figure
+            from inertialab.report.figures.thermal import (
+                bias_figure,
+                drift_figure,
+                residual_figure,
+                scale_factor_figure,
+            )
 
             units = {"temp": "degC", "output": "mV"}
             save_model(main_model, out_dir / "model.json", units=units,
                        training_data_sha256=rec.sha256)
             (out_dir / "models").mkdir(exist_ok=True)
-            for m, mod in fit.models.items():
+            for m, mod in result.models.items():
                 save_model(mod, out_dir / "models" / f"{m}.json", units=units,
                            training_data_sha256=rec.sha256)
-            from inertialab.cli.common import json_ready
-
             atomic_write_text(out_dir / "result.json",
                               json.dumps(json_ready(payload), indent=2, allow_nan=False) + "\n")
-            write_figures([drift_figure(samples, own, title=methods[0]), residual_figure(fit)],
-                          out_dir)
+            for name, table, title in (
+                    ("table1", result.table1(), "Table 1: fish-swarm parameters"),
+                    ("table2", result.table2(), f"Table 2: test errors per model "
+                                                f"({split} split, {result.test_index.size} "
+                                                "test samples)")):
+                atomic_write_text(out_dir / f"{name}.csv", table.to_csv(index=False))
+                atomic_write_text(out_dir / f"{name}.md", markdown_table(table, title=title))
+            bsf = bias_scale_factor(samples)
+            atomic_write_text(out_dir / "bias_scale_factor.csv",
+                              bias_scale_factor_table(bsf).to_csv(index=False))
+            write_figures([drift_figure(samples, own, title=result.model_method),
+                           residual_figure(result), bias_figure(bsf),
+                           scale_factor_figure(bsf)], out_dir)
         settings = {"method": list(methods), "split": split, "target": target, "input": input_,
                     "learn_drift": learn_drift, "radii": radii, "fish": fish,
                     "generations": generations, "epochs": epochs, "search_epochs": search_epochs,
-                    "seed": seed, "reference_temp_c": cfg.reference_temp_c}
+                    "visual": visual, "step": step, "try_number": try_number, "crowd": crowd,
+                    "seed": seed, "reference_temp_c": samples.reference_temp_c}
         if as_json:
-            units = dict(_UNITS)
             emit_json("thermal fit", payload, inputs=[{"path": str(file), "sha256": rec.sha256}],
-                      settings=settings, units=units, warnings_=warns)
+                      settings=settings, units=dict(_UNITS), warnings_=warns)
             return
         rows = [[m, v.rmse_ug, v.me_ug, v.ae_ug, v.maxe_ppm, v.mare_ppm, v.rules, v.wall_s]
-                for m, v in fit.metrics.items()]
+                for m, v in result.metrics.items()]
         print_table(["model", "RMSE µg", "ME µg", "AE µg", "MAXE ppm", "MARE ppm", "rules",
                      "wall s"], rows,
-                    title=f"thermal fit ({split} split, raw drift RMS {fit.raw_rms_ug:.0f} µg)")
-        if fit.search:
-            p = fit.search["params"]
+                    title=f"thermal fit ({split} split, raw drift RMS {result.raw_rms_ug:.0f} µg)")
+        if result.search:
+            s = result.search
+            p = s["params"]
             print(f"IAFSA: radius={p['radius']}, squash={p['squash']:.4g}, accept={p['accept']:.4g}, "
-                  f"reject={p['reject']:.4g}, rules={fit.search['n_rules']}, "
-                  f"F*={fit.search['fun'] * 1e3:.2f} µg (default {fit.search['f_default'] * 1e3:.2f})")
+                  f"reject={p['reject']:.4g}, rules={s['n_rules']}, "
+                  f"F*={s['fun'] * 1e3:.2f} µg (default {s['f_default'] * 1e3:.2f})")
+            t1 = payload["fish"]
+            print("fish swarm (Table 1): " + ", ".join(f"{k}={v:g}" for k, v in t1.items()))
         if out_dir is not None:
             print(f"written: {out_dir}")
 
-    @thermal.command("compensate")
-    def thermal_compensate(
-        model: Path = typer.Argument(..., help="model.json from 'thermal fit'."),
-        file: Path = typer.Argument(..., help="thermal_tumble record to compensate."),
-        out: Path = typer.Option(..., "--out", help="Output record (.csv or .parquet)."),
-        reference: str = typer.Option("auto", "--reference",
-                                      help="model | record | auto: Ua with the model unit's 55 °C "
-                                           "coefficients, or with the record's own 55 °C tumble "
-                                           "(transfer to another unit, spec 000 §3.7); auto = "
-                                           "record when it has a full 55 °C tumble of another "
-                                           "unit."),
-        as_json: bool = typer.Option(False, "--json", help="Print a summary as JSON."),
-        quiet: bool = typer.Option(False, "--quiet", help="No warnings on stderr."),
-    ):
-        """Compensate a record with a thermal model; writes comp_output_mv, comp_a_g, status."""
-        import numpy as np
-
-        from inertialab.io import load_model, write_record
-        from inertialab.workflows.thermal import ThermalConfig, compensate, drift, prepare_samples
-
-        ref_mode = reference.strip().lower()
-        if ref_mode not in ("auto", "model", "record"):
-            raise InputError(f"--reference must be auto, model or record, got '{reference}'")
-        with collect_warnings(quiet=quiet or as_json) as warns:
-            mdl = load_model(model, expected_type="thermal-compensation")
-            rec = _read(file)
-            d = rec.data
-            samples = None
-            if ref_mode in ("auto", "record"):
-                try:
-                    cfg = ThermalConfig(input=mdl.input, target=mdl.target,
-                                        reference_temp_c=mdl.reference_temp_c)
-                    samples = prepare_samples(d, cfg, path=file)
-                except InputError:
-                    if ref_mode == "record":
-                        raise
-            same_unit = "unit_id" in d and str(d["unit_id"].iloc[0]) == mdl.unit_id
-            use_record = samples is not None and (ref_mode == "record" or not same_unit)
-            unit_ref = samples.ref if use_record else None
-            a_p = d["a_pend_g"].to_numpy() if "a_pend_g" in d else None
-            comp = compensate(mdl, d["temp_meas_c"].to_numpy(), d["output_mv"].to_numpy(), a_p,
-                              unit_ref=unit_ref, path=file)
-            dr = None
-            if samples is not None:
-                dr = drift(mdl, samples, own_unit=not use_record)
-        outf = d.copy()
-        outf["comp_output_mv"] = comp.nc_mv
-        outf["comp_a_g"] = comp.a_g
-        outf["status"] = comp.status
-        meta = dict(rec.meta)
-        meta.update({"compensated_with": str(model), "model_method": mdl.method,
-                     "reference": "record" if use_record else "model"})
-        if Path(out).is_dir():
-            raise InputError("--out must be a file for this command", path=out)
-        # everything is computed before this point: a failure leaves no output behind
-        write_record(outf, out, meta)
-        counts = {str(k): int(v) for k, v in zip(*np.unique(comp.status, return_counts=True))}
-        payload = {"n_rows": int(len(d)), "n_clamped": int(np.count_nonzero(comp.status)),
-                   "status_counts": counts, "reference": "record" if use_record else "model",
-                   "drift": None if dr is None else dr.summary(), "out": str(out)}
-        if as_json:
-            emit_json("thermal compensate", payload,
-                      inputs=[str(model), {"path": str(file), "sha256": rec.sha256}],
-                      settings={"reference": ref_mode}, units={}, warnings_=warns)
-            return
-        print(f"compensated {len(d)} rows ({payload['n_clamped']} clamped) -> {out}")
-        if dr is not None:
-            print(f"drift vs 55 °C: raw max {dr.raw_max_ug / 1e3:.3f} mg, compensated max "
-                  f"{dr.comp_max_ug:.2f} µg")
+    thermal.command("apply")(_apply_command("thermal apply"))
+    thermal.command("compensate", hidden=True)(_apply_command("thermal compensate"))
 
     @thermal.command("export")
+    @reading_options
     def thermal_export(
-        model: Path = typer.Argument(..., help="model.json of a fuzzy thermal model."),
-        c: Path = typer.Option(..., "--c", help="Directory for the C99 .h/.c pair."),
-        prefix: str = typer.Option("qfa", "--prefix", help="C identifier prefix."),
-        as_json: bool = typer.Option(False, "--json", help="Print a summary as JSON."),
+        model: Annotated[Path, typer.Argument(help="model.json of a fuzzy thermal model.")],
+        c: Annotated[Path, typer.Option("--c", help="Directory for the C99 .h/.c pair.")],
+        prefix: Annotated[str, typer.Option("--prefix", help="C identifier prefix.")] = "qfa",
+        unit_record: Annotated[Path | None, typer.Option(
+            "--unit-record", help="thermal_tumble record of the unit the code will run on, "
+                                  "when it is another unit of the lot: its 55 °C tumble "
+                                  "gives the transfer mapping of spec 000 §3.7.")] = None,
+        as_json: JsonOpt = False,
+        read: ReadOptions | None = None,
     ):
         """Export a fuzzy thermal model as dependency-free C99 (inputs clamped, status flag)."""
         from inertialab.io import load_model
-        from inertialab.workflows.thermal_export import export_c
+        from inertialab.workflows.thermal import export
 
         mdl = load_model(model, expected_type="thermal-compensation")
-        ex = export_c(mdl, prefix=prefix)
+        rec = _read(unit_record, read) if unit_record is not None else None
+        ex = export(mdl, prefix=prefix, unit_record=rec)
         out_dir = prepare_out_dir(c)
         atomic_write_text(out_dir / ex.header_name, ex.header)
         atomic_write_text(out_dir / ex.source_name, ex.source)
         payload = {"files": [str(out_dir / ex.header_name), str(out_dir / ex.source_name)],
                    "n_rules": ex.n_rules, "exp_calls": ex.exp_calls, "flops": ex.flops,
-                   "functions": [f"{prefix}_comp_mV", f"{prefix}_comp_g"]}
+                   "functions": [f"{prefix}_comp_mV", f"{prefix}_comp_g"],
+                   "mapped_unit": None if rec is None else ex.unit_id}
         if as_json:
-            emit_json("thermal export", payload, inputs=[str(model)], settings={"prefix": prefix},
-                      units={}, warnings_=[])
+            inputs = [str(model)] + ([] if rec is None else
+                                     [{"path": str(unit_record), "sha256": rec.sha256}])
+            emit_json("thermal export", payload, inputs=inputs,
+                      settings={"prefix": prefix, "unit_record": unit_record}, units={},
+                      warnings_=[])
             return
         print(f"written: {payload['files'][0]}, {payload['files'][1]} "
               f"({ex.n_rules} rules, {ex.exp_calls} exp calls per reading)")
 
     @simulate.command("thermal-tumble")
     def simulate_thermal(
-        out: Path = typer.Option(..., "--out", help="Record file (.csv or .parquet)."),
-        preset: str = typer.Option("paper", "--preset", help="paper | realistic"),
-        lot_seed: int = typer.Option(0, "--lot-seed", help="Seed of the lot and its units."),
-        unit: int = typer.Option(0, "--unit", help="Unit index within the lot."),
-        seed: int = typer.Option(None, "--seed", help="Run-noise seed (default: the lot seed)."),
-        ramp: str = typer.Option("up", "--ramp", help="up | up_down"),
-        as_json: bool = typer.Option(False, "--json", help="Print a summary as JSON."),
+        out: Annotated[Path, typer.Option("--out", help="Record file (.csv or .parquet).")],
+        preset: Annotated[str, typer.Option("--preset", help="paper | realistic")] = "paper",
+        lot_seed: Annotated[int, typer.Option(
+            "--lot-seed", help="Seed of the lot and its units.")] = 0,
+        unit: Annotated[int, typer.Option("--unit", help="Unit index within the lot.")] = 0,
+        seed: Annotated[int | None, typer.Option(
+            "--seed", help="Run-noise seed (default: the lot seed).")] = None,
+        ramp: Annotated[str, typer.Option("--ramp", help="up | up_down")] = "up",
+        as_json: JsonOpt = False,
     ):
         """Write a virtual thermal tumble record (23 set points x 24 positions, spec 000 §7)."""
         from inertialab.io import write_record

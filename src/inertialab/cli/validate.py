@@ -7,32 +7,43 @@ from pathlib import Path
 import typer
 
 from inertialab.cli.common import collect_warnings, emit_json, print_table
+from inertialab.cli.options import JsonOpt, QuietOpt, reading_options
+from inertialab.io.mapping import ReadOptions
 
 
 def register(app: typer.Typer, groups: dict) -> None:
     @app.command("validate")
+    @reading_options
     def validate(
-        file: Path = typer.Argument(..., help="Record file (.csv, .parquet, .npy)."),
+        file: Path = typer.Argument(..., help="Record file: text table, Parquet, .npy, .mat, "
+                                              "HDF5, ROS bag, PX4 ULog."),
         kind: str = typer.Option(..., "--kind", help="gyro_log, thermal_tumble, triaxial_static, "
                                                       "triaxial_raw, dual_tumble, storage_drift"),
-        unit: str = typer.Option(None, "--unit", help="Unit suffix for columns without one."),
-        rate: float = typer.Option(None, "--rate", help="Sample rate in Hz (.npy logs)."),
-        as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
-        quiet: bool = typer.Option(False, "--quiet"),
+        as_json: JsonOpt = False,
+        quiet: QuietOpt = False,
+        read: ReadOptions = None,
     ):
-        """Read FILE as a record of KIND and report its columns, units and size, or the
-        first problem (file, column and row)."""
+        """Read FILE as a record of KIND and report its columns, units, size and time
+        stamps (rate, jitter, gaps, dropped and repeated samples), or the first problem
+        (file, column and row)."""
         from inertialab.io import read_record
 
         with collect_warnings(quiet=quiet or as_json) as warns:
-            rec = read_record(file, kind, unit=unit, rate_hz=rate)
+            rec = read_record(file, kind, options=read)
         cols = list(rec.arrays) + [c for c in rec.data.columns]
         if as_json:
             emit_json("validate", {"kind": rec.kind, "rows": rec.n, "columns": cols,
                                    "column_units": rec.units, "meta": rec.meta,
+                                   "timestamps": rec.meta.get("timestamps"),
                                    "sha256": rec.sha256},
-                      inputs=[file], settings={"kind": kind, "unit": unit, "rate_hz": rate},
+                      inputs=[file], settings={"kind": kind, "unit": read.unit,
+                                               "rate_hz": read.rate_hz, **read.settings()},
                       warnings_=warns)
             return
         print_table(["column", "unit"], [[c, rec.units.get(c, "")] for c in cols],
                     title=f"{file}: valid {rec.kind} record, {rec.n} rows")
+        ts = rec.meta.get("timestamps")
+        if ts and ts.get("n", 0) > 1:
+            print(f"time stamps: {ts['mean_rate_hz']:.6g} Hz mean, jitter {ts['jitter_s']:.3g} s, "
+                  f"{ts['n_gaps']} gaps ({ts['n_dropped']} samples dropped), "
+                  f"{ts['n_repeated']} repeated, {ts['n_out_of_order']} out of order")

@@ -1,10 +1,13 @@
-"""``inertialab vibration``, ``inertialab vibration-compensate`` and
-``inertialab simulate fog-vibration`` (spec 001). Thin: parse, call
-:mod:`inertialab.workflows.vibration` / :mod:`inertialab.sim.fog_vibration`, print or write.
+"""``inertialab vibration fit|apply`` and ``inertialab simulate fog-vibration`` (spec 001).
+
+Thin: parse, call :mod:`inertialab.workflows.vibration` (``fit``, ``apply``) /
+:mod:`inertialab.sim.fog_vibration`, print or write. A bare ``inertialab vibration SWEEP
+[FIXED]`` is routed to ``vibration fit`` by :mod:`inertialab.cli.main`; the old
+``vibration-compensate`` spelling stays as a hidden alias of ``vibration apply``.
 """
 
-from __future__ import annotations
-
+# typer reads these signatures (the Annotated shared options of cli.options);
+# plain annotations keep that independent of how reading_options evaluates them
 import json
 from pathlib import Path
 
@@ -19,7 +22,16 @@ from inertialab.cli.common import (
     progress_bar,
     write_figures,
 )
+from inertialab.cli.options import (
+    JsonOpt,
+    OutDirOpt,
+    QuietOpt,
+    SeedOpt,
+    reading_options,
+)
 from inertialab.errors import InputError
+from inertialab.io.mapping import ReadOptions
+from inertialab.jsonable import to_jsonable
 
 _JSON_UNITS = {
     "level": "1", "delta_j": "1", "residual_bias_dph": "deg/h",
@@ -44,59 +56,79 @@ def _parse_level(level: str):
     return n
 
 
+def _parse_spread(spread: str):
+    v = spread.strip().lower()
+    if v == "validate":
+        return "validate"
+    try:
+        x = float(v)
+    except ValueError:
+        raise InputError(f"--spread must be a positive number (Hz) or 'validate', got "
+                         f"'{spread}'") from None
+    if not x > 0:
+        raise InputError(f"--spread must be positive, got {x}")
+    return x
+
+
 def register(app: typer.Typer, groups: dict) -> None:
     simulate = groups["simulate"]
+    vib = groups["vibration"]
 
-    @app.command("vibration")
-    def vibration(
+    @vib.command("fit")
+    @reading_options
+    def vibration_fit(
         sweep_file: Path = typer.Argument(..., help="Sweep record (E1), gyro_log with vib_on, "
                                                     "vib_freq_hz."),
         fixed_file: Path = typer.Argument(None, help="Fixed-frequency record (E2) to "
                                                      "compensate (optional)."),
         level: str = typer.Option("6", "--level", help="Approximation level L (seed 6) or "
                                                        "'auto' (spec §3.6 rule)."),
-        spread: float = typer.Option(1.2, "--spread", help="RBF spread in Hz (seed 1.2)."),
+        spread: str = typer.Option("1.2", "--spread", help="RBF spread in Hz (seed 1.2), or "
+                                   "'validate': the spread with the least held-out RMSE on "
+                                   "the even 1-Hz bins (reported)."),
         goal: float = typer.Option(1e-4, "--goal", help="RBF MSE goal, (deg/h)^2 (seed 1e-4)."),
         centers: str = typer.Option("max_error", "--centers",
                                     help="RBF centres: max_error | ols | random_fixed | all."),
         targets: str = typer.Option("bins", "--targets",
                                     help="E1 training pairs: bins (1-Hz bin means) | samples "
                                          "(every 2^L-th sample)."),
-        seed: int = typer.Option(0, "--seed", help="Seed of the random_fixed centre order."),
-        out: Path = typer.Option(None, "--out", help="Directory for the figures, model.json "
-                                                     "and result.json."),
-        as_json: bool = typer.Option(False, "--json", help="Print the result as JSON."),
-        quiet: bool = typer.Option(False, "--quiet", help="No progress or warnings on stderr."),
+        seed: SeedOpt = 0,
+        out: OutDirOpt = None,
+        as_json: JsonOpt = False,
+        quiet: QuietOpt = False,
+        read: ReadOptions = None,
     ):
-        """FOG under vibration: phase-wise Allan terms, db4 separation, RBF bias compensation."""
-        from inertialab.io import save_model
-        from inertialab.workflows.vibration import VibrationConfig, analyse, load_run
+        """FOG under vibration: phase-wise Allan terms, db4 separation, RBF bias compensation
+        (fit the bias model on the sweep; compensate the fixed run when given)."""
+        from inertialab.io import read_record, save_model
+        from inertialab.workflows.vibration import VibrationConfig, fit, prepare
 
         lvl = _parse_level(level)
+        spread_v = _parse_spread(spread)
         if out is not None:
             out_dir = prepare_out_dir(out)
         with collect_warnings(quiet=quiet) as warns:
-            sweep = load_run(sweep_file)
-            fixed = load_run(fixed_file) if fixed_file is not None else None
-            cfg = VibrationConfig(level=lvl, spread=spread, goal=goal, centers=centers,
+            sweep = prepare(read_record(sweep_file, "gyro_log", options=read))
+            fixed = (prepare(read_record(fixed_file, "gyro_log", options=read))
+                     if fixed_file is not None else None)
+            cfg = VibrationConfig(level=lvl, spread=spread_v, goal=goal, centers=centers,
                                   targets=targets, rng=seed, views=out is not None)
             with progress_bar("vibration", quiet=quiet) as bar:
-                res = analyse(sweep, fixed, cfg, bar)
+                res = fit(sweep, fixed, cfg, bar)
             if out is not None:
+                from inertialab.calib.vibration import UNITS
+                from inertialab.io.modelfile import dependency_versions
                 from inertialab.report.figures.vibration import figures
 
                 write_figures(figures(res), out_dir)
-                save_model(res.model, out_dir / "model.json",
-                           units={"f": "hz", "bias": "dph", "rate": "dph"},
+                save_model(res.model, out_dir / "model.json", units=UNITS,
                            training_data_sha256=sweep.sha256, settings=res.settings)
-                from inertialab.io.modelfile import dependency_versions
-
                 report = res.to_report()
                 report["inputs"] = [{"path": str(r.path), "sha256": r.sha256}
                                     for r in (sweep, fixed) if r is not None]
                 report["dependencies"] = dependency_versions()
                 atomic_write_text(out_dir / "result.json",
-                                  json.dumps(_jsonable(report), indent=1) + "\n")
+                                  json.dumps(to_jsonable(report), indent=1) + "\n")
         inputs = [sweep_file] + ([fixed_file] if fixed_file is not None else [])
         if as_json:
             emit_json("vibration", res.to_json(), inputs=inputs, settings=res.settings,
@@ -121,49 +153,44 @@ def register(app: typer.Typer, groups: dict) -> None:
         if out is not None:
             print(f"wrote figures, model.json and result.json to {out}")
 
-    @app.command("vibration-compensate")
-    def vibration_compensate(
+    @reading_options
+    def vibration_apply(
         model_file: Path = typer.Argument(..., help="model.json written by 'inertialab "
-                                                    "vibration --out'."),
+                                                    "vibration fit --out'."),
         record_file: Path = typer.Argument(..., help="Record to compensate (gyro_log with "
                                                      "vib_on, vib_freq_hz)."),
         out: Path = typer.Option(..., "--out", help="Output record (CSV or Parquet) with "
-                                                    "rate_comp_dph."),
+                                                    "rate_comp_dph; a sidecar is written "
+                                                    "beside it."),
         model: str = typer.Option("rbf", "--model", help="rbf | poly"),
         apply_to: str = typer.Option("denoised", "--apply-to", help="denoised (A_L, seed) | "
                                                                     "raw"),
-        as_json: bool = typer.Option(False, "--json", help="Print a summary as JSON."),
-        quiet: bool = typer.Option(False, "--quiet", help="No warnings on stderr."),
+        as_json: JsonOpt = False,
+        quiet: QuietOpt = False,
+        read: ReadOptions = None,
     ):
         """Apply a saved vibration-compensation model to a new record (spec §3.10)."""
-        import numpy as np
-        import pandas as pd
+        from inertialab.io import load_model, read_record, write_record
+        from inertialab.workflows.vibration import apply
 
-        from inertialab.io import load_model, write_record
-        from inertialab.workflows.vibration import load_run, residual_metrics
-
+        if Path(out).is_dir():
+            raise InputError("--out must be a file for this command", path=out)
         with collect_warnings(quiet=quiet) as warns:
             m = load_model(model_file, expected_type="vibration-compensation")
-            run = load_run(record_file)
-            comp = m.compensate(run.rate_dph, run.vib_on, run.freq_hz, model=model,
-                                apply_to=apply_to)
-            metrics = residual_metrics(comp, run)
-            df = pd.DataFrame({"t_s": np.arange(run.n) / run.fs_hz, "rate_dph": run.rate_dph,
-                               "rate_comp_dph": comp, "vib_on": run.vib_on.astype(np.int8),
-                               "vib_freq_hz": run.freq_hz})
-            meta = dict(run.meta)
-            meta.update({"compensated_with": str(model_file), "compensation_model": model,
-                         "apply_to": apply_to})
-            if Path(out).is_dir():
-                raise InputError("--out must be a file for this command", path=out)
-            write_record(df, out, meta)  # atomic: data file, then sidecar
+            rec = read_record(record_file, "gyro_log", options=read)
+            res = apply(m, rec, model_name=model, apply_to=apply_to, model_path=str(model_file))
+            write_record(res.data, out, res.meta)  # atomic: data file, then sidecar
         if as_json:
-            emit_json("vibration-compensate", {"output": str(out), "residual": metrics},
+            emit_json("vibration apply", {"output": str(out), "residual": res.residual},
                       inputs=[model_file, record_file],
                       settings={"model": model, "apply_to": apply_to},
                       units={"residual": "deg/h"}, warnings_=warns)
             return
-        print(f"wrote {out}: residual bias {metrics['delta_b']:.4g} deg/h")
+        print(f"wrote {out}: residual bias {res.residual['delta_b']:.4g} deg/h")
+
+    vib.command("apply")(vibration_apply)
+    # old spelling, hidden for one release (issue 13)
+    app.command("vibration-compensate", hidden=True)(vibration_apply)
 
     @simulate.command("fog-vibration")
     def simulate_fog_vibration(
@@ -213,9 +240,3 @@ def register(app: typer.Typer, groups: dict) -> None:
             return
         print(f"wrote {out} ({len(r.record)} samples, P2 {r.meta['t_on_s']:g}-"
               f"{r.meta['t_off_s']:g} s)")
-
-
-def _jsonable(obj):
-    from inertialab.cli.common import json_ready
-
-    return json_ready(obj)

@@ -6,7 +6,7 @@ JSON model-file envelope of DESIGN.md.
 """
 
 from inertialab.io.modelfile import load_model, read_envelope, save_model
-from inertialab.io.readers import Record, hash_frame, read_record, validate_frame
+from inertialab.io.readers import Record, hash_frame, peek_columns, read_record, validate_frame
 from inertialab.io.schemas import SCHEMAS
 from inertialab.io.sidecar import read_sidecar, sidecar_path
 from inertialab.io.writers import atomic_write_bytes, atomic_write_text, write_record
@@ -18,6 +18,7 @@ __all__ = [
     "atomic_write_text",
     "hash_frame",
     "load_model",
+    "peek_columns",
     "read_envelope",
     "read_record",
     "read_sidecar",

@@ -49,6 +49,8 @@ __all__ = [
     "load_map_file",
     "normalise_time_columns",
     "parse_map",
+    "parse_unit_option",
+    "shown_columns",
     "sniff",
 ]
 
@@ -252,59 +254,47 @@ def load_map_file(path) -> tuple[ColumnMap, ParseOptions]:
 
 # ----------------------------------------------------------------------------- sniffing
 
-_PREAMBLE = ("#", "//")
-
-
 def sniff(lines: list[str], opts: ParseOptions | None = None) -> tuple[int, str, str, list[str]]:
     """Decide ``(skip, sep, decimal, hash_lines)`` from the first lines of a text file.
 
-    ``skip`` counts preamble lines before the header; ``hash_lines`` are the ``#``
-    lines among them (for ``# key=value`` metadata).
+    ``skip`` counts the lines before the (last) header row; ``hash_lines`` are the ``#``
+    lines among them (for ``# key=value`` metadata). The full layout (header rows, units
+    row, headerless files) is :func:`inertialab.io.formats.text.layout_of`.
     """
-    opts = opts or ParseOptions()
-    hash_lines: list[str] = []
-    if opts.skip_rows is not None:
-        skip = int(opts.skip_rows)
-        hash_lines = [ln for ln in lines[:skip] if ln.lstrip().startswith("#")]
-    else:
-        skip = 0
-        for ln in lines:
-            s = ln.strip()
-            if s.startswith(_PREAMBLE) or not s:
-                if s.startswith("#"):
-                    hash_lines.append(ln)
-                skip += 1
-            else:
-                break
-    header = lines[skip] if skip < len(lines) else ""
-    body = [ln for ln in lines[skip + 1:skip + 21] if ln.strip()]
-    sep = opts.sep
-    if sep is None:
-        counts = {c: header.count(c) for c in (",", ";", "\t")}
-        best = max(counts, key=lambda c: counts[c])
-        sep = best if counts[best] > 0 else (r"\s+" if len(header.split()) > 1 else ",")
-    elif sep == " ":
-        sep = r"\s+"
-    dec = opts.decimal
-    if dec is None:
-        dec = "."
-        if sep != "," and any(re.search(r"(?<![\d.])-?\d+,\d+(?![\d,]*\.)", ln) for ln in body):
-            dec = ","
-    return skip, sep, dec, hash_lines
+    from inertialab.io.formats.text import sniff_compat
+
+    return sniff_compat(lines, opts)
 
 
 # ----------------------------------------------------------------------------- applying
 
-def _find_source(df: pd.DataFrame, name: str, *, path) -> str:
+_POSITIONAL = re.compile(r"^col(\d+)$", re.IGNORECASE)
+
+
+def shown_columns(df: pd.DataFrame, header_units: dict | None = None, limit: int = 16) -> str:
+    """The frame's columns as the user sees them in the file (``Gyro X [deg/s]``)."""
+    hu = header_units or {}
+    names = [f"{c} [{hu[c]}]" if c in hu else str(c) for c in list(df.columns)[:limit]]
+    more = f" ... ({df.shape[1]} in all)" if df.shape[1] > limit else ""
+    return ", ".join(names) + more
+
+
+def _find_source(df: pd.DataFrame, name: str, *, path, header_units=None) -> str:
     if name in df.columns:
         return name
     low = name.strip().lower()
     hits = [c for c in df.columns if str(c).strip().lower() == low]
     if len(hits) == 1:
         return hits[0]
-    shown = ", ".join(str(c) for c in list(df.columns)[:12])
-    more = " ..." if df.shape[1] > 12 else ""
-    raise InputError(f"mapped source column not in the file (columns: {shown}{more})",
+    hu = header_units or {}
+    hits = [c for c in df.columns if c in hu and f"{c} [{hu[c]}]".lower() == low]
+    if len(hits) == 1:
+        return hits[0]
+    m = _POSITIONAL.match(name.strip())
+    if m is not None and 1 <= int(m.group(1)) <= df.shape[1]:
+        return df.columns[int(m.group(1)) - 1]
+    raise InputError(f"mapped source column not in the file (columns: "
+                     f"{shown_columns(df, header_units)}; colN picks the N-th)",
                      path=path, column=name)
 
 
@@ -350,20 +340,28 @@ def time_to_seconds(values: pd.Series, unit: str, *, path=None, column: str = ""
 
 
 def apply_map(df: pd.DataFrame, cmap: ColumnMap, *, path=None, g_local: float | None = None,
-              meta: dict | None = None) -> pd.DataFrame:
+              meta: dict | None = None, header_units: dict | None = None) -> pd.DataFrame:
     """Return ``df`` with each mapped source column replaced by its converted target.
 
     Unmapped columns pass through unchanged. Time targets are made relative to the first
     stamp; the stamp itself goes to ``meta["time_origin"]`` (when ``meta`` is given).
-    g-based units convert with ``g_local`` (default 9.80665 m/s^2).
+    g-based units convert with ``g_local`` (default 9.80665 m/s^2). An entry without a
+    unit takes the unit of the file's units header row when there is one
+    (``header_units``: source column -> unit text).
     """
+    from inertialab.io.formats.text import unit_suffix
+
     if not cmap:
         return df
     g = U.G_STANDARD if g_local is None else float(g_local)
     out = {}
     used = set()
     for e in cmap.entries:
-        src = _find_source(df, e.source, path=path)
+        src = _find_source(df, e.source, path=path, header_units=header_units)
+        if e.unit is None and header_units and src in header_units:
+            suf = unit_suffix(header_units[src])
+            if suf is not None:
+                e = MapEntry(e.target, e.source, suf, e.scale)
         if src in used:
             raise InputError(f"source column mapped to two targets (second: {e.target})",
                              path=path, column=e.source)
@@ -414,21 +412,152 @@ def normalise_time_columns(df: pd.DataFrame, *, path=None, meta: dict | None = N
     return out
 
 
+def parse_unit_option(value):
+    """The ``unit`` reading option: None, one suffix (``dps``), a list of suffixes, one per
+    dimension (``g,dps``: accelerometer columns in g, gyro columns in deg/s), or a unit
+    per column (``gx=dps,ax=g``; keys are column bases). Header spellings (``deg/s``)
+    are accepted. Returns None, a suffix string (``"g,dps"`` kept as text) or a dict."""
+    from inertialab.io.formats.text import unit_suffix
+
+    if value is None or isinstance(value, dict):
+        return None if not value else {str(k).strip().lower(): _suffix_or_error(v, unit_suffix)
+                                       for k, v in value.items()}
+    text = str(value).strip()
+    if not text:
+        return None
+    if "=" not in text:
+        return ",".join(_suffix_or_error(u, unit_suffix) for u in text.split(",") if u.strip())
+    out = {}
+    for part in text.split(","):
+        if not part.strip():
+            continue
+        key, sep, unit = part.partition("=")
+        if not sep or not key.strip():
+            raise InputError(f"argument 'unit': entry {part.strip()!r} is not column=unit")
+        out[key.strip().lower()] = _suffix_or_error(unit, unit_suffix)
+    return out
+
+
+def _suffix_or_error(unit, unit_suffix) -> str:
+    u = str(unit).strip()
+    if u.lower() in U.SUFFIXES:
+        return u.lower()
+    suf = unit_suffix(u)
+    if suf is None:
+        raise InputError(f"argument 'unit': unknown unit '{u}' (known suffixes: "
+                         f"{', '.join(sorted(U.SUFFIXES))})")
+    return suf
+
+
 @dataclass
 class ReadOptions:
-    """Everything :func:`inertialab.io.read_record` takes for non-spec files, as one
-    settings object (what ``--map``, ``--map-file``, ``--sep``, ``--decimal``,
-    ``--skip-rows`` build)."""
+    """Everything :func:`inertialab.io.read_record` takes for files not written to a
+    spec, as one settings object: what the command line's reading options build
+    (``--map``, ``--map-file``, ``--sep``, ``--decimal``, ``--skip-rows``,
+    ``--time-col``, ``--time-unit``, ``--rate``, ``--unit``, ``--topic``,
+    ``--instance``, ``--dataset``, ``--join``, ``--resample``).
+
+    Attributes
+    ----------
+    column_map : ColumnMap
+        Canonical target <- source column (and unit); ``colN`` names the N-th column.
+    parse : ParseOptions
+        Separator, decimal mark, preamble lines of a text file.
+    rate_hz : float or None
+        Sample rate, Hz, for a record without a time column (a ``t_s`` column is then
+        built as ``i / rate_hz`` and ``meta["fs_hz"]`` set).
+    unit : str, dict or None
+        See :func:`parse_unit_option`.
+    time_column, time_unit : str or None
+        The column holding time stamps and their unit (``s ms us ns``); becomes ``t_s``
+        in seconds since the first stamp.
+    topic : str or None
+        ROS bag topic (``/imu/data``) or PX4 ULog message (``sensor_combined``,
+        ``sensor_gyro``, ``sensor_accel``); default: the only IMU topic.
+    instance : int or None
+        ULog multi-instance id (``sensor_gyro`` 0, 1, 2 ...); default 0.
+    dataset : str or None
+        MATLAB variable or HDF5 dataset path (``imu/gyro`` or ``imu.gyro``).
+    join : tuple of paths
+        Further files (imu_tk-style ``time x y z`` text) joined to the first on time.
+    resample_hz : float or None
+        Resample a jittery log onto a uniform grid at this rate (linear interpolation);
+        only when asked, recorded in ``meta["resampled"]``.
+    """
 
     column_map: ColumnMap = field(default_factory=ColumnMap)
     parse: ParseOptions = field(default_factory=ParseOptions)
+    rate_hz: float | None = None
+    unit: str | dict | None = None
+    time_column: str | None = None
+    time_unit: str | None = None
+    topic: str | None = None
+    instance: int | None = None
+    dataset: str | None = None
+    join: tuple = ()
+    resample_hz: float | None = None
+
+    def __post_init__(self):
+        for name in ("rate_hz", "resample_hz"):
+            v = getattr(self, name)
+            if v is not None:
+                try:
+                    v = float(v)
+                except (TypeError, ValueError):
+                    raise InputError(f"argument '{name}' must be a number, got {v!r}") from None
+                if not np.isfinite(v) or not 1e-9 <= v <= 1e9:
+                    raise InputError(f"argument '{name}' must be a rate between 1e-9 and 1e9 "
+                                     f"Hz, got {v!r}")
+                setattr(self, name, v)
+        if self.time_unit is not None:
+            try:
+                u = U.lookup(self.time_unit)
+            except InputError:
+                u = None
+            if u is None or u.dimension != "time":
+                raise InputError(f"argument 'time_unit' must be a time unit (s, ms, us, ns), "
+                                 f"got {self.time_unit!r}")
+            self.time_unit = u.name
+        if self.instance is not None and int(self.instance) < 0:
+            raise InputError(f"argument 'instance' must be >= 0, got {self.instance}")
+        self.unit = parse_unit_option(self.unit)
+        self.join = tuple(self.join or ())
+
+    def effective_map(self) -> ColumnMap:
+        """The column map with the time column option folded in as a ``t_s`` entry."""
+        if self.time_column is None or any(e.target == "t_s" for e in self.column_map.entries):
+            return self.column_map
+        return self.column_map.merged(ColumnMap((MapEntry(
+            "t_s", self.time_column, self.time_unit or "s"),)))
+
+    def settings(self) -> dict:
+        """The non-default options, for a result's ``settings`` (JSON-ready)."""
+        out = {}
+        if self.column_map:
+            out["column_map"] = self.column_map.to_text()
+        if not self.parse.is_default:
+            out["parse"] = self.parse.to_dict()
+        for k in ("rate_hz", "unit", "time_column", "time_unit", "topic", "instance",
+                  "dataset", "resample_hz"):
+            v = getattr(self, k)
+            if v is not None:
+                out[k] = v
+        if self.join:
+            out["join"] = [str(j) for j in self.join]
+        return out
 
     @classmethod
     def from_cli(cls, map_text: str | None = None, map_file=None, *, sep: str | None = None,
-                 decimal: str | None = None, skip_rows: int | None = None) -> ReadOptions:
+                 decimal: str | None = None, skip_rows: int | None = None,
+                 time_col: str | None = None, time_unit: str | None = None,
+                 rate: float | None = None, unit=None, topic: str | None = None,
+                 instance: int | None = None, dataset: str | None = None,
+                 join=None, resample: float | None = None) -> ReadOptions:
         cmap, opts = (load_map_file(map_file) if map_file else (ColumnMap(), ParseOptions()))
         cmap = cmap.merged(parse_map(map_text))
         opts = ParseOptions(sep=sep if sep is not None else opts.sep,
                             decimal=decimal if decimal is not None else opts.decimal,
                             skip_rows=skip_rows if skip_rows is not None else opts.skip_rows)
-        return cls(cmap, opts)
+        return cls(cmap, opts, rate_hz=rate, unit=unit, time_column=time_col,
+                   time_unit=time_unit, topic=topic, instance=instance, dataset=dataset,
+                   join=tuple(join or ()), resample_hz=resample)

@@ -42,11 +42,11 @@ MODEL_TYPES: dict[str, str] = {
     "mlp-lm": "inertialab.learn.mlp_lm:MLPRegressorLM",
     "nar": "inertialab.learn.nar:NARForecaster",
     "noise-terms": "inertialab.noise.terms:NoiseTerms",
-    "vibration-compensation": "inertialab.workflows.vibration:VibrationModel",
-    "thermal-compensation": "inertialab.workflows.thermal:ThermalModel",
-    "triaxial-calibration": "inertialab.workflows.field_calibration:TriaxialCalibration",
-    "dual-calibration": "inertialab.workflows.dual_tumble:DualCalibration",
-    "storage-drift": "inertialab.workflows.storage_drift:DriftModel",
+    "vibration-compensation": "inertialab.calib.vibration:VibrationModel",
+    "thermal-compensation": "inertialab.calib.thermal:ThermalModel",
+    "triaxial-calibration": "inertialab.calib.triaxial:TriaxialCalibration",
+    "dual-calibration": "inertialab.calib.dual:DualCalibration",
+    "storage-drift": "inertialab.calib.drift:DriftModel",
 }
 
 _DEPENDENCIES = ("numpy", "scipy", "pandas", "pywt", "statsmodels")

@@ -21,7 +21,7 @@ import pandas as pd
 from inertialab.errors import DataQualityWarning, InputError
 from inertialab.io.schema import Column, Schema
 from inertialab.io.schemas import SCHEMAS
-from inertialab.io.sidecar import parse_header_lines, read_sidecar
+from inertialab.io.sidecar import read_sidecar
 from inertialab.units import SUFFIXES, split_suffix
 
 _MAX_ROWS_LISTED = 5
@@ -77,88 +77,64 @@ class Record:
 # ---------------------------------------------------------------------------- loading
 
 def _load_table(path: Path, parse=None) -> tuple[pd.DataFrame, dict]:
-    suffix = path.suffix.lower()
-    if suffix in (".parquet", ".pq"):
-        try:
-            df = pd.read_parquet(path)
-        except ImportError:
-            raise InputError("reading Parquet needs pyarrow: pip install 'inertialab[parquet]'",
-                             path=path) from None
-        except Exception as exc:  # pyarrow raises many types for corrupt files
-            raise InputError(f"not a readable Parquet file ({type(exc).__name__})", path=path) from None
-        return df, {}
-    # text: preamble, separator and decimal mark from the first lines (io.mapping.sniff)
-    from inertialab.io.mapping import sniff
+    """Text or Parquet table -> (frame with the user's column names, header metadata).
 
-    try:
-        with open(path, encoding="utf-8") as fh:
-            first = []
-            limit = 200 + (parse.skip_rows if parse is not None and parse.skip_rows else 0)
-            for i, line in enumerate(fh):
-                first.append(line)
-                if i >= limit:
-                    break
-    except UnicodeDecodeError as exc:
-        raise InputError(f"not UTF-8 text (byte {exc.start}); save the file as UTF-8 CSV",
-                         path=path) from None
-    skip, sep, dec, header_lines = sniff(first, parse)
-    meta = parse_header_lines(header_lines, path=path)
-    try:
-        df = pd.read_csv(path, skiprows=skip, encoding="utf-8", skipinitialspace=True,
-                         low_memory=False, sep=sep, decimal=dec)
-    except UnicodeDecodeError as exc:
-        raise InputError(f"not UTF-8 text (byte {exc.start}); save the file as UTF-8 CSV",
-                         path=path) from None
-    except pd.errors.EmptyDataError:
-        raise InputError("no header and no data (empty file)", path=path) from None
-    except (pd.errors.ParserError, ValueError) as exc:
-        msg = str(exc).strip().splitlines()[-1] if str(exc).strip() else type(exc).__name__
-        raise InputError(f"not a readable CSV file ({msg})", path=path) from None
-    return df, meta
+    The header's units row (when there is one) is in ``frame.attrs["header_units"]``.
+    """
+    from inertialab.io.formats.dispatch import load_frame
+
+    loaded = load_frame(path, parse=parse)
+    loaded.frame.attrs["header_units"] = loaded.header_units
+    return loaded.frame, loaded.meta
 
 
 def read_record(path, kind: str, *, unit=None, rate_hz: float | None = None,
                 column: str | None = None, g_local: float | None = None,
                 column_map=None, parse=None, gaps: str | None = None,
                 full_scale=None, options=None) -> Record:
-    """Read and validate a record file of ``kind``.
+    """Read and validate a record file of ``kind`` (the one front door).
 
     Parameters
     ----------
     path : str or Path
-        ``.csv``/``.txt`` (with optional ``# key=value`` header lines), ``.parquet``,
-        or ``.npy`` (one column, memory-mapped; needs ``column`` and ``rate_hz`` or a
-        sidecar with ``column`` and ``fs_hz``).
+        By suffix: ``.csv``/``.txt``/``.tsv``/``.dat`` and other text (header rows,
+        separator and decimal mark sniffed; optional ``# key=value`` lines),
+        ``.parquet``, ``.npy`` (one column memory-mapped, or a 2-D/structured array),
+        ``.mat`` (v5 via scipy, v7.3 via h5py; imu_tk's text ``.mat`` too),
+        ``.h5``/``.hdf5``, ``.bag`` (ROS 1), ``.db3``/``.mcap`` or a ROS 2 bag folder,
+        ``.ulg`` (PX4 ULog). See :mod:`inertialab.io.formats`.
     kind : str
         One of :data:`inertialab.io.schemas.SCHEMAS`.
     unit : str or dict, optional
-        Unit override (``--unit``): a suffix applied to the measurement columns whose
-        allowed dimensions include it, or ``{base: suffix}``. Overrides column
-        suffixes, which override the sidecar's ``units``.
+        Unit override: a suffix applied to the measurement columns whose allowed
+        dimensions include it, a comma list (``"g,dps"``, one per dimension), or
+        ``{base: suffix}`` / ``"gx=dps,ax=g"``. Overrides column suffixes, which
+        override the sidecar's ``units``.
     rate_hz : float, optional
-        Sample rate for a ``.npy`` log (else the sidecar's ``fs_hz``).
+        Sample rate for a log without time stamps (``.npy``, or a table without a time
+        column: ``t_s`` is then built as ``i / rate_hz``); else the sidecar's ``fs_hz``.
     column : str, optional
-        Canonical column name for a ``.npy`` log (e.g. ``rate_dph``).
+        Canonical column name for a one-column ``.npy`` log (e.g. ``rate_dph``).
     g_local : float, optional
         Local gravity, m/s^2; stored in ``meta["g_local_mps2"]`` when given.
     column_map : ColumnMap or str, optional
-        ``--map`` (:func:`inertialab.io.mapping.parse_map`): canonical target <- source
-        column and unit, applied before validation. Columns ``t_ms``/``t_us``/``t_ns``
-        become ``t_s`` (seconds since the first stamp) with or without a map.
+        Canonical target <- source column and unit, applied before validation
+        (:func:`inertialab.io.mapping.parse_map`; ``colN`` is the N-th column).
+        Columns ``t_ms``/``t_us``/``t_ns`` become ``t_s`` with or without a map.
     parse : ParseOptions, optional
         Separator, decimal mark and preamble lines of a text file (default: sniffed).
     gaps : {None, "error", "split"}, default None
-        Time-stamp policy for continuous logs (:mod:`inertialab.io.gaps`): None keeps
-        the order check only; ``"error"`` also stops at dropouts with their rows and
-        durations; ``"split"`` adds a ``segment`` column instead of stopping.
+        Time-stamp policy for continuous logs (:mod:`inertialab.io.gaps`).
     full_scale : dict, float, "auto" or None
-        Flag samples at full scale in a ``saturated`` column (dict: column -> value in
-        the column's unit; "auto": flat runs at a column's extreme). None uses the
-        sidecar's ``full_scale`` when there is one.
+        Flag samples at full scale in a ``saturated`` column.
     options : ReadOptions, optional
-        The reading options of the command line's front door
-        (:class:`inertialab.io.mapping.ReadOptions`); its column map and parse options
-        are used where ``column_map``/``parse`` are not given.
+        The reading options of the front door (:class:`inertialab.io.mapping.ReadOptions`);
+        each of its fields is used where the matching argument above is not given, and it
+        carries what only it has: time column and unit, topic, instance, dataset, joined
+        files, resampling.
+
+    The time stamps of a continuous log are audited (:mod:`inertialab.io.timestamps`):
+    mean rate, jitter, gaps, dropped and repeated samples go to ``meta["timestamps"]``.
 
     Raises
     ------
@@ -166,42 +142,163 @@ def read_record(path, kind: str, *, unit=None, rate_hz: float | None = None,
         Missing or empty file, unreadable format, missing column, non-numeric or
         non-finite value, bad time order, too few rows, unknown unit suffix.
     """
+    from inertialab.io.mapping import ReadOptions, parse_map, parse_unit_option
+
     if kind not in SCHEMAS:
         raise InputError(f"unknown record kind '{kind}' (known: {', '.join(SCHEMAS)})")
-    if options is not None:
-        column_map = options.column_map if column_map is None else column_map
-        parse = options.parse if parse is None else parse
+    opts = options if options is not None else ReadOptions()
+    if column_map is None:
+        column_map = opts.effective_map()
+    elif isinstance(column_map, str):
+        column_map = parse_map(column_map)
+    parse = opts.parse if parse is None else parse
+    unit = opts.unit if unit is None else parse_unit_option(unit)
+    rate_hz = opts.rate_hz if rate_hz is None else rate_hz
     p = Path(path)
     if not p.exists():
         raise InputError("no such file", path=p)
-    if p.is_dir():
+    from inertialab.io.formats.dispatch import is_bag_folder
+
+    if p.is_dir() and not is_bag_folder(p):
         raise InputError("is a directory, expected a file", path=p)
-    if p.stat().st_size == 0:
+    if p.is_file() and p.stat().st_size == 0:
         raise InputError("empty file", path=p)
     meta = read_sidecar(p)
     if g_local is not None:
         meta["g_local_mps2"] = float(g_local)
     if p.suffix.lower() == ".npy":
-        return _read_npy(p, kind, meta, unit=unit, rate_hz=rate_hz, column=column)
-    df, header_meta = _load_table(p, parse)
-    merged = dict(header_meta)
-    merged.update(meta)
-    if column_map:
-        from inertialab.io.mapping import apply_map, parse_map
+        arr = _open_npy(p)
+        if arr.dtype.names is None and (arr.ndim == 1 or (arr.ndim == 2 and arr.shape[1] == 1)):
+            return _read_npy(p, kind, meta, arr, unit=unit, rate_hz=rate_hz, column=column)
+    from inertialab.io.formats.dispatch import load_frame
 
-        cmap = parse_map(column_map) if isinstance(column_map, str) else column_map
-        df = apply_map(df, cmap, path=p, g_local=merged.get("g_local_mps2"), meta=merged)
+    loaded = load_frame(p, parse=parse, options=opts)
+    df, header_units = loaded.frame, dict(loaded.header_units)
+    merged = dict(loaded.meta)
+    merged.update(meta)
+    if opts.join:
+        from inertialab.io.formats.imu_tk import join_on_time
+
+        df, jmeta = join_on_time(p, df, opts.join, parse=parse, options=opts)
+        merged["join"] = jmeta
+    return _finish(df, kind, p, merged, header_units=header_units, column_map=column_map,
+                   parse=parse, unit=unit, rate_hz=rate_hz, gaps=gaps, full_scale=full_scale,
+                   options=opts)
+
+
+def peek_columns(path, options=None) -> list[str]:
+    """Column names of a file as :func:`read_record` will see them before validation:
+    lower-case, BOM dropped, the column map's targets in place of their sources, a time
+    column given by the options as ``t_s``. Reads a few rows of a text file (after the
+    size and content checks), so a CLI can choose a record kind (``t_s`` present: a raw
+    log) without reading the file twice or sniffing headers itself."""
+    from inertialab.io.formats.dispatch import format_of, load_frame
+    from inertialab.io.formats.text import load_text
+    from inertialab.io.mapping import ReadOptions
+
+    opts = options if options is not None else ReadOptions()
+    p = Path(path)
+    if not p.exists():
+        raise InputError("no such file", path=p)
+    if p.is_file() and p.stat().st_size == 0:
+        raise InputError("empty file", path=p)
+    if format_of(p) == "text":
+        names = list(load_text(p, opts.parse, nrows=5).frame.columns)
+    elif p.suffix.lower() == ".npy" and _open_npy(p).dtype.names is None \
+            and _open_npy(p).ndim == 1:
+        names = []  # one unnamed column: its name comes from the column/unit arguments
+    else:
+        names = list(load_frame(p, parse=opts.parse, options=opts).frame.columns)
+    cmap = opts.effective_map()
+    sources = {e.source.strip().lower(): e.target for e in cmap.entries}
+    out = []
+    for j, n in enumerate(names):
+        low = str(n).strip().lower()
+        out.append(sources.get(low) or sources.get(f"col{j + 1}") or low)
+    if opts.time_unit is not None and opts.time_column is None:
+        out = ["t_s" if n in _TIME_NAMES else n for n in out]
+    if any(n in ("t_ms", "t_us", "t_ns") for n in out) and "t_s" not in out:
+        out = ["t_s" if n in ("t_ms", "t_us", "t_ns") else n for n in out]
+    return out
+
+
+def _finish(df, kind, p, merged, *, header_units, column_map, parse, unit, rate_hz, gaps,
+            full_scale, options) -> Record:
+    """Map, time base, audit, validate: the part every format shares."""
+    from inertialab.io.mapping import apply_map
+
+    schema = SCHEMAS[kind]
+    if column_map:
+        df = apply_map(df, column_map, path=p, g_local=merged.get("g_local_mps2"), meta=merged,
+                       header_units=header_units)
+    if options.time_unit is not None and options.time_column is None:
+        df = _time_unit_only(df, options.time_unit, path=p, meta=merged)
+    if schema.time_column == "t_s":
+        df = _time_from_rate(df, rate_hz, path=p, meta=merged)
     if parse is not None and not parse.is_default:
         merged["parse"] = parse.to_dict()
     return validate_frame(df, kind, path=p, meta=merged, unit=unit, gaps=gaps,
-                          full_scale=full_scale)
+                          full_scale=full_scale, header_units=header_units,
+                          resample_hz=options.resample_hz)
 
 
-def _read_npy(p: Path, kind: str, meta: dict, *, unit, rate_hz, column) -> Record:
+_TIME_NAMES = ("t", "time", "timestamp", "stamp", "time_s", "timestamp_s")
+
+
+def _time_unit_only(df: pd.DataFrame, time_unit: str, *, path, meta) -> pd.DataFrame:
+    from inertialab.io.mapping import time_to_seconds
+
+    low = {str(c).strip().lower(): c for c in df.columns}
+    col = next((low[n] for n in _TIME_NAMES if n in low), None)
+    if col is None:
+        raise InputError("argument 'time_unit' given but no column named t, time or timestamp; "
+                         "name the time column (argument 'time_column')", path=path)
+    t, t0 = time_to_seconds(df[col], time_unit, path=path, column=str(col))
+    meta["time_origin"] = {"column": str(col), "unit": time_unit, "value": t0}
+    out = df.drop(columns=[col])
+    out.insert(0, "t_s", t)
+    return out
+
+
+def _time_from_rate(df: pd.DataFrame, rate_hz, *, path, meta) -> pd.DataFrame:
+    """A log without a time column gets ``t_s = i / rate`` (rate from the argument or the
+    sidecar's ``fs_hz``); the rate goes to ``meta["fs_hz"]``."""
+    low = {str(c).strip().lower() for c in df.columns}
+    has_t = bool(low & {"t_s", "t_ms", "t_us", "t_ns"})
+    fs = rate_hz if rate_hz is not None else (meta.get("fs_hz") if not has_t else None)
+    if fs is None:
+        return df
+    fs = _check_rate(fs, path=path, where="argument 'rate_hz'" if rate_hz is not None
+                     else "sidecar key 'fs_hz'")
+    meta["fs_hz"] = fs
+    if has_t:
+        return df
+    out = df.copy()
+    out.insert(0, "t_s", np.arange(len(df), dtype=float) / fs)
+    meta["time_from_rate"] = True
+    return out
+
+
+def _check_rate(value, *, path, where: str) -> float:
     try:
-        arr = np.load(p, mmap_mode="r", allow_pickle=False)
-    except (ValueError, OSError) as exc:
-        raise InputError(f"not a readable .npy file ({exc})", path=p) from None
+        fs = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{where} must be a number in Hz, got {value!r}", path=path) from None
+    if not np.isfinite(fs) or not 1e-9 <= fs <= 1e9:
+        raise InputError(f"{where} must be a rate between 1e-9 and 1e9 Hz, got {value!r}",
+                         path=path)
+    return fs
+
+
+def _open_npy(p: Path) -> np.ndarray:
+    try:
+        return np.load(p, mmap_mode="r", allow_pickle=False)
+    except (ValueError, OSError, EOFError) as exc:
+        raise InputError(f"not a readable .npy file ({' '.join(str(exc).split())[:120]})",
+                         path=p) from None
+
+
+def _read_npy(p: Path, kind: str, meta: dict, arr, *, unit, rate_hz, column) -> Record:
     if arr.ndim == 2 and arr.shape[1] == 1:
         arr = arr[:, 0]
     if arr.ndim != 1:
@@ -221,9 +318,8 @@ def _read_npy(p: Path, kind: str, meta: dict, *, unit, rate_hz, column) -> Recor
     fs = rate_hz if rate_hz is not None else meta.get("fs_hz")
     if fs is None:
         raise InputError("a .npy log needs --rate (Hz) or a sidecar with 'fs_hz'", path=p)
-    fs = float(fs)
-    if not np.isfinite(fs) or fs <= 0:
-        raise InputError(f"sample rate must be positive, got {fs}", path=p)
+    fs = _check_rate(fs, path=p, where="argument 'rate_hz'" if rate_hz is not None
+                     else "sidecar key 'fs_hz'")
     base, suf = split_suffix(name)
     if suf is None:
         raise InputError("column name has no unit suffix", path=p, column=name)
@@ -260,10 +356,14 @@ def _override_unit(col: Column, unit) -> str | None:
     if isinstance(unit, dict):
         u = unit.get(col.name)
         return None if u is None else str(u).lower()
-    u = SUFFIXES.get(str(unit).lower())
-    if u is None:
-        raise InputError(f"unknown unit '{unit}' (known suffixes: {', '.join(sorted(SUFFIXES))})")
-    return str(unit).lower() if u.dimension in col.dimensions else None
+    for part in str(unit).lower().split(","):  # "g,dps": one unit per dimension
+        u = SUFFIXES.get(part.strip())
+        if u is None:
+            raise InputError(f"unknown unit '{part.strip()}' (known suffixes: "
+                             f"{', '.join(sorted(SUFFIXES))})")
+        if u.dimension in col.dimensions:
+            return part.strip()
+    return None
 
 
 def _meta_unit(col: Column, meta: dict) -> str | None:
@@ -371,7 +471,10 @@ def _coerce_numeric(series: pd.Series, col: Column, *, path, name: str) -> pd.Se
             raise InputError(f"non-numeric value '{series.iloc[i]}'", path=path, column=name,
                              row=i + 1)
         series = conv.astype(float)
-    values = series.to_numpy(dtype=float, na_value=np.nan)
+    if series.dtype == np.float64:
+        values = series.to_numpy()  # a view: no copy of a long log
+    else:
+        values = series.to_numpy(dtype=float, na_value=np.nan)
     if col.finite or col.required:
         nonfinite = ~np.isfinite(values)
         if nonfinite.any():
@@ -387,6 +490,8 @@ def _coerce_numeric(series: pd.Series, col: Column, *, path, name: str) -> pd.Se
                              row=i + 1)
         if finite.all():
             return pd.Series(np.round(values).astype(np.int64), index=series.index, name=name)
+    if series.dtype == np.float64 and series.name == name:
+        return series  # unchanged: the caller keeps the frame without a copy
     return pd.Series(values, index=series.index, name=name)
 
 
@@ -429,7 +534,9 @@ def _coerce(df: pd.DataFrame, schema: Schema, *, path) -> pd.DataFrame:
             out[name] = conv
         else:  # pragma: no cover - schema error
             raise ValueError(f"unknown column kind {col.kind}")
-    return pd.DataFrame(out, index=df.index)
+    if all(out[n] is df[n] for n in df.columns) if df.columns.is_unique else False:
+        return df
+    return pd.DataFrame(out, index=df.index, copy=False)
 
 
 def _check_time(df: pd.DataFrame, schema: Schema, *, path) -> pd.DataFrame:
@@ -455,6 +562,21 @@ def _check_time(df: pd.DataFrame, schema: Schema, *, path) -> pd.DataFrame:
     return df
 
 
+def _resample(df, rate_hz, schema, units, meta, *, path):
+    from inertialab.io.timestamps import resample_uniform
+
+    tcol = schema.time_column
+    if "segment" in df.columns:
+        raise InputError("cannot resample a log split into segments", path=path)
+    num = [c for c in df.columns if c != tcol and pd.api.types.is_float_dtype(df[c])]
+    grid, vals = resample_uniform(df[tcol].to_numpy(float), {c: df[c] for c in num},
+                                  float(rate_hz))
+    meta["resampled"] = {"rate_hz": float(rate_hz), "method": "linear", "n_before": len(df),
+                         "n_after": int(grid.size), "columns": num}
+    meta["fs_hz"] = float(rate_hz)
+    return pd.DataFrame({tcol: grid, **vals})
+
+
 def hash_frame(df: pd.DataFrame) -> str:
     """SHA-256 of a frame's columns in sorted-name order, values canonicalised (float64
     bytes for numbers, int64 ns for times, UTF-8 for text), so CSV and Parquet of the same
@@ -474,9 +596,30 @@ def hash_frame(df: pd.DataFrame) -> str:
     return h.hexdigest()
 
 
+def _missing(what: str, df_seen: pd.DataFrame, header_units, *, path, column=None,
+             wanted=()) -> InputError:
+    """The missing-column error: the columns found as the file shows them, and the map
+    that would work when the match is obvious."""
+    from inertialab.io.mapping import shown_columns
+    from inertialab.io.suggest import suggest_map
+
+    hint = suggest_map(list(df_seen.columns), header_units, set(wanted) or None)
+    tail = f"; columns found: {shown_columns(df_seen, header_units)}"
+    if hint:
+        tail += f"; try argument 'column_map' {hint}"
+    return InputError(what + tail, path=path, column=column)
+
+
 def validate_frame(df: pd.DataFrame, kind: str, *, path="<frame>", meta: dict | None = None,
-                   unit=None, gaps: str | None = None, full_scale=None) -> Record:
-    """Validate an in-memory DataFrame as a record of ``kind`` (see :func:`read_record`)."""
+                   unit=None, gaps: str | None = None, full_scale=None,
+                   header_units: dict | None = None, resample_hz: float | None = None
+                   ) -> Record:
+    """Validate an in-memory DataFrame as a record of ``kind`` (see :func:`read_record`).
+
+    ``header_units`` (column -> unit text from a units header row) only improves the
+    missing-column message; ``resample_hz`` puts a continuous log on a uniform grid
+    after the time-stamp audit (only when given; recorded in ``meta["resampled"]``).
+    """
     from inertialab.io.mapping import normalise_time_columns
 
     schema = SCHEMAS[kind]
@@ -486,14 +629,19 @@ def validate_frame(df: pd.DataFrame, kind: str, *, path="<frame>", meta: dict | 
         raise InputError("no columns", path=path)
     if schema.time_column == "t_s":
         df = normalise_time_columns(df, path=path, meta=meta)
+    seen = df
     df, units, present = _resolve_columns(df, schema, path=path, meta=meta, unit=unit)
     for c in schema.columns:
         if c.required and c.name not in present:
             hint = f" (with a unit suffix, e.g. {c.name}_{_example_suffix(c)})" if c.flexible else ""
-            raise InputError(f"missing required column{hint}", path=path, column=c.name)
+            raise _missing(f"missing required column{hint}", seen, header_units, path=path,
+                           column=c.name,
+                           wanted=[x.name for x in schema.columns if x.required])
     for group in schema.one_of:
         if not any(g in present for g in group):
-            raise InputError(f"needs at least one of the columns {', '.join(group)}", path=path)
+            extra = ("t_s",) if schema.time_column == "t_s" and "t_s" not in present else ()
+            raise _missing(f"needs at least one of the columns {', '.join(group)}", seen,
+                           header_units, path=path, wanted=(*group, *extra))
     for key in schema.required_meta:
         if key not in meta:
             raise InputError(f"metadata key '{key}' missing (sidecar <stem>.meta.json)", path=path)
@@ -502,8 +650,14 @@ def validate_frame(df: pd.DataFrame, kind: str, *, path="<frame>", meta: dict | 
     if len(df) < schema.min_rows:
         raise InputError(f"too few samples: {len(df)} rows, need at least {schema.min_rows}",
                          path=path)
-    df = df.reset_index(drop=True)
-    df = _coerce(df, schema, path=path)
+    ix = df.index
+    if not (isinstance(ix, pd.RangeIndex) and ix.start == 0 and ix.step == 1):
+        df = df.reset_index(drop=True)  # (a copy: only when the index is not 0..n-1)
+    df = _coerce(df, schema, path=path).copy(deep=False)  # never alter the caller's frame
+    if schema.time_order == "strict" and schema.time_column in df.columns:
+        from inertialab.io.timestamps import audit
+
+        meta["timestamps"] = audit(df[schema.time_column].to_numpy(dtype=float)).to_dict()
     if gaps is not None and schema.time_order == "strict" and schema.time_column in df.columns:
         from inertialab.io.gaps import apply_gap_policy
 
@@ -513,6 +667,9 @@ def validate_frame(df: pd.DataFrame, kind: str, *, path="<frame>", meta: dict | 
             meta["_derived"] = ["segment"]
     else:
         df = _check_time(df, schema, path=path)
+    if resample_hz is not None and schema.time_column in df.columns \
+            and schema.time_order == "strict":
+        df = _resample(df, resample_hz, schema, units, meta, path=path)
     if full_scale is None:
         full_scale = meta.get("full_scale")
     if full_scale is not None:

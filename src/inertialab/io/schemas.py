@@ -158,3 +158,8 @@ SCHEMAS: dict[str, Schema] = {
     s.kind: s for s in (GYRO_LOG, THERMAL_TUMBLE, TRIAXIAL_STATIC, TRIAXIAL_RAW,
                         DUAL_TUMBLE, STORAGE_DRIFT)
 }
+
+
+def flexible_bases() -> frozenset[str]:
+    """Base names of every unit-flexible column (``rate``, ``gx``, ``ax`` ...), lower-case."""
+    return frozenset(c.name for s in SCHEMAS.values() for c in s.columns if c.flexible)

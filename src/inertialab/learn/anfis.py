@@ -33,6 +33,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from inertialab.errors import InputError, NotFittedError
+from inertialab.estimator import Estimator
 from inertialab.learn.fis import TSKFIS, _as_2d, genfis, grid_fis, solve_lstsq
 
 
@@ -165,7 +166,7 @@ def train_hybrid(fis: TSKFIS, X, y, *, epochs: int = 150, validation=None,
     return best[1], trace
 
 
-class ANFIS:
+class ANFIS(Estimator):
     """ANFIS regressor: first-order TSK system trained by Jang's hybrid rule.
 
     Parameters

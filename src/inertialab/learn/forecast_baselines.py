@@ -30,6 +30,7 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from inertialab.errors import InputError, NotFittedError
+from inertialab.estimator import Estimator
 from inertialab.learn.order_cv import NadarayaWatson, lag_targets, select_order_cv
 from inertialab.learn.poly import PolynomialRegressor
 
@@ -89,7 +90,7 @@ def _check_h(h):
     return int(h)
 
 
-class _Base:
+class _Base(Estimator):
     def _fitted(self):
         if not hasattr(self, "y_"):
             raise NotFittedError(f"{type(self).__name__}.forecast called before fit")

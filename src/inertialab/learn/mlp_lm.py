@@ -34,6 +34,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from inertialab.errors import DataQualityWarning, InputError, NotFittedError
+from inertialab.estimator import Estimator
 from inertialab.seeding import as_generator
 
 __all__ = [
@@ -282,7 +283,7 @@ def split_indices(n: int, val_fraction: float, split: str, rng) -> tuple[np.ndar
     raise InputError(f"split must be 'random' or 'block', got {split!r}")
 
 
-class MLPRegressorLM:
+class MLPRegressorLM(Estimator):
     """d-S-1 tanh network trained by Levenberg-Marquardt with validation early stopping.
 
     Parameters
@@ -455,7 +456,8 @@ class MLPRegressorLM:
         return self._y_from_unit(forward(self.theta_, Z, int(self.hidden)))
 
     # model-file support --------------------------------------------------------------
-    def get_params(self) -> dict:
+    def _model_params(self) -> dict:
+        """The hyper-parameters stored in the model file (not ``rng``)."""
         return {k: getattr(self, k) for k in (
             "hidden", "max_epochs", "mu", "mu_dec", "mu_inc", "mu_max", "min_grad",
             "max_fail", "val_fraction", "split", "scale", "goal")}
@@ -464,7 +466,7 @@ class MLPRegressorLM:
         """JSON-ready hyper-parameters, weights and scaling (see :mod:`inertialab.io.modelfile`)."""
         if not hasattr(self, "theta_"):
             raise NotFittedError("MLPRegressorLM.to_dict called before fit")
-        params = self.get_params()
+        params = self._model_params()
         params = {k: (v.item() if isinstance(v, np.generic) else v) for k, v in params.items()}
         return {
             "params": params,

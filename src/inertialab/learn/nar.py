@@ -26,7 +26,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from inertialab import metrics
 from inertialab.errors import DataQualityWarning, ExtrapolationWarning, InputError, NotFittedError
+from inertialab.estimator import Estimator
 from inertialab.learn.forecast_baselines import Forecast
 from inertialab.learn.mlp_lm import MLPRegressorLM, forward, n_params
 from inertialab.learn.order_cv import OrderSelection, select_order_cv
@@ -123,7 +125,7 @@ class _Member:
     val_mask: np.ndarray     # which of the Q samples were validation
 
 
-class NARForecaster:
+class NARForecaster(Estimator):
     """Nonlinear autoregressive network forecaster (spec 004 §3).
 
     Parameters
@@ -137,6 +139,10 @@ class NARForecaster:
     bandwidth : {"rule", "cv"}, default="rule"
     hidden : int, default=10
         Hidden neurons S [R-3].
+    hidden_grid : sequence of int, optional
+        Choose S from these sizes by the mean validation MSE of the R restarts (spec 004
+        §3.2 option ``hidden_grid``, e.g. (2, 4, 6, 8, 10)); every size trains from the
+        same R child seeds; ties go to the smaller size. Overrides ``hidden``.
     restarts : int, default=10
         R (§3.7).
     preset : {"paper", "strict"}, default="paper"
@@ -158,6 +164,7 @@ class NARForecaster:
     Attributes
     ----------
     order_ : p used; ``order_selection_`` : :class:`OrderSelection` or None
+    hidden_ : S used; ``hidden_scores_`` : {S: mean validation MSE} when a grid was searched
     members_ : trained restarts; ``chosen_`` : indices of the retained members
     accepted_ : whether the retained members passed the acceptance checks
     sample_index_ : (Q,) target indices of the open-loop samples
@@ -170,7 +177,7 @@ class NARForecaster:
 
     def __init__(self, *, order=None, H=6, c=0.5, bandwidth="rule", hidden=10, restarts=10,
                  preset="paper", combine=None, split=None, val_fraction=0.1, n_paths=200,
-                 tol_fit=None, lm=None, rng=None):
+                 tol_fit=None, lm=None, rng=None, hidden_grid=None):
         self.order = order
         self.H = H
         self.c = c
@@ -185,6 +192,7 @@ class NARForecaster:
         self.tol_fit = tol_fit
         self.lm = lm
         self.rng = rng
+        self.hidden_grid = hidden_grid
 
     # ------------------------------------------------------------------------- helpers
     def _settings(self):
@@ -204,6 +212,42 @@ class NARForecaster:
 
     def _from_unit(self, z):
         return (np.asarray(z) + 1.0) * self.span_ / 2.0 + self.lo_
+
+    def _hidden_sizes(self) -> list:
+        if self.hidden_grid is None:
+            return [int(self.hidden)]
+        try:
+            sizes = sorted({int(v) for v in self.hidden_grid})
+        except (TypeError, ValueError):
+            raise InputError(f"hidden_grid must be positive integers, got {self.hidden_grid!r}") from None
+        if not sizes or sizes[0] < 1 or sizes[-1] > 200:
+            raise InputError(f"hidden_grid must be integers from 1 to 200, got {self.hidden_grid!r}")
+        if not float(self.val_fraction) > 0:
+            raise InputError("hidden_grid needs a validation split (val_fraction > 0)")
+        return sizes
+
+    def _train_members(self, U, tgt, S, streams, split, lm) -> list:
+        """R restarts of an S-neuron net from the (training, paths) seed pairs (§3.5-3.7)."""
+        members = []
+        for s_train, s_paths in streams:
+            net = MLPRegressorLM(hidden=int(S), scale=False, split=split,
+                                 val_fraction=float(self.val_fraction),
+                                 rng=np.random.Generator(np.random.PCG64(s_train)), **lm)
+            net.fit(U, tgt)
+            theta = net.theta_
+            fit_n = forward(theta, U, int(S))
+            res = tgt - fit_n
+            rep = net.report_
+            vm = min(rep.val_mse) if rep.val_mse else rep.train_mse[-1]
+            val_mask = np.zeros(tgt.size, dtype=bool)
+            val_mask[net.val_index_] = True
+            wh = whiteness(res * self.span_ / 2.0)
+            max_ae = float(np.max(np.abs(res))) * self.span_ / 2.0
+            acc = wh.passed and (self.tol_fit is None or max_ae <= float(self.tol_fit))
+            members.append(_Member(theta, float(vm), float(np.mean(res[~val_mask] ** 2)), res,
+                                   fit_n, wh, max_ae, bool(acc), rep.stop_reason, rep.epochs,
+                                   s_paths, val_mask))
+        return members
 
     # ----------------------------------------------------------------------------- fit
     def fit(self, y, *, usable=None) -> NARForecaster:
@@ -236,6 +280,7 @@ class NARForecaster:
                           DataQualityWarning, stacklevel=2)
             self.order_ = 1
             self.order_selection_ = None
+            self.hidden_, self.hidden_scores_ = int(self.hidden), None
             self.members_, self.chosen_, self.accepted_ = [], [], False
             self.sample_index_ = np.flatnonzero(fin[1:] & fin[:-1]) + 1
             self.fitted_ = y[self.sample_index_ - 1]
@@ -264,26 +309,16 @@ class NARForecaster:
         R = int(self.restarts)
         if R < 1:
             raise InputError(f"restarts must be >= 1, got {self.restarts}")
-        members = []
-        for child in self.seed_seq_.spawn(R):
-            s_train, s_paths = child.spawn(2)
-            net = MLPRegressorLM(hidden=int(self.hidden), scale=False, split=split,
-                                 val_fraction=float(self.val_fraction),
-                                 rng=np.random.Generator(np.random.PCG64(s_train)), **lm)
-            net.fit(U, tgt)
-            theta = net.theta_
-            fit_n = forward(theta, U, int(self.hidden))
-            res = tgt - fit_n
-            rep = net.report_
-            vm = min(rep.val_mse) if rep.val_mse else rep.train_mse[-1]
-            val_mask = np.zeros(idx.size, dtype=bool)
-            val_mask[net.val_index_] = True
-            wh = whiteness(res * self.span_ / 2.0)
-            max_ae = float(np.max(np.abs(res))) * self.span_ / 2.0
-            acc = wh.passed and (self.tol_fit is None or max_ae <= float(self.tol_fit))
-            members.append(_Member(theta, float(vm), float(np.mean(res[~val_mask] ** 2)), res,
-                                   fit_n, wh, max_ae, bool(acc), rep.stop_reason, rep.epochs,
-                                   s_paths, val_mask))
+        streams = [child.spawn(2) for child in self.seed_seq_.spawn(R)]  # (train, paths)
+        sizes = self._hidden_sizes()
+        scores: dict = {}
+        members = None
+        for S in sizes:
+            cand = self._train_members(U, tgt, S, streams, split, lm)
+            scores[S] = float(np.mean([m.val_mse for m in cand]))
+            if members is None or scores[S] < scores[self.hidden_]:
+                members, self.hidden_ = cand, S
+        self.hidden_scores_ = scores if self.hidden_grid is not None else None
         # spec §3.7: members ranked by validation MSE; "best" takes the best acceptable
         # member (else the best overall), "median"/"mean" the ceil(R/2) best members.
         order = sorted(range(R), key=lambda i: members[i].val_mse)
@@ -323,7 +358,7 @@ class NARForecaster:
         h = int(h)
         if self.constant_:
             return np.full((1, h), self.y_[-1])
-        p, S = self.order_, int(self.hidden)
+        p, S = self.order_, int(self.hidden_)
         tail = self._tail()
         thetas = np.array([self.members_[i].theta for i in self.chosen_])
         M = thetas.shape[0]
@@ -354,7 +389,7 @@ class NARForecaster:
         B = int(self.n_paths if n_paths is None else n_paths)
         if self.constant_:
             return np.full((1, h), self.y_[-1])
-        p, S = self.order_, int(self.hidden)
+        p, S = self.order_, int(self.hidden_)
         tail = self._tail()
         paths = []
         for i in self.chosen_:
@@ -398,7 +433,7 @@ class NARForecaster:
         if self.constant_:
             return lags[:, 0].copy()
         Z = self._to_unit(lags)
-        preds = np.array([forward(self.members_[i].theta, Z, int(self.hidden))
+        preds = np.array([forward(self.members_[i].theta, Z, int(self.hidden_))
                           for i in self.chosen_])
         if self.combine_ == "best":
             c = preds[0]
@@ -412,12 +447,12 @@ class NARForecaster:
         """In-sample open-loop errors (original units): MSE, RMSE, MaxAE for training,
         validation (of the best retained member's split) and all samples (spec §5)."""
         self._check_fitted()
-        e = self.y_[self.sample_index_] - self.fitted_
-        out = {"all": _err(e)}
+        y, f = self.y_[self.sample_index_], np.asarray(self.fitted_, dtype=float)
+        out = {"all": _err(y, f)}
         if self.members_:
             vm = self.members_[self.chosen_[0]].val_mask
-            out["train"] = _err(e[~vm])
-            out["validation"] = _err(e[vm]) if vm.any() else None
+            out["train"] = _err(y[~vm], f[~vm])
+            out["validation"] = _err(y[vm], f[vm]) if vm.any() else None
         return out
 
     def fit_report(self) -> dict:
@@ -454,7 +489,10 @@ class NARForecaster:
                          "restarts": int(self.restarts), "preset": self.preset,
                          "combine": self.combine, "split": self.split,
                          "val_fraction": float(self.val_fraction), "n_paths": int(self.n_paths),
-                         "tol_fit": self.tol_fit},
+                         "tol_fit": self.tol_fit,
+                         "hidden_grid": None if self.hidden_grid is None
+                         else [int(v) for v in self.hidden_grid]},
+            "hidden_used": int(self.hidden_),
             "order": int(self.order_), "lo": self.lo_, "span": self.span_,
             "constant": self.constant_, "combine_used": self.combine_,
             "split_used": self.split_, "accepted": bool(self.accepted_),
@@ -475,6 +513,8 @@ class NARForecaster:
             s = d["settings"]
             obj = cls(**s)
             obj.order_ = int(d["order"])
+            obj.hidden_ = int(d.get("hidden_used", obj.hidden))  # format 1 files: no grid
+            obj.hidden_scores_ = None
             obj.lo_, obj.span_ = float(d["lo"]), float(d["span"])
             obj.constant_ = bool(d["constant"])
             obj.combine_, obj.split_ = d["combine_used"], d["split_used"]
@@ -485,7 +525,7 @@ class NARForecaster:
             members = []
             for m in d["members"]:
                 theta = np.asarray(m["theta"], dtype=float)
-                if theta.size != n_params(obj.order_, int(obj.hidden)):
+                if theta.size != n_params(obj.order_, obj.hidden_):
                     raise InputError("nar model: weight count does not match the architecture")
                 ps = np.random.SeedSequence(int(m["path_seed"]["entropy"]),
                                             spawn_key=tuple(m["path_seed"]["spawn_key"]))
@@ -502,11 +542,10 @@ class NARForecaster:
         return obj
 
 
-def _err(e) -> dict:
-    e = np.asarray(e, dtype=float)
-    if e.size == 0:
+def _err(actual, fitted) -> dict:
+    """MSE, RMSE and MaxAE (= ME of the glossary) of ``fitted - actual`` (metrics.py)."""
+    if np.size(actual) == 0:
         return {"mse": None, "rmse": None, "max_ae": None, "n": 0}
-    mse = float(np.mean(e * e))
-    return {"mse": mse, "rmse": math.sqrt(mse), "max_ae": float(np.max(np.abs(e))),
-            "n": int(e.size)}
+    return {"mse": metrics.mse(actual, fitted), "rmse": metrics.rmse(actual, fitted),
+            "max_ae": metrics.max_abs_error(actual, fitted), "n": int(np.size(actual))}
 

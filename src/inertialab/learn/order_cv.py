@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from inertialab.errors import DataQualityWarning, InputError, NotFittedError
+from inertialab.estimator import Estimator
 
 __all__ = ["CV_GRID", "NadarayaWatson", "OrderSelection", "lag_targets", "select_order_cv"]
 
@@ -184,7 +185,7 @@ def select_order_cv(y, *, H: int = 6, c: float = 0.5, bandwidth: str = "rule",
                           tuple(t_idx.tolist()))
 
 
-class NadarayaWatson:
+class NadarayaWatson(Estimator):
     """Nadaraya-Watson regression with an isotropic Gaussian kernel (spec 004 §3.1 eq. (2)).
 
     Parameters

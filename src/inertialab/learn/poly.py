@@ -1,8 +1,9 @@
 """Polynomial least-squares regressor: the one polynomial baseline of every study.
 
 Serves the 4th-order polynomial of spec 001 §3.9 (bias vs vibration frequency),
-POLY-SEP and POLY-2D of spec 000 §4 (total degree in two inputs) and the polynomial
-trend of spec 004 §4. Inputs are mapped to [-1, 1] per column before the monomials
+POLY-2D of spec 000 §4 (a tensor-product surface ``sum c_mn T^m N^n``, ``degrees=(3,
+1)``), the cubic K0(T) and K1(T) of POLY-SEP (:class:`SeparatePolynomials`, spec 000
+§4, two of these regressors) and the polynomial trend of spec 004 §4. Inputs are mapped to [-1, 1] per column before the monomials
 are formed (conditioning; the fitted function is unchanged), and the least-squares
 problem is solved with ``numpy.linalg.lstsq`` (SVD), so a rank-deficient design
 still gives the minimum-norm fit; ``rank_`` reports it.
@@ -18,13 +19,21 @@ from itertools import combinations_with_replacement
 import numpy as np
 
 from inertialab.errors import ExtrapolationWarning, InputError, NotFittedError
+from inertialab.estimator import Estimator
 
 
-def _monomials(n_features: int, degree: int, *, interaction: bool) -> list[tuple[int, ...]]:
+def _monomials(n_features: int, degree: int, *, interaction: bool,
+               degrees=None) -> list[tuple[int, ...]]:
     """Exponent tuples of every monomial up to ``degree``.
 
     ``interaction=False`` keeps only single-variable powers (a separable model).
+    ``degrees`` (one maximum per input) gives the tensor product instead, ordered with
+    the first input's power outermost: ``T^0 N^0, T^0 N^1, T^1 N^0, ...``.
     """
+    if degrees is not None:
+        if len(degrees) != n_features:
+            raise InputError(f"degrees has {len(degrees)} entries for {n_features} inputs")
+        return [tuple(int(v) for v in e) for e in np.ndindex(*(int(d) + 1 for d in degrees))]
     terms: list[tuple[int, ...]] = []
     for d in range(degree + 1):
         for combo in combinations_with_replacement(range(n_features), d):
@@ -37,7 +46,7 @@ def _monomials(n_features: int, degree: int, *, interaction: bool) -> list[tuple
     return terms
 
 
-class PolynomialRegressor:
+class PolynomialRegressor(Estimator):
     """Least-squares polynomial in one or more inputs.
 
     Parameters
@@ -46,7 +55,11 @@ class PolynomialRegressor:
         Total degree (spec 001 §3.9 uses 4).
     interaction : bool, default=True
         Include cross terms (POLY-2D); ``False`` gives a separable sum of
-        single-variable polynomials (POLY-SEP uses its own product form, see 000 §4).
+        single-variable polynomials.
+    degrees : tuple of int, optional
+        Maximum power per input: the tensor-product surface ``sum_{m<=M, n<=N} c_mn
+        x1^m x2^n`` (POLY-2D of spec 000 §4 uses ``(3, 1)``). Overrides ``degree`` and
+        ``interaction``.
     warn_extrapolation : bool, default=True
         Warn (:class:`~inertialab.errors.ExtrapolationWarning`) when ``predict``
         sees inputs outside the training range.
@@ -54,15 +67,32 @@ class PolynomialRegressor:
 
     MODEL_TYPE = "polynomial"
 
-    def __init__(self, *, degree: int = 4, interaction: bool = True,
+    def __init__(self, *, degree: int = 4, interaction: bool = True, degrees=None,
                  warn_extrapolation: bool = True):
         self.degree = degree
         self.interaction = interaction
+        self.degrees = degrees
         self.warn_extrapolation = warn_extrapolation
+
+    def get_params(self, deep: bool = True) -> dict:
+        return {"degree": self.degree, "interaction": self.interaction,
+                "degrees": self.degrees, "warn_extrapolation": self.warn_extrapolation}
+
+    def set_params(self, **params) -> PolynomialRegressor:
+        for k, v in params.items():
+            if k not in self.get_params():
+                raise InputError(f"PolynomialRegressor has no parameter {k!r}")
+            setattr(self, k, v)
+        return self
 
     def _design(self, X: np.ndarray) -> np.ndarray:
         Z = 2.0 * (X - self.x_min_) / self.x_span_ - 1.0
-        cols = [np.prod(Z ** np.asarray(e), axis=1) for e in self.powers_]
+        if self.degrees is not None:
+            # tensor product: one power per input, multiplied column by column
+            cols = [Z[:, 0] ** e[0] * Z[:, 1] ** e[1] if len(e) == 2
+                    else np.prod(Z ** np.asarray(e), axis=1) for e in self.powers_]
+        else:
+            cols = [np.prod(Z ** np.asarray(e), axis=1) for e in self.powers_]
         return np.column_stack(cols)
 
     @staticmethod
@@ -76,15 +106,18 @@ class PolynomialRegressor:
 
     def fit(self, X, y) -> PolynomialRegressor:
         """Fit to ``X`` (n,) or (n, d) and ``y`` (n,). Returns ``self``."""
-        if int(self.degree) != self.degree or self.degree < 0:
+        if self.degrees is None and (int(self.degree) != self.degree or self.degree < 0):
             raise InputError(f"degree must be a non-negative integer, got {self.degree}")
+        if self.degrees is not None and any(int(d) != d or d < 0 for d in self.degrees):
+            raise InputError(f"degrees must be non-negative integers, got {self.degrees}")
         X = self._as_2d(X)
         y = np.asarray(y, dtype=float).ravel()
         if X.shape[0] != y.size:
             raise InputError(f"X has {X.shape[0]} rows but y has {y.size}")
         if not (np.all(np.isfinite(X)) and np.all(np.isfinite(y))):
             raise InputError("X and y must be finite")
-        self.powers_ = _monomials(X.shape[1], int(self.degree), interaction=self.interaction)
+        self.powers_ = _monomials(X.shape[1], int(self.degree), interaction=self.interaction,
+                                  degrees=self.degrees)
         if y.size < len(self.powers_):
             raise InputError(
                 f"{y.size} samples cannot determine {len(self.powers_)} polynomial coefficients")
@@ -118,7 +151,7 @@ class PolynomialRegressor:
     # model-file support --------------------------------------------------------------
     def to_dict(self) -> dict:
         """JSON-ready parameters (see :mod:`inertialab.io.modelfile`)."""
-        return {
+        out = {
             "degree": int(self.degree),
             "interaction": bool(self.interaction),
             "powers": [list(p) for p in self.powers_],
@@ -127,10 +160,15 @@ class PolynomialRegressor:
             "coef": self.coef_.tolist(),
             "rank": self.rank_,
         }
+        if self.degrees is not None:
+            out["degrees"] = [int(v) for v in self.degrees]
+        return out
 
     @classmethod
     def from_dict(cls, d: dict) -> PolynomialRegressor:
-        obj = cls(degree=int(d["degree"]), interaction=bool(d["interaction"]))
+        degrees = d.get("degrees")
+        obj = cls(degree=int(d["degree"]), interaction=bool(d["interaction"]),
+                  degrees=None if degrees is None else tuple(int(v) for v in degrees))
         obj.powers_ = [tuple(int(v) for v in p) for p in d["powers"]]
         obj.x_min_ = np.asarray(d["x_min"], dtype=float)
         obj.x_span_ = np.asarray(d["x_span"], dtype=float)
@@ -139,4 +177,91 @@ class PolynomialRegressor:
         obj.n_features_in_ = obj.x_min_.size
         if len(obj.powers_) != obj.coef_.size:
             raise InputError("polynomial model: number of powers and coefficients differ")
+        return obj
+
+
+class SeparatePolynomials(Estimator):
+    """POLY-SEP, the industry practice of spec 000 §4: bias and scale factor as separate
+    polynomials of temperature.
+
+    Per training set point the bias K0 from the positions with ``a_i = 0`` (0°/180°),
+    else the intercept of a line fit, and the scale factor K1 by least squares over the
+    other positions; then ``K0(T)`` and ``K1(T)`` as two :class:`PolynomialRegressor`
+    of ``degree`` (cubic, spec 000 §4). Prediction: ``a_hat = (N - K0(T))/K1(T)`` and
+    ``Nc_hat = K0c + K1c a_hat`` with the reference coefficients ``ref`` (a mapping with
+    at least ``k0`` in mV and ``k1`` in mV/g; kept verbatim for the model file).
+
+    Parameters
+    ----------
+    degree : int, default=3
+        Degree of K0(T) and K1(T) (spec 000 §4: cubic).
+    """
+
+    def __init__(self, *, degree: int = 3):
+        self.degree = degree
+
+    def get_params(self, deep: bool = True) -> dict:
+        return {"degree": self.degree}
+
+    def set_params(self, **params) -> SeparatePolynomials:
+        for k, v in params.items():
+            if k != "degree":
+                raise InputError(f"SeparatePolynomials has no parameter {k!r}")
+            self.degree = v
+        return self
+
+    def fit(self, T, N, a_i, set_point, ref) -> SeparatePolynomials:
+        """Fit on one row per (set point, position): temperature ``T`` (°C), output ``N``
+        (mV), nominal input ``a_i`` (g), ``set_point`` (°C); ``ref`` as above."""
+        T, N = np.asarray(T, float), np.asarray(N, float)
+        a_i, set_point = np.asarray(a_i, float), np.asarray(set_point, float)
+        tt, k0s, k1s = [], [], []
+        for sp in np.unique(set_point):
+            m = set_point == sp
+            a, n = a_i[m], N[m]
+            zero = np.isclose(a, 0.0)
+            if zero.sum() >= 2:
+                k0 = float(np.mean(n[zero]))
+                nz = ~zero
+                if nz.sum() < 1:
+                    continue
+                k1 = float(np.sum(a[nz] * (n[nz] - k0)) / np.sum(a[nz] ** 2))
+            else:
+                if m.sum() < 2 or np.ptp(a) == 0:
+                    continue
+                k1, k0 = np.polyfit(a, n, 1)
+            tt.append(float(np.mean(T[m])))
+            k0s.append(k0)
+            k1s.append(k1)
+        if len(tt) <= self.degree:
+            raise InputError(f"POLY-SEP needs more than {self.degree} training set points")
+        tt = np.asarray(tt)
+        self.k0_ = PolynomialRegressor(degree=self.degree, warn_extrapolation=False).fit(tt, k0s)
+        self.k1_ = PolynomialRegressor(degree=self.degree, warn_extrapolation=False).fit(tt, k1s)
+        self.ref_ = {k: float(v) for k, v in dict(ref).items()}
+        return self
+
+    def predict(self, X) -> np.ndarray:
+        """``Nc_hat`` (mV) at ``X = [T, N]`` (n, 2)."""
+        if not hasattr(self, "k0_"):
+            raise NotFittedError("SeparatePolynomials.predict called before fit")
+        X = np.asarray(X, float)
+        a_hat = (X[:, 1] - self.k0_.predict(X[:, 0])) / self.k1_.predict(X[:, 0])
+        return self.ref_["k0"] + self.ref_["k1"] * a_hat
+
+    def to_dict(self) -> dict:
+        if not hasattr(self, "k0_"):
+            raise NotFittedError("SeparatePolynomials.to_dict called before fit")
+        return {"degree": self.degree, "k0": self.k0_.to_dict(), "k1": self.k1_.to_dict(),
+                "ref": dict(self.ref_)}
+
+    @classmethod
+    def from_dict(cls, d) -> SeparatePolynomials:
+        obj = cls(degree=int(d["degree"]))
+        obj.k0_ = PolynomialRegressor.from_dict(d["k0"])
+        obj.k1_ = PolynomialRegressor.from_dict(d["k1"])
+        obj.k0_.warn_extrapolation = obj.k1_.warn_extrapolation = False
+        obj.ref_ = {k: float(v) for k, v in dict(d["ref"]).items()}
+        if "k0" not in obj.ref_ or "k1" not in obj.ref_:
+            raise InputError("POLY-SEP model: reference coefficients need k0 and k1")
         return obj

@@ -34,6 +34,7 @@ import math
 import numpy as np
 
 from inertialab.errors import InputError, NotFittedError
+from inertialab.estimator import Estimator
 from inertialab.seeding import as_generator
 
 __all__ = ["RBFNetwork"]
@@ -109,7 +110,7 @@ class _IncrementalQR:
         return solve_triangular(self.R, np.asarray(self.qty), lower=False)
 
 
-class RBFNetwork:
+class RBFNetwork(Estimator):
     """Gaussian RBF network grown like MATLAB ``newrb`` (spec 001 §3.8).
 
     Parameters

@@ -21,6 +21,7 @@ from __future__ import annotations
 import numpy as np
 
 from inertialab.errors import InputError
+from inertialab.estimator import Estimator
 
 #: Default hyper-parameters of spec 000 §3.2 (= MATLAB's subclust defaults).
 DEFAULTS = {"radius": 0.5, "squash": 1.25, "accept": 0.5, "reject": 0.15}
@@ -37,7 +38,7 @@ def _radii(radius, d: int) -> np.ndarray:
     return r
 
 
-class SubtractiveClustering:
+class SubtractiveClustering(Estimator):
     """Subtractive clustering of points in D dimensions.
 
     Parameters

@@ -173,8 +173,9 @@ def tau_grid(n_samples: int, taus="octave", *, rate_hz: float = 1.0, statistic: 
     ----------
     n_samples : int
         Number of input samples (rate samples, or angle points for ``input="angle"``).
-    taus : {"octave", "decade", "all"} or int or sequence of float, default "octave"
-        ``"octave"``: m = 2^k; ``"decade"``: m = {1, 2, 4}·10^k; ``"all"``: every m;
+    taus : {"octave", "decade", "many", "all"} or int or sequence of float, default "octave"
+        ``"octave"``: m = 2^k; ``"decade"``: m = {1, 2, 4}·10^k; ``"many"``: about ten
+        log-spaced m per decade; ``"all"``: every m;
         an int n: n log-spaced unique m; a sequence: taus in seconds, rounded to
         the nearest m (CONTRACTS.md "noise"). Each is clipped to the statistic's
         largest valid m (:func:`max_m`).
@@ -200,9 +201,13 @@ def tau_grid(n_samples: int, taus="octave", *, rate_hz: float = 1.0, statistic: 
             m = np.array([k * 10**e for e in range(top) for k in (1, 2, 4)], dtype=np.int64)
         elif kind == "all":
             m = np.arange(1, mmax + 1, dtype=np.int64)
+        elif kind == "many":
+            from inertialab.noise._clock import many_m
+
+            m = many_m(mmax)
         else:
-            raise InputError(f"unknown taus '{taus}' (use octave, decade, all, a count or "
-                             "a list of seconds)")
+            raise InputError(f"unknown taus '{taus}' (use octave, decade, many, all, a count "
+                             "or a list of seconds)")
     elif isinstance(taus, (int, np.integer)) and not isinstance(taus, bool):
         if taus < 1:
             raise InputError(f"the number of taus must be >= 1, got {taus}")

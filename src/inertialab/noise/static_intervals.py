@@ -156,7 +156,7 @@ def detect_static_intervals(t, acc, *, window_s: float = 1.0, t_init_s: float = 
         if np.mean(s[init] > 3.0 * s0) > 0.05:
             raise InputError(
                 f"no initial rest: more than 5 % of the first {t_init_s:g} s move; the log must "
-                "start with the sensor at rest (or shorten --t-init)")
+                "start with the sensor at rest (or shorten argument 't_init_s')")
         tau = float(k_thr) * s0
         kused: float | None = float(k_thr)
     else:
@@ -258,10 +258,11 @@ def sweep_thresholds(t, acc, *, k_values: Sequence[float] = tuple(range(2, 11)),
         most = max(counts.values()) if counts else 0
         if expected is not None and most > expected:
             hint = ("more intervals than expected: pauses during motion count as static; "
-                    "raise --min-duration or check the schedule length")
+                    "raise argument 'min_duration_s' or check the schedule length")
         else:
             hint = ("make each pose last longer (at least 2 s of rest), keep the sensor still "
-                    "while it rests, lower --min-duration or --window, or give --threshold")
+                    "while it rests, lower argument 'min_duration_s' or argument 'window_s', "
+                    "or give argument 'threshold'")
         raise InputError(f"static-interval detection needs {want} intervals; found {listing}; {hint}")
     scores: dict = {}
     if score is not None:

@@ -1,4 +1,4 @@
-"""IMU noise terms Q, N, B, K, R from an Allan-type curve (spec 001 §3.3–3.4; issue 3).
+"""IMU noise terms Q, N, B, K, R from an Allan-type curve (spec 001 §3.3–3.4; issues 3, 14).
 
 Five-term model (spec 001 eq. 4, IEEE Std 952-1997 Annex C), sigma in the rate unit u
 and tau in s::
@@ -6,31 +6,59 @@ and tau in s::
     sigma^2(tau) = 3Q^2/tau^2 + N^2/tau + (2 ln2/pi) B^2 + K^2 tau/3 + R^2 tau^2/2
                  = sum_{k=-2..2} c_k tau^k
 
-Methods (every term reports which one and the tau range it used):
+Methods (every term reports which one and the tau range it was read on):
 
 ``"wls"`` (default)
-    Non-negative weighted least squares of the model on the AVAR points (scipy's NNLS on
-    the column-scaled design), weights ``w_i = edf_i / (2 model_i^2)`` (inverse variance
-    of an AVAR estimate), started with ``model_i = sigma_hat_i^2`` and reweighted three
-    times with the fitted model, the EDF re-derived from each tau's dominant term
-    (spec 001 §3.4 item 2). Uncertainty: the weighted-LS covariance propagated by the
-    delta method; it treats overlapping AVAR points as independent and so understates.
+    Weighted least squares of the model on the AVAR points, weights ``edf_i/(2 model_i^2)``
+    (inverse variance of an AVAR estimate), iteratively reweighted with the fitted
+    model; each tau's EDF is Greenhall's (:func:`inertialab.noise.edf.edf_greenhall`) for
+    the noise type of the model's dominant term there (issue 14 item 4). Robust defaults
+    (issue 14 item 2, see :func:`auto_tau_range`): the short-tau region coloured by the
+    sensor's internal low-pass/decimation filter is cut (the curve rises or flattens
+    before it falls like white noise; everything below 4x its peak is dropped), and the
+    ``c_-2`` coefficient is signed: a filter leaves ``-c/tau^2`` behind on white noise
+    (``sigma^2 = N^2/tau - c/tau^2`` beyond the filter's length), angle quantisation
+    ``+3Q^2/tau^2``; a negative or non-significant ``c_-2`` reports Q as absent. Taus
+    whose model EDF is below :data:`EDF_MIN` are dropped. A record too short to separate
+    a term (fewer than two taus per parameter) drops R, then K, then Q, reported
+    ``not_observable`` with the reason.
 ``"ols"``
     The same with unit weights (the paper-compatible mode of spec 001 §3.4 item 3).
 ``"slope"``
-    Automated IEEE 952 slope reading (spec 001 §3.4 item 1): local slopes over three
-    consecutive taus, the longest run within 0.15 of each target slope (>= 3 points),
-    an EDF-weighted fixed-slope line through it; B = min(sigma)/0.6643 over the run with
-    ``|slope| <= 0.1``, else an upper bound (flag ``B_bound``). Missing runs give NaN
-    with flag ``not_observable``.
+    Automated IEEE 952 slope reading (spec 001 §3.4 item 1; ``noise/_terms_slope.py``).
+``"gmwm"``
+    Generalized method of wavelet moments (:mod:`inertialab.noise.gmwm`) on the dyadic
+    points of the curve (the Haar wavelet variance is half the Allan variance there).
+
+Intervals (issue 14 item 3): a parametric bootstrap on the fitted noise model in the
+Allan domain. Each replicate draws every fitted tau's AVAR as
+``model_i chi2(edf_i)/edf_i`` (Greenhall EDF of the model's noise type), correlated
+across taus through a Gaussian copula whose correlation is a Markov chain in log2(tau)
+with the measured one-octave correlation of the dominant noise type
+(:data:`OCTAVE_RHO`), and is refitted by the same method; the term's interval is the percentile
+interval at ``confidence`` (default 0.95). Drawing records instead would cost a full
+simulation and Allan pass per replicate (seconds on a 10-h log); the Allan-domain draw
+is the same model's sampling law to the extent the copula captures the dependence of
+the taus, which the coverage benchmark (benchmarks/noise_terms.py) measures. A term whose lower
+percentile is at 0 (or, for Q, at or below 0), or that never carries :data:`READ_SHARE`
+of the model at a fitted tau, is not significant: it is reported with
+``ci = [0, upper]``, flag ``upper_bound`` and the reason. (The second rule matters
+because neighbouring octave AVAR estimates are correlated — they share the record — so a
+term of 1 % of the curve can look significant to a bootstrap that draws the taus
+independently; measured on white + random-walk data, where it produced the issue's
+spurious Q.)
+
+B is IEEE 952's flat-region value ``sqrt(c_0)/0.6643``; the textbook reading
+``min(sigma)/0.6643`` over the fitted taus is reported beside it
+(:attr:`NoiseTerms.b_textbook`).
 
 Units (CONTRACTS.md "noise"): gyros report Q arcsec, N deg/sqrt(h), B deg/h,
 K deg/h/sqrt(h), R deg/h^2; accelerometers Q m/s, N m/s/sqrt(h), B ug, K m/s^2/sqrt(h),
 R m/s^3. N also carries ``density`` (continuous-time white-noise density: rad/s/sqrt(Hz)
 for gyros, ug/sqrt(Hz) for accelerometers) and ``per_sample_std`` (the discrete
 standard deviation of one sample at the record's rate: density * sqrt(rate); rad/s or
-m/s^2), so Kalibr-style estimators get their numbers without hand conversion. All
-conversions go through :mod:`inertialab.units`.
+m/s^2). Estimator-specific values (Kalibr, OpenVINS, VINS, GTSAM) come from
+:func:`inertialab.noise.robotics.robotics_values`.
 
 Hand-written: no maintained library fits the IEEE five-term model with EDF weights.
 """
@@ -38,11 +66,9 @@ Hand-written: no maintained library fits the IEEE five-term model with EDF weigh
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
-from scipy.optimize import nnls
-from scipy.stats import norm
 
 from inertialab import units
 from inertialab.errors import InputError
@@ -50,10 +76,28 @@ from inertialab.errors import InputError
 #: ``sqrt(2 ln2 / pi)``: the Allan floor of bias instability B.
 BI_FACTOR = math.sqrt(2.0 * math.log(2.0) / math.pi)  # 0.66428
 
+#: Taus whose model EDF is below this are not fitted (issue 14 item 2: "EDF < a few").
+EDF_MIN = 3.0
+
+#: A term is read (and can be significant) only where it carries at least this share of
+#: the model AVAR at some fitted tau (issue 14 item 2).
+READ_SHARE = 0.25
+
+#: Correlation of log AVAR estimates one octave apart, per noise type (alpha), measured
+#: by Monte Carlo (oadev, 2^15 samples, 300 records, m = 1..1024; docs/noise-terms.md):
+#: white rate 0.5, flicker 0.67, random walk 0.88; white angle not measured, taken 0.5.
+OCTAVE_RHO = {2: 0.5, 1: 0.5, 0: 0.5, -1: 0.67, -2: 0.88}
+
+#: Default bootstrap replicates and confidence of the term intervals (issue 14 item 3).
+N_BOOT = 200
+CONFIDENCE = 0.95
+
 _POWERS = (-2, -1, 0, 1, 2)
 _NAMES = ("Q", "N", "B", "K", "R")
 #: alpha (rate PSD exponent) of each model term, for the EDF of its tau
-_TERM_ALPHA = {-2: 2, -1: 0, 0: -1, 1: -2, 2: -2}
+_TERM_ALPHA = (2, 0, -1, -2, -2)
+#: sqrt-form amplitude = gain * sqrt(c_k)
+_GAIN = np.array([1 / math.sqrt(3), 1.0, 1 / BI_FACTOR, math.sqrt(3), math.sqrt(2)])
 
 _REPORT = {
     "gyro": {"rate": "deg/h", "Q": "arcsec", "N": "deg/sqrt(h)", "B": "deg/h",
@@ -70,6 +114,10 @@ _NATIVE = {
 }
 
 
+def _nan(v):
+    return float("nan") if v is None else float(v)
+
+
 @dataclass(frozen=True)
 class NoiseTerm:
     """One noise coefficient in its report unit.
@@ -80,18 +128,24 @@ class NoiseTerm:
         Estimate (NaN when not observable).
     unit : str
     ci : tuple (low, high)
-        Interval at the result's confidence (delta method for "wls"/"ols", EDF-based for
-        "slope").
+        Interval at the result's confidence (bootstrap for "wls"/"ols"/"gmwm",
+        EDF-based for "slope"); ``(0, upper)`` for a term that is not significant.
     method : str
-        ``"wls" | "ols" | "slope"``.
+        ``"wls" | "ols" | "slope" | "gmwm"``.
     tau_range_s : tuple (low, high)
-        Taus the estimate used.
+        Taus the term was read on (where it carries at least a quarter of the model).
     flags : tuple of str
-        ``"not_observable"``, ``"B_bound"``, ``"zero"`` (NNLS put the term at 0).
+        ``"not_observable"``, ``"upper_bound"`` (not significant), ``"B_bound"`` (slope),
+        ``"zero"`` (the fit put the term at 0), ``"filter"`` (Q only: the short taus
+        show the internal filter, ``c_-2 < 0``).
     sd : float
         1-sigma uncertainty in ``unit`` (NaN where not defined).
     density, per_sample_std : dict or None
         N only: ``{"value", "unit"}``.
+    reason : str
+        Why a term is absent, bounded or not observable.
+    upper_bound : float
+        Upper end of the interval of a non-significant term (NaN otherwise).
     """
 
     value: float
@@ -103,8 +157,17 @@ class NoiseTerm:
     sd: float = float("nan")
     density: dict | None = None
     per_sample_std: dict | None = None
+    reason: str = ""
+    upper_bound: float = float("nan")
+
+    @property
+    def significant(self) -> bool:
+        return not ({"upper_bound", "not_observable"} & set(self.flags))
 
     def to_dict(self) -> dict:
+        """The one JSON form of a term (CONTRACTS.md "noise"): ``value, unit, ci, method,
+        tau_range_s, sd, flags`` (+ ``density``, ``per_sample_std`` for N, ``reason`` and
+        ``upper_bound`` where set)."""
         d = {"value": float(self.value), "unit": self.unit,
              "ci": [float(self.ci[0]), float(self.ci[1])], "method": self.method,
              "tau_range_s": [float(self.tau_range_s[0]), float(self.tau_range_s[1])],
@@ -113,19 +176,19 @@ class NoiseTerm:
             d["density"] = dict(self.density)
         if self.per_sample_std is not None:
             d["per_sample_std"] = dict(self.per_sample_std)
+        if self.reason:
+            d["reason"] = self.reason
+        if math.isfinite(self.upper_bound):
+            d["upper_bound"] = float(self.upper_bound)
         return d
 
     @classmethod
     def from_dict(cls, d: dict) -> NoiseTerm:
-        return cls(value=float(d["value"]) if d["value"] is not None else float("nan"),
-                   unit=d["unit"], ci=tuple(_nan(v) for v in d["ci"]), method=d["method"],
-                   tau_range_s=tuple(float(v) for v in d["tau_range_s"]),
+        return cls(value=_nan(d["value"]), unit=d["unit"], ci=tuple(_nan(v) for v in d["ci"]),
+                   method=d["method"], tau_range_s=tuple(_nan(v) for v in d["tau_range_s"]),
                    flags=tuple(d.get("flags", ())), sd=_nan(d.get("sd")),
-                   density=d.get("density"), per_sample_std=d.get("per_sample_std"))
-
-
-def _nan(v):
-    return float("nan") if v is None else float(v)
+                   density=d.get("density"), per_sample_std=d.get("per_sample_std"),
+                   reason=d.get("reason", ""), upper_bound=_nan(d.get("upper_bound")))
 
 
 @dataclass(frozen=True)
@@ -140,15 +203,28 @@ class NoiseTerms:
         Unit suffix of the rate data the curve came from ('dph', 'dps', 'rps', 'mps2', 'g' ...).
     method : str
     coefficients : tuple of 5 float
-        ``c_-2 .. c_2`` of eq. 4 in (data unit)^2 s^k (NaN for "slope" where not read).
+        ``c_-2 .. c_2`` of eq. 4 in (data unit)^2 s^k (``c_-2`` may be negative: filter).
     tau_range_s : tuple
+        Taus of the whole fit.
     fit_rmse_log : float
-        RMSE of ``ln sigma_hat - ln sigma_model`` over the fitted taus ("wls"/"ols").
+        RMSE of ``ln sigma_hat - ln sigma_model`` over the fitted taus.
     rate_hz : float or None
     confidence : float
+        Confidence of the term intervals.
     statistic : str
     g_local : float
         Local gravity used for g-based accelerometer units (m/s^2).
+    alpha_model : tuple of int
+        Noise type of the model's dominant term at each fitted tau.
+    b_textbook : dict or None
+        ``{"value", "unit", "tau_s", "ci"}``: min(sigma)/0.6643 over the fitted taus.
+    interval : str
+        How the intervals were made (e.g. ``"bootstrap-allan/200"``).
+    gmwm : dict or None
+        The GMWM model (method "gmwm"): latent processes, their parameters, WIC.
+    misfit : float
+        ``sqrt(chi2/dof)`` of the fit when above 1 (the factor the bootstrap spread was
+        widened by), else 1.
     """
 
     MODEL_TYPE = "noise-terms"
@@ -165,10 +241,14 @@ class NoiseTerms:
     tau_range_s: tuple
     fit_rmse_log: float = float("nan")
     rate_hz: float | None = None
-    confidence: float = 0.683
+    confidence: float = CONFIDENCE
     statistic: str = "oadev"
     g_local: float = units.G_STANDARD
     alpha_model: tuple = field(default_factory=tuple)
+    b_textbook: dict | None = None
+    interval: str = ""
+    gmwm: dict | None = None
+    misfit: float = 1.0
 
     def terms(self) -> dict[str, NoiseTerm]:
         return {k: getattr(self, k) for k in _NAMES}
@@ -177,7 +257,8 @@ class NoiseTerms:
         """Five-term model deviation at ``taus_s`` (s) in the data unit."""
         t = np.asarray(taus_s, dtype=float)
         c = np.nan_to_num(np.asarray(self.coefficients, dtype=float))
-        return np.sqrt(sum(ck * t**k for ck, k in zip(c, _POWERS)))
+        with np.errstate(invalid="ignore"):
+            return np.sqrt(sum(ck * t**k for ck, k in zip(c, _POWERS)))
 
     def term_devs(self, taus_s) -> dict[str, np.ndarray]:
         """Each term's own deviation line at ``taus_s`` in the data unit (NaN if absent)."""
@@ -198,6 +279,13 @@ class NoiseTerms:
                   "confidence": float(self.confidence), "statistic": self.statistic,
                   "g_local": float(self.g_local),
                   "alpha_model": [int(a) for a in self.alpha_model]})
+        if self.b_textbook is not None:
+            d["b_textbook"] = dict(self.b_textbook)
+        if self.interval:
+            d["interval"] = self.interval
+        if self.gmwm is not None:
+            d["gmwm"] = self.gmwm
+        d["misfit"] = float(self.misfit)
         return d
 
     @classmethod
@@ -210,7 +298,9 @@ class NoiseTerms:
                    confidence=float(d.get("confidence", 0.683)),
                    statistic=d.get("statistic", "oadev"),
                    g_local=float(d.get("g_local", units.G_STANDARD)),
-                   alpha_model=tuple(int(a) for a in d.get("alpha_model", ())))
+                   alpha_model=tuple(int(a) for a in d.get("alpha_model", ())),
+                   b_textbook=d.get("b_textbook"), interval=d.get("interval", ""),
+                   gmwm=d.get("gmwm"), misfit=float(d.get("misfit", 1.0)))
 
 
 # ----------------------------------------------------------------------------- conversion
@@ -259,6 +349,10 @@ class _Converter:
             return s
         raise KeyError(name)
 
+    def factor(self, name: str) -> float:
+        """Linear factor: data-unit amplitude -> report value."""
+        return self.value(name, 1.0) * self.f
+
     def n_extras(self, n_report_rate: float, rate_hz: float | None):
         """density and per-sample std of the white noise (N in report-rate·sqrt(s))."""
         rep = _REPORT[self.kind]
@@ -277,46 +371,60 @@ class _Converter:
         return density, per
 
 
-# ----------------------------------------------------------------------------- fitting
+# ----------------------------------------------------------------------------- tau range
 
 
-def _amplitudes(c: np.ndarray) -> np.ndarray:
-    """sqrt-form amplitude of each term from c_k (same unit as sigma·s^(k/2))."""
-    c = np.asarray(c, dtype=float)
-    g = np.array([1 / math.sqrt(3), 1.0, 1 / BI_FACTOR, math.sqrt(3), math.sqrt(2)])
-    return g * np.sqrt(np.maximum(c, 0.0))
+def auto_tau_range(taus_s, dev) -> int:
+    """Index of the first tau not coloured by the sensor's internal filter.
+
+    A low-pass/decimation filter makes the Allan deviation rise or flatten at the first
+    taus before it falls like white noise (slope -1/2). When the first log-log slope is
+    above -1/4 the curve's first peak ``tau_p`` is found (first slope below -1/4) and taus
+    below ``4 tau_p`` are cut; the 1/tau^2 remainder of the filter beyond that is taken up
+    by the signed ``c_-2`` term. A curve that starts falling (white noise, quantisation)
+    keeps every tau (index 0).
+    """
+    lt = np.log(np.asarray(taus_s, dtype=float))
+    ld = np.log(np.asarray(dev, dtype=float))
+    if lt.size < 3:
+        return 0
+    s = np.diff(ld) / np.diff(lt)
+    if s[0] <= -0.25:
+        return 0
+    below = np.nonzero(s <= -0.25)[0]
+    if below.size == 0:
+        return 0
+    tau_p = math.exp(lt[below[0]])
+    return int(np.searchsorted(lt, math.log(4.0 * tau_p) - 1e-9))
 
 
-def _edf_for(result, alphas, sel):
-    from inertialab.noise.edf import edf as _edf
-
-    n_phase = result.n_samples + 1 if result.input == "rate" else result.n_samples
-    if n_phase <= 1:
-        return np.asarray(result.edf, dtype=float)[sel]
-    e, _ = _edf(result.statistic, n_phase, np.asarray(result.m)[sel], alphas,
-                n_terms=np.asarray(result.n_terms)[sel])
-    return e
-
-
-def _select(result, tau_range):
+def _select(result, tau_range, auto: bool):
     taus = np.asarray(result.taus_s, dtype=float)
     dev = np.asarray(result.dev, dtype=float)
     ok = np.isfinite(dev) & (dev > 0)
     if tau_range is None:
-        T = result.n_samples * result.tau0_s if result.n_samples else taus.max() * 8
-        lo, hi = result.tau0_s * (1 - 1e-9), T / 8 * (1 + 1e-9)
+        lo, hi = result.tau0_s * (1 - 1e-9), np.inf
     else:
         lo, hi = float(tau_range[0]), float(tau_range[1])
     sel = ok & (taus >= lo) & (taus <= hi)
+    cut = 0
+    if auto and tau_range is None and sel.sum() >= 3:
+        idx = np.nonzero(sel)[0]
+        k = auto_tau_range(taus[idx], dev[idx])
+        if k:
+            cut = k
+            sel[idx[:k]] = False
     if sel.sum() < 3:
         raise InputError(f"need at least 3 taus with a positive deviation in "
                          f"[{lo:g}, {hi:g}] s to fit noise terms, got {int(sel.sum())}")
-    return sel
+    return sel, cut
 
 
 def fit_noise_terms(result, *, unit: str, kind: str | None = "gyro", method: str = "wls",
                     rate_hz: float | None = None, tau_range_s=None,
-                    g_local: float = units.G_STANDARD, n_reweight: int = 3) -> NoiseTerms:
+                    g_local: float = units.G_STANDARD, n_reweight: int = 5,
+                    confidence: float = CONFIDENCE, n_boot: int | None = None, seed: int = 0,
+                    auto_range: bool = True) -> NoiseTerms:
     """Fit Q N B K R to a :class:`~inertialab.noise.allan.DeviationResult`.
 
     Parameters
@@ -328,15 +436,26 @@ def fit_noise_terms(result, *, unit: str, kind: str | None = "gyro", method: str
         Unit suffix of the rate data ('dph', 'dps', 'rps', 'mps2', 'g', 'mg', 'ug').
     kind : {"gyro", "accel"} or None, default "gyro"
         None infers it from the unit's dimension.
-    method : {"wls", "ols", "slope"}, default "wls"
+    method : {"wls", "ols", "slope", "gmwm"}, default "wls"
+        "gmwm" uses the curve's dyadic taus (use :func:`inertialab.noise.gmwm.fit_gmwm`
+        on the record for its own scales).
     rate_hz : float, optional
         Sample rate for N's per-sample std (default ``1/result.tau0_s``).
     tau_range_s : (low, high), optional
-        Default ``[tau0, T/8]`` (spec 001 §3.4).
+        Fit only these taus (then no automatic cut).
     g_local : float, default 9.80665
         Local gravity for g-based units (m/s^2).
-    n_reweight : int, default 3
-        WLS reweighting passes (spec 001 §3.4).
+    n_reweight : int, default 5
+        WLS reweighting passes.
+    confidence : float, default 0.95
+        Confidence of the term intervals (issue 14 item 3).
+    n_boot : int, optional
+        Bootstrap replicates (0: no intervals, NaN); default 200 (50 for "gmwm", whose
+        refits cost ~0.1 s each).
+    seed : int, default 0
+        Seed of the bootstrap.
+    auto_range : bool, default True
+        Cut the filter-coloured short taus (:func:`auto_tau_range`).
 
     Raises
     ------
@@ -344,82 +463,74 @@ def fit_noise_terms(result, *, unit: str, kind: str | None = "gyro", method: str
         Unknown unit or method, unit of the wrong dimension, fewer than 3 usable taus.
     """
     conv = _Converter(unit, kind, g_local)
-    if method not in ("wls", "ols", "slope"):
-        raise InputError(f"unknown noise-term method '{method}' (use wls, ols, slope)")
+    if method not in ("wls", "ols", "slope", "gmwm"):
+        raise InputError(f"unknown noise-term method '{method}' (use wls, ols, slope, gmwm)")
+    if not 0 < confidence < 1:
+        raise InputError(f"confidence must be in (0, 1), got {confidence}")
     if rate_hz is None:
         rate_hz = 1.0 / float(result.tau0_s)
-    sel = _select(result, tau_range_s)
+    if n_boot is None:
+        n_boot = 50 if method == "gmwm" else N_BOOT
+    sel, _ = _select(result, tau_range_s, auto_range and method != "gmwm")
     if method == "slope":
-        return _fit_slope(result, sel, conv, rate_hz)
-    return _fit_ls(result, sel, conv, rate_hz, method, n_reweight)
+        from inertialab.noise._terms_slope import fit_slope
+
+        return fit_slope(result, sel, conv, rate_hz)
+    if method == "gmwm":
+        from inertialab.noise.gmwm import fit_gmwm_curve, gmwm_noise_terms
+
+        g = fit_gmwm_curve(result, sel, confidence=confidence, n_boot=n_boot, seed=seed)
+        return gmwm_noise_terms(g, conv, rate_hz, result)
+    from inertialab.noise._terms_ls import fit_ls
+
+    return fit_ls(result, sel, conv, rate_hz, method, n_reweight, confidence, n_boot, seed)
 
 
-def _fit_ls(result, sel, conv, rate_hz, method, n_reweight):
-    taus = np.asarray(result.taus_s, dtype=float)[sel]
-    avar = np.asarray(result.dev, dtype=float)[sel] ** 2
-    X = np.stack([taus**k for k in _POWERS], axis=1)
-    conf = float(result.confidence)
-    model = avar.copy()
-    alphas = np.zeros(taus.size, dtype=np.int64)
-    edf = np.asarray(result.edf, dtype=float)[sel]
-    edf = np.where(np.isfinite(edf) & (edf > 0), edf, 1.0)
-    c = np.zeros(5)
-    passes = 1 + (n_reweight if method == "wls" else 0)
-    for _ in range(passes):
-        w = edf / (2.0 * model**2) if method == "wls" else np.ones_like(avar)
-        sw = np.sqrt(w)
-        A = X * sw[:, None]
-        scale = np.linalg.norm(A, axis=0)
-        scale[scale == 0] = 1.0
-        cs, _ = nnls(A / scale, avar * sw)
-        c = cs / scale
-        model = X @ c
-        model = np.where(model > 0, model, avar)
-        if method == "wls":
-            contrib = X * c[None, :]
-            dom = np.argmax(contrib, axis=1)
-            alphas = np.array([_TERM_ALPHA[_POWERS[j]] for j in dom], dtype=np.int64)
-            e2 = _edf_for(result, alphas, sel)
-            edf = np.where(np.isfinite(e2) & (e2 > 0), e2, edf)
-    # covariance of c (weighted LS, independent points); unit weights -> residual scale
-    w = edf / (2.0 * model**2) if method == "wls" else np.ones_like(avar)
-    A = X * np.sqrt(w)[:, None]
-    scale = np.linalg.norm(A, axis=0)
-    scale[scale == 0] = 1.0
-    cov_s = np.linalg.pinv((A / scale).T @ (A / scale))
-    cov = cov_s / np.outer(scale, scale)
-    if method == "ols":
-        resid = avar - X @ c
-        dof = max(taus.size - int(np.sum(c > 0)), 1)
-        cov = cov * float(resid @ resid) / dof
-    sd_c = np.sqrt(np.maximum(np.diag(cov), 0.0))
-    fit_rmse = float(np.sqrt(np.mean((0.5 * np.log(avar / model)) ** 2)))
-    z = float(norm.ppf(0.5 * (1 + conf)))
-    amps = _amplitudes(c)
-    g = np.array([1 / math.sqrt(3), 1.0, 1 / BI_FACTOR, math.sqrt(3), math.sqrt(2)])
-    f2 = conv.f**2
-    rng_s = (float(taus.min()), float(taus.max()))
-    terms = {}
-    for j, name in enumerate(_NAMES):
-        amp = amps[j] * conv.f
-        lo_c, hi_c = max(c[j] - z * sd_c[j], 0.0), c[j] + z * sd_c[j]
-        lo = g[j] * math.sqrt(lo_c * f2)
-        hi = g[j] * math.sqrt(hi_c * f2)
-        sd = (g[j] * conv.f * sd_c[j] / (2 * math.sqrt(c[j])) if c[j] > 0 else float("nan"))
-        flags = ("zero",) if c[j] == 0 else ()
-        val = conv.value(name, amp)
-        k = conv.value(name, 1.0)  # linear factor of the conversion
-        dens = per = None
-        if name == "N":
-            dens, per = conv.n_extras(amp, rate_hz)
-        terms[name] = NoiseTerm(value=val, unit=_REPORT[conv.kind][name],
-                                ci=(k * lo, k * hi), method=method, tau_range_s=rng_s,
-                                flags=flags, sd=k * sd, density=dens, per_sample_std=per)
-    return NoiseTerms(**terms, kind=conv.kind, unit=conv.unit, method=method,
-                      coefficients=tuple(float(v) for v in c), tau_range_s=rng_s,
-                      fit_rmse_log=fit_rmse, rate_hz=float(rate_hz), confidence=conf,
-                      statistic=result.statistic, g_local=conv.g,
-                      alpha_model=tuple(int(a) for a in alphas))
+# ----------------------------------------------------------------------------- identification
+
+
+def model_alpha(terms: NoiseTerms, taus_s) -> np.ndarray:
+    """Noise type (rate PSD exponent) of the fitted model's dominant term at ``taus_s``:
+    Q +2, N 0, B -1, K and R -2."""
+    t = np.asarray(taus_s, dtype=float)
+    c = np.nan_to_num(np.asarray(terms.coefficients, dtype=float))
+    contrib = np.stack([c[i] * t ** _POWERS[i] for i in range(5)], axis=1)
+    return np.array([_TERM_ALPHA[j] for j in np.argmax(contrib, axis=1)], dtype=np.int64)
+
+
+def model_intervals(result, terms: NoiseTerms, *, min_points: int = 1000):
+    """The curve's intervals with the noise type following the fitted model (issue 14
+    item 5), for rate records of inertial sensors.
+
+    The lag-1 identification is kept where it is significant: decided on at least
+    ``min_points`` decimated points (lag-1 ACF standard error <= 0.03, well below the 0.25
+    spacing of the noise classes in ``delta``) *and* not calling angle noise (alpha >= +1)
+    where the model says white rate or slower noise dominates. Everywhere else the model's
+    alpha is used; the EDF (Greenhall) and the chi-square interval are recomputed. Clock
+    (angle/phase) records and user-given noise types are returned unchanged.
+    """
+    from inertialab.noise.edf import chi2_interval, edf
+
+    if result.input != "rate" or result.alpha_method == "user":
+        return result
+    ma = model_alpha(terms, result.taus_s)
+    alpha = np.asarray(result.alpha, dtype=np.int64).copy()
+    n_pts = result.n_samples // np.maximum(np.asarray(result.m), 1)
+    src = list(result.alpha_source) or ["lag1"] * alpha.size
+    new_src = []
+    for i in range(alpha.size):
+        weak = n_pts[i] < min_points or src[i] != "lag1"
+        angle_in_rate = alpha[i] >= 1 and ma[i] <= 0
+        if weak or angle_in_rate:
+            alpha[i] = ma[i]
+            new_src.append("model")
+        else:
+            new_src.append(src[i])
+    n_phase = result.n_samples + 1
+    e, label = edf(result.statistic, n_phase, result.m, alpha)
+    lo, hi = chi2_interval(result.dev, e, result.confidence)
+    return replace(result, alpha=alpha, edf=e, ci_low=lo, ci_high=hi, alpha_method="model",
+                   alpha_source=tuple(new_src), edf_method=label)
 
 
 def local_slopes(taus, dev) -> np.ndarray:
@@ -435,80 +546,6 @@ def local_slopes(taus, dev) -> np.ndarray:
     return s
 
 
-def _longest_run(mask: np.ndarray):
-    best, cur, start = (0, 0), 0, 0
-    for i, v in enumerate(mask):
-        if v:
-            if cur == 0:
-                start = i
-            cur += 1
-            if cur > best[1] - best[0]:
-                best = (start, i + 1)
-        else:
-            cur = 0
-    return best
-
-
-def _fit_slope(result, sel, conv, rate_hz):
-    taus = np.asarray(result.taus_s, float)[sel]
-    dev = np.asarray(result.dev, float)[sel]
-    edf = np.asarray(result.edf, float)[sel]
-    edf = np.where(np.isfinite(edf) & (edf > 0), edf, 1.0)
-    lo_ci = np.asarray(result.ci_low, float)[sel]
-    hi_ci = np.asarray(result.ci_high, float)[sel]
-    conf = float(result.confidence)
-    z = float(norm.ppf(0.5 * (1 + conf)))
-    s = local_slopes(taus, dev)
-    targets = {"Q": (-1.0, math.sqrt(3)), "N": (-0.5, 1.0), "K": (0.5, 1 / math.sqrt(3)),
-               "R": (1.0, 1 / math.sqrt(2))}
-    terms = {}
-    coeffs = [float("nan")] * 5
-    for name, (slope, gain) in targets.items():
-        a, b = _longest_run(np.abs(s - slope) <= 0.15)
-        if b - a < 3:
-            terms[name] = NoiseTerm(value=float("nan"), unit=_REPORT[conv.kind][name],
-                                    ci=(float("nan"), float("nan")), method="slope",
-                                    tau_range_s=(float("nan"), float("nan")),
-                                    flags=("not_observable",))
-            continue
-        lt, ld, w = np.log(taus[a:b]), np.log(dev[a:b]), edf[a:b]
-        lnc = float(np.sum(w * (ld - slope * lt)) / np.sum(w))
-        sd_ln = math.sqrt(1.0 / np.sum(2.0 * w))
-        C = math.exp(lnc)
-        amp = C / gain  # sigma = gain * amp * tau^slope
-        j = _NAMES.index(name)
-        coeffs[j] = float(C**2)  # sigma = C tau^slope -> c_k = C^2, k = 2 slope
-        k = conv.value(name, 1.0)
-        val = k * amp * conv.f
-        ci = (val * math.exp(-z * sd_ln), val * math.exp(z * sd_ln))
-        dens = per = None
-        if name == "N":
-            dens, per = conv.n_extras(amp * conv.f, rate_hz)
-        terms[name] = NoiseTerm(value=val, unit=_REPORT[conv.kind][name], ci=ci, method="slope",
-                                tau_range_s=(float(taus[a]), float(taus[b - 1])),
-                                sd=val * sd_ln, density=dens, per_sample_std=per)
-    # B from the flat run
-    a, b = _longest_run(np.abs(s) <= 0.1)
-    kB = conv.value("B", 1.0)
-    if b - a >= 1:
-        i = a + int(np.argmin(dev[a:b]))
-        flags = ()
-        rng_s = (float(taus[a]), float(taus[b - 1]))
-    else:
-        i = int(np.argmin(dev))
-        flags = ("B_bound",)
-        rng_s = (float(taus.min()), float(taus.max()))
-    val = kB * dev[i] * conv.f / BI_FACTOR
-    ci = (kB * lo_ci[i] * conv.f / BI_FACTOR, kB * hi_ci[i] * conv.f / BI_FACTOR)
-    coeffs[2] = float(dev[i] ** 2)
-    terms["B"] = NoiseTerm(value=val, unit=_REPORT[conv.kind]["B"], ci=ci, method="slope",
-                           tau_range_s=rng_s, flags=flags,
-                           sd=val / math.sqrt(2 * edf[i]))
-    rng_all = (float(taus.min()), float(taus.max()))
-    return NoiseTerms(**terms, kind=conv.kind, unit=conv.unit, method="slope",
-                      coefficients=tuple(coeffs), tau_range_s=rng_all,
-                      rate_hz=float(rate_hz), confidence=conf, statistic=result.statistic,
-                      g_local=conv.g)
-
-
-__all__ = ["BI_FACTOR", "NoiseTerm", "NoiseTerms", "fit_noise_terms", "local_slopes"]
+__all__ = ["BI_FACTOR", "CONFIDENCE", "EDF_MIN", "N_BOOT", "NoiseTerm", "NoiseTerms",
+           "auto_tau_range", "fit_noise_terms", "local_slopes", "model_alpha",
+           "model_intervals"]

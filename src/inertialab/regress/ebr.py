@@ -45,6 +45,7 @@ from inertialab.errors import (
     ShrinkageWarning,
     UnderdeterminedError,
 )
+from inertialab.estimator import Estimator
 from inertialab.regress.lstsq import null_space_text
 from inertialab.regress.ridge import Canonical, _k_grid, canonical_form, shrink
 
@@ -164,7 +165,7 @@ def lambda_zero(canon: Canonical) -> float:
 _RULES = {"E1": lambda_e1, "E2": lambda_e2, "E3": lambda_e3}
 
 
-class EmpiricalBayesRidge:
+class EmpiricalBayesRidge(Estimator):
     """Empirical Bayes ridge regression (scikit-learn style).
 
     Parameters

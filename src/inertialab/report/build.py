@@ -4,9 +4,10 @@ from __future__ import annotations
 
 import importlib
 
-from inertialab.report.html import rasterise
+from inertialab.report.html import rasterise, render_report
 from inertialab.report.section import Section, Table
 from inertialab.studies.base import StudyResult
+from inertialab.studies.demo import summary_rows
 
 
 def section_for(result: StudyResult) -> Section:
@@ -37,3 +38,16 @@ def section_for(result: StudyResult) -> Section:
             rows=[[h.label, h.ours, h.paper, h.unit] for h in result.headline]))
     sec.results.setdefault("wall_s", result.wall_s)
     return rasterise(sec)
+
+
+def write_report(results: list[StudyResult], out_dir, *, quick: bool = False) -> dict:
+    """Sections, summary table and ``index.html`` + ``results.json`` for study results.
+
+    Returns the written paths (``index``, ``results``) and the summary ``rows``.
+    """
+    sections = [section_for(r) for r in results]
+    rows = summary_rows(results)
+    notes = [f"{r.name}: {r.wall_s:.1f} s" for r in results]
+    paths = render_report(sections, out_dir, summary=rows, notes=notes, quick=quick,
+                          extra={"wall_s": {r.name: r.wall_s for r in results}})
+    return {**paths, "rows": rows}

@@ -24,11 +24,19 @@ from inertialab.report.section import Figure, Section, Table
 
 
 def figure_png(fig, *, dpi: int = 100) -> bytes:
-    """PNG bytes of a matplotlib figure (the figure is closed afterwards)."""
+    """PNG bytes of a matplotlib figure (the figure is closed afterwards).
+
+    A figure without a layout engine gets matplotlib's "tight" engine, which lays the
+    axes out inside the one draw that writes the PNG; ``bbox_inches="tight"`` (used
+    before) draws every figure twice, once to measure and once to write (issue 18
+    item 11: figure rendering was ~11 s of the full demo).
+    """
     import matplotlib.pyplot as plt
 
+    if fig.get_layout_engine() is None:
+        fig.set_layout_engine("tight")
     buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight")
+    fig.savefig(buf, format="png", dpi=dpi)
     plt.close(fig)
     return buf.getvalue()
 

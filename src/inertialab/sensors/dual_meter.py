@@ -37,8 +37,11 @@ from inertialab.errors import InputError
 __all__ = [
     "COEF_NAMES",
     "COEF_UNITS",
+    "PAPER_ALIASES",
+    "TURN_ON_TAU",
     "SINGLE_NAMES",
     "average_directions",
+    "canonical_coef_name",
     "estimable_combinations",
     "g2_design",
     "g2_exact",
@@ -65,6 +68,16 @@ SINGLE_NAMES = {"A": ("KA0", "kA1", "delta_A", "KA2", "KAx"),
                 "B": ("KB0", "kB1", "delta_B", "KB2", "KBx")}
 #: Harmonic columns of the standard form (spec §1.6 order).
 HARMONIC_NAMES = ("h0", "hc2", "hs2", "hs1", "hc1", "hs3", "hc3")
+#: The paper's spelling of the cross-coupling coefficients (spec 003 §1.3): the seed calls
+#: the term K_ip (``KAip``, ``KBip``); in a tumble about the pendulous axis it can only be
+#: K_io, named ``Kx`` here. Tables that mirror the paper label ``KAx``/``KBx`` with these
+#: aliases, and prior and model files may use them in place of the canonical names.
+PAPER_ALIASES = {"KAx": "KAip_paper", "KBx": "KBip_paper"}
+#: Turn-on repeatability tau of each coefficient (spec §6.5): K0 20 ug, k1 30 ppm,
+#: eta 5 urad, K2/Kx 5 ug/g^2 (assumed, QA-2000-class one-year repeatabilities). The
+#: virtual lab draws units with it; a prior from past calibrations floors its SDs at tau/2.
+TURN_ON_TAU = {"KA0": 2e-5, "KB0": 2e-5, "kA1": 3e-5, "kB1": 3e-5, "eta": 5e-6,
+               "KA2": 5e-6, "KB2": 5e-6, "KAx": 5e-6, "KBx": 5e-6}
 
 
 def ieee1293_output(a_i, a_p=0.0, a_o=0.0, *, K0=0.0, K2=0.0, K3=0.0, K_ip=0.0, K_io=0.0,
@@ -237,3 +250,12 @@ def average_directions(u_ccw, u_cw):
     u_ccw = np.asarray(u_ccw, dtype=float)
     u_cw = np.asarray(u_cw, dtype=float)
     return 0.5 * (u_ccw + u_cw), u_ccw - u_cw
+
+
+def canonical_coef_name(name: str) -> str:
+    """The canonical coefficient name of ``name``: a :data:`PAPER_ALIASES` alias
+    (``KAip_paper`` -> ``KAx``) or the name itself (names are case-sensitive)."""
+    for canon, alias in PAPER_ALIASES.items():
+        if name == alias:
+            return canon
+    return name

@@ -217,3 +217,92 @@ def estimate_input(output, a_p, ref: SingleAxisCoefficients, *, passes: int = 1)
     for _ in range(passes):
         a = (u - ref.k0 - ref.kp * a_p - ref.k2 * a**2 - ref.kip * a * a_p) / ref.k1
     return a
+
+
+@dataclass(frozen=True)
+class BiasScaleFactorDrift:
+    """Bias and eq.-3 scale factor of a multi-temperature tumble per set point (spec 000
+    §2.1-§2.2, the seed's Figs. 3 and 4).
+
+    Attributes
+    ----------
+    set_point_c : (n_T,) set points, ascending; ``temp_c`` : (n_T,) mean measured
+        temperature of each (°C)
+    bias_mv : (n_T,) ``(U(0°) + U(180°))/2`` (mV; nan where a set point lacks them)
+    bias_drift_mg : (n_T,) ``(K0(T) - K0(T_ref))/K1c`` in mg
+    levels_g : (n_L,) input levels a_i != 0, signed, ascending (g; the mean nominal a_i
+        of the positions of the level)
+    scale_factor_mv_per_g : (n_T, n_L) eq. 3 ``(U - K0(T))/a_i`` averaged over the
+        positions of each level (mV/g)
+    scale_factor_drift_mv_per_g : (n_T, n_L) ``K1(T, a) - K1(T_ref, a)`` (mV/g)
+    scale_factor_drift_ppm : the same relative to K1c (ppm)
+    reference_temp_c : the reference set point
+    """
+
+    set_point_c: np.ndarray
+    temp_c: np.ndarray
+    bias_mv: np.ndarray
+    bias_drift_mg: np.ndarray
+    levels_g: np.ndarray
+    scale_factor_mv_per_g: np.ndarray
+    scale_factor_drift_mv_per_g: np.ndarray
+    scale_factor_drift_ppm: np.ndarray
+    reference_temp_c: float
+
+    def to_dict(self) -> dict:
+        return {k: (v.tolist() if isinstance(v, np.ndarray) else v)
+                for k, v in asdict(self).items()}
+
+    def summary(self) -> dict:
+        """Maxima over set points (and levels): the seed's 1.7 mg bias drift and 6 mV/g
+        scale-factor drift (spec 000 §6)."""
+        with np.errstate(invalid="ignore"):
+            return {"max_bias_drift_mg": float(np.nanmax(np.abs(self.bias_drift_mg))),
+                    "max_scale_factor_drift_mv_per_g":
+                        float(np.nanmax(np.abs(self.scale_factor_drift_mv_per_g))),
+                    "max_scale_factor_drift_ppm":
+                        float(np.nanmax(np.abs(self.scale_factor_drift_ppm)))}
+
+
+def bias_scale_factor_drift(set_point_c, temp_c, a_in_g, output, *, k1_ref: float,
+                            reference_temp_c: float = 55.0,
+                            decimals: int = 3) -> BiasScaleFactorDrift:
+    """Bias (0°/180° mean) and eq.-3 scale factor per set point and input level, and their
+    drift against the reference set point (spec 000 §2.1.1, §2.1.2, eq. 3).
+
+    One value per (set point, position) is expected (averaged tumble rows); positions with
+    the same nominal ``a_i`` (rounded to ``decimals``) form one input level. ``k1_ref``
+    (output units per g) converts the bias drift to mg and the scale-factor drift to ppm.
+    """
+    sp_all = np.asarray(set_point_c, dtype=float)
+    t_all = np.asarray(temp_c, dtype=float)
+    a_exact = np.asarray(a_in_g, dtype=float)
+    a_all = np.round(a_exact, decimals)  # grouping key only
+    u_all = np.asarray(output, dtype=float)
+    sps = np.unique(sp_all)
+    keys = np.unique(a_all[a_all != 0.0])
+    levels = np.array([np.mean(a_exact[a_all == k]) for k in keys])
+    bias = np.full(sps.size, np.nan)
+    temp = np.full(sps.size, np.nan)
+    sf = np.full((sps.size, levels.size), np.nan)
+    for i, sp in enumerate(sps):
+        m = sp_all == sp
+        temp[i] = np.mean(t_all[m])
+        zero = m & (a_all == 0.0)
+        if np.any(zero):
+            bias[i] = np.mean(u_all[zero])
+        k = scale_factor_eq3(u_all[m], bias[i], a_exact[m])
+        for j, key in enumerate(keys):
+            sel = a_all[m] == key
+            if np.any(sel):
+                sf[i, j] = np.mean(k[sel])
+    is_ref = np.isclose(sps, reference_temp_c, atol=1e-6)
+    if not np.any(is_ref):
+        raise InputError(f"no set point at the reference temperature {reference_temp_c:g} °C")
+    r = int(np.flatnonzero(is_ref)[0])
+    sf_drift = sf - sf[r]
+    return BiasScaleFactorDrift(
+        set_point_c=sps, temp_c=temp, bias_mv=bias,
+        bias_drift_mg=(bias - bias[r]) / k1_ref * 1e3, levels_g=levels,
+        scale_factor_mv_per_g=sf, scale_factor_drift_mv_per_g=sf_drift,
+        scale_factor_drift_ppm=sf_drift / k1_ref * 1e6, reference_temp_c=float(reference_temp_c))

@@ -169,3 +169,145 @@ def ellipsoid_fit(a, *, g: float = G_PAPER, strict: bool = False) -> EllipsoidFi
     K = L / k[:, None]
     x = np.array([B[0], B[1], B[2], k[0], k[1], k[2], -K[1, 0], K[2, 0], -K[2, 1]])
     return EllipsoidFit(x=x, success=True, message="ok")
+
+
+# --------------------------------------------------------------------------- faces + norm
+
+PLACEMENT_RAD = float(np.deg2rad(2.0))
+"""Default standard deviation of a hand-placed face's tilt (2 deg) in :func:`face_fit`."""
+
+
+@dataclass(frozen=True)
+class FaceFit:
+    """Result of :func:`face_fit`: ``raw = T @ a + b`` (the 12-parameter model).
+
+    Attributes
+    ----------
+    T : ndarray (3, 3)
+        Gain/misalignment matrix, raw unit per m/s^2 (imucal's ``K_a @ R_a``).
+    b : ndarray (3,)
+        Bias, raw unit.
+    M : ndarray (3, 3)
+        ``inv(T)``: calibrated = M @ (raw - b).
+    x : ndarray (9,)
+        The 9-parameter reduction (b, k, theta) by LQ; ``rotation`` is the rest.
+    rotation : ndarray (3, 3)
+    cov : ndarray (12, 12) or None
+        Covariance of ``(M.ravel(), b)`` from the weighted fit.
+    norm_residual : ndarray (n,)
+        ``|calibrated| - g`` per face, m/s^2.
+    tilt_rad : ndarray (n,)
+        Angle between each calibrated face vector and its nominal direction.
+    refined : bool
+    """
+
+    T: np.ndarray
+    b: np.ndarray
+    M: np.ndarray
+    x: np.ndarray
+    rotation: np.ndarray
+    cov: np.ndarray | None
+    norm_residual: np.ndarray
+    tilt_rad: np.ndarray
+    refined: bool
+
+
+def face_fit(means, dirs=None, *, g: float = G_PAPER, placement_rad: float = PLACEMENT_RAD,
+             norm_sigma: float | None = None, refine: bool = True) -> FaceFit:
+    """Hand-placed faces: the 12-parameter six-position solution refined so that every
+    calibrated face has the magnitude of gravity (issue 17 item 3).
+
+    The closed form (column a of T = (m_a+ - m_a-)/(2g), b = mean; spec 002 §3.7, the
+    Ferraris accelerometer step) treats the nominal face directions as exact; faces
+    placed by hand are tilted by a few degrees each, which leaves |a| errors of
+    ~tilt^2 (1e-3 g at 3 deg). The refinement is the weighted least squares of
+    ``|M (m_f - b)| = g`` (sigma ``norm_sigma``, default 1e-6 g: in effect a
+    constraint) and ``M (m_f - b) = g d_f`` (sigma ``g * placement_rad``: the nominal
+    directions as uncertain references), over the 12 unknowns (M, b).
+
+    Parameters
+    ----------
+    means : array (n, 3)
+        Face means in the raw unit; without ``dirs`` the six faces in the order
+        ``+x, -x, +y, -y, +z, -z``.
+    dirs : array (n, 3), optional
+        Nominal up directions of the faces (unit vectors); n >= 6.
+    g : float
+        Local gravity, m/s^2.
+    placement_rad : float, default 2 deg
+        Standard deviation of a face's tilt.
+    refine : bool, default True
+        False gives the closed form (the classic six-position method).
+    """
+    from inertialab.regress.nlls import levenberg_marquardt
+
+    m = np.asarray(means, dtype=float)
+    if dirs is None:
+        if m.shape != (6, 3):
+            raise UnderdeterminedError(
+                f"the face fit needs the six faces {', '.join(FACES)}; got shape {m.shape}")
+        d = np.array([[1.0, 0, 0], [-1.0, 0, 0], [0, 1.0, 0], [0, -1.0, 0], [0, 0, 1.0],
+                      [0, 0, -1.0]])
+    else:
+        d = np.asarray(dirs, dtype=float)
+        d = d / np.linalg.norm(d, axis=1)[:, None]
+    if m.ndim != 2 or m.shape[1] != 3 or d.shape != m.shape or m.shape[0] < 6:
+        raise UnderdeterminedError(f"the face fit needs at least six faces; got {m.shape[0]}")
+    # closed form: least squares raw = T (g d) + b (the six-position columns for six faces)
+    D = np.column_stack([g * d, np.ones(len(d))])
+    sol, *_ = np.linalg.lstsq(D, m, rcond=None)
+    T0, b0 = sol[:3].T, sol[3]
+    M0 = np.linalg.inv(T0)
+    sn = float(norm_sigma) if norm_sigma is not None else 1e-6 * g
+    sp = g * float(placement_rad)
+    n = len(m)
+
+    def unpack(p):
+        return p[:9].reshape(3, 3), p[9:12]
+
+    def fun(p):
+        M, b = unpack(p)
+        a = (m - b) @ M.T
+        r_n = (np.linalg.norm(a, axis=1) - g) / sn
+        r_v = ((a - g * d) / sp).ravel()
+        return np.r_[r_n, r_v]
+
+    def jac(p):
+        M, b = unpack(p)
+        u = m - b
+        a = u @ M.T
+        na = np.linalg.norm(a, axis=1)
+        J = np.zeros((n + 3 * n, 12))
+        e = a / na[:, None]
+        # d|a|/dM_ij = e_i u_j ; d|a|/db = -M^T e
+        J[:n, :9] = (e[:, :, None] * u[:, None, :]).reshape(n, 9) / sn
+        J[:n, 9:] = -(e @ M) / sn
+        for f in range(n):
+            for i in range(3):
+                row = n + 3 * f + i
+                J[row, 3 * i:3 * i + 3] = u[f] / sp
+                J[row, 9:] = -M[i] / sp
+        return J
+
+    p0 = np.r_[M0.ravel(), b0]
+    cov = None
+    if refine:
+        res = levenberg_marquardt(fun, p0, jac=jac, tol=1e-14)
+        p = res.x
+        # residuals are in units of their sigmas: the covariance is (J^T J)^-1
+        Jw = jac(p)
+        try:
+            cov = np.linalg.inv(Jw.T @ Jw)
+        except np.linalg.LinAlgError:
+            cov = None
+    else:
+        p = p0
+    M, b = unpack(p)
+    T = np.linalg.inv(M)
+    lq = lq_to_params(T)
+    a = (m - b) @ M.T
+    na = np.linalg.norm(a, axis=1)
+    tilt = np.arccos(np.clip(np.sum(a * d, axis=1) / na, -1.0, 1.0))
+    return FaceFit(T=T, b=np.asarray(b, dtype=float), M=M, x=np.concatenate([b, lq.x_tail]),
+                   rotation=lq.rotation, cov=cov, norm_residual=na - g, tilt_rad=tilt,
+                   refined=bool(refine))

@@ -28,10 +28,10 @@ import pandas as pd
 from inertialab import units
 from inertialab.errors import InputError
 from inertialab.seeding import as_generator
-from inertialab.sensors.dual_meter import COEF_NAMES, meter_outputs
+from inertialab.sensors.dual_meter import COEF_NAMES, TURN_ON_TAU, meter_outputs
 
 __all__ = ["DEFAULT_SEED", "SCENARIOS", "TAU", "NU", "DualLabConfig", "DualRun", "TRUTH_REF",
-           "draw_unit", "prior_from_history", "scenario_config", "simulate_run",
+           "draw_unit", "scenario_config", "simulate_run",
            "simulate_two_orientation"]
 
 DEFAULT_SEED = 20240603
@@ -41,8 +41,7 @@ GENERATOR_VERSION = "dual-tumble/1"
 TRUTH_REF = {"KA0": 5.0e-4, "KB0": -3.0e-4, "kA1": 1.5e-4, "kB1": -8.0e-5, "eta": 1.2e-4,
              "KA2": 4.0e-5, "KB2": 1.5e-5, "KAx": 1.0e-5, "KBx": -8.0e-6}
 #: Turn-on repeatability tau (spec §6.5): K0 20 ug, k1 30 ppm, eta 5 urad, K2/Kx 5 ug/g^2.
-TAU = {"KA0": 2e-5, "KB0": 2e-5, "kA1": 3e-5, "kB1": 3e-5, "eta": 5e-6,
-       "KA2": 5e-6, "KB2": 5e-6, "KAx": 5e-6, "KBx": 5e-6}
+TAU = TURN_ON_TAU
 #: Estimation noise of one historical run nu (spec §6.5).
 NU = {"KA0": 2e-6, "KB0": 2e-6, "kA1": 2e-6, "kB1": 2e-6, "eta": 1e-6,
       "KA2": 3e-6, "KB2": 3e-6, "KAx": 3e-6, "KBx": 3e-6}
@@ -179,31 +178,6 @@ def draw_unit(rng, *, n_history: int = 6, ref: dict | None = None):
     hist = b + g.standard_normal((n_history, 9)) * tau + g.standard_normal((n_history, 9)) * nu
     true = b + g.standard_normal(9) * tau
     return dict(zip(COEF_NAMES, true.tolist())), hist
-
-
-def prior_from_history(history) -> dict:
-    """Prior ``{name: {"mean", "sd", "unit"}}`` from historical estimates (spec §6.5).
-
-    Mean over runs; SD floored at tau/2. ``history`` is an (H, 9) array in
-    :data:`COEF_NAMES` order or a DataFrame with those columns.
-    """
-    from inertialab.sensors.dual_meter import COEF_UNITS
-
-    if isinstance(history, pd.DataFrame):
-        missing = [n for n in COEF_NAMES if n not in history.columns]
-        if missing:
-            raise InputError(f"history lacks columns {', '.join(missing)}")
-        H = history[list(COEF_NAMES)].to_numpy(dtype=float)
-    else:
-        H = np.asarray(history, dtype=float)
-    if H.ndim != 2 or H.shape[1] != 9 or H.shape[0] < 2:
-        raise InputError("history needs at least 2 calibrations of the 9 coefficients")
-    mean = H.mean(axis=0)
-    sd = H.std(axis=0, ddof=1)
-    floor = np.array([TAU[n] / 2 for n in COEF_NAMES])
-    sd = np.maximum(sd, floor)
-    return {n: {"mean": float(mean[j]), "sd": float(sd[j]), "unit": COEF_UNITS[n]}
-            for j, n in enumerate(COEF_NAMES)}
 
 
 def _meta(cfg: DualLabConfig, seed) -> dict:

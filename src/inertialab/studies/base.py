@@ -26,13 +26,17 @@ class Headline:
     """One line of the demo summary table: our figure beside the paper's.
 
     ``ours`` and ``paper`` are numbers or short strings (the paper may give only a
-    qualitative claim, or nothing: ``None``); ``unit`` names their unit.
+    qualitative claim, or nothing: ``None``); ``unit`` names their unit ("1" for a
+    dimensionless ratio or count; an empty unit is shown as "1"). ``data`` says where
+    ``ours`` comes from: ``"virtual lab"`` (the demo's simulated rigs) or ``"user data"``
+    (a record the user supplied); the paper's figure is always the paper's own rig.
     """
 
     label: str
     ours: float | str | None
     paper: float | str | None = None
     unit: str = ""
+    data: str = "virtual lab"
 
 
 @dataclass
@@ -85,16 +89,15 @@ def settings_dict(settings) -> dict:
 
 def discover_studies() -> dict[str, Study]:
     """All ``STUDY`` objects of the study modules, in :data:`STUDY_ORDER`."""
+    import inertialab.studies as pkg
+
     found: dict[str, Study] = {}
-    # TRANSITION (issue 13): studies still defined in workflows/ are found too.
-    for pkg_name in ("inertialab.workflows", "inertialab.studies"):
-        pkg = importlib.import_module(pkg_name)
-        for info in pkgutil.iter_modules(pkg.__path__):
-            if info.name in ("base", "demo"):
-                continue
-            mod = importlib.import_module(f"{pkg_name}.{info.name}")
-            study = getattr(mod, "STUDY", None)
-            if isinstance(study, Study):
-                found[study.name] = study
+    for info in pkgutil.iter_modules(pkg.__path__):
+        if info.name in ("base", "demo"):
+            continue
+        mod = importlib.import_module(f"inertialab.studies.{info.name}")
+        study = getattr(mod, "STUDY", None)
+        if isinstance(study, Study):
+            found[study.name] = study
     order = {n: i for i, n in enumerate(STUDY_ORDER)}
     return dict(sorted(found.items(), key=lambda kv: order.get(kv[0], len(order))))

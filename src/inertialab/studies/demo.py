@@ -63,10 +63,15 @@ def run_studies(names: list[str] | None = None, *, quick: bool = False, seed: in
     return results
 
 
+#: Columns of the summary table (report, results.json, ``demo --json``).
+SUMMARY_COLUMNS = ("study", "data", "figure", "ours", "paper", "unit")
+
+
 def summary_rows(results: list[StudyResult]) -> list[list]:
-    """Rows ``[study, figure, ours, paper, unit]`` for the summary table."""
+    """Rows ``[study, data, figure, ours, paper, unit]`` for the summary table; ``data``
+    is "virtual lab" or "user data", and every row has a unit ("1" = dimensionless)."""
     rows = []
     for r in results:
         for h in r.headline:
-            rows.append([r.name, h.label, h.ours, h.paper, h.unit])
+            rows.append([r.name, h.data, h.label, h.ours, h.paper, h.unit or "1"])
     return rows

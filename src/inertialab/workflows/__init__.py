@@ -1,4 +1,7 @@
-"""Workflows: one module per study (allan, vibration, thermal, field_calibration,
-dual_tumble, storage_drift) plus the demo runner. Each offers ``fit(records, config)``
--> result and ``apply``/``compensate``; each demo-able study exposes a module-level
-``STUDY`` (:class:`inertialab.workflows.base.Study`) that the demo discovers."""
+"""Thin workflows, one module per study (DESIGN.md "Layers", docs/architecture.md).
+
+Each offers one verb set on records: ``prepare(record) -> data``, ``fit(data, config) ->
+result`` and ``apply(model, record) -> record``; the estimators live on the calib/ and
+method floors below, the papers' reproductions in :mod:`inertialab.studies` above.
+Workflows never import ``sim/`` and never draw.
+"""

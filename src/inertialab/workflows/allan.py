@@ -1,28 +1,27 @@
-"""Allan analysis of a gyro or accelerometer log, and the ``allan`` demo study (issue 3).
+"""Workflow ``allan``: the Allan family of one series (issue 3, issue 15).
 
-:func:`prepare_log` turns a validated ``gyro_log`` :class:`~inertialab.io.Record` into one
+Verbs (issue 13): :func:`prepare` (= :func:`prepare_log`) turns a validated ``gyro_log`` :class:`~inertialab.io.Record` into one
 rate series (column choice, units, sample rate from ``--rate``, the sidecar or a uniform
 ``t_s``); :func:`analyze` computes the requested statistics of the Allan family with
 their confidence intervals (:mod:`inertialab.noise.allan`) and the five noise terms
 (:mod:`inertialab.noise.terms`, fitted on the overlapping Allan deviation); the result
-serialises to the JSON keys of issue 3. ``STUDY`` runs the virtual-lab check: the
-``allan-test`` record with known Q N B K, and the recovery of N, K and B over seeds on
-the identification presets of spec 001 §6.2.
+serialises to the JSON keys of issue 3; :func:`fit` is :func:`analyze`. The virtual-lab
+study (``allan-test`` record, recovery over seeds) is :mod:`inertialab.studies.allan`.
 """
 
 from __future__ import annotations
 
 import math
-import time
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from inertialab import units
 from inertialab.errors import InputError
-from inertialab.noise.allan import STATISTICS, DeviationResult, deviation
+from inertialab.noise.allan import DeviationResult
+from inertialab.noise.family import ALL_STATISTICS as STATISTICS
+from inertialab.noise.family import PHASE_UNIT, compute
 from inertialab.noise.terms import NoiseTerms, fit_noise_terms
-from inertialab.workflows.base import Headline, NullProgress, Study, StudyResult, settings_dict
 
 #: Relative jitter of ``t_s`` above which a log is not uniform (spec 001 §2.2).
 T_JITTER_TOL = 1e-6
@@ -69,7 +68,7 @@ def _rate_from_time(t: np.ndarray, path) -> float:
         rows = [int(i) + 2 for i in bad[:5]]  # 1-based data row of the later stamp
         raise InputError(
             f"time stamps not uniform (step deviates from {step:.9g} s by more than "
-            f"{T_JITTER_TOL:g} relative at {bad.size} step(s)); give --rate to ignore t_s",
+            f"{T_JITTER_TOL:g} relative at {bad.size} step(s)); give argument 'rate_hz' to ignore t_s",
             path=path, column="t_s", row=rows)
     return 1.0 / tau0
 
@@ -93,7 +92,7 @@ def prepare_log(record, *, column: str | None = None, rate_hz: float | None = No
     """
     path = record.path
     if input not in ("rate", "angle"):
-        raise InputError(f"--input must be rate or angle, got '{input}'")
+        raise InputError(f"argument 'input' must be rate or angle, got '{input}'")
     names = list(record.arrays) + [c for c in record.data.columns if c not in record.arrays]
     if column is not None:
         col = column.strip().lower()
@@ -112,11 +111,11 @@ def prepare_log(record, *, column: str | None = None, rate_hz: float | None = No
     base, suf = units.split_suffix(col)
     suf = record.units.get(col, suf)
     if suf is None:
-        raise InputError("column has no unit; give --unit", path=path, column=col)
+        raise InputError("column has no unit; give argument 'unit'", path=path, column=col)
     if rate_hz is not None:
         fs = float(rate_hz)
         if not math.isfinite(fs) or fs <= 0:
-            raise InputError(f"--rate must be positive, got {rate_hz}")
+            raise InputError(f"argument 'rate_hz' must be positive, got {rate_hz}")
     elif record.meta.get("fs_hz") is not None and "t_s" not in record.data.columns:
         fs = float(record.meta["fs_hz"])
     elif "t_s" in record.data.columns:
@@ -124,7 +123,7 @@ def prepare_log(record, *, column: str | None = None, rate_hz: float | None = No
     elif record.meta.get("fs_hz") is not None:
         fs = float(record.meta["fs_hz"])
     else:
-        raise InputError("no sample rate: give --rate or a t_s column", path=path)
+        raise InputError("no sample rate: give argument 'rate_hz' or a t_s column", path=path)
     values = record.column(col)
     dim = units.dimension(suf)
     kind_input = input
@@ -141,20 +140,191 @@ def prepare_log(record, *, column: str | None = None, rate_hz: float | None = No
     elif dim == "angular_rate":
         rate_unit, kind = suf, "gyro"
         if input == "angle":
-            raise InputError("--input angle needs a cumulative angle column (theta_<unit>)",
+            raise InputError("argument 'input' angle needs a cumulative angle column (theta_<unit>)",
                              path=path, column=col)
     elif dim == "acceleration":
         rate_unit, kind = suf, "accel"
         if input == "angle":
-            raise InputError("--input angle needs a cumulative angle column (theta_<unit>)",
+            raise InputError("argument 'input' angle needs a cumulative angle column (theta_<unit>)",
                              path=path, column=col)
     else:
         raise InputError(f"unit '{suf}' is a {dim}; the Allan analysis needs a rate, "
-                         "acceleration or angle (give --unit)", path=path, column=col)
+                         "acceleration or angle (give argument 'unit')", path=path, column=col)
     g = g_local if g_local is not None else float(record.meta.get("g_local_mps2",
                                                                    units.G_STANDARD))
     return LogData(values=values, rate_hz=fs, unit=rate_unit, column=col, input=kind_input,
                    kind=kind, path=str(path), sha256=record.sha256, g_local=g)
+
+
+#: Fractional-frequency units (dimensionless ratio) and their factor to the ratio.
+CLOCK_RATIO = {"1": 1.0, "ratio": 1.0, "pct": 1e-2, "ppm": 1e-6, "ppb": 1e-9, "ppt": 1e-12}
+#: Phase (time-error) units and their factor to seconds.
+CLOCK_TIME = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9, "ps": 1e-12}
+_CLOCK_NAMES = {"phase": ("phase", "x", "tie", "time_error"),
+                "frequency": ("freq", "frequency", "y", "fract", "ffd")}
+
+
+def clock_log(values, *, input: str, unit: str | None, rate_hz: float,
+              nominal_hz: float | None = None, column: str = "", path: str = "",
+              sha256: str | None = None) -> LogData:
+    """A clock series as a :class:`LogData` in its own units (issue 15 item 1).
+
+    Parameters
+    ----------
+    values : array_like
+        Phase (time error) or fractional frequency samples; NaN marks a missing sample.
+    input : {"phase", "frequency"}
+    unit : str or None
+        Phase: s, ms, us, ns, ps (default s). Frequency: 1 / ratio (dimensionless,
+        default), pct, ppm, ppb, ppt, or hz (an absolute frequency; needs
+        ``nominal_hz``, then ``y = (f - nominal) / nominal``).
+    rate_hz : float
+        Sample rate (1 / tau0).
+
+    The result's deviations are dimensionless (``unit="1"``); TDEV, TTOT, MTIE and TIE rms
+    in s. ``kind="clock"``: no IMU noise terms unless asked, Stable32 bias corrections on.
+    """
+    if input not in ("phase", "frequency"):
+        raise InputError(f"argument 'input' must be phase or frequency for a clock, "
+                         f"got '{input}'")
+    u = (unit or ("s" if input == "phase" else "1")).strip().lower()
+    v = np.asarray(values, dtype=np.float64)
+    if input == "phase":
+        if u not in CLOCK_TIME:
+            raise InputError(f"phase unit '{u}' is not a time unit (use "
+                             f"{', '.join(CLOCK_TIME)})", path=path or None,
+                             column=column or None)
+        v = v * CLOCK_TIME[u]
+        kind_input = "angle"
+    else:
+        if u == "hz":
+            if nominal_hz is None or not (math.isfinite(nominal_hz) and nominal_hz > 0):
+                raise InputError("a frequency in Hz needs the nominal frequency (argument "
+                                 "'nominal_hz') to form the fractional frequency",
+                                 path=path or None, column=column or None)
+            v = (v - float(nominal_hz)) / float(nominal_hz)
+        elif u in CLOCK_RATIO:
+            v = v * CLOCK_RATIO[u]
+        else:
+            raise InputError(f"frequency unit '{u}' is not a ratio or hz (use "
+                             f"{', '.join(CLOCK_RATIO)} or hz with a nominal frequency)",
+                             path=path or None, column=column or None)
+        kind_input = "rate"
+    fs = float(rate_hz)
+    if not math.isfinite(fs) or fs <= 0:
+        raise InputError(f"argument 'rate_hz' must be positive, got {rate_hz}")
+    return LogData(values=v, rate_hz=fs, unit="1", column=column, input=kind_input,
+                   kind="clock", path=str(path), sha256=sha256)
+
+
+def on_grid(t: np.ndarray, values: np.ndarray, path="") -> tuple[float, np.ndarray]:
+    """``(rate_hz, values on the nominal grid)``: time stamps that skip whole sample
+    intervals (a gap) leave NaN at the missing samples (never interpolated); stamps off
+    the grid by more than :data:`T_JITTER_TOL` of a step are an InputError naming rows."""
+    t = np.asarray(t, dtype=float)
+    if t.size < 2:
+        raise InputError("needs at least two time stamps", path=path or None, column="t_s")
+    dt = np.diff(t)
+    step = float(np.median(dt))
+    if not step > 0:
+        raise InputError("time stamps do not increase", path=path or None, column="t_s")
+    k = np.round((t - t[0]) / step)
+    off = np.abs((t - t[0]) - k * step)
+    bad = np.flatnonzero((off > T_JITTER_TOL * step * np.maximum(1.0, k)) |
+                         np.concatenate(([False], np.diff(k) < 1)))
+    if bad.size:
+        raise InputError("time stamps off the uniform grid (neither one step nor a whole "
+                         "number of missing steps)", path=path or None, column="t_s",
+                         row=[int(i) + 1 for i in bad[:5]])
+    if k[-1] == t.size - 1:
+        return (t.size - 1) / (float(t[-1]) - float(t[0])), values
+    out = np.full(int(k[-1]) + 1, np.nan)
+    out[k.astype(np.int64)] = values
+    return 1.0 / step, out
+
+
+def prepare_clock(frame, meta: dict | None = None, *, input: str, column: str | None = None,
+                  unit: str | None = None, rate_hz: float | None = None,
+                  nominal_hz: float | None = None, path: str = "",
+                  sha256: str | None = None) -> LogData:
+    """A clock record (a table with any column names) -> :class:`LogData`.
+
+    ``column`` names the series (any name, case-insensitive); default the first column
+    called phase/x/tie (phase) or freq/frequency/y (frequency), with or without a unit
+    suffix (``phase_ns``, ``freq_hz``). The unit comes from ``unit``, else the column's
+    suffix, else s / dimensionless. The rate from ``rate_hz``, the sidecar ``fs_hz`` or a
+    uniform ``t_s``.
+    """
+    meta = dict(meta or {})
+    cols = {str(c).strip().lower(): c for c in frame.columns}
+    if column is not None:
+        key = column.strip().lower()
+        if key not in cols:
+            raise InputError(f"no such column (columns: {', '.join(map(str, frame.columns))})",
+                             path=path or None, column=column)
+        col = cols[key]
+    else:
+        col = None
+        for name in _CLOCK_NAMES.get(input, ()):
+            col = next((cols[c] for c in cols if c == name or units.split_suffix(c)[0] == name),
+                       None)
+            if col is not None:
+                break
+        if col is None:
+            raise InputError(f"no {input} column (name it with argument 'column')",
+                             path=path or None)
+    suf = unit
+    if suf is None:
+        base, s_ = units.split_suffix(str(col).strip().lower())
+        if s_ is not None and (s_ in CLOCK_TIME or s_ in CLOCK_RATIO or s_ == "hz"):
+            suf = s_
+    try:
+        vals = np.asarray(frame[col], dtype=np.float64)
+    except (TypeError, ValueError):
+        raise InputError("column is not numeric", path=path or None, column=str(col)) from None
+    if rate_hz is not None:
+        fs = float(rate_hz)
+    elif meta.get("fs_hz") is not None:
+        fs = float(meta["fs_hz"])
+    elif "t_s" in cols:
+        t = np.asarray(frame[cols["t_s"]], dtype=float)
+        fs, vals = on_grid(t, vals, path)
+    else:
+        raise InputError("no sample rate: give argument 'rate_hz', a t_s column or the "
+                         "sidecar key fs_hz", path=path or None)
+    return clock_log(vals, input=input, unit=suf, rate_hz=fs, nominal_hz=nominal_hz,
+                     column=str(col), path=path, sha256=sha256)
+
+
+def read_clock(path, *, input: str, column: str | None = None, unit: str | None = None,
+               rate_hz: float | None = None, nominal_hz: float | None = None,
+               options=None) -> LogData:
+    """Read a clock record (CSV/TSV/Parquet with any column names, ``# key=value`` header
+    lines, a sidecar) and :func:`prepare_clock` it. ``options``: the reading options
+    (:class:`~inertialab.io.mapping.ReadOptions`: column map, separator, decimal mark).
+
+    TRANSITION (issue 15): the io floor has no clock schema yet, so the table is loaded
+    with the io front door's table loader and checked here; a ``clock_log`` schema in
+    :mod:`inertialab.io.schemas` should replace this.
+    """
+    from pathlib import Path
+
+    from inertialab.io import hash_frame, read_sidecar
+    from inertialab.io.mapping import apply_map, normalise_time_columns
+    from inertialab.io.readers import _load_table
+
+    p = Path(path)
+    if not p.is_file():
+        raise InputError("no such file", path=p)
+    frame, meta = _load_table(p, options.parse if options is not None else None)
+    meta = {**meta, **read_sidecar(p)}
+    if options is not None and options.column_map:
+        frame = apply_map(frame, options.column_map, path=p, meta=meta)
+    frame = normalise_time_columns(frame, path=p, meta=meta)
+    if len(frame) < 3:
+        raise InputError(f"too few samples ({len(frame)})", path=p)
+    return prepare_clock(frame, meta, input=input, column=column, unit=unit, rate_hz=rate_hz,
+                         nominal_hz=nominal_hz, path=str(p), sha256=hash_frame(frame))
 
 
 @dataclass(frozen=True)
@@ -184,11 +354,12 @@ class AllanAnalysis:
         raise KeyError(statistic)
 
     def dev_unit(self, statistic: str) -> str:
-        """Unit of a statistic's deviation: the rate unit; ``tdev`` is rate unit x s
-        (arcsec for deg/h)."""
-        if statistic != "tdev":
+        """Unit of a statistic's deviation: the rate unit (``"1"`` for a clock's
+        fractional frequency); ``tdev``, ``ttotdev``, ``mtie`` and ``tierms`` are in the
+        unit of the phase: rate unit x s (arcsec for deg/h, s for a clock)."""
+        if statistic not in PHASE_UNIT:
             return self.unit
-        return {"dph": "arcsec", "dps": "deg", "rps": "rad", "mps2": "m/s"}.get(
+        return {"dph": "arcsec", "dps": "deg", "rps": "rad", "mps2": "m/s", "1": "s"}.get(
             self.unit, f"{self.unit}*s")
 
     def statistic_json(self, r: DeviationResult) -> dict:
@@ -206,10 +377,16 @@ class AllanAnalysis:
                 if t.flags:
                     d["flags"] = list(t.flags)
                 terms[k] = d
-        return {"statistic": r.statistic, "tau0_s": r.tau0_s, "taus_s": r.taus_s,
-                "dev": r.dev, "ci_low": r.ci_low, "ci_high": r.ci_high,
-                "n_terms": r.n_terms, "alpha": r.alpha, "edf": r.edf,
-                "unit": self.dev_unit(r.statistic), "noise_terms": terms}
+        out = {"statistic": r.statistic, "tau0_s": r.tau0_s, "taus_s": r.taus_s,
+               "dev": r.dev, "ci_low": r.ci_low, "ci_high": r.ci_high,
+               "n_terms": r.n_terms, "alpha": r.alpha, "edf": r.edf,
+               "unit": self.dev_unit(r.statistic), "noise_terms": terms}
+        if hasattr(r, "used_fraction"):  # a record with gaps (noise.gaps)
+            out.update({"n_gaps": r.n_gaps, "n_missing": r.n_missing,
+                        "used_fraction": r.used_fraction})
+        if hasattr(r, "bias"):  # Stable32 bias factors (noise.total)
+            out["bias_factor"] = r.bias
+        return out
 
     def to_json(self) -> dict:
         """One statistic: its object; several: ``{"results": [...]}`` (issue 3 item 6)."""
@@ -229,24 +406,24 @@ def parse_stats(stats) -> tuple:
         if s not in out:
             out.append(s)
     if not out:
-        raise InputError("no statistic given (use e.g. --stat oadev,mdev)")
+        raise InputError("no statistic given (argument 'stats', e.g. 'oadev,mdev')")
     return tuple(out)
 
 
 def parse_taus(taus: str):
-    """``"octave" | "decade" | "all" | "<int>" | "0.1,1,10"`` (seconds)."""
+    """``"octave" | "decade" | "many" | "all" | "<int>" | "0.1,1,10"`` (seconds)."""
     t = str(taus).strip().lower()
-    if t in ("octave", "decade", "all"):
+    if t in ("octave", "decade", "many", "all"):
         return t
     if t.isdigit():
         return int(t)
     try:
         vals = [float(v) for v in t.split(",") if v.strip()]
     except ValueError:
-        raise InputError(f"--taus must be octave, decade, all, a count or seconds, got "
+        raise InputError(f"argument 'taus' must be octave, decade, many, all, a count or seconds, got "
                          f"'{taus}'") from None
     if not vals:
-        raise InputError("--taus is empty")
+        raise InputError("argument 'taus' is empty")
     return vals
 
 
@@ -254,7 +431,8 @@ def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: st
             stats=("oadev",), taus="octave", confidence: float = 0.683, method: str = "wls",
             input: str = "rate", kind: str | None = None, alpha=None,
             edf_method: str = "default", chunked="auto",
-            fit_terms: bool = True) -> AllanAnalysis:
+            fit_terms: bool | None = None, bias_correction: bool | None = None
+            ) -> AllanAnalysis:
     """Allan family with confidence intervals and the five noise terms.
 
     Parameters
@@ -268,34 +446,74 @@ def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: st
         :data:`CHUNKED_MIN` samples (the in-memory path needs one float64 copy).
     method : {"wls", "ols", "slope"}, default "wls"
         Noise-term method (:func:`inertialab.noise.terms.fit_noise_terms`).
-    fit_terms : bool, default True
-        Fit the noise terms; a curve too short for them (fewer than 3 taus in
-        [tau0, T/8]) gives ``terms=None`` and a DataQualityWarning instead of an error.
+    fit_terms : bool or None, default None
+        Fit the IMU noise terms (None: yes for gyro/accelerometer logs, no for a clock,
+        issue 15 item 1); a curve too short for them (fewer than 3 taus in [tau0, T/8])
+        gives ``terms=None`` and a DataQualityWarning instead of an error.
+    bias_correction : bool or None, default None
+        Stable32's bias corrections of TOTDEV, MTOT, TTOT, HTOT and Theo1
+        (:mod:`inertialab.noise.family`); None: on for a clock, off otherwise.
     """
     if not isinstance(log, LogData):
         if rate_hz is None or unit is None:
             raise InputError("analyze() of a bare array needs rate_hz and unit")
         dim = units.dimension(unit)
-        kk = kind or {"angular_rate": "gyro", "acceleration": "accel"}.get(dim)
+        kk = kind or {"angular_rate": "gyro", "acceleration": "accel",
+                      "ratio": "clock"}.get(dim)
         if kk is None:
             raise InputError(f"unit '{unit}' is a {dim}, not a rate or acceleration")
         vals = log if isinstance(log, np.ndarray) else np.asarray(log)  # keeps a memmap
         log = LogData(values=vals, rate_hz=float(rate_hz), unit=unit, column="",
                       input=input, kind=kk)
     names = parse_stats(stats)
+    clock = log.kind == "clock"
+    if fit_terms is None:
+        fit_terms = not clock
+    if bias_correction is None:
+        bias_correction = clock
+    if fit_terms and clock:
+        raise InputError("the IMU noise terms Q N B K R are defined for gyro and "
+                         "accelerometer units; a clock's noise is given per tau by alpha "
+                         "(argument 'fit_terms')")
     if chunked == "auto":
         chunked = isinstance(log.values, np.memmap) and log.values.size > CHUNKED_MIN
     results = []
     common = dict(rate_hz=log.rate_hz, taus=taus, input=log.input, confidence=confidence,
                   alpha=alpha, edf_method=edf_method,
                   chunked=chunked and log.input == "rate")
+    gappy = not isinstance(log.values, np.memmap) and bool(np.isnan(log.values).any())
+    if gappy:
+        import warnings
+
+        from inertialab.errors import DataQualityWarning
+        from inertialab.noise.gaps import GAP_STATISTICS, count_gaps, gap_deviation
+
+        g, miss = count_gaps(log.values)
+        warnings.warn(f"{log.path or 'data'}: {miss} missing sample(s) in {g} gap(s); "
+                      "gap-resistant statistics (no interpolation), the fraction of "
+                      "summands used per tau is reported", DataQualityWarning, stacklevel=2)
+        no_gap = [s for s in names if s not in GAP_STATISTICS]
+        if no_gap:
+            raise InputError(f"the record has missing samples (NaN or time-stamp gaps); "
+                             f"{', '.join(no_gap)} has no gap-resistant form (use "
+                             f"{', '.join(GAP_STATISTICS)}; argument 'stats')", path=log.path
+                             or None, column=log.column or None)
+
+        def one(stat, **kw):
+            return gap_deviation(stat, log.values, rate_hz=log.rate_hz, input=log.input,
+                                 confidence=confidence, alpha=alpha,
+                                 taus=kw.get("taus", taus))
+    else:
+        def one(stat, **kw):
+            return compute(stat, log.values, bias_correction=bias_correction,
+                           **{**common, **kw})
     for s in names:
-        results.append(deviation(s, log.values, **common))
+        results.append(one(s))
     oad = next((r for r in results if r.statistic == "oadev"), None)
     terms = None
     if fit_terms:
         if oad is None:
-            oad = deviation("oadev", log.values, **{**common, "taus": "octave"})
+            oad = one("oadev", taus="octave")
         try:
             terms = fit_noise_terms(oad, unit=log.unit, kind=kind or log.kind, method=method,
                                     rate_hz=log.rate_hz, g_local=log.g_local)
@@ -313,136 +531,15 @@ def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: st
                          oadev=oad,
                          settings={"stats": list(names), "taus": taus, "confidence": confidence,
                                    "method": method, "input": log.input,
-                                   "edf_method": edf_method, "rate_hz": log.rate_hz})
+                                   "edf_method": edf_method, "rate_hz": log.rate_hz,
+                                   **({"bias_correction": bool(bias_correction),
+                                       "fit_terms": bool(fit_terms)} if clock else {})})
 
 
-# ----------------------------------------------------------------------------- demo study
+#: The workflow verbs (issue 13): prepare(record) -> LogData, fit(data, ...) -> AllanAnalysis.
+prepare = prepare_log
+fit = analyze
 
-
-@dataclass(frozen=True)
-class QuickSettings:
-    """Demo (quick): 2 h allan-test record at 10 Hz; recovery on 5 seeds of the 10-h
-    identification presets."""
-
-    seed: int = 0
-    hours: float = 2.0
-    rate_hz: float = 10.0
-    recovery_seeds: int = 5
-    recovery_hours: float = 10.0
-    stats: tuple = ("oadev", "mdev", "hdev", "totdev")
-
-
-@dataclass(frozen=True)
-class FullSettings:
-    """Demo (full): 10 h allan-test record at 10 Hz; recovery on 20 seeds (issue 3's
-    acceptance count) of the 10-h identification presets."""
-
-    seed: int = 0
-    hours: float = 10.0
-    rate_hz: float = 10.0
-    recovery_seeds: int = 20
-    recovery_hours: float = 10.0
-    stats: tuple = ("oadev", "mdev", "hdev", "totdev")
-
-
-def recovery(preset: str, seeds, *, hours: float = 10.0, rate_hz: float = 10.0,
-             method: str = "wls") -> dict:
-    """Relative errors of N, B, K (where the preset has them) over ``seeds``.
-
-    Returns ``{"seeds": [...], "N": [...], "B": [...], "K": [...]}`` (ratios - 1)."""
-    from inertialab.sim.gyro_static import simulate
-
-    out: dict = {"seeds": [], "N": [], "B": [], "K": []}
-    truth = None
-    for s in seeds:
-        run = simulate(preset, hours=hours, rate_hz=rate_hz, seed=int(s))
-        truth = run.meta["truth_terms"]
-        a = analyze(run.record["rate_dph"].to_numpy(), rate_hz=rate_hz, unit="dph",
-                    method=method)
-        out["seeds"].append(int(s))
-        for k in ("N", "B", "K"):
-            tv = truth[k]["value"]
-            out[k].append(getattr(a.terms, k).value / tv - 1.0 if tv > 0 else None)
-    out["truth"] = {k: truth[k] for k in ("N", "B", "K")} if truth else {}
-    return out
-
-
-def run_demo(settings, progress=None) -> StudyResult:
-    """The ``allan`` study of ``inertialab demo``: known-noise records on the virtual lab."""
-    from inertialab.sensors.gyro import model_avar
-    from inertialab.sensors.gyro import preset as gyro_preset
-    from inertialab.sim.gyro_static import simulate
-
-    progress = progress or NullProgress()
-    t0 = time.perf_counter()
-    run = simulate("allan-test", hours=settings.hours, rate_hz=settings.rate_hz,
-                   seed=settings.seed)
-    y = run.record["rate_dph"].to_numpy()
-    a = analyze(y, rate_hz=settings.rate_hz, unit="dph", stats=settings.stats)
-    slope = fit_noise_terms(a.oadev, unit="dph", method="slope")
-    truth = run.meta["truth_terms"]
-    progress.update(1, 3, "allan-test analysed")
-    seeds = range(settings.seed, settings.seed + settings.recovery_seeds)
-    rec_rrw = recovery("allan-rrw", seeds, hours=settings.recovery_hours, rate_hz=settings.rate_hz)
-    progress.update(2, 3, "allan-rrw recovery")
-    rec_bi = recovery("allan-bi", seeds, hours=settings.recovery_hours, rate_hz=settings.rate_hz)
-    progress.update(3, 3, "allan-bi recovery")
-
-    def within(vals, tol):
-        v = [abs(x) <= tol for x in vals if x is not None]
-        return int(sum(v)), len(v)
-
-    n_ok = within(rec_rrw["N"] + rec_bi["N"], 0.05)
-    k_ok = within(rec_rrw["K"], 0.05)
-    b_ok = within(rec_bi["B"], 0.20)
-    terms_rows = []
-    for k in "QNBKR":
-        tw, ts = getattr(a.terms, k), getattr(slope, k)
-        terms_rows.append({"term": k, "unit": tw.unit, "truth": truth[k]["value"],
-                           "wls": tw.value, "wls_ci": list(tw.ci), "slope": ts.value,
-                           "slope_ci": list(ts.ci)})
-    tables = {
-        "allan_test": {"preset": "allan-test", "hours": settings.hours,
-                       "rate_hz": settings.rate_hz, "seed": settings.seed, "terms": terms_rows},
-        "recovery": {"seeds": list(seeds), "hours": settings.recovery_hours,
-                     "rate_hz": settings.rate_hz, "method": "wls",
-                     "allan_rrw": {k: rec_rrw[k] for k in ("N", "K")},
-                     "allan_bi": {k: rec_bi[k] for k in ("N", "B")},
-                     "N_within_5pct": list(n_ok), "K_within_5pct": list(k_ok),
-                     "B_within_20pct": list(b_ok)},
-    }
-    headline = [
-        Headline("N, allan-test (truth 0.01)", float(a.terms.N.value), None, "deg/sqrt(h)"),
-        Headline("B, allan-test (truth 0.1)", float(a.terms.B.value), None, "deg/h"),
-        Headline("K, allan-test (truth 0.1)", float(a.terms.K.value), None, "deg/h/sqrt(h)"),
-        Headline("seeds with K within 5 % (allan-rrw)", f"{k_ok[0]}/{k_ok[1]}",
-                 "issue 3: >= 18/20", ""),
-        Headline("seeds with B within 20 % (allan-bi)", f"{b_ok[0]}/{b_ok[1]}",
-                 "issue 3: >= 18/20", ""),
-    ]
-    text = [
-        "A virtual FOG at rest (rig gyro-static, preset allan-test: white angle noise "
-        "Q = 0.5 arcsec, ARW N = 0.01 deg/sqrt(h), bias instability B = 0.1 deg/h as a sum "
-        "of Gauss-Markov processes, RRW K = 0.1 deg/h/sqrt(h)) analysed with the Allan "
-        "family; 68.3 % intervals from EDF (SP 1065 Table 5 for OADEV) at the noise type "
-        "identified per tau by the lag-1 autocorrelation; terms by EDF-weighted NNLS and "
-        "by slope reading.",
-        f"Recovery over {settings.recovery_seeds} seeds of 10-h records at 10 Hz "
-        "(spec 001 §6.2 identification presets): N within 5 % in "
-        f"{n_ok[0]}/{n_ok[1]}, K within 5 % in {k_ok[0]}/{k_ok[1]}, B within 20 % in "
-        f"{b_ok[0]}/{b_ok[1]}.",
-    ]
-    taus = np.geomspace(a.oadev.taus_s[0], a.oadev.taus_s[-1], 200)
-    data = {"analysis": a, "slope_terms": slope, "truth": truth,
-            "truth_curve": (taus, np.sqrt(model_avar(taus, gyro_preset("allan-test")))),
-            "recovery": {"allan-rrw": rec_rrw, "allan-bi": rec_bi}}
-    return StudyResult(name="allan", title=STUDY_TITLE, settings=settings_dict(settings),
-                       headline=headline, tables=tables, data=data, text=text,
-                       wall_s=time.perf_counter() - t0)
-
-
-STUDY_TITLE = "Allan family and IMU noise terms (noise core)"
-STUDY = Study("allan", STUDY_TITLE, quick=QuickSettings(), full=FullSettings(), run=run_demo)
-
-__all__ = ["STUDY", "AllanAnalysis", "FullSettings", "LogData", "QuickSettings", "T_JITTER_TOL",
-           "analyze", "parse_stats", "parse_taus", "prepare_log", "recovery", "run_demo"]
+__all__ = ["AllanAnalysis", "CLOCK_RATIO", "CLOCK_TIME", "LogData", "T_JITTER_TOL", "analyze",
+           "clock_log", "fit", "parse_stats", "parse_taus", "prepare", "prepare_clock", "read_clock",
+           "prepare_log"]

@@ -222,14 +222,14 @@ def analyse_record(rec, *, rate_hz: float | None = None, taus="octave", method: 
             cols[name] = (c, rec.column(c), rec.units[c])
     if not cols:
         raise InputError("no IMU axis columns (gx_*, gy_*, gz_*, ax_*, ay_*, az_*); map them "
-                         "with --map", path=rec.path)
+                         "with a column map (argument 'column_map')", path=rec.path)
     if "segment" in rec.data.columns and rec.data["segment"].nunique() > 1:
-        raise InputError("the log has several segments (--gaps split); analyse one segment",
+        raise InputError("the log has several segments (argument 'gaps' split); analyse one segment",
                          path=rec.path)
     fs = rate_hz or rec.meta.get("fs_hz")
     if fs is None:
         if "t_s" not in rec.data.columns:
-            raise InputError("needs t_s or --rate", path=rec.path)
+            raise InputError("needs t_s or argument 'rate_hz'", path=rec.path)
         fs = 1.0 / float(np.median(np.diff(rec.data["t_s"].to_numpy())))
     g = g_local if g_local is not None else float(rec.meta.get("g_local_mps2", U.G_STANDARD))
     return analyse_imu(cols, rate_hz=float(fs), taus=taus, method=method, g_local=g,
@@ -251,7 +251,7 @@ def export_yaml(result: IMUNoise, style: str = "kalibr", *, rostopic: str = "/im
     adds the per-axis values.
     """
     if style not in ("kalibr", "ros"):
-        raise InputError(f"--export must be 'kalibr' or 'ros', got '{style}'")
+        raise InputError(f"argument 'export' must be 'kalibr' or 'ros', got '{style}'")
     d = result.to_dict()["kalibr"]
     bound = {k: any(a.random_walk_bound for a in result.axes if a.kind == k)
              for k in ("gyro", "accel")}

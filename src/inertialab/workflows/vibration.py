@@ -1,8 +1,12 @@
 """Workflow ``vibration``: FOG errors under linear vibration (spec 001, issue 4).
 
-Pipeline of spec 001 §3.11 on a sweep record (E1) and, optionally, a fixed-frequency
-record (E2), both in the ``gyro_log`` schema with ``vib_on``, ``vib_freq_hz`` and
-(optionally) ``phase``:
+Verbs (issue 13): :func:`prepare` (a ``gyro_log`` record -> validated, segmented
+:class:`~inertialab.calib.vibration.VibrationRun`), :func:`fit` (sweep and optional fixed
+run -> :class:`VibrationResult` with the fitted
+:class:`~inertialab.calib.vibration.VibrationModel`), :func:`apply` (model + record ->
+compensated record). The pipeline of spec 001 §3.11 on a sweep record (E1) and,
+optionally, a fixed-frequency record (E2), both in the ``gyro_log`` schema with
+``vib_on``, ``vib_freq_hz`` and (optionally) ``phase``:
 
 1. segment P1 / P2 / P3 (``k_on``, ``k_off`` = first/last sample with ``vib_on = 1``);
 2. overlapping Allan deviation and the five noise terms Q N B K R per phase
@@ -16,41 +20,49 @@ record (E2), both in the ``gyro_log`` schema with ``vib_on``, ``vib_freq_hz`` an
    polynomial-compensated E2 (seed Table 3, "wls", ``tau >= 2^(L+1) tau0`` for
    ``A_L``-derived rows), the residual bias and the edge metrics of §4.
 
-The fitted :class:`VibrationModel` (model-file tag ``"vibration-compensation"``) holds
-the level, the wavelet and both bias models, and compensates any new record with
-``vib_on`` and ``vib_freq_hz``. This module computes; it neither reads arguments nor
-draws (figures are in :mod:`inertialab.report.figures.vibration`).
+The model itself (estimator on arrays, model file) is :mod:`inertialab.calib.vibration`;
+the virtual-lab demo is :mod:`inertialab.studies.vibration`. This module neither reads
+arguments nor draws (figures are in :mod:`inertialab.report.figures.vibration`).
 """
 
 from __future__ import annotations
 
 import time
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
+from inertialab import metrics as _metrics
 from inertialab import units
+from inertialab.calib.vibration import (
+    SPREAD_GRID,
+    BiasTargets,
+    VibrationModel,
+    VibrationRun,
+    bias_targets,
+    phase_stats,
+    residual_metrics,
+    select_spread,
+)
 from inertialab.errors import DataQualityWarning, ExtrapolationWarning, InputError
-from inertialab.learn.poly import PolynomialRegressor
-from inertialab.learn.rbf import RBFNetwork
 from inertialab.noise import wavelet as wv
-from inertialab.workflows.base import Headline, NullProgress, Study, StudyResult
+from inertialab.progress import NullProgress
 
 __all__ = [
-    "STUDY",
     "BiasTargets",
-    "FullSettings",
-    "QuickSettings",
+    "CompensatedRecord",
     "VibrationConfig",
     "VibrationModel",
     "VibrationResult",
     "VibrationRun",
     "analyse",
+    "apply",
     "bias_targets",
+    "fit",
     "load_run",
+    "prepare",
     "residual_metrics",
-    "run_demo",
     "run_from_frame",
 ]
 
@@ -59,77 +71,6 @@ TERMS = ("Q", "N", "B", "K", "R")
 TERM_UNITS = {"Q": "arcsec", "N": "deg/sqrt(h)", "B": "deg/h", "K": "deg/h/sqrt(h)",
               "R": "deg/h^2"}
 _UNIFORM_TOL = 1e-6
-
-
-# ----------------------------------------------------------------------------- records
-
-@dataclass(frozen=True)
-class VibrationRun:
-    """One vibration-test record, validated and segmented (spec 001 §2.2).
-
-    Attributes
-    ----------
-    rate_dph : ndarray (n,)
-        Gyro rate in deg/h.
-    vib_on : ndarray of bool (n,)
-    freq_hz : ndarray (n,)
-        Drive frequency (0 while off).
-    fs_hz : float
-    k_on, k_off : int
-        First and last sample with ``vib_on = 1``.
-    path, sha256 : str
-        Source file and hash of its canonical columns.
-    experiment : str or None
-        Sidecar ``experiment`` ("sweep" / "fixed") when given.
-    meta : dict
-        Sidecar.
-    """
-
-    rate_dph: np.ndarray
-    vib_on: np.ndarray
-    freq_hz: np.ndarray
-    fs_hz: float
-    k_on: int
-    k_off: int
-    path: str = "<frame>"
-    sha256: str = ""
-    experiment: str | None = None
-    meta: dict = field(default_factory=dict)
-
-    @property
-    def n(self) -> int:
-        return int(self.rate_dph.size)
-
-    @property
-    def tau0(self) -> float:
-        return 1.0 / self.fs_hz
-
-    @property
-    def p1(self) -> slice:
-        return slice(0, self.k_on)
-
-    @property
-    def p2(self) -> slice:
-        return slice(self.k_on, self.k_off + 1)
-
-    @property
-    def p3(self) -> slice:
-        return slice(self.k_off + 1, self.n)
-
-    def phase_slices(self) -> dict[str, slice]:
-        out = {"P1": self.p1, "P2": self.p2}
-        if self.k_off + 1 < self.n:
-            out["P3"] = self.p3
-        return out
-
-    def guarded(self, sl: slice, guard_s: float) -> slice:
-        """``sl`` without ``guard_s`` seconds at both ends."""
-        g = int(round(guard_s * self.fs_hz))
-        lo, hi = sl.start + g, sl.stop - g
-        if hi <= lo:
-            raise InputError(f"{self.path}: phase of {(sl.stop - sl.start) / self.fs_hz:g} s is "
-                             f"too short for {guard_s:g}-s guards")
-        return slice(lo, hi)
 
 
 def _bad_rows(mask: np.ndarray) -> list[int]:
@@ -246,13 +187,19 @@ def run_from_frame(df, meta: dict | None = None, *, path="<frame>", sha256: str 
                         experiment=meta.get("experiment"), meta=meta)
 
 
-def load_run(path) -> VibrationRun:
-    """Read a ``gyro_log`` record and validate it for the pipeline (:func:`run_from_frame`)."""
+def prepare(record) -> VibrationRun:
+    """A ``gyro_log`` :class:`~inertialab.io.Record` validated and segmented for the
+    pipeline (:func:`run_from_frame`)."""
+    return run_from_frame(record.data, record.meta, path=record.path, sha256=record.sha256,
+                          units_map=record.units)
+
+
+def load_run(path, *, options=None) -> VibrationRun:
+    """Read a ``gyro_log`` record (``options``: :class:`~inertialab.io.mapping.ReadOptions`)
+    and :func:`prepare` it."""
     from inertialab.io import read_record
 
-    rec = read_record(path, "gyro_log")
-    return run_from_frame(rec.data, rec.meta, path=rec.path, sha256=rec.sha256,
-                          units_map=rec.units)
+    return prepare(read_record(path, "gyro_log", options=options))
 
 
 # ----------------------------------------------------------------------------- noise terms
@@ -314,247 +261,6 @@ def _ratios(row: dict, ref: dict) -> dict:
     return out
 
 
-# ----------------------------------------------------------------------------- targets
-
-@dataclass(frozen=True)
-class BiasTargets:
-    """Bias error versus drive frequency from the sweep (spec 001 §3.7).
-
-    Attributes
-    ----------
-    f_hz : ndarray
-        Bin centres (Hz).
-    e_dph : ndarray
-        Mean bias error in each bin (deg/h).
-    count : ndarray of int
-        Samples per bin.
-    beta_dph : float
-        Static reference ``median(A_L[P1])`` (b0 plus Earth rate), deg/h.
-    bin_index : ndarray of int
-        Bin number ``round(f / width)`` (1, 2, ... for 1-Hz bins).
-    """
-
-    f_hz: np.ndarray
-    e_dph: np.ndarray
-    count: np.ndarray
-    beta_dph: float
-    bin_index: np.ndarray
-
-
-def bias_targets(run: VibrationRun, approx: np.ndarray, *, guard_s: float = 2.0,
-                 bin_width_hz: float = 1.0, min_count: int = 8, mode: str = "bins",
-                 level: int = 6) -> BiasTargets:
-    """Training pairs (frequency, bias error) from the sweep record (spec 001 §3.7).
-
-    ``e_k = A_k - median(A[P1])`` for k in P2 without ``guard_s`` at both ends. With
-    ``mode="bins"`` (default): 1-Hz bins ``[c - 0.5, c + 0.5)`` centred on 1, 2, ... Hz, the
-    target is the bin mean, bins with fewer than ``min_count`` samples are dropped. With
-    ``mode="samples"`` (the spec's option): every ``2^level``-th sample of that window.
-    Frequencies stay in Hz, unscaled.
-    """
-    a = np.asarray(approx, dtype=float)
-    beta = float(np.median(a[run.p1]))
-    w = run.guarded(run.p2, guard_s)
-    e = a[w] - beta
-    f = run.freq_hz[w]
-    if mode == "samples":
-        step = 2 ** int(level)
-        fs_, es_ = f[::step], e[::step]
-        if fs_.size < 5:
-            raise InputError(f"{run.path}: only {fs_.size} target samples at a stride of "
-                             f"{step}; the bias model needs at least 5")
-        return BiasTargets(f_hz=fs_, e_dph=es_, count=np.ones(fs_.size, dtype=np.int64),
-                           beta_dph=beta, bin_index=np.arange(1, fs_.size + 1))
-    if mode != "bins":
-        raise InputError(f"targets must be 'bins' or 'samples', got {mode!r}")
-    b = np.floor(f / bin_width_hz + 0.5).astype(np.int64)
-    ok = b >= 1
-    b, e = b[ok], e[ok]
-    if b.size == 0:
-        raise InputError(f"{run.path}: no vibration samples with frequency >= "
-                         f"{bin_width_hz / 2:g} Hz for the bias targets")
-    cnt = np.bincount(b)
-    s = np.bincount(b, weights=e)
-    idx = np.flatnonzero(cnt >= min_count)
-    idx = idx[idx >= 1]
-    if idx.size < 5:
-        raise InputError(f"{run.path}: only {idx.size} frequency bins with >= {min_count} "
-                         "samples; the bias model needs a sweep (at least 5 bins)")
-    return BiasTargets(f_hz=idx * float(bin_width_hz), e_dph=s[idx] / cnt[idx],
-                       count=cnt[idx], beta_dph=beta, bin_index=idx)
-
-
-# ----------------------------------------------------------------------------- model
-
-class VibrationModel:
-    """Vibration-bias compensation model (spec 001 §3.8-3.10).
-
-    Parameters
-    ----------
-    level : int, default=6
-        Approximation level L of the denoising ``A_L`` (seed: 6).
-    wavelet : str, default="db4"
-    wavelet_level : int, default=10
-        J of the decomposition.
-    spread, goal : float, default 1.2 and 1e-4
-        RBF settings of the seed (Hz, (deg/h)^2).
-    centers : str, default="max_error"
-        RBF centre selection (:class:`~inertialab.learn.rbf.RBFNetwork`).
-    max_neurons : int or None, default=None
-    poly_degree : int, default=4
-        Degree of the polynomial baseline (seed: 4).
-    rng : int or None, default=0
-        Seed of the ``"random_fixed"`` centre order.
-
-    Attributes
-    ----------
-    rbf_ : RBFNetwork
-    poly_ : PolynomialRegressor
-    f_range_hz_ : (float, float)
-        Training frequency range; inputs outside are clipped (and flagged).
-    """
-
-    MODEL_TYPE = "vibration-compensation"
-
-    def __init__(self, *, level: int = 6, wavelet: str = "db4", wavelet_level: int = 10,
-                 spread: float = 1.2, goal: float = 1e-4, centers: str = "max_error",
-                 max_neurons: int | None = None, poly_degree: int = 4, rng=0):
-        self.level = level
-        self.wavelet = wavelet
-        self.wavelet_level = wavelet_level
-        self.spread = spread
-        self.goal = goal
-        self.centers = centers
-        self.max_neurons = max_neurons
-        self.poly_degree = poly_degree
-        self.rng = rng
-
-    def fit(self, f_hz, e_dph) -> VibrationModel:
-        """Fit the RBF network and the polynomial to (frequency, bias error) pairs."""
-        f = np.asarray(f_hz, dtype=float).ravel()
-        e = np.asarray(e_dph, dtype=float).ravel()
-        if f.size != e.size or f.size < self.poly_degree + 1:
-            raise InputError(f"need matching frequency/bias pairs, at least "
-                             f"{self.poly_degree + 1}; got {f.size} and {e.size}")
-        self.rbf_ = RBFNetwork(spread=self.spread, goal=self.goal, centers=self.centers,
-                               max_neurons=self.max_neurons, rng=self.rng).fit(f, e)
-        self.poly_ = PolynomialRegressor(degree=self.poly_degree,
-                                         warn_extrapolation=False).fit(f, e)
-        self.f_range_hz_ = (float(f.min()), float(f.max()))
-        return self
-
-    def _check(self):
-        if not hasattr(self, "rbf_"):
-            raise RuntimeError("VibrationModel used before fit")
-
-    def predict(self, f_hz, *, model: str = "rbf") -> np.ndarray:
-        """Bias error (deg/h) at drive frequencies ``f_hz``; clipped to the training range
-        with an :class:`~inertialab.errors.ExtrapolationWarning` when outside."""
-        self._check()
-        f = np.asarray(f_hz, dtype=float)
-        lo, hi = self.f_range_hz_
-        out_of = (f < lo) | (f > hi)
-        if out_of.any():
-            warnings.warn(f"{int(out_of.sum())} drive-frequency values outside the training "
-                          f"range [{lo:g}, {hi:g}] Hz were clipped to it",
-                          ExtrapolationWarning, stacklevel=2)
-        fc = np.clip(f, lo, hi)
-        u, inv = np.unique(fc.ravel(), return_inverse=True)
-        if model == "rbf":
-            g = self.rbf_.predict(u)
-        elif model == "poly":
-            g = self.poly_.predict(u)
-        else:
-            raise InputError(f"model must be 'rbf' or 'poly', got {model!r}")
-        return g[inv].reshape(f.shape)
-
-    def compensate(self, rate_dph, vib_on, freq_hz, *, model: str = "rbf",
-                   apply_to: str = "denoised", approx=None) -> np.ndarray:
-        """Compensated rate ``omega_c = A_L(omega) - vib_on g(f)`` (spec 001 eq. 8).
-
-        ``apply_to="raw"`` subtracts ``g`` from the raw rate instead. ``approx`` may
-        pass a ready ``A_L`` of ``rate_dph``.
-        """
-        self._check()
-        x = np.asarray(rate_dph, dtype=float)
-        on = np.asarray(vib_on) != 0
-        if apply_to == "denoised":
-            base = approx if approx is not None else wv.decompose(
-                x, wavelet=self.wavelet, level=self.wavelet_level).approximation(
-                    min(int(self.level), self.wavelet_level))
-        elif apply_to == "raw":
-            base = x
-        else:
-            raise InputError(f"apply_to must be 'denoised' or 'raw', got {apply_to!r}")
-        g = np.zeros_like(x)
-        if on.any():
-            g[on] = self.predict(np.asarray(freq_hz, dtype=float)[on], model=model)
-        return np.asarray(base, dtype=float) - g
-
-    def to_dict(self) -> dict:
-        self._check()
-        return {
-            "level": int(self.level), "wavelet": self.wavelet,
-            "wavelet_level": int(self.wavelet_level), "spread": float(self.spread),
-            "goal": float(self.goal), "centers": self.centers,
-            "max_neurons": self.max_neurons, "poly_degree": int(self.poly_degree),
-            "rng": self.rng if isinstance(self.rng, (int, type(None))) else None,
-            "f_range_hz": list(self.f_range_hz_),
-            "rbf": self.rbf_.to_dict(), "poly": self.poly_.to_dict(),
-        }
-
-    @classmethod
-    def from_dict(cls, d: dict) -> VibrationModel:
-        try:
-            obj = cls(level=int(d["level"]), wavelet=str(d["wavelet"]),
-                      wavelet_level=int(d["wavelet_level"]), spread=float(d["spread"]),
-                      goal=float(d["goal"]), centers=str(d["centers"]),
-                      max_neurons=d.get("max_neurons"), poly_degree=int(d["poly_degree"]),
-                      rng=d.get("rng"))
-            obj.f_range_hz_ = (float(d["f_range_hz"][0]), float(d["f_range_hz"][1]))
-            obj.rbf_ = RBFNetwork.from_dict(d["rbf"])
-            obj.poly_ = PolynomialRegressor.from_dict(d["poly"])
-            obj.poly_.warn_extrapolation = False
-        except (KeyError, TypeError, IndexError) as exc:
-            raise InputError(f"vibration-compensation model: missing or bad field {exc}") from None
-        return obj
-
-
-# ----------------------------------------------------------------------------- metrics
-
-def _block_std(x: np.ndarray, n_block: int) -> float:
-    k = x.size // n_block
-    if k < 2:
-        return float("nan")
-    return float(np.std(x[: k * n_block].reshape(k, n_block).mean(axis=1), ddof=1))
-
-
-def residual_metrics(omega_c, run: VibrationRun, *, guard_s: float = 10.0,
-                     edge_s: float = 10.0, stability_s: float = 10.0) -> dict:
-    """Residual bias and edge metrics of a compensated signal (spec 001 §4), deg/h.
-
-    ``delta_b = mean(omega_c[P2 without guard_s guards]) - mean(omega_c[P1])``; per-phase
-    mean and 10-s bias stability (std of consecutive 10-s means); ``edge_on``/``edge_off``
-    = ``max |omega_c - mean_P1|`` within ``edge_s`` of ``k_on`` / ``k_off``.
-    """
-    x = np.asarray(omega_c, dtype=float)
-    m1 = float(np.mean(x[run.p1]))
-    p2g = run.guarded(run.p2, guard_s)
-    nb = max(1, int(round(stability_s * run.fs_hz)))
-    e = int(round(edge_s * run.fs_hz))
-    out = {"delta_b": float(np.mean(x[p2g])) - m1, "mean": {}, "stability_10s": {}}
-    for name, sl in run.phase_slices().items():
-        out["mean"][name] = float(np.mean(x[sl]))
-        out["stability_10s"][name] = _block_std(x[sl], nb)
-    on_win = slice(max(0, run.k_on - e), min(run.n, run.k_on + e + 1))
-    off_win = slice(max(0, run.k_off - e), min(run.n, run.k_off + e + 1))
-    out["edge_on"] = float(np.max(np.abs(x[on_win] - m1)))
-    out["edge_off"] = float(np.max(np.abs(x[off_win] - m1)))
-    return out
-
-
-# ----------------------------------------------------------------------------- pipeline
-
 @dataclass(frozen=True)
 class VibrationConfig:
     """Settings of the pipeline (spec 001 §3; seed values as defaults).
@@ -566,10 +272,14 @@ class VibrationConfig:
     wavelet_level : int, default=10
         J (seed: 10).
     spread, goal : float, default 1.2 and 1e-4
-        RBF settings of the seed.
+        RBF settings of the seed; ``spread="validate"`` picks it from ``spread_grid`` by
+        the held-out RMSE on the even bins (issue 18 item 6; the seed "tuned 1.2 after many
+        validations"), reported in ``fit["rbf"]["spread_selection"]``.
     centers : str, default="max_error"
         RBF centre selection (seed wording "random fixed"; spec default newrb's).
     max_neurons : int or None
+    spread_grid : tuple of float, default SPREAD_GRID
+        Candidate spreads (Hz) for ``spread="validate"``.
     target_guard_s : float, default=2.0
         Guards of the E1 targets (§3.7).
     level_guard_s : float, default=5.0
@@ -594,10 +304,11 @@ class VibrationConfig:
 
     level: int | str = 6
     wavelet_level: int = 10
-    spread: float = 1.2
+    spread: float | str = 1.2
     goal: float = 1e-4
     centers: str = "max_error"
     max_neurons: int | None = None
+    spread_grid: tuple = SPREAD_GRID
     target_guard_s: float = 2.0
     level_guard_s: float = 5.0
     residual_guard_s: float = 10.0
@@ -685,17 +396,20 @@ def _true_curve(run: VibrationRun, f_hz: np.ndarray):
     return bias_shift_dph(f_hz, float(run.meta.get("acc_g", 5.0)), e)
 
 
-def _rmse(a, b) -> float:
-    return float(np.sqrt(np.mean((np.asarray(a) - np.asarray(b)) ** 2)))
-
-
 def _fit_block(targets: BiasTargets, cfg: VibrationConfig, level: int, run: VibrationRun):
-    model = VibrationModel(level=level, wavelet_level=cfg.wavelet_level, spread=cfg.spread,
-                           goal=cfg.goal, centers=cfg.centers, max_neurons=cfg.max_neurons,
-                           rng=cfg.rng).fit(targets.f_hz, targets.e_dph)
     f, e = targets.f_hz, targets.e_dph
     odd = targets.bin_index % 2 == 1
-    held = VibrationModel(level=level, wavelet_level=cfg.wavelet_level, spread=cfg.spread,
+    selection = None
+    spread = cfg.spread
+    if spread == "validate":  # issue 18 item 6: the spread with the least held-out RMSE
+        selection = select_spread(f, e, odd, grid=cfg.spread_grid, goal=cfg.goal,
+                                  centers=cfg.centers, max_neurons=cfg.max_neurons,
+                                  rng=cfg.rng)
+        spread = selection["chosen"]
+    model = VibrationModel(level=level, wavelet_level=cfg.wavelet_level, spread=spread,
+                           goal=cfg.goal, centers=cfg.centers, max_neurons=cfg.max_neurons,
+                           rng=cfg.rng).fit(targets.f_hz, targets.e_dph)
+    held = VibrationModel(level=level, wavelet_level=cfg.wavelet_level, spread=spread,
                           goal=cfg.goal, centers=cfg.centers, max_neurons=cfg.max_neurons,
                           rng=cfg.rng).fit(f[odd], e[odd])
     truth = _true_curve(run, f)
@@ -705,13 +419,15 @@ def _fit_block(targets: BiasTargets, cfg: VibrationConfig, level: int, run: Vibr
         hpred = (held.rbf_ if name == "rbf" else held.poly_).predict(f[~odd])
         fit[name] = {
             "neurons": int(model.rbf_.n_neurons_) if name == "rbf" else None,
-            "train_mse": float(np.mean((pred - e) ** 2)),
-            "train_rmse": _rmse(pred, e),
-            "heldout_rmse": _rmse(hpred, e[~odd]),
-            "truth_rmse": None if truth is None else _rmse(pred, truth),
+            "train_mse": _metrics.mse(e, pred),
+            "train_rmse": _metrics.rmse(e, pred),
+            "heldout_rmse": _metrics.rmse(e[~odd], hpred),
+            "truth_rmse": None if truth is None else _metrics.rmse(truth, pred),
         }
     fit["poly"]["degree"] = int(model.poly_degree)
-    fit["rbf"]["spread"] = float(cfg.spread)
+    fit["rbf"]["spread"] = float(spread)
+    if selection is not None:
+        fit["rbf"]["spread_selection"] = selection
     fit["rbf"]["goal"] = float(cfg.goal)
     fit["rbf"]["centers"] = cfg.centers
     fit["n_bins"] = int(f.size)
@@ -765,6 +481,10 @@ def analyse(sweep: VibrationRun, fixed: VibrationRun | None = None,
     prog = progress or NullProgress()
     total = 8.0
     t_start = time.perf_counter()
+    if not (cfg.spread == "validate" or (isinstance(cfg.spread, (int, float, np.number))
+                                         and np.isfinite(cfg.spread) and cfg.spread > 0)):
+        raise InputError(f"spread must be a positive number (Hz) or 'validate', "
+                         f"got {cfg.spread!r}")
     if cfg.level != "auto" and not (isinstance(cfg.level, (int, np.integer))
                                     and 1 <= int(cfg.level) <= 9):
         raise InputError(f"level must be an integer in 1..9 or 'auto', got {cfg.level!r}")
@@ -835,6 +555,8 @@ def analyse(sweep: VibrationRun, fixed: VibrationRun | None = None,
         metrics["decomposition_physical"][f"{rname}/A{level}"] = noise_terms_row(
             sigs[f"A{level}"], r.fs_hz, method="wls", tau_min_s=tmin_phys)
     metrics["tau_ranges_s"]["A_L_physical_min"] = tmin_phys
+    # issue 18 item 5: bias and 10-s stability per phase of the raw records
+    metrics["raw_phases"] = {rname: phase_stats(r.rate_dph, r) for rname, r in runs.items()}
 
     # 6: targets and models
     prog.update(4, total, "bias targets and models")
@@ -850,7 +572,8 @@ def analyse(sweep: VibrationRun, fixed: VibrationRun | None = None,
     views["curve_poly"] = model.poly_.predict(f_grid)
     views["curve_truth"] = _true_curve(sweep, f_grid)
     views["sweep"] = {"rate": sweep.rate_dph, "approx": a_sweep, "fs_hz": sweep.fs_hz,
-                      "k_on": sweep.k_on, "k_off": sweep.k_off, "freq": sweep.freq_hz}
+                      "k_on": sweep.k_on, "k_off": sweep.k_off, "freq": sweep.freq_hz,
+                      "dec": decs["sweep"]}
 
     # 7: compensation of the fixed run
     prog.update(5, total, "compensation")
@@ -922,96 +645,51 @@ def analyse(sweep: VibrationRun, fixed: VibrationRun | None = None,
                            views=views, settings=settings)
 
 
-# ----------------------------------------------------------------------------- demo study
 
-@dataclass(frozen=True)
-class QuickSettings:
-    """Demo settings, quick: shortened virtual-lab runs (P1 = P3 = 300 s, fixed P2 = 300 s,
-    sweep at 4 oct/min), no scalogram of the whole record."""
-
-    seed: int = 0
-    p1_s: float = 300.0
-    p3_s: float = 300.0
-    p2_fixed_s: float = 300.0
-    sweep_oct_per_min: float = 4.0
-    level: int | str = 6
-    spread: float = 1.2
-    goal: float = 1e-4
-    scalogram_phase_s: float | None = 60.0
+def fit(sweep: VibrationRun, fixed: VibrationRun | None = None,
+        config: VibrationConfig | None = None, progress=None) -> VibrationResult:
+    """The workflow's ``fit`` verb: :func:`analyse` (the model is ``result.model``)."""
+    return analyse(sweep, fixed, config, progress)
 
 
 @dataclass(frozen=True)
-class FullSettings:
-    """Demo settings, full: the spec's default virtual lab (§6.1); the scalogram is
-    computed on 300 s around each edge (the whole-record CWT alone would take ~20 s)."""
+class CompensatedRecord:
+    """What :func:`apply` returns: the compensated record and its residual metrics.
 
-    seed: int = 0
-    p1_s: float = 1800.0
-    p3_s: float = 1800.0
-    p2_fixed_s: float = 1800.0
-    sweep_oct_per_min: float = 1.0
-    level: int | str = 6
-    spread: float = 1.2
-    goal: float = 1e-4
-    scalogram_phase_s: float | None = 300.0
+    ``data`` has ``t_s``, ``rate_dph``, ``rate_comp_dph`` (deg/h), ``vib_on`` and
+    ``vib_freq_hz``; ``meta`` is the input sidecar plus the compensation settings;
+    ``residual`` is :func:`residual_metrics` of ``rate_comp_dph`` (deg/h).
+    """
+
+    data: object
+    meta: dict
+    residual: dict
 
 
-def simulate_pair(seed: int = 0, **overrides) -> tuple[VibrationRun, VibrationRun]:
-    """Virtual-lab sweep and fixed runs (spec 001 §6) as validated :class:`VibrationRun`."""
-    from inertialab.sim.fog_vibration import simulate
+def apply(model: VibrationModel, record, *, model_name: str = "rbf",
+          apply_to: str = "denoised", model_path: str | None = None) -> CompensatedRecord:
+    """Compensate a ``gyro_log`` record with a fitted model (spec 001 §3.10).
 
-    out = []
-    for ex in ("sweep", "fixed"):
-        sim = simulate(ex, seed, **overrides)
-        out.append(run_from_frame(sim.record, sim.meta, path=f"<virtual {ex} seed {seed}>"))
-    return out[0], out[1]
+    Parameters
+    ----------
+    model : VibrationModel
+    record : inertialab.io.Record or VibrationRun
+        The record to compensate (``vib_on``, ``vib_freq_hz``).
+    model_name : {"rbf", "poly"}, default "rbf"
+    apply_to : {"denoised", "raw"}, default "denoised" (the seed's ``A_L``)
+    model_path : str, optional
+        Recorded in the output sidecar (``compensated_with``).
+    """
+    import pandas as pd
 
-
-def run_demo(settings, progress=None) -> StudyResult:
-    """The ``vibration`` section of ``inertialab demo``."""
-    t0 = time.perf_counter()
-    s = settings
-    sweep, fixed = simulate_pair(s.seed, p1_s=s.p1_s, p3_s=s.p3_s, p2_fixed_s=s.p2_fixed_s,
-                                 sweep_oct_per_min=s.sweep_oct_per_min)
-    cfg = VibrationConfig(level=s.level, spread=s.spread, goal=s.goal,
-                          scalogram_phase_s=s.scalogram_phase_s)
-    res = analyse(sweep, fixed, cfg, progress)
-    ph = res.tables["phases"]
-    rb = res.residual_bias_dph or {}
-
-    def ratio(a, b, k):
-        num, den = ph[a][k]["value"], ph[b][k]["value"]
-        return round(num / den, 3) if den and np.isfinite(num) and np.isfinite(den) else None
-
-    headline = [
-        Headline("N ratio P2/P1 (500 Hz run)", ratio("fixed/P2", "fixed/P1", "N"),
-                 "clearly > 1", ""),
-        Headline("B ratio P2/P1 (500 Hz run)", ratio("fixed/P2", "fixed/P1", "B"),
-                 "clearly > 1", ""),
-        Headline("level L (rule / used)", f"{res.level_selection.level} / {res.level}", "6", ""),
-        Headline("RBF neurons / train RMSE", f"{res.fit['rbf']['neurons']} / "
-                 f"{res.fit['rbf']['train_rmse']:.3g}", "goal 1e-4 MSE", "deg/h"),
-        Headline("held-out RMSE RBF / poly", f"{res.fit['rbf']['heldout_rmse']:.3g} / "
-                 f"{res.fit['poly']['heldout_rmse']:.3g}", None, "deg/h"),
-        Headline("residual bias RBF / poly", f"{rb.get('rbf', float('nan')):.3g} / "
-                 f"{rb.get('poly', float('nan')):.3g}", "RBF smaller", "deg/h"),
-    ]
-    text = [
-        "Virtual FOG (spec 001 §6, preset mid) on a shaker at 5 g: a 1-500 Hz log sweep (E1) "
-        "and a 500 Hz fixed run (E2), each with a static phase before and after vibration.",
-        f"Noise terms per phase by OADEV and WLS; db4 decomposition to J = 10, level L = "
-        f"{res.level} (rule: {res.level_selection.level}); bias-vs-frequency targets from "
-        "E1 fitted by a newrb-style RBF network (spread 1.2, goal 1e-4) and a 4th-order "
-        "polynomial; E2 compensated with both.",
-    ]
-    tables = res.to_report()
-    return StudyResult(name="vibration", title=STUDY.title, settings=dict(vars(s)) if not
-                       hasattr(s, "__dataclass_fields__") else {k: getattr(s, k) for k in
-                                                               s.__dataclass_fields__},
-                       headline=headline, tables=tables,
-                       data={"result": res}, text=text, wall_s=time.perf_counter() - t0)
-
-
-STUDY = Study(name="vibration",
-              title="FOG under vibration: Allan terms, db4 separation, RBF compensation",
-              quick=QuickSettings(), full=FullSettings(), run=run_demo)
+    run = record if isinstance(record, VibrationRun) else prepare(record)
+    comp = model.compensate(run.rate_dph, run.vib_on, run.freq_hz, model=model_name,
+                            apply_to=apply_to)
+    metrics = residual_metrics(comp, run)
+    df = pd.DataFrame({"t_s": np.arange(run.n) / run.fs_hz, "rate_dph": run.rate_dph,
+                       "rate_comp_dph": comp, "vib_on": run.vib_on.astype(np.int8),
+                       "vib_freq_hz": run.freq_hz})
+    meta = dict(run.meta)
+    meta.update({"compensated_with": None if model_path is None else str(model_path),
+                 "compensation_model": model_name, "apply_to": apply_to})
+    return CompensatedRecord(data=df, meta=meta, residual=metrics)

@@ -18,7 +18,7 @@ import numpy as np
 from inertialab.report.section import Figure, Section, Table
 from inertialab.studies.base import StudyResult
 
-_UNIT_LABEL = {"dph": "deg/h", "dps": "deg/s", "rps": "rad/s", "mps2": "m/s²", "g": "g",
+_UNIT_LABEL = {"dph": "deg/h", "dps": "deg/s", "rps": "rad/s", "mps2": "m/s²", "g": "g", "1": "1",
                "mg": "mg", "ug": "µg"}
 _TERM_STYLE = {"Q": ("tab:purple", "Q (slope −1)"), "N": ("tab:blue", "N (slope −½)"),
                "B": ("tab:green", "B (flat)"), "K": ("tab:orange", "K (slope +½)"),
@@ -29,16 +29,60 @@ def deviation_figure(analysis, *, truth_curve=None, name: str = "allan") -> Figu
     """Log-log deviations with CI bars, fitted model and term lines.
 
     ``analysis`` is a :class:`inertialab.workflows.allan.AllanAnalysis`; ``truth_curve``
-    an optional ``(taus_s, dev)`` pair (virtual lab).
+    an optional ``(taus_s, dev)`` pair (virtual lab). Statistics in another unit (TDEV,
+    TTOT, MTIE, TIE rms: the phase unit) get their own panel; a curve of more than
+    :data:`BAND_ABOVE` taus (``taus="all"``/"many") draws its interval as a band instead
+    of bars, so that the figure stays readable (issue 15).
     """
-    fig, ax = plt.subplots(figsize=(7.5, 5.2))
+    groups: dict = {}
+    for r in analysis.results:
+        groups.setdefault(analysis.dev_unit(r.statistic), []).append(r)
+    if analysis.unit in groups:  # the rate-unit panel first (it carries the terms)
+        groups = {analysis.unit: groups.pop(analysis.unit), **groups}
+    n = len(groups)
+    fig, axes = plt.subplots(1, n, figsize=(7.5 if n == 1 else 6.0 * n, 5.2), squeeze=False)
     markers = "osd^v<>"
-    for i, r in enumerate(analysis.results):
-        lo = np.clip(r.dev - r.ci_low, 0, None)
-        hi = np.clip(r.ci_high - r.dev, 0, None)
-        ok = np.isfinite(lo) & np.isfinite(hi)
-        ax.errorbar(r.taus_s[ok], r.dev[ok], yerr=[lo[ok], hi[ok]], fmt=markers[i % 7],
-                    ms=4, capsize=2, lw=1, label=f"{r.statistic.upper()} ({r.confidence:.1%} CI)")
+    i = 0
+    for ax, (unit_key, results) in zip(axes[0], groups.items()):
+        for r in results:
+            lo = np.clip(r.dev - r.ci_low, 0, None)
+            hi = np.clip(r.ci_high - r.dev, 0, None)
+            ok = np.isfinite(lo) & np.isfinite(hi)
+            has_ci = bool(ok.any())
+            lab = r.statistic.upper() + (f" ({r.confidence:.1%} CI)" if has_ci else "")
+            if r.taus_s.size > BAND_ABOVE:
+                line, = ax.plot(r.taus_s, r.dev, "-", lw=1.2, label=lab)
+                if has_ci:
+                    ax.fill_between(r.taus_s[ok], r.ci_low[ok], r.ci_high[ok],
+                                    color=line.get_color(), alpha=0.2, lw=0)
+            elif has_ci:
+                ax.errorbar(r.taus_s[ok], r.dev[ok], yerr=[lo[ok], hi[ok]],
+                            fmt=markers[i % 7], ms=4, capsize=2, lw=1, label=lab)
+            else:
+                ax.plot(r.taus_s, r.dev, markers[i % 7] + "-", ms=4, lw=1, label=lab)
+            i += 1
+        if unit_key == analysis.unit:
+            _terms_and_truth(ax, analysis, truth_curve)
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("averaging time τ (s)")
+        ax.set_ylabel(f"deviation ({_UNIT_LABEL.get(unit_key, unit_key)})")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7, loc="best")
+    terms = analysis.terms is not None
+    axes[0][0].set_title("Allan family with confidence intervals"
+                         + (" and noise terms" if terms else ""))
+    fig.tight_layout()
+    return Figure(fig, "Deviations with EDF-based confidence bars (bands for dense tau sets)"
+                  + ("; the fitted five-term model (solid) and each term's line (dashed)."
+                     if terms else "."), name=name)
+
+
+#: More taus than this: intervals drawn as a band, not bars.
+BAND_ABOVE = 40
+
+
+def _terms_and_truth(ax, analysis, truth_curve) -> None:
     t = analysis.terms
     if t is not None and analysis.oadev is not None:
         taus = np.geomspace(analysis.oadev.taus_s[0], analysis.oadev.taus_s[-1], 200)
@@ -52,17 +96,6 @@ def deviation_figure(analysis, *, truth_curve=None, name: str = "allan") -> Figu
                     label=f"{lab} = {term.value:.3g} {term.unit}")
     if truth_curve is not None:
         ax.plot(truth_curve[0], truth_curve[1], ":", color="0.4", lw=1.5, label="truth (model)")
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    unit = _UNIT_LABEL.get(analysis.unit, analysis.unit)
-    ax.set_xlabel("averaging time τ (s)")
-    ax.set_ylabel(f"deviation ({unit})")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7, loc="best")
-    ax.set_title("Allan family with confidence intervals and noise terms")
-    fig.tight_layout()
-    return Figure(fig, "Deviations with EDF-based confidence bars; the fitted five-term "
-                       "model (solid) and each term's line (dashed).", name=name)
 
 
 def recovery_figure(rec: dict, name: str = "allan_recovery") -> Figure:

@@ -3,7 +3,7 @@
 Figures: fit and residuals, forecast with its 95 % interval beside the holdout and the
 simulated truth, residual autocorrelation with its bounds, and the per-unit
 re-calibration schedule. Each figure function takes the plain dict of
-:meth:`inertialab.workflows.storage_drift.SeriesResult.figure_data` (or a list of
+:meth:`inertialab.calib.drift.SeriesResult.figure_data` (or a list of
 schedule rows), so the CLI and the demo draw the same pictures.
 """
 
@@ -16,6 +16,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
+from inertialab.io.names import safe_slug
 from inertialab.report.section import Figure, Section, Table
 from inertialab.studies.base import StudyResult
 
@@ -54,7 +55,7 @@ def fit_figure(d: dict, name: str | None = None) -> Figure:
     ax2.set_xlabel("programme day")
     fig.tight_layout()
     return Figure(fig, f"One-step NAR fit and residuals, {_LABEL.get(d['quantity'])} of "
-                       f"unit {d['unit_id']}.", name or f"fit_{d['quantity']}_{d['unit_id']}")
+                       f"unit {d['unit_id']}.", name or f"fit_{d['quantity']}_{safe_slug(d['unit_id'])}")
 
 
 def forecast_figure(d: dict, name: str | None = None) -> Figure:
@@ -90,7 +91,7 @@ def forecast_figure(d: dict, name: str | None = None) -> Figure:
     return Figure(fig, f"20-step closed-loop forecast of the {_LABEL.get(d['quantity'])} of unit "
                        f"{d['unit_id']} with its 95 % bootstrap interval; dashed: the tolerance "
                        "band around the value at the origin.",
-                  name or f"forecast_{d['quantity']}_{d['unit_id']}")
+                  name or f"forecast_{d['quantity']}_{safe_slug(d['unit_id'])}")
 
 
 def acf_figure(d: dict, name: str | None = None) -> Figure:
@@ -109,7 +110,27 @@ def acf_figure(d: dict, name: str | None = None) -> Figure:
     fig.tight_layout()
     return Figure(fig, f"Residual autocorrelation ({_LABEL.get(d['quantity'])}, unit "
                        f"{d['unit_id']}) with the 95 % bounds of spec 004 §3.9.",
-                  name or f"acf_{d['quantity']}_{d['unit_id']}")
+                  name or f"acf_{d['quantity']}_{safe_slug(d['unit_id'])}")
+
+
+def error_curve_figure(curves: dict, *, unit_id: str, quantity: str, unit: str,
+                       n_origins: int | None = None, name: str | None = None) -> Figure:
+    """Forecast error per step: mean |e_k| over origins for each method (the seed's
+    Figs. 6/8; spec 004 §5 "per-step curve")."""
+    fig, ax = plt.subplots(figsize=(6.5, 3.6))
+    for m, v in curves.items():
+        arr = np.array([np.nan if x is None else x for x in v], dtype=float)
+        k = np.arange(1, arr.size + 1)
+        style = {"lw": 2.0, "color": "tab:blue"} if m == "nar" else {"lw": 1.0, "alpha": 0.8}
+        ax.plot(k, arr, ".-", label=m, **style)
+    ax.set_xlabel("forecast step k")
+    ax.set_ylabel(f"mean |error| ({_UNIT.get(unit, unit)})")
+    ax.legend(fontsize=7, ncol=2)
+    fig.tight_layout()
+    over = f" over {n_origins} origins" if n_origins else ""
+    return Figure(fig, f"Forecast error per step{over}, {_LABEL.get(quantity, quantity)} of unit "
+                       f"{unit_id}: NAR and baselines (spec 004 §5).",
+                  name or f"error_curve_{quantity}_{safe_slug(unit_id)}")
 
 
 def schedule_figure(rows: list[dict], name: str = "schedule") -> Figure:

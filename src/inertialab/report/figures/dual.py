@@ -1,6 +1,6 @@
 """Figures and report section of the ``dual`` study (spec 003).
 
-Three figures, built from workflow results only (no numerics beyond plotting):
+Three figures, built from calib/study results only (no numerics beyond plotting):
 residuals per position and method, coefficient estimates with their SDs per method
 (against truth in simulation), and the head-error sensitivity of K2 per method.
 """
@@ -15,7 +15,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from inertialab.report.section import Figure, Section, Table
-from inertialab.sensors.dual_meter import COEF_NAMES, g2_design, single_design
+from inertialab.sensors.dual_meter import COEF_NAMES, PAPER_ALIASES, g2_design, single_design
 
 __all__ = ["coefficient_figure", "residual_figure", "section", "sensitivity_figure"]
 
@@ -67,7 +67,7 @@ def coefficient_figure(fit, truth: dict | None = None,
                         color=_COLORS.get(m, "k"), capsize=3)
         if truth is not None and n in truth:
             ax.axhline(truth[n] * 1e6, color="k", lw=0.8, ls="--")
-        ax.set_title(n, fontsize=9)
+        ax.set_title(f"{n} ({PAPER_ALIASES[n]})" if n in PAPER_ALIASES else n, fontsize=9)
         ax.set_xticks(range(len(methods)))
         ax.set_xticklabels(methods, rotation=60, fontsize=7)
         ax.tick_params(axis="y", labelsize=7)
@@ -100,11 +100,9 @@ def sensitivity_figure(sens: dict) -> Figure:
 
 def section(result) -> Section:
     """The report section of the ``dual`` study from its :class:`StudyResult`."""
-    from inertialab.workflows.dual_tumble import head_error_sensitivity
-
     fit = result.data["fit"]
     truth = result.data.get("truth")
-    sens = head_error_sensitivity(fit.reduced, methods=("single-ls", "ls", "ebr"))
+    sens = result.data["sensitivity"]  # computed by studies.dual (the report only draws)
     figs = [residual_figure(fit), coefficient_figure(fit, truth), sensitivity_figure(sens)]
     rows = [[r["method"], r["residual_ug"], r["r_val_ug"], r["KA2_err"] * 1e6,
              r["KB2_err"] * 1e6, r["kA1_err"] * 1e6, r["eta_err"] * 1e6]

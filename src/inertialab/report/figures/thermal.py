@@ -1,6 +1,8 @@
 """Figures and report section of the ``thermal`` study (spec 000).
 
-Figures are built from workflow results only: drift against temperature per input
+Layouts use fixed margins (``subplots_adjust``), not ``tight_layout``, which redraws
+every tick label and cost ~40 % of this section's rendering time (cProfile, issue 18
+item 11). Figures are built from workflow results only: drift against temperature per input
 level before and after compensation (seed Figs. 2-4 and 9), test residuals per model,
 and the transfer to a second unit with its bootstrap band when there is one.
 """
@@ -16,7 +18,7 @@ import numpy as np
 
 from inertialab.report.section import Figure, Section, Table
 
-__all__ = ["drift_figure", "residual_figure", "section"]
+__all__ = ["bias_figure", "drift_figure", "residual_figure", "scale_factor_figure", "section"]
 
 _LABELS = {"ann": "ANN", "fis": "FIS", "anfis": "ANFIS (grid)", "scm-anfis": "SCM-ANFIS",
            "iafsa-scm-anfis": "IAFSA-SCM-ANFIS", "poly-sep": "POLY-SEP", "poly-2d": "POLY-2D"}
@@ -55,9 +57,48 @@ def drift_figure(samples, d, *, title: str = "", band=None, name: str = "thermal
     a0.legend(fontsize=6, ncol=2, title="a_i", title_fontsize=7)
     if title:
         fig.suptitle(title, fontsize=10)
-    fig.tight_layout()
+    fig.subplots_adjust(left=0.07, right=0.985, bottom=0.13, top=0.84 if title else 0.9,
+                        wspace=0.22)
     return Figure(fig, f"Drift against temperature per input level, before and after "
                        f"compensation{': ' + title if title else ''}.", name=name)
+
+
+def bias_figure(bsf, *, title: str = "", name: str = "thermal_bias") -> Figure:
+    """The seed's Fig. 3: bias (0°/180° mean) against temperature, drift vs the reference
+    set point in mg. ``bsf``: :class:`inertialab.sensors.pendulous.BiasScaleFactorDrift`."""
+    fig, ax = plt.subplots(figsize=(5.5, 3.6))
+    ax.plot(bsf.temp_c, bsf.bias_drift_mg, "o-", ms=3, lw=1.0, color="C0")
+    ax.axhline(0, color="k", lw=0.5)
+    ax.axvline(bsf.reference_temp_c, color="0.6", lw=0.6, ls="--")
+    ax.set_xlabel("temperature (°C)")
+    ax.set_ylabel(f"bias drift vs {bsf.reference_temp_c:g} °C (mg)")
+    mx = np.nanmax(np.abs(bsf.bias_drift_mg))
+    ax.set_title(f"{title + ': ' if title else ''}bias drift, max {mx:.3f} mg", fontsize=9)
+    fig.subplots_adjust(left=0.14, right=0.97, bottom=0.14, top=0.9)
+    return Figure(fig, "Bias (mean of the 0° and 180° positions) against temperature, "
+                       f"relative to {bsf.reference_temp_c:g} °C (seed Fig. 3).", name=name)
+
+
+def scale_factor_figure(bsf, *, title: str = "", name: str = "thermal_scale_factor") -> Figure:
+    """The seed's Fig. 4: eq.-3 scale factor against temperature, one line per input level,
+    drift vs the reference set point in mV/g."""
+    fig, ax = plt.subplots(figsize=(6.5, 3.8))
+    cmap = plt.get_cmap("coolwarm")
+    n = bsf.levels_g.size
+    for j, lev in enumerate(bsf.levels_g):
+        ax.plot(bsf.temp_c, bsf.scale_factor_drift_mv_per_g[:, j], lw=0.9,
+                color=cmap(j / max(n - 1, 1)), label=f"{lev:+.3f} g")
+    ax.axhline(0, color="k", lw=0.5)
+    ax.set_xlabel("temperature (°C)")
+    ax.set_ylabel(f"scale-factor drift vs {bsf.reference_temp_c:g} °C (mV/g)")
+    mx = np.nanmax(np.abs(bsf.scale_factor_drift_mv_per_g))
+    ax.set_title(f"{title + ': ' if title else ''}eq. 3 scale factor per input level, "
+                 f"max |drift| {mx:.2f} mV/g", fontsize=9)
+    ax.legend(fontsize=6, ncol=2, title="a_i", title_fontsize=7)
+    fig.subplots_adjust(left=0.12, right=0.97, bottom=0.13, top=0.9)
+    return Figure(fig, "Scale factor (U - K0)/a_i (eq. 3) against temperature per input "
+                       f"level, relative to {bsf.reference_temp_c:g} °C (seed Fig. 4).",
+                  name=name)
 
 
 def residual_figure(fit, name: str = "thermal_residuals") -> Figure:
@@ -81,7 +122,9 @@ def residual_figure(fit, name: str = "thermal_residuals") -> Figure:
         ax.axis("off")
     for ax in axes[:, 0]:
         ax.set_ylabel("residual (µg)", fontsize=8)
-    fig.tight_layout()
+    fig.subplots_adjust(left=0.09 if cols > 2 else 0.16, right=0.985,
+                        bottom=0.16 / rows + 0.02, top=1 - 0.1 / rows, wspace=0.12,
+                        hspace=0.55)
     return Figure(fig, f"Test residuals per model ({fit.config.split} split), colour = input "
                        "level a_i (blue -1 g, red +1 g).", name=name)
 

@@ -73,17 +73,19 @@ def convergence_figure(histories: dict, *, floor: float = 1e-16) -> Figure:
 
 
 def section(result) -> Section:
-    """The ``triaxial`` demo section from :func:`inertialab.workflows.field_calibration.run_demo`."""
+    """The ``triaxial`` demo section from :func:`inertialab.studies.triaxial.run_demo`."""
     t = result.tables
     d = result.data
     rows = [[r["method"], r["rmse_mps2"], r["sd_mps2"], r["max_param_error"], r["iterations"]]
             for r in t["turntable62_realistic"]]
     rows.append(["paper: laboratory", 0.1103, 0.0643, None, None])
     rows.append(["paper: ACS", 0.0826, 0.0487, None, None])
-    t1 = Table("turntable62-realistic: eq.-21 vector error against the rig references",
+    t1 = Table("turntable62-realistic: eq.-21 vector error against the sensor-frame truth",
                ["method", "RMSE (m/s^2)", "SD (m/s^2)", "max |x - x_true|", "iterations"], rows,
-               note="S12 fits the mount rotation phi; S9/six-position/norm cannot. The paper's "
-                    "numbers come from a real MPU6050 and a real laboratory calibration.")
+               note="Every method scored against the same truth: the true gravity vectors in the "
+                    "sensor frame. S12 fits the mount rotation phi; S9/six-position/norm cannot. "
+                    "The paper's numbers come from a real MPU6050 and a real laboratory "
+                    "calibration.")
     cs = t["cs_acs"]
     t2 = Table(f"Generations to J <= 1e-10 ({cs['seeds']} seeds, {cs['points']} points)",
                ["method", "mean generations", "paper"],
@@ -111,3 +113,68 @@ def section(result) -> Section:
     return Section(key="triaxial", title=result.title, paragraphs=list(result.text),
                    tables=[t1, t2, t3], figures=figs, results=result.tables,
                    settings=result.settings)
+
+
+def sections_figure(t, acc, gyro, sections: dict, *, detection=None, title: str = "") -> Figure:
+    """A Ferraris session with its sections shaded (faces blue, turns orange) over the raw
+    accelerometer and gyro, and, for detected sections, the detector's two statistics
+    against their thresholds (issue 17 item 2: the user checks the detection)."""
+    t = np.asarray(t, dtype=float)
+    acc = np.asarray(acc, dtype=float)
+    gyro = np.asarray(gyro, dtype=float)
+    rows = 3 if detection is not None else 2
+    fig, axes = plt.subplots(rows, 1, figsize=(11, 2.4 * rows), sharex=True)
+    for j, c in enumerate("xyz"):
+        axes[0].plot(t, acc[:, j], lw=0.6, label=f"a{c}")
+        axes[1].plot(t, gyro[:, j], lw=0.6, label=f"g{c}")
+    for name, (i0, i1) in sections.items():
+        turn = name.endswith("_rot")
+        for ax in axes[:2]:
+            ax.axvspan(t[i0], t[min(i1, len(t)) - 1], color="tab:orange" if turn else "tab:blue",
+                       alpha=0.15, lw=0)
+        axes[0].text((t[i0] + t[min(i1, len(t)) - 1]) / 2, axes[0].get_ylim()[1], name,
+                     ha="center", va="top", fontsize=7)
+    axes[0].set_ylabel("accelerometer (raw)")
+    axes[1].set_ylabel("gyro (raw)")
+    axes[0].legend(fontsize=7, ncol=3, loc="lower right")
+    axes[1].legend(fontsize=7, ncol=3, loc="lower right")
+    if detection is not None:
+        ax = axes[2]
+        ax.semilogy(t, np.maximum(detection.acc_var / detection.thresholds["acc_var"], 1e-6),
+                    lw=0.6, label="accelerometer moving variance / threshold")
+        ax.semilogy(t, np.maximum(detection.gyro_dev / detection.thresholds["gyro_dev"], 1e-6),
+                    lw=0.6, label="|gyro - rest| / threshold")
+        ax.axhline(1.0, color="k", lw=0.8)
+        ax.fill_between(t, 1e-6, 1.0, where=detection.rest_mask, color="0.85", step="mid",
+                        label="rest")
+        ax.set_ylabel("detector")
+        ax.legend(fontsize=7, loc="upper right")
+    axes[-1].set_xlabel("time (s)")
+    fig.suptitle(title or "Ferraris session: sections")
+    fig.tight_layout()
+    return Figure(fig, "The session's sections (blue: static faces, orange: turns) over the raw "
+                  "channels; with detection, the two detector statistics over their thresholds "
+                  "(rest = both below 1).", name="ferraris_sections")
+
+
+def coverage_figure(directions, *, title: str = "") -> Figure:
+    """Pose coverage: the calibrated gravity directions of the records in the sensor frame
+    as longitude (atan2(y, x)) and latitude (asin z), with the six faces marked."""
+    d = np.asarray(directions, dtype=float)
+    d = d / np.linalg.norm(d, axis=1)[:, None]
+    lon = np.degrees(np.arctan2(d[:, 1], d[:, 0]))
+    lat = np.degrees(np.arcsin(np.clip(d[:, 2], -1, 1)))
+    fig, ax = plt.subplots(figsize=(8, 4))
+    ax.scatter(lon, lat, s=14, color="tab:blue", label="poses")
+    for name, (lo, la) in {"+x": (0, 0), "-x": (180, 0), "+y": (90, 0), "-y": (-90, 0),
+                           "+z": (0, 90), "-z": (0, -90)}.items():
+        ax.plot(lo, la, marker="+", color="0.4", ms=10)
+        ax.annotate(name, (lo, la), textcoords="offset points", xytext=(4, 4), fontsize=7)
+    ax.set_xlim(-185, 185)
+    ax.set_ylim(-95, 95)
+    ax.set_xlabel("longitude of gravity-up in the sensor frame (deg)")
+    ax.set_ylabel("latitude (deg)")
+    ax.set_title(title or "Pose coverage on the sphere")
+    fig.tight_layout()
+    return Figure(fig, "Gravity-up direction of every record in the sensor frame; gaps on the "
+                  "sphere are directions no pose constrains.", name="triaxial_coverage")

@@ -147,6 +147,79 @@ def _fig_levels(res):
                        "noise; at high levels P2 keeps the vibration bias.", "levels")
 
 
+def _fig_separation(res):
+    """Seed Fig. 4 analogue: the record with its bias signal A_L, the first detail D1 and
+    the drift + noise x - A_L (= D1 + ... + D_L) of the decomposed run."""
+    d = res.views.get("decomposition")
+    if d is None:
+        return None
+    dec, fs, L = d["dec"], d["fs_hz"], res.level
+    x = dec.approximation(0) if hasattr(dec, "approximation") else None
+    a = dec.approximation(L)
+    x = a + sum(dec.detail(j) for j in range(1, L + 1)) if x is None else x
+    t = np.arange(a.size) / fs
+    fig, axes = plt.subplots(3, 1, figsize=(9, 6.5), sharex=True)
+    panels = ((x, f"raw x and bias signal A{L}", "0.5"), (dec.detail(1), "D1", "tab:purple"),
+              (x - a, f"drift + noise x - A{L}", "tab:green"))
+    for ax, (sig, lab, c) in zip(axes, panels):
+        tt, xx = _decimate(t, sig)
+        ax.plot(tt, xx, lw=0.4, color=c, label=lab)
+        if lab.startswith("raw"):
+            ta, xa = _decimate(t, a)
+            ax.plot(ta, xa, lw=1.0, color="tab:blue", label=f"A{L}")
+        _shade(ax, fs, d["k_on"], d["k_off"])
+        ax.set_ylabel("deg/h", fontsize=8)
+        ax.legend(fontsize=7, loc="upper right")
+    axes[-1].set_xlabel("time [s]")
+    fig.suptitle(f"Separation of the {d['run']} run (seed Fig. 4): A{L}, D1 and x - A{L}",
+                 fontsize=9)
+    fig.tight_layout()
+    return Figure(fig, f"Seed Fig. 4 analogue: the level-{L} approximation is the bias "
+                       f"signal; D1 (the finest detail) and x - A{L} (D1 + ... + D{L}) carry "
+                       "the drift and noise.", "separation")
+
+
+def _fig_waterfall(res):
+    """The sweep's decomposition as a waterfall (seed Fig. 3, 3-D time-scale view): each
+    detail D_j and the final approximation, normalised, offset by level."""
+    sw = res.views.get("sweep")
+    if sw is None or sw.get("dec") is None:
+        return None
+    dec, fs = sw["dec"], sw["fs_hz"]
+    n = dec.detail(1).size
+    t = np.arange(n) / fs
+    fig, ax = plt.subplots(figsize=(9, 6))
+    levels = list(range(1, dec.level + 1))
+    for j in levels:
+        sig = dec.detail(j)
+        scale = np.max(np.abs(sig)) or 1.0
+        tt, xx = _decimate(t, sig / scale * 0.45, 1500)
+        ax.plot(tt, xx + j, lw=0.4, color=plt.cm.viridis(j / (dec.level + 1)))
+    a = dec.approximation(dec.level)
+    a = (a - np.median(a)) / ((np.max(np.abs(a - np.median(a)))) or 1.0) * 0.45
+    tt, xx = _decimate(t, a, 1500)
+    ax.plot(tt, xx + dec.level + 1, lw=0.8, color="k")
+    ax.set_yticks(levels + [dec.level + 1])
+    ax.set_yticklabels([f"D{j}" for j in levels] + [f"A{dec.level}"], fontsize=7)
+    _shade(ax, fs, sw["k_on"], sw["k_off"])
+    f = sw.get("freq")
+    if f is not None:
+        ax2 = ax.twiny()
+        on = f > 0
+        if on.any():
+            ticks = [p for p in (1, 10, 100, 500) if f[on].min() <= p <= f[on].max()]
+            pos = [float(np.argmin(np.abs(np.where(on, f, np.inf) - p))) / fs for p in ticks]
+            ax2.set_xlim(ax.get_xlim())
+            ax2.set_xticks(pos)
+            ax2.set_xticklabels([f"{p} Hz" for p in ticks], fontsize=7)
+    ax.set_xlabel("time [s]")
+    ax.set_title("Sweep run: db4 details by level (waterfall; each trace normalised)",
+                 fontsize=9)
+    fig.tight_layout()
+    return Figure(fig, "Waterfall of the sweep's decomposition (seed Fig. 3): where each level "
+                       "responds as the drive frequency (top axis) rises.", "sweep_waterfall")
+
+
 def _fig_bias(res):
     v = res.views
     tg = v.get("targets")
@@ -193,8 +266,8 @@ def _fig_compensated(res):
 def figures(res) -> list[Figure]:
     """All figures of a :class:`~inertialab.workflows.vibration.VibrationResult`."""
     out = []
-    for fn in (_fig_record, _fig_scalogram, _fig_spectra, _fig_emd, _fig_levels, _fig_bias,
-               _fig_compensated):
+    for fn in (_fig_record, _fig_scalogram, _fig_spectra, _fig_emd, _fig_levels,
+               _fig_separation, _fig_waterfall, _fig_bias, _fig_compensated):
         f = fn(res)
         if f is not None:
             out.append(f)
@@ -227,6 +300,19 @@ def tables(res) -> list[Table]:
                               "RMSE vs truth"],
                      rows=[[m, f[m].get("neurons"), f[m]["train_rmse"], f[m]["heldout_rmse"],
                             f[m].get("truth_rmse")] for m in ("rbf", "poly")]))
+    raw = res.metrics.get("raw_phases")
+    if raw:
+        out.append(Table(title="Raw records: bias and 10-s bias stability per phase (deg/h)",
+                         columns=["record", "phase", "bias", "10-s stability"],
+                         rows=[[rn, ph, v["bias"][ph], v["stability_10s"][ph]]
+                               for rn, v in raw.items() for ph in v["bias"]]))
+    sel_sp = f["rbf"].get("spread_selection")
+    if sel_sp:
+        out.append(Table(title=f"RBF spread by held-out RMSE (chosen {sel_sp['chosen']:g} Hz)",
+                         columns=["spread [Hz]", "held-out RMSE [deg/h]", "neurons"],
+                         rows=[[g, r, k] for g, r, k in zip(sel_sp["grid"],
+                                                             sel_sp["heldout_rmse"],
+                                                             sel_sp["neurons"])]))
     sel = res.level_selection
     out.append(Table(title=f"Level rule delta_j (threshold {sel.threshold}); chosen "
                            f"L* = {sel.level}, used L = {res.level}",

@@ -1,0 +1,358 @@
+"""Delimited text tables as rigs write them: the text half of the front door.
+
+What a vendor CSV throws at a reader, handled before pandas sees the file:
+
+* **size and content checks first** (issue 19 item 3): a file above
+  :data:`MAX_TEXT_BYTES`, a NUL byte in its first or last MiB (a sparse or binary
+  file), UTF-16 text or bytes that are not UTF-8 are a one-line
+  :class:`~inertialab.errors.InputError` before any parsing, so a 2 GB sparse file
+  fails in milliseconds instead of filling memory;
+* a UTF-8 byte-order mark is dropped (it is not part of the first column's name);
+* **preamble** lines (``#`` metadata, ``//`` comments, blank lines, and free-text
+  lines whose field count differs from the table's) are skipped;
+* the **separator** is sniffed: tab, ``;``, ``,`` or runs of blanks, the first that
+  splits the data lines into one consistent number of fields (> 1);
+* **header rows** are the rows between the preamble and the first data row; a second
+  header row of units (``s``, ``[deg/s]``, ``(g)``) is joined to the names: the unit
+  goes to :attr:`TextTable.header_units` and, for a bare canonical name (``gx``), into
+  the name's suffix (``gx_dps``);
+* a file **without a header** gets the positional names ``col1 .. colN`` (1-based, as a
+  spreadsheet counts), so ``gx_rps=col7`` maps its seventh column;
+* an exactly **duplicated header name** is refused (pandas would silently rename it
+  ``x.1``);
+* the data are read in chunks (bounded memory: about twice the parsed numbers).
+
+Written by hand because it is glue around :func:`pandas.read_csv` (which does the
+parsing): the sniffing rules are what a user's file needs and pandas does not do.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import os
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import pandas as pd
+
+from inertialab import units as U
+from inertialab.errors import InputError
+
+__all__ = ["MAX_TEXT_BYTES", "TextLayout", "TextTable", "layout_of", "load_text", "unit_suffix"]
+
+#: Largest text file the reader parses (bytes); above it, convert to Parquet or .npy.
+#: ``INERTIALAB_MAX_TEXT_BYTES`` in the environment overrides it.
+MAX_TEXT_BYTES = 4 * 2**30
+_HEAD_BYTES = 1 << 20
+_CHUNK_ROWS = 1 << 18
+_PREAMBLE = ("#", "//")
+_CANDIDATE_SEPS = ("\t", ";", ",", r"\s+")
+_NUM = re.compile(r"^[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?$|^[+-]?(?:nan|inf|infinity)$",
+                  re.IGNORECASE)
+
+
+def _max_bytes() -> int:
+    env = os.environ.get("INERTIALAB_MAX_TEXT_BYTES")
+    try:
+        return int(env) if env else MAX_TEXT_BYTES
+    except ValueError:
+        return MAX_TEXT_BYTES
+
+
+@dataclass
+class TextLayout:
+    """What sniffing decided about a text file (all counts in lines of the file)."""
+
+    skip: int                      # preamble lines before the first header row
+    n_header: int                  # header rows (0: headerless)
+    sep: str                       # separator ("\\s+" for runs of blanks)
+    decimal: str
+    names: list[str]               # column names as the user sees them (BOM dropped)
+    header_units: dict[str, str] = field(default_factory=dict)  # name -> unit text
+    hash_lines: list[str] = field(default_factory=list)          # '# key=value' lines
+    bom: bool = False
+
+
+@dataclass
+class TextTable:
+    """A parsed text table with its layout."""
+
+    frame: pd.DataFrame
+    layout: TextLayout
+
+    @property
+    def header_units(self) -> dict[str, str]:
+        return self.layout.header_units
+
+
+def unit_suffix(text: str) -> str | None:
+    """The canonical suffix (``dps``) of a unit as written in a header (``deg/s``,
+    ``[deg/s]``, ``(g)``, ``m/s^2``), or None when it is not a unit inertialab knows."""
+    t = str(text).strip().strip("[]()").strip()
+    if not t:
+        return None
+    t = {"°/s": "deg/s", "deg/sec": "deg/s", "m/s2": "m/s^2", "m/s²": "m/s^2", "rad/sec": "rad/s",
+         "sec": "s", "°c": "c", "degc": "c", "°": "deg", "us": "us", "µs": "us",
+         "µg": "ug"}.get(t.lower(), t)
+    try:
+        u = U.lookup(t)
+    except InputError:
+        return None
+    for name, v in U.SUFFIXES.items():
+        if v.dimension == u.dimension and math.isclose(v.scale, u.scale, rel_tol=1e-12) \
+                and v.g_power == u.g_power:
+            return name
+    return None
+
+
+# ----------------------------------------------------------------------------- checks
+
+def _check_bytes(path: Path) -> tuple[bytes, bool]:
+    """Size, NUL and encoding checks; return (head bytes, truncated)."""
+    size = path.stat().st_size
+    limit = _max_bytes()
+    if size > limit:
+        raise InputError(f"text file of {size / 2**30:.2f} GiB is above the reader's limit of "
+                         f"{limit / 2**30:.2f} GiB; convert it to Parquet or .npy", path=path)
+    with open(path, "rb") as fh:
+        head = fh.read(_HEAD_BYTES)
+        tail = b""
+        if size > _HEAD_BYTES:
+            fh.seek(max(_HEAD_BYTES, size - _HEAD_BYTES))
+            tail = fh.read(_HEAD_BYTES)
+    if head[:2] in (b"\xff\xfe", b"\xfe\xff"):
+        raise InputError("UTF-16 text; save the file as UTF-8", path=path)
+    for block, offset in ((head, 0), (tail, size - len(tail))):
+        i = block.find(b"\0")
+        if i >= 0:
+            raise InputError(f"binary content (NUL byte at byte {offset + i}), not a text "
+                             "table", path=path)
+    return head, size > len(head)
+
+
+def _decode(head: bytes, truncated: bool, path: Path) -> str:
+    if truncated:  # cut at the last full line so a multi-byte character is not split
+        cut = head.rfind(b"\n")
+        head = head[:cut + 1] if cut >= 0 else head
+    try:
+        return head.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise InputError(f"not UTF-8 text (byte {exc.start}); save the file as UTF-8 CSV",
+                         path=path) from None
+
+
+# ----------------------------------------------------------------------------- sniffing
+
+def _split(line: str, sep: str) -> list[str]:
+    if sep == r"\s+":
+        return line.split()
+    row = next(csv.reader([line.rstrip("\r\n")], delimiter=sep, skipinitialspace=True), [])
+    return [c.strip() for c in row]
+
+
+def _is_number(cell: str, decimal: str) -> bool:
+    c = cell.strip()
+    if decimal == ",":
+        c = c.replace(",", ".")
+    return bool(_NUM.match(c))
+
+
+def _is_data_row(cells: list[str], decimal: str) -> bool:
+    filled = [c for c in cells if c.strip()]
+    if not filled:
+        return False
+    num = sum(_is_number(c, decimal) for c in filled)
+    return num >= 1 and 3 * num >= len(filled)
+
+
+def _guess_sep(lines: list[str], seps=_CANDIDATE_SEPS) -> tuple[str, int]:
+    """First candidate separator that splits the last lines (the data, past any header)
+    into one consistent count of fields above one; returns (separator, field count)."""
+    n = len(lines)
+    sample = lines[-min(40, max(2, math.ceil(n / 2))):] if n > 2 else lines
+    for sep in seps:
+        split = [_split(ln, sep) for ln in sample]
+        counts = [len(r) for r in split]
+        if not counts:
+            continue
+        if sep != r"\s+" and any(len(f.split()) > 1 and all(_is_number(x, ".") or
+                                                            _is_number(x, ",") for x in f.split())
+                                  for r in split for f in r):
+            continue  # numbers separated by blanks inside a field: not this separator
+        mode = max(set(counts), key=counts.count)
+        if mode > 1 and counts.count(mode) >= 0.9 * len(counts):
+            return sep, mode
+    sep = seps[0] if len(seps) == 1 else ","
+    counts = [len(_split(ln, sep)) for ln in sample] or [1]
+    return sep, max(set(counts), key=counts.count)
+
+
+def _is_unit_row(cells: list[str]) -> bool:
+    filled = [c for c in cells if c.strip()]
+    return bool(filled) and all(unit_suffix(c) is not None for c in filled)
+
+
+def _guess_decimal(lines: list[str], sep: str) -> str:
+    if sep == ",":
+        return "."
+    if any(re.search(r"(?<![\d.])-?\d+,\d+(?![\d,]*\.)", ln) for ln in lines):
+        return ","
+    return "."
+
+
+def _header_names(rows: list[list[str]], ncol: int, *, path) -> tuple[list[str], dict[str, str]]:
+    """Names (one per column) and units from one or more header rows."""
+    from inertialab.io.schemas import flexible_bases
+
+    rows = [r + [""] * (ncol - len(r)) for r in rows]
+    names, units = [], {}
+    bases = flexible_bases()
+    for j in range(ncol):
+        parts, unit = [], None
+        for k, r in enumerate(rows):
+            cell = r[j].strip()
+            if not cell:
+                continue
+            if k > 0 and unit is None and unit_suffix(cell) is not None:
+                unit = cell.strip().strip("[]()").strip()
+                continue
+            parts.append(cell)
+        name = " ".join(parts) if parts else f"col{j + 1}"
+        if unit is not None:
+            suf = unit_suffix(unit)
+            if name.strip().lower() in bases and suf is not None:
+                name = f"{name}_{suf}"
+            else:
+                units[name] = unit
+        names.append(name)
+    seen: dict[str, int] = {}
+    for j, n in enumerate(names):
+        key = n.strip().lower()
+        if key in seen:
+            raise InputError(f"duplicated column header '{n}' (columns {seen[key] + 1} and "
+                             f"{j + 1}); rename one", path=path)
+        seen[key] = j
+    return names, units
+
+
+def layout_of(lines: list[str], parse=None, *, path=None) -> TextLayout:
+    """Sniff the layout of a text file from its first lines (BOM already removed)."""
+    from inertialab.io.mapping import ParseOptions
+
+    opts = parse or ParseOptions()
+    hash_lines: list[str] = []
+    if opts.skip_rows is not None:
+        skip = int(opts.skip_rows)
+        hash_lines = [ln for ln in lines[:skip] if ln.lstrip().startswith("#")]
+    else:
+        skip = 0
+        for ln in lines:
+            s = ln.strip()
+            if s.startswith(_PREAMBLE) or not s:
+                if s.startswith("#"):
+                    hash_lines.append(ln)
+                skip += 1
+            else:
+                break
+    rest = [ln for ln in lines[skip:]]
+    if not any(ln.strip() for ln in rest):
+        raise InputError("no header and no data (empty table)", path=path)
+    sep = opts.sep
+    if sep == " ":
+        sep = r"\s+"
+    sep, ncol = _guess_sep([ln for ln in rest if ln.strip()],
+                           _CANDIDATE_SEPS if sep is None else (sep,))
+    dec = opts.decimal or _guess_decimal(rest[1:21], sep)
+    rows = [_split(ln, sep) for ln in rest]
+    # first data row; the rows before it are header rows (or free-text preamble)
+    first = next((i for i, r in enumerate(rows) if len(r) == ncol and _is_data_row(r, dec)),
+                 None)
+    if first is None:  # header only, no data
+        first = len(rows)
+        while first > 0 and not rest[first - 1].strip():
+            first -= 1
+    head = [i for i in range(first) if rest[i].strip()]
+    if opts.skip_rows is None:
+        # free-text lines above the header have another number of fields than the table;
+        # the row just above the data is always the header
+        while len(head) > 1 and len(rows[head[0]]) != ncol:
+            head.pop(0)
+        # name row = the last row that is not all units; rows above it are preamble
+        name_at = max((k for k, i in enumerate(head) if not _is_unit_row(rows[i])), default=0)
+        head = head[name_at:]
+    start = head[0] if head else first
+    head_rows = [rows[i] for i in head]
+    if len(head_rows) > 3:
+        raise InputError(f"{len(head_rows)} lines before the first row of numbers; give the "
+                         "number of preamble lines (argument 'skip_rows')", path=path)
+    for r in head_rows:
+        if len([c for c in r if c.strip()]) > ncol > 0:
+            raise InputError(f"header line has {len(r)} names but the data rows have {ncol} "
+                             "fields", path=path)
+    if head_rows:
+        names, units = _header_names(head_rows, ncol, path=path)
+    else:
+        names, units = [f"col{j + 1}" for j in range(ncol)], {}
+    return TextLayout(skip=skip + start, n_header=first - start, sep=sep, decimal=dec, names=names,
+                      header_units=units, hash_lines=hash_lines)
+
+
+def _head_lines(path: Path, parse) -> tuple[list[str], bool]:
+    head, truncated = _check_bytes(path)
+    text = _decode(head, truncated, path)
+    bom = text.startswith("\ufeff")
+    if bom:
+        text = text[1:]
+    lines = text.splitlines(keepends=True)
+    extra = parse.skip_rows if parse is not None and parse.skip_rows else 0
+    return lines[:400 + extra], bom
+
+
+def load_text(path, parse=None, *, nrows: int | None = None) -> TextTable:
+    """Read a delimited text file into a frame with the user's column names.
+
+    ``nrows`` limits the data rows (for a peek). Raises :class:`InputError` naming the
+    file (and row/column where pandas reports one).
+    """
+    p = Path(path)
+    lines, bom = _head_lines(p, parse)
+    lay = layout_of(lines, parse, path=p)
+    lay.bom = bom
+    lead = lay.skip + lay.n_header
+    ncol = len(lay.names)
+    kw = dict(sep=lay.sep, decimal=lay.decimal, header=None, names=lay.names,
+              skiprows=lead, encoding="utf-8-sig", skip_blank_lines=True,
+              comment=None, index_col=False)
+    if lay.sep != r"\s+":
+        kw["skipinitialspace"] = True
+    try:
+        if nrows is not None:
+            df = pd.read_csv(p, nrows=nrows, **kw)
+        else:
+            chunks = list(pd.read_csv(p, chunksize=_CHUNK_ROWS, **kw))
+            df = (pd.concat(chunks, ignore_index=True) if len(chunks) > 1 else chunks[0]) \
+                if chunks else pd.DataFrame(columns=lay.names)
+    except UnicodeDecodeError as exc:
+        raise InputError(f"not UTF-8 text (byte {exc.start}); save the file as UTF-8 CSV",
+                         path=p) from None
+    except pd.errors.EmptyDataError:
+        df = pd.DataFrame(columns=lay.names)
+    except (pd.errors.ParserError, ValueError) as exc:
+        msg = " ".join(str(exc).split()) or type(exc).__name__
+        raise InputError(f"not a readable text table ({msg[:160]}); expected {ncol} "
+                         "fields per line", path=p) from None
+    return TextTable(df, lay)
+
+
+def peek_names(path, parse=None) -> list[str]:
+    """Column names of a text file as :func:`load_text` gives them (reads a few rows)."""
+    return list(load_text(path, parse, nrows=5).frame.columns)
+
+
+def sniff_compat(lines: list[str], parse=None) -> tuple[int, str, str, list[str]]:
+    """``(skip, sep, decimal, hash_lines)`` — the old :func:`inertialab.io.mapping.sniff`
+    answer, where ``skip`` counts the lines before the (last) header row."""
+    lay = layout_of(lines, parse)
+    return lay.skip + max(lay.n_header - 1, 0), lay.sep, lay.decimal, lay.hash_lines

@@ -1,0 +1,248 @@
+"""Least-squares fit of the five-term model with bootstrap intervals (the "wls" and "ols"
+methods of :func:`inertialab.noise.terms.fit_noise_terms`; issue 14 items 2-3).
+
+See :mod:`inertialab.noise.terms` for the method; this module holds its core: the
+Greenhall EDF table, the reweighted bounded least squares with the signed ``c_-2``,
+the observability rule, the correlated Allan-domain bootstrap and the conversion of
+coefficients and replicates into :class:`~inertialab.noise.terms.NoiseTerm`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.optimize import nnls
+
+from inertialab.noise.terms import (
+    _GAIN,
+    _NAMES,
+    _POWERS,
+    _REPORT,
+    _TERM_ALPHA,
+    BI_FACTOR,
+    EDF_MIN,
+    OCTAVE_RHO,
+    READ_SHARE,
+    NoiseTerm,
+    NoiseTerms,
+)
+
+
+def _edf_table(result, sel):
+    """Greenhall EDF of each selected tau for each term's noise type, shape (5, k)."""
+    from inertialab.noise.edf import GREENHALL_STATS, edf_greenhall
+
+    stat = result.statistic if result.statistic in GREENHALL_STATS else "oadev"
+    n_phase = result.n_samples + 1 if result.input == "rate" else result.n_samples
+    ms = np.asarray(result.m)[sel]
+    if n_phase <= 1:
+        e = np.asarray(result.edf, dtype=float)[sel]
+        return np.tile(np.where(np.isfinite(e) & (e > 0), e, 1.0), (5, 1))
+    cache = {}
+    out = np.empty((5, ms.size))
+    for j, a in enumerate(_TERM_ALPHA):
+        if a not in cache:
+            cache[a] = np.array([edf_greenhall(stat, n_phase, int(m), a) for m in ms])
+        out[j] = cache[a]
+    return np.where(np.isfinite(out) & (out > 0), out, 1.0)
+
+
+def _solve(X, avar, edf_tab, active, weighted: bool, n_iter: int):
+    """Reweighted LS of ``avar ~ X c`` with ``c_k >= 0`` except the signed ``c_-2``.
+
+    Returns ``(c, model, dom)``: coefficients (0 where inactive), the model and the index
+    of its dominant term per tau."""
+    k = avar.size
+    cols = [j for j in range(5) if active[j]]
+    Xa = X[:, cols]
+    signed = 0 in cols
+    if signed:  # c_-2 = p - q, p, q >= 0
+        Xa = np.concatenate([Xa, -X[:, :1]], axis=1)
+    model = avar.copy()
+    edf = edf_tab[1] if weighted else np.ones(k)
+    c = np.zeros(5)
+    dom = np.ones(k, dtype=np.int64)
+    for _ in range(n_iter if weighted else 1):
+        w = edf / (2.0 * model * model) if weighted else np.ones(k)
+        sw = np.sqrt(w)
+        A = Xa * sw[:, None]
+        scale = np.linalg.norm(A, axis=0)
+        scale[scale == 0] = 1.0
+        cs, _ = nnls(A / scale, avar * sw, maxiter=50 * A.shape[1])
+        ca = cs / scale
+        c = np.zeros(5)
+        c[cols] = ca[:len(cols)]
+        if signed:
+            c[0] -= ca[-1]
+        contrib = X * c[None, :]
+        new = contrib.sum(axis=1)
+        model = np.where(new > 0.05 * avar, new, np.maximum(avar, 1e-300))
+        dom = np.argmax(contrib, axis=1)
+        if weighted:
+            edf = edf_tab[dom, np.arange(k)]
+    return c, model, dom
+
+
+def _observable(n_taus: int):
+    """Active terms for ``n_taus`` points (two points per parameter): drop R, K, Q."""
+    active = [True] * 5
+    reasons = {}
+    for j in (4, 3, 0):
+        if n_taus >= 2 * sum(active):
+            break
+        active[j] = False
+        reasons[_NAMES[j]] = (f"record too short: {n_taus} usable taus cannot separate "
+                              f"{sum(active) + 1} terms")
+    return active, reasons
+
+
+def fit_ls(result, sel, conv, rate_hz, method, n_reweight, confidence, n_boot, seed):
+    """The "wls"/"ols" fit of the selected taus (see :mod:`inertialab.noise.terms`)."""
+    weighted = method == "wls"
+    idx = np.nonzero(sel)[0]
+    edf_tab = _edf_table(result, sel)
+    taus = np.asarray(result.taus_s, dtype=float)[idx]
+    avar = np.asarray(result.dev, dtype=float)[idx] ** 2
+    active, reasons = _observable(taus.size)
+    X = np.stack([taus**k for k in _POWERS], axis=1)
+    c, model, dom = _solve(X, avar, edf_tab, active, weighted, n_reweight)
+    # long taus whose EDF (for the model's noise type) is below EDF_MIN do not drag the fit
+    edf_dom = edf_tab[dom, np.arange(taus.size)]
+    keep = edf_dom >= EDF_MIN
+    if keep.sum() >= 3 and not keep.all():
+        idx, taus, avar, X, edf_tab = idx[keep], taus[keep], avar[keep], X[keep], edf_tab[:, keep]
+        active, reasons = _observable(taus.size)
+        c, model, dom = _solve(X, avar, edf_tab, active, weighted, n_reweight)
+    edf_dom = edf_tab[dom, np.arange(taus.size)]
+    fit_rmse = float(np.sqrt(np.mean((0.5 * np.log(avar / model)) ** 2)))
+    # misfit (Birge) ratio: ln(avar_hat) has variance ~2/edf; a model that cannot follow
+    # the curve (e.g. Gauss-Markov bumps read as flicker) leaves larger residuals, and the
+    # bootstrap spread is widened by sqrt(chi2/dof) when that exceeds 1
+    n_par = int(np.count_nonzero(c))
+    chi2 = float(np.sum(0.5 * edf_dom * np.log(avar / model) ** 2))
+    misfit = math.sqrt(max(1.0, chi2 / max(taus.size - n_par, 1)))
+    # parametric bootstrap in the Allan domain
+    boot = None
+    if n_boot > 0:
+        rng = np.random.default_rng(seed)
+        draws = _draw_avar(model, edf_dom, dom, np.asarray(result.m)[idx], n_boot, rng)
+        boot = np.empty((n_boot, 5))
+        n_it = min(n_reweight, 3)
+        for b in range(n_boot):
+            boot[b] = _solve(X, draws[b], edf_tab, active, weighted, n_it)[0]
+        boot = c[None, :] + misfit * (boot - c[None, :])
+    terms = _terms_from_coefficients(c, boot, active, reasons, taus, conv, rate_hz, method,
+                                     confidence)
+    dev_sel = np.sqrt(avar)
+    i_min = int(np.argmin(dev_sel))
+    kB = conv.factor("B")
+    ci_lo = np.asarray(result.ci_low, dtype=float)[idx][i_min]
+    ci_hi = np.asarray(result.ci_high, dtype=float)[idx][i_min]
+    b_text = {"value": kB * dev_sel[i_min] / BI_FACTOR, "unit": _REPORT[conv.kind]["B"],
+              "tau_s": float(taus[i_min]),
+              "ci": [kB * ci_lo / BI_FACTOR, kB * ci_hi / BI_FACTOR],
+              "ci_confidence": float(result.confidence)}
+    return NoiseTerms(**terms, kind=conv.kind, unit=conv.unit, method=method,
+                      coefficients=tuple(float(v) for v in c),
+                      tau_range_s=(float(taus.min()), float(taus.max())),
+                      fit_rmse_log=fit_rmse, rate_hz=float(rate_hz), confidence=confidence,
+                      statistic=result.statistic, g_local=conv.g,
+                      alpha_model=tuple(int(_TERM_ALPHA[j]) for j in dom),
+                      b_textbook=b_text,
+                      interval=f"bootstrap-allan/{n_boot}" if n_boot > 0 else "none",
+                      misfit=misfit)
+
+
+def _shares(c, taus, j):
+    contrib = np.stack([c[i] * taus ** _POWERS[i] for i in range(5)], axis=1)
+    tot = np.sum(np.abs(contrib), axis=1)
+    return np.where(tot > 0, contrib[:, j] / tot, 0.0)
+
+
+def _max_share(c, taus, j) -> float:
+    return float(np.max(_shares(c, taus, j)))
+
+
+def _tau_correlation(dom, m) -> np.ndarray:
+    """Correlation of the log AVAR estimates across taus: a Markov chain in log2(m) whose
+    per-octave correlation is that of the dominant noise type (:data:`OCTAVE_RHO`)."""
+    rho = np.array([OCTAVE_RHO[_TERM_ALPHA[j]] for j in dom])
+    lm = np.log2(np.asarray(m, dtype=float))
+    step = np.diff(lm) * np.log(np.sqrt(rho[1:] * rho[:-1]))
+    L = np.concatenate([[0.0], np.cumsum(step)])
+    return np.exp(-np.abs(L[:, None] - L[None, :]))
+
+
+def _draw_avar(model, edf, dom, m, n_boot, rng):
+    """Bootstrap AVARs: ``model chi2(edf)/edf`` marginals, Gaussian-copula correlation."""
+    from scipy.stats import chi2, norm
+
+    C = _tau_correlation(dom, m)
+    Lc = np.linalg.cholesky(C + 1e-12 * np.eye(C.shape[0]))
+    z = rng.standard_normal((n_boot, model.size)) @ Lc.T
+    u = np.clip(norm.cdf(z), 1e-12, 1 - 1e-12)
+    return model[None, :] * chi2.ppf(u, edf[None, :]) / edf[None, :]
+
+
+def _read_range(c, taus, j):
+    """Taus where term j carries >= READ_SHARE of the model (else where its share peaks)."""
+    share = _shares(c, taus, j)
+    on = share >= READ_SHARE
+    if not on.any():
+        if c[j] <= 0:
+            return (float("nan"), float("nan"))
+        on = share >= share.max()
+    t = taus[on]
+    return (float(t.min()), float(t.max()))
+
+
+def _terms_from_coefficients(c, boot, active, reasons, taus, conv, rate_hz, method, conf):
+    """NoiseTerm per name from coefficients and their bootstrap replicates."""
+    lo_q, hi_q = 0.5 * (1 - conf), 0.5 * (1 + conf)
+    out = {}
+    for j, name in enumerate(_NAMES):
+        unit = _REPORT[conv.kind][name]
+        k = conv.factor(name)
+        if not active[j]:
+            out[name] = NoiseTerm(value=float("nan"), unit=unit, ci=(float("nan"),) * 2,
+                                  method=method, tau_range_s=(float("nan"),) * 2,
+                                  flags=("not_observable",), reason=reasons[name])
+            continue
+        val = k * _GAIN[j] * math.sqrt(max(c[j], 0.0))
+        flags, reason, ub, sd = [], "", float("nan"), float("nan")
+        ci = (float("nan"), float("nan"))
+        if c[j] <= 0:
+            flags.append("zero")
+        if j == 0 and c[0] < 0:
+            flags.append("filter")
+            reason = ("short taus show the sensor's low-pass filter (c_-2 < 0), no angle "
+                      "quantisation")
+        if boot is not None:
+            cb = boot[:, j]
+            amp = k * _GAIN[j] * np.sqrt(np.maximum(cb, 0.0))
+            qlo, qhi = np.quantile(amp, [lo_q, hi_q])
+            sd = float(np.std(amp, ddof=1))
+            weak = _max_share(c, taus, j) < READ_SHARE
+            if np.quantile(cb, lo_q) <= 0.0 or weak:
+                flags.append("upper_bound")
+                ub = float(max(qhi, val))
+                ci = (0.0, ub)
+                if not reason:
+                    reason = (f"not significant at {100 * conf:g} %: the bootstrap interval "
+                              "reaches 0" if not weak else
+                              f"below {100 * READ_SHARE:g} % of the curve at every fitted "
+                              "tau: not read (its estimate would follow the correlated "
+                              "scatter of neighbouring taus)")
+            else:
+                ci = (float(qlo), float(qhi))
+        dens = per = None
+        if name == "N":
+            dens, per = conv.n_extras(val / conv.value("N", 1.0), rate_hz)
+        out[name] = NoiseTerm(value=val, unit=unit, ci=ci, method=method,
+                              tau_range_s=_read_range(c, taus, j), flags=tuple(flags), sd=sd,
+                              density=dens, per_sample_std=per, reason=reason,
+                              upper_bound=ub)
+    return out
+
+

@@ -1,0 +1,147 @@
+"""Theo1, TheoBR and TheoH (NIST SP 1065 §5.2.15-5.2.17; issue 15).
+
+* **Theo1** (SP 1065 eq. 30), ``m`` even, ``10 <= m <= N - 1`` in Stable32 (here any even
+  ``m >= 2``), at averaging time ``tau = 0.75 m tau0``::
+
+      Theo1 = 1 / (0.75 (N - m) (m tau0)^2) *
+              sum_{i=0}^{N-m-1} sum_{d=0}^{m/2-1} [(x_i - x_{i+m/2-d}) + (x_{i+m} - x_{i+m/2+d})]^2
+                                                   / (m/2 - d)
+
+  Computed as ``m/2`` vector passes over ``i`` per tau (``O(N m)``), no Python loop
+  over ``i`` (allantools' ``theo1`` loops over both indices in Python).
+* **TheoBR** (eq. 31): Theo1 times the average ratio of the overlapping Allan variance
+  to Theo1 at the same tau, ``Avar(9 + 3i) / Theo1(12 + 4i)``, ``i = 0 .. n``,
+  ``n = floor(0.1 N / 3) - 3``: the data-derived bias removal of Howe & Tasset.
+* **TheoH** (eq. 32): the overlapping Allan deviation for ``tau < k`` and TheoBR for
+  ``tau >= k``, ``k`` the largest octave Allan tau within 10 % of the record length.
+
+``bias_correction`` of Theo1 (Stable32) is the TheoBR ratio itself (no fixed table is
+applied; see docs/allan.md). EDF: the overlapping Allan EDF of SP 1065 Table 5 at the
+same tau (conservative: Theo1 has more degrees of freedom).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from inertialab.errors import InputError
+from inertialab.noise._clock import grid, interval, noise_types, phase_source
+from inertialab.noise.allan import DeviationResult
+
+__all__ = ["theo1", "theo1_variance", "theobr", "theoh"]
+
+
+def theo1_variance(x: np.ndarray, m: int, tau0: float) -> float:
+    """Theo1 variance of phase ``x`` at even ``m`` (SP 1065 eq. 30)."""
+    if m % 2 or m < 2:
+        raise InputError(f"Theo1 needs an even averaging factor >= 2, got {m}")
+    N = x.size
+    n = N - m
+    if n < 1:
+        raise InputError(f"Theo1 at m = {m} needs more than {m} phase points")
+    h = m // 2
+    a = x[:n]
+    c = x[m:m + n]
+    base = a + c
+    buf = np.empty(n)
+    total = 0.0
+    for d in range(h):
+        np.subtract(base, x[h - d:h - d + n], out=buf)
+        buf -= x[h + d:h + d + n]
+        total += float(np.dot(buf, buf)) / (h - d)
+    return total / (0.75 * n * (m * tau0) ** 2)
+
+
+def _edf_oadev(N: int, ms_equiv: np.ndarray, alphas: np.ndarray) -> np.ndarray:
+    from inertialab.noise import edf as _edf
+
+    return np.array([float(_edf.edf_oadev_sp1065(N, max(1, int(round(me))),
+                                                max(min(int(a), 2), -2)))
+                     for me, a in zip(ms_equiv, alphas)])
+
+
+def _result(statistic, data, x, src, ms, taus, var, nt, tau0, confidence, alpha, input,
+            alpha_stat="oadev"):
+    m_equiv = np.maximum(np.round(taus / tau0).astype(np.int64), 1)
+    alphas, sources, amethod = noise_types(src, m_equiv, alpha_stat, alpha)
+    dev = np.sqrt(var)
+    edfs = _edf_oadev(x.size, taus / tau0, alphas)
+    lo, hi = interval(dev, edfs, confidence)
+    return DeviationResult(statistic=statistic, tau0_s=tau0, taus_s=taus, m=ms, dev=dev,
+                           n_terms=nt, alpha=alphas, edf=edfs, ci_low=lo, ci_high=hi,
+                           confidence=float(confidence), n_samples=int(np.asarray(data).size),
+                           input=input, alpha_method=amethod, edf_method="oadev-sp1065-table5",
+                           alpha_source=tuple(sources))
+
+
+def theo1(data, *, rate_hz: float, taus="octave", input: str = "rate",
+          confidence: float = 0.683, alpha=None) -> DeviationResult:
+    """Theo1 deviation (SP 1065 eq. 30) at even m; ``taus_s = 0.75 m tau0``.
+
+    ``taus`` as :func:`inertialab.noise.allan.tau_grid` for m (octave: m = 2, 4, 8 ...;
+    explicit seconds are Theo1 taus, ``m = tau / (0.75 tau0)`` rounded to even).
+    """
+    src, x = phase_source(data, rate_hz, input)
+    tau0 = 1.0 / float(rate_hz)
+    N = x.size
+    ms = grid(N, taus, rate_hz, N - 1 - ((N - 1) % 2), even=True, mmin=2, scale=0.75)
+    var = np.array([theo1_variance(x, int(m), tau0) for m in ms])
+    nt = (N - ms) * (ms // 2)
+    return _result("theo1", data, x, src, ms, 0.75 * ms * tau0, var, nt.astype(np.int64),
+                   tau0, confidence, alpha, input)
+
+
+def _br_ratio(x: np.ndarray, tau0: float) -> tuple[float, int]:
+    """``(1/(n+1)) sum_i Avar(9+3i) / Theo1(12+4i)`` and n (SP 1065 eq. 31)."""
+    N = x.size
+    n = int(math.floor(0.1 * N / 3.0)) - 3
+    if n < 0:
+        raise InputError(f"TheoBR needs at least 120 phase points, got {N}")
+    tot = 0.0
+    for i in range(n + 1):
+        ma, mt = 9 + 3 * i, 12 + 4 * i
+        d = x[2 * ma:] - 2.0 * x[ma:-ma] + x[:-2 * ma]
+        avar = float(np.dot(d, d)) / (2.0 * (ma * tau0) ** 2 * d.size)
+        tot += avar / theo1_variance(x, mt, tau0)
+    return tot / (n + 1), n
+
+
+def theobr(data, *, rate_hz: float, taus="octave", input: str = "rate",
+           confidence: float = 0.683, alpha=None) -> DeviationResult:
+    """Bias-removed Theo1 (SP 1065 eq. 31)."""
+    r = theo1(data, rate_hz=rate_hz, taus=taus, input=input, confidence=confidence,
+              alpha=alpha)
+    _, x = phase_source(data, rate_hz, input)
+    ratio, _n = _br_ratio(x, r.tau0_s)
+    f = math.sqrt(ratio)
+    return DeviationResult(**{**r.__dict__, "statistic": "theobr", "dev": r.dev * f,
+                              "ci_low": r.ci_low * f, "ci_high": r.ci_high * f})
+
+
+def theoh(data, *, rate_hz: float, taus="octave", input: str = "rate",
+          confidence: float = 0.683, alpha=None) -> DeviationResult:
+    """TheoH (SP 1065 eq. 32): OADEV for ``tau < k``, TheoBR for ``tau >= k``, ``k`` the
+    largest octave OADEV tau within 10 % of the record length ``T = (N - 1) tau0``."""
+    from inertialab.noise.allan import oadev
+
+    src, x = phase_source(data, rate_hz, input)
+    tau0 = 1.0 / float(rate_hz)
+    T = (x.size - 1) * tau0
+    a = oadev(x, rate_hz=rate_hz, taus="octave", input="angle", confidence=confidence,
+              alpha=alpha)
+    k = float(a.taus_s[a.taus_s <= 0.1 * T].max()) if np.any(a.taus_s <= 0.1 * T) else \
+        float(a.taus_s[0])
+    b = theobr(x, rate_hz=rate_hz, taus=taus, input="angle", confidence=confidence,
+               alpha=alpha)
+    ka = a.taus_s < k
+    kb = b.taus_s >= k
+    cat = {f: np.concatenate((getattr(a, f)[ka], getattr(b, f)[kb]))
+           for f in ("taus_s", "m", "dev", "n_terms", "alpha", "edf", "ci_low", "ci_high")}
+    src_a = tuple(s for s, keep in zip(a.alpha_source, ka) if keep)
+    src_b = tuple(s for s, keep in zip(b.alpha_source, kb) if keep)
+    return DeviationResult(statistic="theoh", tau0_s=tau0, confidence=float(confidence),
+                           n_samples=int(np.asarray(data).size), input=input,
+                           alpha_method=a.alpha_method, edf_method="oadev|theobr",
+                           alpha_source=src_a + src_b, **cat)

@@ -1,0 +1,213 @@
+"""Virtual lab rig ``ferraris-session``: a 6-DOF IMU calibrated by hand with the Ferraris
+protocol (issue 17 item 2; Ferraris et al. 1995, as imucal records it).
+
+The session, in time order: an initial rest, the six static faces ``x_p x_a y_p y_a z_p
+z_a`` (sensor axis up / down), then one full turn about each axis ``x_rot y_rot z_rot``
+(the sensor placed on the ``*_p`` face and turned about the vertical), each followed by a
+rest. The hand is imperfect:
+
+- every face is tilted from its nominal attitude by a random rotation with a
+  ``placement_deg`` standard deviation per axis (and a random heading);
+- every turn is ``360 deg + N(0, angle_sigma_deg)`` in a random sense (or ``senses``);
+- moving the sensor shakes it (white acceleration ``shake_mps2`` while moving).
+
+Sensor model (imucal's documented form): ``u_a = T_a a + b_a`` with ``T_a = K_a R_a``,
+``u_g = T_g omega + K_ga a + b_g``, where ``a`` is the specific force and ``omega`` the
+rate, both in the housing frame, plus white noise. The default device is the MPU6050-A of
+spec 002 §6.1 (accelerometer), its gyro triad of the ``triaxial-poses`` rig, and a
+g-sensitivity of ~0.1 deg/s/g. Units: acceleration m/s^2 and rate deg/s (as the real
+session of issue 17: 102.4 Hz, m/s^2, deg/s), or 16-bit counts.
+
+The truth holds the true matrices and the true sections in imucal's section-list format.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from inertialab.seeding import as_generator
+from inertialab.sensors.triaxial import gain_matrix, rotation
+from inertialab.sim.triaxial_poses import (
+    GYRO_BIAS,
+    GYRO_T,
+    LSB_PER_G,
+    SIGMA_S,
+    X_MPU6050_A,
+    SimRecord,
+    _log_so3,
+)
+
+GENERATOR = "inertialab.sim.ferraris_session"
+GENERATOR_VERSION = "1"
+KIND = "ferraris-session"
+
+FS_HZ = 102.4
+"""Sample rate of the real session of issue 17, Hz."""
+G_LOCAL = 9.81
+K_GA_DPS_PER_MPS2 = np.array([[0.004, -0.010, 0.012],
+                              [0.009, 0.003, -0.006],
+                              [-0.006, 0.005, -0.002]])
+"""True g-sensitivity K_ga, deg/s per m/s^2 (~0.1 deg/s/g, a MEMS gyro's order)."""
+GYRO_SIGMA_DPS = 0.04
+"""Gyro white noise per sample, deg/s."""
+GYRO_LSB_PER_DPS = 131.0
+PHI_HOUSING = np.array([0.004, -0.006, 0.003])
+"""Rotation of the accelerometer's axes in the housing, rad (absorbed by R_a)."""
+
+SECTION_NAMES = ("x_p", "x_a", "y_p", "y_a", "z_p", "z_a", "x_rot", "y_rot", "z_rot")
+"""Sections of a Ferraris session (imucal's names)."""
+_UP = {"x_p": (1.0, 0, 0), "x_a": (-1.0, 0, 0), "y_p": (0, 1.0, 0), "y_a": (0, -1.0, 0),
+       "z_p": (0, 0, 1.0), "z_a": (0, 0, -1.0)}
+
+
+def face_attitude(up_body, heading: float = 0.0) -> np.ndarray:
+    """World-from-body rotation with body vector ``up_body`` pointing up (world +z) and the
+    given heading (rad) about the vertical."""
+    u = np.asarray(up_body, dtype=float)
+    u = u / np.linalg.norm(u)
+    helper = np.array([0.0, 0.0, 1.0]) if abs(u[2]) < 0.9 else np.array([1.0, 0.0, 0.0])
+    r0 = np.cross(helper, u)
+    r0 /= np.linalg.norm(r0)
+    r1 = np.cross(u, r0)
+    R_wb = np.vstack([r0, r1, u])  # rows: world axes in the body frame
+    c, s = np.cos(heading), np.sin(heading)
+    Rz = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+    return Rz @ R_wb
+
+
+def simulate_ferraris(*, seed=0, fs: float = FS_HZ, g: float = G_LOCAL,
+                      placement_deg: float = 2.0, angle_sigma_deg: float = 1.0,
+                      senses=None, rest_s: float = 6.0, first_rest_s: float = 5.0,
+                      move_s: float = 3.0, turn_s: float = 8.0, shake_mps2: float = 0.3,
+                      counts: bool = False, x_true=None, k_ga_dps=None) -> SimRecord:
+    """Simulate one Ferraris calibration session (see the module docstring).
+
+    Parameters
+    ----------
+    seed : int
+        Draw order: face tilts and headings, turn angles and senses, noise.
+    fs : float, default 102.4
+        Sample rate, Hz.
+    placement_deg : float, default 2
+        Standard deviation of a face's tilt per axis, deg.
+    angle_sigma_deg : float, default 1
+        Standard deviation of a turn's angle around 360 deg.
+    senses : sequence of three +-1, optional
+        Turning sense of x_rot, y_rot, z_rot (+1 counterclockwise seen from above);
+        default random.
+    counts : bool
+        Write 16-bit counts (16384 LSB/g, 131 LSB/(deg/s)) instead of m/s^2 and deg/s.
+    """
+    rng = as_generator(seed)
+    x = X_MPU6050_A.copy() if x_true is None else np.asarray(x_true, dtype=float)
+    T_a = gain_matrix(x) @ rotation(PHI_HOUSING)
+    b_a = x[:3]
+    T_g = GYRO_T.copy()  # raw rate per true rate (deg/s per deg/s)
+    b_g = np.rad2deg(GYRO_BIAS)
+    K_ga = K_GA_DPS_PER_MPS2 if k_ga_dps is None else np.asarray(k_ga_dps, dtype=float)
+    # ---- the hand: attitudes of the faces and the turns
+    sig = np.deg2rad(placement_deg)
+    atts = {}
+    for name in ("x_p", "x_a", "y_p", "y_a", "z_p", "z_a"):
+        tilt = rng.standard_normal(3) * sig
+        atts[name] = rotation(tilt) @ face_attitude(_UP[name], rng.uniform(0, 2 * np.pi))
+    turn_att = {}
+    for ax in "xyz":
+        tilt = rng.standard_normal(3) * sig
+        turn_att[ax] = rotation(tilt) @ face_attitude(_UP[f"{ax}_p"], rng.uniform(0, 2 * np.pi))
+    ang_err = rng.standard_normal(3) * np.deg2rad(angle_sigma_deg)
+    if senses is None:
+        senses = np.where(rng.uniform(size=3) < 0.5, -1.0, 1.0)
+    senses = np.asarray(senses, dtype=float)
+    angles = senses * (2 * np.pi + ang_err)
+    # ---- timeline of world-from-body attitudes and body rates
+    n_rest, n_first, n_move, n_turn = (int(round(v * fs)) for v in (rest_s, first_rest_s,
+                                                                     move_s, turn_s))
+    R_list, w_list, moving_list = [], [], []
+    sections: dict[str, dict] = {}
+    cursor = 0
+
+    def hold(R, n):
+        nonlocal cursor
+        R_list.append(np.repeat(R[None], n, axis=0))
+        w_list.append(np.zeros((n, 3)))
+        moving_list.append(np.zeros(n, dtype=bool))
+        cursor += n
+
+    def move(R0, R1, n):
+        nonlocal cursor
+        v = _log_so3(R0.T @ R1)  # body-frame axis: R(s) = R0 Exp(s v)
+        tt = (np.arange(n) + 1) / n
+        s = 0.5 * (1.0 - np.cos(np.pi * tt))
+        sdot = 0.5 * np.pi / (n / fs) * np.sin(np.pi * tt)
+        R_list.append(np.einsum("ij,njk->nik", R0, rotation(s[:, None] * v[None, :])))
+        w_list.append(sdot[:, None] * v[None, :])
+        moving_list.append(np.ones(n, dtype=bool))
+        cursor += n
+
+    def turn(R0, angle, n):
+        nonlocal cursor
+        tt = (np.arange(n) + 1) / n
+        s = 0.5 * (1.0 - np.cos(np.pi * tt))
+        sdot = 0.5 * np.pi / (n / fs) * np.sin(np.pi * tt)
+        psi = s * angle
+        c, sn = np.cos(psi), np.sin(psi)
+        Rz = np.zeros((n, 3, 3))
+        Rz[:, 0, 0], Rz[:, 0, 1], Rz[:, 1, 0], Rz[:, 1, 1], Rz[:, 2, 2] = c, -sn, sn, c, 1.0
+        R_list.append(Rz @ R0)
+        up_body = R0.T @ np.array([0.0, 0.0, 1.0])
+        w_list.append((sdot * angle)[:, None] * up_body[None, :])
+        moving_list.append(np.ones(n, dtype=bool))
+        cursor += n
+        return R_list[-1][-1]
+
+    R_prev = atts["x_p"]
+    hold(R_prev, n_first)
+    for name in ("x_p", "x_a", "y_p", "y_a", "z_p", "z_a"):
+        if name != "x_p":
+            move(R_prev, atts[name], n_move)
+        start = cursor
+        hold(atts[name], n_rest)
+        sections[name] = {"start": start, "end": cursor}
+        R_prev = atts[name]
+    for j, ax in enumerate("xyz"):
+        move(R_prev, turn_att[ax], n_move)
+        hold(turn_att[ax], n_rest // 2)
+        start = cursor
+        R_end = turn(turn_att[ax], angles[j], n_turn)
+        sections[f"{ax}_rot"] = {"start": start, "end": cursor}
+        hold(R_end, n_rest // 2)
+        R_prev = R_end
+    R_wb = np.concatenate(R_list)
+    w_body = np.concatenate(w_list)  # rad/s
+    moving = np.concatenate(moving_list)
+    n = R_wb.shape[0]
+    t = np.arange(n) / fs
+    f_body = g * R_wb[:, 2, :]  # specific force at rest: +g along the body's up
+    f_body = f_body + rng.standard_normal((n, 3)) * shake_mps2 * moving[:, None]
+    acc = f_body @ T_a.T + b_a + rng.standard_normal((n, 3)) * SIGMA_S
+    w_dps = np.rad2deg(w_body)
+    gyr = w_dps @ T_g.T + f_body @ K_ga.T + b_g + rng.standard_normal((n, 3)) * GYRO_SIGMA_DPS
+    df = pd.DataFrame({"t_s": t})
+    meta = {"generator": GENERATOR, "generator_version": GENERATOR_VERSION, "rig": KIND,
+            "seed": seed if isinstance(seed, (int, np.integer)) else None,
+            "g_local_mps2": g, "fs_hz": fs}
+    if counts:
+        for j, c in enumerate("xyz"):
+            df[f"a{c}_lsb"] = np.round(acc[:, j] / g * LSB_PER_G)
+        for j, c in enumerate("xyz"):
+            df[f"g{c}_lsb"] = np.round(gyr[:, j] * GYRO_LSB_PER_DPS)
+        meta.update(units="lsb")
+    else:
+        for j, c in enumerate("xyz"):
+            df[f"a{c}_mps2"] = acc[:, j]
+        for j, c in enumerate("xyz"):
+            df[f"g{c}_dps"] = gyr[:, j]
+        meta.update(units="mps2")
+    truth = {"T_a": T_a, "b_a": b_a, "T_g_dps": T_g, "b_g_dps": b_g, "K_ga_dps": K_ga,
+             "angles_rad": angles, "senses": senses, "sections": sections,
+             "face_up_body": {k: v.T @ np.array([0.0, 0.0, 1.0]) for k, v in atts.items()},
+             "turn_axis_body": {ax: v.T @ np.array([0.0, 0.0, 1.0]) for ax, v in turn_att.items()},
+             "x": x, "counts": counts}
+    return SimRecord(data=df, meta=meta, truth=truth, schedule=None, kind="triaxial_raw")

@@ -1,0 +1,550 @@
+"""Workflow ``drift`` (spec 004): storage records to per-unit NAR forecasts.
+
+Thin, one verb set over :mod:`inertialab.calib.drift`:
+
+* :func:`prepare` / :func:`to_daily_grid` (§2.2) — a ``storage_drift`` record to one
+  :class:`~inertialab.calib.drift.DailySeries` per unit and quantity: programme day
+  d = floor((t - t0)/1 day), invalid rows dropped, same-day repeats averaged (``n_rep``,
+  ``rep_sd``), exact duplicate tests dropped with a warning and the same (unit, time)
+  twice with different values an :class:`~inertialab.errors.InputError`; gaps of at most
+  ``max_gap`` steps filled by linear interpolation and flagged ``imputed``; longer gaps
+  split segments; optional Hampel screen; weekly (or other regular) programmes resampled
+  to their native step. Bias in µg, scale factor in ppm of the unit's mean K1.
+* :func:`fit` / :func:`fit_drift` — every unit and quantity of a record fitted and
+  forecast (:func:`~inertialab.calib.drift.fit_series`), returning a :class:`DriftFit`
+  with a :class:`~inertialab.calib.drift.DriftModel`.
+* :func:`forecast` — a saved model forecast again.
+
+Random streams: ``SeedSequence(seed).spawn(n_units)`` over units in sorted ``unit_id``
+order, then each unit's stream ``spawn(2)`` for (bias, sf); each is the NAR's seed.
+"""
+
+from __future__ import annotations
+
+import time
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+
+from inertialab.calib.drift import (
+    DEFAULT_BASELINES,
+    MAX_HORIZON,
+    QUANTITIES,
+    DailySeries,
+    DriftModel,
+    DriftSettings,
+    check_horizon,
+    fill_gaps,
+    fit_series,
+)
+from inertialab.errors import DataQualityWarning, InputError
+from inertialab.learn.monitoring import hampel_flags
+from inertialab.progress import NullProgress
+from inertialab.units import convert, split_suffix
+
+__all__ = ["DEFAULT_BASELINES", "MAX_HORIZON", "QUANTITIES", "DriftFit", "DriftSettings",
+           "apply", "check_horizon", "evaluate", "fit", "fit_drift", "forecast", "prepare",
+           "to_daily_grid"]
+
+
+def _find(frame: pd.DataFrame, base: str) -> str | None:
+    for c in frame.columns:
+        b, suf = split_suffix(c)
+        if b == base and suf is not None:
+            return c
+    return None
+
+
+def _load_ohm(frame, meta, path, col) -> np.ndarray:
+    """Load resistor per row, ohm: a ``load_ohm`` column, else the sidecar's ``load_ohm``
+    (a number or ``{unit_id: number}``); needed to read a scale factor in V/g (spec 004 §1)."""
+    if "load_ohm" in frame.columns:
+        r = pd.to_numeric(frame["load_ohm"], errors="coerce").to_numpy(dtype=float)
+    else:
+        ref = meta.get("load_ohm")
+        if isinstance(ref, dict):
+            r = frame["unit_id"].astype(str).map(
+                lambda u: ref.get(u, float("nan"))).to_numpy(dtype=float)
+        elif isinstance(ref, (int, float)) and not isinstance(ref, bool):
+            r = np.full(len(frame), float(ref))
+        else:
+            raise InputError("a scale factor in V/g needs the load resistor: a load_ohm "
+                             "column or 'load_ohm' in the sidecar (k[mA/g] = 1000 k[V/g] / "
+                             "R[ohm], spec 004 §1)", path=path, column=col)
+    bad = ~(np.isfinite(r) & (r > 0))
+    if bad.any():
+        rows = (np.flatnonzero(bad)[:5] + 1).tolist()
+        raise InputError("load_ohm must be a positive number of ohms for every test of a "
+                         "scale factor in V/g", path=path, column="load_ohm",
+                         row=rows[0] if len(rows) == 1 else rows)
+    return r
+
+
+def _sf_ma_per_g(frame, col, meta, path) -> np.ndarray:
+    """A scale-factor column in mA/g: V/g through the load resistor (k[mA/g] =
+    1000 k[V/g] / R[ohm], spec 004 §1), mA/g as it is."""
+    x = frame[col].to_numpy(dtype=float)
+    if split_suffix(col)[1] == "v_per_g":
+        return 1000.0 * x / _load_ohm(frame, meta, path, col)
+    return x
+
+
+def _bias_ug(frame, col, meta, path, k1_col):
+    _, suf = split_suffix(col)
+    x = frame[col].to_numpy(dtype=float)
+    if suf in ("ma",):
+        if k1_col is not None and split_suffix(k1_col)[1] in ("ma_per_g", "v_per_g"):
+            k1 = _sf_ma_per_g(frame, k1_col, meta, path)
+        else:
+            nom = meta.get("k1_nominal_ma_per_g")
+            if isinstance(nom, dict):
+                k1 = frame["unit_id"].map(nom).to_numpy(dtype=float)
+            elif nom is not None:
+                k1 = np.full(x.size, float(nom))
+            else:
+                raise InputError("a bias in mA needs K1: an sf_ma_per_g column or "
+                                 "'k1_nominal_ma_per_g' in the sidecar", path=path, column=col)
+        return x / k1 * 1e6
+    return np.asarray(convert(x, suf, "ug"), dtype=float)
+
+
+def _sf_values(frame, col, meta, path):
+    """Scale factor as ppm relative to k_ref per unit; returns (ppm array, k_ref per unit
+    in mA/g; a V/g column is converted with the load resistor first)."""
+    _, suf = split_suffix(col)
+    x = frame[col].to_numpy(dtype=float)
+    units = frame["unit_id"].to_numpy()
+    kref: dict[str, float] = {}
+    if suf in ("ppm", "pct"):
+        ppm = np.asarray(convert(x, suf, "ppm"), dtype=float)
+        ref = meta.get("k_ref") or meta.get("k1_nominal_ma_per_g")
+        for u in np.unique(units):
+            kref[str(u)] = float(ref[u]) if isinstance(ref, dict) and u in ref else \
+                (float(ref) if isinstance(ref, (int, float)) else float("nan"))
+        return ppm, kref
+    x = _sf_ma_per_g(frame, col, meta, path)  # k_ref and ppm relative to mA/g (spec §1)
+    ppm = np.empty_like(x)
+    for u in np.unique(units):
+        m = units == u
+        ref = meta.get("k_ref")
+        k = float(ref[u]) if isinstance(ref, dict) and u in ref else float(np.mean(x[m]))
+        if k == 0:
+            raise InputError(f"unit {u}: mean scale factor is zero", path=path, column=col)
+        kref[str(u)] = k
+        ppm[m] = 1e6 * (x[m] - k) / k
+    return ppm, kref
+
+
+def _programme_days(frame: pd.DataFrame, meta: dict, path) -> np.ndarray:
+    if "day" in frame.columns:
+        return frame["day"].to_numpy(dtype=float)
+    tcol = "timestamp" if "timestamp" in frame.columns else "date"
+    ts = pd.to_datetime(frame[tcol], utc=True)
+    t0 = meta.get("t0")
+    t0 = pd.Timestamp(t0, tz="UTC") if t0 is not None and pd.Timestamp(t0).tzinfo is None \
+        else (pd.Timestamp(t0) if t0 is not None else ts.min())
+    return np.floor((ts - t0).dt.total_seconds().to_numpy() / 86400.0)
+
+
+def _programme_t0(frame: pd.DataFrame, meta: dict) -> str | None:
+    """The programme start t0 (ISO, UTC) of a dated record, for :func:`apply` on a later
+    record; None when the record counts days itself."""
+    if "day" in frame.columns:
+        return None
+    if meta.get("t0") is not None:
+        t0 = pd.Timestamp(meta["t0"])
+        t0 = t0.tz_localize("UTC") if t0.tzinfo is None else t0.tz_convert("UTC")
+    else:
+        tcol = "timestamp" if "timestamp" in frame.columns else "date"
+        t0 = pd.to_datetime(frame[tcol], utc=True).min()
+    return t0.isoformat()
+
+
+def _check_duplicates(frame: pd.DataFrame, value_cols: list[str], path):
+    """Same (unit, time) twice: identical -> dropped with a warning; different -> InputError."""
+    key = "timestamp" if "timestamp" in frame.columns else ("date" if "date" in frame.columns
+                                                             else "day")
+    cols = ["unit_id", key]
+    dup = frame.duplicated(cols, keep=False)
+    if not dup.any():
+        return frame
+    keep = np.ones(len(frame), dtype=bool)
+    for _, grp in frame[dup].groupby(cols, sort=False):
+        idx = grp.index.to_numpy()
+        vals = frame.loc[idx, value_cols].to_numpy(dtype=float)
+        same = np.all(np.isclose(vals, vals[0], rtol=0, atol=0, equal_nan=True))
+        if not same:
+            rows = [int(i) + 1 for i in idx[:2]]
+            raise InputError(
+                f"unit {grp['unit_id'].iloc[0]}: {key} {grp[key].iloc[0]} appears twice with "
+                f"different values (rows {rows[0]} and {rows[1]} after sorting by unit and "
+                f"date); repeats on one day need distinct timestamps", path=path)
+        keep[idx[1:]] = False
+    warnings.warn(f"{path}: {int((~keep).sum())} exact duplicate test(s) dropped",
+                  DataQualityWarning, stacklevel=3)
+    return frame[keep]
+
+
+
+
+def to_daily_grid(frame: pd.DataFrame, *, quantity: str, meta: dict | None = None,
+                  max_gap: int = 3, hampel: bool = False, path="<frame>") -> dict[str, DailySeries]:
+    """Regularise a storage record to one series per unit on its grid (spec 004 §2.2).
+
+    Parameters
+    ----------
+    frame : DataFrame
+        Validated ``storage_drift`` record (``read_record(path, "storage_drift").data``).
+    quantity : {"bias", "sf"}
+    meta : dict, optional
+        Sidecar (``t0``, ``k_ref``, ``k1_nominal_ma_per_g``).
+    max_gap : int, default=3
+        Longest run of missing steps filled by linear interpolation (weekends).
+    hampel : bool, default=False
+        Apply the Hampel outlier screen (off by default, spec §2.2 item 5).
+
+    Returns
+    -------
+    dict unit_id -> :class:`DailySeries`, in sorted unit order.
+    """
+    meta = dict(meta or {})
+    if quantity not in QUANTITIES:
+        raise InputError(f"quantity must be 'bias' or 'sf', got {quantity!r}")
+    col = _find(frame, quantity)
+    if col is None:
+        raise InputError(f"record has no {quantity} column (e.g. "
+                         f"{'bias_mg' if quantity == 'bias' else 'sf_ma_per_g'})", path=path)
+    df = frame.copy()
+    if "valid" in df.columns:
+        df = df[df["valid"].fillna(True).astype(bool)]
+    df = df[np.isfinite(df[col].to_numpy(dtype=float))]
+    if len(df) == 0:
+        raise InputError(f"no valid {quantity} values", path=path, column=col)
+    df = _check_duplicates(df.reset_index(drop=True), [col], path)
+    if quantity == "bias":
+        vals = _bias_ug(df, col, meta, path, _find(df, "sf"))
+        kref = {}
+    else:
+        vals, kref = _sf_values(df, col, meta, path)
+    tcol = _find(df, f"true_{quantity}")
+    truth = None
+    if tcol is not None:
+        if quantity == "bias":
+            truth = _bias_ug(df, tcol, meta, path, _find(df, "sf"))
+        else:
+            tv = (_sf_ma_per_g(df, tcol, meta, path)
+                  if split_suffix(tcol)[1] == "v_per_g" else df[tcol].to_numpy(dtype=float))
+            truth = np.array([1e6 * (v - kref[str(u)]) / kref[str(u)]
+                              for v, u in zip(tv, df["unit_id"])]) \
+                if split_suffix(tcol)[1] not in ("ppm", "pct") else convert(tv, split_suffix(tcol)[1], "ppm")
+    outl = df["is_outlier_true"].to_numpy(dtype=bool) if "is_outlier_true" in df.columns else None
+    days = _programme_days(df, meta, path)
+    work = pd.DataFrame({"unit_id": df["unit_id"].astype(str).to_numpy(), "day": days,
+                         "v": vals})
+    if truth is not None:
+        work["truth"] = truth
+    if outl is not None:
+        work["outl"] = outl
+    out: dict[str, DailySeries] = {}
+    for uid in sorted(work["unit_id"].unique()):
+        u = work[work["unit_id"] == uid].sort_values("day", kind="stable")
+        d = u["day"].to_numpy()
+        ud = np.unique(d)
+        step = 1
+        if ud.size > 2:
+            step = max(1, int(round(float(np.median(np.diff(ud))))))
+        gi = np.round((d - ud[0]) / step).astype(int)
+        n = int(gi.max()) + 1
+        g = u.assign(gi=gi).groupby("gi")
+        mean = g["v"].mean()
+        cnt = g["v"].count()
+        sd = g["v"].std(ddof=1)
+        values = np.full(n, np.nan)
+        values[mean.index.to_numpy()] = mean.to_numpy()
+        n_rep = np.zeros(n, dtype=int)
+        n_rep[cnt.index.to_numpy()] = cnt.to_numpy()
+        rep_sd = np.full(n, np.nan)
+        rep_sd[sd.index.to_numpy()] = sd.to_numpy()
+        observed = n_rep > 0
+        tr = None
+        if truth is not None:
+            tr = np.full(n, np.nan)
+            tm = g["truth"].mean()
+            tr[tm.index.to_numpy()] = tm.to_numpy()
+        ot = None
+        if outl is not None:
+            ot = np.zeros(n, dtype=bool)
+            om = g["outl"].max()
+            ot[om.index.to_numpy()] = om.to_numpy().astype(bool)
+        screened = np.zeros(n, dtype=bool)
+        if hampel:
+            seg0 = np.where(observed, 0, -1)
+            screened = hampel_flags(values, observed, seg0)
+            observed = observed & ~screened
+            values = np.where(observed, values, np.nan)
+        values, imputed, segment = fill_gaps(values, observed, int(max_gap))
+        out[uid] = DailySeries(
+            unit_id=uid, quantity=quantity, unit=QUANTITIES[quantity],
+            day=(ud[0] + step * np.arange(n)).astype(int), values=values, observed=observed,
+            imputed=imputed, n_rep=n_rep, rep_sd=rep_sd, segment=segment, screened=screened,
+            truth=tr, outlier_true=ot, step_days=step,
+            k_ref=kref.get(uid) if quantity == "sf" else None)
+    return out
+
+
+@dataclass
+class DriftFit:
+    """Result of :func:`fit_drift`: ``results[unit_id][quantity]`` -> :class:`SeriesResult`."""
+
+    results: dict
+    model: DriftModel
+    settings: DriftSettings
+    wall_s: float = 0.0
+
+    def iter(self):
+        for uid, qs in self.results.items():
+            for qn, r in qs.items():
+                yield uid, qn, r
+
+    def to_dict(self) -> dict:
+        return {"units": {uid: {qn: r.to_dict() for qn, r in qs.items()}
+                          for uid, qs in self.results.items()}}
+
+
+def fit_drift(frame: pd.DataFrame, *, meta: dict | None = None,
+              settings: DriftSettings = DriftSettings(), quantities=("bias", "sf"),
+              origin_day: int | None = None, path="<frame>", progress=None) -> DriftFit:
+    """Fit and forecast every unit and quantity of a storage record.
+
+    Parameters
+    ----------
+    frame : validated ``storage_drift`` record (``Record.data``)
+    meta : sidecar (``t0``, ``k_ref``, ``tol_bias_ug``/``tol_sf_ppm`` if the settings
+        keep the defaults, see CONTRACTS.md "drift")
+    settings : :class:`DriftSettings`
+    quantities : which of "bias", "sf" (a quantity absent from the record is skipped
+        when both are asked for)
+    origin_day : last in-sample programme day (default: the last test)
+    """
+    progress = progress or NullProgress()
+    meta = dict(meta or {})
+    t0 = time.perf_counter()
+    qs = [q for q in quantities if q in QUANTITIES]
+    if not qs:
+        raise InputError(f"quantities must be bias and/or sf, got {quantities!r}")
+    present = [q for q in qs if _find(frame, q) is not None]
+    if not present:
+        raise InputError(f"record has none of the columns {', '.join(qs)}", path=path)
+    if len(qs) == 1 and not present:
+        raise InputError(f"record has no {qs[0]} column", path=path)
+    grids = {q: to_daily_grid(frame, quantity=q, meta=meta, max_gap=settings.max_gap,
+                              hampel=settings.hampel, path=path) for q in present}
+    units = sorted(set().union(*[set(g) for g in grids.values()]))
+    ss = np.random.SeedSequence(int(settings.seed))
+    children = dict(zip(units, ss.spawn(len(units))))
+    results: dict = {}
+    entries: dict = {}
+    total = len(units) * len(present)
+    done = 0
+    for uid in units:
+        qseeds = dict(zip(("bias", "sf"), children[uid].spawn(2)))
+        results[uid] = {}
+        entries[uid] = {}
+        for q in present:
+            if uid not in grids[q]:
+                continue
+            s = grids[q][uid]
+            finite = np.isfinite(s.values)
+            if finite.sum() and np.ptp(s.values[finite]) == 0:
+                warnings.warn(f"unit {uid}: {q} is constant; its forecast is persistence",
+                              DataQualityWarning, stacklevel=2)
+            r = fit_series(s, settings, origin_day=origin_day, rng=qseeds[q])
+            results[uid][q] = r
+            entries[uid][q] = {"nar": r.model, "origin_day": r.origin_day,
+                               "step_days": r.step_days, "unit": r.unit, "k_ref": r.k_ref,
+                               "y_cal": r.y_cal, "tolerance": r.tolerance}
+            done += 1
+            progress.update(done, total, f"{uid} {q}")
+    model = DriftModel(entries, {"horizon": settings.horizon,
+                                 "recal_quantile": settings.recal_quantile,
+                                 "seed": settings.seed, "preset": settings.preset,
+                                 "t0": _programme_t0(frame, meta)})
+    return DriftFit(results, model, settings, time.perf_counter() - t0)
+
+
+def prepare(record, *, settings: DriftSettings = DriftSettings(),
+            quantities=("bias", "sf")) -> dict:
+    """The grids of a validated ``storage_drift`` record: ``{quantity: {unit_id:
+    DailySeries}}`` for each asked quantity the record holds (:func:`to_daily_grid`)."""
+    frame = record.data
+    present = [q for q in quantities if q in QUANTITIES and _find(frame, q) is not None]
+    return {q: to_daily_grid(frame, quantity=q, meta=record.meta, max_gap=settings.max_gap,
+                             hampel=settings.hampel, path=record.path) for q in present}
+
+
+def fit(record, settings: DriftSettings = DriftSettings(), *, quantities=("bias", "sf"),
+        origin_day: int | None = None, progress=None) -> DriftFit:
+    """:func:`fit_drift` on a validated ``storage_drift`` record."""
+    return fit_drift(record.data, meta=record.meta, settings=settings, quantities=quantities,
+                     origin_day=origin_day, path=record.path, progress=progress)
+
+
+def forecast(model: DriftModel, horizon: int | None = None) -> dict:
+    """Forecast every unit and quantity of a saved model ``horizon`` steps past its origin
+    (:meth:`~inertialab.calib.drift.DriftModel.forecast`)."""
+    return model.forecast(horizon)
+
+
+def evaluate(record, settings: DriftSettings = DriftSettings(), *, quantities=("bias", "sf"),
+             first: int = 50, step: int = 5, units=None, progress=None) -> dict:
+    """Rolling-origin evaluation (spec 004 §5) of every (or the named) unit and quantity of
+    a record: ``{unit_id: {quantity: RollingResult}}``. Each series gets its own seed,
+    spawned like :func:`fit_drift`'s (sorted units, then bias, sf)."""
+    from inertialab.calib.drift_eval import evaluate_rolling_origin
+
+    progress = progress or NullProgress()
+    check_horizon(settings.horizon)
+    if int(first) < 10 or int(step) < 1:
+        raise InputError(f"argument 'first' must be >= 10 and 'step' >= 1, got {first}, {step}")
+    grids = prepare(record, settings=settings, quantities=quantities)
+    if not grids:
+        raise InputError(f"record has none of the columns {', '.join(quantities)}",
+                         path=record.path)
+    all_units = sorted(set().union(*[set(g) for g in grids.values()]))
+    if units is not None:
+        missing = [u for u in units if u not in all_units]
+        if missing:
+            raise InputError(f"no unit(s) {', '.join(missing)} in the record", path=record.path)
+    chosen = all_units if units is None else [u for u in all_units if u in set(units)]
+    children = dict(zip(all_units, np.random.SeedSequence(int(settings.seed)).spawn(
+        len(all_units))))
+    out: dict = {}
+    total, done = len(chosen) * len(grids), 0
+    for uid in chosen:
+        qseeds = dict(zip(("bias", "sf"), children[uid].spawn(2)))
+        out[uid] = {}
+        for q, g in grids.items():
+            if uid in g:
+                out[uid][q] = evaluate_rolling_origin(g[uid], settings, first=first, step=step,
+                                                      rng=int(qseeds[q].generate_state(1)[0]))
+            done += 1
+            progress.update(done, total, f"{uid} {q}")
+    return out
+
+
+# ---------------------------------------------------------------------------- apply
+
+#: Output columns of :func:`apply` (units in the names; DESIGN "Records").
+APPLY_STATUS = {0: "forecast used", 1: "on or before the origin: calibrated value used"}
+
+
+def apply(model: DriftModel, record) -> tuple[pd.DataFrame, dict]:
+    """Compensate a later record with the model's forecasts (spec 004 §9 "Compensation").
+
+    For every test of a unit the model holds, the forecast bias b̂ (µg) and scale factor
+    k̂ = k_ref (1 + 1e-6 ppm̂) (mA/g) of its programme day (step k = (day - origin) /
+    step; on or before the origin the calibrated value at the origin, status 1) give
+
+    * ``bias_residual_ug`` = measured bias - b̂ beside ``bias_residual_uncomp_ug`` =
+      measured - calibrated value (what is left without the forecast), and the same for
+      the scale factor in ppm of k_ref (``sf_residual_ppm``, ``sf_residual_uncomp_ppm``),
+      where the record measured them;
+    * ``a_g`` = I / k̂ - b̂ (g) for an output current column ``output_ma`` (mA), and
+      ``a_error_ug`` = a_g - ``a_ref_g`` when the known input is given.
+
+    Programme days come from a ``day`` column, else from dates with the sidecar's ``t0``
+    or the fitting record's start kept in the model. Returns the output frame and a
+    summary ``{unit_id: {quantity: {"rmse_compensated", "rmse_uncompensated", "n"}}}``
+    (RMSE through :mod:`inertialab.metrics`).
+    """
+    from inertialab import metrics
+
+    frame, meta, path = record.data.copy(), dict(record.meta), record.path
+    if "day" not in frame.columns:
+        t0 = meta.get("t0", model.settings.get("t0"))
+        if t0 is None:
+            raise InputError("the later record needs programme days: a 'day' column, or "
+                             "dates with 't0' in the sidecar (the model keeps no start)",
+                             path=path)
+        meta["t0"] = t0
+    frame["unit_id"] = frame["unit_id"].astype(str)
+    unknown = sorted(set(frame["unit_id"]) - set(model.entries))
+    if unknown:
+        raise InputError(f"unit(s) {', '.join(unknown[:5])} are not in the model "
+                         f"(it holds {', '.join(sorted(model.entries)[:5])})", path=path,
+                         column="unit_id")
+    days = _programme_days(frame, meta, path)
+    out = pd.DataFrame({"unit_id": frame["unit_id"].to_numpy(), "day": days.astype(int)})
+    status = np.zeros(len(frame), dtype=int)
+    hat = {"bias": np.full(len(frame), np.nan), "sf": np.full(len(frame), np.nan)}
+    kref = np.full(len(frame), np.nan)
+    steps = np.zeros(len(frame), dtype=int)
+    for uid, qs in model.entries.items():
+        rows = np.flatnonzero(out["unit_id"].to_numpy() == uid)
+        if rows.size == 0:
+            continue
+        for q, e in qs.items():
+            k = np.floor((days[rows] - e["origin_day"]) / e["step_days"]).astype(int)
+            kmax = int(k.max())
+            vals = np.empty(rows.size)
+            before = k < 1
+            vals[before] = e["y_cal"]
+            if kmax >= 1:
+                check_horizon(kmax)
+                fc = e["nar"].forecast(kmax, intervals=False).values
+                vals[~before] = fc[k[~before] - 1]
+            hat[q][rows] = vals
+            status[rows] = np.maximum(status[rows], before.astype(int))
+            steps[rows] = np.maximum(k, 0)
+            if q == "sf":
+                kref[rows] = e["k_ref"] if e.get("k_ref") is not None else np.nan
+    out["forecast_step"] = steps
+    out["bias_hat_ug"] = hat["bias"]
+    out["sf_hat_ppm"] = hat["sf"]
+    out["sf_hat_ma_per_g"] = kref * (1.0 + 1e-6 * hat["sf"])
+    summary: dict = {}
+    for q, unit in (("bias", "ug"), ("sf", "ppm")):
+        col = _find(frame, q)
+        if col is None:
+            continue
+        if q == "bias":
+            meas = _bias_ug(frame, col, meta, path, _find(frame, "sf"))
+        elif split_suffix(col)[1] in ("ppm", "pct"):
+            meas = np.asarray(convert(frame[col].to_numpy(dtype=float),
+                                      split_suffix(col)[1], "ppm"), dtype=float)
+        else:
+            meas = 1e6 * (_sf_ma_per_g(frame, col, meta, path) - kref) / kref
+        ycal = np.array([model.entries[u].get(q, {}).get("y_cal", np.nan)
+                         for u in out["unit_id"]])
+        out[f"{q}_residual_{unit}"] = meas - hat[q]
+        out[f"{q}_residual_uncomp_{unit}"] = meas - ycal
+        for uid in out["unit_id"].unique():
+            m = (out["unit_id"].to_numpy() == uid) & np.isfinite(meas) & np.isfinite(hat[q]) \
+                & (status == 0)
+            if m.any():
+                summary.setdefault(uid, {})[q] = {
+                    "rmse_compensated": metrics.rmse(meas[m], hat[q][m]),
+                    "rmse_uncompensated": metrics.rmse(meas[m], ycal[m]), "n": int(m.sum()),
+                    "unit": unit}
+    if "output_ma" in frame.columns:
+        missing = sorted({u for u, b, k in zip(out["unit_id"], hat["bias"],
+                                               out["sf_hat_ma_per_g"])
+                          if not (np.isfinite(b) and np.isfinite(k))})
+        if missing:
+            raise InputError(f"output_ma needs both a bias and a scale-factor model (with "
+                             f"k_ref); unit(s) {', '.join(missing[:5])} lack one", path=path,
+                             column="output_ma")
+        i_ma = pd.to_numeric(frame["output_ma"], errors="coerce").to_numpy(dtype=float)
+        if not np.all(np.isfinite(i_ma)):
+            rows = (np.flatnonzero(~np.isfinite(i_ma))[:5] + 1).tolist()
+            raise InputError("output_ma must be a finite number of mA", path=path,
+                             column="output_ma", row=rows[0] if len(rows) == 1 else rows)
+        a = i_ma / out["sf_hat_ma_per_g"].to_numpy() - 1e-6 * hat["bias"]
+        out["a_g"] = a
+        if "a_ref_g" in frame.columns:
+            out["a_error_ug"] = 1e6 * (a - pd.to_numeric(frame["a_ref_g"], errors="coerce")
+                                       .to_numpy(dtype=float))
+    out["status"] = status
+    return out, summary

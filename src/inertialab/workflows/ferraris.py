@@ -1,0 +1,200 @@
+"""Workflow ``ferraris`` (issue 17 item 2): a Ferraris calibration session -> model.
+
+- :func:`prepare` (record -> :class:`FerrarisSession`): raw accelerometer and gyro
+  columns of a ``triaxial_raw`` record, the sample rate (from ``t_s`` or the header's
+  ``fs_hz``), local gravity and the nine sections: from imucal's section list (argument
+  ``sections``: a dict or a JSON file) or detected from the accelerometer and the gyro
+  (:func:`inertialab.calib.ferraris.detect_sections`).
+- :func:`fit` (session, :class:`Config` -> :class:`FerrarisRun`): the estimator of
+  :mod:`inertialab.calib.ferraris`, its plausibility checks (refused unless ``force``),
+  and the model, a ``triaxial-calibration`` (``method = "ferraris"``) that
+  :func:`inertialab.workflows.triaxial.apply` applies.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+
+from inertialab import units
+from inertialab.calib import ferraris as fr
+from inertialab.calib.triaxial import TriaxialCalibration
+from inertialab.calib.triaxial_checks import ImplausibleCalibrationError, Limits, refusal
+from inertialab.errors import DataQualityWarning, InputError
+from inertialab.io.readers import Record
+from inertialab.workflows.triaxial import _acc_cols, _g_from, _gyro_cols
+
+
+@dataclass(frozen=True)
+class FerrarisSession:
+    """Raw arrays of a Ferraris session and its sections (``{name: (start, end)}``)."""
+
+    acc: np.ndarray
+    gyro: np.ndarray
+    t: np.ndarray
+    fs: float
+    g: float
+    acc_unit: str
+    gyro_unit: str
+    sections: dict
+    detection: fr.Detection | None = None
+    meta: dict = dataclasses.field(default_factory=dict)
+
+
+def _nominal(suffix: str, *, g: float) -> float | None:
+    """Raw units per SI unit for a known unit; None for counts."""
+    if suffix == "lsb":
+        return None
+    return 1.0 / float(units.to_si(1.0, suffix, g_local=g))
+
+
+def prepare(record: Record, *, sections=None, g_local: float | None = None) -> FerrarisSession:
+    """Record -> :class:`FerrarisSession`.
+
+    ``sections``: imucal's section list as a dict, or the path of its JSON file; None
+    detects them from the accelerometer and the gyro.
+    """
+    acols = _acc_cols(record)
+    gcols = _gyro_cols(record)
+    if gcols is None:
+        raise InputError("a Ferraris session needs gyro columns gx, gy, gz (with a unit suffix)",
+                         path=record.path)
+    if "t_s" not in record.data.columns:
+        raise InputError("a Ferraris session is a continuous log: it needs a time column t_s",
+                         path=record.path)
+    meta = dict(record.meta)
+    g = _g_from(meta, g_local)
+    t = record.column("t_s").astype(float)
+    dt = np.diff(t)
+    fs = float(meta.get("fs_hz") or 0.0) or 1.0 / float(np.median(dt))
+    if np.any(dt <= 0):
+        raise InputError("time stamps must increase", path=record.path, column="t_s")
+    jitter = float(np.max(np.abs(dt * fs - 1.0)))
+    if jitter > 0.5:
+        warnings.warn(f"{record.path}: time steps vary by up to {100 * jitter:.0f} % of 1/fs; the "
+                      "turns are integrated at the nominal rate", DataQualityWarning, stacklevel=2)
+    acc = record.data[acols].to_numpy(dtype=float)
+    gyro = record.data[gcols].to_numpy(dtype=float)
+    det = None
+    if sections is None:
+        det = fr.detect_sections(acc, gyro, fs)
+        secs = det.sections
+    elif isinstance(sections, dict):
+        secs = fr.sections_from_dict(sections, len(acc))
+    else:
+        secs = fr.load_sections(sections, len(acc))
+    return FerrarisSession(acc=acc, gyro=gyro, t=t, fs=fs, g=g,
+                           acc_unit=units.split_suffix(acols[0])[1],
+                           gyro_unit=units.split_suffix(gcols[0])[1], sections=secs,
+                           detection=det, meta=meta)
+
+
+@dataclass(frozen=True)
+class Config:
+    """Settings of :func:`fit`: the turn angle (deg, sense detected), the accelerometer
+    face refinement and its placement tilt (deg), the g-sensitivity, and the plausibility
+    ``limits`` with ``force`` (write a refused fit flagged)."""
+
+    rotation_deg: float = 360.0
+    refine: bool = True
+    placement_deg: float = 2.0
+    g_sensitivity: bool = True
+    force: bool = False
+    limits: Limits = Limits()
+
+
+@dataclass(frozen=True)
+class FerrarisRun:
+    """The model, the fit and the session it came from."""
+
+    model: TriaxialCalibration
+    fit: fr.FerrarisFit
+    session: FerrarisSession
+
+
+def fit(session: FerrarisSession, config: Config | None = None) -> FerrarisRun:
+    """Calibrate accelerometer and gyro from the session (refused when implausible)."""
+    config = config or Config()
+    f = fr.fit_ferraris(session.acc, session.gyro, session.fs, session.sections, g=session.g,
+                        rotation_deg=config.rotation_deg, refine=config.refine,
+                        placement_rad=float(np.deg2rad(config.placement_deg)),
+                        g_sensitivity=config.g_sensitivity)
+    model = fr.to_model(f, acc_unit=session.acc_unit, gyro_unit=session.gyro_unit, g=session.g,
+                        n_samples=len(session.acc))
+    findings = fr.check_ferraris(f, acc_nominal=_nominal(session.acc_unit, g=session.g),
+                                 gyro_nominal=_nominal(session.gyro_unit, g=session.g),
+                                 g=session.g, limits=config.limits)
+    if findings:
+        if not config.force:
+            raise ImplausibleCalibrationError(refusal(findings))
+        flags = [x.text() for x in findings]
+        warnings.warn("calibration written flagged: " + " | ".join(flags), DataQualityWarning,
+                      stacklevel=2)
+        model = dataclasses.replace(model, flags=flags)
+    return FerrarisRun(model=model, fit=f, session=session)
+
+
+def result_payload(run: FerrarisRun) -> dict:
+    """The JSON result of a Ferraris calibration (``result.json`` and ``--json``).
+
+    Besides the model: the sections used (imucal's format), how they were found, the
+    turns' senses and axes, each face's calibrated |a| - g and tilt, and for known gyro
+    units each turn's angle as the raw gyro (nominal sensitivity) integrates it.
+    """
+    f, s = run.fit, run.session
+    d = run.model.to_dict()
+    gn = _nominal(s.gyro_unit, g=s.g)
+    out = {
+        "method": "ferraris", "params": d["params"], "stderr": d["stderr"],
+        "correction_matrix": d["correction_matrix"], "offset": d["offset"],
+        "raw_unit": d["raw_unit"], "g_local": s.g, "fs_hz": s.fs, "gyro": d["gyro"],
+        "sections": fr.sections_to_dict(s.sections),
+        "sections_detected": s.detection is not None,
+        "faces": {name: {"norm_error_mps2": float(f.faces.norm_residual[i]),
+                         "tilt_deg": float(np.rad2deg(f.faces.tilt_rad[i]))}
+                  for i, name in enumerate(fr.FACE_SECTIONS)},
+        "turns": {name: {"sense": int(f.senses[j]), "axis": f.turn_axes[j].tolist(),
+                         "raw_angle_deg": None if gn is None else
+                         float(np.rad2deg(np.linalg.norm(f.integrated[j]) / gn))}
+                  for j, name in enumerate(fr.ROT_SECTIONS)},
+        "gyro_static_rms": f.gyro_static_rms, "rotation_deg": f.rotation_deg,
+        "flags": d["flags"], "ci95": _intervals(run),
+    }
+    return out
+
+
+def _intervals(run: FerrarisRun) -> dict:
+    """95 % intervals: accelerometer (b, k, theta) from the face fit's covariance (its
+    residuals are in units of their stated sigmas, so normal quantiles), gyro bias and
+    g-sensitivity from the static least squares (Student t, 2 degrees of freedom per axis:
+    six faces, four unknowns). The gyro T_g is exactly determined by three turns: no
+    interval (its error is the turn-angle error, see docs/ferraris.md)."""
+    from scipy import stats
+
+    out = {}
+    for name, v in run.model.params.items():
+        se = (run.model.stderr or {}).get(name)
+        if se is not None and np.isfinite(se):
+            out[name] = [float(v - 1.959964 * se), float(v + 1.959964 * se)]
+    cov = run.fit.cov_gyro_static
+    if cov is not None:
+        t = float(stats.t.ppf(0.975, 2))
+        se = np.sqrt(np.maximum(np.diag(cov), 0.0))
+        vals = np.r_[run.fit.b_g, run.fit.K_ga.ravel()]
+        names = [f"bg{c}" for c in "xyz"] + [f"kga{i + 1}{j + 1}" for i in range(3)
+                                             for j in range(3)]
+        for n, v, s in zip(names, vals, se):
+            out[n] = [float(v - t * s), float(v + t * s)]
+    return out
+
+
+def result_units(run: FerrarisRun) -> dict:
+    s = run.session
+    return {"correction_matrix": f"m/s^2 per {s.acc_unit}", "offset": s.acc_unit,
+            "gyro.correction_matrix": f"rad/s per {s.gyro_unit}", "gyro.offset": s.gyro_unit,
+            "gyro.g_sensitivity": f"{s.gyro_unit} per m/s^2", "g_local": "m/s^2",
+            "fs_hz": "Hz", "sections": "sample index [start, end)",
+            "gyro_static_rms": s.gyro_unit, "faces.norm_error_mps2": "m/s^2"}

@@ -1,0 +1,584 @@
+"""Workflow ``triaxial`` (spec 002): records -> static data -> calibration -> calibrated record.
+
+Three verbs:
+
+- :func:`prepare` (record -> :class:`Session`): static-record tables
+  (``triaxial_static``) give one mean per pose; raw logs (``triaxial_raw``) go through
+  static-interval detection with the threshold sweep (§2.4). Units: m/s^2 or g columns
+  are converted to m/s^2; counts with a known ``lsb_per_g`` are converted with
+  ``(raw - lsb_offset)/lsb_per_g·g``; counts without it stay counts ("counts mode",
+  §2.3). References come from ``ref_*`` > ``pitch_deg/heading_deg`` > ``face`` (or a
+  schedule matched in time order to the detected intervals).
+- :func:`fit` (session, :class:`Config` -> :class:`~inertialab.calib.triaxial_session.CalibrationRun`
+  or, for a file of many units, :class:`~inertialab.calib.triaxial_batch.BatchCalibration`):
+  the estimators of :mod:`inertialab.calib.triaxial`.
+- :func:`apply` (model, record -> record): calibrated ``ax_mps2 ay_mps2 az_mps2`` (and
+  ``gx_rps gy_rps gz_rps``) columns in place of the raw ones.
+
+:func:`read` tells a raw log (a time column) from a static-record table. The demo study
+is :mod:`inertialab.studies.triaxial`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+
+from inertialab import units
+from inertialab.calib.triaxial import (  # noqa: F401 - re-exported for callers of the workflow
+    METHODS,
+    CalibrationFit,
+    TriaxialCalibration,
+    _lm,
+    calibrate,
+    initial_estimate,
+)
+from inertialab.calib.triaxial_batch import BatchCalibration, calibrate_batch  # noqa: F401
+from inertialab.calib.triaxial_checks import (
+    ImplausibleCalibrationError,
+    Limits,
+    check_accel,
+    check_gyro,
+    refusal,
+)
+from inertialab.calib.triaxial_session import (  # noqa: F401 - re-exported
+    CalibrationRun,
+    StaticData,
+    calibrate_record_data,
+    quality,
+    to_model,
+)
+from inertialab.errors import DataQualityWarning, InputError
+from inertialab.io.readers import Record, hash_frame, read_record
+from inertialab.noise.static_intervals import StaticIntervals, sweep_thresholds
+from inertialab.sensors.triaxial import OBJECTIVES
+
+UNITS = ("mps2", "g", "mg", "lsb")
+"""Accelerometer units a suffix-less column may be declared in (argument ``unit``)."""
+
+
+# =========================================================================== reading
+
+def read(path, *, options=None, unit: str | None = None, g_local: float | None = None) -> Record:
+    """Read a calibration record: a raw log (``triaxial_raw``) when it has a time column,
+    else a static-record table (``triaxial_static``).
+
+    ``unit`` (one of :data:`UNITS`) declares the unit of suffix-less ``ax ay az``;
+    ``options`` are the reading options of the front door (column map, parse options).
+    """
+    if unit is not None and unit.lower() not in UNITS:
+        raise InputError(f"argument 'unit' must be one of {', '.join(UNITS)}, got '{unit}'")
+    unit_arg = None if unit is None else dict.fromkeys(("ax", "ay", "az"), unit.lower())
+    try:
+        return read_record(path, "triaxial_raw", unit=unit_arg, g_local=g_local, options=options)
+    except InputError as exc:
+        if exc.column != "t_s":
+            raise
+    return read_record(path, "triaxial_static", unit=unit_arg, g_local=g_local, options=options)
+
+
+def is_raw_log(record: Record) -> bool:
+    """True for a continuous log (``triaxial_raw``), False for static records."""
+    return record.kind == "triaxial_raw"
+
+
+# =========================================================================== records -> arrays
+
+def _acc_columns(df: pd.DataFrame):
+    cols = []
+    for ax in ("ax", "ay", "az"):
+        c = next((c for c in df.columns if units.split_suffix(c)[0] == ax
+                  and units.split_suffix(c)[1] is not None), None)
+        if c is None:
+            raise InputError("missing accelerometer column with a unit suffix", column=ax)
+        cols.append(c)
+    sufs = {units.split_suffix(c)[1] for c in cols}
+    if len(sufs) != 1:
+        raise InputError(f"accelerometer columns have different units: {', '.join(cols)}")
+    return cols, sufs.pop()
+
+
+def unit_conversion(suffix: str, meta: dict, *, g: float, lsb_per_g: float | None = None,
+                    header_check: bool = True, path=None):
+    """``(scale, offset, counts)`` from the raw unit to the working unit (spec 002 §2.3).
+
+    With ``header_check`` a column suffix that contradicts the header's ``units`` key is
+    an :class:`InputError` (spec 002 §2.3); pass False when the user overrode the unit.
+    """
+    hu = meta.get("units")
+    if header_check and isinstance(hu, str) and hu.strip().lower() in units.SUFFIXES \
+            and hu.strip().lower() != suffix:
+        raise InputError(f"accelerometer columns are in '{suffix}' but the header says "
+                         f"units={hu}; fix one of them or give argument 'unit'", path=path)
+    if suffix == "lsb":
+        lpg = lsb_per_g if lsb_per_g is not None else meta.get("lsb_per_g")
+        off = float(meta.get("lsb_offset", 0.0) or 0.0)
+        if lpg is None:
+            return 1.0, 0.0, True
+        lpg = float(lpg)
+        if not np.isfinite(lpg) or lpg <= 0:
+            raise InputError(f"lsb_per_g must be a positive number, got {lpg}")
+        return g / lpg, off, False
+    u = units.lookup(suffix)
+    if u.dimension != "acceleration":
+        raise InputError(f"accelerometer unit '{suffix}' is a {u.dimension}, expected an acceleration")
+    return float(units.to_si(1.0, suffix, g_local=g)), 0.0, False
+
+
+def _references(df: pd.DataFrame, g: float, *, path=None):
+    """Reference vectors (m/s^2) by precedence ref_* > pitch/heading > face; None if absent."""
+    n = len(df)
+    ref = np.full((n, 3), np.nan)
+    if all(c in df.columns for c in ("ref_x", "ref_y", "ref_z")):
+        r = df[["ref_x", "ref_y", "ref_z"]].to_numpy(dtype=float)
+        nr = np.linalg.norm(r, axis=1)
+        ok = np.isfinite(nr) & (nr > 0)
+        ref[ok] = g * r[ok] / nr[ok, None]
+    if "pitch_deg" in df.columns and "heading_deg" in df.columns:
+        p = df["pitch_deg"].to_numpy(dtype=float)
+        h = df["heading_deg"].to_numpy(dtype=float)
+        need = ~np.all(np.isfinite(ref), axis=1) & np.isfinite(p) & np.isfinite(h)
+        pr, hr = np.deg2rad(p[need]), np.deg2rad(h[need])
+        ref[need] = g * np.column_stack([np.sin(pr) * np.cos(hr), np.sin(pr) * np.sin(hr), np.cos(pr)])
+    if "face" in df.columns:
+        faces = df["face"].astype("string").str.strip().str.lower()
+        for i in np.flatnonzero(~np.all(np.isfinite(ref), axis=1)):
+            f = faces.iloc[i]
+            if pd.isna(f):
+                continue
+            if f not in ("+x", "-x", "+y", "-y", "+z", "-z", "x", "y", "z"):
+                raise InputError(f"face must be one of +x,-x,+y,-y,+z,-z, got '{f}'", path=path,
+                                 column="face", row=i + 1)
+            f = f if f[0] in "+-" else "+" + f
+            e = np.zeros(3)
+            e["xyz".index(f[1])] = g if f[0] == "+" else -g
+            ref[i] = e
+    has = np.all(np.isfinite(ref), axis=1)
+    if not has.any():
+        return None
+    return ref
+
+
+def _saturation_limits(suffix, meta, scale_g, raw=None):
+    """Raw-unit rails for saturation checks, or None when unknown.
+
+    Counts: ``saturation_lsb`` (half range around ``lsb_offset``) when given; otherwise
+    16-bit rails, signed (-32768, 32767) when every value fits a signed word, else unsigned
+    (0, 65535) when every value fits that, else none. SI: ``range_g`` (0.999 of it).
+    """
+    if suffix == "lsb":
+        off = float(meta.get("lsb_offset", 0.0) or 0.0)
+        if "saturation_lsb" in meta:
+            s = float(meta["saturation_lsb"])
+            return off - s, off + s - 1
+        if raw is None:
+            return None
+        lo, hi = float(np.min(raw)), float(np.max(raw))
+        if lo >= -32768 and hi <= 32767:
+            return -32768.0, 32767.0
+        if lo >= 0 and hi <= 65535:
+            return 0.0, 65535.0
+        return None
+    if "range_g" in meta:
+        lim = float(meta["range_g"]) * scale_g * 0.999
+        return -lim, lim
+    return None
+
+
+def static_data_from_frame(df: pd.DataFrame, meta: dict | None = None, *, g: float | None = None,
+                           lsb_per_g: float | None = None, path=None,
+                           header_check: bool = True) -> StaticData:
+    """Static-record table (``triaxial_static`` kind, validated) -> :class:`StaticData`.
+
+    ``header_check``: refuse a column unit that contradicts the header's ``units``.
+    """
+    meta = dict(meta or {})
+    g = _g_from(meta, g)
+    cols, suf = _acc_columns(df)
+    scale, off, counts = unit_conversion(suf, meta, g=g, lsb_per_g=lsb_per_g,
+                                         header_check=header_check, path=path)
+    raw = df[cols].to_numpy(dtype=float)
+    keep = np.ones(len(df), dtype=bool)
+    dropped = []
+    lim = _saturation_limits(suf, meta, units.to_si(1.0, suf, g_local=g) / g if suf != "lsb" else 1,
+                             raw)
+    if lim is not None:
+        sat = np.any((raw <= lim[0]) | (raw >= lim[1]), axis=1)
+        if sat.any():
+            rows = (np.flatnonzero(sat) + 1).tolist()
+            warnings.warn(f"{path or 'records'}: {int(sat.sum())} record(s) at the sensor's rail "
+                          f"(saturated), rows {rows[:5]}; left out", DataQualityWarning, stacklevel=2)
+            keep &= ~sat
+            dropped.append(("saturated", rows))
+    a = (raw[keep] - off) * scale
+    ref = _references(df, g, path=path)
+    if ref is not None:
+        ref = ref[keep]
+    return StaticData(
+        a=a, ref=ref, g=g, raw_unit=suf, raw_scale=scale, raw_offset=off, counts=counts,
+        unit_id=df["unit_id"].astype(str).to_numpy()[keep] if "unit_id" in df.columns else None,
+        pos_id=df["pos_id"].to_numpy()[keep] if "pos_id" in df.columns else None,
+        n_samples=df["n"].to_numpy()[keep] if "n" in df.columns else None, dropped=tuple(dropped))
+
+
+def _g_from(meta: dict, g: float | None) -> float:
+    if g is not None:
+        return float(g)
+    for k in ("g_local_mps2", "g_local"):
+        if meta.get(k) is not None:
+            return float(meta[k])
+    warnings.warn("no local gravity given (argument 'g_local' or g_local in the header); using 9.80665 m/s^2",
+                  DataQualityWarning, stacklevel=3)
+    return units.G_STANDARD
+
+
+def raw_log_data(t, acc_raw, meta: dict | None = None, *, suffix: str = "mps2",
+                 g: float | None = None, lsb_per_g: float | None = None, schedule=None,
+                 expected: int | None = None, k_thr: float | None = None,
+                 threshold: float | None = None, window_s: float = 1.0, t_init_s: float = 10.0,
+                 min_duration_s: float = 1.5, path=None, header_check: bool = True) -> StaticData:
+    """Raw log -> static records by the detector of spec 002 §2.4 (with the threshold sweep).
+
+    The sweep keeps the k_thr whose LM-norm residual RMS is smallest among those giving the
+    expected count (the schedule length, ``expected``, or >= 12). A given ``k_thr`` or
+    absolute ``threshold`` (on the summed moving variance in the working unit squared:
+    (m/s^2)^2, or counts^2 in counts mode) skips the sweep. Intervals with saturated samples are dropped
+    with a warning. A ``schedule`` (DataFrame with ``pitch_deg, heading_deg`` or
+    ``face`` or ``ref_*``) is matched in time order; a count mismatch is an InputError.
+    """
+    from inertialab.noise.static_intervals import detect_static_intervals
+
+    meta = dict(meta or {})
+    g = _g_from(meta, g)
+    scale, off, counts = unit_conversion(suffix, meta, g=g, lsb_per_g=lsb_per_g,
+                                         header_check=header_check, path=path)
+    raw = np.asarray(acc_raw, dtype=float)
+    a_all = (raw - off) * scale
+    if schedule is not None and expected is None:
+        expected = len(schedule)
+    kw = dict(window_s=window_s, t_init_s=t_init_s, min_duration_s=min_duration_s)
+
+    def score(iv: StaticIntervals) -> float:
+        try:
+            x0, _ = initial_estimate(iv.mean, objective="norm", g=g, counts=counts)
+            res = _lm(iv.mean, None, "norm", g, x0)
+            return float(np.sqrt(np.mean(res.residuals**2)))
+        except (InputError, np.linalg.LinAlgError):
+            return float("inf")
+
+    sweep_counts = None
+    if threshold is not None or k_thr is not None:
+        iv = detect_static_intervals(t, a_all, k_thr=6.0 if k_thr is None else k_thr,
+                                     threshold=threshold,
+                                     **kw)
+        if expected is not None and iv.count != expected:
+            raise InputError(f"{iv.count} static intervals detected, the schedule has {expected}; "
+                             "adjust argument 'k_thr' or argument 'threshold', or drop both to run the sweep",
+                             path=path)
+        kused = iv.k_thr
+    else:
+        sw = sweep_thresholds(t, a_all, expected=expected, score=score, **kw)
+        iv, kused, sweep_counts = sw.best, sw.k_best, sw.counts
+    keep = np.ones(iv.count, dtype=bool)
+    dropped = []
+    lim = _saturation_limits(suffix, meta, 1.0 if suffix == "lsb" else
+                             units.to_si(1.0, suffix, g_local=g) / g, raw)
+    if lim is not None:
+        sat_s = np.any((raw <= lim[0]) | (raw >= lim[1]), axis=1)
+        csum = np.r_[0, np.cumsum(sat_s)]
+        nsat = csum[iv.stop] - csum[iv.start]
+        if np.any(nsat > 0):
+            bad = np.flatnonzero(nsat > 0)
+            warnings.warn(f"{path or 'log'}: {bad.size} static interval(s) contain saturated samples "
+                          f"(intervals {(bad + 1).tolist()[:5]}); left out", DataQualityWarning,
+                          stacklevel=2)
+            keep[bad] = False
+            dropped.append(("saturated", (bad + 1).tolist()))
+    ref = None
+    if schedule is not None:
+        ref = _references(schedule.reset_index(drop=True), g, path=path)
+        if ref is None:
+            raise InputError("schedule has no pitch_deg/heading_deg, face or ref_* columns", path=path)
+        ref = ref[keep]
+    return StaticData(a=iv.mean[keep], ref=ref, g=g, raw_unit=suffix, raw_scale=scale,
+                      raw_offset=off, counts=counts, n_samples=iv.n[keep], intervals=iv,
+                      dropped=tuple(dropped), k_thr=kused, sweep_counts=sweep_counts,
+                      pos_id=np.arange(1, iv.count + 1)[keep])
+
+
+# =========================================================================== verbs
+
+@dataclass(frozen=True)
+class Session:
+    """What :func:`prepare` hands to :func:`fit`: the static data and, for a raw log, the
+    time stamps and gyro channels (raw unit ``gyro_suffix``)."""
+
+    data: StaticData
+    meta: dict
+    t: np.ndarray | None = None
+    gyro_raw: np.ndarray | None = None
+    gyro_suffix: str | None = None
+    schedule: pd.DataFrame | None = None
+
+
+def _acc_cols(record: Record) -> list[str]:
+    cols = [record.find(b) for b in ("ax", "ay", "az")]
+    if any(c is None for c in cols):
+        raise InputError("missing accelerometer columns ax, ay, az (with a unit suffix)",
+                         path=record.path)
+    return cols
+
+
+def _gyro_cols(record: Record) -> list[str] | None:
+    cols = [record.find(b) for b in ("gx", "gy", "gz")]
+    return None if any(c is None for c in cols) else cols
+
+
+def prepare(record: Record, *, lsb_per_g: float | None = None, schedule: pd.DataFrame | None = None,
+            k_thr: float | None = None, threshold: float | None = None, t_init_s: float = 10.0,
+            window_s: float = 1.0, min_duration_s: float = 1.5, header_check: bool = True,
+            gyro: bool = False) -> Session:
+    """Record -> :class:`Session` (spec 002 §2.3-2.4).
+
+    Parameters
+    ----------
+    record : a ``triaxial_raw`` or ``triaxial_static`` record (:func:`read`)
+    lsb_per_g : counts per g of a counts record (without it counts stay counts)
+    schedule : pose schedule of a raw log (``pitch_deg/heading_deg``, ``face`` or
+        ``ref_*``), matched in time order to the detected intervals
+    k_thr, threshold, t_init_s, window_s, min_duration_s : static detector (§2.4);
+        defaults: threshold sweep, 10 s initial rest, 1 s window, 1.5 s shortest run
+    header_check : refuse a column unit contradicting the header's ``units``
+    gyro : also keep the gyro channels (raw logs only)
+    """
+    meta = dict(record.meta)
+    cols = _acc_cols(record)
+    suffix = units.split_suffix(cols[0])[1]
+    raw_log = is_raw_log(record)
+    if gyro and not raw_log:
+        raise InputError("gyro calibration needs a raw log (t_s column): static records carry "
+                         "no motion", path=record.path)
+    if raw_log:
+        t = record.column("t_s")
+        data = raw_log_data(t, record.data[cols].to_numpy(dtype=float), meta, suffix=suffix,
+                            lsb_per_g=lsb_per_g, schedule=schedule, k_thr=k_thr,
+                            threshold=threshold, window_s=window_s, t_init_s=t_init_s,
+                            min_duration_s=min_duration_s, path=record.path,
+                            header_check=header_check)
+    else:
+        data = static_data_from_frame(record.data, meta, lsb_per_g=lsb_per_g, path=record.path,
+                                      header_check=header_check)
+        t = None
+    gyro_raw = gsuf = None
+    if gyro:
+        gcols = _gyro_cols(record)
+        if gcols is None:
+            raise InputError("gyro calibration asked for but the log has no gx, gy, gz columns",
+                             path=record.path)
+        gyro_raw = record.data[gcols].to_numpy(dtype=float)
+        gsuf = units.split_suffix(gcols[0])[1]
+    return Session(data=data, meta=meta, t=t, gyro_raw=gyro_raw, gyro_suffix=gsuf,
+                   schedule=schedule)
+
+
+@dataclass(frozen=True)
+class Config:
+    """Fit settings of :func:`fit` (defaults: spec 002 §3.6 LM on the field objective J_H).
+
+    ``None`` means the method's own default: objective ``norm`` (``scalar`` for the
+    six-position method), 1000 generations for the metaheuristics, a 2 deg face tilt for
+    the six-position refinement. A setting the method does not use is refused, not
+    ignored (issue 17 item 3): ``objective`` with ``six-position``/``ellipsoid``,
+    ``max_generations`` outside ``acs cs pso``, ``robust`` outside ``lm``,
+    ``placement_deg`` outside ``six-position``.
+
+    ``robust`` uses the soft-L1 loss with f_scale = 3 x the robust residual scale of a
+    plain fit (§7.3); ``seed`` and ``max_generations`` drive the metaheuristics (§3.3).
+    ``limits`` bound what counts as a plausible calibration
+    (:mod:`inertialab.calib.triaxial_checks`); a fit beyond them is refused
+    (:class:`ImplausibleCalibrationError`) unless ``force``, which writes it flagged.
+    """
+
+    method: str = "lm"
+    objective: str | None = None
+    seed: int = 0
+    max_generations: int | None = None
+    robust: bool = False
+    placement_deg: float | None = None
+    gyro_lsb_per_rps: float | None = None
+    force: bool = False
+    limits: Limits = Limits()
+
+
+def is_batch(session: Session) -> bool:
+    """True when the static records hold more than one ``unit_id`` (production line)."""
+    uid = session.data.unit_id
+    return uid is not None and len(set(uid)) > 1
+
+
+def fit(session: Session, config: Config | None = None):
+    """Calibrate: a :class:`CalibrationRun` (accelerometer, and gyro when the session has
+    gyro channels), or a :class:`BatchCalibration` for a file of many units (S9 only)."""
+    config = config or Config()
+    m = config.method.strip().lower()
+    if m not in METHODS:
+        raise InputError(f"argument 'method' must be one of {', '.join(METHODS)}, got '{config.method}'")
+    _refuse_ignored(m, config)
+    default_obj = "scalar" if m == "six-position" else "norm"
+    obj = (config.objective or default_obj).strip().lower()
+    if obj not in OBJECTIVES:
+        raise InputError(f"argument 'objective' must be one of {', '.join(OBJECTIVES)}, "
+                         f"got '{config.objective}'")
+    data = session.data
+    if is_batch(session):
+        if m != "lm" or obj != "scalar":
+            raise InputError(f"{len(set(data.unit_id))} units in one file: the batch solver runs "
+                             "argument 'method' 'lm' with argument 'objective' 'scalar' (S9) only")
+        return calibrate_batch(data)
+    kw = {"loss": "soft_l1", "f_scale": None} if config.robust else {}
+    if config.max_generations is not None:
+        kw["max_generations"] = int(config.max_generations)
+    if config.placement_deg is not None:
+        kw["placement_rad"] = float(np.deg2rad(config.placement_deg))
+    run = calibrate_record_data(
+        data, method=m, objective=obj, rng=config.seed, gyro_raw=session.gyro_raw, t=session.t,
+        gyro_suffix=session.gyro_suffix, gyro_lsb_per_rps=config.gyro_lsb_per_rps,
+        meta=session.meta, **kw)
+    findings = check_accel(run.fit, data.a, data.ref, data.g, counts=data.counts,
+                           limits=config.limits)
+    if run.gyro_fit is not None:
+        findings += check_gyro(run.gyro_fit, run.gyro_nominal, limits=config.limits)
+    if findings:
+        if not config.force:
+            raise ImplausibleCalibrationError(refusal(findings))
+        flags = [f.text() for f in findings]
+        warnings.warn("calibration written flagged: " + " | ".join(flags), DataQualityWarning,
+                      stacklevel=2)
+        run = dataclasses.replace(run, model=dataclasses.replace(run.model, flags=flags))
+    return run
+
+
+_USES = {
+    "objective": ("lm", "acs", "cs", "pso"),
+    "max_generations": ("acs", "cs", "pso"),
+    "robust": ("lm",),
+    "placement_deg": ("six-position",),
+}
+
+
+def _refuse_ignored(method: str, config: Config) -> None:
+    """A setting the method would ignore is an error (issue 17 item 3)."""
+    given = {"objective": config.objective is not None,
+             "max_generations": config.max_generations is not None,
+             "robust": bool(config.robust), "placement_deg": config.placement_deg is not None}
+    for name, methods in _USES.items():
+        if given[name] and method not in methods:
+            raise InputError(f"method '{method}' does not use argument '{name}' (used by "
+                             f"{', '.join(repr(x) for x in methods)}); drop it")
+
+
+def result_payload(run: CalibrationRun) -> dict:
+    """The JSON result of a calibration (``result.json`` and ``--json``)."""
+    fit_, data = run.fit, run.data
+    d = run.model.to_dict()
+    out = {
+        "method": d["method"], "objective": d["objective"], "params": d["params"],
+        "stderr": d["stderr"], "correction_matrix": d["correction_matrix"],
+        "offset": d["offset"], "residual_rms": d["residual_rms"], "iterations": d["iterations"],
+        "nfev": d["nfev"], "n_records": d["n_records"], "static_intervals": d["static_intervals"],
+        "raw_unit": d["raw_unit"], "g_local": d["g_local"], "phi": d["phi"],
+        "J": fit_.J, "J_final": fit_.J, "x": fit_.x.tolist(),
+        "x_names": list(d["params"]), "converged": fit_.converged, "cond": fit_.cond,
+        "cov": None if fit_.cov is None else fit_.cov.tolist(),
+        "counts_mode": bool(data.counts), "wall_s": fit_.wall_s, "flags": d["flags"],
+        "quality": quality(run),
+    }
+    if data.intervals is not None:
+        out["detection"] = {"k_thr": data.k_thr, "threshold": data.intervals.threshold,
+                            "counts_per_k_thr": None if data.sweep_counts is None else
+                            {f"{k:g}": v for k, v in data.sweep_counts.items()},
+                            "t_start_s": data.intervals.t_start.tolist(),
+                            "t_end_s": data.intervals.t_end.tolist()}
+    if fit_.extra:
+        out["extra"] = fit_.extra
+    if d["gyro"] is not None:
+        out["gyro"] = d["gyro"]
+    return out
+
+
+def result_units(run: CalibrationRun) -> dict:
+    """Units of the keys of :func:`result_payload` and of the model file."""
+    data = run.data
+    gyro_unit = None if run.model.gyro is None else run.model.gyro.get("raw_unit")
+    work = "lsb" if data.counts else "m/s^2"
+    u = {"params.bx": work, "params.by": work, "params.bz": work,
+         "params.kx": "lsb per m/s^2" if data.counts else "1",
+         "params.ky": "lsb per m/s^2" if data.counts else "1",
+         "params.kz": "lsb per m/s^2" if data.counts else "1",
+         "params.theta_yz": "rad", "params.theta_zy": "rad", "params.theta_zx": "rad",
+         "phi": "rad", "correction_matrix": f"m/s^2 per {data.raw_unit}",
+         "offset": data.raw_unit, "residual_rms": work, "J": f"({work})^2",
+         "g_local": "m/s^2", "wall_s": "s", "quality.norm_error": "m/s^2",
+         "quality.eq21": "m/s^2", "quality.per_pose": "m/s^2",
+         "quality.ci95": "unit of each parameter", "quality.coverage": "1"}
+    if gyro_unit is not None:
+        u.update({"gyro.correction_matrix": f"rad/s per {gyro_unit}", "gyro.offset": gyro_unit,
+                  "gyro.residual_rms": "rad"})
+    return u
+
+
+def apply(model: TriaxialCalibration, record: Record, *, model_path=None,
+          force: bool = False) -> Record:
+    """Calibrated record: ``ax_mps2 ay_mps2 az_mps2`` = correction_matrix @ (raw - offset)
+    in place of the raw accelerometer columns and, when the model has a gyro block and
+    the record gyro columns, ``gx_rps gy_rps gz_rps`` likewise. A flagged model
+    (``model.flags``) is refused unless ``force``.
+
+    The record must be in the model's raw unit(s); the metadata loses the raw-unit keys
+    (``lsb_per_g``, ``lsb_offset``, ``gyro_lsb_per_rps``) and names its sources.
+    """
+    if model.flags and not force:
+        raise InputError("the calibration is flagged as not identifiable or implausible ("
+                         + " | ".join(model.flags) + "); set argument 'force' to apply it anyway",
+                         path=model_path)
+    cols = _acc_cols(record)
+    suffix = units.split_suffix(cols[0])[1]
+    if suffix != model.raw_unit:
+        raise InputError(f"the file's accelerometer unit is '{suffix}', the calibration "
+                         f"expects '{model.raw_unit}'", path=record.path, column=cols[0])
+    df = record.data.copy()
+    cal = model.apply(df[cols].to_numpy(dtype=float))
+    pos = df.columns.get_loc(cols[0])
+    df = df.drop(columns=cols)
+    for i, c in enumerate(("ax_mps2", "ay_mps2", "az_mps2")):
+        df.insert(pos + i, c, cal[:, i])
+    out_units = {k: v for k, v in record.units.items() if k not in cols}
+    out_units.update(dict.fromkeys(("ax_mps2", "ay_mps2", "az_mps2"), "mps2"))
+    gcols = _gyro_cols(record)
+    if gcols is not None and model.gyro is not None:
+        gs = units.split_suffix(gcols[0])[1]
+        if gs != model.gyro.get("raw_unit"):
+            raise InputError(f"the file's gyro unit is '{gs}', the calibration expects "
+                             f"'{model.gyro.get('raw_unit')}'", path=record.path, column=gcols[0])
+        gcal = model.apply_gyro(df[gcols].to_numpy(dtype=float), acc=cal)
+        gpos = df.columns.get_loc(gcols[0])
+        df = df.drop(columns=gcols)
+        for i, c in enumerate(("gx_rps", "gy_rps", "gz_rps")):
+            df.insert(gpos + i, c, gcal[:, i])
+        out_units = {k: v for k, v in out_units.items() if k not in gcols}
+        out_units.update(dict.fromkeys(("gx_rps", "gy_rps", "gz_rps"), "rps"))
+    meta = dict(record.meta)
+    meta.update(units="mps2", calibrated_with=str(model_path), source_record=str(record.path))
+    for k in ("lsb_per_g", "lsb_offset", "gyro_lsb_per_rps"):
+        meta.pop(k, None)
+    return Record(kind=record.kind, data=df, meta=meta, path=record.path, units=out_units,
+                  sha256=hash_frame(df))
+
+
+def gyro_applied(model: TriaxialCalibration, record: Record) -> bool:
+    """Whether :func:`apply` calibrates the gyro columns of ``record``."""
+    return model.gyro is not None and _gyro_cols(record) is not None

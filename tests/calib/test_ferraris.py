@@ -1,0 +1,136 @@
+"""calib.ferraris against the truth of the virtual Ferraris session (issue 17 item 2)."""
+
+import json
+
+import numpy as np
+import pytest
+
+from inertialab.calib import ferraris as fr
+from inertialab.errors import InputError
+from inertialab.sim.ferraris_session import simulate_ferraris
+
+FS = 102.4
+
+
+def arrays(rec):
+    d = rec.data
+    cols = ("ax_mps2", "ay_mps2", "az_mps2", "gx_dps", "gy_dps", "gz_dps")
+    if "ax_lsb" in d.columns:
+        cols = tuple(c.replace("_mps2", "_lsb").replace("_dps", "_lsb") for c in cols)
+    x = d[list(cols)].to_numpy()
+    return x[:, :3], x[:, 3:]
+
+
+def frame(tr, fit):
+    """Rotation from the housing frame to the fit's output frame (nearest orthogonal)."""
+    Qt = np.linalg.solve(tr["T_a"], fit.faces.T)
+    u, _, vt = np.linalg.svd(Qt)
+    return u @ vt
+
+
+@pytest.mark.parametrize("seed", [0, 3])
+def test_detection_finds_every_section_and_sense(seed):
+    rec = simulate_ferraris(seed=seed)
+    acc, gyr = arrays(rec)
+    det = fr.detect_sections(acc, gyr, FS)
+    truth = rec.truth["sections"]
+    for name in fr.SECTIONS:
+        i, j = det.sections[name]
+        ti, tj = truth[name]["start"], truth[name]["end"]
+        if name.endswith("_rot"):  # the turn lies inside the motion between two rests
+            assert i <= ti + 5 and j >= tj - 5 and (j - i) < (tj - ti) + 1.0 * FS
+        else:  # the face rest lies inside the true dwell (x_p merges with the first rest)
+            assert i >= ti - (6 * FS if name == "x_p" else 0) and j <= tj and j - i > 4 * FS
+    assert det.senses == dict(zip(fr.ROT_SECTIONS, rec.truth["senses"].astype(int).tolist()))
+
+
+def test_turns_about_the_vertical_are_not_rests_even_with_a_still_accelerometer():
+    # no shake: during a turn about the vertical the accelerometer is as still as at rest;
+    # only the gyro tells the turn from a rest (the failure of an accelerometer-only detector)
+    rec = simulate_ferraris(seed=2, shake_mps2=0.0)
+    acc, gyr = arrays(rec)
+    det = fr.detect_sections(acc, gyr, FS)
+    i, j = rec.truth["sections"]["y_rot"]["start"], rec.truth["sections"]["y_rot"]["end"]
+    mid = slice(i + (j - i) // 4, j - (j - i) // 4)
+    assert np.all(det.acc_var[mid] < det.thresholds["acc_var"])  # accelerometer "still"
+    assert not det.rest_mask[mid].any()  # but not a rest
+    assert set(det.sections) == set(fr.SECTIONS)
+
+
+def test_careful_hand_recovers_the_truth():
+    # faces within 0.2 deg, exact 360-deg turns: everything to noise level
+    rec = simulate_ferraris(seed=5, placement_deg=0.2, angle_sigma_deg=0.0)
+    acc, gyr = arrays(rec)
+    tr = rec.truth
+    f = fr.fit_ferraris(acc, gyr, FS, fr.detect_sections(acc, gyr, FS).sections, g=9.81)
+    Q = frame(tr, f)
+    dps = np.rad2deg(1.0)
+    # accelerometer: scale (row norms, imucal's K_a) and bias
+    assert np.allclose(np.linalg.norm(f.faces.T, axis=1) / np.linalg.norm(tr["T_a"], axis=1),
+                       1, atol=1e-3)
+    assert np.max(np.abs(f.faces.b - tr["b_a"])) < 0.01
+    # gyro in the fit's frame: T_g (raw per rad/s), bias, g-sensitivity
+    assert np.max(np.abs(f.T_g / dps - tr["T_g_dps"] @ Q)) < 0.01
+    assert np.allclose(np.linalg.norm(f.T_g, axis=1) / dps, np.linalg.norm(tr["T_g_dps"], axis=1),
+                       rtol=1e-3)
+    assert np.max(np.abs(f.b_g - tr["b_g_dps"])) < 0.003
+    assert np.max(np.abs(f.K_ga - tr["K_ga_dps"] @ Q)) < 1e-3
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_rough_hand_gravity_exact_scales_to_second_order(seed):
+    # 2 deg per-axis placement tilts, 1 deg turn errors: |a| = g on every face; scale
+    # factors are second order in the tilt (measured max 0.19 % accelerometer); the gyro
+    # scales carry the turn-angle error plus the tilt's shear of the frame (measured max
+    # 1.0 % over 10 seeds). Misalignments are first order in the tilt: not tested tighter
+    # than the placement itself.
+    rec = simulate_ferraris(seed=seed)
+    acc, gyr = arrays(rec)
+    tr = rec.truth
+    f = fr.fit_ferraris(acc, gyr, FS, fr.detect_sections(acc, gyr, FS).sections, g=9.81)
+    assert np.max(np.abs(f.faces.norm_residual)) < 1e-4 * 9.81
+    ka = np.linalg.norm(f.faces.T, axis=1) / np.linalg.norm(tr["T_a"], axis=1)
+    assert np.max(np.abs(ka - 1)) < 5e-3
+    kg = np.linalg.norm(f.T_g, axis=1) / np.rad2deg(1) / np.linalg.norm(tr["T_g_dps"], axis=1)
+    assert np.max(np.abs(kg - 1)) < 0.015
+    Q = frame(tr, f)
+    assert np.rad2deg(np.arccos((np.trace(Q) - 1) / 2)) < 3 * 2.0 * np.sqrt(3)
+
+
+def test_counts_session_and_section_list_round_trip(tmp_path):
+    rec = simulate_ferraris(seed=6, counts=True, placement_deg=0.2, angle_sigma_deg=0.0)
+    acc, gyr = arrays(rec)
+    path = tmp_path / "s.sections.json"
+    path.write_text(json.dumps(rec.truth["sections"]))
+    secs = fr.load_sections(path, len(acc))
+    f = fr.fit_ferraris(acc, gyr, FS, secs, g=9.81)
+    # counts: T_a in counts per m/s^2 = 16384/9.81 x the true gain
+    ka = np.linalg.norm(f.faces.T, axis=1) / (16384 / 9.81 * np.linalg.norm(rec.truth["T_a"], axis=1))
+    assert np.allclose(ka, 1, atol=2e-3)
+    kg = np.linalg.norm(f.T_g, axis=1) / (131 * np.rad2deg(1) * np.linalg.norm(rec.truth["T_g_dps"],
+                                                                               axis=1))
+    assert np.allclose(kg, 1, atol=2e-3)
+    assert fr.sections_to_dict(secs) == rec.truth["sections"]
+
+
+def test_bad_section_lists_are_one_line_errors(tmp_path):
+    good = {s: {"start": 10 * i, "end": 10 * i + 5} for i, s in enumerate(fr.SECTIONS)}
+    bad = dict(good)
+    del bad["y_rot"]
+    with pytest.raises(InputError, match="lacks y_rot"):
+        fr.sections_from_dict(bad, 1000)
+    bad = dict(good, x_a={"start": 5, "end": 5000})
+    with pytest.raises(InputError, match="x_a.*outside"):
+        fr.sections_from_dict(bad, 1000)
+    p = tmp_path / "x.json"
+    p.write_text("{not json")
+    with pytest.raises(InputError, match="not a JSON section list"):
+        fr.load_sections(p, 1000)
+
+
+def test_a_session_without_turns_names_what_is_missing():
+    rec = simulate_ferraris(seed=0)
+    acc, gyr = arrays(rec)
+    n = rec.truth["sections"]["x_rot"]["start"] - 200
+    with pytest.raises(InputError, match="not found: x_rot, y_rot, z_rot"):
+        fr.detect_sections(acc[:n], gyr[:n], FS)
