@@ -296,6 +296,9 @@ def _recipes():
         "drift fit": (("drift fit",), lambda d, f: [
             f, "--quantity", "bias", "--order", "1", "--restarts", "1", "--horizon", "5",
             "--out", d / "out"], "dir", EXAMPLES / "storage_drift.csv"),
+        "drift apply": (("drift apply",), lambda d, f: [
+            _model("storage-drift", d), f, "--out", d / "out.csv"], "file",
+            EXAMPLES / "storage_drift.csv"),
         "vibration apply": (("vibration apply", "vibration-compensate"), lambda d, f: [
             _model("vibration-compensation", d), f, "--out", d / "out.csv"], "file",
             EXAMPLES / "gyro_log.csv"),

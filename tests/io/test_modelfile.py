@@ -144,3 +144,30 @@ def test_wrong_typed_payloads_are_one_line_input_errors(fixture, tmp_path):
                 assert "\n" not in str(exc)
                 refused += 1
     assert refused >= len(paths)  # most edits are refused, one message each
+
+
+def test_schemas_accept_what_fits_write(tmp_path):
+    """No schema is stricter than its class's to_dict: models fitted with defaults, and
+    on constant targets (spans of 0, no NAR members, no neuron limit), load back."""
+    import warnings
+
+    from inertialab.learn.anfis import ANFIS
+    from inertialab.learn.mlp_lm import MLPRegressorLM
+    from inertialab.learn.nar import NARForecaster
+    from inertialab.learn.rbf import RBFNetwork
+
+    x = np.linspace(0, 1, 40)
+    X2 = np.c_[x, x**2]
+    cases = [(RBFNetwork(), (x[:, None], np.sin(x))),
+             (RBFNetwork(), (x[:, None], np.ones_like(x))),
+             (ANFIS(), (X2, np.sin(x))),
+             (MLPRegressorLM(hidden=3, max_epochs=5), (np.c_[x, np.ones_like(x)],
+                                                        np.ones_like(x))),
+             (NARForecaster(order=2, restarts=1), (np.sin(np.arange(60) / 5),)),
+             (NARForecaster(order=2, restarts=1), (np.ones(60),))]
+    for i, (est, args) in enumerate(cases):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            model = est.fit(*args)
+        back = load_model(save_model(model, tmp_path / f"m{i}.json"))
+        assert type(back) is type(model)

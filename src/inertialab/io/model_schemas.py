@@ -151,6 +151,14 @@ def same_length(*keys: str) -> Check:
     return check
 
 
+def maybe(check: Check) -> Check:
+    """``check``, or ``None``."""
+    def inner(v, where):
+        if v is not None:
+            check(v, where)
+    return inner
+
+
 def all_of(*checks: Check) -> Check:
     def check(v, where):
         for c in checks:
@@ -170,7 +178,8 @@ POLYNOMIAL = all_of(obj({
 }), same_length("powers", "coef"), same_length("x_min", "x_span"))
 
 RBF = all_of(obj({
-    "spread": num(positive=True), "goal": num(0), "max_neurons": integer(0, 10**6, nullable=True),
+    "spread": num(positive=True), "goal": num(0),
+    "max_neurons": integer(0, 10**6, nullable=True),
     "b": num(), "center_values": array(None, None), "weights": array(None), "bias": num(),
     "mse": num(0, nullable=True), "mse_history": array(None, item=num(0)),
 }, optional=("mse", "mse_history")), same_length("center_values", "weights"))
@@ -188,19 +197,19 @@ ANFIS = obj({
     "y_lo": num(), "y_span": _SPAN, "fis": _FIS,
 })
 
-MLP = obj({
+MLP = obj({  # a constant column or target has span 0 (spec 004 §3.3; handled on use)
     "params": obj({"hidden": integer(1, 10**5)}, optional=("hidden",)),
     "n_features_in": integer(1, 10**5), "theta": array(None, min_len=1),
-    "x_min": array(None), "x_span": array(None, item=_SPAN),
-    "y_min": num(), "y_span": _SPAN,
+    "x_min": array(None), "x_span": array(None, item=num(0)),
+    "y_min": num(), "y_span": num(0),
 })
 
 NAR = obj({
-    "settings": obj({}), "order": integer(1, 10**4), "lo": num(), "span": _SPAN,
+    "settings": obj({}), "order": integer(1, 10**4), "lo": num(), "span": num(0),
     "constant": boolean, "accepted": boolean, "tail": array(None, min_len=1),
     "seed_entropy": integer(0, 2**256, nullable=True),
     "members": array(None, item=obj({"theta": array(None, min_len=1), "resid": array(None),
-                                     "val_mse": num(nullable=True)}), min_len=1),
+                                     "val_mse": num(nullable=True)})),
 })
 
 _TERM = obj({"value": num(nullable=True), "unit": text(),
@@ -216,8 +225,8 @@ NOISE_TERMS = obj({
 
 VIBRATION = obj({
     "level": integer(0, 64), "wavelet": text(), "wavelet_level": integer(0, 64),
-    "f_range_hz": array(2, item=num(0)), "rbf": RBF, "poly": POLYNOMIAL,
-}, optional=("poly",))
+    "f_range_hz": array(2, item=num(0)), "rbf": RBF, "poly": maybe(POLYNOMIAL),
+}, optional=("poly", "f_range_hz"))
 
 THERMAL = obj({
     "method": text(), "ref": obj({k: num() for k in ("k0", "k1", "k2", "kip", "kp")}),
