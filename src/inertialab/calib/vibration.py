@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from inertialab.errors import ExtrapolationWarning, InputError, NotFittedError
+from inertialab.estimator import Estimator
 from inertialab.learn.poly import PolynomialRegressor
 from inertialab.learn.rbf import RBFNetwork
 from inertialab.noise import wavelet as wv
@@ -171,7 +172,7 @@ def bias_targets(run: VibrationRun, approx: np.ndarray, *, guard_s: float = 2.0,
 
 
 
-class VibrationModel:
+class VibrationModel(Estimator):
     """Vibration-bias compensation model (spec 001 §3.8-3.10).
 
     Parameters
@@ -204,8 +205,6 @@ class VibrationModel:
     #: ``tests/data/models/vibration-compensation-v1.json``); a payload without the key is
     #: version 1.
     FORMAT_VERSION = 1
-    _PARAMS = ("level", "wavelet", "wavelet_level", "spread", "goal", "centers",
-               "max_neurons", "poly_degree", "rng")
 
     def __init__(self, *, level: int = 6, wavelet: str = "db4", wavelet_level: int = 10,
                  spread: float = 1.2, goal: float = 1e-4, centers: str = "max_error",
@@ -232,18 +231,6 @@ class VibrationModel:
         self.poly_ = PolynomialRegressor(degree=self.poly_degree,
                                          warn_extrapolation=False).fit(f, e)
         self.f_range_hz_ = (float(f.min()), float(f.max()))
-        return self
-
-    def get_params(self, deep: bool = True) -> dict:
-        """The constructor arguments (scikit-learn contract)."""
-        return {k: getattr(self, k) for k in self._PARAMS}
-
-    def set_params(self, **params) -> VibrationModel:
-        """Set constructor arguments; unknown names are an InputError."""
-        for k, v in params.items():
-            if k not in self._PARAMS:
-                raise InputError(f"VibrationModel has no parameter '{k}'")
-            setattr(self, k, v)
         return self
 
     def _check(self):
