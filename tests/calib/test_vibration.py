@@ -163,6 +163,9 @@ def test_not_fitted_format_version_and_params():
     np.testing.assert_array_equal(VibrationModel.from_dict(d1).predict(f), m.predict(f))
     with pytest.raises(InputError, match="newer"):
         VibrationModel.from_dict({**d, "format_version": 2})
+    for field in ("poly", "rbf", "f_range_hz"):  # a damaged payload is one InputError
+        with pytest.raises(InputError, match="bad field"):
+            VibrationModel.from_dict({**d, field: None})
 
 
 def test_vibration_run_phases():

@@ -296,7 +296,9 @@ class VibrationModel(Estimator):
 
     @classmethod
     def from_dict(cls, d: dict) -> VibrationModel:
-        version = d.get("format_version", 1) if isinstance(d, dict) else None
+        if not isinstance(d, dict):
+            raise InputError("vibration-compensation model: payload is not an object")
+        version = d.get("format_version", 1)
         if not isinstance(version, int) or isinstance(version, bool) or version < 1:
             raise InputError(f"vibration-compensation model: bad format_version {version!r}")
         if version > cls.FORMAT_VERSION:
@@ -312,8 +314,9 @@ class VibrationModel(Estimator):
             obj.rbf_ = RBFNetwork.from_dict(d["rbf"])
             obj.poly_ = PolynomialRegressor.from_dict(d["poly"])
             obj.poly_.warn_extrapolation = False
-        except (KeyError, TypeError, IndexError) as exc:
-            raise InputError(f"vibration-compensation model: missing or bad field {exc}") from None
+        except (KeyError, TypeError, IndexError, AttributeError, ValueError) as exc:
+            raise InputError(f"vibration-compensation model: missing or bad field "
+                             f"({type(exc).__name__}: {exc})") from None
         return obj
 
 
