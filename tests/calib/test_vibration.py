@@ -148,8 +148,12 @@ def test_not_fitted_format_version_and_params():
         m.to_dict()
     assert m.get_params()["spread"] == 2.0 and m.set_params(goal=1e-3) is m
     assert m.goal == 1e-3
-    with pytest.raises(InputError, match="no parameter"):
+    with pytest.raises(ValueError, match="no parameter"):
         m.set_params(bogus=1)
+    from inertialab.estimator import clone
+
+    c = clone(m)
+    assert c.get_params() == m.get_params() and not hasattr(c, "rbf_")
     f = np.linspace(1.0, 50.0, 20)
     assert m.fit(f, bias_shift_dph(f)) is m
     d = m.to_dict()
@@ -159,6 +163,9 @@ def test_not_fitted_format_version_and_params():
     np.testing.assert_array_equal(VibrationModel.from_dict(d1).predict(f), m.predict(f))
     with pytest.raises(InputError, match="newer"):
         VibrationModel.from_dict({**d, "format_version": 2})
+    for field in ("poly", "rbf", "f_range_hz"):  # a damaged payload is one InputError
+        with pytest.raises(InputError, match="bad field"):
+            VibrationModel.from_dict({**d, field: None})
 
 
 def test_vibration_run_phases():

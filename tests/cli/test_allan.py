@@ -167,3 +167,13 @@ def test_clock_phase_file_json_and_figure(tmp_path, capsys):
     code, out, err = run(capsys, "allan", p, "--input", "frequency", "--column", "time error",
                          "--unit", "hz", "--rate", "1", "--sep", ";")
     assert code == 2 and "nominal" in err
+
+
+def test_clock_unit_without_clock_input_says_which_input(tmp_path, capsys):
+    p = tmp_path / "f.csv"
+    p.write_text("t_s,y\n" + "".join(f"{i},{(-1) ** i * 1e-3}\n" for i in range(50)))
+    code, _, err = run(capsys, "allan", p, "--unit", "ppm")
+    assert code == 2 and "--input frequency" in err
+    code, _, err = run(capsys, "allan", p, "--input", "frequency", "--column", "y", "--unit",
+                       "ppm", "--json")
+    assert code == 0, err

@@ -205,8 +205,6 @@ class VibrationModel(Estimator):
     #: ``tests/data/models/vibration-compensation-v1.json``); a payload without the key is
     #: version 1.
     FORMAT_VERSION = 1
-    _PARAMS = ("level", "wavelet", "wavelet_level", "spread", "goal", "centers",
-               "max_neurons", "poly_degree", "rng")
 
     def __init__(self, *, level: int = 6, wavelet: str = "db4", wavelet_level: int = 10,
                  spread: float = 1.2, goal: float = 1e-4, centers: str = "max_error",
@@ -233,18 +231,6 @@ class VibrationModel(Estimator):
         self.poly_ = PolynomialRegressor(degree=self.poly_degree,
                                          warn_extrapolation=False).fit(f, e)
         self.f_range_hz_ = (float(f.min()), float(f.max()))
-        return self
-
-    def get_params(self, deep: bool = True) -> dict:
-        """The constructor arguments (scikit-learn contract)."""
-        return {k: getattr(self, k) for k in self._PARAMS}
-
-    def set_params(self, **params) -> VibrationModel:
-        """Set constructor arguments; unknown names are an InputError."""
-        for k, v in params.items():
-            if k not in self._PARAMS:
-                raise InputError(f"VibrationModel has no parameter '{k}'")
-            setattr(self, k, v)
         return self
 
     def _check(self):
@@ -310,7 +296,9 @@ class VibrationModel(Estimator):
 
     @classmethod
     def from_dict(cls, d: dict) -> VibrationModel:
-        version = d.get("format_version", 1) if isinstance(d, dict) else None
+        if not isinstance(d, dict):
+            raise InputError("vibration-compensation model: payload is not an object")
+        version = d.get("format_version", 1)
         if not isinstance(version, int) or isinstance(version, bool) or version < 1:
             raise InputError(f"vibration-compensation model: bad format_version {version!r}")
         if version > cls.FORMAT_VERSION:
@@ -326,8 +314,9 @@ class VibrationModel(Estimator):
             obj.rbf_ = RBFNetwork.from_dict(d["rbf"])
             obj.poly_ = PolynomialRegressor.from_dict(d["poly"])
             obj.poly_.warn_extrapolation = False
-        except (KeyError, TypeError, IndexError) as exc:
-            raise InputError(f"vibration-compensation model: missing or bad field {exc}") from None
+        except (KeyError, TypeError, IndexError, AttributeError, ValueError) as exc:
+            raise InputError(f"vibration-compensation model: missing or bad field "
+                             f"({type(exc).__name__}: {exc})") from None
         return obj
 
 

@@ -119,6 +119,14 @@ def _single(*, file, column, rate, input_, unit, nominal, stat, taus, confidence
     if input_ not in ("rate", "angle", "phase", "frequency"):
         raise InputError(f"--input must be rate, angle, phase or frequency, got '{input_}'")
     clock = input_ in ("phase", "frequency")
+    if not clock and unit is not None:
+        from inertialab.workflows.allan import CLOCK_RATIO, CLOCK_TIME
+
+        u = unit.strip().lower()
+        if u in CLOCK_RATIO or u == "hz" or u in CLOCK_TIME:
+            kind = "phase" if u in CLOCK_TIME else "frequency"
+            raise InputError(f"--unit {unit} is a clock unit: give --input {kind} (clock "
+                             f"{'time error' if kind == 'phase' else 'fractional frequency'})")
     if not 0.0 < confidence < 1.0:
         raise InputError(f"--confidence must be in (0, 1), got {confidence}")
     npy_col = None
