@@ -151,9 +151,13 @@ def _single(*, file, column, rate, input_, unit, nominal, stat, taus, confidence
         if out is not None:
             from inertialab.io import save_model
             from inertialab.report.figures.allan import deviation_figure
+            from inertialab.report.figures.noise_terms import allan_terms_figure
 
             d = prepare_out_dir(out)
-            write_figures([deviation_figure(res)], d)
+            figs = [deviation_figure(res)]
+            if res.terms is not None and res.oadev is not None:
+                figs.append(allan_terms_figure(res.oadev, res.terms))
+            write_figures(figs, d)
             atomic_write_text(d / "result.json", json.dumps(json_ready(payload), indent=2) + "\n")
             if res.terms is not None:
                 save_model(res.terms, d / "model.json", units={"rate": log.unit},

@@ -21,7 +21,10 @@ from inertialab.errors import InputError
 from inertialab.noise.allan import DeviationResult
 from inertialab.noise.family import ALL_STATISTICS as STATISTICS
 from inertialab.noise.family import PHASE_UNIT, compute
-from inertialab.noise.terms import NoiseTerms, fit_noise_terms
+from inertialab.noise.terms import NoiseTerms, fit_noise_terms, model_intervals
+
+#: Statistics whose intervals take the fitted model's noise type (Greenhall EDF).
+_MODEL_EDF_STATS = ("adev", "oadev", "mdev", "tdev", "hdev", "ohdev")
 
 #: Relative jitter of ``t_s`` above which a log is not uniform (spec 001 §2.2).
 T_JITTER_TOL = 1e-6
@@ -366,17 +369,7 @@ class AllanAnalysis:
         """The issue-3 JSON object of one statistic."""
         terms = None
         if self.terms is not None:
-            terms = {}
-            for k, t in self.terms.terms().items():
-                d = {"value": t.value, "unit": t.unit, "ci": [t.ci[0], t.ci[1]],
-                     "method": t.method, "tau_range_s": [t.tau_range_s[0], t.tau_range_s[1]]}
-                if t.density is not None:
-                    d["density"] = t.density
-                if t.per_sample_std is not None:
-                    d["per_sample_std"] = t.per_sample_std
-                if t.flags:
-                    d["flags"] = list(t.flags)
-                terms[k] = d
+            terms = {k: t.to_dict() for k, t in self.terms.terms().items()}
         out = {"statistic": r.statistic, "tau0_s": r.tau0_s, "taus_s": r.taus_s,
                "dev": r.dev, "ci_low": r.ci_low, "ci_high": r.ci_high,
                "n_terms": r.n_terms, "alpha": r.alpha, "edf": r.edf,
@@ -525,6 +518,9 @@ def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: st
             from inertialab.errors import DataQualityWarning
 
             warnings.warn(f"noise terms not fitted: {exc}", DataQualityWarning, stacklevel=2)
+    if terms is not None:  # rate records: noise types follow the fitted model (issue 14 item 5)
+        results = [model_intervals(r, terms) if r.statistic in _MODEL_EDF_STATS else r
+                   for r in results]
     n = results[0].n_samples
     return AllanAnalysis(results=tuple(results), terms=terms, unit=log.unit, column=log.column,
                          rate_hz=log.rate_hz, n_samples=n, input=log.input, kind=log.kind,

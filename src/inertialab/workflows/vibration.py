@@ -235,18 +235,7 @@ def noise_terms_row(x, fs_hz: float, *, method: str = "wls", tau_min_s: float | 
 
 
 def _terms_to_row(nt) -> dict:
-    row = {}
-    for k in TERMS:
-        t = getattr(nt, k)
-        row[k] = {"value": float(t.value), "unit": t.unit,
-                  "ci": [float(t.ci[0]), float(t.ci[1])], "method": t.method,
-                  "tau_range_s": [float(t.tau_range_s[0]), float(t.tau_range_s[1])],
-                  "sd": float(t.sd), "flags": list(t.flags)}
-        if getattr(t, "density", None) is not None:
-            row[k]["density"] = dict(t.density)
-        if getattr(t, "per_sample_std", None) is not None:
-            row[k]["per_sample_std"] = dict(t.per_sample_std)
-    return row
+    return {k: getattr(nt, k).to_dict() for k in TERMS}
 
 
 def _values(row: dict) -> dict:

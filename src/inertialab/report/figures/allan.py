@@ -92,6 +92,9 @@ def _terms_and_truth(ax, analysis, truth_curve) -> None:
                 continue
             color, lab = _TERM_STYLE[k]
             term = getattr(t, k)
+            lo_hi = np.asarray(term.tau_range_s, dtype=float)
+            if np.all(np.isfinite(lo_hi)):  # each term only over the taus it was read on
+                line = np.where((taus >= lo_hi[0]) & (taus <= lo_hi[1]), line, np.nan)
             ax.plot(taus, line, "--", color=color, lw=1,
                     label=f"{lab} = {term.value:.3g} {term.unit}")
     if truth_curve is not None:
