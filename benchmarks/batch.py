@@ -63,7 +63,7 @@ def run(quick: bool = False) -> dict:
     rel = float(np.max(np.abs(dk.dev / ref.dev - 1)))
     return {
         "settings": {"seed": SEED, "n_units": n_units, "lot": "simulate_line (rig18, 18 poses)",
-                     "method": "field_calibration.calibrate lm/norm", "workers": 2,
+                     "method": "calib.triaxial.calibrate lm/norm", "workers": 2,
                      "allan_samples": n_samples, "allan_taus": "octave", "cpus": os.cpu_count(),
                      "load_avg_1min": os.getloadavg()[0]},
         "lot": {"serial_wall_s": ser_wall, "serial_cpu_s": ser_cpu, "dask_wall_s": par_wall,

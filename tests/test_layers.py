@@ -1,12 +1,14 @@
-"""DESIGN.md's layer order: imports point down only (read with ast)."""
+"""DESIGN.md's floors (docs/architecture.md), read with ast: imports point down only,
+no import circles, sim/ only above workflows, no CLI flag names below cli/, matplotlib
+only in report/, methods never print, no module above 700 lines."""
 
 import ast
+import re
 from pathlib import Path
 
 SRC = Path(__file__).resolve().parent.parent / "src" / "inertialab"
 
-# rank: a module may import only modules of lower or equal rank (same package), with the
-# exceptions listed below.
+# rank: a module may import only modules of lower rank, or of its own package.
 RANK = {
     "units": 0, "errors": 0, "seeding": 0, "__init__": 0, "jsonable": 0, "_blas": 0,
     "progress": 0, "estimator": 0,
@@ -15,15 +17,28 @@ RANK = {
     "learn": 3, "optim": 3,
     "sensors": 4,
     "sim": 5, "calib": 5,
-    "workflows": 6, "studies": 7,
+    "workflows": 6,
+    "studies": 7,
     "report": 8,
     "cli": 9, "__main__": 9,
 }
 # method packages that must not import each other (DESIGN.md: "learn and optim may import
-# regress; all may import metrics; nothing else crosses")
+# regress; all may import metrics; nothing else crosses"); calib and sim do not cross.
 METHODS = {"noise", "learn", "optim", "regress"}
 ALLOWED_CROSS = {("learn", "regress"), ("optim", "regress")}
-# the one upward reference: the model-file loader's lazy allow-list (strings, not imports)
+NO_CROSS = {("calib", "sim"), ("sim", "calib")}
+# floors that may import sim/ (DESIGN.md: studies/ and cli/ only)
+SIM_USERS = {"sim", "studies", "cli", "__main__"}
+MAX_LINES = 700
+
+
+def _modules():
+    for path in sorted(SRC.rglob("*.py")):
+        rel = path.relative_to(SRC.parent).with_suffix("")
+        parts = list(rel.parts)
+        if parts[-1] == "__init__":
+            parts = parts[:-1]
+        yield path, ".".join(parts)
 
 
 def _layer(modname: str) -> str:
@@ -31,7 +46,7 @@ def _layer(modname: str) -> str:
     return parts[1] if len(parts) > 1 else "__init__"
 
 
-def _imports(path: Path, modname: str):
+def _imports(path: Path, modname: str, *, is_pkg: bool, submodules: bool = False):
     tree = ast.parse(path.read_text(), filename=str(path))
     for node in ast.walk(tree):
         if isinstance(node, ast.Import):
@@ -39,21 +54,33 @@ def _imports(path: Path, modname: str):
                 yield a.name
         elif isinstance(node, ast.ImportFrom):
             if node.level:
-                base = modname.split(".")[: -node.level]
+                base = modname.split(".")
+                base = base[: len(base) - node.level + (1 if is_pkg else 0)]
                 yield ".".join(base + ([node.module] if node.module else []))
             elif node.module:
                 yield node.module
+                if submodules:  # `from pkg import module` (for the circle graph)
+                    for a in node.names:
+                        yield f"{node.module}.{a.name}"
+
+
+def _graph():
+    mods = dict((name, path) for path, name in _modules())
+    graph = {}
+    for name, path in mods.items():
+        deps = set()
+        for imp in _imports(path, name, is_pkg=path.name == "__init__.py", submodules=True):
+            if imp.startswith("inertialab") and imp in mods and imp != name:
+                deps.add(imp)
+        graph[name] = deps
+    return graph
 
 
 def test_imports_point_down_only():
     bad = []
-    for path in SRC.rglob("*.py"):
-        rel = path.relative_to(SRC.parent).with_suffix("")
-        modname = ".".join(rel.parts)
+    for path, modname in _modules():
         src_layer = _layer(modname)
-        if src_layer == "__init__" and path.name == "__init__.py" and path.parent == SRC:
-            src_layer = "__init__"
-        for imp in _imports(path, modname):
+        for imp in _imports(path, modname, is_pkg=path.name == "__init__.py"):
             if not imp.startswith("inertialab"):
                 continue
             dst = _layer(imp)
@@ -64,9 +91,79 @@ def test_imports_point_down_only():
                 continue
             if src_layer in METHODS and dst in METHODS and (src_layer, dst) not in ALLOWED_CROSS:
                 bad.append(f"{modname} -> {imp} (method packages do not cross)")
+            elif (src_layer, dst) in NO_CROSS:
+                bad.append(f"{modname} -> {imp} ({src_layer} and {dst} do not cross)")
+            elif dst == "sim" and src_layer not in SIM_USERS:
+                bad.append(f"{modname} -> {imp} (only studies/ and cli/ import sim/)")
             elif RANK[dst] > RANK[src_layer]:
                 bad.append(f"{modname} -> {imp} (points up)")
-    assert not bad, "layer violations:\n" + "\n".join(bad)
+    assert not bad, "layer violations:\n" + "\n".join(sorted(set(bad)))
+
+
+def test_no_import_circles():
+    graph = _graph()
+    index, low, on_stack, stack, cycles = {}, {}, set(), [], []
+    counter = [0]
+
+    def strong(v):  # Tarjan's strongly connected components
+        index[v] = low[v] = counter[0]
+        counter[0] += 1
+        stack.append(v)
+        on_stack.add(v)
+        for w in graph[v]:
+            if w not in index:
+                strong(w)
+                low[v] = min(low[v], low[w])
+            elif w in on_stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            comp = []
+            while True:
+                w = stack.pop()
+                on_stack.discard(w)
+                comp.append(w)
+                if w == v:
+                    break
+            if len(comp) > 1:
+                cycles.append(sorted(comp))
+
+    for v in sorted(graph):
+        if v not in index:
+            strong(v)
+    # a package __init__ re-exporting its own modules is not a circle of modules
+    real = [c for c in cycles
+            if not all(any(o.startswith(m + ".") for o in c) or
+                       any(m.startswith(o + ".") for o in c) for m in c)]
+    assert not real, "import circles:\n" + "\n".join(" <-> ".join(c) for c in real)
+
+
+_FLAG = re.compile(r"(?<![\w-])--[a-z][a-z0-9]*(?:-[a-z0-9]+)*")
+
+
+def _message_strings(tree):
+    """String constants that are not docstrings (messages, f-string parts)."""
+    docs = set()
+    for node in ast.walk(tree):
+        if isinstance(node, (ast.Module, ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+            body = getattr(node, "body", [])
+            if body and isinstance(body[0], ast.Expr) and isinstance(body[0].value, ast.Constant):
+                docs.add(id(body[0].value))
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Constant) and isinstance(node.value, str) and id(node) not in docs:
+            yield node
+
+
+def test_no_cli_flag_names_below_cli():
+    bad = []
+    for path, modname in _modules():
+        if _layer(modname) in ("cli", "__main__"):
+            continue
+        tree = ast.parse(path.read_text())
+        for node in _message_strings(tree):
+            for m in _FLAG.findall(node.value):
+                bad.append(f"{modname}:{node.lineno}: {m}")
+    assert not bad, ("flag names below cli/ (name the argument; cli/options.flagged maps it):\n"
+                     + "\n".join(bad))
 
 
 def test_workflows_never_import_matplotlib_and_methods_never_print():
@@ -75,9 +172,15 @@ def test_workflows_never_import_matplotlib_and_methods_never_print():
         rel = path.relative_to(SRC)
         top = rel.parts[0]
         text = path.read_text()
-        if top in ("workflows", "sim", "sensors", "noise", "learn", "optim", "regress", "io") and (
-                "import matplotlib" in text or "from matplotlib" in text):
+        if top not in ("report", "cli") and ("import matplotlib" in text
+                                              or "from matplotlib" in text):
             offenders.append(f"{rel}: imports matplotlib")
-        if top in ("noise", "learn", "optim", "regress", "sensors") and "print(" in text:
+        if top in ("noise", "learn", "optim", "regress", "sensors", "calib") and "print(" in text:
             offenders.append(f"{rel}: prints")
     assert not offenders, "\n".join(offenders)
+
+
+def test_no_module_above_700_lines():
+    big = [f"{p.relative_to(SRC)}: {n}" for p in SRC.rglob("*.py")
+           if (n := len(p.read_text().splitlines())) > MAX_LINES]
+    assert not big, "modules above 700 lines:\n" + "\n".join(big)

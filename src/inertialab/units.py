@@ -281,7 +281,7 @@ def unit_suffix_or_error(column: str, *, dimension_: str | None = None, path=Non
         hint = f" (unknown unit suffix '{tail}')" if tail else ""
         raise InputError(
             f"no known unit suffix{hint}; use one of {', '.join(sorted(SUFFIXES))} "
-            "or give --unit", path=path, column=column)
+            "or give argument 'unit'", path=path, column=column)
     if dimension_ is not None and SUFFIXES[suf].dimension != dimension_:
         raise InputError(
             f"unit '{suf}' is a {SUFFIXES[suf].dimension}, expected a {dimension_}",

@@ -55,7 +55,7 @@ def test_npy_is_memory_mapped_and_needs_rate_and_unit(tmp_path):
     x = np.random.default_rng(0).normal(size=1000)
     p = tmp_path / "long.npy"
     np.save(p, x)
-    with pytest.raises(InputError, match="--unit"):
+    with pytest.raises(InputError, match="argument .unit."):
         read_record(p, "gyro_log")
     rec = read_record(p, "gyro_log", unit="dph", rate_hz=200.0)
     arr = rec.column("rate_dph")

@@ -179,7 +179,8 @@ def _ls(A, y, red: Reduced) -> MethodResult:
         warn.append(f"rank {r.rank} < 9: {', '.join(non_est)} are not estimable on their own "
                     f"(null directions {'; '.join(nulls)}); their min-norm values are "
                     "arbitrary along those directions, use the estimable combinations, a "
-                    "prior (--method ebr --prior ...) or a second orientation")
+                    "prior (argument 'method' = 'ebr' with argument 'prior') or a second "
+                    "orientation")
     res = h.residual
     return MethodResult("ls", coef, sd, res, r.rank, combos, warn, non_estimable=non_est,
                         residual_raw=float(np.sqrt(h.residual_ss / y.size)),

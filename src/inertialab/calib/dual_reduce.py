@@ -107,7 +107,7 @@ def reduce_stops(theta_cmd_deg, t_s, v_a, v_b, t_r, meta: dict, *, path="<record
     t_s, v_a, v_b, t_r = (np.asarray(a, dtype=float) for a in (t_s, v_a, v_b, t_r))
     g_loc = g_local if g_local is not None else meta.get("g_local_mps2")
     if g_loc is None:
-        raise InputError("no local gravity: give --g-local or 'g_local_mps2' in the sidecar",
+        raise InputError("no local gravity: give argument 'g_local' or 'g_local_mps2' in the sidecar",
                          path=path)
     g_loc = float(g_loc)
     ma, mb = _meters(meta, path)

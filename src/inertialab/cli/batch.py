@@ -28,9 +28,11 @@ from inertialab.cli.options import JsonOpt, OutDirOpt, QuietOpt, reading_options
 from inertialab.errors import InputError
 from inertialab.io.mapping import ReadOptions
 
-_ALIASES = {"allan": "allan", "calibrate-triaxial": "calibrate-triaxial",
-            "calibrate triaxial": "calibrate-triaxial", "thermal-compensate": "thermal-compensate",
-            "thermal compensate": "thermal-compensate"}
+_ALIASES = {"allan": "allan", "triaxial fit": "calibrate-triaxial",
+            "thermal apply": "thermal-compensate",
+            # old spellings (one release)
+            "calibrate-triaxial": "calibrate-triaxial", "calibrate triaxial": "calibrate-triaxial",
+            "thermal-compensate": "thermal-compensate", "thermal compensate": "thermal-compensate"}
 
 _CHECK = re.compile(r"^\s*([A-Za-z_][A-Za-z0-9_.]*)\s*(<=|>=|<|>|=)\s*(.+?)\s*$")
 
@@ -98,7 +100,7 @@ def register(app: typer.Typer, groups: dict) -> None:
     @app.command("batch")
     @reading_options
     def batch(
-        cmd: list[str] = typer.Argument(..., help="allan | calibrate triaxial | thermal compensate"),
+        cmd: list[str] = typer.Argument(..., help="allan | triaxial fit | thermal apply"),
         inputs: list[str] = typer.Option(..., "--inputs", help="Glob of input files, e.g. "
                                          "'lot7/*.csv' (quote it; repeat for more)."),
         scheduler: str = typer.Option("local", "--scheduler", help="local (a LocalCluster), "
@@ -125,8 +127,8 @@ def register(app: typer.Typer, groups: dict) -> None:
 
         name = _ALIASES.get(" ".join(cmd).strip().lower())
         if name is None:
-            raise InputError(f"batch: unknown command '{' '.join(cmd)}' (allan, calibrate "
-                             "triaxial, thermal compensate)")
+            raise InputError(f"batch: unknown command '{' '.join(cmd)}' (allan, triaxial fit, "
+                             "thermal apply)")
         if gaps not in ("error", "split"):
             raise InputError(f"--gaps must be 'error' or 'split', got '{gaps}'")
         # the reading options were built (and checked) once here: a bad map is a usage

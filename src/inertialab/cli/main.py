@@ -239,7 +239,9 @@ def user_error(exc: BaseException, files: list[str]) -> str | None:
     """The one-line message of an exception that bad input or the environment caused
     (issue 19: exit 2, not an internal error), or None for a genuine bug."""
     if isinstance(exc, InputError):
-        return _one_line(exc)
+        from inertialab.cli.options import flagged
+
+        return flagged(_one_line(exc))  # library messages name arguments; users see flags
     if isinstance(exc, MemoryError):
         return (f"not enough memory for this input{_about(files)}; use a smaller file or "
                 "smaller size arguments")

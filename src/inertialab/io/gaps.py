@@ -185,12 +185,12 @@ def apply_gap_policy(df: pd.DataFrame, policy: str, *, time_column: str = "t_s",
     (with ``"error"`` and no problem, the frame is returned unchanged).
     """
     if policy not in ("error", "split"):
-        raise InputError(f"--gaps must be 'error' or 'split', got '{policy}'")
+        raise InputError(f"argument 'gaps' must be 'error' or 'split', got '{policy}'")
     if time_column not in df.columns:
-        raise InputError("--gaps needs a time column", path=path, column=time_column)
+        raise InputError("argument 'gaps' needs a time column", path=path, column=time_column)
     rep = detect_gaps(df[time_column].to_numpy(dtype=float), gap_factor=gap_factor)
     if rep.issues and policy == "error":
-        raise InputError(f"{rep.summary()}; use --gaps split to analyse the segments",
+        raise InputError(f"{rep.summary()}; set argument 'gaps' to 'split' to analyse the segments",
                          path=path, column=time_column)
     if policy == "error":
         return df, rep

@@ -40,6 +40,7 @@ import pandas as pd
 
 from inertialab import units as U
 from inertialab.errors import InputError
+from inertialab.io.formats.text import ParseOptions
 
 __all__ = [
     "ColumnMap",
@@ -99,43 +100,6 @@ class ColumnMap:
                          + other.entries)
 
 
-@dataclass(frozen=True)
-class ParseOptions:
-    """How to read a delimited text file.
-
-    Parameters
-    ----------
-    sep : str or None, default None
-        Field separator (``","``, ``";"``, ``"\\t"``, ``" "`` for runs of blanks);
-        None sniffs it from the header line.
-    decimal : str or None, default None
-        Decimal mark, ``"."`` or ``","``; None sniffs (``","`` only when the separator
-        is not a comma and numbers like ``0,25`` appear).
-    skip_rows : int or None, default None
-        Preamble lines before the header. None skips ``#`` lines (parsed as
-        ``# key=value`` metadata), ``//`` lines (Xsens) and blank lines.
-    """
-
-    sep: str | None = None
-    decimal: str | None = None
-    skip_rows: int | None = None
-
-    def __post_init__(self):
-        if self.decimal not in (None, ".", ","):
-            raise InputError(f"decimal mark must be '.' or ',', got {self.decimal!r}")
-        if self.sep is not None and (len(self.sep) == 0 or self.sep == self.decimal):
-            raise InputError(f"separator {self.sep!r} cannot be empty or equal the decimal mark")
-        if self.skip_rows is not None and int(self.skip_rows) < 0:
-            raise InputError(f"skip_rows must be >= 0, got {self.skip_rows}")
-
-    @property
-    def is_default(self) -> bool:
-        return self.sep is None and self.decimal is None and self.skip_rows is None
-
-    def to_dict(self) -> dict:
-        return {"sep": self.sep, "decimal": self.decimal, "skip_rows": self.skip_rows}
-
-
 # ----------------------------------------------------------------------------- parsing
 
 _ENTRY = re.compile(r"^\s*([^=\s]+)\s*=\s*(.+?)\s*$")
@@ -179,7 +143,7 @@ def _check_entry(target: str, source: str, unit: str | None, *, where: str) -> M
     return MapEntry(target=target, source=source, unit=unit, scale=scale)
 
 
-def parse_map(text: str | None, *, where: str = "--map") -> ColumnMap:
+def parse_map(text: str | None, *, where: str = "argument 'column_map'") -> ColumnMap:
     """Parse ``target=source[:unit],...`` into a :class:`ColumnMap`.
 
     The last ``:`` of an entry separates the unit, so source names may contain ``:``

@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import hashlib
 import warnings
-from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -21,59 +20,13 @@ import pandas as pd
 from inertialab.errors import DataQualityWarning, InputError
 from inertialab.io.formats.npy import check_rate as _check_rate
 from inertialab.io.formats.npy import open_npy as _open_npy
+from inertialab.io.record import Record
 from inertialab.io.schema import Column, Schema
 from inertialab.io.schemas import SCHEMAS
 from inertialab.io.sidecar import read_sidecar
 from inertialab.units import SUFFIXES, split_suffix
 
 _MAX_ROWS_LISTED = 5
-
-
-@dataclass
-class Record:
-    """A validated record.
-
-    Attributes
-    ----------
-    kind : schema kind
-    data : DataFrame with canonical lower-case column names (units as suffixes)
-    meta : sidecar / header metadata
-    path : source file (or ``"<frame>"``)
-    units : canonical column -> unit suffix, for unit-flexible columns
-    sha256 : hash of the validated canonical columns (format-independent)
-    arrays : for ``.npy`` logs, the memory-mapped column (not copied into ``data``)
-    """
-
-    kind: str
-    data: pd.DataFrame
-    meta: dict
-    path: str
-    units: dict[str, str]
-    sha256: str
-    arrays: dict[str, np.ndarray] = field(default_factory=dict)
-
-    def column(self, name: str) -> np.ndarray:
-        """Values of a canonical column as a float ndarray (memmap for .npy logs)."""
-        if name in self.arrays:
-            return self.arrays[name]
-        if name not in self.data.columns:
-            raise InputError("no such column", path=self.path, column=name)
-        return self.data[name].to_numpy()
-
-    def find(self, base: str) -> str | None:
-        """Canonical name of the unit-flexible column with ``base`` (e.g. ``rate`` ->
-        ``rate_dph``), or None."""
-        for col in list(self.arrays) + list(self.data.columns):
-            b, suf = split_suffix(col)
-            if b == base and suf is not None:
-                return col
-        return None
-
-    @property
-    def n(self) -> int:
-        if self.arrays:
-            return int(next(iter(self.arrays.values())).shape[0])
-        return len(self.data)
 
 
 # ---------------------------------------------------------------------------- loading
@@ -370,7 +323,7 @@ def _resolve_columns(df: pd.DataFrame, schema: Schema, *, path, meta, unit):
             suf = _meta_unit(col, meta)
         if suf is None:
             raise InputError(f"no unit: add a suffix (e.g. {col.name}_{_example_suffix(col)}) "
-                             "or give --unit", path=path, column=orig)
+                             "or give argument 'unit'", path=path, column=orig)
         dim = SUFFIXES[suf].dimension
         if dim not in col.dimensions:
             raise InputError(f"unit '{suf}' is a {dim}, expected a {' or '.join(col.dimensions)}",

@@ -27,10 +27,10 @@ GYRO_LOG = Schema(
     source="spec 001 §2.2",
     description="Continuous gyro or IMU log at a uniform rate.",
     columns=(
-        C("t_s", description="time since record start, s (or give --rate)"),
+        C("t_s", description="time since record start, s (or give the sample rate)"),
         C("rate", dimensions=("angular_rate",), description="gyro rate output (e.g. rate_dph)"),
         C("dtheta", dimensions=("angle",), description="angle increment per sample (e.g. dtheta_arcsec)"),
-        C("theta", dimensions=("angle",), description="cumulative angle (phase-like), for --input angle"),
+        C("theta", dimensions=("angle",), description="cumulative angle (phase-like), for angle input"),
         C("accel", dimensions=ACC, description="accelerometer output (e.g. accel_mps2)"),
         C("gx", dimensions=("angular_rate",)), C("gy", dimensions=("angular_rate",)),
         C("gz", dimensions=("angular_rate",)),

@@ -14,7 +14,7 @@ import math
 import numpy as np
 from scipy.optimize import nnls
 
-from inertialab.noise.terms import (
+from inertialab.noise._terms_base import (
     _GAIN,
     _NAMES,
     _POWERS,

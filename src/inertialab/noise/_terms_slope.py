@@ -16,7 +16,14 @@ import math
 import numpy as np
 from scipy.stats import norm
 
-from inertialab.noise.terms import _NAMES, _REPORT, BI_FACTOR, NoiseTerm, NoiseTerms, local_slopes
+from inertialab.noise._terms_base import (
+    _NAMES,
+    _REPORT,
+    BI_FACTOR,
+    NoiseTerm,
+    NoiseTerms,
+    local_slopes,
+)
 
 
 def _longest_run(mask: np.ndarray):

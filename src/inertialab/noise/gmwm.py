@@ -418,7 +418,7 @@ def _with_intervals(spec, theta, procs, wv, n_boot, seed, confidence):
     nan2 = (float("nan"), float("nan"))
     if n_boot <= 0:
         return procs, nan2, nan2
-    from inertialab.noise.terms import OCTAVE_RHO
+    from inertialab.noise._terms_base import OCTAVE_RHO
 
     tau0, taus, eta = wv.tau0_s, wv.taus_s, wv.eta
     T = wv.n_samples * tau0
@@ -505,7 +505,7 @@ def gmwm_noise_terms(fit: GmwmFit, conv, rate_hz: float, result=None):
     """IEEE terms (a :class:`~inertialab.noise.terms.NoiseTerms`, method "gmwm") from a
     GMWM fit (module docstring); ``conv`` is the terms module's unit converter.
     Processes absent from the selected model give their term as 0 with flag ``absent``."""
-    from inertialab.noise.terms import _REPORT, NoiseTerm, NoiseTerms
+    from inertialab.noise._terms_base import _REPORT, NoiseTerm, NoiseTerms
 
     tau0 = fit.wv.tau0_s
     by = {}
@@ -600,7 +600,7 @@ def fit_gmwm(y, rate_hz: float, *, max_gm: int = 3, n_boot: int = 50, seed: int 
 def fit_gmwm_curve(result, sel=None, *, max_gm: int = 3, n_boot: int = 50, seed: int = 0,
                    confidence: float = 0.95, auto_range: bool = True) -> GmwmFit:
     """GMWM on the dyadic taus of an overlapping-Allan curve of a rate record."""
-    from inertialab.noise.terms import auto_tau_range
+    from inertialab.noise._terms_base import auto_tau_range
 
     wv = wv_from_curve(result, sel, confidence=confidence)
     k = 0

@@ -65,337 +65,35 @@ Hand-written: no maintained library fits the IEEE five-term model with EDF weigh
 
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass, field, replace
+from dataclasses import replace
 
 import numpy as np
 
 from inertialab import units
 from inertialab.errors import InputError
-
-#: ``sqrt(2 ln2 / pi)``: the Allan floor of bias instability B.
-BI_FACTOR = math.sqrt(2.0 * math.log(2.0) / math.pi)  # 0.66428
-
-#: Taus whose model EDF is below this are not fitted (issue 14 item 2: "EDF < a few").
-EDF_MIN = 3.0
-
-#: A term is read (and can be significant) only where it carries at least this share of
-#: the model AVAR at some fitted tau (issue 14 item 2).
-READ_SHARE = 0.25
-
-#: Correlation of log AVAR estimates one octave apart, per noise type (alpha), measured
-#: by Monte Carlo (oadev, 2^15 samples, 300 records, m = 1..1024; docs/noise-terms.md):
-#: white rate 0.5, flicker 0.67, random walk 0.88; white angle not measured, taken 0.5.
-OCTAVE_RHO = {2: 0.5, 1: 0.5, 0: 0.5, -1: 0.67, -2: 0.88}
-
-#: Default bootstrap replicates and confidence of the term intervals (issue 14 item 3).
-N_BOOT = 200
-CONFIDENCE = 0.95
-
-_POWERS = (-2, -1, 0, 1, 2)
-_NAMES = ("Q", "N", "B", "K", "R")
-#: alpha (rate PSD exponent) of each model term, for the EDF of its tau
-_TERM_ALPHA = (2, 0, -1, -2, -2)
-#: sqrt-form amplitude = gain * sqrt(c_k)
-_GAIN = np.array([1 / math.sqrt(3), 1.0, 1 / BI_FACTOR, math.sqrt(3), math.sqrt(2)])
-
-_REPORT = {
-    "gyro": {"rate": "deg/h", "Q": "arcsec", "N": "deg/sqrt(h)", "B": "deg/h",
-             "K": "deg/h/sqrt(h)", "R": "deg/h^2", "density": "rad/s/sqrt(Hz)",
-             "per_sample": "rad/s"},
-    "accel": {"rate": "m/s^2", "Q": "m/s", "N": "m/s/sqrt(h)", "B": "ug",
-              "K": "m/s^2/sqrt(h)", "R": "m/s^3", "density": "ug/sqrt(Hz)",
-              "per_sample": "m/s^2"},
-}
-# native unit of each coefficient's sqrt-form, given the rate unit in the first column
-_NATIVE = {
-    "gyro": {"Q": "arcsec", "N": "deg/h/sqrt(Hz)", "K": "rad/s/sqrt(s)", "R": "rad/s^2"},
-    "accel": {"Q": "m/s", "N": "m/s/sqrt(s)", "K": "m/s^2/sqrt(s)", "R": "m/s^3"},
-}
-
-
-def _nan(v):
-    return float("nan") if v is None else float(v)
-
-
-@dataclass(frozen=True)
-class NoiseTerm:
-    """One noise coefficient in its report unit.
-
-    Attributes
-    ----------
-    value : float
-        Estimate (NaN when not observable).
-    unit : str
-    ci : tuple (low, high)
-        Interval at the result's confidence (bootstrap for "wls"/"ols"/"gmwm",
-        EDF-based for "slope"); ``(0, upper)`` for a term that is not significant.
-    method : str
-        ``"wls" | "ols" | "slope" | "gmwm"``.
-    tau_range_s : tuple (low, high)
-        Taus the term was read on (where it carries at least a quarter of the model).
-    flags : tuple of str
-        ``"not_observable"``, ``"upper_bound"`` (not significant), ``"B_bound"`` (slope),
-        ``"zero"`` (the fit put the term at 0), ``"filter"`` (Q only: the short taus
-        show the internal filter, ``c_-2 < 0``).
-    sd : float
-        1-sigma uncertainty in ``unit`` (NaN where not defined).
-    density, per_sample_std : dict or None
-        N only: ``{"value", "unit"}``.
-    reason : str
-        Why a term is absent, bounded or not observable.
-    upper_bound : float
-        Upper end of the interval of a non-significant term (NaN otherwise).
-    """
-
-    value: float
-    unit: str
-    ci: tuple
-    method: str
-    tau_range_s: tuple
-    flags: tuple = ()
-    sd: float = float("nan")
-    density: dict | None = None
-    per_sample_std: dict | None = None
-    reason: str = ""
-    upper_bound: float = float("nan")
-
-    @property
-    def significant(self) -> bool:
-        return not ({"upper_bound", "not_observable"} & set(self.flags))
-
-    def to_dict(self) -> dict:
-        """The one JSON form of a term (CONTRACTS.md "noise"): ``value, unit, ci, method,
-        tau_range_s, sd, flags`` (+ ``density``, ``per_sample_std`` for N, ``reason`` and
-        ``upper_bound`` where set)."""
-        d = {"value": float(self.value), "unit": self.unit,
-             "ci": [float(self.ci[0]), float(self.ci[1])], "method": self.method,
-             "tau_range_s": [float(self.tau_range_s[0]), float(self.tau_range_s[1])],
-             "sd": float(self.sd), "flags": list(self.flags)}
-        if self.density is not None:
-            d["density"] = dict(self.density)
-        if self.per_sample_std is not None:
-            d["per_sample_std"] = dict(self.per_sample_std)
-        if self.reason:
-            d["reason"] = self.reason
-        if math.isfinite(self.upper_bound):
-            d["upper_bound"] = float(self.upper_bound)
-        return d
-
-    @classmethod
-    def from_dict(cls, d: dict) -> NoiseTerm:
-        return cls(value=_nan(d["value"]), unit=d["unit"], ci=tuple(_nan(v) for v in d["ci"]),
-                   method=d["method"], tau_range_s=tuple(_nan(v) for v in d["tau_range_s"]),
-                   flags=tuple(d.get("flags", ())), sd=_nan(d.get("sd")),
-                   density=d.get("density"), per_sample_std=d.get("per_sample_std"),
-                   reason=d.get("reason", ""), upper_bound=_nan(d.get("upper_bound")))
-
-
-@dataclass(frozen=True)
-class NoiseTerms:
-    """The five IEEE noise terms of one record.
-
-    Attributes
-    ----------
-    Q, N, B, K, R : NoiseTerm
-    kind : {"gyro", "accel"}
-    unit : str
-        Unit suffix of the rate data the curve came from ('dph', 'dps', 'rps', 'mps2', 'g' ...).
-    method : str
-    coefficients : tuple of 5 float
-        ``c_-2 .. c_2`` of eq. 4 in (data unit)^2 s^k (``c_-2`` may be negative: filter).
-    tau_range_s : tuple
-        Taus of the whole fit.
-    fit_rmse_log : float
-        RMSE of ``ln sigma_hat - ln sigma_model`` over the fitted taus.
-    rate_hz : float or None
-    confidence : float
-        Confidence of the term intervals.
-    statistic : str
-    g_local : float
-        Local gravity used for g-based accelerometer units (m/s^2).
-    alpha_model : tuple of int
-        Noise type of the model's dominant term at each fitted tau.
-    b_textbook : dict or None
-        ``{"value", "unit", "tau_s", "ci"}``: min(sigma)/0.6643 over the fitted taus.
-    interval : str
-        How the intervals were made (e.g. ``"bootstrap-allan/200"``).
-    gmwm : dict or None
-        The GMWM model (method "gmwm"): latent processes, their parameters, WIC.
-    misfit : float
-        ``sqrt(chi2/dof)`` of the fit when above 1 (the factor the bootstrap spread was
-        widened by), else 1.
-    """
-
-    MODEL_TYPE = "noise-terms"
-
-    Q: NoiseTerm
-    N: NoiseTerm
-    B: NoiseTerm
-    K: NoiseTerm
-    R: NoiseTerm
-    kind: str
-    unit: str
-    method: str
-    coefficients: tuple
-    tau_range_s: tuple
-    fit_rmse_log: float = float("nan")
-    rate_hz: float | None = None
-    confidence: float = CONFIDENCE
-    statistic: str = "oadev"
-    g_local: float = units.G_STANDARD
-    alpha_model: tuple = field(default_factory=tuple)
-    b_textbook: dict | None = None
-    interval: str = ""
-    gmwm: dict | None = None
-    misfit: float = 1.0
-
-    def terms(self) -> dict[str, NoiseTerm]:
-        return {k: getattr(self, k) for k in _NAMES}
-
-    def model_dev(self, taus_s) -> np.ndarray:
-        """Five-term model deviation at ``taus_s`` (s) in the data unit."""
-        t = np.asarray(taus_s, dtype=float)
-        c = np.nan_to_num(np.asarray(self.coefficients, dtype=float))
-        with np.errstate(invalid="ignore"):
-            return np.sqrt(sum(ck * t**k for ck, k in zip(c, _POWERS)))
-
-    def term_devs(self, taus_s) -> dict[str, np.ndarray]:
-        """Each term's own deviation line at ``taus_s`` in the data unit (NaN if absent)."""
-        t = np.asarray(taus_s, dtype=float)
-        out = {}
-        for name, ck, k in zip(_NAMES, self.coefficients, _POWERS):
-            out[name] = (np.sqrt(ck * t**k) if (ck is not None and np.isfinite(ck) and ck > 0)
-                         else np.full(t.shape, np.nan))
-        return out
-
-    def to_dict(self) -> dict:
-        d = {k: getattr(self, k).to_dict() for k in _NAMES}
-        d.update({"kind": self.kind, "unit": self.unit, "method": self.method,
-                  "coefficients": [float(v) for v in self.coefficients],
-                  "tau_range_s": [float(v) for v in self.tau_range_s],
-                  "fit_rmse_log": float(self.fit_rmse_log),
-                  "rate_hz": None if self.rate_hz is None else float(self.rate_hz),
-                  "confidence": float(self.confidence), "statistic": self.statistic,
-                  "g_local": float(self.g_local),
-                  "alpha_model": [int(a) for a in self.alpha_model]})
-        if self.b_textbook is not None:
-            d["b_textbook"] = dict(self.b_textbook)
-        if self.interval:
-            d["interval"] = self.interval
-        if self.gmwm is not None:
-            d["gmwm"] = self.gmwm
-        d["misfit"] = float(self.misfit)
-        return d
-
-    @classmethod
-    def from_dict(cls, d: dict) -> NoiseTerms:
-        return cls(**{k: NoiseTerm.from_dict(d[k]) for k in _NAMES},
-                   kind=d["kind"], unit=d["unit"], method=d["method"],
-                   coefficients=tuple(_nan(v) for v in d["coefficients"]),
-                   tau_range_s=tuple(float(v) for v in d["tau_range_s"]),
-                   fit_rmse_log=_nan(d.get("fit_rmse_log")), rate_hz=d.get("rate_hz"),
-                   confidence=float(d.get("confidence", 0.683)),
-                   statistic=d.get("statistic", "oadev"),
-                   g_local=float(d.get("g_local", units.G_STANDARD)),
-                   alpha_model=tuple(int(a) for a in d.get("alpha_model", ())),
-                   b_textbook=d.get("b_textbook"), interval=d.get("interval", ""),
-                   gmwm=d.get("gmwm"), misfit=float(d.get("misfit", 1.0)))
-
-
-# ----------------------------------------------------------------------------- conversion
-
-
-class _Converter:
-    """sqrt-form coefficients (data unit) -> report units."""
-
-    def __init__(self, unit: str, kind: str | None, g_local: float):
-        try:
-            dim = units.dimension(unit)
-        except InputError:
-            raise InputError(f"unknown unit '{unit}' (use dph, dps, rps, mps2, g, mg, ug)") from None
-        if kind is None:
-            kind = {"angular_rate": "gyro", "acceleration": "accel"}.get(dim)
-        if kind not in ("gyro", "accel"):
-            raise InputError(f"kind must be 'gyro' or 'accel', got {kind!r} (unit '{unit}' is a "
-                             f"{dim})")
-        want = "angular_rate" if kind == "gyro" else "acceleration"
-        if dim != want:
-            raise InputError(f"unit '{unit}' is a {dim}, not a {want} ({kind} data)")
-        self.kind, self.unit, self.g = kind, unit, float(g_local)
-        rep = _REPORT[kind]
-        # factor: data unit -> report rate unit (deg/h or m/s^2)
-        self.f = float(units.convert(1.0, unit, rep["rate"], g_local=self.g))
-
-    def _c(self, x, a, b):
-        return float(units.convert(x, a, b, g_local=self.g))
-
-    def value(self, name: str, s: float) -> float:
-        """``s`` = the term's natural amplitude in (report rate unit)·s^(power/2)."""
-        rep, nat = _REPORT[self.kind], _NATIVE[self.kind]
-        if name == "Q":  # (deg/h)·s = arcsec ; (m/s^2)·s = m/s
-            return s
-        if name == "N":  # (deg/h)·sqrt(s) = deg/h/sqrt(Hz) ; (m/s^2) sqrt(s) = m/s/sqrt(s)
-            return self._c(s, nat["N"], rep["N"])
-        if name == "B":
-            return s if self.kind == "gyro" else self._c(s, "m/s^2", "ug")
-        if name == "K":  # (deg/h)/sqrt(s) -> rad/s/sqrt(s) -> deg/h/sqrt(h)
-            if self.kind == "gyro":
-                return self._c(self._c(s, "deg/h", "rad/s"), nat["K"], rep["K"])
-            return self._c(s, nat["K"], rep["K"])
-        if name == "R":  # (deg/h)/s -> rad/s^2 -> deg/h^2
-            if self.kind == "gyro":
-                return self._c(self._c(s, "deg/h", "rad/s"), nat["R"], rep["R"])
-            return s
-        raise KeyError(name)
-
-    def factor(self, name: str) -> float:
-        """Linear factor: data-unit amplitude -> report value."""
-        return self.value(name, 1.0) * self.f
-
-    def n_extras(self, n_report_rate: float, rate_hz: float | None):
-        """density and per-sample std of the white noise (N in report-rate·sqrt(s))."""
-        rep = _REPORT[self.kind]
-        if self.kind == "gyro":
-            dens = self._c(self._c(n_report_rate, "deg/h", "rad/s"), "rad/s/sqrt(Hz)",
-                           rep["density"])
-        else:
-            dens = self._c(n_report_rate, "m/s^2/sqrt(Hz)", rep["density"])
-        density = {"value": dens, "unit": rep["density"]}
-        per = None
-        if rate_hz:
-            si = (self._c(n_report_rate, "deg/h", "rad/s") if self.kind == "gyro"
-                  else n_report_rate)
-            per = {"value": si * math.sqrt(float(rate_hz)), "unit": rep["per_sample"],
-                   "rate_hz": float(rate_hz)}
-        return density, per
-
-
-# ----------------------------------------------------------------------------- tau range
-
-
-def auto_tau_range(taus_s, dev) -> int:
-    """Index of the first tau not coloured by the sensor's internal filter.
-
-    A low-pass/decimation filter makes the Allan deviation rise or flatten at the first
-    taus before it falls like white noise (slope -1/2). When the first log-log slope is
-    above -1/4 the curve's first peak ``tau_p`` is found (first slope below -1/4) and taus
-    below ``4 tau_p`` are cut; the 1/tau^2 remainder of the filter beyond that is taken up
-    by the signed ``c_-2`` term. A curve that starts falling (white noise, quantisation)
-    keeps every tau (index 0).
-    """
-    lt = np.log(np.asarray(taus_s, dtype=float))
-    ld = np.log(np.asarray(dev, dtype=float))
-    if lt.size < 3:
-        return 0
-    s = np.diff(ld) / np.diff(lt)
-    if s[0] <= -0.25:
-        return 0
-    below = np.nonzero(s <= -0.25)[0]
-    if below.size == 0:
-        return 0
-    tau_p = math.exp(lt[below[0]])
-    return int(np.searchsorted(lt, math.log(4.0 * tau_p) - 1e-9))
+from inertialab.noise._terms_base import (  # noqa: F401 - the public names live on here too
+    _GAIN,
+    _NAMES,
+    _NATIVE,
+    _POWERS,
+    _REPORT,
+    _TERM_ALPHA,
+    BI_FACTOR,
+    CONFIDENCE,
+    EDF_MIN,
+    N_BOOT,
+    OCTAVE_RHO,
+    READ_SHARE,
+    NoiseTerm,
+    NoiseTerms,
+    _Converter,
+    _nan,
+    auto_tau_range,
+    local_slopes,
+)
+from inertialab.noise._terms_ls import fit_ls
+from inertialab.noise._terms_slope import fit_slope
+from inertialab.noise.gmwm import fit_gmwm_curve, gmwm_noise_terms
 
 
 def _select(result, tau_range, auto: bool):
@@ -473,15 +171,12 @@ def fit_noise_terms(result, *, unit: str, kind: str | None = "gyro", method: str
         n_boot = 50 if method == "gmwm" else N_BOOT
     sel, _ = _select(result, tau_range_s, auto_range and method != "gmwm")
     if method == "slope":
-        from inertialab.noise._terms_slope import fit_slope
 
         return fit_slope(result, sel, conv, rate_hz)
     if method == "gmwm":
-        from inertialab.noise.gmwm import fit_gmwm_curve, gmwm_noise_terms
 
         g = fit_gmwm_curve(result, sel, confidence=confidence, n_boot=n_boot, seed=seed)
         return gmwm_noise_terms(g, conv, rate_hz, result)
-    from inertialab.noise._terms_ls import fit_ls
 
     return fit_ls(result, sel, conv, rate_hz, method, n_reweight, confidence, n_boot, seed)
 
@@ -531,19 +226,6 @@ def model_intervals(result, terms: NoiseTerms, *, min_points: int = 1000):
     lo, hi = chi2_interval(result.dev, e, result.confidence)
     return replace(result, alpha=alpha, edf=e, ci_low=lo, ci_high=hi, alpha_method="model",
                    alpha_source=tuple(new_src), edf_method=label)
-
-
-def local_slopes(taus, dev) -> np.ndarray:
-    """Least-squares slope of ln(dev) vs ln(tau) over each point and its neighbours."""
-    lt, ld = np.log(np.asarray(taus, float)), np.log(np.asarray(dev, float))
-    k = lt.size
-    s = np.empty(k)
-    for i in range(k):
-        a, b = max(0, i - 1), min(k, i + 2)
-        x, y = lt[a:b], ld[a:b]
-        xm = x - x.mean()
-        s[i] = float(xm @ (y - y.mean()) / (xm @ xm))
-    return s
 
 
 __all__ = ["BI_FACTOR", "CONFIDENCE", "EDF_MIN", "N_BOOT", "NoiseTerm", "NoiseTerms",

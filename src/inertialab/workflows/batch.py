@@ -118,7 +118,7 @@ def _unit_allan(path: Path, options: dict) -> dict:
 
 def _unit_triaxial(path: Path, options: dict) -> dict:
     """Calibration of one triaxial unit's static record with the triaxial workflow
-    (:func:`inertialab.workflows.field_calibration.calibrate`, spec 002; default
+    (:func:`inertialab.calib.triaxial.calibrate`, spec 002; default
     Levenberg-Marquardt on the norm objective, ``options["method"]``/``["objective"]``
     choose others): bias b (working unit), scale k, non-orthogonality theta (rad), the
     residual RMS and whether the solver converged."""

@@ -24,7 +24,7 @@ import numpy as np
 import pandas as pd
 
 from inertialab.errors import InputError
-from inertialab.io.formats.dispatch import Loaded, columns_frame, need
+from inertialab.io.formats.base import Loaded, columns_frame, need
 
 __all__ = ["read_matlab"]
 

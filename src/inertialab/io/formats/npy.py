@@ -11,6 +11,7 @@ import numpy as np
 import pandas as pd
 
 from inertialab.errors import InputError
+from inertialab.io.record import Record
 from inertialab.io.schemas import SCHEMAS
 from inertialab.units import SUFFIXES, split_suffix
 
@@ -38,8 +39,6 @@ def open_npy(p: Path) -> np.ndarray:
 
 def read_npy_column(p: Path, kind: str, meta: dict, arr, *, unit, rate_hz, column):
     """A one-column ``.npy`` log as a Record (memory-mapped, hashed in chunks)."""
-    from inertialab.io.readers import Record
-
     if arr.ndim == 2 and arr.shape[1] == 1:
         arr = arr[:, 0]
     if arr.ndim != 1:
@@ -54,11 +53,12 @@ def read_npy_column(p: Path, kind: str, meta: dict, arr, *, unit, rate_hz, colum
         if base:
             name = f"{base}_{unit.lower()}"
     if name is None:
-        raise InputError("a .npy log needs --unit (or --column) and --rate, or a sidecar "
+        raise InputError("a .npy log needs argument 'unit' (or argument 'column') and argument 'rate_hz', "
+                         "or a sidecar "
                          "with 'column' and 'fs_hz'", path=p)
     fs = rate_hz if rate_hz is not None else meta.get("fs_hz")
     if fs is None:
-        raise InputError("a .npy log needs --rate (Hz) or a sidecar with 'fs_hz'", path=p)
+        raise InputError("a .npy log needs argument 'rate_hz' (Hz) or a sidecar with 'fs_hz'", path=p)
     fs = check_rate(fs, path=p, where="argument 'rate_hz'" if rate_hz is not None
                      else "sidecar key 'fs_hz'")
     base, suf = split_suffix(name)

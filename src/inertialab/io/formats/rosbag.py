@@ -30,7 +30,7 @@ import numpy as np
 import pandas as pd
 
 from inertialab.errors import DataQualityWarning, InputError
-from inertialab.io.formats.dispatch import Loaded, need
+from inertialab.io.formats.base import Loaded, need
 
 __all__ = ["IMU_TYPES", "read_bag"]
 

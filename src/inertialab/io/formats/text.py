@@ -237,10 +237,45 @@ def _header_names(rows: list[list[str]], ncol: int, *, path) -> tuple[list[str],
     return names, units
 
 
+@dataclass(frozen=True)
+class ParseOptions:
+    """How to read a delimited text file.
+
+    Parameters
+    ----------
+    sep : str or None, default None
+        Field separator (``","``, ``";"``, ``"\\t"``, ``" "`` for runs of blanks);
+        None sniffs it from the header line.
+    decimal : str or None, default None
+        Decimal mark, ``"."`` or ``","``; None sniffs (``","`` only when the separator
+        is not a comma and numbers like ``0,25`` appear).
+    skip_rows : int or None, default None
+        Preamble lines before the header. None skips ``#`` lines (parsed as
+        ``# key=value`` metadata), ``//`` lines (Xsens) and blank lines.
+    """
+
+    sep: str | None = None
+    decimal: str | None = None
+    skip_rows: int | None = None
+
+    def __post_init__(self):
+        if self.decimal not in (None, ".", ","):
+            raise InputError(f"decimal mark must be '.' or ',', got {self.decimal!r}")
+        if self.sep is not None and (len(self.sep) == 0 or self.sep == self.decimal):
+            raise InputError(f"separator {self.sep!r} cannot be empty or equal the decimal mark")
+        if self.skip_rows is not None and int(self.skip_rows) < 0:
+            raise InputError(f"skip_rows must be >= 0, got {self.skip_rows}")
+
+    @property
+    def is_default(self) -> bool:
+        return self.sep is None and self.decimal is None and self.skip_rows is None
+
+    def to_dict(self) -> dict:
+        return {"sep": self.sep, "decimal": self.decimal, "skip_rows": self.skip_rows}
+
+
 def layout_of(lines: list[str], parse=None, *, path=None) -> TextLayout:
     """Sniff the layout of a text file from its first lines (BOM already removed)."""
-    from inertialab.io.mapping import ParseOptions
-
     opts = parse or ParseOptions()
     hash_lines: list[str] = []
     if opts.skip_rows is not None:

@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from inertialab.errors import InputError
-from inertialab.io.formats.dispatch import Loaded, need
+from inertialab.io.formats.base import Loaded, need
 
 __all__ = ["ULOG_TOPICS", "read_ulog"]
 

@@ -2,7 +2,7 @@
 
 Figures: measured vs corrected points on the sphere, the norm error per record, and
 convergence curves (best objective per generation) of CS, ACS and PSO. The
-``*_figure`` functions are also used by ``inertialab calibrate triaxial --out``.
+``*_figure`` functions are also used by ``inertialab triaxial fit --out``.
 """
 
 from __future__ import annotations

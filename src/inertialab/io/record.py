@@ -1,0 +1,59 @@
+"""The validated record every reader returns (its own module so that the format
+readers and :mod:`inertialab.io.readers` both use it without importing each other)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+
+from inertialab.errors import InputError
+from inertialab.units import split_suffix
+
+
+@dataclass
+class Record:
+    """A validated record.
+
+    Attributes
+    ----------
+    kind : schema kind
+    data : DataFrame with canonical lower-case column names (units as suffixes)
+    meta : sidecar / header metadata
+    path : source file (or ``"<frame>"``)
+    units : canonical column -> unit suffix, for unit-flexible columns
+    sha256 : hash of the validated canonical columns (format-independent)
+    arrays : for ``.npy`` logs, the memory-mapped column (not copied into ``data``)
+    """
+
+    kind: str
+    data: pd.DataFrame
+    meta: dict
+    path: str
+    units: dict[str, str]
+    sha256: str
+    arrays: dict[str, np.ndarray] = field(default_factory=dict)
+
+    def column(self, name: str) -> np.ndarray:
+        """Values of a canonical column as a float ndarray (memmap for .npy logs)."""
+        if name in self.arrays:
+            return self.arrays[name]
+        if name not in self.data.columns:
+            raise InputError("no such column", path=self.path, column=name)
+        return self.data[name].to_numpy()
+
+    def find(self, base: str) -> str | None:
+        """Canonical name of the unit-flexible column with ``base`` (e.g. ``rate`` ->
+        ``rate_dph``), or None."""
+        for col in list(self.arrays) + list(self.data.columns):
+            b, suf = split_suffix(col)
+            if b == base and suf is not None:
+                return col
+        return None
+
+    @property
+    def n(self) -> int:
+        if self.arrays:
+            return int(next(iter(self.arrays.values())).shape[0])
+        return len(self.data)
