@@ -282,5 +282,6 @@ def test_a_1e308_cell_and_nan_models_exit_2_and_write_nothing(records, fitted, t
     (tmp_path / "nan.json").write_text(json.dumps(env))
     code, _, err = run(capsys, "thermal", "apply", tmp_path / "nan.json", records / "b.csv",
                        "--out", tmp_path / "nan_out.csv")
-    assert code == 2 and "not finite" in err
+    assert code == 2 and ("not finite" in err or "non-finite" in err)
+    assert len(err.strip().splitlines()) == 1
     assert not (tmp_path / "nan_out.csv").exists()
