@@ -748,7 +748,7 @@ def slow_cases() -> list[Case]:
         def sig_reused(d):
             argv = sig_dir(d)
             (d / "out").mkdir()
-            (d / "out" / ".inertialab").write_text("{}")
+            (d / "out" / "_inertialab").write_text("{}")
             (d / "out" / "model.json").write_text("{\"old\": true}")
             return argv
 
@@ -767,7 +767,7 @@ def slow_cases() -> list[Case]:
 
     def complete(d, o):
         files = sorted(p.name for p in (d / "out").iterdir()) if (d / "out").is_dir() else []
-        need = {"model.json", "result.json", ".inertialab"}
+        need = {"model.json", "result.json", "_inertialab"}
         return [] if need <= set(files) else [f"output incomplete: {files}"]
 
     cases.append(Case("half-written", tfit, "two-concurrent-writers", concurrent, slow=True,
@@ -776,7 +776,7 @@ def slow_cases() -> list[Case]:
     def stale(d):
         argv = concurrent(d)
         (d / "out" / "models").mkdir(parents=True)
-        (d / "out" / ".inertialab").write_text("{}")
+        (d / "out" / "_inertialab").write_text("{}")
         (d / "out" / "models" / "stale.json").write_text("{}")
         return argv
 

@@ -56,7 +56,7 @@ def test_wrong_expected_type_and_bad_payload(tmp_path):
     env = json.loads(p.read_text())
     del env["payload"]["coef"]
     p.write_text(json.dumps(env))
-    with pytest.raises(InputError, match="'polynomial' model payload: lacks 'coef'"):
+    with pytest.raises(InputError, match="polynomial model payload: lacks 'coef'"):
         load_model(p)
     p.write_text("{not json")
     with pytest.raises(InputError, match="not valid JSON"):
@@ -84,7 +84,8 @@ def test_non_finite_numbers_are_refused(tmp_path, token):
     env["payload"]["coef"][0] = 12345.5
     bad = json.dumps(env).replace("12345.5", token)
     (tmp_path / "m.json").write_text(bad)
-    with pytest.raises(InputError, match="non-finite|overflows"):
+    with pytest.raises(InputError, match=r"polynomial model payload\.coef\[0\]: .* is not "
+                                         "finite"):
         load_model(tmp_path / "m.json")
 
 

@@ -215,14 +215,14 @@ def flagged(message: str) -> str:
 #: outside is a usage error (exit 2) before any work starts, instead of a MemoryError or a
 #: run that does not end. :func:`check_limits` applies them to every command line (main
 #: calls it); a command may also declare ``callback=bounded("--rate")`` on its option.
+#: Flags a command bounds itself with a tighter, specific message (drift ``--horizon``
+#: 1..1000, dual design ``--positions`` 7..360) are left to the command.
 LIMITS: dict[str, tuple[float, float, str]] = {
     "--rate": (1e-9, 1e9, "a sample rate in Hz"),
     "--hours": (1e-6, 1e4, "a duration in hours"),
     "--days": (1, 36_500, "a number of days"),
-    "--horizon": (1, 36_500, "a forecast horizon in days"),
     "--units": (1, 10_000, "a number of units"),
     "--n-units": (1, 1_000_000, "a number of units"),
-    "--positions": (1, 10_000, "a number of positions"),
     "--restarts": (1, 1_000, "a number of restarts"),
     "--fish": (1, 10_000, "a population size"),
     "--generations": (1, 100_000, "a number of generations"),

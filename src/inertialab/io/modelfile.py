@@ -111,15 +111,17 @@ MAX_DEPTH = 32
 MAX_INT_DIGITS = 80
 
 
-def _refuse_constant(name: str):
-    raise ValueError(f"non-finite number {name} (model files hold finite numbers only)")
+class _NonFinite:
+    """Stands in for a NaN/Infinity token or an overflowing number while parsing, so that
+    the error can name the model type and the key (found after parsing)."""
+
+    def __init__(self, token: str):
+        self.token = token
 
 
-def _finite_float(text: str) -> float:
+def _nonfinite_float(text: str):
     v = float(text)
-    if not math.isfinite(v):
-        raise ValueError(f"number {text[:30]} overflows a double")
-    return v
+    return v if math.isfinite(v) else _NonFinite(text[:30])
 
 
 def _bounded_int(text: str) -> int:
@@ -128,23 +130,52 @@ def _bounded_int(text: str) -> int:
     return int(text)
 
 
-def _depth(obj) -> int:
-    """Nesting depth of a parsed JSON value (iterative: no recursion)."""
-    deepest, stack = 0, [(obj, 1)]
+def _walk(obj) -> tuple[int, str | None, _NonFinite | None]:
+    """Nesting depth of a parsed JSON value, and the key path and token of its first
+    non-finite number (iterative: no recursion)."""
+    deepest, first, stack = 0, None, [(obj, 1, "")]
     while stack:
-        v, d = stack.pop()
-        if isinstance(v, dict):
-            v = list(v.values())
-        if isinstance(v, list):
-            deepest = max(deepest, d)
-            stack.extend((x, d + 1) for x in v if isinstance(x, (list, dict)))
-    return deepest
+        v, d, where = stack.pop()
+        if isinstance(v, _NonFinite):
+            if first is None or where < first[0]:
+                first = (where, v)
+            continue
+        items = v.items() if isinstance(v, dict) else enumerate(v) if isinstance(v, list) \
+            else None
+        if items is None:
+            continue
+        deepest = max(deepest, d)
+        for k, x in items:
+            if isinstance(x, (list, dict, _NonFinite)):
+                stack.append((x, d + 1, f"{where}.{k}" if isinstance(k, str) else
+                              f"{where}[{k}]"))
+    return deepest, (first[0] if first else None), (first[1] if first else None)
+
+
+#: Type tag -> the name a user knows the model by (messages).
+MODEL_NAMES = {"thermal-compensation": "thermal", "triaxial-calibration": "triaxial",
+               "vibration-compensation": "vibration", "dual-calibration": "dual",
+               "storage-drift": "drift"}
+
+
+def _model_name(tag) -> str:
+    return f"{MODEL_NAMES.get(tag, tag)} model" if isinstance(tag, str) else "model"
 
 
 def parse_json_strict(raw: bytes, *, what: str, path) -> object:
     """Parse untrusted JSON bytes: UTF-8 only, no NaN/Infinity tokens, no number that
     overflows a double, integers of at most :data:`MAX_INT_DIGITS` digits, nesting of at
-    most :data:`MAX_DEPTH`. Anything else is one :class:`InputError` naming ``path``."""
+    most :data:`MAX_DEPTH`. Anything else is one :class:`InputError` naming ``path``
+    (and the key of a non-finite number)."""
+    obj = _parse(raw, what=what, path=path)
+    _, where, bad = _walk(obj)
+    if bad is not None:
+        raise InputError(f"{what}{where}: {bad.token} is not finite ({what}s hold finite "
+                         "numbers only)", path=path)
+    return obj
+
+
+def _parse(raw: bytes, *, what: str, path) -> object:
     try:
         txt = raw.decode("utf-8")
     except UnicodeDecodeError as exc:
@@ -152,7 +183,7 @@ def parse_json_strict(raw: bytes, *, what: str, path) -> object:
     if txt.startswith("\ufeff"):
         txt = txt[1:]
     try:
-        obj = json.loads(txt, parse_constant=_refuse_constant, parse_float=_finite_float,
+        obj = json.loads(txt, parse_constant=_NonFinite, parse_float=_nonfinite_float,
                          parse_int=_bounded_int)
     except json.JSONDecodeError as exc:
         raise InputError(f"{what} is not valid JSON (line {exc.lineno})", path=path) from None
@@ -160,7 +191,7 @@ def parse_json_strict(raw: bytes, *, what: str, path) -> object:
         raise InputError(f"{what} is nested too deeply", path=path) from None
     except ValueError as exc:
         raise InputError(f"{what} is not valid: {exc}", path=path) from None
-    if _depth(obj) > MAX_DEPTH:
+    if _walk(obj)[0] > MAX_DEPTH:
         raise InputError(f"{what} is nested more than {MAX_DEPTH} deep", path=path)
     return obj
 
@@ -189,7 +220,13 @@ def read_envelope(path) -> dict:
         raise InputError(f"cannot read model file ({exc.strerror})", path=p) from None
     if len(raw) > MAX_MODEL_BYTES:
         raise InputError(f"model file is larger than {MAX_MODEL_BYTES >> 20} MiB", path=p)
-    env = parse_json_strict(raw, what="model file", path=p)
+    env = _parse(raw, what="model file", path=p)
+    _, where, bad = _walk(env)
+    if bad is not None:  # name the model type when the file has a readable one
+        tag = env.get("type") if isinstance(env, dict) else None
+        where = where[len(".payload"):] if where.startswith(".payload") else where
+        raise InputError(f"{_model_name(tag)} payload{where}: {bad.token} is not finite "
+                         "(model files hold finite numbers only)", path=p)
     if not isinstance(env, dict) or env.get("format") != FORMAT:
         raise InputError(f"not an inertialab model file (no \"format\": \"{FORMAT}\")", path=p)
     version = env.get("format_version")
@@ -222,7 +259,7 @@ def load_model(path, *, expected_type: str | None = None):
     try:
         check_payload(tag, env["payload"])
     except SchemaError as exc:
-        raise InputError(f"'{tag}' model {exc}", path=path) from None
+        raise InputError(f"{_model_name(tag)} {exc}", path=path) from None
     module_name, _, cls_name = MODEL_TYPES[tag].partition(":")
     cls = getattr(importlib.import_module(module_name), cls_name)
     try:

@@ -4,7 +4,8 @@ A command's outputs are all or nothing:
 
 - a **directory output** (``--out DIR``) is built in a temporary sibling
   ``.DIR.inertialab-tmp-<pid>-<random>`` and moved into place only when the command has
-  finished. A directory inertialab wrote before (it holds the :data:`MARKER` file) or an
+  finished. A directory inertialab wrote before (it holds the :data:`MARKER` file
+  ``_inertialab``) or an
   empty one is replaced whole, so no stale ``models/*.json`` survive; a non-empty
   directory inertialab did not write is never deleted: the new files are moved into it
   one by one, replacing only regular files of the same name. A lock file
@@ -43,7 +44,9 @@ from pathlib import Path
 from inertialab.errors import InputError
 
 #: The file that marks a directory as written by inertialab (and so replaceable whole).
-MARKER = ".inertialab"
+MARKER = "_inertialab"
+#: The marker's name before 0.x (a hidden file); directories holding it count as ours too.
+_OLD_MARKERS = (".inertialab",)
 _TMP_TAG = ".inertialab-tmp-"
 _LOCK_TAG = ".inertialab-lock"
 _OLD_TAG = ".inertialab-old-"
@@ -283,7 +286,7 @@ class _DirOutput:
             return True
         if not entries:
             return True
-        if MARKER not in entries:
+        if MARKER not in entries and not any(m in entries for m in _OLD_MARKERS):
             return False
         root = str(self.target) + os.sep
         return not any(str(p).startswith(root) for p in self.protect)
