@@ -7,7 +7,13 @@ from pathlib import Path
 
 import typer
 
-from inertialab.cli.common import collect_warnings, emit_json, print_table, progress_bar
+from inertialab.cli.common import (
+    collect_warnings,
+    emit_json,
+    prepare_out_dir,
+    print_table,
+    progress_bar,
+)
 
 
 def register(app: typer.Typer, groups: dict) -> None:
@@ -31,7 +37,7 @@ def register(app: typer.Typer, groups: dict) -> None:
         with collect_warnings(quiet=quiet or as_json) as warns:
             results = run_studies(study, quick=quick, seed=seed,
                                   progress=lambda label: progress_bar(label, quiet=quiet))
-            paths = write_report(results, out, quick=quick)
+            paths = write_report(results, prepare_out_dir(out), quick=quick)
         rows = paths["rows"]
         if as_json:
             emit_json("demo", {"report": str(paths["index"]), "results": str(paths["results"]),

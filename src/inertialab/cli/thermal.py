@@ -311,7 +311,6 @@ def register(app: typer.Typer, groups: dict) -> None:
         out_path = Path(out)
         if out_path.exists() and out_path.is_dir():
             raise InputError("--out must be a file for this command", path=out_path)
-        out_path.parent.mkdir(parents=True, exist_ok=True)
         write_record(run.frame, out_path, run.meta)
         payload = {"out": str(out_path), "n_rows": int(len(run.frame)), "unit_id": run.unit.unit_id,
                    "noise_floor_ug": run.noise_floor_ug, "noise_only_ug": run.noise_only_ug}

@@ -104,7 +104,6 @@ def render_report(sections: list[Section], out_dir, *, title: str = "inertialab 
     extra : more JSON-ready data for results.json (e.g. wall times)
     """
     out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
     env = jinja2.Environment(
         loader=jinja2.PackageLoader("inertialab.report", "templates"),
         autoescape=jinja2.select_autoescape(["html", "j2"]),

@@ -23,6 +23,26 @@ from inertialab.noise.family import ALL_STATISTICS as STATISTICS
 from inertialab.noise.family import PHASE_UNIT, compute
 from inertialab.noise.terms import NoiseTerms, fit_noise_terms, model_intervals
 
+#: Largest magnitude accepted in a record: squares and sums of larger values overflow
+#: float64 (1e154 squared is 1e308); no sensor output comes near it (issue 19 item 7).
+MAX_MAGNITUDE = 1e100
+
+
+def _check_magnitude(values, column) -> None:
+    """One-line InputError naming the first sample beyond :data:`MAX_MAGNITUDE`
+    (a memory-mapped record is scanned in chunks)."""
+    v = np.asarray(values)
+    if not np.issubdtype(v.dtype, np.floating):
+        return
+    step = 1 << 20
+    for s in range(0, v.size, step):
+        big = np.flatnonzero(np.abs(v[s:s + step]) > MAX_MAGNITUDE)
+        if big.size:
+            raise InputError(f"value {float(v[s + big[0]]):.3g} is beyond {MAX_MAGNITUDE:g} in "
+                             "magnitude (sums of squares would overflow)",
+                             column=column, row=int(s + big[0]) + 1)
+
+
 #: Statistics whose intervals take the fitted model's noise type (Greenhall EDF).
 _MODEL_EDF_STATS = ("adev", "oadev", "mdev", "tdev", "hdev", "ohdev")
 
@@ -500,8 +520,14 @@ def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: st
         def one(stat, **kw):
             return compute(stat, log.values, bias_correction=bias_correction,
                            **{**common, **kw})
+    _check_magnitude(log.values, log.column)
     for s in names:
         results.append(one(s))
+    for r in results:  # finite input must give finite output (issue 19 item 5)
+        if np.isinf(np.asarray(r.dev, dtype=float)).any():
+            raise InputError(f"{r.statistic} overflowed to infinity: the record holds values "
+                             "too large for the arithmetic (e.g. a 1e308 cell)",
+                             column=log.column)
     oad = next((r for r in results if r.statistic == "oadev"), None)
     terms = None
     if fit_terms:
