@@ -1,7 +1,7 @@
 """Issue 19 fuzz suite, fast set (normal test run): the explicit hostile cases of
 :mod:`tests.fuzz.catalogue` for every command that reads a file or writes an output, and
-hypothesis-drawn garbage inputs and cells. Cases fixed by another change (``owner``) are
-``xfail`` (not strict) until it is merged; the slow set is ``tests/fuzz/test_slow.py``."""
+hypothesis-drawn garbage inputs and cells. Every case is strict: ``owner`` only records which
+change fixed it; the slow set is ``tests/fuzz/test_slow.py``."""
 
 from __future__ import annotations
 
@@ -16,8 +16,6 @@ CASES = cat.fast_cases()
 
 @pytest.mark.parametrize("case", CASES, ids=[c.id for c in CASES])
 def test_hostile_case(case, tmp_path, request):
-    if case.owner:
-        request.applymarker(pytest.mark.xfail(reason=f"fixed by {case.owner}", strict=False))
     outcome, bad = cat.run_case(case, tmp_path / "case")
     assert not bad, f"{case.id}: {bad}"
 

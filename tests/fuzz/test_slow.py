@@ -16,8 +16,6 @@ CASES = cat.slow_cases()
 @pytest.mark.hostile_slow
 @pytest.mark.parametrize("case", CASES, ids=[c.id for c in CASES])
 def test_hostile_slow_case(case, tmp_path, request):
-    if case.owner:
-        request.applymarker(pytest.mark.xfail(reason=f"fixed by {case.owner}", strict=False))
     try:
         outcome, bad = cat.run_case(case, tmp_path / "case")
     except cat._Skip as exc:
