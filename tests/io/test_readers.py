@@ -113,3 +113,18 @@ def test_per_test_tables_are_sorted_with_a_warning():
     with pytest.warns(UserWarning, match="sorted"):
         rec = validate_frame(df, "storage_drift")
     assert rec.data["bias_mg"].tolist() == [2.0, 1.0]
+
+
+def test_a_cell_beyond_1e100_is_refused_naming_file_column_and_row(tmp_path):
+    # issue 19 item 5: one 1e308 cell used to reach the arithmetic and come out as
+    # inf/NaN outputs with exit 0 (vibration apply) or an internal error (allan)
+    t = np.arange(50) / 10.0
+    rate = np.random.default_rng(1).normal(0.0, 1.0, 50)
+    rate[17] = -1e308
+    p = tmp_path / "big.csv"
+    pd.DataFrame({"t_s": t, "rate_dph": rate}).to_csv(p, index=False)
+    with pytest.raises(InputError, match=r"big\.csv: column 'rate_dph', row 18: value -1e\+308"):
+        read_record(p, "gyro_log")
+    rate[17] = 1e99  # large but harmless: accepted
+    pd.DataFrame({"t_s": t, "rate_dph": rate}).to_csv(p, index=False)
+    assert read_record(p, "gyro_log").column("rate_dph")[17] == 1e99

@@ -27,6 +27,9 @@ from inertialab.io.sidecar import read_sidecar
 from inertialab.units import SUFFIXES, split_suffix
 
 _MAX_ROWS_LISTED = 5
+#: Largest magnitude accepted in any numeric cell (1e100: squares and sums of larger
+#: values overflow float64; no measurement or time stamp comes near it).
+MAX_MAGNITUDE = 1e100
 
 
 # ---------------------------------------------------------------------------- loading
@@ -377,6 +380,13 @@ def _coerce_numeric(series: pd.Series, col: Column, *, path, name: str) -> pd.Se
             rows = _bad_rows(nonfinite)
             what = "empty cell or NaN" if np.isnan(values[rows[0] - 1]) else "infinite value"
             raise InputError(what, path=path, column=name, row=rows if len(rows) > 1 else rows[0])
+    with np.errstate(invalid="ignore"):
+        huge = np.abs(values) > MAX_MAGNITUDE
+    if huge.any():  # issue 19 item 5: sums of squares of such values overflow to inf/NaN
+        i = int(np.flatnonzero(huge)[0])
+        raise InputError(f"value {values[i]:.3g} is beyond {MAX_MAGNITUDE:g} in magnitude "
+                         "(no sensor reads that; the arithmetic would overflow)",
+                         path=path, column=name, row=i + 1)
     if col.kind == "int":
         finite = np.isfinite(values)
         frac = finite & (np.abs(values - np.round(values)) > 1e-9)
