@@ -22,7 +22,6 @@ from inertialab.cli.common import (
     progress_bar,
     write_figures,
 )
-from inertialab.cli.dual import flag_names
 from inertialab.cli.options import JsonOpt, OutDirOpt, OutFileOpt, QuietOpt, reading_options
 from inertialab.errors import InputError
 from inertialab.io.mapping import ReadOptions
@@ -139,8 +138,7 @@ def register(app: typer.Typer, groups: dict) -> None:
 
         qs = _quantities(quantity)
         p = _order(order)
-        with flag_names():
-            wf.check_horizon(horizon)
+        wf.check_horizon(horizon)
         grid = _hidden_grid(hidden_grid)
         if not 1 <= hidden <= 200:
             raise InputError(f"--hidden must be from 1 to 200, got {hidden}")
@@ -251,8 +249,7 @@ def register(app: typer.Typer, groups: dict) -> None:
 
         qs = _quantities(quantity)
         p = _order(order)
-        with flag_names():
-            wf.check_horizon(horizon)
+        wf.check_horizon(horizon)
         grid = _hidden_grid(hidden_grid)
         if restarts < 1 or not 1 <= hidden <= 200:
             raise InputError("--restarts must be >= 1 and --hidden from 1 to 200")
@@ -362,8 +359,7 @@ def register(app: typer.Typer, groups: dict) -> None:
         from inertialab.workflows.drift import check_horizon, forecast
 
         if horizon is not None:
-            with flag_names():
-                check_horizon(horizon)
+            check_horizon(horizon)
         with collect_warnings(quiet=quiet or as_json) as warns:
             m = load_model(model, expected_type="storage-drift")
             res = forecast(m, horizon)

@@ -6,7 +6,6 @@ No ``from __future__ import annotations`` here: the shared options are ``Annotat
 aliases that typer must see as objects through :func:`~inertialab.cli.options.reading_options`.
 """
 
-import contextlib
 import json
 import sys
 from pathlib import Path
@@ -22,23 +21,10 @@ from inertialab.cli.common import (
     print_table,
     write_figures,
 )
-from inertialab.cli.options import JsonOpt, OutDirOpt, QuietOpt, flagged, reading_options
+from inertialab.cli.options import JsonOpt, OutDirOpt, QuietOpt, reading_options
 from inertialab.errors import InputError
 from inertialab.io.mapping import ReadOptions
 from inertialab.sensors.dual_meter import PAPER_ALIASES
-
-
-@contextlib.contextmanager
-def flag_names():
-    """Rewrite the argument names of a library :class:`InputError` as flags (``--method``)."""
-    try:
-        yield
-    except InputError as exc:
-        text = flagged(str(exc))
-        if text == str(exc):
-            raise
-        raise InputError(text) from None
-
 
 _SCALE = {"KA0": (1e6, "ug"), "KB0": (1e6, "ug"), "kA1": (1e6, "ppm"),
           "kB1": (1e6, "ppm"), "eta": (1e6, "urad"), "KA2": (1e6, "ug/g^2"),
@@ -70,8 +56,7 @@ def dual_fit(
     from inertialab.io import read_record, save_model
     from inertialab.workflows import dual as wf
 
-    with flag_names():
-        methods = wf.parse_methods(method)
+    methods = wf.parse_methods(method)
     m = method.strip().lower()
     if len(files) > 2:
         raise InputError("give one record, or two for the two-orientation fit")
@@ -154,7 +139,7 @@ def dual_design(
     """D-optimal dividing-head positions for the identifiable g^2 harmonic model."""
     from inertialab.workflows.dual import design
 
-    with collect_warnings(quiet=as_json) as warns, flag_names():
+    with collect_warnings(quiet=as_json) as warns:
         res = design(positions, range_deg=range_deg, step_deg=step_deg)
     if as_json:
         emit_json("dual design", res, settings={"positions": positions,

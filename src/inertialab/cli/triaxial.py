@@ -7,7 +7,6 @@ release.
 
 # No ``from __future__ import annotations``: typer reads the Annotated options of
 # cli/options.py from the signature that reading_options builds, unevaluated.
-import functools
 import json
 from pathlib import Path
 
@@ -28,27 +27,11 @@ from inertialab.cli.options import (
     OutDirOpt,
     QuietOpt,
     SeedOpt,
-    flagged,
     reading_options,
 )
 from inertialab.errors import InputError
 from inertialab.io.mapping import ReadOptions
 from inertialab.jsonable import to_jsonable
-
-
-def _flag_errors(fn):
-    """Library messages name arguments; on the command line they name the flags."""
-    @functools.wraps(fn)
-    def wrapper(*args, **kwargs):
-        try:
-            return fn(*args, **kwargs)
-        except InputError as exc:
-            text = flagged(str(exc))
-            if text == str(exc):
-                raise
-            raise InputError(text) from None
-
-    return wrapper
 
 
 def _read_schedule(file: Path, schedule: Path | None):
@@ -553,18 +536,18 @@ def simulate_ferraris(
 
 def register(app: typer.Typer, groups: dict) -> None:
     triaxial, calibrate, simulate = groups["triaxial"], groups["calibrate"], groups["simulate"]
-    fit_cmd = _flag_errors(reading_options(triaxial_fit))
-    apply_cmd = _flag_errors(reading_options(triaxial_apply))
+    fit_cmd = reading_options(triaxial_fit)
+    apply_cmd = reading_options(triaxial_apply)
     triaxial.command("fit")(fit_cmd)
-    ferraris_cmd = _flag_errors(reading_options(triaxial_ferraris))
+    ferraris_cmd = reading_options(triaxial_ferraris)
     triaxial.command("apply")(apply_cmd)
     triaxial.command("ferraris")(ferraris_cmd)
-    triaxial.command("export")(_flag_errors(triaxial_export))
+    triaxial.command("export")(triaxial_export)
     calibrate.command("triaxial", hidden=True)(fit_cmd)
     calibrate.command("apply", hidden=True)(apply_cmd)
     calibrate.command("ferraris", hidden=True)(ferraris_cmd)
-    simulate.command("triaxial-poses")(_flag_errors(simulate_triaxial))
-    simulate.command("ferraris-session")(_flag_errors(simulate_ferraris))
+    simulate.command("triaxial-poses")(simulate_triaxial)
+    simulate.command("ferraris-session")(simulate_ferraris)
 
 
 def _report_batch(batch, file, out_dir, as_json, warns):

@@ -17,19 +17,12 @@ import math
 import numpy as np
 
 from inertialab.errors import InputError
-from inertialab.noise._phase import _make_source
+from inertialab.noise._phase import _make_source, check_input_rate
 
 
 def phase_source(data, rate_hz: float, input: str):
     """``(src, x)``: the in-memory phase source of ``data`` and its phase array."""
-    if input not in ("rate", "angle"):
-        raise InputError(f"input must be 'rate' or 'angle', got '{input}'")
-    try:
-        rate = float(rate_hz)
-    except (TypeError, ValueError):
-        raise InputError(f"rate_hz must be a number, got {rate_hz!r}") from None
-    if not math.isfinite(rate) or rate <= 0:
-        raise InputError(f"rate_hz must be positive and finite, got {rate_hz}")
+    rate = check_input_rate(input, rate_hz)
     arr = np.asarray(data, dtype=np.float64)
     if arr.ndim != 1:
         raise InputError(f"data must be one-dimensional, got shape {arr.shape}")

@@ -11,9 +11,26 @@ chunks from checkpoints, bit for bit equal to the in-memory angle.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 
 import numpy as np
+
+from inertialab.errors import InputError
+
+
+def check_input_rate(input: str, rate_hz) -> float:
+    """The checks every statistic makes on ``input`` ("rate" | "angle") and ``rate_hz``
+    (a positive finite number, returned as float)."""
+    if input not in ("rate", "angle"):
+        raise InputError(f"input must be 'rate' or 'angle', got '{input}'")
+    try:
+        rate = float(rate_hz)
+    except (TypeError, ValueError):
+        raise InputError(f"rate_hz must be a number, got {rate_hz!r}") from None
+    if not math.isfinite(rate) or rate <= 0:
+        raise InputError(f"rate_hz must be positive and finite, got {rate_hz}")
+    return rate
 
 #: Block length (summands) of the per-tau kernel: 3 float64 windows plus one
 #: accumulator stay in L2 cache, and the dot product stays below OpenBLAS's

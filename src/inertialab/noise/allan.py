@@ -51,6 +51,7 @@ from inertialab.noise._phase import (  # noqa: F401 - phase_window is public API
     _sum_sq_filter,
     _sum_sq_mod,
     _sumsq,
+    check_input_rate,
     phase_window,
 )
 
@@ -243,14 +244,7 @@ def _check_stat(statistic: str) -> None:
 
 
 def _validate(data, rate_hz, input, *, name="data", check_finite: bool = True) -> np.ndarray:
-    if input not in ("rate", "angle"):
-        raise InputError(f"input must be 'rate' or 'angle', got '{input}'")
-    try:
-        rate = float(rate_hz)
-    except (TypeError, ValueError):
-        raise InputError(f"rate_hz must be a number, got {rate_hz!r}") from None
-    if not math.isfinite(rate) or rate <= 0:
-        raise InputError(f"rate_hz must be positive and finite, got {rate_hz}")
+    check_input_rate(input, rate_hz)
     arr = data if isinstance(data, np.ndarray) else np.asarray(data, dtype=float)
     if arr.ndim != 1:
         raise InputError(f"{name} must be one-dimensional, got shape {arr.shape}")
