@@ -15,9 +15,13 @@
 * **TheoH** (eq. 32): the overlapping Allan deviation for ``tau < k`` and TheoBR for
   ``tau >= k``, ``k`` the largest octave Allan tau within 10 % of the record length.
 
-``bias_correction`` of Theo1 (Stable32) is the TheoBR ratio itself (no fixed table is
-applied; see docs/allan.md). EDF: the overlapping Allan EDF of SP 1065 Table 5 at the
-same tau (conservative: Theo1 has more degrees of freedom).
+``bias_correction=True`` of :func:`theo1` multiplies the Theo1 variance by the published
+noise-type bias ``Avar/Theo1 = a + b/(0.75 m)^c`` (Howe & Tasset 2004; SP 1065 §5.2.15;
+:data:`inertialab.noise.edf_clock.THEO1_BIAS`) of the identified (or given) alpha per tau,
+so that it estimates the Allan variance; :func:`theobr` replaces that table by the data's
+own average ratio. EDF: the Theo1 EDF of Howe & Peppler (SP 1065 §5.2.15,
+:func:`inertialab.noise.edf_clock.edf_theo1`) for Theo1 and TheoBR, the OADEV EDF
+(Greenhall & Riley) for TheoH's Allan part.
 """
 
 from __future__ import annotations
@@ -29,6 +33,7 @@ import numpy as np
 from inertialab.errors import InputError
 from inertialab.noise._clock import grid, interval, noise_types, phase_source
 from inertialab.noise.allan import DeviationResult
+from inertialab.noise.edf_clock import edf_theo1, theo1_bias
 
 __all__ = ["theo1", "theo1_variance", "theobr", "theoh"]
 
@@ -54,31 +59,31 @@ def theo1_variance(x: np.ndarray, m: int, tau0: float) -> float:
     return total / (0.75 * n * (m * tau0) ** 2)
 
 
-def _edf_oadev(N: int, ms_equiv: np.ndarray, alphas: np.ndarray) -> np.ndarray:
-    from inertialab.noise import edf as _edf
-
-    return np.array([float(_edf.edf_oadev_sp1065(N, max(1, int(round(me))),
-                                                max(min(int(a), 2), -2)))
-                     for me, a in zip(ms_equiv, alphas)])
-
-
 def _result(statistic, data, x, src, ms, taus, var, nt, tau0, confidence, alpha, input,
-            alpha_stat="oadev"):
+            bias_correction=False):
     m_equiv = np.maximum(np.round(taus / tau0).astype(np.int64), 1)
-    alphas, sources, amethod = noise_types(src, m_equiv, alpha_stat, alpha)
+    alphas, sources, amethod = noise_types(src, m_equiv, "oadev", alpha)
+    if bias_correction:
+        var = var * theo1_bias(alphas, ms)
     dev = np.sqrt(var)
-    edfs = _edf_oadev(x.size, taus / tau0, alphas)
+    edfs = edf_theo1(x.size, ms, alphas)
+    edfs = np.where(np.isfinite(edfs) & (edfs > 0), edfs, np.nan)
     lo, hi = interval(dev, edfs, confidence)
     return DeviationResult(statistic=statistic, tau0_s=tau0, taus_s=taus, m=ms, dev=dev,
                            n_terms=nt, alpha=alphas, edf=edfs, ci_low=lo, ci_high=hi,
                            confidence=float(confidence), n_samples=int(np.asarray(data).size),
-                           input=input, alpha_method=amethod, edf_method="oadev-sp1065-table5",
+                           input=input, alpha_method=amethod,
+                           edf_method="theo1-howe-peppler-sp1065",
                            alpha_source=tuple(sources))
 
 
 def theo1(data, *, rate_hz: float, taus="octave", input: str = "rate",
-          confidence: float = 0.683, alpha=None) -> DeviationResult:
+          confidence: float = 0.683, alpha=None, bias_correction: bool = False
+          ) -> DeviationResult:
     """Theo1 deviation (SP 1065 eq. 30) at even m; ``taus_s = 0.75 m tau0``.
+
+    ``bias_correction``: multiply the variance by the noise-type bias
+    :func:`~inertialab.noise.edf_clock.theo1_bias` (module docstring).
 
     ``taus`` as :func:`inertialab.noise.allan.tau_grid` for m (octave: m = 2, 4, 8 ...;
     explicit seconds are Theo1 taus, ``m = tau / (0.75 tau0)`` rounded to even).
@@ -90,7 +95,7 @@ def theo1(data, *, rate_hz: float, taus="octave", input: str = "rate",
     var = np.array([theo1_variance(x, int(m), tau0) for m in ms])
     nt = (N - ms) * (ms // 2)
     return _result("theo1", data, x, src, ms, 0.75 * ms * tau0, var, nt.astype(np.int64),
-                   tau0, confidence, alpha, input)
+                   tau0, confidence, alpha, input, bias_correction=bias_correction)
 
 
 def _br_ratio(x: np.ndarray, tau0: float) -> tuple[float, int]:

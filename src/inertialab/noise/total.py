@@ -13,18 +13,17 @@ Definitions of NIST SP 1065 (Riley 2008) §5.2.12-5.2.14 as Stable32 computes th
   at ``m = 1`` the overlapping Hadamard deviation (Riley: "for best consistency").
 
 **Bias corrections** (``bias_correction=True``; on by default for clock inputs in the
-workflow): the variances are divided by Stable32's noise-dependent factors (SP 1065
-§5.2.12-5.2.14; W. Riley, "Confidence intervals and bias corrections for the Stable32
-variance functions", Hamilton Technical Services 2000): Mod Totvar and TTOT
-``WPM 0.94, FPM 0.83, WFM 0.73, FFM 0.70, RWFM 0.69``; Htotvar ``WFM 0.995, FFM 0.851,
-RWFM 0.771, FWFM 0.717, RRFM 0.679`` (alpha 0 .. -4; phase noise 1.0). The factor used
-per tau is reported in ``DeviationResult.alpha_source``'s sibling field
+workflow): the variances are divided by Stable32's noise-dependent factors
+(:mod:`inertialab.noise.edf_clock`): Mod Totvar and TTOT ``WPM 0.94, FPM 0.83, WFM 0.73,
+FFM 0.70, RWFM 0.69``; Htotvar ``WFM 0.995, FFM 0.851, RWFM 0.771, FWFM 0.717, RRFM
+0.679`` (phase noise 1.0; none at m = 1, the OHDEV point). The factor used per tau is
 :attr:`TotalResult.bias` (1.0 when off).
 
-EDF: MTOT and TTOT by SP 1065 Table 8 (``edf = b (N/m) - c``, N phase points); HTOT the
-overlapping Hadamard EDF (conservative: HTOT has more). Computation: blocks of
-subsequences as 2-D arrays (memory bounded by ``block_elems``), ``O(N m)`` per tau, the
-same cost class as Stable32 and allantools (which loops in Python).
+EDF (:mod:`inertialab.noise.edf_clock`): MTOT and TTOT by SP 1065 Table 8 (``edf = b (N/m)
+- c``, N phase points); HTOT by the Htotvar formula ``(N/m)/(b0 + b1 m/N)`` for ``m >= 16``
+and the overlapping-Hadamard EDF below (as Stable32). Computation: blocks of subsequences
+as 2-D arrays (memory bounded by ``block_elems``), ``O(N m)`` per tau, the same cost class
+as Stable32 and allantools (which loops in Python).
 """
 
 from __future__ import annotations
@@ -35,16 +34,16 @@ import numpy as np
 
 from inertialab.noise._clock import grid, interval, noise_types, phase_source
 from inertialab.noise.allan import DeviationResult
+from inertialab.noise.edf_clock import (
+    HTOT_BIAS,
+    MTOT_BIAS,
+    edf_htotdev,
+    edf_mtotdev,
+    htot_bias,
+    mtot_bias,
+)
 
 __all__ = ["MTOT_BIAS", "HTOT_BIAS", "TotalResult", "htotdev", "mtotdev", "ttotdev"]
-
-#: Stable32 Mod Totvar / TTOT bias factors by alpha (variance divided by them).
-MTOT_BIAS = {2: 0.94, 1: 0.83, 0: 0.73, -1: 0.70, -2: 0.69}
-#: Stable32 Htotvar bias factors by alpha.
-HTOT_BIAS = {2: 1.0, 1: 1.0, 0: 0.995, -1: 0.851, -2: 0.771, -3: 0.717, -4: 0.679}
-#: SP 1065 Table 8: Mod Totvar EDF ``b (N/m) - c`` by alpha.
-MTOT_EDF = {2: (1.90, 2.10), 1: (1.20, 1.40), 0: (1.10, 1.20), -1: (0.85, 0.50),
-            -2: (0.75, 0.31)}
 
 _BLOCK = 1 << 21  # elements per 2-D block (16 MiB of float64)
 
@@ -99,9 +98,8 @@ def _tot_sum(x: np.ndarray, m: int, centre: bool) -> float:
 def _finish(statistic, src, x, ms, var, nt, tau0, taus, confidence, alpha, bias_correction,
             edf_stat, n_samples, input):
     alphas, sources, amethod = noise_types(src, ms, edf_stat, alpha)
-    table = MTOT_BIAS if statistic in ("mtotdev", "ttotdev") else HTOT_BIAS
     if bias_correction:
-        b = np.array([table.get(int(a), 1.0) for a in alphas])
+        b = mtot_bias(alphas) if statistic in ("mtotdev", "ttotdev") else htot_bias(alphas)
         if statistic == "htotdev":
             b = np.where(ms == 1, 1.0, b)  # m = 1 is OHDEV
     else:
@@ -110,14 +108,11 @@ def _finish(statistic, src, x, ms, var, nt, tau0, taus, confidence, alpha, bias_
     dev = np.sqrt(var)
     N = x.size
     if statistic in ("mtotdev", "ttotdev"):
-        edfs = np.array([MTOT_EDF[max(min(int(a), 2), -2)][0] * N / int(mm)
-                         - MTOT_EDF[max(min(int(a), 2), -2)][1] for a, mm in zip(alphas, ms)])
+        edfs = edf_mtotdev(N, ms, alphas)
         emethod = "sp1065-table8"
     else:
-        from inertialab.noise import edf as _edf
-
-        edfs, emethod = _edf.edf("ohdev", N, ms, alphas)
-        emethod = f"ohdev:{emethod}"
+        edfs = edf_htotdev(N, ms, alphas)
+        emethod = "htotvar-howe2000|ohdev-greenhall(m<16)"
     lo, hi = interval(dev, edfs, confidence)
     return TotalResult(statistic=statistic, tau0_s=tau0, taus_s=taus, m=ms, dev=dev,
                        n_terms=nt, alpha=alphas, edf=np.asarray(edfs, dtype=float),
