@@ -8,6 +8,7 @@
 | ``triaxial_raw`` | 002 §2.3 raw-log CSV | raw sample |
 | ``dual_tumble`` | 003 §2.2 | DMM sample |
 | ``storage_drift`` | 004 §2.1 | test of one unit on one day |
+| ``clock_log`` | issue 15 (NIST SP 1065 data) | phase or frequency sample of a clock |
 
 Analysis-specific checks (24 positions per set point, phases of a vibration run ...)
 belong to the workflow that needs them, not here (CONTRACTS.md "Records and inputs").
@@ -154,9 +155,31 @@ STORAGE_DRIFT = Schema(
     min_rows=2,
 )
 
+CLOCK_LOG = Schema(
+    kind="clock_log",
+    source="issue 15 (clock records: NIST SP 1065 §3 phase and frequency data)",
+    description=("Clock or oscillator record at a uniform rate: phase (time error, s ms us "
+                 "ns ps) or fractional frequency (1 pct ppm ppb ppt, or Hz with a nominal "
+                 "frequency), in any column the reader is told to use; the unit comes from "
+                 "the unit option, else the column suffix (phase_ns, freq_hz). Empty cells "
+                 "are missing samples (gaps), time stamps that skip whole intervals too."),
+    columns=(
+        C("t_s", description="time stamp, s (or give the sample rate or sidecar fs_hz); "
+                             "skipped intervals are gaps, off-grid stamps an error"),
+        C("phase", finite=False, description="phase / time error (also x, tie, time_error; "
+                                             "phase_ns ...), empty = missing"),
+        C("freq", finite=False, description="fractional frequency (also frequency, y; "
+                                            "freq_ppb, freq_hz ...), empty = missing"),
+    ),
+    time_column="t_s",
+    time_order="strict",
+    min_rows=3,
+    keep_unknown=True,
+)
+
 SCHEMAS: dict[str, Schema] = {
     s.kind: s for s in (GYRO_LOG, THERMAL_TUMBLE, TRIAXIAL_STATIC, TRIAXIAL_RAW,
-                        DUAL_TUMBLE, STORAGE_DRIFT)
+                        DUAL_TUMBLE, STORAGE_DRIFT, CLOCK_LOG)
 }
 
 

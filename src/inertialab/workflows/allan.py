@@ -322,32 +322,16 @@ def prepare_clock(frame, meta: dict | None = None, *, input: str, column: str | 
 def read_clock(path, *, input: str, column: str | None = None, unit: str | None = None,
                rate_hz: float | None = None, nominal_hz: float | None = None,
                options=None) -> LogData:
-    """Read a clock record (CSV/TSV/Parquet with any column names, ``# key=value`` header
-    lines, a sidecar) and :func:`prepare_clock` it. ``options``: the reading options
-    (:class:`~inertialab.io.mapping.ReadOptions`: column map, separator, decimal mark).
+    """Read a clock record through the io front door (``read_record(path, "clock_log")``:
+    every format it reads, ``# key=value`` header lines, a sidecar, the reading options
+    of :class:`~inertialab.io.mapping.ReadOptions`: column map, separator, decimal mark,
+    time column) and :func:`prepare_clock` it (any column name, unit, rate, gaps)."""
+    from inertialab.io import read_record
 
-    TRANSITION (issue 15): the io floor has no clock schema yet, so the table is loaded
-    with the io front door's table loader and checked here; a ``clock_log`` schema in
-    :mod:`inertialab.io.schemas` should replace this.
-    """
-    from pathlib import Path
-
-    from inertialab.io import hash_frame, read_sidecar
-    from inertialab.io.mapping import apply_map, normalise_time_columns
-    from inertialab.io.readers import _load_table
-
-    p = Path(path)
-    if not p.is_file():
-        raise InputError("no such file", path=p)
-    frame, meta = _load_table(p, options.parse if options is not None else None)
-    meta = {**meta, **read_sidecar(p)}
-    if options is not None and options.column_map:
-        frame = apply_map(frame, options.column_map, path=p, meta=meta)
-    frame = normalise_time_columns(frame, path=p, meta=meta)
-    if len(frame) < 3:
-        raise InputError(f"too few samples ({len(frame)})", path=p)
-    return prepare_clock(frame, meta, input=input, column=column, unit=unit, rate_hz=rate_hz,
-                         nominal_hz=nominal_hz, path=str(p), sha256=hash_frame(frame))
+    rec = read_record(path, "clock_log", options=options)
+    return prepare_clock(rec.data, rec.meta, input=input, column=column, unit=unit,
+                         rate_hz=rate_hz, nominal_hz=nominal_hz, path=str(rec.path),
+                         sha256=rec.sha256)
 
 
 @dataclass(frozen=True)
