@@ -98,6 +98,9 @@ def edf_of(stat, n, m, alpha):
                                     modified=False)
         return at.edf_totdev(n, m, max(alpha, -2))
     if stat in ("mtotdev", "ttotdev"):
+        if m < 16:  # Stable32 (and SigmaTau): the MDEV EDF below m = 16
+            return at.edf_greenhall(alpha=max(min(alpha, 2), -2), d=2, m=int(m), N=n,
+                                    overlapping=True, modified=True)
         with contextlib.redirect_stdout(io.StringIO()):  # edf_mtotdev prints its b, c
             return at.edf_mtotdev(n, m, max(min(alpha, 2), -2))
     if stat == "htotdev":

@@ -69,15 +69,18 @@ def test_tables_cover_several_noise_types():
 # ----------------------------------------------------------------- the published formulas
 
 @pytest.mark.parametrize("alpha", [2, 1, 0, -1, -2])
-def test_mtot_edf_is_sp1065_table8(alpha):
+def test_mtot_edf_is_sp1065_table8_from_m16(alpha):
     at = pytest.importorskip("allantools")
     import contextlib
     import io
 
-    for n, m in ((1001, 1), (1001, 16), (5000, 100)):
+    for n, m in ((1001, 16), (1001, 64), (5000, 100)):
         with contextlib.redirect_stdout(io.StringIO()):
             ref = at.edf_mtotdev(n, m, alpha)
         assert E.edf_mtotdev(n, m, alpha)[0] == pytest.approx(ref, rel=1e-12)
+    for n, m in ((1001, 1), (1001, 8), (5000, 15)):  # below m = 16: the MDEV EDF
+        ref = at.edf_greenhall(alpha=alpha, d=2, m=m, N=n, overlapping=True, modified=True)
+        assert E.edf_mtotdev(n, m, alpha)[0] == pytest.approx(ref, rel=1e-6)
 
 
 def test_theo1_edf_published_values():

@@ -11,8 +11,10 @@ Tables 7-11) and Stable32 give them; ``n_phase`` is the number of phase points `
   EDF (Greenhall & Riley 2003), as allantools' ``edf_totdev`` falls back to its simple
   EDF. Lives in :func:`inertialab.noise.edf.edf_totdev_sp1065`.
 * **MTOTDEV and TTOTDEV** (Table 8): ``edf = b (N/m) - c`` (``WPM 1.90/2.10, FPM
-  1.20/1.40, WFM 1.10/1.20, FFM 0.85/0.50, RWFM 0.75/0.31``); TTOT uses the MTOT EDF
-  (Stable32 prints identical interval ratios for both).
+  1.20/1.40, WFM 1.10/1.20, FFM 0.85/0.50, RWFM 0.75/0.31``) for ``m >= 16``; below
+  ``m = 16`` the MDEV EDF (Greenhall & Riley 2003), as Stable32 does (its printed MTOT
+  and TTOT bounds match that EDF to 4e-4 there, Table 8 only to 2.8e-3). TTOT uses the
+  MTOT EDF (Stable32 prints identical interval ratios for both).
 * **HTOTDEV** (Howe, Beard, Greenhall & Riley, PTTI 2000; SP 1065 §5.2.14):
   ``edf = (N/m) / (b0 + b1 m/N)`` for ``m >= 16`` (``WFM 0.559/1.004, FFM
   0.868/1.140, RWFM 0.938/1.696``); below ``m = 16``, and for noises without
@@ -44,7 +46,8 @@ Bias factors (Stable32's corrections, the variance is *divided* by them):
 Verified (not committed: third-party data): on the Stable32 tables of a 1253-point Sr87
 clock phase record published with allantoolkit (``tests/assets/Sr87``), the TOTDEV,
 HTOTDEV (m >= 16) and Theo1 interval bounds these EDFs give agree with Stable32's printed
-bounds to 5.3e-4, 4.1e-4 and 3.7e-4 (5 printed digits); see docs/allan.md.
+bounds to 5.3e-4, 4.1e-4 and 3.7e-4 (5 printed digits), MTOTDEV/TTOTDEV below m = 16 to
+4e-4; see docs/allan.md.
 """
 
 from __future__ import annotations
@@ -66,6 +69,8 @@ MTOT_EDF = {2: (1.90, 2.10), 1: (1.20, 1.40), 0: (1.10, 1.20), -1: (0.85, 0.50),
 HTOT_EDF = {0: (0.559, 1.004), -1: (0.868, 1.140), -2: (0.938, 1.696)}
 #: Smallest m at which the Htotvar EDF formula is used (Stable32; below: OHDEV's EDF).
 HTOT_EDF_MMIN = 16
+#: Smallest m at which Table 8 is used for MTOT/TTOT (Stable32; below: MDEV's EDF).
+MTOT_EDF_MMIN = 16
 #: Mod Totvar / TTOT bias factors by alpha (variance divided by them).
 MTOT_BIAS = {2: 0.94, 1: 0.83, 0: 0.73, -1: 0.70, -2: 0.69}
 #: Htotvar bias ``1 + a`` by alpha (variance divided by them; phase noises 1.0).
@@ -82,12 +87,21 @@ def _clip(alpha, lo: int = -2, hi: int = 2) -> int:
 
 
 def edf_mtotdev(n_phase: int, m, alpha) -> np.ndarray:
-    """Mod Totvar / TTOT EDF, SP 1065 Table 8 (alpha clipped to [-2, 2])."""
-    m = np.atleast_1d(np.asarray(m, dtype=float))
+    """Mod Totvar / TTOT EDF: SP 1065 Table 8 for ``m >= 16``, the MDEV EDF of Greenhall
+    & Riley (2003) below (as Stable32); alpha clipped to [-2, 2]."""
+    from inertialab.noise import edf as _edf
+
+    m = np.atleast_1d(np.asarray(m, dtype=np.int64))
     a = np.broadcast_to(np.asarray(alpha, dtype=np.int64), m.shape)
-    b = np.array([MTOT_EDF[_clip(v)][0] for v in a])
-    c = np.array([MTOT_EDF[_clip(v)][1] for v in a])
-    return b * (float(n_phase) / m) - c
+    out = np.empty(m.size)
+    for i, (mm, aa) in enumerate(zip(m, a)):
+        mm, aa = int(mm), _clip(aa)
+        if mm >= MTOT_EDF_MMIN:
+            b, c = MTOT_EDF[aa]
+            out[i] = b * (float(n_phase) / mm) - c
+        else:
+            out[i] = _edf.edf_greenhall("mdev", int(n_phase), mm, aa)
+    return out
 
 
 def edf_htotdev(n_phase: int, m, alpha) -> np.ndarray:

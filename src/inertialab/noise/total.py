@@ -20,7 +20,7 @@ FFM 0.70, RWFM 0.69``; Htotvar ``WFM 0.995, FFM 0.851, RWFM 0.771, FWFM 0.717, R
 :attr:`TotalResult.bias` (1.0 when off).
 
 EDF (:mod:`inertialab.noise.edf_clock`): MTOT and TTOT by SP 1065 Table 8 (``edf = b (N/m)
-- c``, N phase points); HTOT by the Htotvar formula ``(N/m)/(b0 + b1 m/N)`` for ``m >= 16``
+- c``, N phase points) for ``m >= 16`` and the MDEV EDF below (as Stable32); HTOT by the Htotvar formula ``(N/m)/(b0 + b1 m/N)`` for ``m >= 16``
 and the overlapping-Hadamard EDF below (as Stable32). Computation: blocks of subsequences
 as 2-D arrays (memory bounded by ``block_elems``), ``O(N m)`` per tau, the same cost class
 as Stable32 and allantools (which loops in Python).
@@ -109,7 +109,7 @@ def _finish(statistic, src, x, ms, var, nt, tau0, taus, confidence, alpha, bias_
     N = x.size
     if statistic in ("mtotdev", "ttotdev"):
         edfs = edf_mtotdev(N, ms, alphas)
-        emethod = "sp1065-table8"
+        emethod = "sp1065-table8|mdev-greenhall(m<16)"
     else:
         edfs = edf_htotdev(N, ms, alphas)
         emethod = "htotvar-howe2000|ohdev-greenhall(m<16)"
