@@ -17,6 +17,7 @@ EXAMPLES = {
     "triaxial.raw.csv": "triaxial_raw",
     "dual_tumble.csv": "dual_tumble",
     "storage_drift.csv": "storage_drift",
+    "clock_log.csv": "clock_log",
 }
 
 
