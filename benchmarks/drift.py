@@ -8,6 +8,7 @@ writes the docs/results.md section with the seed paper's figures beside ours.
 
 from __future__ import annotations
 
+import sys
 import time
 import warnings
 
@@ -16,7 +17,7 @@ import numpy as np
 from inertialab.calib.drift import DEFAULT_BASELINES, DriftSettings
 from inertialab.calib.drift_eval import evaluate_rolling_origin
 from inertialab.learn.forecast_baselines import ARLeastSquares, Persistence
-from inertialab.learn.nar import NARForecaster
+from inertialab.learn.nar import SPEC_H, NARForecaster
 from inertialab.learn.order_cv import select_order_cv
 from inertialab.sim.drift import benchmark_process, mackey_glass, simulate_storage_batch
 from inertialab.studies.drift import summarise
@@ -38,7 +39,7 @@ def _nar_vs_linear(proc, n_seeds, split):
     for s in range(n_seeds):
         y = benchmark_process(proc, 120, s)
         yi, yh = y[:100], y[100:]
-        m = NARForecaster(restarts=10, preset="strict", split=split, rng=s).fit(yi)
+        m = NARForecaster(H=SPEC_H, restarts=10, preset="strict", split=split, rng=s).fit(yi)
         f = m.forecast(20, intervals=False).values
         ar = ARLeastSquares(order=m.order_).fit(yi)
         r_nar.append(np.sqrt(np.mean((f - yh) ** 2)))
@@ -56,19 +57,23 @@ def _nar_vs_linear(proc, n_seeds, split):
             "ratio_one_step_vs_ar": med(o_nar) / med(o_ar)}
 
 
-#: NAR settings compared on Mackey-Glass (issue 18 item 9): the spec default (order by
-#: kernel CV with H = 6), the CV with a wider lag bound, and a fixed order.
-MG_NARS = {"nar_default_H6": {}, "nar_cv_H12": {"H": 12}, "nar_p10": {"order": 10}}
+#: NAR settings compared on Mackey-Glass (issue 18 item 9): the spec 004 study's lag bound
+#: H = 6 (§3.1 [R-2]) and the learner's generic default H = "auto" (largest bound the
+#: spec's m >= 10 H rule allows, :func:`inertialab.learn.nar.auto_lag_bound`); both with
+#: S = 10, R = 10, preset paper, order by kernel CV.
+MG_NARS = {"nar_spec_H6": {"H": SPEC_H}, "nar_auto_H": {}}
 
 
 def _mackey_glass(n_origins, n_train=500, horizon=20, step=20):
     """NAR vs AR(6) and persistence on Mackey-Glass (tau = 17, sampled each time unit from
     t = 118): at origins T = 500, 520, ... every model is refitted on the 500 values before
-    T and forecasts 20 steps closed loop; RMSE pooled over origins and steps."""
+    T and forecasts 20 steps closed loop; RMSE pooled over origins and steps. Also the
+    kernel-CV criterion CV(p), p = 1..40, at the first origin (why H = 6 fails)."""
     x = mackey_glass(n_train + step * (n_origins - 1) + horizon)
     origins = [n_train + step * j for j in range(n_origins)]
     errs = {k: [] for k in (*MG_NARS, "ar6", "persistence")}
     orders = {k: [] for k in MG_NARS}
+    bounds = {k: [] for k in MG_NARS}
     cpu = {k: 0.0 for k in MG_NARS}
     for T in origins:
         train, truth = x[T - n_train:T], x[T:T + horizon]
@@ -78,20 +83,54 @@ def _mackey_glass(n_origins, n_train=500, horizon=20, step=20):
             errs[name].append(m.forecast(horizon, intervals=False).values - truth)
             cpu[name] += time.process_time() - c0
             orders[name].append(int(m.order_))
+            bounds[name].append(int(m.order_selection_.H))
+            print(f"   mackey-glass T={T} {name}: p={m.order_} "
+                  f"rmse={np.sqrt(np.mean(errs[name][-1] ** 2)):.4f} "
+                  f"cpu={time.process_time() - c0:.0f}s", file=sys.stderr, flush=True)
         errs["ar6"].append(ARLeastSquares(order=6).fit(train).forecast(horizon).values - truth)
         errs["persistence"].append(Persistence().fit(train).forecast(horizon).values - truth)
+    cv = select_order_cv(x[origins[0] - n_train:origins[0]], H=40)
     rmse = {k: float(np.sqrt(np.mean(np.square(v)))) for k, v in errs.items()}
     per_origin = {k: [float(np.sqrt(np.mean(np.square(e)))) for e in v] for k, v in errs.items()}
     step_curve = {k: np.sqrt(np.mean(np.square(v), axis=0)).tolist() for k, v in errs.items()}
     return {"series": "Mackey-Glass tau = 17, dt = 0.1 RK4, sampled each time unit, t >= 118",
             "n_train": n_train, "horizon": horizon, "origins": origins,
             "rmse": rmse, "rmse_per_origin": per_origin, "rmse_per_step": step_curve,
-            "orders": orders, "cpu_s_per_fit": {k: v / n_origins for k, v in cpu.items()},
+            "orders": orders, "lag_bounds": bounds,
+            "cpu_s_per_fit": {k: v / n_origins for k, v in cpu.items()},
             "ratio_vs_ar6": {k: rmse[k] / rmse["ar6"] for k in MG_NARS},
             "ratio_vs_persistence": {k: rmse[k] / rmse["persistence"] for k in MG_NARS},
-            "settings": {k: {"hidden": 10, "restarts": 10, "preset": "paper", **v}
-                         for k, v in MG_NARS.items()},
+            "settings": {k: {"hidden": 10, "restarts": 10, "preset": "paper",
+                             "H": v.get("H", "auto")} for k, v in MG_NARS.items()},
+            "kernel_cv_first_origin": {"H": cv.H, "order": cv.order,
+                                       "scores": [float(v) for v in cv.scores]},
             "targets": {"vs_ar6": 0.5, "vs_persistence": 0.25}}
+
+
+def restart_spread(order, origins=(500, 520, 540, 560, 580), n_train=500, horizon=20):
+    """Diagnostic (not part of ``run``): 20-step closed-loop RMSE of each of the R = 10
+    restarts of a NAR with a fixed ``order`` on Mackey-Glass, and each restart's best
+    one-step validation MSE (normalised units), per origin. Shows whether a bad NAR
+    forecast is one unlucky initialisation or every restart.
+    ``python -c "from benchmarks.drift import restart_spread as r; print(r(5))"``."""
+    from inertialab.learn.mlp_lm import forward
+
+    x = mackey_glass(max(origins) + horizon)
+    out = {}
+    for T in origins:
+        train, truth = x[T - n_train:T], x[T:T + horizon]
+        m = NARForecaster(order=order, rng=T).fit(train)
+        rm, vm = [], []
+        for mem in m.members_:
+            state, f = m._to_unit(train[-order:])[::-1], []
+            for _ in range(horizon):
+                v = float(forward(mem.theta, state[None, :], m.hidden_)[0])
+                f.append(v)
+                state = np.r_[v, state[:-1]]
+            rm.append(float(np.sqrt(np.mean((m._from_unit(np.array(f)) - truth) ** 2))))
+            vm.append(mem.val_mse)
+        out[T] = {"rmse20": rm, "val_mse": vm}
+    return out
 
 
 def _a8(n_units, arima_units):
@@ -173,7 +212,7 @@ def run(quick: bool = False) -> dict:
         out["A7"] = _nar_vs_linear("AR2", n, "block")
         out["A8"] = _a8(6 if quick else 20, 0 if quick else 4)
         out["A13"] = _a13(6 if quick else 20)
-        out["mackey_glass"] = _mackey_glass(6 if quick else 12)
+        out["mackey_glass"] = _mackey_glass(2 if quick else 6)
     out["wall_s"] = time.perf_counter() - t0
     return out
 
@@ -275,20 +314,30 @@ def markdown(r: dict) -> str:
                  f"{mg['horizon']}-step closed-loop forecast; RMSE pooled over origins and "
                  "steps. Target: NAR ≤ 0.5 × AR(6) and ≤ 0.25 × persistence.")
         L.append("")
-        L.append("| model | orders chosen | 20-step RMSE | / AR(6) | / persistence | CPU s per fit |")
-        L.append("|---|---|---|---|---|---|")
+        L.append("| model | lag bound H | orders chosen | 20-step RMSE | / AR(6) | / persistence "
+                 "| CPU s per fit |")
+        L.append("|---|---|---|---|---|---|---|")
         for k in MG_NARS:
-            L.append(f"| {k} | {sorted(set(mg['orders'][k]))} | {_f(mg['rmse'][k])} | "
-                     f"{_f(mg['ratio_vs_ar6'][k], '.2f')} | "
-                     f"{_f(mg['ratio_vs_persistence'][k], '.3f')} | "
+            L.append(f"| {k} | {sorted(set(mg['lag_bounds'][k]))} | "
+                     f"{sorted(set(mg['orders'][k]))} | {_f(mg['rmse'][k])} | "
+                     f"{_f(mg['ratio_vs_ar6'][k], '.2g')} | "
+                     f"{_f(mg['ratio_vs_persistence'][k], '.2g')} | "
                      f"{_f(mg['cpu_s_per_fit'][k], '.1f')} |")
-        L.append(f"| AR(6) least squares | 6 | {_f(mg['rmse']['ar6'])} | 1 | "
+        L.append(f"| AR(6) least squares | – | 6 | {_f(mg['rmse']['ar6'])} | 1 | "
                  f"{_f(mg['rmse']['ar6'] / mg['rmse']['persistence'], '.3f')} | – |")
-        L.append(f"| persistence | – | {_f(mg['rmse']['persistence'])} | – | 1 | – |")
+        L.append(f"| persistence | – | – | {_f(mg['rmse']['persistence'])} | – | 1 | – |")
+        cv = mg.get("kernel_cv_first_origin")
         L.append("")
-        L.append("The spec's lag bound H = 6 [R-2] caps the order at 5-6 on this smooth, "
-                 "chaotic series: six consecutive samples of a curve with a 17-unit delay "
-                 "barely constrain its future, and the closed loop drifts. With H = 12 the "
-                 "kernel CV picks the bound itself (the criterion keeps falling with more "
-                 "lags on a noise-free series), and the NAR meets the target.")
+        if cv:
+            sc = cv["scores"]
+            L.append(f"Why H = 6 fails: the kernel-CV criterion at T = {mg['origins'][0]} has a "
+                     f"local minimum at p = 5 (CV {sc[4]:.4f}, rising to {max(sc[5:9]):.4f} "
+                     f"by p = 9) and its global minimum over 1..{cv['H']} at p = {cv['order']} "
+                     f"(CV {sc[cv['order'] - 1]:.4f}), beyond the 17-unit delay. The spec's "
+                     "bound H = 6 [R-2] stops the search at the local minimum; five "
+                     "consecutive samples of this smooth delay system do not fix its "
+                     "state, so every restart's closed loop drifts although its one-step "
+                     "validation error is tiny. The learner's generic default H = \"auto\" "
+                     "takes the largest bound the spec's own rule m >= 10 H allows (40 "
+                     "here); the spec 004 study keeps H = 6.")
     return "\n".join(L) + "\n"

@@ -11,7 +11,7 @@ import pytest
 from inertialab.errors import DataQualityWarning, InputError
 from inertialab.learn.forecast_baselines import ARLeastSquares, Persistence
 from inertialab.learn.mlp_lm import forward
-from inertialab.learn.nar import NARForecaster, whiteness
+from inertialab.learn.nar import AUTO_H_MAX, SPEC_H, NARForecaster, auto_lag_bound, whiteness
 from inertialab.sim.drift import benchmark_process
 
 
@@ -38,7 +38,7 @@ def _a6(proc, seeds):
         yi, yh = y[:100], y[100:]
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            m = NARForecaster(restarts=10, preset="strict", rng=s).fit(yi)
+            m = NARForecaster(H=SPEC_H, restarts=10, preset="strict", rng=s).fit(yi)
             f = m.forecast(20, intervals=False).values
         ar = ARLeastSquares(order=m.order_).fit(yi)
         r_nar.append(np.sqrt(np.mean((f - yh) ** 2)))
@@ -112,7 +112,7 @@ def test_intervals_ordered_and_cover_the_simulated_truth():
     cover = total = 0
     for s in range(8):
         y = benchmark_process("S1", 120, 100 + s)
-        m = NARForecaster(restarts=4, preset="strict", rng=s, n_paths=100).fit(y[:100])
+        m = NARForecaster(H=SPEC_H, restarts=4, preset="strict", rng=s, n_paths=100).fit(y[:100])
         f = m.forecast(20)
         assert np.all(f.lo95 <= f.median) and np.all(f.median <= f.hi95)
         cover += np.sum((y[100:] >= f.lo95) & (y[100:] <= f.hi95))
@@ -194,3 +194,42 @@ def test_hidden_grid_chooses_by_mean_validation_mse():
     np.testing.assert_array_equal(back.forecast(5).values, g.forecast(5).values)
     with pytest.raises(InputError, match="validation split"):
         NARForecaster(order=2, hidden_grid=(2, 4), val_fraction=0.0).fit(y)
+
+
+def test_auto_lag_bound_is_the_largest_the_spec_data_rule_allows():
+    # spec 004 §3.1: H = 6 and m >= 10 H CV targets, m = n - H, i.e. H <= n / 11;
+    # "auto" takes the largest such H, never below 6, at most AUTO_H_MAX
+    assert auto_lag_bound(30) == SPEC_H and auto_lag_bound(100) == 9
+    assert auto_lag_bound(500) == AUTO_H_MAX == 40 and auto_lag_bound(10**6) == AUTO_H_MAX
+    for n in range(11 * SPEC_H, 11 * AUTO_H_MAX):
+        H = auto_lag_bound(n)
+        assert n - H >= 10 * H and n - (H + 1) < 10 * (H + 1)
+    y = benchmark_process("S1", 100, 0)
+    m = NARForecaster(restarts=1, rng=0).fit(y)
+    assert m.order_selection_.H == 9
+    assert NARForecaster(H=6, restarts=1, rng=0).fit(y).order_selection_.H == 6
+    with pytest.raises(InputError, match="argument 'H'"):
+        NARForecaster(H="big", restarts=1).fit(y)
+
+
+def test_mackey_glass_learner_beats_ar6_and_persistence_reduced():
+    # issue 18 item 9, CI-sized (benchmarks/drift.py has the 500-value, 6-origin run):
+    # Mackey-Glass tau = 17, 220 training values before T = 220 and 300, R = 1 restart,
+    # 20-step closed loop, RMSE pooled. Target NAR <= 0.5 x AR(6) and <= 0.25 x
+    # persistence (measured 3.6e-4 vs 0.093 and 0.30). The cause of the spec-H = 6 miss
+    # (p <= 6 consecutive lags of a 17-unit delay system): "auto" (H = 20) lets the
+    # kernel CV pick an order beyond the delay.
+    from inertialab.sim.drift import mackey_glass
+
+    x = mackey_glass(320)
+    err = {"nar": [], "ar6": [], "persistence": []}
+    for T in (220, 300):
+        train, truth = x[T - 220:T], x[T:T + 20]
+        m = NARForecaster(restarts=1, rng=T).fit(train)
+        assert m.order_selection_.H == 20 and m.order_ > 17
+        err["nar"].append(m.forecast(20, intervals=False).values - truth)
+        err["ar6"].append(ARLeastSquares(order=6).fit(train).forecast(20).values - truth)
+        err["persistence"].append(Persistence().fit(train).forecast(20).values - truth)
+    rmse = {k: np.sqrt(np.mean(np.square(v))) for k, v in err.items()}
+    assert rmse["nar"] <= 0.5 * rmse["ar6"]
+    assert rmse["nar"] <= 0.25 * rmse["persistence"]

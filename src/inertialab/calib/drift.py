@@ -139,7 +139,9 @@ def fill_gaps(values, observed, max_gap):
 class DriftSettings:
     """Settings of :func:`fit_drift` / :func:`fit_series` (spec 004 defaults).
 
-    horizon K = 20 steps; order None = kernel CV with H = 6; hidden S = 10 (or chosen from
+    horizon K = 20 steps; order None = kernel CV with H = 6 (spec §3.1 [R-2]; passed
+    explicitly, so the study does not follow the NAR learner's generic ``H="auto"``
+    default for long series, :func:`inertialab.learn.nar.auto_lag_bound`); hidden S = 10 (or chosen from
     ``hidden_grid`` by validation, §3.2); restarts
     R = 10; preset "paper" (best member, random split) or "strict" (median, block split);
     n_paths B = 200; max_gap 3; Hampel screen off; tolerances 50 µg and 50 ppm

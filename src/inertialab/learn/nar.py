@@ -33,10 +33,29 @@ from inertialab.learn.forecast_baselines import Forecast
 from inertialab.learn.mlp_lm import MLPRegressorLM, forward, n_params
 from inertialab.learn.order_cv import OrderSelection, select_order_cv
 
-__all__ = ["PRESETS", "NARForecaster", "Whiteness", "whiteness"]
+__all__ = ["AUTO_H_MAX", "PRESETS", "SPEC_H", "NARForecaster", "Whiteness", "auto_lag_bound",
+           "whiteness"]
 
 #: preset -> (combine, split) defaults (spec 004 §3.4, §3.7)
 PRESETS = {"paper": ("best", "random"), "strict": ("median", "block")}
+
+#: Spec 004 §3.1 lag bound H = 6 [R-2] (the study's value) and the cap of ``H="auto"``.
+SPEC_H = 6
+AUTO_H_MAX = 40
+
+
+def auto_lag_bound(n: int) -> int:
+    """Lag bound of the learner's generic default ``H="auto"`` for ``n`` usable values.
+
+    Spec 004 §3.1 fixes H = 6 [R-2: not in the seed, a free parameter of low confidence]
+    and requires m >= 10 H CV targets, m = n - H. ``"auto"`` takes the largest bound that
+    requirement allows, H = floor(n / 11), never below the spec's 6 and at most
+    ``AUTO_H_MAX`` = 40 (the CV costs O(H m^2)). A 100-day record keeps H = 9 or less;
+    a 500-value series gets H = 40, so the kernel CV finds its own minimum instead of the
+    bound's: on Mackey-Glass (tau = 17, 500 values) CV(p) has a local minimum at p = 5
+    and its global one at p = 23-26, and H = 6 stops at the local one (benchmarks/drift.py).
+    """
+    return int(max(SPEC_H, min(AUTO_H_MAX, int(n) // 11)))
 
 
 @dataclass(frozen=True)
@@ -132,8 +151,10 @@ class NARForecaster(Estimator):
     ----------
     order : int, optional
         Lag order p; ``None`` = kernel-CV selection (§3.1) with ``H``, ``c``, ``bandwidth``.
-    H : int, default=6
-        Upper bound of the order search [R-2].
+    H : int or "auto", default="auto"
+        Upper bound of the order search. ``"auto"`` = :func:`auto_lag_bound` of the
+        number of usable values (6 for short records, up to 40 for long series); the
+        spec 004 study passes the spec's H = 6 (§3.1 [R-2], ``DriftSettings.H``).
     c : float, default=0.5
         Bandwidth constant of the order search.
     bandwidth : {"rule", "cv"}, default="rule"
@@ -175,7 +196,7 @@ class NARForecaster(Estimator):
 
     MODEL_TYPE = "nar"
 
-    def __init__(self, *, order=None, H=6, c=0.5, bandwidth="rule", hidden=10, restarts=10,
+    def __init__(self, *, order=None, H="auto", c=0.5, bandwidth="rule", hidden=10, restarts=10,
                  preset="paper", combine=None, split=None, val_fraction=0.1, n_paths=200,
                  tol_fit=None, lm=None, rng=None, hidden_grid=None):
         self.order = order
@@ -212,6 +233,13 @@ class NARForecaster(Estimator):
 
     def _from_unit(self, z):
         return (np.asarray(z) + 1.0) * self.span_ / 2.0 + self.lo_
+
+    def _lag_bound(self, n_usable: int) -> int:
+        if isinstance(self.H, str):
+            if self.H != "auto":
+                raise InputError(f"argument 'H' must be a positive integer or 'auto', got {self.H!r}")
+            return auto_lag_bound(n_usable)
+        return int(self.H)
 
     def _hidden_sizes(self) -> list:
         if self.hidden_grid is None:
@@ -288,7 +316,8 @@ class NARForecaster(Estimator):
             return self
         if self.order is None:
             self.order_selection_: OrderSelection | None = select_order_cv(
-                y, H=self.H, c=self.c, bandwidth=self.bandwidth, usable=ok)
+                y, H=self._lag_bound(int(ok.sum())), c=self.c, bandwidth=self.bandwidth,
+                usable=ok)
             p = self.order_selection_.order
         else:
             p = int(self.order)
