@@ -22,6 +22,12 @@ import sys
 import time
 from pathlib import Path
 
+# Single-threaded BLAS before anything imports numpy: the timings are per core, spec 004
+# A9 assumes it, and threaded OpenBLAS on a loaded 2-core machine made one LM epoch 25x
+# slower and moved results at rounding level. An explicit setting in the environment wins.
+for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_var, "1")
+
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 RESULTS = HERE / "results"
