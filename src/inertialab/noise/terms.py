@@ -187,9 +187,7 @@ def fit_noise_terms(result, *, unit: str, kind: str | None = "gyro", method: str
 def model_alpha(terms: NoiseTerms, taus_s) -> np.ndarray:
     """Noise type (rate PSD exponent) of the fitted model's dominant term at ``taus_s``:
     Q +2, N 0, B -1, K and R -2."""
-    t = np.asarray(taus_s, dtype=float)
-    c = np.nan_to_num(np.asarray(terms.coefficients, dtype=float))
-    contrib = np.stack([c[i] * t ** _POWERS[i] for i in range(5)], axis=1)
+    contrib = terms.contributions(np.asarray(taus_s, dtype=float))
     return np.array([_TERM_ALPHA[j] for j in np.argmax(contrib, axis=1)], dtype=np.int64)
 
 
