@@ -50,6 +50,10 @@ def _edf_table(result, sel):
     return np.where(np.isfinite(out) & (out > 0), out, 1.0)
 
 
+#: backward elimination of a non-significant R (see fit_ls)
+_ELIMINATE_R = True
+
+
 def _wnnls(X, avar, w, active):
     """One weighted NNLS of ``avar ~ X c`` (``c_k >= 0`` except the signed ``c_-2``).
     Returns ``(c, chi2)`` with ``chi2 = sum w (avar - X c)^2``."""
@@ -216,7 +220,7 @@ def fit_ls(result, sel, conv, rate_hz, method, n_reweight, confidence, n_boot, s
     # backward elimination of a non-significant rate ramp: R and K share the long taus,
     # and an R read from the scatter of the last points takes its share from K; the
     # terms are refitted without R, which keeps its upper bound from the full fit
-    if active[4] and "upper_bound" in terms["R"].flags:
+    if _ELIMINATE_R and active[4] and "upper_bound" in terms["R"].flags:
         act2 = list(active)
         act2[4] = False
         c, model, dom, boot, misfit, fit_rmse, i_band = _fit_and_boot(
