@@ -57,7 +57,7 @@ HOURS = 10.0
 #: key of the cached curves: change with the simulator or the tau grid
 CURVE_VERSION = "mems-presets/1|oadev-octave"
 #: key of the cached fits: bump when the fit code changes
-FIT_VERSION = "terms/2-bandB"
+FIT_VERSION = "terms/3-bandB-slope-spread"
 _FIT_SOURCES = ("terms.py", "_terms_base.py", "_terms_ls.py", "_terms_slope.py", "gmwm.py",
                 "edf.py")
 ROOT = Path(__file__).resolve().parents[1]
