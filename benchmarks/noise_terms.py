@@ -190,16 +190,40 @@ def _summary(rs):
                 vals.append(e["value"] / tv - 1)
         if not cov:
             continue
-        v = np.array(vals) if vals else np.array([np.nan])
+        v = np.array(vals)
         s[k] = {"n": len(cov), "coverage": float(np.mean(cov)),
-                "median_abs_err": float(np.nanmedian(np.abs(v))),
-                "median_err": float(np.nanmedian(v)), "significant": float(np.mean(sig))}
+                "median_abs_err": float(np.median(np.abs(v))) if v.size else float("nan"),
+                "median_err": float(np.median(v)) if v.size else float("nan"),
+                "significant": float(np.mean(sig))}
     tb = [row["b_textbook"] / row["truth"]["B"] - 1 for row in rs if "b_textbook" in row]
     if tb:
         s["B_textbook_median_err"] = float(np.median(tb))
     cpu = [row["cpu_s"] for row in rs]
     s["cpu_s_median"] = float(np.median(cpu)) if cpu else float("nan")
     return s
+
+
+def _agreement(per: dict) -> dict:
+    """Per method and term: share of the seeds fitted by both it and "wls" where each
+    method's value lies inside the other's interval (issue 14 item 2: the methods agree
+    within their intervals), with the count."""
+    if "wls" not in per:
+        return {}
+    ref = {r["seed"]: r["fit"] for r in per["wls"]}
+    out = {}
+    for m, rs in per.items():
+        if m == "wls":
+            continue
+        common = [(r["fit"], ref[r["seed"]]) for r in rs if r["seed"] in ref]
+        if not common:
+            continue
+        d = {"n": len(common)}
+        for k in ("N", "B", "K"):
+            ok = [a[k]["ci"][0] <= b[k]["value"] <= a[k]["ci"][1]
+                  or b[k]["ci"][0] <= a[k]["value"] <= b[k]["ci"][1] for a, b in common]
+            d[k] = float(np.mean(ok))
+        out[m] = d
+    return out
 
 
 def _compact(row: dict) -> list:
@@ -229,7 +253,7 @@ def assemble(methods=METHODS, hours: float = HOURS) -> dict:
         truth = next(iter(per.values()))[0]["truth"]
         out["seeds"][preset] = {m: len(rs) for m, rs in per.items()}
         out["presets"][preset] = {
-            "truth": truth,
+            "truth": truth, "agreement_with_wls": _agreement(per),
             "sources": {m: sorted({r.get("source", "") for r in rs}) for m, rs in per.items()},
             "summary": {m: _summary(rs) for m, rs in per.items()},
             "rows": {m: [_compact(r) for r in rs] for m, rs in per.items()}}
@@ -274,6 +298,15 @@ def markdown(result: dict) -> str:
             if "B_textbook_median_err" in s:
                 lines.append(f"| {preset} | {m} | B textbook min/0.664 | | | | "
                              f"{100 * s['B_textbook_median_err']:+.1f} % | |")
+    agree = [(preset, m, a) for preset, p in result["presets"].items()
+             for m, a in p.get("agreement_with_wls", {}).items()]
+    if agree:
+        lines += ["", "Agreement with WLS (share of the seeds fitted by both where either "
+                  "value lies inside the other's interval):", "",
+                  "| preset | method | seeds | N | B | K |", "|---|---|---|---|---|---|"]
+        for preset, m, a in agree:
+            lines.append(f"| {preset} | {m} | {a['n']} | {100 * a['N']:.0f} % | "
+                         f"{100 * a['B']:.0f} % | {100 * a['K']:.0f} % |")
     lines.append("")
     return "\n".join(lines)
 
