@@ -21,7 +21,13 @@ Methods (every term reports which one and the tau range it was read on):
     ``+3Q^2/tau^2``; a negative or non-significant ``c_-2`` reports Q as absent. Taus
     whose model EDF is below :data:`EDF_MIN` are dropped. A record too short to separate
     a term (fewer than two taus per parameter) drops R, then K, then Q, reported
-    ``not_observable`` with the reason.
+    ``not_observable`` with the reason. B is band-limited flicker
+    (:func:`inertialab.noise._terms_base.band_shape`: the log-uniform mixture of
+    Gauss–Markov processes between two corners, flat between them), the corners
+    profiled inside the least squares on a grid (``_terms_ls._corner_grid``; pure
+    flicker is the grid's first point) and reported as :attr:`NoiseTerms.bias_gm`: a
+    constant B extended to the long taus, where a real sum of Gauss–Markov processes
+    falls, took K 15-60 % low on the MEMS presets (issue 14 items 2-3).
 ``"ols"``
     The same with unit weights (the paper-compatible mode of spec 001 §3.4 item 3).
 ``"slope"``
@@ -35,8 +41,8 @@ Allan domain. Each replicate draws every fitted tau's AVAR as
 ``model_i chi2(edf_i)/edf_i`` (Greenhall EDF of the model's noise type), correlated
 across taus through a Gaussian copula whose correlation is a Markov chain in log2(tau)
 with the measured one-octave correlation of the dominant noise type
-(:data:`OCTAVE_RHO`), and is refitted by the same method; the term's interval is the percentile
-interval at ``confidence`` (default 0.95). Drawing records instead would cost a full
+(:data:`OCTAVE_RHO`), and is refitted by the same method (the B corners profiled
+again); the term's interval is the percentile interval at ``confidence`` (default 0.95). Drawing records instead would cost a full
 simulation and Allan pass per replicate (seconds on a 10-h log); the Allan-domain draw
 is the same model's sampling law to the extent the copula captures the dependence of
 the taus, which the coverage benchmark (benchmarks/noise_terms.py) measures. A term whose lower
