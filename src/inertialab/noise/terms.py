@@ -42,11 +42,11 @@ Allan domain. Each replicate draws every fitted tau's AVAR as
 across taus through a Gaussian copula whose correlation is a Markov chain in log2(tau)
 with the measured one-octave correlation of the dominant noise type
 (:data:`OCTAVE_RHO`), and is refitted by the same method (the B corners profiled
-again); the term's interval is the percentile interval at ``confidence`` (default 0.95). Drawing records instead would cost a full
-simulation and Allan pass per replicate (seconds on a 10-h log); the Allan-domain draw
-is the same model's sampling law to the extent the copula captures the dependence of
-the taus, which the coverage benchmark (benchmarks/noise_terms.py) measures. A term whose lower
-percentile is at 0 (or, for Q, at or below 0), or that never carries :data:`READ_SHARE`
+again); the term's interval is the percentile interval at ``confidence`` (default
+0.95). Drawing records instead would cost a full simulation and Allan pass per replicate
+(seconds on a 10-h log); the Allan-domain draw is the same model's sampling law to the
+extent the copula captures the dependence of the taus, which the coverage benchmark
+(benchmarks/noise_terms.py) measures. A term whose lower percentile is at 0 (or, for Q, at or below 0), or that never carries :data:`READ_SHARE`
 of the model at a fitted tau, is not significant: it is reported with
 ``ci = [0, upper]``, flag ``upper_bound`` and the reason. (The second rule matters
 because neighbouring octave AVAR estimates are correlated — they share the record — so a
