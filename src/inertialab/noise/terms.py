@@ -46,8 +46,9 @@ again); the term's interval is the percentile interval at ``confidence`` (defaul
 0.95). Drawing records instead would cost a full simulation and Allan pass per replicate
 (seconds on a 10-h log); the Allan-domain draw is the same model's sampling law to the
 extent the copula captures the dependence of the taus, which the coverage benchmark
-(benchmarks/noise_terms.py) measures. A term whose lower percentile is at 0 (or, for Q, at or below 0), or that never carries :data:`READ_SHARE`
-of the model at a fitted tau, is not significant: it is reported with
+(benchmarks/noise_terms.py) measures. A term whose lower percentile is at 0 (or, for Q,
+at or below 0), or that never carries :data:`READ_SHARE` of the model at a fitted tau,
+is not significant: it is reported with
 ``ci = [0, upper]``, flag ``upper_bound`` and the reason. (The second rule matters
 because neighbouring octave AVAR estimates are correlated — they share the record — so a
 term of 1 % of the curve can look significant to a bootstrap that draws the taus
