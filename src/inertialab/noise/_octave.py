@@ -226,20 +226,29 @@ def totdev_edge_sum(window, nx: int, m: int) -> float:
 def _edge_terms(x: np.ndarray, off: int, nx: int, m: int, c0: int, c1: int) -> float:
     """Sum over centres c in [c0, c1) of ``(x*_{c-m} - 2 x_c + x*_{c+m})^2``; ``x`` holds
     the angle points ``off .. off + x.size - 1`` (it starts at 0 where a left reflection
-    is needed and ends at nx-1 where a right one is)."""
-    if c1 <= c0:
-        return 0.0
-    c = np.arange(c0, c1)
-    li, ri = c - m, c + m
-    lref, rref = li < 0, ri > nx - 1
-    left = x[np.where(lref, -li, li) - off]
-    right = x[np.where(rref, 2 * (nx - 1) - ri, ri) - off]
-    if lref.any():
-        left = np.where(lref, 2.0 * x[0] - left, left)
-    if rref.any():
-        right = np.where(rref, 2.0 * x[-1] - right, right)
-    v = left - 2.0 * x[c - off] + right
-    return float(np.dot(v, v))
+    is needed and ends at nx-1 where a right one is). Contiguous (reversed) slices only:
+    the centres are split where the left and the right neighbour enter the extension."""
+    total = 0.0
+    cuts = sorted({c0, c1, min(max(m, c0), c1), min(max(nx - m, c0), c1)})
+    for a, b in zip(cuts[:-1], cuts[1:]):
+        if b <= a:
+            continue
+        lref, rref = a < m, b - 1 > nx - 1 - m
+        v = x[a - off:b - off] * -2.0
+        if lref:  # x*_{c-m} = 2 x_0 - x_{m-c}
+            v -= x[m - b + 1 - off:m - a + 1 - off][::-1]
+        else:
+            v += x[a - m - off:b - m - off]
+        if rref:  # x*_{c+m} = 2 x_{nx-1} - x_{2(nx-1)-c-m}
+            q = 2 * (nx - 1) - m
+            v -= x[q - b + 1 - off:q - a + 1 - off][::-1]
+        else:
+            v += x[a + m - off:b + m - off]
+        const = (2.0 * float(x[0]) if lref else 0.0) + (2.0 * float(x[-1]) if rref else 0.0)
+        if const:
+            v += const
+        total += _sumsq(v)
+    return total
 
 
 # ----------------------------------------------------------------------------- any m
@@ -255,13 +264,26 @@ EXT_MAX = 1 << 18
 GROUP_POINTS = 64
 
 
+class _Buffers:
+    """Three reused work buffers (fresh large arrays cost page faults on every
+    allocation: measured 4x the arithmetic for 1e5-point second differences)."""
+
+    def __init__(self, size: int):
+        self.size = size
+        self.b = [np.empty(size) for _ in range(3)]
+
+    def get(self, k: int, n: int) -> np.ndarray:
+        return self.b[k][:n] if n <= self.size else np.empty(n)
+
+
 def dense_sums(x: np.ndarray, statistic: str, ms: np.ndarray):
     """Sums of squares of ``statistic`` at any averaging factors ``ms`` of the in-memory
-    angle ``x`` (float64), and the summand counts. Per m: the lag-m increments
-    ``D_i = x_{i+m} - x_i`` of a block, their differences at lag m (second differences;
+    angle ``x`` (float64), and the summand counts. Per m and block of summands: the lag-m
+    increments ``D_i = x_{i+m} - x_i``, their differences at lag m (second differences;
     twice for Hadamard; a cumulative sum for the modified variance), one dot product:
-    2-4 passes over the summands with reused buffers. The non-overlapping statistics at
-    large m (few points per tau) are stacked by point count into 2-D gathers."""
+    2-4 passes over the summands in reused buffers. The non-overlapping statistics use
+    strided views; at large m (few points per tau) they are stacked by point count into
+    2-D gathers."""
     nx = x.size
     ms = np.asarray(ms, dtype=np.int64)
     sums = np.zeros(ms.size)
@@ -270,38 +292,61 @@ def dense_sums(x: np.ndarray, statistic: str, ms: np.ndarray):
         order = 2 if statistic == "adev" else 3
         pts = (nx - 1) // ms + 1
         small = pts < GROUP_POINTS
+        bufs = _Buffers(min(nx, OCT_BLOCK) + 2)
         for k in np.flatnonzero(~small):
-            v = x[::int(ms[k])]
-            e = np.diff(v, n=order)
-            sums[k] = _sumsq(e)
+            sums[k] = _strided_sum(x[::int(ms[k])], order, bufs)
         ks = np.flatnonzero(small)
         for c in np.unique(pts[ks]):
             sel = ks[pts[ks] == c]
-            Z = x[ms[sel][:, None] * np.arange(int(c))[None, :]]
-            e = np.diff(Z, n=order, axis=1)
+            e = x[ms[sel][:, None] * np.arange(int(c))[None, :]]
+            for _ in range(order):
+                e = e[:, 1:] - e[:, :-1]
             sums[sel] = np.einsum("ij,ij->i", e, e)
         return sums, nt
     if statistic == "totdev":
-        ext = None
-        if nx <= EXT_MAX:
+        if nx <= EXT_MAX:  # the extension once (at most 6 MiB), then two passes per m
             ext = np.concatenate([2.0 * x[0] - x[nx - 2:0:-1], x, 2.0 * x[-1] - x[-2:0:-1]])
-        for k, m in enumerate(int(v) for v in ms):
-            if ext is not None:  # centres nx-2 .. 2nx-5 of the extension
-                c0 = nx - 1
-                D = ext[c0:c0 + nx - 2 + m] - ext[c0 - m:c0 + nx - 2]
-                t = D[m:] - D[:-m]
+            bufs = _Buffers(2 * nx)
+            c0 = nx - 1  # extension index of the first centre (x_1)
+            for k, m in enumerate(int(v) for v in ms):
+                D = bufs.get(0, nx - 2 + m)
+                np.subtract(ext[c0:c0 + nx - 2 + m], ext[c0 - m:c0 + nx - 2], out=D)
+                t = bufs.get(1, nx - 2)
+                np.subtract(D[m:], D[:-m], out=t)
                 sums[k] = _sumsq(t)
-            else:
-                s = _overlap_sum(x, m, 2) if nx - 2 * m > 0 else 0.0
-                sums[k] = s + totdev_edge_sum(lambda a, n: x[a:a + n], nx, m)
+            return sums, nt
+        bufs = _Buffers(3 * OCT_BLOCK)
+        for k, m in enumerate(int(v) for v in ms):
+            s = _overlap_sum(x, m, 2, bufs) if nx - 2 * m > 0 else 0.0
+            sums[k] = s + totdev_edge_sum(lambda a, n: x[a:a + n], nx, m)
         return sums, nt
     order = {"oadev": 2, "ohdev": 3, "mdev": 0, "tdev": 0}[statistic]
+    bufs = _Buffers(min(3 * OCT_BLOCK, nx + 1))
     for k, m in enumerate(int(v) for v in ms):
-        sums[k] = _overlap_sum(x, m, order) if nt[k] > 0 else 0.0
+        sums[k] = _overlap_sum(x, m, order, bufs) if nt[k] > 0 else 0.0
     return sums, nt
 
 
-def _overlap_sum(x: np.ndarray, m: int, order: int) -> float:
+def _strided_sum(v: np.ndarray, order: int, bufs: _Buffers) -> float:
+    """Sum of squared differences of order 2 or 3 of ``v`` (a strided view), in blocks."""
+    cnt = v.size - order
+    total = 0.0
+    for b0 in range(0, cnt, OCT_BLOCK):
+        L = min(OCT_BLOCK, cnt - b0)
+        w = v[b0:b0 + L + order]
+        e = bufs.get(0, L + order - 1)
+        np.subtract(w[1:], w[:-1], out=e)
+        f = bufs.get(1, L + order - 2)
+        np.subtract(e[1:], e[:-1], out=f)
+        if order == 3:
+            g = bufs.get(2, L)
+            np.subtract(f[1:], f[:-1], out=g)
+            f = g
+        total += _sumsq(f)
+    return total
+
+
+def _overlap_sum(x: np.ndarray, m: int, order: int, bufs: _Buffers) -> float:
     """Overlapping sum of squares at lag m over blocks of summands: second (order 2) or
     third (3) differences, or (order 0) the m-sums of second differences (modified)."""
     nx = x.size
@@ -309,17 +354,22 @@ def _overlap_sum(x: np.ndarray, m: int, order: int) -> float:
     reach = {2: 2 * m, 3: 3 * m, 0: 3 * m - 1}[order]
     total = 0.0
     for b0 in range(0, cnt, OCT_BLOCK):
-        b1 = min(b0 + OCT_BLOCK, cnt)
-        L = b1 - b0
-        seg = x[b0:b1 + reach]
-        D = seg[m:] - seg[:-m]  # L + reach - m
-        e = D[m:] - D[:-m]
+        L = min(OCT_BLOCK, cnt - b0)
+        seg = x[b0:b0 + L + reach]
+        D = bufs.get(0, seg.size - m)
+        np.subtract(seg[m:], seg[:-m], out=D)
+        e = bufs.get(1, D.size - m)
+        np.subtract(D[m:], D[:-m], out=e)
         if order == 3:
-            e = e[m:] - e[:-m]
-        elif order == 0:  # z_i = sum_{j<m} e_{i+j}
-            cs = np.empty(e.size + 1)
+            f = bufs.get(2, e.size - m)
+            np.subtract(e[m:], e[:-m], out=f)
+            e = f
+        elif order == 0:  # z_i = sum_{j<m} e_{i+j} (e has L + m - 1 entries)
+            cs = bufs.get(2, e.size + 1)
             cs[0] = 0.0
             np.cumsum(e, out=cs[1:])
-            e = cs[m:m + L] - cs[:L]
+            z = bufs.get(0, L)  # D is no longer needed
+            np.subtract(cs[m:m + L], cs[:L], out=z)
+            e = z
         total += _sumsq(e[:L])
     return total

@@ -405,7 +405,8 @@ def deviation(statistic: str, data, *, rate_hz: float, taus="octave", input: str
             if _all_equal(arr):
                 raise InputError("data are constant (zero deviation at every tau); "
                                  "nothing to analyse")
-        if is_octave(ms):
+        if is_octave(ms) and not (input == "angle" and statistic in _octave.E_STATS):
+            # (non-overlapping statistics of an angle record: strided views are cheaper)
             # lag-doubling kernels on one working array of first differences
             if input == "rate":
                 mean = _chunked_mean(arr)

@@ -36,6 +36,9 @@ R_N_MAX = 1 << 22
 #: Decimated points used by the lag-1 test per tau (the central ones).
 MAX_POINTS = 1 << 13
 
+#: Rows of at least this many points are tested one at a time, shorter ones stacked.
+LONG_ROW = 512
+
 #: Below this many decimated points the B1/R(n) fallback is used.
 MIN_POINTS = 30
 
@@ -64,7 +67,7 @@ def lag1_alpha(z: np.ndarray, *, dmax: int = 2, data_type: str = "phase") -> flo
         delta = r1 / (1.0 + r1)
         if delta < 0.25 or d >= dmax or z.size < 4:
             return -2.0 * (delta + d) + 2.0 * theta
-        z = np.diff(z)
+        z = z[1:] - z[:-1]
         d += 1
 
 
@@ -80,9 +83,11 @@ def lag1_alpha_many(rows, *, dmax: int = 2) -> np.ndarray:
     if k == 0:
         return out
     lens = np.array([r.size for r in rows], dtype=np.int64)
+    for i in np.flatnonzero(lens >= LONG_ROW):  # long rows: one at a time (no padding)
+        out[i] = lag1_alpha(rows[i], dmax=dmax)
     band = np.floor(np.log2(np.maximum(lens, 1))).astype(np.int64)
-    for b in np.unique(band):
-        idx = np.flatnonzero(band == b)
+    for b in np.unique(band[lens < LONG_ROW]):
+        idx = np.flatnonzero((band == b) & (lens < LONG_ROW))
         n = lens[idx]
         L = int(n.max())
         Z = np.zeros((idx.size, L))
@@ -131,12 +136,13 @@ _MUS = (-2.0, -1.0, 0.0, 1.0)
 def _b1_mu_many(Z: np.ndarray) -> np.ndarray:
     """B1 verdict (index into ``_MUS``; -1: too few points or zero variance -> alpha 0) of
     each row of ``Z`` (decimated angle points, one row per tau)."""
-    ybar = np.diff(Z, axis=1)  # proportional to the m-averages of the rate
+    ybar = Z[:, 1:] - Z[:, :-1]  # proportional to the m-averages of the rate
     n = ybar.shape[1]
     out = np.full(Z.shape[0], -1, dtype=np.int64)
     if n < 3:
         return out
-    avar = 0.5 * np.mean(np.diff(ybar, axis=1) ** 2, axis=1)
+    d2 = ybar[:, 1:] - ybar[:, :-1]
+    avar = 0.5 * np.mean(d2 * d2, axis=1)
     ok = avar > 0
     b1 = np.var(ybar, axis=1, ddof=1) / np.where(ok, avar, 1.0)
     th = [b1_theory(n, mu) for mu in _MUS]
