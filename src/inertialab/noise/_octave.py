@@ -130,6 +130,8 @@ def octave_sums(d: np.ndarray, statistic: str, ms: np.ndarray, *, edges=None,
             m *= 2
         return sums, nt, dec
     if statistic in B_STATS:
+        if decimate:  # B(m) holds no point samples: gather them before d is overwritten
+            dec = decimated_points(d, [int(v) for v in ms], decimate)
         nb = d.size  # valid B(m) entries: nx - 2m + 1
         while m <= top:
             cnt = nx - 3 * m + 1
@@ -192,6 +194,36 @@ def octave_sums(d: np.ndarray, statistic: str, ms: np.ndarray, *, edges=None,
         nd = nxt
         m *= 2
     return sums, nt, dec
+
+
+def decimated_points(d: np.ndarray, ms, max_points: int, chunk: int = 1 << 20) -> dict:
+    """For each m, the central ``max_points`` (at most) decimated angle points
+    ``x_{start + k m} - x_start`` of the increments ``d`` (``x_0 = 0``, ``x_{i+1} = x_i +
+    d_i``), gathered in one pass of chunked cumulative sums (no angle array)."""
+    nx = d.size + 1
+    want = {}
+    for m in ms:
+        count = (nx - 1) // m + 1
+        use = min(count, max_points)
+        start = ((count - use) // 2) * m
+        want[m] = start + m * np.arange(use, dtype=np.int64)
+    got = {m: np.empty(idx.size) for m, idx in want.items()}
+    for m, idx in want.items():  # x_0 = 0 (not produced by the chunks below)
+        got[m][idx == 0] = 0.0
+    prev = 0.0
+    u = np.empty(min(chunk, max(d.size, 1)))
+    for s in range(0, d.size, chunk):
+        e = min(s + chunk, d.size)
+        w = u[:e - s]
+        w[:] = d[s:e]
+        w[0] += prev
+        np.cumsum(w, out=w)  # x_{s+1} .. x_e
+        prev = float(w[-1])
+        for m, idx in want.items():
+            lo, hi = np.searchsorted(idx, [s + 1, e + 1])
+            if hi > lo:
+                got[m][lo:hi] = w[idx[lo:hi] - s - 1]
+    return {m: got[m] - got[m][0] for m in ms}
 
 
 def _central_cumsum(w: np.ndarray, nvalid: int, m: int, max_points: int) -> np.ndarray:
@@ -348,28 +380,72 @@ def _strided_sum(v: np.ndarray, order: int, bufs: _Buffers) -> float:
 
 def _overlap_sum(x: np.ndarray, m: int, order: int, bufs: _Buffers) -> float:
     """Overlapping sum of squares at lag m over blocks of summands: second (order 2) or
-    third (3) differences, or (order 0) the m-sums of second differences (modified)."""
+    third (3) differences, or (order 0) the m-sums of second differences (modified).
+
+    For m up to a block length the block's window is differenced at lag m twice (the
+    increments ``D`` are shared by the taps); for larger m the taps are read at their
+    offsets (no window of length m per block), and the modified sums are carried as a
+    running sum ``z_{i+1} = z_i + (third difference at lag m)_i`` across blocks."""
     nx = x.size
     cnt = nx - 2 * m if order == 2 else (nx - 3 * m if order == 3 else nx - 3 * m + 1)
     reach = {2: 2 * m, 3: 3 * m, 0: 3 * m - 1}[order]
+    B = OCT_BLOCK
     total = 0.0
-    for b0 in range(0, cnt, OCT_BLOCK):
-        L = min(OCT_BLOCK, cnt - b0)
-        seg = x[b0:b0 + L + reach]
-        D = bufs.get(0, seg.size - m)
-        np.subtract(seg[m:], seg[:-m], out=D)
-        e = bufs.get(1, D.size - m)
-        np.subtract(D[m:], D[:-m], out=e)
+    if m <= B:
+        for b0 in range(0, cnt, B):
+            L = min(B, cnt - b0)
+            seg = x[b0:b0 + L + reach]
+            D = bufs.get(0, seg.size - m)
+            np.subtract(seg[m:], seg[:-m], out=D)
+            e = bufs.get(1, D.size - m)
+            np.subtract(D[m:], D[:-m], out=e)
+            if order == 3:
+                f = bufs.get(2, e.size - m)
+                np.subtract(e[m:], e[:-m], out=f)
+                e = f
+            elif order == 0:  # z_i = sum_{j<m} e_{i+j} (e has L + m - 1 entries)
+                cs = bufs.get(2, e.size + 1)
+                cs[0] = 0.0
+                np.cumsum(e, out=cs[1:])
+                z = bufs.get(0, L)  # D is no longer needed
+                np.subtract(cs[m:m + L], cs[:L], out=z)
+                e = z
+            total += _sumsq(e[:L])
+        return total
+    z_prev = 0.0
+    if order == 0:  # z_0 = sum_{j<m} (x_{j+2m} - 2 x_{j+m} + x_j), in blocks
+        for b0 in range(0, m, B):
+            b1 = min(b0 + B, m)
+            z_prev += float(np.sum((x[b0 + 2 * m:b1 + 2 * m] - x[b0 + m:b1 + m])
+                                   - (x[b0 + m:b1 + m] - x[b0:b1])))
+    for b0 in range(0, cnt, B):
+        L = min(B, cnt - b0)
+        u, v = bufs.get(0, L), bufs.get(1, L)
+        if order == 2:
+            np.subtract(x[b0 + 2 * m:b0 + 2 * m + L], x[b0 + m:b0 + m + L], out=u)
+            np.subtract(x[b0 + m:b0 + m + L], x[b0:b0 + L], out=v)
+            u -= v
+            total += _sumsq(u)
+            continue
+        # third differences at lag m: (x3 - x2) - 2 (x2 - x1) + (x1 - x0)
+        n3 = L if order == 3 else L - 1  # order 0: increments z_i -> z_{i+1}
+        w = bufs.get(2, L)
+        np.subtract(x[b0 + 3 * m:b0 + 3 * m + n3], x[b0 + 2 * m:b0 + 2 * m + n3], out=u[:n3])
+        np.subtract(x[b0 + 2 * m:b0 + 2 * m + n3], x[b0 + m:b0 + m + n3], out=v[:n3])
+        np.subtract(x[b0 + m:b0 + m + n3], x[b0:b0 + n3], out=w[:n3])
+        u[:n3] -= v[:n3]
+        u[:n3] -= v[:n3]
+        u[:n3] += w[:n3]
         if order == 3:
-            f = bufs.get(2, e.size - m)
-            np.subtract(e[m:], e[:-m], out=f)
-            e = f
-        elif order == 0:  # z_i = sum_{j<m} e_{i+j} (e has L + m - 1 entries)
-            cs = bufs.get(2, e.size + 1)
-            cs[0] = 0.0
-            np.cumsum(e, out=cs[1:])
-            z = bufs.get(0, L)  # D is no longer needed
-            np.subtract(cs[m:m + L], cs[:L], out=z)
-            e = z
-        total += _sumsq(e[:L])
+            total += _sumsq(u)
+            continue
+        z = w
+        z[0] = z_prev
+        np.cumsum(u[:n3], out=z[1:L])
+        z[1:L] += z_prev
+        total += _sumsq(z[:L])
+        z_prev = float(z[L - 1]) + (float(np.sum(
+            (x[b0 + L - 1 + 3 * m] - x[b0 + L - 1 + 2 * m])
+            - 2.0 * (x[b0 + L - 1 + 2 * m] - x[b0 + L - 1 + m])
+            + (x[b0 + L - 1 + m] - x[b0 + L - 1]))) if b0 + L < cnt else 0.0)
     return total

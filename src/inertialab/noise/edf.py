@@ -467,9 +467,20 @@ def edf_greenhall_many(statistic: str, n_phase: int, m, alpha) -> np.ndarray:
                              / ((b0 + b1 * np.log(mm[resc])) ** 2 * J_MAX))
         else:  # alpha == 2, unmodified
             small = ok & (np.ceil(r) <= d)
-            for i in np.flatnonzero(small):  # rare (the largest m only): scalar path
-                e = edf_greenhall(statistic, N, int(mm[i]), 2)
-                inv[i] = 1.0 / e if e > 0 else np.nan
+            if small.any():
+                # white phase, finite support: sz(k) = 2 F c_k at the lags j = k S, k <= d
+                # (sx vanishes off zero at integer t), the same sum as the scalar branch
+                Ss, Ms, Js = S[small][:, None], M[small][:, None], J[small][:, None]
+                k = np.arange(d + 1, dtype=float)[None, :]
+                j = k * Ss
+                inside = j <= Js
+                sz = 2.0 * mm[small][:, None] * np.asarray(_DIFF[d])[None, :]
+                w = np.where(inside, 2.0 * (1.0 - j / Ms), 0.0)
+                w[:, 0] = 1.0
+                last = inside & (j == Js) & (k > 0)
+                w = np.where(last, 1.0 - Js / Ms, w)
+                s2 = sz * sz
+                inv[small] = (np.einsum("ij,ij->i", w, s2) / (s2[:, 0] * Ms[:, 0]))
             big = ok & ~small
             a0 = math.comb(4 * d, 2 * d) / math.comb(2 * d, d) ** 2
             inv[big] = (a0 - (d / 2.0) / r[big]) / M[big]

@@ -170,7 +170,7 @@ def identify_alpha(src, ms, *, statistic: str = "oadev", max_points: int = MAX_P
     x = getattr(src, "x", None)
     count = (src.n - 1) // ms + 1
     use = np.minimum(count, max_points)
-    lag_rows, lag_idx, b1_idx = [], [], []
+    lag_rows, lag_idx, b1_idx, rn_idx = [], [], [], []
     for i, m in enumerate(int(v) for v in ms):
         z = decimated.get(m) if decimated is not None else None
         u = int(use[i]) if z is None else z.size
@@ -200,15 +200,19 @@ def identify_alpha(src, ms, *, statistic: str = "oadev", max_points: int = MAX_P
                 Z = np.stack([np.asarray(src.window(0, int(c), int(m)), dtype=float)
                               for m in mm])
             best = _b1_mu_many(Z)
-            for j, (k, m) in enumerate(zip(sel, mm)):
+            for j, k in enumerate(sel):
                 sources[k] = "b1"
                 if best[j] < 0:
                     a = 0
                 elif _MUS[best[j]] > -2:
                     a = int(-_MUS[best[j]] - 1)
                 else:
-                    a = _rn_alpha(src, int(m))
+                    rn_idx.append(k)
+                    continue
                 alphas[k] = max(lo, min(hi, a))
+    if rn_idx:
+        a = _rn_alpha_many(src, ms[rn_idx])
+        alphas[rn_idx] = np.clip(a, lo, hi)
     return NoiseIdentification(ms, alphas, tuple(sources))
 
 
@@ -221,6 +225,32 @@ def _b1_alpha(src, z: np.ndarray, m: int) -> int:
     if mu > -2:
         return int(-mu - 1)
     return _rn_alpha(src, m)
+
+
+def _rn_alpha_many(src, ms: np.ndarray) -> np.ndarray:
+    """:func:`_rn_alpha` for many m at once (the AVAR and MVAR sums from the dense
+    kernels of :mod:`inertialab.noise._octave`)."""
+    from inertialab.noise import _octave
+
+    out = np.full(ms.size, 2, dtype=np.int64)
+    fit = 3 * ms <= src.n - 1
+    if not fit.any():
+        return out
+    x = getattr(src, "x", None)
+    if x is None:
+        if src.n > R_N_MAX:
+            return out  # see _rn_alpha
+        x = np.asarray(src.window(0, src.n), dtype=np.float64)
+    mf = ms[fit]
+    s_al, n_al = _octave.dense_sums(x, "oadev", mf)
+    s_mod, n_mod = _octave.dense_sums(x, "mdev", mf)
+    avar_o = s_al / n_al
+    mvar = s_mod / n_mod / mf.astype(float) ** 2
+    with np.errstate(invalid="ignore", divide="ignore"):
+        rn = np.where(avar_o > 0, mvar / np.where(avar_o > 0, avar_o, 1.0), 1.0 / mf)
+    thr = np.array([math.sqrt((1.0 / m) * _rn_theory(min(int(m), M_CAP), 1)) for m in mf])
+    out[fit] = np.where(rn < thr, 2, 1)
+    return out
 
 
 def _rn_alpha(src, m: int) -> int:
