@@ -397,9 +397,24 @@ def deviation(statistic: str, data, *, rate_hz: float, taus="octave", input: str
     tau0 = 1.0 / float(rate_hz)
     decimated = None
     if chunked:
-        src = _make_source(arr, rate_hz, input, True)
-        _check_not_constant(src)
-        var, nt = _variances(src, statistic, ms, tau0)
+        from inertialab.noise import _stream
+
+        gather = (_stream.gather_indices(arr.size + 1, ms, _ident.MAX_POINTS)
+                  if alpha is None else None)
+        src = _stream.PhaseSpill(arr, tau0, gather)
+        try:
+            _check_not_constant(src)
+            if statistic in _stream.STREAM_STATS:
+                sums, nt = _stream.stream_sums(src, statistic, ms)
+                var = _normalise(statistic, sums, ms, nt, tau0)
+            else:
+                var, nt = _variances(src, statistic, ms, tau0)
+            if alpha is None:  # points gathered by the spilling pass (x_start subtracted)
+                decimated = {m: z - z[0] for m, z in src.gathered.items()}
+                ident = _ident.identify_alpha(src, ms, statistic=statistic,
+                                              decimated=decimated)
+        finally:
+            src.close()
     else:
         if input == "rate":
             if _all_equal(arr):
@@ -443,7 +458,8 @@ def deviation(statistic: str, data, *, rate_hz: float, taus="octave", input: str
     dev = np.sqrt(var)
     n_phase = src.n
     if alpha is None:
-        ident = _ident.identify_alpha(src, ms, statistic=statistic, decimated=decimated)
+        if not chunked:
+            ident = _ident.identify_alpha(src, ms, statistic=statistic, decimated=decimated)
         alphas, sources, amethod = ident.alpha, ident.source, "lag1"
     else:
         alphas = np.broadcast_to(np.asarray(alpha, dtype=np.int64), ms.shape).copy()
