@@ -90,11 +90,11 @@ def many_m(mmax: int, per_decade: int = 10) -> np.ndarray:
 
 def noise_types(src, ms, statistic: str, alpha):
     """``(alpha array, sources, method)``: the user's alpha or the identified one."""
-    from inertialab.noise import edf as _edf
+    from inertialab.noise import identify as _ident
 
     ms = np.asarray(ms, dtype=np.int64)
     if alpha is None:
-        ident = _edf.identify_alpha(src, ms, statistic=statistic)
+        ident = _ident.identify_alpha(src, ms, statistic=statistic)
         return np.asarray(ident.alpha, dtype=np.int64), tuple(ident.source), "lag1"
     a = np.broadcast_to(np.asarray(alpha, dtype=np.int64), ms.shape).copy()
     return a, ("user",) * ms.size, "user"

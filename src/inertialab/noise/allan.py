@@ -37,6 +37,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from inertialab.errors import InputError
+from inertialab.noise import _octave
+from inertialab.noise._octave import is_octave
 from inertialab.noise._phase import (  # noqa: F401 - phase_window is public API here too
     BLOCK,
     CHECKPOINT,
@@ -57,13 +59,6 @@ from inertialab.noise._phase import (  # noqa: F401 - phase_window is public API
 
 #: Statistics provided, in their canonical order.
 STATISTICS = ("adev", "oadev", "mdev", "tdev", "hdev", "ohdev", "totdev")
-
-
-#: Block length of the lag-doubling octave OADEV (its dot products are taken in
-#: BLOCK-sized pieces, below OpenBLAS's threading threshold).
-OCT_BLOCK = 1 << 16
-
-
 
 
 @dataclass(frozen=True)
@@ -262,6 +257,8 @@ def _check_finite(arr: np.ndarray, name: str, offset: int = 0) -> None:
         return
     for s in range(0, arr.size, CHUNK):
         blk = arr[s:s + CHUNK]
+        if math.isfinite(float(np.sum(blk, dtype=np.float64))):
+            continue  # NaN and infinity propagate into the sum (one pass, no mask)
         ok = np.isfinite(blk)
         if not ok.all():
             bad = np.flatnonzero(~ok)[:5] + s + offset
@@ -277,137 +274,7 @@ def _check_not_constant(src) -> None:
 # ----------------------------------------------------------------------------- angle sources
 
 
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-def _oadev_octaves(y: np.ndarray, tau0: float, ms: np.ndarray, *, want_decimated: bool,
-                   max_points: int = 1 << 13):
-    """OAVAR at m = 1, 2, 4, ... by lag doubling, without the angle array.
-
-    ``D_i = (x_{i+m} - x_i)/tau0`` starts as ``y_i - mean`` (m = 1); the second
-    difference is ``D_{i+m} - D_i`` and ``D`` at 2m is ``D_i + D_{i+m}``, updated in place
-    in ascending blocks. Per tau: one fused pass over one float64 array of the input's
-    size (the only extra memory). Also returns, per m, the lag-1 noise verdict on the
-    central ``max_points`` decimated angle points (or the points, where fewer than 30
-    remain, for the B1 fallback).
-    """
-    from inertialab.noise import edf as _edf
-
-    n = y.size
-    nx = n + 1
-    mean = _chunked_mean(y)
-    if not math.isfinite(mean):
-        _check_finite(y, "data")  # names the samples
-        raise InputError("data too large to sum in float64")
-    # D in units of (data unit) x samples; tau0 enters once in the variance (one pass less)
-    d = np.subtract(y, mean, dtype=np.float64)
-    var = np.empty(ms.size)
-    nt = np.empty(ms.size, dtype=np.int64)
-    dec = {} if want_decimated else None
-    B = OCT_BLOCK
-    buf = np.empty(B)
-    wlo = np.empty(B)
-    whi = np.empty(B)
-    wsh = np.empty(B + B // 4)
-
-    def identify(m: int, pair: bool) -> None:
-        # decimated angle at lag m (or 2m, from pairs of D(m)), central max_points points
-        lag = 2 * m if pair else m
-        count = (nx - 1) // lag + 1
-        use = min(count, max_points)
-        start = ((count - use) // 2) * lag
-        z = np.empty(use)
-        z[0] = 0.0
-        inc = d[start:start + (use - 1) * lag:m][:(use - 1) * (2 if pair else 1)]
-        if pair:
-            inc = inc[0::2] + inc[1::2]
-        np.cumsum(inc, out=z[1:])
-        # lag-1 verdict now (keeps memory at one copy); few points: keep them for B1
-        dec[lag] = ("lag1", _edf.lag1_alpha(z, dmax=2)) if use >= 30 else z
-
-    k = 0
-    while k < ms.size:
-        m = int(ms[k])
-        pair = k + 1 < ms.size and int(ms[k + 1]) == 2 * m
-        if dec is not None:
-            identify(m, False)
-            if pair:
-                identify(m, True)
-        n1 = nx - 2 * m  # second differences at m (D(m) has n - m + 1 valid entries)
-        t1 = 0.0
-        if not pair:
-            more = k + 1 < ms.size
-            # one pass: the second difference of the block, then (while the block is in
-            # cache) D(2m)_i = D(m)_i + D(m)_{i+m} in place, for the same i <= n - 2m;
-            # ascending blocks read only entries not yet updated
-            for s in range(0, n1, B):
-                e = min(s + B, n1)
-                b = buf[:e - s]
-                hi = d[s + m:e + m]
-                lo = d[s:e]
-                np.subtract(hi, lo, out=b)
-                t1 += _sumsq(b)
-                if more:
-                    np.add(lo, hi, out=lo)
-            var[k] = t1 / (2.0 * m * m * n1)
-            nt[k] = n1
-            k += 1
-            continue
-        # two octaves per pass: D(2m) at i and i + 2m from D(m), the second differences
-        # at m and 2m, and D(4m)_i = D(2m)_i + D(2m)_{i+2m} written in place (same
-        # operations, hence the same numbers, as two single passes)
-        more = k + 2 < ms.size
-        shared = 8 * m <= B
-        n2 = nx - 4 * m  # second differences at 2m = valid D(4m) entries
-        t2 = 0.0
-        for s in range(0, n1, B):
-            e = min(s + B, n1)
-            b = buf[:e - s]
-            np.subtract(d[s + m:e + m], d[s:e], out=b)
-            t1 += _sumsq(b)
-            L2 = min(s + B, n2) - s
-            if L2 > 0:
-                if shared:  # D(2m) on [s, s + L2 + 2m) once; both taps are views of it
-                    w = wsh[:L2 + 2 * m]
-                    np.add(d[s:s + L2 + 2 * m], d[s + m:s + 3 * m + L2], out=w)
-                    lo, hi = w[:L2], w[2 * m:2 * m + L2]
-                else:
-                    lo, hi = wlo[:L2], whi[:L2]
-                    np.add(d[s:s + L2], d[s + m:s + m + L2], out=lo)
-                    np.add(d[s + 2 * m:s + 2 * m + L2], d[s + 3 * m:s + 3 * m + L2], out=hi)
-                b2 = buf[:L2]
-                np.subtract(hi, lo, out=b2)
-                t2 += _sumsq(b2)
-                if more:
-                    np.add(lo, hi, out=d[s:s + L2])
-        var[k] = t1 / (2.0 * m * m * n1)
-        nt[k] = n1
-        var[k + 1] = t2 / (2.0 * (2 * m) ** 2 * n2)
-        nt[k + 1] = n2
-        k += 2
-    return var, nt, dec
-
-
-
-
 # ----------------------------------------------------------------------------- kernels
-
-
-
-
-
-
 
 
 def _variances(src, statistic: str, ms: np.ndarray, tau0: float) -> tuple[np.ndarray, np.ndarray]:
@@ -450,6 +317,36 @@ def _variances(src, statistic: str, ms: np.ndarray, tau0: float) -> tuple[np.nda
     return var, nt
 
 
+def _normalise(statistic: str, sums: np.ndarray, ms: np.ndarray, nt: np.ndarray,
+               tau0: float) -> np.ndarray:
+    """Variance from the sums of squared filter outputs (angle units) per m (SP 1065 §5.2)."""
+    tau = ms * tau0
+    n = np.where(nt > 0, nt, 1).astype(float)
+    if statistic in ("adev", "oadev", "totdev"):
+        return sums / (2.0 * tau * tau * n)
+    if statistic in ("hdev", "ohdev"):
+        return sums / (6.0 * tau * tau * n)
+    var = sums / (2.0 * ms.astype(float) ** 2 * tau * tau * n)
+    return var * (tau * tau / 3.0) if statistic == "tdev" else var
+
+
+def _all_equal(v: np.ndarray) -> bool:
+    """True when every entry equals the first (blockwise; stops at the first block that
+    differs, so one small block for any non-constant record)."""
+    if v.size == 0:
+        return True
+    v0 = v[0]
+    for s in range(0, v.size, _octave.OCT_BLOCK):
+        if (v[s:s + _octave.OCT_BLOCK] != v0).any():
+            return False
+    return True
+
+
+def _angle_source(x: np.ndarray) -> _PhaseArray:
+    """In-memory angle source of ``x`` (float64) without re-checking constancy."""
+    src = _PhaseArray.__new__(_PhaseArray)
+    src.x, src.n, src.constant = x, x.size, False
+    return src
 
 
 # ----------------------------------------------------------------------------- public API
@@ -488,11 +385,10 @@ def deviation(statistic: str, data, *, rate_hz: float, taus="octave", input: str
         Unknown statistic, non-finite or constant data, too few samples, bad rate.
     """
     from inertialab.noise import edf as _edf
+    from inertialab.noise import identify as _ident
 
     _check_stat(statistic)
-    # the octave OADEV fast path checks finiteness through its mean (one pass fewer)
-    fast = statistic == "oadev" and input == "rate" and not chunked
-    arr = _validate(data, rate_hz, input, check_finite=not fast)
+    arr = _validate(data, rate_hz, input)
     if not 0.0 < float(confidence) < 1.0:
         raise InputError(f"confidence must be in (0, 1), got {confidence}")
     if chunked and input != "rate":
@@ -500,22 +396,70 @@ def deviation(statistic: str, data, *, rate_hz: float, taus="octave", input: str
     ms = tau_grid(arr.size, taus, rate_hz=rate_hz, statistic=statistic, input=input)
     tau0 = 1.0 / float(rate_hz)
     decimated = None
-    if fast and np.array_equal(ms, 2 ** np.arange(ms.size)):
-        var, nt, decimated = _oadev_octaves(arr, tau0, ms, want_decimated=alpha is None)
-        # constant data <=> D constant <=> every second difference at m = 1 is zero
-        if var[0] == 0.0:
-            raise InputError("data are constant (zero deviation at every tau); nothing to analyse")
-        src = _LazyPhase(arr, tau0)
+    if chunked:
+        from inertialab.noise import _stream
+
+        gather = (_stream.gather_indices(arr.size + 1, ms, _ident.MAX_POINTS)
+                  if alpha is None else None)
+        src = _stream.PhaseSpill(arr, tau0, gather)
+        try:
+            _check_not_constant(src)
+            if statistic in _stream.STREAM_STATS:
+                sums, nt = _stream.stream_sums(src, statistic, ms)
+                var = _normalise(statistic, sums, ms, nt, tau0)
+            else:
+                var, nt = _variances(src, statistic, ms, tau0)
+            if alpha is None:  # points gathered by the spilling pass (x_start subtracted)
+                decimated = {m: z - z[0] for m, z in src.gathered.items()}
+                ident = _ident.identify_alpha(src, ms, statistic=statistic,
+                                              decimated=decimated)
+        finally:
+            src.close()
     else:
-        if fast:
-            _check_finite(arr, "data")
-        src = _make_source(arr, rate_hz, input, chunked)
-        _check_not_constant(src)
-        var, nt = _variances(src, statistic, ms, tau0)
+        if input == "rate":
+            if _all_equal(arr):
+                raise InputError("data are constant (zero deviation at every tau); "
+                                 "nothing to analyse")
+        if is_octave(ms) and not (input == "angle" and statistic in _octave.E_STATS):
+            # (non-overlapping statistics of an angle record: strided views are cheaper)
+            # lag-doubling kernels on one working array of first differences
+            if input == "rate":
+                mean = _chunked_mean(arr)
+                if not math.isfinite(mean):
+                    raise InputError("data too large to sum in float64")
+                d = np.subtract(arr, mean, dtype=np.float64)
+                scale = tau0  # angle increment per unit of d
+                src = _LazyPhase(arr, tau0)
+            else:
+                x = np.asarray(arr, dtype=np.float64)
+                d = np.diff(x)
+                if _all_equal(d):
+                    raise InputError("data are constant (zero deviation at every tau); "
+                                     "nothing to analyse")
+                scale = 1.0
+                src = _angle_source(x)
+            want = _ident.MAX_POINTS if (alpha is None and input == "rate") else 0
+            sums, nt, decimated = _octave.octave_sums(
+                d, statistic, ms, edges=lambda a, n: src.window(a, n) / scale,
+                decimate=want)
+            del d
+            var = _normalise(statistic, sums * (scale * scale), ms, nt, tau0)
+        else:
+            if input == "rate":
+                src = _make_source(arr, rate_hz, input, False)
+            else:
+                x = np.asarray(arr, dtype=np.float64)
+                if _all_equal(np.diff(x[:_octave.OCT_BLOCK + 1])) and _all_equal(np.diff(x)):
+                    raise InputError("data are constant (zero deviation at every tau); "
+                                     "nothing to analyse")
+                src = _angle_source(x)
+            sums, nt = _octave.dense_sums(src.x, statistic, ms)
+            var = _normalise(statistic, sums, ms, nt, tau0)
     dev = np.sqrt(var)
     n_phase = src.n
     if alpha is None:
-        ident = _edf.identify_alpha(src, ms, statistic=statistic, decimated=decimated)
+        if not chunked:
+            ident = _ident.identify_alpha(src, ms, statistic=statistic, decimated=decimated)
         alphas, sources, amethod = ident.alpha, ident.source, "lag1"
     else:
         alphas = np.broadcast_to(np.asarray(alpha, dtype=np.int64), ms.shape).copy()

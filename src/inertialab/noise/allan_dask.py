@@ -199,6 +199,7 @@ def oadev_dask(path, *, rate_hz: float, taus="octave", client=None, scheduler: s
     """
     from inertialab.noise import allan as _allan
     from inertialab.noise import edf as _edf
+    from inertialab.noise import identify as _ident
 
     p = Path(path)
     if p.suffix.lower() != ".npy" or not p.is_file():
@@ -264,7 +265,7 @@ def oadev_dask(path, *, rate_hz: float, taus="octave", client=None, scheduler: s
         nt[k] = cnt
     dev = np.sqrt(var)
     if alpha is None:
-        ident = _edf.identify_alpha(src, ms, statistic="oadev")
+        ident = _ident.identify_alpha(src, ms, statistic="oadev")
         alphas, sources, amethod = ident.alpha, ident.source, "lag1"
     else:
         alphas = np.broadcast_to(np.asarray(alpha, dtype=np.int64), ms.shape).copy()

@@ -59,22 +59,19 @@ is LGPL and a test-only cross-check).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
-from scipy.stats import chi2
+from scipy.special import gammaincinv
 
 from inertialab.errors import InputError
-
-#: Above this averaging factor the "gaussian" EDF uses the continuous-time limit.
-M_CAP = 64
-
-#: Largest record (angle points) whose angle is materialised for the R(n) test.
-R_N_MAX = 1 << 22
-
-_ALPHA_RANGE = {"adev": (-2, 2), "oadev": (-2, 2), "mdev": (-2, 2), "tdev": (-2, 2),
-                "totdev": (-2, 2), "hdev": (-4, 2), "ohdev": (-4, 2)}
-
+from inertialab.noise._filters import (  # noqa: F401 - re-exported (public before issue 15)
+    _ALPHA_RANGE,
+    M_CAP,
+    _family,
+    _filter_cov,
+    _gacv,
+    filter_autocorr,
+)
 
 # ----------------------------------------------------------------------------- intervals
 
@@ -91,8 +88,10 @@ def chi2_interval(dev, edf, confidence: float = 0.683):
     with np.errstate(invalid="ignore", divide="ignore"):
         ok = edf > 0
         e = np.where(ok, edf, 1.0)
-        lo = dev * np.sqrt(e / chi2.ppf(0.5 * (1 + p), e))
-        hi = dev * np.sqrt(e / chi2.ppf(0.5 * (1 - p), e))
+        # chi2.ppf(q, e) = 2 gammaincinv(e/2, q), scipy's own formula, without the
+        # ~0.1 ms argument handling of scipy.stats per call
+        lo = dev * np.sqrt(e / (2.0 * gammaincinv(0.5 * e, 0.5 * (1 + p))))
+        hi = dev * np.sqrt(e / (2.0 * gammaincinv(0.5 * e, 0.5 * (1 - p))))
     return np.where(ok, lo, np.nan), np.where(ok, hi, np.nan)
 
 
@@ -131,76 +130,6 @@ def edf_totdev_sp1065(n_phase: int, m, alpha: int) -> np.ndarray:
 
 
 # ----------------------------------------------------------------------------- Gaussian EDF
-
-
-def _gacv(alpha: int, t: np.ndarray) -> np.ndarray:
-    """Generalized autocovariance of the angle (phase) for rate PSD ~ f^alpha (any scale)."""
-    t = np.abs(np.asarray(t, dtype=float))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        lg = np.where(t > 0, np.log(np.where(t > 0, t, 1.0)), 0.0)
-    if alpha == 2:
-        return (t == 0).astype(float)
-    if alpha == 1:
-        return np.where(t == 0, 1.0, -lg)
-    if alpha == 0:
-        return -t
-    if alpha == -1:
-        return t * t * lg
-    if alpha == -2:
-        return t**3
-    if alpha == -3:
-        return -(t**4) * lg
-    if alpha == -4:
-        return -(t**5)
-    raise InputError(f"no noise model for alpha = {alpha}")
-
-
-def _family(statistic: str) -> str:
-    if statistic in ("adev", "oadev", "totdev"):
-        return "allan"
-    if statistic in ("hdev", "ohdev"):
-        return "hadamard"
-    return "mod"
-
-
-def filter_autocorr(statistic: str, m: int) -> np.ndarray:
-    """Autocorrelation ``a_k = sum_j w_j w_{j+k}``, k = 0..L, of the statistic's filter on
-    the angle at unit spacing (second difference at lag m; third for Hadamard; the
-    m-average of second differences for the modified variance)."""
-    fam = _family(statistic)
-    if fam == "allan":
-        a = np.zeros(2 * m + 1)
-        a[0], a[m], a[2 * m] = 6.0, -4.0, 1.0
-        return a
-    if fam == "hadamard":
-        a = np.zeros(3 * m + 1)
-        a[0], a[m], a[2 * m], a[3 * m] = 20.0, -15.0, 6.0, -1.0
-        return a
-    k = np.arange(3 * m + 1)
-    a = np.zeros(3 * m + 1)
-    for j, s in zip((-2, -1, 0, 1, 2), (1.0, -4.0, 6.0, -4.0, 1.0)):
-        d = np.abs(k - j * m)
-        a += s * np.where(d < m, m - d, 0)
-    return a
-
-
-def _filter_cov(a: np.ndarray, alpha: int, lags: np.ndarray) -> np.ndarray:
-    """Covariance ``R(k) = sum_c a_c C(k + c)`` of filter outputs at lags ``k``."""
-    lags = np.asarray(lags, dtype=float)
-    if alpha == 2:
-        k = np.abs(lags).astype(np.int64)
-        out = np.zeros(lags.shape)
-        inside = k < a.size
-        out[inside] = a[k[inside]]
-        return out
-    c = np.concatenate([a[:0:-1], a])  # lags -L..L
-    off = np.arange(-(a.size - 1), a.size, dtype=float)
-    out = np.empty(lags.shape)
-    step = max(1, 2_000_000 // c.size)
-    for s in range(0, lags.size, step):
-        kk = lags[s:s + step, None] + off[None, :]
-        out[s:s + step] = np.einsum("ij,j->i", _gacv(alpha, kk), c)
-    return out
 
 
 def edf_gaussian(statistic: str, n_phase: int, m: int, alpha: int, n_terms: int) -> float:
@@ -275,20 +204,33 @@ def _sw(t: np.ndarray, alpha: int) -> np.ndarray:
     """Greenhall's generalised autocovariance of the phase, ``sw(t)`` for rate PSD f^alpha
     (up to a constant factor, which cancels in the EDF)."""
     a = np.abs(t)
-    if alpha in (2, 0, -2, -4):
-        return {2: -a, 0: a**3, -2: a**5, -4: a**7}[alpha]
+    if alpha == 2:
+        return -a
+    a2 = a * a
+    if alpha in (0, -2, -4):  # |t|^3, |t|^5, |t|^7 (only the power asked for)
+        p = a2 * a
+        for _ in range((-alpha) // 2):
+            p = p * a2
+        return p
     lg = np.log(np.where(a > 0, a, 1.0))
-    return {1: a**2, -1: a**4, -3: a**6}[alpha] * lg
+    p = a2
+    for _ in range((1 - alpha) // 2):  # |t|^2, |t|^4, |t|^6
+        p = p * a2
+    return p * lg
 
 
 def _sw_derivs(a: np.ndarray, alpha: int):
     """Second, fourth and sixth derivatives of ``sw`` at ``|t| = a > 0``."""
-    with np.errstate(divide="ignore"):
-        lg = np.log(np.where(a > 0, a, 1.0))
-        inv2 = np.where(a > 0, 1.0 / np.where(a > 0, a, 1.0) ** 2, 0.0)
     z = np.zeros_like(a)
     if alpha == 2:
         return z, z, z
+    if alpha == 0:
+        return 6 * a, z, z
+    if alpha == -2:
+        return 20 * a**3, 120 * a, z
+    with np.errstate(divide="ignore"):
+        lg = np.log(np.where(a > 0, a, 1.0))
+        inv2 = np.where(a > 0, 1.0 / np.where(a > 0, a, 1.0) ** 2, 0.0)
     if alpha == 1:
         return 2 * lg + 3, -2 * inv2, -12 * inv2 * inv2
     if alpha == 0:
@@ -414,6 +356,139 @@ def edf_greenhall(statistic: str, n_phase: int, m: int, alpha: int) -> float:
     return 1.0 / inv if inv > 0 else float("nan")
 
 
+def _sx_many(t: np.ndarray, F: np.ndarray, alpha: int) -> np.ndarray:
+    """:func:`_sx` for a 2-D ``t`` with one ``F`` per row (``F`` shape (k, 1), inf allowed)."""
+    a = np.abs(t)
+    inf = np.isinf(F)
+    if inf.all():
+        return -_sw_derivs(a, alpha)[0]
+    h = np.where(inf, 0.0, 1.0 / np.where(inf, 1.0, F))
+    Fz = np.where(inf, 0.0, F)
+    far = inf | (a * Fz >= 64.0)
+    if alpha == 2:  # sw'' = 0: the direct form is exact wherever it applies
+        direct = Fz * Fz * (2.0 * _sw(t, 2) - _sw(t - h, 2) - _sw(t + h, 2))
+        return np.where(far, 0.0, direct)
+    direct = Fz * Fz * (2.0 * _sw(t, alpha) - _sw(t - h, alpha) - _sw(t + h, alpha))
+    if not far.any():
+        return direct
+    g2, g4, g6 = _sw_derivs(np.where(far, a, 1.0), alpha)
+    taylor = -(g2 + h * h * g4 / 12.0 + h**4 * g6 / 360.0)
+    return np.where(far, taylor, direct)
+
+
+def _sz_many(t: np.ndarray, F: np.ndarray, alpha: int, d: int) -> np.ndarray:
+    c = _DIFF[d]
+    out = c[0] * _sx_many(t, F, alpha)
+    for k in range(1, d + 1):
+        out = out + c[k] * (_sx_many(t - k, F, alpha) + _sx_many(t + k, F, alpha))
+    return out
+
+
+def _inv_edf_sum_many(J, M, S, F, alpha: int, d: int) -> np.ndarray:
+    """:func:`_inv_edf_sum` of many rows at once (arrays ``J`` int, ``M``, ``S``, ``F``)."""
+    J = np.asarray(J, dtype=np.int64)
+    out = np.empty(J.size)
+    step = 512
+    for s0 in range(0, J.size, step):
+        sl = slice(s0, min(s0 + step, J.size))
+        Jr, Mr = J[sl][:, None], np.asarray(M, dtype=float)[sl][:, None]
+        Sr, Fr = np.asarray(S, dtype=float)[sl][:, None], np.asarray(F, dtype=float)[sl][:, None]
+        j = np.arange(int(Jr.max()) + 1, dtype=float)[None, :]
+        sz = _sz_many(j / Sr, Fr, alpha, d)
+        s2 = sz * sz
+        w = 2.0 * (1.0 - j / Mr)
+        w = np.where(j <= Jr, w, 0.0)
+        w[:, 0] = 1.0
+        rows = np.arange(Jr.shape[0])
+        w[rows, Jr[:, 0]] = 1.0 - Jr[:, 0] / Mr[:, 0]
+        out[sl] = np.einsum("ij,ij->i", w, s2) / (s2[:, 0] * Mr[:, 0])
+    return out
+
+
+def edf_greenhall_many(statistic: str, n_phase: int, m, alpha) -> np.ndarray:
+    """:func:`edf_greenhall` for many averaging factors at once (issue 15 item 5).
+
+    The same algorithm and branches, evaluated as 2-D numpy arrays (one row per m, the
+    basic-sum lags as columns) instead of a Python loop over m; equal to the scalar
+    function up to the order of summation (tested to 1e-12). ``alpha`` is one value or one
+    per m.
+    """
+    d, overlapping, modified = GREENHALL_STATS[statistic]
+    m = np.atleast_1d(np.asarray(m, dtype=np.int64))
+    al = np.broadcast_to(np.asarray(alpha, dtype=np.int64), m.shape)
+    out = np.full(m.size, np.nan)
+    N = int(n_phase)
+    for a in (int(v) for v in np.unique(al)):
+        sel = np.flatnonzero((al == a) & (m >= 1))
+        if a + 2 * d <= 1 or a > 2 or sel.size == 0:
+            continue
+        mm = m[sel].astype(float)
+        F = np.ones_like(mm) if modified else mm.copy()
+        S = mm.copy() if overlapping else np.ones_like(mm)
+        L = mm / F + mm * d
+        M = 1.0 + np.floor(S * (N - L) / mm)
+        J = np.minimum(M, (d + 1) * S)
+        r = M / np.where(S > 0, S, 1.0)
+        inv = np.full(sel.size, np.nan)
+        ok = M >= 1
+        direct = ok & (J <= J_MAX)
+        table = ok & ~direct & (r > d + 1)
+        resc = ok & ~direct & ~table
+        inf = float("inf")
+        if modified or a <= 0:
+            if direct.any():
+                Fd = (np.ones(direct.sum()) if modified else
+                      np.where(mm[direct] * (d + 1) <= J_MAX, mm[direct], inf))
+                inv[direct] = _inv_edf_sum_many(J[direct], M[direct], S[direct], Fd, a, d)
+            if table.any():
+                a0, a1 = (_TABLE1 if modified else _TABLE2)[a][d - 1]
+                inv[table] = (a0 - a1 / r[table]) / r[table]
+            if resc.any():
+                k = int(resc.sum())
+                inv[resc] = _inv_edf_sum_many(np.full(k, J_MAX), np.full(k, float(J_MAX)),
+                                              J_MAX / r[resc],
+                                              np.full(k, 1.0 if modified else inf), a, d)
+        elif a == 1:
+            b0, b1 = _TABLE3[d - 1]
+            if direct.any():
+                inv[direct] = _inv_edf_sum_many(J[direct], M[direct], S[direct], mm[direct],
+                                                1, d)
+            if table.any():
+                a0, a1 = _TABLE2[1][d - 1]
+                inv[table] = (a0 - a1 / r[table]) / ((b0 + b1 * np.log(mm[table])) ** 2
+                                                     * r[table])
+            if resc.any():
+                mp = (J_MAX / r[resc])[:, None]
+                j = np.arange(0, J_MAX + 1, dtype=float)[None, :]
+                sz = _sz_many(j / mp, mp, 1, d)
+                w = 2.0 * (1.0 - j / J_MAX)
+                w[:, 0], w[:, -1] = 1.0, 0.0
+                inv[resc] = (np.einsum("ij,ij->i", np.broadcast_to(w, sz.shape), sz * sz)
+                             / ((b0 + b1 * np.log(mm[resc])) ** 2 * J_MAX))
+        else:  # alpha == 2, unmodified
+            small = ok & (np.ceil(r) <= d)
+            if small.any():
+                # white phase, finite support: sz(k) = 2 F c_k at the lags j = k S, k <= d
+                # (sx vanishes off zero at integer t), the same sum as the scalar branch
+                Ss, Ms, Js = S[small][:, None], M[small][:, None], J[small][:, None]
+                k = np.arange(d + 1, dtype=float)[None, :]
+                j = k * Ss
+                inside = j <= Js
+                sz = 2.0 * mm[small][:, None] * np.asarray(_DIFF[d])[None, :]
+                w = np.where(inside, 2.0 * (1.0 - j / Ms), 0.0)
+                w[:, 0] = 1.0
+                last = inside & (j == Js) & (k > 0)
+                w = np.where(last, 1.0 - Js / Ms, w)
+                s2 = sz * sz
+                inv[small] = (np.einsum("ij,ij->i", w, s2) / (s2[:, 0] * Ms[:, 0]))
+            big = ok & ~small
+            a0 = math.comb(4 * d, 2 * d) / math.comb(2 * d, d) ** 2
+            inv[big] = (a0 - (d / 2.0) / r[big]) / M[big]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            out[sel] = np.where(inv > 0, 1.0 / inv, np.nan)
+    return out
+
+
 # ----------------------------------------------------------------------------- dispatcher
 
 
@@ -448,6 +523,11 @@ def edf(statistic: str, n_phase: int, m, alpha, *, n_terms=None, method: str = "
     if method == "greenhall" and statistic not in GREENHALL_STATS:
         raise InputError(f"no Greenhall EDF for statistic '{statistic}'")
     out = np.empty(m.size)
+    if method == "greenhall":
+        lo, _ = _ALPHA_RANGE.get(statistic, (-2, 2))
+        out = edf_greenhall_many(statistic, n_phase, m, np.clip(alpha, lo, 2))
+        out = np.where(np.isfinite(out) & (out > 0), out, np.nan)
+        return out, "greenhall-2003"
     if method == "gaussian":
         if n_terms is None:
             n_terms = _n_terms(statistic, n_phase, m)
@@ -489,127 +569,20 @@ def _n_terms(statistic: str, n_phase: int, m: np.ndarray) -> np.ndarray:
 
 # ----------------------------------------------------------------------------- identification
 
-
-@dataclass(frozen=True)
-class NoiseIdentification:
-    """Noise type per tau: ``alpha`` (int) and ``source`` ("lag1" or "b1")."""
-
-    m: np.ndarray
-    alpha: np.ndarray
-    source: tuple
+#: Names of :mod:`inertialab.noise.identify` still importable from here (they lived in
+#: this module before issue 15 item 5).
+_MOVED = ("NoiseIdentification", "R_N_MAX", "b1_theory", "identify_alpha", "lag1_alpha",
+          "_b1_alpha", "_rn_theory")
 
 
-def lag1_alpha(z: np.ndarray, *, dmax: int = 2, data_type: str = "phase") -> float:
-    """Lag-1 ACF noise estimate (SP 1065 §5.5.6), unrounded ``alpha`` of the rate.
+def __getattr__(name):  # PEP 562: lazy re-export (identify imports this module)
+    if name in _MOVED:
+        from inertialab.noise import identify
 
-    ``z`` is decimated angle (``data_type="phase"``) or averaged rate ("freq").
-    """
-    z = np.asarray(z, dtype=float)
-    theta = 1 if data_type == "phase" else 0
-    d = 0
-    while True:
-        zc = z - z.mean()
-        den = float(np.einsum("i,i->", zc, zc))
-        r1 = float(np.einsum("i,i->", zc[:-1], zc[1:]) / den) if den > 0 else 0.0
-        delta = r1 / (1.0 + r1)
-        if delta < 0.25 or d >= dmax or z.size < 4:
-            return -2.0 * (delta + d) + 2.0 * theta
-        z = np.diff(z)
-        d += 1
+        return getattr(identify, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
-def b1_theory(n: int, mu: float) -> float:
-    """Theoretical B1 ratio for ``n`` averages and AVAR tau-exponent ``mu`` (SP 1065 §5.5.4)."""
-    if mu == 0:
-        return n * math.log(n) / (2.0 * (n - 1) * math.log(2.0))
-    return n * (1.0 - n**mu) / (2.0 * (n - 1) * (1.0 - 2.0**mu))
-
-
-def _rn_theory(m: int, alpha: int) -> float:
-    a_mod = filter_autocorr("mdev", m)
-    a_al = filter_autocorr("oadev", m)
-    rm = float(_filter_cov(a_mod, alpha, np.array([0.0]))[0]) / m**2
-    ra = float(_filter_cov(a_al, alpha, np.array([0.0]))[0])
-    return rm / ra
-
-
-def identify_alpha(src, ms, *, statistic: str = "oadev", max_points: int = 1 << 16,
-                   min_points: int = 30, decimated: dict | None = None) -> NoiseIdentification:
-    """Noise type per averaging factor from an angle source (see module docstring).
-
-    ``src`` offers ``n`` (angle points) and ``window(start, length, step)``. At most
-    ``max_points`` decimated points (the central ones) are used per tau. ``decimated``
-    maps m to those points already gathered, or to ``("lag1", alpha)`` already decided.
-    """
-    lo, hi = _ALPHA_RANGE.get(statistic, (-2, 2))
-    dmax = 3 if _family(statistic) == "hadamard" else 2
-    alphas, sources = [], []
-    for m in (int(v) for v in np.atleast_1d(ms)):
-        count = (src.n - 1) // m + 1
-        use = min(count, max_points)
-        start = ((count - use) // 2) * m
-        if decimated is not None and m in decimated:
-            z = decimated[m]
-            if isinstance(z, tuple):  # ("lag1", unrounded alpha) computed by the caller
-                alphas.append(max(lo, min(hi, int(round(z[1])))))
-                sources.append("lag1")
-                continue
-            use = z.size
-        else:
-            z = np.asarray(src.window(start, use, m), dtype=float)
-        if use >= min_points:
-            a = int(round(lag1_alpha(z, dmax=dmax)))
-            alphas.append(max(lo, min(hi, a)))
-            sources.append("lag1")
-            continue
-        alphas.append(max(lo, min(hi, _b1_alpha(src, z, m))))
-        sources.append("b1")
-    return NoiseIdentification(np.asarray(list(ms), dtype=np.int64),
-                               np.asarray(alphas, dtype=np.int64), tuple(sources))
-
-
-def _b1_alpha(src, z: np.ndarray, m: int) -> int:
-    ybar = np.diff(z)  # proportional to the m-averages of the rate
-    n = ybar.size
-    if n < 3:
-        return 0
-    avar = 0.5 * float(np.mean(np.diff(ybar) ** 2))
-    if avar <= 0:
-        return 0
-    b1 = float(np.var(ybar, ddof=1)) / avar
-    mus = (-2.0, -1.0, 0.0, 1.0)
-    th = [b1_theory(n, mu) for mu in mus]
-    best = 0
-    for i in range(1, len(mus)):
-        if b1 > math.sqrt(th[i - 1] * th[i]):
-            best = i
-    mu = mus[best]
-    if mu > -2:
-        return int(-mu - 1)
-    # white vs flicker angle noise: R(n) = MVAR/AVAR at this m
-    if 3 * m > src.n - 1:
-        return 2
-    from inertialab.noise._phase import _PhaseArray, _sum_sq_filter, _sum_sq_mod
-
-    if not hasattr(src, "x"):
-        # R(n) needs full-resolution passes; records of more than R_N_MAX points whose
-        # angle is not in memory (octave fast path, chunked path) skip it and report a
-        # phase-noise verdict of B1 as white angle noise
-        if src.n > R_N_MAX:
-            return 2
-        src = _PhaseArray(np.asarray(src.window(0, src.n), dtype=np.float64))
-
-    n_al = src.n - 2 * m
-    n_mod = src.n - 3 * m + 1
-    avar_o = _sum_sq_filter(src, m, (1.0, -2.0, 1.0), 1, n_al) / n_al
-    mvar = _sum_sq_mod(src, m, n_mod) / n_mod / m**2
-    rn = mvar / avar_o if avar_o > 0 else 1.0 / m
-    # theory: white angle R(n) = 1/m exactly; flicker angle from the Gaussian model at
-    # min(m, M_CAP) (it varies slowly with m)
-    thr = math.sqrt((1.0 / m) * _rn_theory(min(m, M_CAP), 1))
-    return 2 if rn < thr else 1
-
-
-__all__ = ["GREENHALL_STATS", "J_MAX", "M_CAP", "NoiseIdentification", "b1_theory",
-           "chi2_interval", "edf", "edf_gaussian", "edf_greenhall", "edf_oadev_sp1065", "edf_totdev_sp1065", "filter_autocorr",
-           "identify_alpha", "lag1_alpha"]
+__all__ = ["GREENHALL_STATS", "J_MAX", "M_CAP", "chi2_interval", "edf", "edf_gaussian",
+           "edf_greenhall", "edf_greenhall_many", "edf_oadev_sp1065", "edf_totdev_sp1065",
+           "filter_autocorr"]

@@ -16,22 +16,13 @@ import numpy as np
 from inertialab.errors import InputError
 from inertialab.noise.allan import STATISTICS as CORE
 from inertialab.noise.allan import DeviationResult, deviation
+from inertialab.noise.edf_clock import TOTDEV_BIAS_A, totdev_bias  # noqa: F401 - re-exported
 
 #: Every statistic, in their canonical order.
 ALL_STATISTICS = CORE + ("mtotdev", "ttotdev", "htotdev", "theo1", "theobr", "theoh",
                          "mtie", "tierms")
 #: Statistics in the unit of the phase (rate unit x s; s for a clock), not of the rate.
 PHASE_UNIT = ("tdev", "ttotdev", "mtie", "tierms")
-#: TOTDEV bias coefficient ``a`` by alpha (SP 1065 §5.2.11; 0 for the other noises).
-TOTDEV_BIAS_A = {-1: 0.481, -2: 0.750}
-
-
-def totdev_bias(alpha, taus_s, record_s) -> np.ndarray:
-    """Stable32's TOTVAR bias factor ``1 - a tau / T`` per tau (variance divided by it)."""
-    a = np.array([TOTDEV_BIAS_A.get(int(v), 0.0) for v in np.atleast_1d(alpha)])
-    return 1.0 - a * np.asarray(taus_s, dtype=float) / float(record_s)
-
-
 def compute(statistic: str, data, *, rate_hz: float, taus="octave", input: str = "rate",
             confidence: float = 0.683, alpha=None, edf_method: str = "default",
             chunked: bool = False, bias_correction: bool = False) -> DeviationResult:

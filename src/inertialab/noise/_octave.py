@@ -1,0 +1,451 @@
+"""Lag-doubling kernels of the Allan family at octave averaging factors m = 1, 2, 4, ...
+(issue 15 item 5).
+
+Every statistic is computed from one float64 working array ``d`` of first differences of
+the angle (phase), ``d_i = x_{i+1} - x_i`` (for rate input ``y_i - mean``, the same up to
+the factor tau0), updated in place from one octave to the next, so the extra memory is
+one copy of the input and no statistic re-reads the record from scratch per tau:
+
+* overlapping Allan / Hadamard / total (``oadev ohdev totdev``): ``D(m)_i = x_{i+m} - x_i``;
+  the second difference at m is ``D_{i+m} - D_i``, the third ``D_{i+2m} - 2 D_{i+m} + D_i``,
+  and ``D(2m)_i = D(m)_i + D(m)_{i+m}`` (one pass per octave; the overlapping sums have
+  ``N - 2m`` summands, so O(N) per octave is their floor).
+* non-overlapping Allan / Hadamard (``adev hdev``): only the points ``x_{km}`` matter, so
+  ``E(m)_k = D(m)_{km}`` is kept and ``E(2m)_k = E(m)_{2k} + E(m)_{2k+1}`` (pairwise sums:
+  O(N/m) per octave, O(2N) in all).
+* modified Allan / time deviation (``mdev tdev``): ``B(m)_i = sum_{j<m} D(m)_{i+j}``; the
+  m-average of the second differences at m is ``B_{i+m} - B_i`` and ``B(2m)_i = B_i +
+  2 B_{i+m} + B_{i+2m}`` (one pass per octave, no cumulative sum of the whole record).
+* total deviation: the summands whose centre is at least m from both ends are the
+  overlapping Allan ones; the ``2(m-1)`` others reach into the reflected extension and are
+  taken from the first and last 2m angle points (``edges``), so the 3N-point extension is
+  never built.
+
+Updates run over ascending blocks of ``OCT_BLOCK`` entries; a block's results are read
+before they are written and later blocks read only entries not yet updated. The sums are
+taken in ``BLOCK``-sized dot products (single-threaded BLAS, see
+:data:`inertialab.noise._phase.BLOCK`). Returned sums are in the unit of ``d`` squared;
+:mod:`inertialab.noise.allan` applies tau.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from inertialab.noise._phase import _sumsq
+
+#: Entries per block of the in-place updates (below L2 size; temporaries of this size).
+OCT_BLOCK = 1 << 16
+
+#: Statistics by the working array they use.
+D_STATS = ("oadev", "ohdev", "totdev")
+E_STATS = ("adev", "hdev")
+B_STATS = ("mdev", "tdev")
+
+
+def is_octave(ms: np.ndarray) -> bool:
+    """True when every m is a power of two (the lag-doubling kernels apply)."""
+    ms = np.asarray(ms)
+    return bool(ms.size and np.all(ms >= 1) and np.all((ms & (ms - 1)) == 0))
+
+
+def n_terms(statistic: str, nx: int, m: int) -> int:
+    """Summands of ``statistic`` at m for ``nx`` angle points."""
+    if statistic == "oadev":
+        return nx - 2 * m
+    if statistic == "adev":
+        return (nx - 1) // m - 1
+    if statistic == "ohdev":
+        return nx - 3 * m
+    if statistic == "hdev":
+        return (nx - 1) // m - 2
+    if statistic in ("mdev", "tdev"):
+        return nx - 3 * m + 1
+    return nx - 2  # totdev
+
+
+def octave_sums(d: np.ndarray, statistic: str, ms: np.ndarray, *, edges=None,
+                decimate: int = 0):
+    """Sums of squares of ``statistic``'s filter outputs at each m of ``ms`` (powers of 2).
+
+    Parameters
+    ----------
+    d : float64 ndarray, shape (nx - 1,)
+        First differences of the angle; overwritten (the working array).
+    statistic : str
+    ms : ndarray of int
+        Ascending powers of two.
+    edges : callable, optional
+        ``edges(start, length) -> angle points`` (totdev only; the reflected summands).
+    decimate : int, default 0
+        When > 0, also return per m the central ``decimate`` (at most) decimated angle
+        points ``x_{start + k m}`` (up to a constant) for the noise identification,
+        gathered from ``D(m)``/``E(m)`` (not for mdev/tdev: empty dict).
+
+    Returns
+    -------
+    sums : ndarray, shape (k,)
+    nt : ndarray of int, shape (k,)
+    dec : dict m -> ndarray
+    """
+    nx = d.size + 1
+    want = {int(m) for m in ms}
+    top = int(max(ms))
+    sums = np.zeros(len(ms))
+    nt = np.array([n_terms(statistic, nx, int(m)) for m in ms], dtype=np.int64)
+    pos = {int(m): k for k, m in enumerate(ms)}
+    dec = {}
+    B = OCT_BLOCK
+    buf = np.empty(B)
+    tmp = np.empty(B)
+    m = 1
+    if statistic in E_STATS:
+        e = d  # E(m), valid length (nx - 1) // m
+        ne = d.size
+        while m <= top:
+            cnt = ne - (1 if statistic == "adev" else 2)
+            if m in want and cnt >= 1:
+                s = 0.0
+                for b0 in range(0, cnt, B):
+                    b1 = min(b0 + B, cnt)
+                    t = buf[:b1 - b0]
+                    np.subtract(e[b0 + 1:b1 + 1], e[b0:b1], out=t)
+                    if statistic == "hdev":
+                        u = tmp[:b1 - b0]
+                        np.subtract(e[b0 + 2:b1 + 2], e[b0 + 1:b1 + 1], out=u)
+                        np.subtract(u, t, out=t)
+                    s += _sumsq(t)
+                sums[pos[m]] = s
+                if decimate:
+                    dec[m] = _central_cumsum(e, ne, 1, decimate)
+            # E(2m)_k = E_{2k} + E_{2k+1}, written in place over ascending blocks
+            h = ne // 2
+            if 2 * m > top or h < 1:
+                break
+            for b0 in range(0, h, B):
+                b1 = min(b0 + B, h)
+                np.add(e[2 * b0:2 * b1:2], e[2 * b0 + 1:2 * b1:2], out=tmp[:b1 - b0])
+                e[b0:b1] = tmp[:b1 - b0]
+            ne = h
+            m *= 2
+        return sums, nt, dec
+    if statistic in B_STATS:
+        if decimate:  # B(m) holds no point samples: gather them before d is overwritten
+            dec = decimated_points(d, [int(v) for v in ms], decimate)
+        nb = d.size  # valid B(m) entries: nx - 2m + 1
+        while m <= top:
+            cnt = nx - 3 * m + 1
+            nxt = nb - 2 * m  # valid B(2m) entries
+            more = 2 * m <= top and nxt > 0
+            s = 0.0
+            cnt_s = cnt if m in want else 0
+            for b0 in range(0, max(cnt_s, nxt if more else 0), B):
+                if b0 < cnt_s:
+                    b1 = min(b0 + B, cnt)
+                    t = buf[:b1 - b0]
+                    np.subtract(d[b0 + m:b1 + m], d[b0:b1], out=t)
+                    s += _sumsq(t)
+                if more and b0 < nxt:
+                    b1 = min(b0 + B, nxt)
+                    u = tmp[:b1 - b0]
+                    np.add(d[b0 + m:b1 + m], d[b0 + m:b1 + m], out=u)
+                    u += d[b0:b1]
+                    u += d[b0 + 2 * m:b1 + 2 * m]
+                    d[b0:b1] = u
+            if m in want and cnt >= 1:
+                sums[pos[m]] = s
+            if not more:
+                break
+            nb = nxt
+            m *= 2
+        return sums, nt, dec
+    # D(m): oadev, ohdev, totdev
+    nd = d.size  # valid D(m) entries: nx - m
+    while m <= top:
+        cnt = nx - (3 if statistic == "ohdev" else 2) * m
+        nxt = nd - m  # valid D(2m) entries
+        more = 2 * m <= top and nxt > 0
+        if m in want and decimate and cnt >= 1:
+            dec[m] = _central_cumsum(d, nd, m, decimate)
+        s = 0.0
+        cnt_s = cnt if m in want else 0
+        for b0 in range(0, max(cnt_s, nxt if more else 0), B):
+            if b0 < cnt_s:
+                b1 = min(b0 + B, cnt)
+                t = buf[:b1 - b0]
+                np.subtract(d[b0 + m:b1 + m], d[b0:b1], out=t)
+                if statistic == "ohdev":
+                    u = tmp[:b1 - b0]
+                    np.subtract(d[b0 + 2 * m:b1 + 2 * m], d[b0 + m:b1 + m], out=u)
+                    np.subtract(u, t, out=t)
+                s += _sumsq(t)
+            if more and b0 < nxt:
+                b1 = min(b0 + B, nxt)
+                np.add(d[b0:b1], d[b0 + m:b1 + m], out=d[b0:b1])
+        if m in want:
+            if statistic == "totdev":
+                s = max(s, 0.0) + totdev_edge_sum(edges, nx, m)
+            sums[pos[m]] = s
+        if not more:
+            if statistic == "totdev":  # m beyond the overlapping range: edges only
+                for mm in (int(v) for v in ms if v > m):
+                    sums[pos[mm]] = totdev_edge_sum(edges, nx, mm)
+            break
+        nd = nxt
+        m *= 2
+    return sums, nt, dec
+
+
+def decimated_points(d: np.ndarray, ms, max_points: int, chunk: int = 1 << 20) -> dict:
+    """For each m, the central ``max_points`` (at most) decimated angle points
+    ``x_{start + k m} - x_start`` of the increments ``d`` (``x_0 = 0``, ``x_{i+1} = x_i +
+    d_i``), gathered in one pass of chunked cumulative sums (no angle array)."""
+    nx = d.size + 1
+    want = {}
+    for m in ms:
+        count = (nx - 1) // m + 1
+        use = min(count, max_points)
+        start = ((count - use) // 2) * m
+        want[m] = start + m * np.arange(use, dtype=np.int64)
+    got = {m: np.empty(idx.size) for m, idx in want.items()}
+    for m, idx in want.items():  # x_0 = 0 (not produced by the chunks below)
+        got[m][idx == 0] = 0.0
+    prev = 0.0
+    u = np.empty(min(chunk, max(d.size, 1)))
+    for s in range(0, d.size, chunk):
+        e = min(s + chunk, d.size)
+        w = u[:e - s]
+        w[:] = d[s:e]
+        w[0] += prev
+        np.cumsum(w, out=w)  # x_{s+1} .. x_e
+        prev = float(w[-1])
+        for m, idx in want.items():
+            lo, hi = np.searchsorted(idx, [s + 1, e + 1])
+            if hi > lo:
+                got[m][lo:hi] = w[idx[lo:hi] - s - 1]
+    return {m: got[m] - got[m][0] for m in ms}
+
+
+def _central_cumsum(w: np.ndarray, nvalid: int, m: int, max_points: int) -> np.ndarray:
+    """Central decimated angle points (up to a constant) from lag-m increments ``w``
+    (``w_i = x_{i+m} - x_i``, ``nvalid`` entries): ``x_{start + k m} - x_start``."""
+    nx = nvalid + m
+    count = (nx - 1) // m + 1
+    use = min(count, max_points)
+    start = ((count - use) // 2) * m
+    z = np.empty(use)
+    z[0] = 0.0
+    if use > 1:
+        np.cumsum(w[start:start + (use - 1) * m:m], out=z[1:])
+    return z
+
+
+def totdev_edge_sum(window, nx: int, m: int) -> float:
+    """Sum of the squared TOTDEV summands (centre c = 1 .. nx-2, lag m) whose neighbours
+    ``c - m`` or ``c + m`` fall outside 0 .. nx-1 and are taken from the reflected
+    extension ``x*_{-j} = 2 x_0 - x_j``, ``x*_{nx-1+j} = 2 x_{nx-1} - x_{nx-1-j}``
+    (NIST SP 1065 §5.2.11). ``window(start, length)`` returns angle points; only the
+    first and last 2m points are read (the whole record when 2m >= nx)."""
+    if 2 * m >= nx:  # every summand touches the extension
+        x = np.asarray(window(0, nx), dtype=np.float64)
+        return _edge_terms(x, 0, nx, m, 1, nx - 1)
+    xl = np.asarray(window(0, 2 * m), dtype=np.float64)  # centres 1 .. m-1
+    s = nx - 2 * m
+    xr = np.asarray(window(s, 2 * m), dtype=np.float64)  # centres nx-m .. nx-2
+    return _edge_terms(xl, 0, nx, m, 1, m) + _edge_terms(xr, s, nx, m, nx - m, nx - 1)
+
+
+def _edge_terms(x: np.ndarray, off: int, nx: int, m: int, c0: int, c1: int) -> float:
+    """Sum over centres c in [c0, c1) of ``(x*_{c-m} - 2 x_c + x*_{c+m})^2``; ``x`` holds
+    the angle points ``off .. off + x.size - 1`` (it starts at 0 where a left reflection
+    is needed and ends at nx-1 where a right one is). Contiguous (reversed) slices only:
+    the centres are split where the left and the right neighbour enter the extension."""
+    total = 0.0
+    cuts = sorted({c0, c1, min(max(m, c0), c1), min(max(nx - m, c0), c1)})
+    for a, b in zip(cuts[:-1], cuts[1:]):
+        if b <= a:
+            continue
+        lref, rref = a < m, b - 1 > nx - 1 - m
+        v = x[a - off:b - off] * -2.0
+        if lref:  # x*_{c-m} = 2 x_0 - x_{m-c}
+            v -= x[m - b + 1 - off:m - a + 1 - off][::-1]
+        else:
+            v += x[a - m - off:b - m - off]
+        if rref:  # x*_{c+m} = 2 x_{nx-1} - x_{2(nx-1)-c-m}
+            q = 2 * (nx - 1) - m
+            v -= x[q - b + 1 - off:q - a + 1 - off][::-1]
+        else:
+            v += x[a + m - off:b + m - off]
+        const = (2.0 * float(x[0]) if lref else 0.0) + (2.0 * float(x[-1]) if rref else 0.0)
+        if const:
+            v += const
+        total += _sumsq(v)
+    return total
+
+
+# ----------------------------------------------------------------------------- any m
+
+
+#: Largest record (angle points) for which the dense TOTDEV path builds the reflected
+#: extension once (3 x 8 bytes per point, at most 6 MiB); above it the summands reaching
+#: into the extension are taken from the record's ends (:func:`totdev_edge_sum`).
+EXT_MAX = 1 << 18
+
+#: Below this many points per tau the non-overlapping statistics are evaluated for all
+#: averaging factors of equal point count at once (one 2-D gather).
+GROUP_POINTS = 64
+
+
+class _Buffers:
+    """Three reused work buffers (fresh large arrays cost page faults on every
+    allocation: measured 4x the arithmetic for 1e5-point second differences)."""
+
+    def __init__(self, size: int):
+        self.size = size
+        self.b = [np.empty(size) for _ in range(3)]
+
+    def get(self, k: int, n: int) -> np.ndarray:
+        return self.b[k][:n] if n <= self.size else np.empty(n)
+
+
+def dense_sums(x: np.ndarray, statistic: str, ms: np.ndarray):
+    """Sums of squares of ``statistic`` at any averaging factors ``ms`` of the in-memory
+    angle ``x`` (float64), and the summand counts. Per m and block of summands: the lag-m
+    increments ``D_i = x_{i+m} - x_i``, their differences at lag m (second differences;
+    twice for Hadamard; a cumulative sum for the modified variance), one dot product:
+    2-4 passes over the summands in reused buffers. The non-overlapping statistics use
+    strided views; at large m (few points per tau) they are stacked by point count into
+    2-D gathers."""
+    nx = x.size
+    ms = np.asarray(ms, dtype=np.int64)
+    sums = np.zeros(ms.size)
+    nt = np.array([n_terms(statistic, nx, int(m)) for m in ms], dtype=np.int64)
+    if statistic in E_STATS:
+        order = 2 if statistic == "adev" else 3
+        pts = (nx - 1) // ms + 1
+        small = pts < GROUP_POINTS
+        bufs = _Buffers(min(nx, OCT_BLOCK) + 2)
+        for k in np.flatnonzero(~small):
+            sums[k] = _strided_sum(x[::int(ms[k])], order, bufs)
+        ks = np.flatnonzero(small)
+        for c in np.unique(pts[ks]):
+            sel = ks[pts[ks] == c]
+            e = x[ms[sel][:, None] * np.arange(int(c))[None, :]]
+            for _ in range(order):
+                e = e[:, 1:] - e[:, :-1]
+            sums[sel] = np.einsum("ij,ij->i", e, e)
+        return sums, nt
+    if statistic == "totdev":
+        if nx <= EXT_MAX:  # the extension once (at most 6 MiB), then two passes per m
+            ext = np.concatenate([2.0 * x[0] - x[nx - 2:0:-1], x, 2.0 * x[-1] - x[-2:0:-1]])
+            bufs = _Buffers(2 * nx)
+            c0 = nx - 1  # extension index of the first centre (x_1)
+            for k, m in enumerate(int(v) for v in ms):
+                D = bufs.get(0, nx - 2 + m)
+                np.subtract(ext[c0:c0 + nx - 2 + m], ext[c0 - m:c0 + nx - 2], out=D)
+                t = bufs.get(1, nx - 2)
+                np.subtract(D[m:], D[:-m], out=t)
+                sums[k] = _sumsq(t)
+            return sums, nt
+        bufs = _Buffers(3 * OCT_BLOCK)
+        for k, m in enumerate(int(v) for v in ms):
+            s = _overlap_sum(x, m, 2, bufs) if nx - 2 * m > 0 else 0.0
+            sums[k] = s + totdev_edge_sum(lambda a, n: x[a:a + n], nx, m)
+        return sums, nt
+    order = {"oadev": 2, "ohdev": 3, "mdev": 0, "tdev": 0}[statistic]
+    bufs = _Buffers(min(3 * OCT_BLOCK, nx + 1))
+    for k, m in enumerate(int(v) for v in ms):
+        sums[k] = _overlap_sum(x, m, order, bufs) if nt[k] > 0 else 0.0
+    return sums, nt
+
+
+def _strided_sum(v: np.ndarray, order: int, bufs: _Buffers) -> float:
+    """Sum of squared differences of order 2 or 3 of ``v`` (a strided view), in blocks."""
+    cnt = v.size - order
+    total = 0.0
+    for b0 in range(0, cnt, OCT_BLOCK):
+        L = min(OCT_BLOCK, cnt - b0)
+        w = v[b0:b0 + L + order]
+        e = bufs.get(0, L + order - 1)
+        np.subtract(w[1:], w[:-1], out=e)
+        f = bufs.get(1, L + order - 2)
+        np.subtract(e[1:], e[:-1], out=f)
+        if order == 3:
+            g = bufs.get(2, L)
+            np.subtract(f[1:], f[:-1], out=g)
+            f = g
+        total += _sumsq(f)
+    return total
+
+
+def _overlap_sum(x: np.ndarray, m: int, order: int, bufs: _Buffers) -> float:
+    """Overlapping sum of squares at lag m over blocks of summands: second (order 2) or
+    third (3) differences, or (order 0) the m-sums of second differences (modified).
+
+    For m up to a block length the block's window is differenced at lag m twice (the
+    increments ``D`` are shared by the taps); for larger m the taps are read at their
+    offsets (no window of length m per block), and the modified sums are carried as a
+    running sum ``z_{i+1} = z_i + (third difference at lag m)_i`` across blocks."""
+    nx = x.size
+    cnt = nx - 2 * m if order == 2 else (nx - 3 * m if order == 3 else nx - 3 * m + 1)
+    reach = {2: 2 * m, 3: 3 * m, 0: 3 * m - 1}[order]
+    B = OCT_BLOCK
+    total = 0.0
+    if m <= B:
+        for b0 in range(0, cnt, B):
+            L = min(B, cnt - b0)
+            seg = x[b0:b0 + L + reach]
+            D = bufs.get(0, seg.size - m)
+            np.subtract(seg[m:], seg[:-m], out=D)
+            e = bufs.get(1, D.size - m)
+            np.subtract(D[m:], D[:-m], out=e)
+            if order == 3:
+                f = bufs.get(2, e.size - m)
+                np.subtract(e[m:], e[:-m], out=f)
+                e = f
+            elif order == 0:  # z_i = sum_{j<m} e_{i+j} (e has L + m - 1 entries)
+                cs = bufs.get(2, e.size + 1)
+                cs[0] = 0.0
+                np.cumsum(e, out=cs[1:])
+                z = bufs.get(0, L)  # D is no longer needed
+                np.subtract(cs[m:m + L], cs[:L], out=z)
+                e = z
+            total += _sumsq(e[:L])
+        return total
+    z_prev = 0.0
+    if order == 0:  # z_0 = sum_{j<m} (x_{j+2m} - 2 x_{j+m} + x_j), in blocks
+        for b0 in range(0, m, B):
+            b1 = min(b0 + B, m)
+            z_prev += float(np.sum((x[b0 + 2 * m:b1 + 2 * m] - x[b0 + m:b1 + m])
+                                   - (x[b0 + m:b1 + m] - x[b0:b1])))
+    for b0 in range(0, cnt, B):
+        L = min(B, cnt - b0)
+        u, v = bufs.get(0, L), bufs.get(1, L)
+        if order == 2:
+            np.subtract(x[b0 + 2 * m:b0 + 2 * m + L], x[b0 + m:b0 + m + L], out=u)
+            np.subtract(x[b0 + m:b0 + m + L], x[b0:b0 + L], out=v)
+            u -= v
+            total += _sumsq(u)
+            continue
+        # third differences at lag m: (x3 - x2) - 2 (x2 - x1) + (x1 - x0)
+        n3 = L if order == 3 else L - 1  # order 0: increments z_i -> z_{i+1}
+        w = bufs.get(2, L)
+        np.subtract(x[b0 + 3 * m:b0 + 3 * m + n3], x[b0 + 2 * m:b0 + 2 * m + n3], out=u[:n3])
+        np.subtract(x[b0 + 2 * m:b0 + 2 * m + n3], x[b0 + m:b0 + m + n3], out=v[:n3])
+        np.subtract(x[b0 + m:b0 + m + n3], x[b0:b0 + n3], out=w[:n3])
+        u[:n3] -= v[:n3]
+        u[:n3] -= v[:n3]
+        u[:n3] += w[:n3]
+        if order == 3:
+            total += _sumsq(u)
+            continue
+        z = w
+        z[0] = z_prev
+        np.cumsum(u[:n3], out=z[1:L])
+        z[1:L] += z_prev
+        total += _sumsq(z[:L])
+        z_prev = float(z[L - 1]) + (float(np.sum(
+            (x[b0 + L - 1 + 3 * m] - x[b0 + L - 1 + 2 * m])
+            - 2.0 * (x[b0 + L - 1 + 2 * m] - x[b0 + L - 1 + m])
+            + (x[b0 + L - 1 + m] - x[b0 + L - 1]))) if b0 + L < cnt else 0.0)
+    return total
