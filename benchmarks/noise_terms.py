@@ -56,8 +56,9 @@ TERMS = ("N", "B", "K", "R", "Q")
 HOURS = 10.0
 #: key of the cached curves: change with the simulator or the tau grid
 CURVE_VERSION = "mems-presets/1|oadev-octave"
-#: key of the cached fits: bump when the fit code changes
+#: key of the cached fits: bump when the fit code changes (METHOD_VERSION: per method)
 FIT_VERSION = "terms/3-bandB-slope-spread"
+METHOD_VERSION = {"gmwm": "gmwm/2-edf-weights"}
 _FIT_SOURCES = ("terms.py", "_terms_base.py", "_terms_ls.py", "_terms_slope.py", "gmwm.py",
                 "edf.py")
 ROOT = Path(__file__).resolve().parents[1]
@@ -109,6 +110,11 @@ def _curve_key(hours: float) -> str:
     return f"{CURVE_VERSION}|hours={hours:g}"
 
 
+def _fit_key(method: str, hours: float) -> str:
+    v = FIT_VERSION + (f"+{METHOD_VERSION[method]}" if method in METHOD_VERSION else "")
+    return f"{v}|{_curve_key(hours)}"
+
+
 def curve(preset: str, seed: int, hours: float = HOURS):
     """(DeviationResult, truth dict, unit, kind) of one seed, from the cache or simulated."""
     from inertialab.noise.allan import DeviationResult, oadev
@@ -138,7 +144,7 @@ def curve(preset: str, seed: int, hours: float = HOURS):
 def fit_row(preset: str, seed: int, method: str, hours: float = HOURS) -> dict:
     """One seed's fit by ``method`` (cached): values, intervals, flags, CPU seconds."""
     path = cache_dir() / preset / method / f"{seed}.json"
-    key = f"{FIT_VERSION}|{_curve_key(hours)}"
+    key = _fit_key(method, hours)
     d = _load(path, key)
     if d is not None:
         return d
@@ -177,7 +183,7 @@ def rows(n: int, preset: str, method: str, start: int = 0, hours: float = HOURS,
 
 def cached_rows(preset: str, method: str, hours: float = HOURS) -> list[dict]:
     """Every cached fit row of the current keys, by seed."""
-    key = f"{FIT_VERSION}|{_curve_key(hours)}"
+    key = _fit_key(method, hours)
     out = []
     folder = cache_dir() / preset / method
     if not folder.is_dir():
@@ -250,7 +256,8 @@ def _compact(row: dict) -> list:
 def assemble(methods=METHODS, hours: float = HOURS) -> dict:
     """The stored result from the cache (every preset and method with cached rows)."""
     out = {"hours": hours, "methods": list(methods), "confidence": 0.95,
-           "fit_version": FIT_VERSION, "curve_version": _curve_key(hours),
+           "fit_version": FIT_VERSION, "method_version": dict(METHOD_VERSION),
+           "curve_version": _curve_key(hours),
            "row_columns": ["seed"] + [f"{k}_{c}" for k in TERMS for c in ("value", "lo", "hi")],
            "seeds": {}, "presets": {}}
     cpu_total = 0.0
