@@ -168,10 +168,14 @@ def fit_row(preset: str, seed: int, method: str, hours: float = HOURS) -> dict:
 
 
 def rows(n: int, preset: str, method: str, start: int = 0, hours: float = HOURS,
-         log=sys.stderr) -> None:
+         log=sys.stderr, cached_only: bool = False) -> None:
     """Compute (or find cached) seeds ``start..n-1`` of one preset and method
-    (``method="curve"``: only the simulated curves)."""
+    (``method="curve"``: only the simulated curves; ``cached_only``: only the seeds whose
+    curve is already cached, so a fit pass can follow a separate simulation pass)."""
     for seed in range(start, n):
+        if cached_only and _load(cache_dir() / preset / "curve" / f"{seed}.json",
+                                 _curve_key(hours)) is None:
+            continue
         t0 = time.perf_counter()
         if method == "curve":
             curve(preset, seed, hours)
@@ -382,11 +386,14 @@ def main(argv=None) -> int:
     a.add_argument("--method", default="wls", choices=METHODS + ("curve",))
     a.add_argument("--start", type=int, default=0)
     a.add_argument("--hours", type=float, default=HOURS)
+    a.add_argument("--cached-only", action="store_true",
+                   help="fit only the seeds whose simulated curve is cached")
     s = sub.add_parser("store", help="assemble benchmarks/results/noise_terms.json")
     s.add_argument("--hours", type=float, default=HOURS)
     args = ap.parse_args(argv)
     if args.cmd == "rows":
-        rows(args.n, args.preset, args.method, start=args.start, hours=args.hours)
+        rows(args.n, args.preset, args.method, start=args.start, hours=args.hours,
+             cached_only=args.cached_only)
         return 0
     path = store(hours=args.hours)
     res = json.loads(path.read_text())["result"]
