@@ -56,8 +56,9 @@ TERMS = ("N", "B", "K", "R", "Q")
 HOURS = 10.0
 #: key of the cached curves: change with the simulator or the tau grid
 CURVE_VERSION = "mems-presets/1|oadev-octave"
-#: key of the cached fits: bump when the fit code changes
+#: key of the cached fits: bump when the fit code changes (METHOD_VERSION: per method)
 FIT_VERSION = "terms/3-bandB-slope-spread"
+METHOD_VERSION = {"gmwm": "gmwm/2-edf-weights", "wls": "band-lo64", "ols": "band-lo64"}
 _FIT_SOURCES = ("terms.py", "_terms_base.py", "_terms_ls.py", "_terms_slope.py", "gmwm.py",
                 "edf.py")
 ROOT = Path(__file__).resolve().parents[1]
@@ -109,6 +110,11 @@ def _curve_key(hours: float) -> str:
     return f"{CURVE_VERSION}|hours={hours:g}"
 
 
+def _fit_key(method: str, hours: float) -> str:
+    v = FIT_VERSION + (f"+{METHOD_VERSION[method]}" if method in METHOD_VERSION else "")
+    return f"{v}|{_curve_key(hours)}"
+
+
 def curve(preset: str, seed: int, hours: float = HOURS):
     """(DeviationResult, truth dict, unit, kind) of one seed, from the cache or simulated."""
     from inertialab.noise.allan import DeviationResult, oadev
@@ -138,7 +144,7 @@ def curve(preset: str, seed: int, hours: float = HOURS):
 def fit_row(preset: str, seed: int, method: str, hours: float = HOURS) -> dict:
     """One seed's fit by ``method`` (cached): values, intervals, flags, CPU seconds."""
     path = cache_dir() / preset / method / f"{seed}.json"
-    key = f"{FIT_VERSION}|{_curve_key(hours)}"
+    key = _fit_key(method, hours)
     d = _load(path, key)
     if d is not None:
         return d
@@ -162,10 +168,14 @@ def fit_row(preset: str, seed: int, method: str, hours: float = HOURS) -> dict:
 
 
 def rows(n: int, preset: str, method: str, start: int = 0, hours: float = HOURS,
-         log=sys.stderr) -> None:
+         log=sys.stderr, cached_only: bool = False) -> None:
     """Compute (or find cached) seeds ``start..n-1`` of one preset and method
-    (``method="curve"``: only the simulated curves)."""
+    (``method="curve"``: only the simulated curves; ``cached_only``: only the seeds whose
+    curve is already cached, so a fit pass can follow a separate simulation pass)."""
     for seed in range(start, n):
+        if cached_only and _load(cache_dir() / preset / "curve" / f"{seed}.json",
+                                 _curve_key(hours)) is None:
+            continue
         t0 = time.perf_counter()
         if method == "curve":
             curve(preset, seed, hours)
@@ -177,7 +187,7 @@ def rows(n: int, preset: str, method: str, start: int = 0, hours: float = HOURS,
 
 def cached_rows(preset: str, method: str, hours: float = HOURS) -> list[dict]:
     """Every cached fit row of the current keys, by seed."""
-    key = f"{FIT_VERSION}|{_curve_key(hours)}"
+    key = _fit_key(method, hours)
     out = []
     folder = cache_dir() / preset / method
     if not folder.is_dir():
@@ -250,7 +260,8 @@ def _compact(row: dict) -> list:
 def assemble(methods=METHODS, hours: float = HOURS) -> dict:
     """The stored result from the cache (every preset and method with cached rows)."""
     out = {"hours": hours, "methods": list(methods), "confidence": 0.95,
-           "fit_version": FIT_VERSION, "curve_version": _curve_key(hours),
+           "fit_version": FIT_VERSION, "method_version": dict(METHOD_VERSION),
+           "curve_version": _curve_key(hours),
            "row_columns": ["seed"] + [f"{k}_{c}" for k in TERMS for c in ("value", "lo", "hi")],
            "seeds": {}, "presets": {}}
     cpu_total = 0.0
@@ -375,11 +386,14 @@ def main(argv=None) -> int:
     a.add_argument("--method", default="wls", choices=METHODS + ("curve",))
     a.add_argument("--start", type=int, default=0)
     a.add_argument("--hours", type=float, default=HOURS)
+    a.add_argument("--cached-only", action="store_true",
+                   help="fit only the seeds whose simulated curve is cached")
     s = sub.add_parser("store", help="assemble benchmarks/results/noise_terms.json")
     s.add_argument("--hours", type=float, default=HOURS)
     args = ap.parse_args(argv)
     if args.cmd == "rows":
-        rows(args.n, args.preset, args.method, start=args.start, hours=args.hours)
+        rows(args.n, args.preset, args.method, start=args.start, hours=args.hours,
+             cached_only=args.cached_only)
         return 0
     path = store(hours=args.hours)
     res = json.loads(path.read_text())["result"]

@@ -118,8 +118,8 @@ def test_gm_correlation_time_capped_and_low_eta_scales_dropped():
     # Issue 14 item 5: white + random walk + a GM (tc 20 s) at 10 Hz, 2^19 samples
     # (14.6 h). The scales with eta3 < 3 (the last two) are not fitted, no GM correlation
     # time exceeds 1/8 of the longest fitted scale, and K comes from the random walk
-    # (not traded for a long GM): within 15 % of the truth (measured seeds 0-2: +5.1 %,
-    # +3.2 %, -1.8 %; model WN+RW+1GM, tc 17-18 s).
+    # (not traded for a long GM): within 15 % of the truth (measured seeds 0-2: +5.4 %,
+    # +3.1 %, -1.7 %; one GM, tc 16-18 s).
     fs, n = 10.0, 2**19
     gamma = 0.01  # per-sample increment std: K = gamma sqrt(fs)
     for seed in range(3):

@@ -77,13 +77,13 @@ def _wnnls(X, avar, w, active):
 
 def _corner_grid(taus):
     """Corners ``(t_lo, t_hi)`` of the band-limited B term searched by the fit: ``t_lo``
-    in {0, 1, 4, 16} x the shortest tau (:data:`BAND_LO_MAX`), ``t_hi`` on a
+    in {0, 1, 4, 16, 64} x the shortest tau (:data:`BAND_LO_MAX`), ``t_hi`` on a
     quarter-decade grid from 16x the shortest tau to 4x the longest, or infinite, and
     ``t_hi >= 4 t_lo``: the band's flat part lies inside the fitted taus (a band below
     them falls like white noise there and was measured to take up to 14 % of N on
     white + filter data). The first corner pair ``(0, inf)`` is pure flicker."""
     tmin, tmax = float(np.min(taus)), float(np.max(taus))
-    los = [0.0] + [tmin * f for f in (1.0, 4.0, BAND_LO_MAX)]
+    los = [0.0] + [tmin * f for f in (1.0, 4.0, 16.0, 64.0) if f <= BAND_LO_MAX]
     start = 16.0 * tmin
     n_hi = max(int(math.floor(4 * math.log10(4.0 * tmax / start))) + 1, 0)
     his = [math.inf] + [start * 10 ** (0.25 * i) for i in range(n_hi)]
