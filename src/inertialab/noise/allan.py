@@ -441,11 +441,15 @@ def deviation(statistic: str, data, *, rate_hz: float, taus="octave", input: str
                 scale = 1.0
                 src = _angle_source(x)
             want = _ident.MAX_POINTS if (alpha is None and input == "rate") else 0
-            sums, nt, decimated = _octave.octave_sums(
-                d, statistic, ms, edges=lambda a, n: src.window(a, n) / scale,
-                decimate=want)
-            del d
-            var = _normalise(statistic, sums * (scale * scale), ms, nt, tau0)
+            sums, nt, decimated = _octave.octave_sums(d, statistic, ms, decimate=want)
+            del d  # the working copy; totdev's reflected summands read the angle
+            sums = sums * (scale * scale)
+            if statistic == "totdev":
+                xf = x if input == "angle" else _rate_to_phase(arr, tau0, mean)
+                sums += [_octave.totdev_edge_sum(lambda a, n: xf[a:a + n], xf.size, int(m))
+                         for m in ms]
+                del xf
+            var = _normalise(statistic, sums, ms, nt, tau0)
         else:
             if input == "rate":
                 src = _make_source(arr, rate_hz, input, False)
