@@ -331,3 +331,95 @@ def test_robotics_values_kalibr_vins_gtsam():
     assert v["sqrt_rate_factor"] == 10.0 and v["inflation"] == 2.0
     with pytest.raises(InputError):
         robotics_values({"x": tx}, rate_hz=100.0, inflation=0.0)
+
+
+# ----------------------------------------------------------------------------- band-limited B
+
+
+def test_band_shape_is_the_log_uniform_gauss_markov_mixture():
+    # The shape against an independent sum: 400 discrete AR(1) processes (exact AVAR,
+    # noise.gmwm.avar_ar1) with correlation times log-uniform in [4, 400] s, equal
+    # variance each, at 100 Hz; over tau >= 0.5 s (m >= 50) the continuous mixture agrees
+    # within 1.5 % once both are scaled to peak 1 (measured 1.1 %: the sum's discreteness).
+    from inertialab.noise._terms_base import band_shape
+    from inertialab.noise.gmwm import avar_ar1
+
+    tau0 = 0.01
+    taus = np.geomspace(0.5, 1e5, 60)
+    tcs = np.geomspace(4.0, 400.0, 400)
+    ref = sum(avar_ar1(taus / tau0, math.exp(-tau0 / tc), 1.0) for tc in tcs)
+    g = band_shape(taus, 4.0, 400.0)
+    np.testing.assert_allclose(g * ref.max() / ref, 1.0, rtol=0.015)
+    assert g.max() == pytest.approx(1.0, abs=2e-3)
+    # limits: pure flicker; a one-sided band rises like random walk below t_lo, falls
+    # like white noise above t_hi
+    assert np.all(band_shape(taus, 0.0, math.inf) == 1.0)
+    lo = band_shape(np.array([1e-4, 2e-4]), 100.0, math.inf)
+    assert lo[1] / lo[0] == pytest.approx(2.0, rel=1e-3)
+    hi = band_shape(np.array([1e6, 2e6]), 0.0, 10.0)
+    assert hi[0] / hi[1] == pytest.approx(2.0, rel=1e-3)
+
+
+def _band_curve(taus, n, b, k, t_lo, t_hi, c_m2=0.0):
+    from inertialab.noise._terms_base import band_shape
+
+    taus = np.asarray(taus, float)
+    av = c_m2 / taus**2 + n**2 / taus + (BI_FACTOR * b) ** 2 * band_shape(taus, t_lo, t_hi) \
+        + k**2 * taus / 3
+    dev = np.sqrt(av)
+    m = np.round(taus / 0.01).astype(np.int64)
+    return DeviationResult(statistic="oadev", tau0_s=0.01, taus_s=taus, m=m, dev=dev,
+                           n_terms=np.full(taus.shape, 10**7), alpha=np.zeros(taus.size, int),
+                           edf=np.full(taus.shape, 1e6), ci_low=dev * 0.99, ci_high=dev * 1.01,
+                           confidence=0.683, n_samples=10**8)
+
+
+def test_wls_recovers_band_limited_b_and_k_exactly():
+    # An exact curve whose B is band-limited flicker with corners on the searched grid
+    # (4 and 16 x 10^0.75 x the shortest tau): the profile finds the corners and the
+    # terms (1e-6); the pure-flicker fit of the same curve takes K far off (measured
+    # -61 %), which is the bias the band removes (issue 14 item 2).
+    import inertialab.noise._terms_ls as L
+
+    taus = np.geomspace(0.4, 0.4 * 2**14, 15)
+    t_lo, t_hi = 4 * 0.4, 16 * 0.4 * 10**0.75
+    n, b, k = 18.0, 3.0, 10 / 60  # deg/h sqrt(s), deg/h, deg/h/sqrt(s)
+    r = _band_curve(taus, n, b, k, t_lo, t_hi)
+    t = fit_noise_terms(r, unit="dph", tau_range_s=(0.3, 1e5), n_boot=0)
+    assert t.bias_gm["t_lo_s"] == pytest.approx(t_lo) and t.bias_gm["t_hi_s"] == pytest.approx(t_hi)
+    assert t.N.value == pytest.approx(n / 60, rel=1e-6)
+    assert t.B.value == pytest.approx(b, rel=1e-6)
+    assert t.K.value == pytest.approx(k * 60, rel=1e-6)
+    np.testing.assert_allclose(t.model_dev(taus), r.dev, rtol=1e-6)
+    d = t.to_dict()
+    assert d["bias_gm"] == t.bias_gm and NoiseTerms.from_dict(d).to_dict() == d
+    flat = L._shapes_for
+    try:
+        L._shapes_for = lambda taus, band: None
+        t0 = fit_noise_terms(r, unit="dph", tau_range_s=(0.3, 1e5), n_boot=0)
+    finally:
+        L._shapes_for = flat
+    assert t0.bias_gm is None and abs(t0.K.value / (k * 60) - 1) > 0.3
+
+
+def test_mems_preset_terms_within_bounds_and_intervals():
+    # CI-sized check of issue 14 item 3 on the consumer-100hz preset, 10-h records, seeds
+    # 0-5 (the 200-seed coverage is benchmarks/noise_terms.py). Measured: |N err| <= 0.6 %,
+    # |B err| <= 10.2 %, |K err| <= 33 %, median |K err| 13 %; the truth inside all 18
+    # intervals.
+    from inertialab.sim import mems_presets as MP
+
+    errs, inside = {k: [] for k in "NBK"}, 0
+    for seed in range(6):
+        run = MP.simulate("consumer-100hz", hours=10.0, seed=seed)
+        t = fit_noise_terms(A.oadev(run.y, rate_hz=run.rate_hz, taus="octave"), unit=run.unit,
+                            n_boot=100, seed=seed)
+        for k in "NBK":
+            tv = run.truth[k]["value"]
+            errs[k].append(getattr(t, k).value / tv - 1)
+            inside += getattr(t, k).ci[0] <= tv <= getattr(t, k).ci[1]
+    assert max(abs(e) for e in errs["N"]) < 0.02
+    assert max(abs(e) for e in errs["B"]) < 0.15
+    assert max(abs(e) for e in errs["K"]) < 0.45
+    assert np.median(np.abs(errs["K"])) < 0.2
+    assert inside >= 16, inside

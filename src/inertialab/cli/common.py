@@ -206,10 +206,9 @@ def write_figures(figures, out_dir, *, dpi: int = 110) -> list[Path]:
     """Write ``report.section.Figure`` objects (or (name, matplotlib figure) pairs) as PNG
     files into ``out_dir``; return the paths. Names become file names only through
     :func:`~inertialab.io.names.safe_slug` (a figure named from data cannot leave
-    ``out_dir``)."""
-    import io as _io
-
-    import matplotlib.pyplot as plt
+    ``out_dir``). Each figure is laid out once and drawn once
+    (:func:`inertialab.report.html.figure_png`; issue 18 item 11)."""
+    from inertialab.report.html import figure_png
 
     paths = []
     taken: set[str] = set()
@@ -217,11 +216,9 @@ def write_figures(figures, out_dir, *, dpi: int = 110) -> list[Path]:
     for i, f in enumerate(figures):
         fig = getattr(f, "figure", None) or (f[1] if isinstance(f, tuple) else f)
         name = getattr(f, "name", None) or (f[0] if isinstance(f, tuple) else f"figure{i + 1}")
-        buf = _io.BytesIO()
-        fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight")
-        plt.close(fig)
+        data = figure_png(fig, dpi=dpi)
         target = out / f"{safe_slug(name, taken=taken)}.png"
-        atomic_write_bytes(target, buf.getvalue())
+        atomic_write_bytes(target, data)
         paths.append(target)
     return paths
 

@@ -36,6 +36,11 @@ OCTAVE_RHO = {2: 0.5, 1: 0.5, 0: 0.5, -1: 0.67, -2: 0.88}
 N_BOOT = 200
 CONFIDENCE = 0.95
 
+#: The short-tau corner of the band-limited B term is searched up to this multiple of the
+#: shortest fitted tau (issue 14 item 2): below it white noise dominates and the corner
+#: is not identified, so it is not allowed to wander into the flat region.
+BAND_LO_MAX = 16.0
+
 _POWERS = (-2, -1, 0, 1, 2)
 _NAMES = ("Q", "N", "B", "K", "R")
 #: alpha (rate PSD exponent) of each model term, for the EDF of its tau
@@ -60,6 +65,79 @@ _NATIVE = {
 
 def _nan(v):
     return float("nan") if v is None else float(v)
+
+
+# ----------------------------------------------------------------------------- band-limited B
+
+
+def _gm_shape(v: np.ndarray) -> np.ndarray:
+    """Allan variance of a unit-variance continuous Gauss–Markov process at ``tau = v Tc``:
+    ``(2v - 3 + 4 e^-v - e^-2v) / v^2`` (series for small v, no cancellation)."""
+    v = np.asarray(v, dtype=float)
+    out = np.empty_like(v)
+    small = v < 0.05
+    vs = v[small]
+    ser = np.zeros_like(vs)
+    for k in range(12, 2, -1):  # sum_k>=3 (4(-1)^k - (-2)^k) v^(k-2) / k!
+        ser = ser * vs + (4.0 * (-1) ** k - (-2.0) ** k) / math.factorial(k)
+    out[small] = ser * vs
+    vl = v[~small]
+    out[~small] = (2 * vl - 3 + 4 * np.exp(-vl) - np.exp(-2 * vl)) / (vl * vl)
+    return out
+
+
+_LU = np.linspace(math.log(1e-9), math.log(1e11), 8001)
+_h = _gm_shape(np.exp(_LU))
+#: H(u) = int_0^u h(v) dv/v on the log grid _LU (H(0) = 0, H(inf) = 2 ln 2)
+_HTAB = (2.0 / 3.0) * math.exp(_LU[0]) + np.concatenate(
+    [[0.0], np.cumsum(0.5 * (_h[1:] + _h[:-1]) * np.diff(_LU))])
+_HINF = 2.0 * math.log(2.0)
+
+
+def _H(u) -> np.ndarray:
+    u = np.asarray(u, dtype=float)
+    with np.errstate(divide="ignore"):
+        lu = np.log(u)
+    out = np.interp(lu, _LU, _HTAB)
+    lo = lu < _LU[0]
+    out[lo] = (2.0 / 3.0) * u[lo]
+    out[lu > _LU[-1]] = _HINF
+    return out
+
+
+def band_shape(taus_s, t_lo: float, t_hi: float) -> np.ndarray:
+    """Allan-variance shape of band-limited flicker (bias instability), peak 1.
+
+    Flicker rate noise ``h/f`` between the corners ``1/(2 pi t_hi)`` and
+    ``1/(2 pi t_lo)``, built as the log-uniform mixture of first-order Gauss–Markov
+    processes with correlation times in ``[t_lo, t_hi]`` (equal variance per
+    ``d ln Tc``; the sum of Gauss–Markov processes of real MEMS gyros and of the
+    virtual-lab presets, issue 14 item 1). Its AVAR is proportional to
+    ``H(tau/t_lo) - H(tau/t_hi)``, ``H(u) = int_0^u h(v) dv/v`` with ``h`` the
+    Gauss–Markov shape; it is flat (``2 ln2 h``, IEEE 952 flicker) between the corners,
+    rises like random walk below ``t_lo`` and falls like white noise above ``t_hi``.
+    Normalised to its maximum over all tau, so the B coefficient ``c_0`` is the peak
+    AVAR of the term and ``B = sqrt(c_0)/0.6643`` is IEEE 952's flat-region value (the
+    definition of the virtual-lab truth). ``t_lo = 0, t_hi = inf`` is pure flicker (1).
+    """
+    t = np.asarray(taus_s, dtype=float)
+    lo = float(t_lo)
+    hi = float(t_hi)
+    if lo <= 0 and not math.isfinite(hi):
+        return np.ones(t.shape)
+    a = _H(t / lo) if lo > 0 else np.full(t.shape, _HINF)
+    b = _H(t / hi) if math.isfinite(hi) else np.zeros(t.shape)
+    return (a - b) / _band_peak(lo, hi)
+
+
+def _band_peak(lo: float, hi: float) -> float:
+    if lo <= 0 or not math.isfinite(hi):
+        return _HINF
+    x = np.exp(np.linspace(math.log(lo) - 3.0, math.log(hi) + 3.0, 400))
+    p = _H(x / lo) - _H(x / hi)
+    i = int(np.argmax(p))
+    xf = np.exp(np.linspace(math.log(x[max(i - 1, 0)]), math.log(x[min(i + 1, x.size - 1)]), 64))
+    return float(np.max(_H(xf / lo) - _H(xf / hi)))
 
 
 @dataclass(frozen=True)
@@ -169,6 +247,11 @@ class NoiseTerms:
     misfit : float
         ``sqrt(chi2/dof)`` of the fit when above 1 (the factor the bootstrap spread was
         widened by), else 1.
+    bias_gm : dict or None
+        The band limits of the B term (issue 14 item 2, :func:`band_shape`):
+        ``{"t_lo_s", "t_hi_s"}``, the shortest and longest Gauss–Markov correlation time
+        of the band-limited flicker (None: no roll-off on that side). None for pure
+        flicker (the IEEE five-term model; files written before the band existed).
     """
 
     MODEL_TYPE = "noise-terms"
@@ -193,23 +276,40 @@ class NoiseTerms:
     interval: str = ""
     gmwm: dict | None = None
     misfit: float = 1.0
+    bias_gm: dict | None = None
+
+    def b_shape(self, taus_s) -> np.ndarray:
+        """Shape of the B term's AVAR at ``taus_s`` (peak 1; ones for pure flicker)."""
+        t = np.asarray(taus_s, dtype=float)
+        if not self.bias_gm:
+            return np.ones(t.shape)
+        lo, hi = self.bias_gm.get("t_lo_s"), self.bias_gm.get("t_hi_s")
+        return band_shape(t, 0.0 if lo is None else lo, math.inf if hi is None else hi)
+
+    def contributions(self, taus_s) -> np.ndarray:
+        """Each term's AVAR at ``taus_s``, shape (k, 5) in the data unit^2 (NaN -> 0)."""
+        t = np.asarray(taus_s, dtype=float)
+        c = np.nan_to_num(np.asarray(self.coefficients, dtype=float))
+        cols = [c[i] * t ** _POWERS[i] for i in range(5)]
+        cols[2] = c[2] * self.b_shape(t)
+        return np.stack(cols, axis=-1)
 
     def terms(self) -> dict[str, NoiseTerm]:
         return {k: getattr(self, k) for k in _NAMES}
 
     def model_dev(self, taus_s) -> np.ndarray:
         """Five-term model deviation at ``taus_s`` (s) in the data unit."""
-        t = np.asarray(taus_s, dtype=float)
-        c = np.nan_to_num(np.asarray(self.coefficients, dtype=float))
         with np.errstate(invalid="ignore"):
-            return np.sqrt(sum(ck * t**k for ck, k in zip(c, _POWERS)))
+            return np.sqrt(self.contributions(taus_s).sum(axis=-1))
 
     def term_devs(self, taus_s) -> dict[str, np.ndarray]:
         """Each term's own deviation line at ``taus_s`` in the data unit (NaN if absent)."""
         t = np.asarray(taus_s, dtype=float)
+        contrib = self.contributions(t)
         out = {}
-        for name, ck, k in zip(_NAMES, self.coefficients, _POWERS):
-            out[name] = (np.sqrt(ck * t**k) if (ck is not None and np.isfinite(ck) and ck > 0)
+        for j, (name, ck) in enumerate(zip(_NAMES, self.coefficients)):
+            out[name] = (np.sqrt(contrib[..., j]) if (ck is not None and np.isfinite(ck)
+                                                      and ck > 0)
                          else np.full(t.shape, np.nan))
         return out
 
@@ -230,6 +330,8 @@ class NoiseTerms:
         if self.gmwm is not None:
             d["gmwm"] = self.gmwm
         d["misfit"] = float(self.misfit)
+        if self.bias_gm is not None:
+            d["bias_gm"] = dict(self.bias_gm)
         return d
 
     @classmethod
@@ -244,7 +346,8 @@ class NoiseTerms:
                    g_local=float(d.get("g_local", units.G_STANDARD)),
                    alpha_model=tuple(int(a) for a in d.get("alpha_model", ())),
                    b_textbook=d.get("b_textbook"), interval=d.get("interval", ""),
-                   gmwm=d.get("gmwm"), misfit=float(d.get("misfit", 1.0)))
+                   gmwm=d.get("gmwm"), misfit=float(d.get("misfit", 1.0)),
+                   bias_gm=d.get("bias_gm"))
 
 
 # ----------------------------------------------------------------------------- conversion

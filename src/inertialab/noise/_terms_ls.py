@@ -20,12 +20,14 @@ from inertialab.noise._terms_base import (
     _POWERS,
     _REPORT,
     _TERM_ALPHA,
+    BAND_LO_MAX,
     BI_FACTOR,
     EDF_MIN,
     OCTAVE_RHO,
     READ_SHARE,
     NoiseTerm,
     NoiseTerms,
+    band_shape,
 )
 
 
@@ -48,40 +50,87 @@ def _edf_table(result, sel):
     return np.where(np.isfinite(out) & (out > 0), out, 1.0)
 
 
-def _solve(X, avar, edf_tab, active, weighted: bool, n_iter: int):
-    """Reweighted LS of ``avar ~ X c`` with ``c_k >= 0`` except the signed ``c_-2``.
+#: backward elimination of a non-significant R (see fit_ls)
+_ELIMINATE_R = True
 
-    Returns ``(c, model, dom)``: coefficients (0 where inactive), the model and the index
-    of its dominant term per tau."""
-    k = avar.size
+
+def _wnnls(X, avar, w, active):
+    """One weighted NNLS of ``avar ~ X c`` (``c_k >= 0`` except the signed ``c_-2``).
+    Returns ``(c, chi2)`` with ``chi2 = sum w (avar - X c)^2``."""
     cols = [j for j in range(5) if active[j]]
     Xa = X[:, cols]
     signed = 0 in cols
     if signed:  # c_-2 = p - q, p, q >= 0
         Xa = np.concatenate([Xa, -X[:, :1]], axis=1)
-    model = avar.copy()
-    edf = edf_tab[1] if weighted else np.ones(k)
+    sw = np.sqrt(w)
+    A = Xa * sw[:, None]
+    scale = np.linalg.norm(A, axis=0)
+    scale[scale == 0] = 1.0
+    cs, rnorm = nnls(A / scale, avar * sw, maxiter=50 * A.shape[1])
+    ca = cs / scale
+    c = np.zeros(5)
+    c[cols] = ca[:len(cols)]
+    if signed:
+        c[0] -= ca[-1]
+    return c, float(rnorm) ** 2
+
+
+def _corner_grid(taus):
+    """Corners ``(t_lo, t_hi)`` of the band-limited B term searched by the fit: ``t_lo``
+    in {0, 1, 4, 16} x the shortest tau (:data:`BAND_LO_MAX`), ``t_hi`` on a
+    quarter-decade grid from 16x the shortest tau to 4x the longest, or infinite, and
+    ``t_hi >= 4 t_lo``: the band's flat part lies inside the fitted taus (a band below
+    them falls like white noise there and was measured to take up to 14 % of N on
+    white + filter data). The first corner pair ``(0, inf)`` is pure flicker."""
+    tmin, tmax = float(np.min(taus)), float(np.max(taus))
+    los = [0.0] + [tmin * f for f in (1.0, 4.0, BAND_LO_MAX)]
+    start = 16.0 * tmin
+    n_hi = max(int(math.floor(4 * math.log10(4.0 * tmax / start))) + 1, 0)
+    his = [math.inf] + [start * 10 ** (0.25 * i) for i in range(n_hi)]
+    return [(lo, hi) for lo in los for hi in his if hi >= 4.0 * lo]
+
+
+def _band_table(taus, grid):
+    """B-term shape of every corner pair at ``taus``, shape (n_grid, k)."""
+    return np.array([band_shape(taus, lo, hi) for lo, hi in grid])
+
+
+def _solve(X, avar, edf_tab, active, weighted: bool, n_iter: int, shapes=None, model=None,
+           edf=None):
+    """Reweighted LS of ``avar ~ X c`` with ``c_k >= 0`` except the signed ``c_-2``; with
+    ``shapes`` (:func:`_band_table`) the B column is the band-limited shape and its
+    corners are profiled: each pass solves every corner pair with the same weights and
+    keeps the least chi-square. ``model``, ``edf``: the AVAR and EDF the first pass's
+    weights come from (default the data and the white-noise EDF).
+
+    Returns ``(c, model, dom, i_band)``: coefficients (0 where inactive), the model, the
+    index of its dominant term per tau and the chosen corner pair (0 without shapes)."""
+    k = avar.size
+    model = avar.copy() if model is None else np.asarray(model, dtype=float)
+    edf = edf_tab[1] if edf is None else edf
     c = np.zeros(5)
     dom = np.ones(k, dtype=np.int64)
+    i_band = 0
+    Xc = X.copy()
     for _ in range(n_iter if weighted else 1):
         w = edf / (2.0 * model * model) if weighted else np.ones(k)
-        sw = np.sqrt(w)
-        A = Xa * sw[:, None]
-        scale = np.linalg.norm(A, axis=0)
-        scale[scale == 0] = 1.0
-        cs, _ = nnls(A / scale, avar * sw, maxiter=50 * A.shape[1])
-        ca = cs / scale
-        c = np.zeros(5)
-        c[cols] = ca[:len(cols)]
-        if signed:
-            c[0] -= ca[-1]
-        contrib = X * c[None, :]
+        if shapes is None or not active[2]:
+            c, _ = _wnnls(Xc, avar, w, active)
+        else:
+            best = math.inf
+            for i in range(shapes.shape[0]):
+                Xc[:, 2] = shapes[i]
+                ci, chi = _wnnls(Xc, avar, w, active)
+                if chi < best:
+                    best, c, i_band = chi, ci, i
+            Xc[:, 2] = shapes[i_band]
+        contrib = Xc * c[None, :]
         new = contrib.sum(axis=1)
         model = np.where(new > 0.05 * avar, new, np.maximum(avar, 1e-300))
         dom = np.argmax(contrib, axis=1)
         if weighted:
             edf = edf_tab[dom, np.arange(k)]
-    return c, model, dom
+    return c, model, dom, i_band
 
 
 def _observable(n_taus: int):
@@ -97,32 +146,55 @@ def _observable(n_taus: int):
     return active, reasons
 
 
-def _fit_and_boot(X, avar, edf_tab, active, weighted, n_reweight, n_boot, seed, m):
+def _fit_and_boot(X, avar, edf_tab, active, weighted, n_reweight, n_boot, seed, m, shapes):
     """Fit, misfit ratio and correlated Allan-domain bootstrap of one active-term set."""
-    c, model, dom = _solve(X, avar, edf_tab, active, weighted, n_reweight)
+    c, model, dom, i_band = _solve(X, avar, edf_tab, active, weighted, n_reweight, shapes)
     edf_dom = edf_tab[dom, np.arange(avar.size)]
     fit_rmse = float(np.sqrt(np.mean((0.5 * np.log(avar / model)) ** 2)))
     # misfit (Birge) ratio: ln(avar_hat) has variance ~2/edf; a model that cannot follow
-    # the curve (e.g. Gauss-Markov bumps read as flicker) leaves larger residuals, and the
-    # bootstrap spread is widened by sqrt(chi2/dof) when that exceeds 1
-    n_par = int(np.count_nonzero(c))
+    # the curve leaves larger residuals, and the bootstrap spread is widened by
+    # sqrt(chi2/dof) when that exceeds 1 (the band's corners count as parameters)
+    n_par = int(np.count_nonzero(c)) + _n_corners(shapes, i_band)
     chi2 = float(np.sum(0.5 * edf_dom * np.log(avar / model) ** 2))
     misfit = math.sqrt(max(1.0, chi2 / max(avar.size - n_par, 1)))
-    # parametric bootstrap in the Allan domain
+    # parametric bootstrap in the Allan domain; each replicate profiles the corners again
+    # (one pass, weighted with the fitted model: the replicates scatter around it)
     boot = None
     if n_boot > 0:
         rng = np.random.default_rng(seed)
         draws = _draw_avar(model, edf_dom, dom, m, n_boot, rng)
         boot = np.empty((n_boot, 5))
-        n_it = min(n_reweight, 3)
         for b in range(n_boot):
-            boot[b] = _solve(X, draws[b], edf_tab, active, weighted, n_it)[0]
+            boot[b] = _solve(X, draws[b], edf_tab, active, weighted, 1, shapes, model=model,
+                             edf=edf_dom)[0]
         boot = c[None, :] + misfit * (boot - c[None, :])
-    return c, model, dom, boot, misfit, fit_rmse
+    return c, model, dom, boot, misfit, fit_rmse, i_band
 
 
-def fit_ls(result, sel, conv, rate_hz, method, n_reweight, confidence, n_boot, seed):
-    """The "wls"/"ols" fit of the selected taus (see :mod:`inertialab.noise.terms`)."""
+def _n_corners(shapes, i_band) -> int:
+    if shapes is None or i_band == 0:
+        return 0
+    lo, hi = shapes.grid[i_band]
+    return int(lo > 0) + int(math.isfinite(hi))
+
+
+class _Shapes(np.ndarray):
+    """:func:`_band_table` with its corner grid attached (``.grid``)."""
+
+
+def _shapes_for(taus, band: bool):
+    if not band:
+        return None
+    grid = _corner_grid(taus)
+    sh = _band_table(taus, grid).view(_Shapes)
+    sh.grid = grid
+    return sh
+
+
+def fit_ls(result, sel, conv, rate_hz, method, n_reweight, confidence, n_boot, seed,
+           band: bool = True):
+    """The "wls"/"ols" fit of the selected taus (see :mod:`inertialab.noise.terms`);
+    ``band``: B as band-limited flicker with profiled corners (:func:`band_shape`)."""
     weighted = method == "wls"
     idx = np.nonzero(sel)[0]
     edf_tab = _edf_table(result, sel)
@@ -130,32 +202,40 @@ def fit_ls(result, sel, conv, rate_hz, method, n_reweight, confidence, n_boot, s
     avar = np.asarray(result.dev, dtype=float)[idx] ** 2
     active, reasons = _observable(taus.size)
     X = np.stack([taus**k for k in _POWERS], axis=1)
-    c, model, dom = _solve(X, avar, edf_tab, active, weighted, n_reweight)
+    shapes = _shapes_for(taus, band)
+    c, model, dom, _ = _solve(X, avar, edf_tab, active, weighted, n_reweight, shapes)
     # long taus whose EDF (for the model's noise type) is below EDF_MIN do not drag the fit
     edf_dom = edf_tab[dom, np.arange(taus.size)]
     keep = edf_dom >= EDF_MIN
     if keep.sum() >= 3 and not keep.all():
         idx, taus, avar, X, edf_tab = idx[keep], taus[keep], avar[keep], X[keep], edf_tab[:, keep]
         active, reasons = _observable(taus.size)
-        c, model, dom = _solve(X, avar, edf_tab, active, weighted, n_reweight)
-    c, model, dom, boot, misfit, fit_rmse = _fit_and_boot(
+        shapes = _shapes_for(taus, band)
+    c, model, dom, boot, misfit, fit_rmse, i_band = _fit_and_boot(
         X, avar, edf_tab, active, weighted, n_reweight, n_boot, seed,
-        np.asarray(result.m)[idx])
-    terms = _terms_from_coefficients(c, boot, active, reasons, taus, conv, rate_hz, method,
+        np.asarray(result.m)[idx], shapes)
+    Xc = _design(X, shapes, i_band)
+    terms = _terms_from_coefficients(c, boot, active, reasons, Xc, taus, conv, rate_hz, method,
                                      confidence)
     # backward elimination of a non-significant rate ramp: R and K share the long taus,
     # and an R read from the scatter of the last points takes its share from K; the
     # terms are refitted without R, which keeps its upper bound from the full fit
-    if active[4] and "upper_bound" in terms["R"].flags:
+    if _ELIMINATE_R and active[4] and "upper_bound" in terms["R"].flags:
         act2 = list(active)
         act2[4] = False
-        c, model, dom, boot, misfit, fit_rmse = _fit_and_boot(
+        c, model, dom, boot, misfit, fit_rmse, i_band = _fit_and_boot(
             X, avar, edf_tab, act2, weighted, n_reweight, n_boot, seed,
-            np.asarray(result.m)[idx])
-        t2 = _terms_from_coefficients(c, boot, act2, {"R": ""}, taus, conv, rate_hz, method,
-                                      confidence)
+            np.asarray(result.m)[idx], shapes)
+        Xc = _design(X, shapes, i_band)
+        t2 = _terms_from_coefficients(c, boot, act2, {"R": ""}, Xc, taus, conv, rate_hz,
+                                      method, confidence)
         t2["R"] = terms["R"]
         terms = t2
+    bias_gm = None
+    if shapes is not None and i_band != 0 and c[2] > 0:
+        lo, hi = shapes.grid[i_band]
+        bias_gm = {"t_lo_s": float(lo) if lo > 0 else None,
+                   "t_hi_s": float(hi) if math.isfinite(hi) else None}
     dev_sel = np.sqrt(avar)
     i_min = int(np.argmin(dev_sel))
     kB = conv.factor("B")
@@ -173,17 +253,25 @@ def fit_ls(result, sel, conv, rate_hz, method, n_reweight, confidence, n_boot, s
                       alpha_model=tuple(int(_TERM_ALPHA[j]) for j in dom),
                       b_textbook=b_text,
                       interval=f"bootstrap-allan/{n_boot}" if n_boot > 0 else "none",
-                      misfit=misfit)
+                      misfit=misfit, bias_gm=bias_gm)
 
 
-def _shares(c, taus, j):
-    contrib = np.stack([c[i] * taus ** _POWERS[i] for i in range(5)], axis=1)
+def _design(X, shapes, i_band):
+    if shapes is None:
+        return X
+    Xc = X.copy()
+    Xc[:, 2] = shapes[i_band]
+    return Xc
+
+
+def _shares(Xc, c, j):
+    contrib = Xc * c[None, :]
     tot = np.sum(np.abs(contrib), axis=1)
     return np.where(tot > 0, contrib[:, j] / tot, 0.0)
 
 
-def _max_share(c, taus, j) -> float:
-    return float(np.max(_shares(c, taus, j)))
+def _max_share(Xc, c, j) -> float:
+    return float(np.max(_shares(Xc, c, j)))
 
 
 def _tau_correlation(dom, m) -> np.ndarray:
@@ -207,9 +295,9 @@ def _draw_avar(model, edf, dom, m, n_boot, rng):
     return model[None, :] * chi2.ppf(u, edf[None, :]) / edf[None, :]
 
 
-def _read_range(c, taus, j):
+def _read_range(Xc, c, taus, j):
     """Taus where term j carries >= READ_SHARE of the model (else where its share peaks)."""
-    share = _shares(c, taus, j)
+    share = _shares(Xc, c, j)
     on = share >= READ_SHARE
     if not on.any():
         if c[j] <= 0:
@@ -219,7 +307,7 @@ def _read_range(c, taus, j):
     return (float(t.min()), float(t.max()))
 
 
-def _terms_from_coefficients(c, boot, active, reasons, taus, conv, rate_hz, method, conf):
+def _terms_from_coefficients(c, boot, active, reasons, Xc, taus, conv, rate_hz, method, conf):
     """NoiseTerm per name from coefficients and their bootstrap replicates."""
     lo_q, hi_q = 0.5 * (1 - conf), 0.5 * (1 + conf)
     out = {}
@@ -245,7 +333,7 @@ def _terms_from_coefficients(c, boot, active, reasons, taus, conv, rate_hz, meth
             amp = k * _GAIN[j] * np.sqrt(np.maximum(cb, 0.0))
             qlo, qhi = np.quantile(amp, [lo_q, hi_q])
             sd = float(np.std(amp, ddof=1))
-            weak = _max_share(c, taus, j) < READ_SHARE
+            weak = _max_share(Xc, c, j) < READ_SHARE
             if np.quantile(cb, lo_q) <= 0.0 or weak:
                 flags.append("upper_bound")
                 ub = float(max(qhi, val))
@@ -262,7 +350,7 @@ def _terms_from_coefficients(c, boot, active, reasons, taus, conv, rate_hz, meth
         if name == "N":
             dens, per = conv.n_extras(val / conv.value("N", 1.0), rate_hz)
         out[name] = NoiseTerm(value=val, unit=unit, ci=ci, method=method,
-                              tau_range_s=_read_range(c, taus, j), flags=tuple(flags), sd=sd,
+                              tau_range_s=_read_range(Xc, c, taus, j), flags=tuple(flags), sd=sd,
                               density=dens, per_sample_std=per, reason=reason,
                               upper_bound=ub)
     return out

@@ -8,7 +8,7 @@ The record's Haar wavelet variance (WV) at dyadic scales ``tau_j = m tau0``,
 - ``RW`` rate random walk (per-sample increment variance ``gamma2``; IEEE K),
 - ``DR`` drift (rate ramp ``omega`` per sample; IEEE R),
 - ``GM`` one or more first-order Gauss–Markov / AR(1) processes (stationary variance
-  ``s2``, correlation time ``tc_s`` between the first fitted scale and 10x the record;
+  ``s2``, correlation time ``tc_s`` between the first fitted scale and 1/8 of the last,
   the bias instability),
 - ``FL`` the remainder ``-3 f2/tau^2`` a sensor's internal low-pass filter leaves on white
   noise beyond the cut scales (only when a filter was detected; not an IEEE term).
@@ -323,12 +323,20 @@ def _start(spec, wv, taus, tau0, T):
     return np.array(th)
 
 
-def _bounds(spec, tau_min, T):
+#: The correlation time of a Gauss–Markov process is capped at this fraction of the
+#: longest fitted scale (issue 14 item 5): a GM whose Allan peak (1.89 tc) is not followed
+#: by a few octaves of scales is a random walk within the record, and an uncapped fit was
+#: measured to trade the random walk K for such a long GM on the MEMS presets.
+TC_MAX_FRACTION = 1.0 / 8.0
+
+
+def _bounds(spec, tau_min, tau_max):
     lo, hi = [], []
+    tc_hi = math.log(max(TC_MAX_FRACTION * tau_max, 1.01 * tau_min))
     for kind in spec:
         if kind == "GM":  # a GM faster than the first fitted scale looks like white noise
             lo += [-np.inf, math.log(tau_min)]
-            hi += [np.inf, math.log(10.0 * T)]
+            hi += [np.inf, tc_hi]
         else:
             lo.append(-np.inf)
             hi.append(np.inf)
@@ -344,7 +352,7 @@ def _fit_spec(spec, wv, taus, eta, tau0, T, theta0=None, max_nfev=200):
         mod = _model_avar(_unpack(spec, theta, tau0), m, tau0) / 2.0
         return sw * (lw - np.log(np.maximum(mod, 1e-300)))
 
-    lo, hi = _bounds(spec, float(taus[0]), T)
+    lo, hi = _bounds(spec, float(taus[0]), float(taus[-1]))
     starts = [theta0] if theta0 is not None else [_start(spec, wv, taus, tau0, T)]
     if theta0 is None and spec.count("GM") >= 1:
         alt = starts[0].copy()
@@ -381,11 +389,28 @@ def _specs(max_gm: int, with_qn: bool, with_fl: bool):
     return out
 
 
+def _drop_low_eta(wv: WaveletVariance, min_eta: float) -> WaveletVariance:
+    keep = wv.eta >= min_eta
+    if keep.sum() < 3 or keep.all():
+        return wv
+    return WaveletVariance(wv.taus_s[keep], wv.m[keep], wv.wv[keep], wv.eta[keep],
+                           wv.ci_low[keep], wv.ci_high[keep], wv.tau0_s, wv.n_samples,
+                           wv.confidence)
+
+
 def fit_gmwm_wv(wv: WaveletVariance, *, max_gm: int = 3, n_boot: int = 50, seed: int = 0,
-                confidence: float = 0.95, filtered: bool = False) -> GmwmFit:
+                confidence: float = 0.95, filtered: bool = False,
+                min_eta: float | None = None) -> GmwmFit:
     """Fit and select the latent model on a wavelet variance (module docstring).
     ``filtered``: the short scales were cut for a sensor filter; every candidate then
-    carries the filter's ``-f2 3/tau^2`` remainder (process ``FL``)."""
+    carries the filter's ``-f2 3/tau^2`` remainder (process ``FL``). ``min_eta``: scales
+    with fewer degrees of freedom are left out of the objective (default
+    :data:`inertialab.noise.terms.EDF_MIN`, the Allan fit's rule; the last one or two
+    scales of a record), and every Gauss–Markov correlation time is capped at
+    :data:`TC_MAX_FRACTION` of the longest remaining scale (issue 14 item 5)."""
+    if min_eta is None:
+        from inertialab.noise._terms_base import EDF_MIN as min_eta
+    wv = _drop_low_eta(wv, float(min_eta))
     taus, wvv, eta = wv.taus_s, wv.wv, wv.eta
     if taus.size < 3:
         raise InputError(f"GMWM needs at least 3 dyadic scales, got {taus.size}")

@@ -21,7 +21,13 @@ Methods (every term reports which one and the tau range it was read on):
     ``+3Q^2/tau^2``; a negative or non-significant ``c_-2`` reports Q as absent. Taus
     whose model EDF is below :data:`EDF_MIN` are dropped. A record too short to separate
     a term (fewer than two taus per parameter) drops R, then K, then Q, reported
-    ``not_observable`` with the reason.
+    ``not_observable`` with the reason. B is band-limited flicker
+    (:func:`inertialab.noise._terms_base.band_shape`: the log-uniform mixture of
+    Gauss–Markov processes between two corners, flat between them), the corners
+    profiled inside the least squares on a grid (``_terms_ls._corner_grid``; pure
+    flicker is the grid's first point) and reported as :attr:`NoiseTerms.bias_gm`: a
+    constant B extended to the long taus, where a real sum of Gauss–Markov processes
+    falls, took K 15-60 % low on the MEMS presets (issue 14 items 2-3).
 ``"ols"``
     The same with unit weights (the paper-compatible mode of spec 001 §3.4 item 3).
 ``"slope"``
@@ -35,13 +41,14 @@ Allan domain. Each replicate draws every fitted tau's AVAR as
 ``model_i chi2(edf_i)/edf_i`` (Greenhall EDF of the model's noise type), correlated
 across taus through a Gaussian copula whose correlation is a Markov chain in log2(tau)
 with the measured one-octave correlation of the dominant noise type
-(:data:`OCTAVE_RHO`), and is refitted by the same method; the term's interval is the percentile
-interval at ``confidence`` (default 0.95). Drawing records instead would cost a full
-simulation and Allan pass per replicate (seconds on a 10-h log); the Allan-domain draw
-is the same model's sampling law to the extent the copula captures the dependence of
-the taus, which the coverage benchmark (benchmarks/noise_terms.py) measures. A term whose lower
-percentile is at 0 (or, for Q, at or below 0), or that never carries :data:`READ_SHARE`
-of the model at a fitted tau, is not significant: it is reported with
+(:data:`OCTAVE_RHO`), and is refitted by the same method (the B corners profiled
+again); the term's interval is the percentile interval at ``confidence`` (default
+0.95). Drawing records instead would cost a full simulation and Allan pass per replicate
+(seconds on a 10-h log); the Allan-domain draw is the same model's sampling law to the
+extent the copula captures the dependence of the taus, which the coverage benchmark
+(benchmarks/noise_terms.py) measures. A term whose lower percentile is at 0 (or, for Q,
+at or below 0), or that never carries :data:`READ_SHARE` of the model at a fitted tau,
+is not significant: it is reported with
 ``ci = [0, upper]``, flag ``upper_bound`` and the reason. (The second rule matters
 because neighbouring octave AVAR estimates are correlated — they share the record — so a
 term of 1 % of the curve can look significant to a bootstrap that draws the taus
@@ -187,9 +194,7 @@ def fit_noise_terms(result, *, unit: str, kind: str | None = "gyro", method: str
 def model_alpha(terms: NoiseTerms, taus_s) -> np.ndarray:
     """Noise type (rate PSD exponent) of the fitted model's dominant term at ``taus_s``:
     Q +2, N 0, B -1, K and R -2."""
-    t = np.asarray(taus_s, dtype=float)
-    c = np.nan_to_num(np.asarray(terms.coefficients, dtype=float))
-    contrib = np.stack([c[i] * t ** _POWERS[i] for i in range(5)], axis=1)
+    contrib = terms.contributions(np.asarray(taus_s, dtype=float))
     return np.array([_TERM_ALPHA[j] for j in np.argmax(contrib, axis=1)], dtype=np.int64)
 
 

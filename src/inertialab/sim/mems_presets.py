@@ -263,23 +263,42 @@ def simulate(name: str | MemsPreset = "consumer-100hz", *, hours: float = 10.0,
     if n < 64:
         raise InputError(f"record too short: {n} samples (hours x 3600 x rate_hz)")
     tau0 = 1.0 / fs
+    # in place into two buffers (no temporaries of the record's length beyond lfilter's
+    # and sosfilt's outputs): the same operations in the same order as the plain
+    # expressions, so the output is bit-identical for a seed (tests/sim)
     streams = spawn(seed, 2 + len(p.gm))
-    y = streams[0].standard_normal(n) * (p.n_white * math.sqrt(fs))
+    y = np.empty(n)
+    e = np.empty(n)
+    streams[0].standard_normal(out=y)
+    y *= p.n_white * math.sqrt(fs)
     for (std, tc), rng in zip(p.gm, streams[1:1 + len(p.gm)]):
         phi = math.exp(-tau0 / tc)
-        e = rng.standard_normal(n) * (std * math.sqrt(1.0 - phi * phi))
+        rng.standard_normal(out=e)
+        e *= std * math.sqrt(1.0 - phi * phi)
         e[0] = rng.standard_normal() * std  # stationary start
         y += lfilter([1.0], [1.0, -phi], e)
     if p.k_rw > 0:
-        y += np.cumsum(streams[-1].standard_normal(n) * (p.k_rw * math.sqrt(tau0)))
-    t = np.arange(n) * tau0
-    temp = t0_c + p.temp_ramp_c_per_h * t / 3600.0
-    y += p.tempco * (temp - t0_c) + p.b0
+        streams[-1].standard_normal(out=e)
+        e *= p.k_rw * math.sqrt(tau0)
+        np.cumsum(e, out=e)
+        y += e
+    temp = np.arange(n, dtype=float)
+    temp *= tau0
+    temp *= p.temp_ramp_c_per_h
+    temp /= 3600.0
+    temp += t0_c
+    np.subtract(temp, t0_c, out=e)
+    e *= p.tempco
+    e += p.b0
+    y += e
+    del e
     if p.lpf_fraction > 0:
         sos = butter(p.lpf_order, 2.0 * p.lpf_fraction, output="sos")
         y = sosfilt(sos, y, zi=sosfilt_zi(sos) * y[0])[0]
     if p.lsb > 0:
-        y = np.round(y / p.lsb) * p.lsb
+        y /= p.lsb
+        np.round(y, out=y)
+        y *= p.lsb
     u = _UNITS[p.kind]
     meta = {"fs_hz": fs, "units": {"rate": u["unit"]}, "source": "virtual_lab",
             "seed": int(seed), "generator_version": GENERATOR_VERSION, "preset": p.name,

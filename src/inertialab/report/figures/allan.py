@@ -72,7 +72,6 @@ def deviation_figure(analysis, *, truth_curve=None, name: str = "allan") -> Figu
     terms = analysis.terms is not None
     axes[0][0].set_title("Allan family with confidence intervals"
                          + (" and noise terms" if terms else ""))
-    fig.tight_layout()
     return Figure(fig, "Deviations with EDF-based confidence bars (bands for dense tau sets)"
                   + ("; the fitted five-term model (solid) and each term's line (dashed)."
                      if terms else "."), name=name)
@@ -119,7 +118,6 @@ def recovery_figure(rec: dict, name: str = "allan_recovery") -> Figure:
     ax.set_ylabel("relative error (%)")
     ax.set_title("Noise-term recovery over seeds (10-h records, WLS); dashed: acceptance band")
     ax.grid(True, axis="y", alpha=0.3)
-    fig.tight_layout()
     return Figure(fig, "Relative error of the WLS noise terms per seed on the spec 001 §6.2 "
                        "identification presets; issue 3 asks for N and K within 5 % and B "
                        "within 20 % in at least 18 of 20 seeds.", name=name)

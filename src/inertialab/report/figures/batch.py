@@ -45,7 +45,6 @@ def batch_figure(result) -> Figure:
     ax.bar(["pass", "fail", "error"], [c["pass"], c["fail"], c["error"]],
            color=["#55a868", "#c44e52", "#8c8c8c"])
     ax.set_title(f"yield {100 * result.yield_fraction:.1f} % of {len(result.units)}")
-    fig.tight_layout()
     return Figure(figure=fig, caption=f"{result.command}: key figures against the tolerance "
                   "(dashed) and the lot's yield", name="batch")
 

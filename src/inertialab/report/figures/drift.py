@@ -53,7 +53,6 @@ def fit_figure(d: dict, name: str | None = None) -> Figure:
     ax2.plot(fd, res, ".-", ms=3, lw=0.6, color="tab:blue")
     ax2.set_ylabel("residual")
     ax2.set_xlabel("programme day")
-    fig.tight_layout()
     return Figure(fig, f"One-step NAR fit and residuals, {_LABEL.get(d['quantity'])} of "
                        f"unit {d['unit_id']}.", name or f"fit_{d['quantity']}_{safe_slug(d['unit_id'])}")
 
@@ -87,7 +86,6 @@ def forecast_figure(d: dict, name: str | None = None) -> Figure:
     ax.set_xlabel("programme day")
     ax.set_ylabel(_ylabel(d))
     ax.legend(fontsize=8, loc="best")
-    fig.tight_layout()
     return Figure(fig, f"20-step closed-loop forecast of the {_LABEL.get(d['quantity'])} of unit "
                        f"{d['unit_id']} with its 95 % bootstrap interval; dashed: the tolerance "
                        "band around the value at the origin.",
@@ -107,7 +105,6 @@ def acf_figure(d: dict, name: str | None = None) -> Figure:
     ax.axhline(0, color="0.5", lw=0.8)
     ax.set_xlabel("lag k (days)")
     ax.set_ylabel("r_k")
-    fig.tight_layout()
     return Figure(fig, f"Residual autocorrelation ({_LABEL.get(d['quantity'])}, unit "
                        f"{d['unit_id']}) with the 95 % bounds of spec 004 §3.9.",
                   name or f"acf_{d['quantity']}_{safe_slug(d['unit_id'])}")
@@ -126,7 +123,6 @@ def error_curve_figure(curves: dict, *, unit_id: str, quantity: str, unit: str,
     ax.set_xlabel("forecast step k")
     ax.set_ylabel(f"mean |error| ({_UNIT.get(unit, unit)})")
     ax.legend(fontsize=7, ncol=2)
-    fig.tight_layout()
     over = f" over {n_origins} origins" if n_origins else ""
     return Figure(fig, f"Forecast error per step{over}, {_LABEL.get(quantity, quantity)} of unit "
                        f"{unit_id}: NAR and baselines (spec 004 §5).",
@@ -152,7 +148,6 @@ def schedule_figure(rows: list[dict], name: str = "schedule") -> Figure:
     ax.set_yticks(range(len(units)), units)
     ax.set_xlabel("programme day (bar ends at the re-calibration day; > = none within horizon)")
     ax.legend(fontsize=8, loc="best")
-    fig.tight_layout()
     return Figure(fig, "Re-calibration schedule: 10 % quantile of the first passage of the "
                        "bootstrap paths out of the tolerance band (spec 004 §9).", name)
 

@@ -45,7 +45,6 @@ def residual_figure(fit) -> Figure:
     ax.set_xlabel("head angle (deg)")
     ax.set_ylabel("residual (ug)")
     ax.legend(fontsize=7, ncol=2)
-    fig.tight_layout()
     return Figure(fig, "Residuals per position: single-meter fits carry the head angle "
                        "error, the g^2 fits do not.", name="dual_residuals")
 
@@ -72,7 +71,6 @@ def coefficient_figure(fit, truth: dict | None = None,
         ax.set_xticklabels(methods, rotation=60, fontsize=7)
         ax.tick_params(axis="y", labelsize=7)
     fig.supylabel("estimate (ug or ug/g^2)", fontsize=8)
-    fig.tight_layout()
     cap = ("Coefficient estimates with 1-SD bars per method (x: not estimable, no SD)"
            + ("; dashed: truth." if truth is not None else "."))
     return Figure(fig, cap, name="dual_coefficients")
@@ -92,7 +90,6 @@ def sensitivity_figure(sens: dict) -> Figure:
     ax.set_xlabel("phase psi of the head error (deg)")
     ax.set_ylabel("change of K2 (ug/g^2)")
     ax.legend(fontsize=7, ncol=2)
-    fig.tight_layout()
     return Figure(fig, f"Head-error sensitivity: change of K2 for a {sens['a1_arcsec']:g}\" "
                        "first-harmonic dividing-head error; single-meter LS moves by "
                        "a1 sin(psi), the g^2 methods by ~0.", name="dual_head_sensitivity")

@@ -35,7 +35,6 @@ def imu_figure(result) -> Figure:
         ax.set_title("gyroscope" if kind == "gyro" else "accelerometer")
         ax.grid(True, which="both", alpha=0.3)
         ax.legend()
-    fig.tight_layout()
     return Figure(figure=fig, caption="Overlapping Allan deviation per axis (solid, band: "
                   f"{100 * result.axes[0].deviation.confidence:.1f} % interval) and the fitted "
                   "five-term model (dashed)", name="imu_allan")

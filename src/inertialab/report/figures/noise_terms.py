@@ -72,7 +72,6 @@ def allan_terms_figure(result, terms, *, unit_label: str | None = None, truth=No
     ax.set_ylabel(f"Allan deviation ({unit_label or terms.unit})")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=7, loc="best")
-    fig.tight_layout()
     return Figure(fig, "Allan deviation with intervals; the fitted sum over the fitted taus; "
                   "each term drawn only where it was read (dotted: upper bound); star: the "
                   "textbook B reading min(σ)/0.664.", name)
@@ -103,7 +102,6 @@ def gmwm_figure(fit, *, unit_label: str = "", name: str = "gmwm") -> Figure:
     ax.set_ylabel(f"wavelet variance ({unit_label}²)" if unit_label else "wavelet variance")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=7, loc="best")
-    fig.tight_layout()
     return Figure(fig, "Haar wavelet variance with intervals, the GMWM model selected by "
                   "the wavelet information criterion and each latent process.", name)
 

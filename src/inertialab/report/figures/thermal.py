@@ -1,8 +1,7 @@
 """Figures and report section of the ``thermal`` study (spec 000).
 
-Layouts use fixed margins (``subplots_adjust``), not ``tight_layout``, which redraws
-every tick label and cost ~40 % of this section's rendering time (cProfile, issue 18
-item 11). Figures are built from workflow results only: drift against temperature per input
+Layouts are computed once by :func:`inertialab.report.layout.fit` when the figure is
+written (issue 18 item 11). Figures are built from workflow results only: drift against temperature per input
 level before and after compensation (seed Figs. 2-4 and 9), test residuals per model,
 and the transfer to a second unit with its bootstrap band when there is one.
 """
@@ -57,8 +56,6 @@ def drift_figure(samples, d, *, title: str = "", band=None, name: str = "thermal
     a0.legend(fontsize=6, ncol=2, title="a_i", title_fontsize=7)
     if title:
         fig.suptitle(title, fontsize=10)
-    fig.subplots_adjust(left=0.07, right=0.985, bottom=0.13, top=0.84 if title else 0.9,
-                        wspace=0.22)
     return Figure(fig, f"Drift against temperature per input level, before and after "
                        f"compensation{': ' + title if title else ''}.", name=name)
 
@@ -74,7 +71,6 @@ def bias_figure(bsf, *, title: str = "", name: str = "thermal_bias") -> Figure:
     ax.set_ylabel(f"bias drift vs {bsf.reference_temp_c:g} °C (mg)")
     mx = np.nanmax(np.abs(bsf.bias_drift_mg))
     ax.set_title(f"{title + ': ' if title else ''}bias drift, max {mx:.3f} mg", fontsize=9)
-    fig.subplots_adjust(left=0.14, right=0.97, bottom=0.14, top=0.9)
     return Figure(fig, "Bias (mean of the 0° and 180° positions) against temperature, "
                        f"relative to {bsf.reference_temp_c:g} °C (seed Fig. 3).", name=name)
 
@@ -95,7 +91,6 @@ def scale_factor_figure(bsf, *, title: str = "", name: str = "thermal_scale_fact
     ax.set_title(f"{title + ': ' if title else ''}eq. 3 scale factor per input level, "
                  f"max |drift| {mx:.2f} mV/g", fontsize=9)
     ax.legend(fontsize=6, ncol=2, title="a_i", title_fontsize=7)
-    fig.subplots_adjust(left=0.12, right=0.97, bottom=0.13, top=0.9)
     return Figure(fig, "Scale factor (U - K0)/a_i (eq. 3) against temperature per input "
                        f"level, relative to {bsf.reference_temp_c:g} °C (seed Fig. 4).",
                   name=name)
@@ -122,9 +117,6 @@ def residual_figure(fit, name: str = "thermal_residuals") -> Figure:
         ax.axis("off")
     for ax in axes[:, 0]:
         ax.set_ylabel("residual (µg)", fontsize=8)
-    fig.subplots_adjust(left=0.09 if cols > 2 else 0.16, right=0.985,
-                        bottom=0.16 / rows + 0.02, top=1 - 0.1 / rows, wspace=0.12,
-                        hspace=0.55)
     return Figure(fig, f"Test residuals per model ({fit.config.split} split), colour = input "
                        "level a_i (blue -1 g, red +1 g).", name=name)
 

@@ -28,17 +28,16 @@ def sphere_figure(raw, corrected, g: float, *, title: str = "") -> Figure:
         ax.scatter(raw[:, i], raw[:, j], s=10, marker="x", color="tab:red", label="measured")
         ax.scatter(cor[:, i], cor[:, j], s=10, facecolors="none", edgecolors="tab:blue",
                    label="corrected")
-        ax.set_xlabel("xyz"[i] + " (m/s$^2$)")
-        ax.set_ylabel("xyz"[j] + " (m/s$^2$)")
+        ax.set_xlabel("xyz"[i] + " (m/s²)")
+        ax.set_ylabel("xyz"[j] + " (m/s²)")
         ax.set_aspect("equal", adjustable="datalim")
     axes[0].legend(fontsize=7, loc="lower left")
     fig.suptitle(title or "Static records on the sphere: measured vs corrected")
-    fig.tight_layout()
     return Figure(fig, "Record means before (x) and after (o) calibration in three projections; "
                   "the grey circle is |a| = g.", name="triaxial_sphere")
 
 
-def norm_error_figure(errors: dict, *, ylabel: str = "|a_hat| - g (m/s$^2$)",
+def norm_error_figure(errors: dict, *, ylabel: str = "|a_hat| - g (m/s²)",
                       name: str = "triaxial_norm_error", caption: str | None = None) -> Figure:
     """Per-record error curves, one line per method (``{label: array}``)."""
     fig, ax = plt.subplots(figsize=(8, 3.6))
@@ -49,7 +48,6 @@ def norm_error_figure(errors: dict, *, ylabel: str = "|a_hat| - g (m/s$^2$)",
     ax.set_xlabel("record")
     ax.set_ylabel(ylabel)
     ax.legend(fontsize=7)
-    fig.tight_layout()
     return Figure(fig, caption or "Norm error of each corrected record (field-mode check, "
                   "no references needed).", name=name)
 
@@ -65,9 +63,8 @@ def convergence_figure(histories: dict, *, floor: float = 1e-16) -> Figure:
                         label=m.upper() if k == 0 else None)
     ax.axhline(1e-10, color="0.4", ls="--", lw=0.7, label="target 1e-10")
     ax.set_xlabel("generation")
-    ax.set_ylabel("best J (m/s$^2$)$^2$")
+    ax.set_ylabel("best J ((m/s²)²)")
     ax.legend(fontsize=8)
-    fig.tight_layout()
     return Figure(fig, "Convergence of CS, ACS and PSO from shared initial populations "
                   "(objective S9, noise-free sphere, spec 002 §3.9).", name="triaxial_convergence")
 
@@ -104,7 +101,7 @@ def section(result) -> Section:
         sphere_figure(d["sphere_raw"], d["sphere_corrected"], d["g"],
                       title="turntable62-realistic: measured vs LM-S12 corrected"),
         norm_error_figure(d["norm_error"]),
-        norm_error_figure(d["vector_error"], ylabel="e_l (eq. 21, m/s$^2$)",
+        norm_error_figure(d["vector_error"], ylabel="e_l (eq. 21, m/s²)",
                           name="triaxial_vector_error",
                           caption="Eq.-21 vector error per turntable position (the paper's "
                                   "Fig. 7 comparison)."),
@@ -151,7 +148,6 @@ def sections_figure(t, acc, gyro, sections: dict, *, detection=None, title: str 
         ax.legend(fontsize=7, loc="upper right")
     axes[-1].set_xlabel("time (s)")
     fig.suptitle(title or "Ferraris session: sections")
-    fig.tight_layout()
     return Figure(fig, "The session's sections (blue: static faces, orange: turns) over the raw "
                   "channels; with detection, the two detector statistics over their thresholds "
                   "(rest = both below 1).", name="ferraris_sections")
@@ -175,7 +171,6 @@ def coverage_figure(directions, *, title: str = "") -> Figure:
     ax.set_xlabel("longitude of gravity-up in the sensor frame (deg)")
     ax.set_ylabel("latitude (deg)")
     ax.set_title(title or "Pose coverage on the sphere")
-    fig.tight_layout()
     return Figure(fig, "Gravity-up direction of every record in the sensor frame; gaps on the "
                   "sphere are directions no pose constrains.", name="triaxial_coverage")
 
@@ -199,12 +194,11 @@ def method_errors_figure(poses, *, title: str = "") -> Figure:
     ax.set_xticks(x)
     ax.set_xticklabels(labels, fontsize=7 if n <= 20 else 5, rotation=0 if n <= 20 else 90)
     ax.set_xlabel("face" if labels and labels[0][:1] in "+-" else "pose")
-    ylabel = ("eq. 21 vector error (m/s$^2$)" if col == "vector_error_mps2"
-              else "|a_hat| - g (m/s$^2$)")
+    ylabel = ("eq. 21 vector error (m/s²)" if col == "vector_error_mps2"
+              else "|a_hat| - g (m/s²)")
     ax.set_ylabel(ylabel)
     ax.legend(fontsize=7, ncol=min(len(methods), 6))
     ax.set_title(title or "Error per pose and method")
-    fig.tight_layout()
     what = ("eq. 21 vector error |r - a_hat| against the records' references"
             if col == "vector_error_mps2" else "norm error |a_hat| - g (no references)")
     return Figure(fig, f"Each pose's {what}, one bar per method (paper Fig. 8, six-face "

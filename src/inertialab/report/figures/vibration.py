@@ -15,21 +15,10 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
+from inertialab.report.decimate import plot_m4
 from inertialab.report.section import Figure, Section, Table
 
 TERMS = ("Q", "N", "B", "K", "R")
-
-
-def _decimate(t, x, n_max=4000):
-    """Block min/max envelope for plotting long records (keeps spikes visible)."""
-    n = x.size
-    if n <= 2 * n_max:
-        return t, x
-    k = n // n_max
-    m = (n // k) * k
-    xb = x[:m].reshape(-1, k)
-    tb = t[:m].reshape(-1, k)[:, 0]
-    return np.repeat(tb, 2), np.column_stack([xb.min(1), xb.max(1)]).ravel()
 
 
 def _shade(ax, fs, k_on, k_off):
@@ -46,16 +35,13 @@ def _fig_record(res):
             continue
         fs = d["fs_hz"]
         t = np.arange(d["rate"].size) / fs
-        tt, xx = _decimate(t, d["rate"])
-        ax.plot(tt, xx, lw=0.4, color="0.5", label="raw rate")
-        ta, xa = _decimate(t, d["approx"])
-        ax.plot(ta, xa, lw=0.8, color="tab:blue", label=f"A{res.level}")
+        plot_m4(ax, t, d["rate"], lw=0.4, color="0.5", label="raw rate")
+        plot_m4(ax, t, d["approx"], lw=0.8, color="tab:blue", label=f"A{res.level}")
         _shade(ax, fs, d["k_on"], d["k_off"])
         ax.set_ylabel("rate [deg/h]")
         ax.set_title(f"{name} run: P1 static, P2 vibration, P3 static")
         ax.legend(loc="upper right", fontsize=7)
     axes[-1].set_xlabel("time [s]")
-    fig.tight_layout()
     return Figure(fig, "Records of the sweep (E1) and 500-Hz (E2) runs with their phases "
                        "(seed Fig. 1) and the level-L approximation.", "record")
 
@@ -79,7 +65,6 @@ def _fig_scalogram(res):
     ax.set_ylabel("frequency [Hz]")
     fig.colorbar(im, ax=ax, label="|W|^2 [dB re (deg/h)^2]")
     ax.set_title("CWT scalogram (cmor1.5-1.0), fixed-frequency run")
-    fig.tight_layout()
     return Figure(fig, "CWT scalogram of the 500-Hz run (seed Fig. 2c): P1 quiet, P2 "
                        "high-frequency energy (the 500-Hz drive aliases to 100 Hz at "
                        "fs = 200 Hz), P3 quiet again.", "scalogram")
@@ -99,7 +84,6 @@ def _fig_spectra(res):
     ax.set_ylabel("ASD [(deg/h)/sqrt(Hz)]")
     ax.legend(fontsize=7)
     ax.set_title("Welch amplitude spectrum per phase (dotted: aliases of the drive harmonics)")
-    fig.tight_layout()
     return Figure(fig, "FFT (Welch) view per phase (seed Fig. 2a): vibration raises the "
                        "high-frequency noise.", "spectra")
 
@@ -117,7 +101,6 @@ def _fig_emd(res):
         axes[i + 1].set_ylabel(f"IMF{i + 1}")
     axes[-1].set_xlabel("time [s]")
     axes[0].set_title(f"EMD of a window at the vibration onset ({e['backend']} sifting)")
-    fig.tight_layout()
     return Figure(fig, "EMD around the vibration onset (seed Fig. 2b): the IMFs mix modes on "
                        "this noisy signal, which is why the seed turns to the CWT.", "emd")
 
@@ -135,14 +118,12 @@ def _fig_levels(res):
         for col, (sig, lab) in enumerate(((dec.approximation(j), f"A{j}"),
                                           (dec.detail(j), f"D{j}"))):
             ax = axes[i, col] if len(levels) > 1 else axes[col]
-            tt, xx = _decimate(t, sig, 2000)
-            ax.plot(tt, xx, lw=0.5)
+            plot_m4(ax, t, sig, lw=0.5)
             _shade(ax, fs, d["k_on"], d["k_off"])
             ax.set_ylabel(lab, fontsize=8)
             ax.tick_params(labelsize=7)
     fig.suptitle(f"db4 decomposition of the {d['run']} run (approximations and details)",
                  fontsize=9)
-    fig.tight_layout()
     return Figure(fig, "Mallat db4 decomposition (seed Figs. 3-4): low levels carry drift and "
                        "noise; at high levels P2 keeps the vibration bias.", "levels")
 
@@ -162,18 +143,15 @@ def _fig_separation(res):
     panels = ((x, f"raw x and bias signal A{L}", "0.5"), (dec.detail(1), "D1", "tab:purple"),
               (x - a, f"drift + noise x - A{L}", "tab:green"))
     for ax, (sig, lab, c) in zip(axes, panels):
-        tt, xx = _decimate(t, sig)
-        ax.plot(tt, xx, lw=0.4, color=c, label=lab)
+        plot_m4(ax, t, sig, lw=0.4, color=c, label=lab)
         if lab.startswith("raw"):
-            ta, xa = _decimate(t, a)
-            ax.plot(ta, xa, lw=1.0, color="tab:blue", label=f"A{L}")
+            plot_m4(ax, t, a, lw=1.0, color="tab:blue", label=f"A{L}")
         _shade(ax, fs, d["k_on"], d["k_off"])
         ax.set_ylabel("deg/h", fontsize=8)
         ax.legend(fontsize=7, loc="upper right")
     axes[-1].set_xlabel("time [s]")
     fig.suptitle(f"Separation of the {d['run']} run (seed Fig. 4): A{L}, D1 and x - A{L}",
                  fontsize=9)
-    fig.tight_layout()
     return Figure(fig, f"Seed Fig. 4 analogue: the level-{L} approximation is the bias "
                        f"signal; D1 (the finest detail) and x - A{L} (D1 + ... + D{L}) carry "
                        "the drift and noise.", "separation")
@@ -193,12 +171,10 @@ def _fig_waterfall(res):
     for j in levels:
         sig = dec.detail(j)
         scale = np.max(np.abs(sig)) or 1.0
-        tt, xx = _decimate(t, sig / scale * 0.45, 1500)
-        ax.plot(tt, xx + j, lw=0.4, color=plt.cm.viridis(j / (dec.level + 1)))
+        plot_m4(ax, t, sig / scale * 0.45 + j, lw=0.4, color=plt.cm.viridis(j / (dec.level + 1)))
     a = dec.approximation(dec.level)
     a = (a - np.median(a)) / ((np.max(np.abs(a - np.median(a)))) or 1.0) * 0.45
-    tt, xx = _decimate(t, a, 1500)
-    ax.plot(tt, xx + dec.level + 1, lw=0.8, color="k")
+    plot_m4(ax, t, a + dec.level + 1, lw=0.8, color="k")
     ax.set_yticks(levels + [dec.level + 1])
     ax.set_yticklabels([f"D{j}" for j in levels] + [f"A{dec.level}"], fontsize=7)
     _shade(ax, fs, sw["k_on"], sw["k_off"])
@@ -209,13 +185,21 @@ def _fig_waterfall(res):
         if on.any():
             ticks = [p for p in (1, 10, 100, 500) if f[on].min() <= p <= f[on].max()]
             pos = [float(np.argmin(np.abs(np.where(on, f, np.inf) - p))) / fs for p in ticks]
+            # a fast sweep reaches 100 and 500 Hz within seconds: drop a label that would
+            # touch the previous one (7-pt characters ~0.06 in wide, axes ~85 % of the width)
+            per_in = np.ptp(ax.get_xlim()) / (0.85 * fig.get_figwidth())
+            names = [f"{p} Hz" for p in ticks]
+            keep = [0] if pos else []
+            for i in range(1, len(pos)):
+                need = (0.06 * (len(names[i]) + len(names[keep[-1]])) / 2 + 0.08) * per_in
+                if pos[i] - pos[keep[-1]] >= need:
+                    keep.append(i)
             ax2.set_xlim(ax.get_xlim())
-            ax2.set_xticks(pos)
-            ax2.set_xticklabels([f"{p} Hz" for p in ticks], fontsize=7)
+            ax2.set_xticks([pos[i] for i in keep])
+            ax2.set_xticklabels([names[i] for i in keep], fontsize=7)
     ax.set_xlabel("time [s]")
     ax.set_title("Sweep run: db4 details by level (waterfall; each trace normalised)",
                  fontsize=9)
-    fig.tight_layout()
     return Figure(fig, "Waterfall of the sweep's decomposition (seed Fig. 3): where each level "
                        "responds as the drive frequency (top axis) rises.", "sweep_waterfall")
 
@@ -236,7 +220,6 @@ def _fig_bias(res):
     ax.set_ylabel("bias error [deg/h]")
     ax.legend(fontsize=8)
     ax.set_title("Bias error versus vibration frequency")
-    fig.tight_layout()
     return Figure(fig, "RBF network versus 4th-order polynomial on the bias-vs-frequency "
                        "targets of the sweep (seed Fig. 6).", "bias_curve")
 
@@ -251,14 +234,12 @@ def _fig_compensated(res):
     for key, lab, c in (("approx", f"denoised A{res.level}", "tab:blue"),
                         ("poly", "polynomial-compensated", "tab:green"),
                         ("rbf", "RBF-compensated", "tab:red")):
-        tt, xx = _decimate(t, d[key])
-        ax.plot(tt, xx, lw=0.6, color=c, label=lab)
+        plot_m4(ax, t, d[key], lw=0.6, color=c, label=lab)
     _shade(ax, fs, d["k_on"], d["k_off"])
     ax.set_xlabel("time [s]")
     ax.set_ylabel("rate [deg/h]")
     ax.legend(fontsize=8)
     ax.set_title("Fixed 500-Hz run after denoising and compensation")
-    fig.tight_layout()
     return Figure(fig, "Compensation of the 500-Hz run (seed Figs. 7-8): the offset of P2 is "
                        "removed except near the vibration edges.", "compensated")
 
