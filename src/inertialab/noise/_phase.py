@@ -51,9 +51,53 @@ CHECKPOINT = 1 << 14
 def _chunked_mean(y: np.ndarray) -> float:
     """Mean in float64 as the sum of per-chunk sums (same order for every path)."""
     total = 0.0
+    rel = _Releaser(y)
     for s in range(0, y.size, CHUNK):
         total += float(np.sum(y[s:s + CHUNK], dtype=np.float64))
+        rel(s + CHUNK)
     return total / y.size
+
+
+class _Releaser:
+    """Drops the pages of a memory-mapped 1-D array from this process's mapping once they
+    have been read (``madvise(MADV_DONTNEED)``; the data stay in the page cache and are
+    read again on access), so an out-of-core pass over a file larger than memory does not
+    keep it resident in the process. A no-op for anything but a contiguous, read-only
+    ``np.memmap`` (or where the platform lacks ``madvise``)."""
+
+    def __init__(self, y):
+        self.mm = None
+        try:
+            import mmap
+
+            mm = getattr(y, "_mmap", None)
+            if (mm is None or not y.flags.c_contiguous or y.flags.writeable
+                    or not hasattr(mm, "madvise")):
+                return  # read-only maps only (a copy-on-write map would lose its edits)
+            base = np.frombuffer(mm, dtype=np.uint8)
+            start = base.ctypes.data
+            del base
+            self.off = y.ctypes.data - start  # byte offset of y[0] in the mapping
+            if not 0 <= self.off <= len(mm):
+                return
+            self.mm, self.item, self.page = mm, y.itemsize, mmap.PAGESIZE
+            self.advice = mmap.MADV_DONTNEED
+            self.done = 0
+        except (AttributeError, TypeError, ValueError, OSError, ImportError):
+            self.mm = None
+
+    def __call__(self, upto: int) -> None:
+        """Release the pages holding ``y[:upto]`` (whole pages only)."""
+        if self.mm is None:
+            return
+        end = (self.off + upto * self.item) // self.page * self.page
+        end = min(end, len(self.mm) // self.page * self.page)
+        if end > self.done:
+            try:
+                self.mm.madvise(self.advice, self.done, end - self.done)
+                self.done = end
+            except (OSError, ValueError):
+                self.mm = None
 
 
 class _PhaseArray:
@@ -173,6 +217,7 @@ class _PhaseFromRate:
         lo = hi = None
         prev = comp = 0.0
         u = np.empty(min(CHUNK, max(y.size, 1)))
+        rel = _Releaser(y) if spill else None  # spilled: y is not read again
         for s in range(0, y.size, CHUNK):  # CHUNK is a multiple of CHECKPOINT
             e = min(s + CHUNK, y.size)
             w = u[:e - s]
@@ -194,6 +239,7 @@ class _PhaseFromRate:
                     self.gathered[m][a:b] = w[idx[a:b] - s - 1]
             if self._f is not None:
                 w.tofile(self._f)
+                rel(e)
         if self._f is not None:
             self._f.flush()
         self.ck = ck
