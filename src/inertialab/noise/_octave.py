@@ -17,9 +17,10 @@ one copy of the input and no statistic re-reads the record from scratch per tau:
   m-average of the second differences at m is ``B_{i+m} - B_i`` and ``B(2m)_i = B_i +
   2 B_{i+m} + B_{i+2m}`` (one pass per octave, no cumulative sum of the whole record).
 * total deviation: the summands whose centre is at least m from both ends are the
-  overlapping Allan ones; the ``2(m-1)`` others reach into the reflected extension and are
-  taken from the first and last 2m angle points (``edges``), so the 3N-point extension is
-  never built.
+  overlapping Allan ones (returned here); the ``2(m-1)`` others reach into the reflected
+  extension and are added by the caller from the first and last 2m angle points
+  (:func:`totdev_edge_sum`, after the working array is freed), so the 3N-point extension
+  is never built.
 
 Updates run over ascending blocks of ``OCT_BLOCK`` entries; a block's results are read
 before they are written and later blocks read only entries not yet updated. The sums are
@@ -64,8 +65,7 @@ def n_terms(statistic: str, nx: int, m: int) -> int:
     return nx - 2  # totdev
 
 
-def octave_sums(d: np.ndarray, statistic: str, ms: np.ndarray, *, edges=None,
-                decimate: int = 0):
+def octave_sums(d: np.ndarray, statistic: str, ms: np.ndarray, *, decimate: int = 0):
     """Sums of squares of ``statistic``'s filter outputs at each m of ``ms`` (powers of 2).
 
     Parameters
@@ -75,8 +75,6 @@ def octave_sums(d: np.ndarray, statistic: str, ms: np.ndarray, *, edges=None,
     statistic : str
     ms : ndarray of int
         Ascending powers of two.
-    edges : callable, optional
-        ``edges(start, length) -> angle points`` (totdev only; the reflected summands).
     decimate : int, default 0
         When > 0, also return per m the central ``decimate`` (at most) decimated angle
         points ``x_{start + k m}`` (up to a constant) for the noise identification,
@@ -183,20 +181,15 @@ def octave_sums(d: np.ndarray, statistic: str, ms: np.ndarray, *, edges=None,
                 b1 = min(b0 + B, nxt)
                 np.add(d[b0:b1], d[b0 + m:b1 + m], out=d[b0:b1])
         if m in want:
-            if statistic == "totdev":
-                s = max(s, 0.0) + totdev_edge_sum(edges, nx, m)
             sums[pos[m]] = s
         if not more:
-            if statistic == "totdev":  # m beyond the overlapping range: edges only
-                for mm in (int(v) for v in ms if v > m):
-                    sums[pos[mm]] = totdev_edge_sum(edges, nx, mm)
-            break
+            break  # (totdev: the larger m have no interior summands)
         nd = nxt
         m *= 2
     return sums, nt, dec
 
 
-def decimated_points(d: np.ndarray, ms, max_points: int, chunk: int = 1 << 20) -> dict:
+def decimated_points(d: np.ndarray, ms, max_points: int, chunk: int = 1 << 16) -> dict:
     """For each m, the central ``max_points`` (at most) decimated angle points
     ``x_{start + k m} - x_start`` of the increments ``d`` (``x_0 = 0``, ``x_{i+1} = x_i +
     d_i``), gathered in one pass of chunked cumulative sums (no angle array)."""
@@ -244,43 +237,44 @@ def totdev_edge_sum(window, nx: int, m: int) -> float:
     """Sum of the squared TOTDEV summands (centre c = 1 .. nx-2, lag m) whose neighbours
     ``c - m`` or ``c + m`` fall outside 0 .. nx-1 and are taken from the reflected
     extension ``x*_{-j} = 2 x_0 - x_j``, ``x*_{nx-1+j} = 2 x_{nx-1} - x_{nx-1-j}``
-    (NIST SP 1065 §5.2.11). ``window(start, length)`` returns angle points; only the
-    first and last 2m points are read (the whole record when 2m >= nx)."""
-    if 2 * m >= nx:  # every summand touches the extension
-        x = np.asarray(window(0, nx), dtype=np.float64)
-        return _edge_terms(x, 0, nx, m, 1, nx - 1)
-    xl = np.asarray(window(0, 2 * m), dtype=np.float64)  # centres 1 .. m-1
-    s = nx - 2 * m
-    xr = np.asarray(window(s, 2 * m), dtype=np.float64)  # centres nx-m .. nx-2
-    return _edge_terms(xl, 0, nx, m, 1, m) + _edge_terms(xr, s, nx, m, nx - m, nx - 1)
-
-
-def _edge_terms(x: np.ndarray, off: int, nx: int, m: int, c0: int, c1: int) -> float:
-    """Sum over centres c in [c0, c1) of ``(x*_{c-m} - 2 x_c + x*_{c+m})^2``; ``x`` holds
-    the angle points ``off .. off + x.size - 1`` (it starts at 0 where a left reflection
-    is needed and ends at nx-1 where a right one is). Contiguous (reversed) slices only:
-    the centres are split where the left and the right neighbour enter the extension."""
+    (NIST SP 1065 §5.2.11). ``window(start, length)`` returns angle points; the summands
+    are taken in blocks of ``OCT_BLOCK`` centres from contiguous (reversed) windows, so
+    the extension is never built and the temporaries stay block-sized."""
+    x0 = float(window(0, 1)[0])
+    xn = float(window(nx - 1, 1)[0])
     total = 0.0
-    cuts = sorted({c0, c1, min(max(m, c0), c1), min(max(nx - m, c0), c1)})
-    for a, b in zip(cuts[:-1], cuts[1:]):
-        if b <= a:
-            continue
-        lref, rref = a < m, b - 1 > nx - 1 - m
-        v = x[a - off:b - off] * -2.0
-        if lref:  # x*_{c-m} = 2 x_0 - x_{m-c}
-            v -= x[m - b + 1 - off:m - a + 1 - off][::-1]
-        else:
-            v += x[a - m - off:b - m - off]
-        if rref:  # x*_{c+m} = 2 x_{nx-1} - x_{2(nx-1)-c-m}
-            q = 2 * (nx - 1) - m
-            v -= x[q - b + 1 - off:q - a + 1 - off][::-1]
-        else:
-            v += x[a + m - off:b + m - off]
-        const = (2.0 * float(x[0]) if lref else 0.0) + (2.0 * float(x[-1]) if rref else 0.0)
-        if const:
-            v += const
-        total += _sumsq(v)
+    lo_end = min(m, nx - 1)  # left-reflected centres: 1 .. m-1
+    hi_start = max(nx - m, 1)  # right-reflected centres: nx-m .. nx-2
+    ranges = [(1, lo_end), (max(hi_start, lo_end), nx - 1)]
+    for c0, c1 in ranges:
+        cuts = sorted({c0, c1, min(max(m, c0), c1), min(max(nx - m, c0), c1)})
+        for a0, b0 in zip(cuts[:-1], cuts[1:]):
+            for a in range(a0, b0, OCT_BLOCK):
+                total += _edge_terms(window, x0, xn, nx, m, a, min(a + OCT_BLOCK, b0))
     return total
+
+
+def _edge_terms(window, x0: float, xn: float, nx: int, m: int, a: int, b: int) -> float:
+    """Sum over centres c in [a, b) of ``(x*_{c-m} - 2 x_c + x*_{c+m})^2``, the centres on
+    one side of both reflection points (``a < m`` iff ``b - 1 < m``, likewise for
+    ``nx - 1 - m``), from contiguous (reversed) windows."""
+    if b <= a:
+        return 0.0
+    lref, rref = a < m, b - 1 > nx - 1 - m
+    v = np.multiply(window(a, b - a), -2.0)
+    if lref:  # x*_{c-m} = 2 x_0 - x_{m-c}
+        v -= window(m - b + 1, b - a)[::-1]
+    else:
+        v += window(a - m, b - a)
+    if rref:  # x*_{c+m} = 2 x_{nx-1} - x_{2(nx-1)-c-m}
+        q = 2 * (nx - 1) - m
+        v -= window(q - b + 1, b - a)[::-1]
+    else:
+        v += window(a + m, b - a)
+    const = (2.0 * x0 if lref else 0.0) + (2.0 * xn if rref else 0.0)
+    if const:
+        v += const
+    return _sumsq(v)
 
 
 # ----------------------------------------------------------------------------- any m

@@ -2,9 +2,8 @@
 of a rate record read in chunks (issue 15 item 5: "the out-of-core path at most 2x the
 in-memory CPU, with identical numbers to 1e-12").
 
-The angle is never held whole: :class:`inertialab.noise._phase._PhaseFromRate` recomputes
-any window from its checkpoints with the same sequential recurrence as the in-memory angle.
-Two sweeps keep the number of recomputed windows small:
+The angle is never held whole: :class:`inertialab.noise._phase._PhaseFromRate` (spilled to
+a temporary file) returns any window. Two sweeps keep the number of windows read small:
 
 * **small m** (the taps of a block of ``L`` summands fit one window of ``L + q m`` points,
   q = 2 Allan, 3 Hadamard): one sweep over the record computes each window once and
@@ -128,126 +127,6 @@ def _tap_windows(src, m: int, cnt: int, q: int, L: int, bufs) -> float:
         taps = [src.window(b0 + j * m, n) for j in range(q + 1)]
         total += _combine_sumsq(taps, q, bufs)
     return total
-
-
-class Centered:
-    """``y - mean`` in float64, sliceable like an array (for the chunked gathers)."""
-
-    def __init__(self, y: np.ndarray, mean: float):
-        self.y, self.mean, self.size = y, mean, y.size
-
-    def __getitem__(self, sl):
-        return np.subtract(self.y[sl], self.mean, dtype=np.float64)
-
-
-class PhaseSpill:
-    """Angle of a (memory-mapped) rate record, computed once and spilled to a temporary
-    file (8 bytes per sample in the temporary directory, deleted on :meth:`close`).
-
-    One pass computes the mean, a second the angle: cumulative sums within runs of
-    ``SUB`` points, each added to its run's starting angle, the run starts from the runs'
-    pairwise sums and the chunk starts as a compensated sum (a plain running cumulative
-    sum drifts coherently, which was measured as 2.5e-13 relative at the largest tau of a
-    1e7-point OADEV; with the runs the out-of-core numbers agree with the in-memory ones,
-    which difference the rate and do not drift, to ~1e-14). Windows are then read back instead of recomputed: a
-    cumulative sum costs ~4 ns per point (latency bound) against ~1 ns to read a point
-    back, and it was the largest cost of the out-of-core path. The same pass gathers the decimated
-    points ``x_{start + k m}`` asked for in ``gather`` (m -> sorted indices).
-    Memory: one chunk.
-    """
-
-    def __init__(self, y: np.ndarray, tau0: float, gather: dict | None = None,
-                 chunk: int = CHUNK):
-        import tempfile
-
-        from inertialab.noise._phase import _chunked_mean
-
-        self.n = y.size + 1
-        self.mean = _chunked_mean(y)
-        self._f = tempfile.TemporaryFile()
-        gather = gather or {}
-        self.gathered = {m: np.empty(idx.size) for m, idx in gather.items()}
-        for m, idx in gather.items():
-            self.gathered[m][idx == 0] = 0.0
-        x0 = np.zeros(1)
-        x0.tofile(self._f)
-        prev = comp = 0.0
-        lo = hi = None
-        u = np.empty(min(chunk, max(y.size, 1)))
-        for s in range(0, y.size, chunk):
-            e = min(s + chunk, y.size)
-            w = u[:e - s]
-            np.subtract(y[s:e], self.mean, out=w, dtype=np.float64)
-            bmin, bmax = float(w.min()), float(w.max())
-            lo = bmin if lo is None else min(lo, bmin)
-            hi = bmax if hi is None else max(hi, bmax)
-            w *= tau0
-            block_sum = float(np.sum(w))  # pairwise
-            _local_prefix(w, prev + comp)  # x_{s+1} .. x_e
-            prev, comp = _neumaier(prev, comp, block_sum)
-            w.tofile(self._f)
-            for m, idx in gather.items():
-                a, b = np.searchsorted(idx, [s + 1, e + 1])
-                if b > a:
-                    self.gathered[m][a:b] = w[idx[a:b] - s - 1]
-        self._f.flush()
-        self.constant = bool(lo == hi)
-
-    def window(self, start: int, length: int, step: int = 1, out=None) -> np.ndarray:
-        """Angle points ``x[start + step*i]``, ``i < length`` (read back from the file;
-        into ``out[:length]`` when given: a reused buffer costs no page faults)."""
-        if step == 1:
-            out = np.empty(length) if out is None else out[:length]
-            self._f.seek(8 * start)
-            self._f.readinto(memoryview(out).cast("B"))
-            return out
-        out = np.empty(length)
-        per = max(1, CHUNK // step)
-        for a in range(0, length, per):
-            b = min(a + per, length)
-            span = self.window(start + a * step, (b - a - 1) * step + 1)
-            out[a:b] = span[::step]
-        return out
-
-    def close(self) -> None:
-        self._f.close()
-
-
-#: Run length of the local cumulative sums of :class:`PhaseSpill`.
-SUB = 4096
-
-
-def _local_prefix(w: np.ndarray, start: float) -> None:
-    """In place: ``w`` (increments) -> ``start + cumsum(w)``, the cumulative sums taken
-    within runs of ``SUB`` points and the runs' starts from their pairwise sums."""
-    k = w.size // SUB
-    if k:
-        W = w[:k * SUB].reshape(k, SUB)
-        sub = W.sum(axis=1)
-        np.cumsum(W, axis=1, out=W)
-        off = np.empty(k + 1)
-        off[0] = 0.0
-        np.cumsum(sub, out=off[1:])
-        off += start
-        W += off[:k, None]
-        tail_start = float(off[k])
-    else:
-        tail_start = start
-    t = w[k * SUB:]
-    if t.size:
-        np.cumsum(t, out=t)
-        t += tail_start
-
-
-def _neumaier(total: float, comp: float, v: float) -> tuple[float, float]:
-    """Compensated addition (Neumaier): ``(total + v, compensation)``; the value is
-    ``total + comp``."""
-    t = total + v
-    if abs(total) >= abs(v):
-        comp += (total - t) + v
-    else:
-        comp += (v - t) + total
-    return t, comp
 
 
 def gather_indices(nx: int, ms, max_points: int) -> dict:

@@ -17,11 +17,13 @@ degrees of freedom and the chi-square interval at ``confidence`` (default 0.683)
 
 Why hand-written: allantools (LGPL, a test dependency only) computes the same numbers
 but allocates several arrays of the record's size per tau and has neither IMU terms nor
-complete intervals. Here every per-tau sum runs over cache-sized blocks of one float64
-angle array with reused buffers (no temporary of size n), which is about one memory
-pass per tau; the same kernel reads a memory-mapped record too large for memory in
-chunks (:func:`oadev_chunked` and ``chunked=True``), recomputing the angle from
-checkpoints so that both paths produce the same angle values bit for bit.
+complete intervals. Here octave taus run on lag-doubling kernels that update one working
+array of first differences in place (:mod:`inertialab.noise._octave`; the only extra
+memory is that copy), other taus on per-m kernels with reused buffers, and the noise
+identification, EDF and intervals are evaluated for all taus at once (issue 15 item 5).
+A record too large for memory is read in chunks (:func:`oadev_chunked` and
+``chunked=True``): its angle is computed once and spilled to a temporary file
+(:mod:`inertialab.noise._stream`); the results equal the in-memory ones to ~1e-15.
 
 References
 ----------
@@ -37,7 +39,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from inertialab.errors import InputError
-from inertialab.noise import _octave
+from inertialab.noise import _octave, _phase
 from inertialab.noise._octave import is_octave
 from inertialab.noise._phase import (  # noqa: F401 - phase_window is public API here too
     BLOCK,
@@ -401,7 +403,7 @@ def deviation(statistic: str, data, *, rate_hz: float, taus="octave", input: str
 
         gather = (_stream.gather_indices(arr.size + 1, ms, _ident.MAX_POINTS)
                   if alpha is None else None)
-        src = _stream.PhaseSpill(arr, tau0, gather)
+        src = _phase._PhaseFromRate(arr, tau0, spill=True, gather=gather)
         try:
             _check_not_constant(src)
             if statistic in _stream.STREAM_STATS:
@@ -439,11 +441,15 @@ def deviation(statistic: str, data, *, rate_hz: float, taus="octave", input: str
                 scale = 1.0
                 src = _angle_source(x)
             want = _ident.MAX_POINTS if (alpha is None and input == "rate") else 0
-            sums, nt, decimated = _octave.octave_sums(
-                d, statistic, ms, edges=lambda a, n: src.window(a, n) / scale,
-                decimate=want)
-            del d
-            var = _normalise(statistic, sums * (scale * scale), ms, nt, tau0)
+            sums, nt, decimated = _octave.octave_sums(d, statistic, ms, decimate=want)
+            del d  # the working copy; totdev's reflected summands read the angle
+            sums = sums * (scale * scale)
+            if statistic == "totdev":
+                xf = x if input == "angle" else _rate_to_phase(arr, tau0, mean)
+                sums += [_octave.totdev_edge_sum(lambda a, n: xf[a:a + n], xf.size, int(m))
+                         for m in ms]
+                del xf
+            var = _normalise(statistic, sums, ms, nt, tau0)
         else:
             if input == "rate":
                 src = _make_source(arr, rate_hz, input, False)

@@ -4,7 +4,7 @@
 in a ``.npy`` file, memory-mapped by each task: a parallel pass of per-chunk sums gives
 the mean exactly as :mod:`inertialab.noise.allan` forms it, one sequential pass stores the
 angle at every chunk boundary (the same recurrence as the noise core, so the angle values
-are bit-identical), and then tasks of ``(summand range, tau)`` sum the squared second
+agree to a few units of the last place), and then tasks of ``(summand range, tau)`` sum the squared second
 differences in parallel. Only the order in which the partial sums are added differs from
 the serial path, so the deviations agree to about 1e-15 relative (tested at 1e-12). The
 noise type, EDF and confidence interval come from the noise core's functions on the same
@@ -64,7 +64,7 @@ def open_client(scheduler: str = "local", workers: int = 2):
 
 class _NpyPhase:
     """Angle points of a ``.npy`` rate log, recomputed from chunk checkpoints exactly as
-    :class:`inertialab.noise.allan` does (so values are bit-identical to its angle).
+    :class:`inertialab.noise.allan` does (values equal its angle's to a few ulps).
     Pickles as the file path: each Dask task memory-maps the file itself."""
 
     def __init__(self, path: str, tau0: float, mean: float, ck: np.ndarray, chunk: int):
@@ -111,13 +111,16 @@ def _chunk_sums(path: str, c0: int, c1: int, chunk: int) -> list[float]:
 
 
 def _checkpoints(path: str, mean: float, tau0: float, chunk: int) -> tuple[np.ndarray, bool]:
-    """Angle at every chunk boundary (the noise core's sequential recurrence) and
-    whether the data are constant."""
+    """Angle at every chunk boundary (the noise core's compensated sum of the chunks'
+    pairwise sums, :func:`inertialab.noise._phase._rate_to_phase`) and whether the data
+    are constant."""
     y = np.load(path, mmap_mode="r")
     y = y[:, 0] if y.ndim == 2 else y
+    from inertialab.noise._phase import _neumaier
+
     ck = np.empty(y.size // chunk + 2, dtype=np.float64)
     ck[0] = 0.0
-    x_prev = 0.0
+    prev = comp = 0.0
     lo = hi = None
     for i, s in enumerate(range(0, y.size, chunk)):
         u = np.subtract(y[s:s + chunk], mean, dtype=np.float64)
@@ -125,9 +128,8 @@ def _checkpoints(path: str, mean: float, tau0: float, chunk: int) -> tuple[np.nd
         lo = bmin if lo is None else min(lo, bmin)
         hi = bmax if hi is None else max(hi, bmax)
         u *= tau0
-        u[0] += x_prev
-        x_prev = float(np.cumsum(u)[-1])
-        ck[i + 1] = x_prev
+        prev, comp = _neumaier(prev, comp, float(np.sum(u)))  # as _rate_to_phase
+        ck[i + 1] = prev + comp
     return ck, bool(lo == hi)
 
 
@@ -185,7 +187,7 @@ def oadev_dask(path, *, rate_hz: float, taus="octave", client=None, scheduler: s
         An open client; else one is opened with ``scheduler``/``workers``.
     chunk : int, optional
         Checkpoint spacing in samples (default: the noise core's ``CHUNK``, which the
-        bit-identical angle needs).
+        angle recurrence needs: windows start at checkpoints).
     range_chunks : int, default 8
         Summands per task, in chunks.
     confidence, alpha, edf_method

@@ -61,7 +61,7 @@ def lag1_alpha(z: np.ndarray, *, dmax: int = 2, data_type: str = "phase") -> flo
     theta = 1 if data_type == "phase" else 0
     d = 0
     while True:
-        zc = z - z.mean()
+        zc = z - np.add.reduce(z) / z.size  # = z.mean(), without its Python overhead
         den = float(np.dot(zc, zc))
         r1 = float(np.dot(zc[:-1], zc[1:]) / den) if den > 0 else 0.0
         delta = r1 / (1.0 + r1)
