@@ -123,6 +123,25 @@ def _section_job(i: int):
     return i, sec, [(str(w.message), w.category, w.filename, w.lineno) for w in caught], None
 
 
+def _warm_up(results) -> None:
+    """Import matplotlib and the figure modules and draw one small figure here, before
+    the fork, so that each drawing process inherits the loaded fonts and modules instead
+    of loading them again."""
+    import matplotlib.pyplot as plt
+
+    from inertialab.report.html import figure_png
+
+    for r in results:
+        with contextlib.suppress(ModuleNotFoundError):
+            importlib.import_module(f"inertialab.report.figures.{r.name}")
+    fig, ax = plt.subplots(figsize=(2.0, 1.5))
+    ax.plot([1.0, 10.0], [1.0, 10.0])
+    ax.set_yscale("log")
+    ax.set_title("warm-up", fontsize=9)
+    ax.set_xlabel("x")
+    figure_png(fig)
+
+
 def draw_sections(results: list[StudyResult], *, jobs: int | None = None) -> list[Section]:
     """The report sections of ``results`` in order, figures drawn to PNG.
 
@@ -139,11 +158,7 @@ def draw_sections(results: list[StudyResult], *, jobs: int | None = None) -> lis
                 out.append(section_for(r))
                 collected()
         return out
-    import matplotlib.pyplot  # noqa: F401 - imported once, before the fork
-
-    for r in results:  # figure modules too, so that no process imports them again
-        with contextlib.suppress(ModuleNotFoundError):
-            importlib.import_module(f"inertialab.report.figures.{r.name}")
+    _warm_up(results)
     order = sorted(range(len(results)), key=lambda i: -_COST_HINT.get(results[i].name, 1))
     global _PENDING
     _PENDING = list(results)

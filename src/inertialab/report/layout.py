@@ -93,15 +93,18 @@ class _Ruler:
         self.dpi = fig.dpi
         self.t = Text(0, 0, "")
         self.t.set_figure(fig)
+        self._like = None
 
     def size(self, s: str, like: Text) -> tuple[float, float]:
         if not s:
             return 0.0, 0.0
         t = self.t
+        if self._like is not like:
+            t.set_fontproperties(like.get_fontproperties())
+            t.set_rotation(like.get_rotation())
+            t.set_linespacing(like.get_linespacing())
+            self._like = like
         t.set_text(s)
-        t.set_fontproperties(like.get_fontproperties())
-        t.set_rotation(like.get_rotation())
-        t.set_linespacing(like.get_linespacing())
         bb = t.get_window_extent(self.renderer)
         return bb.width / self.dpi, bb.height / self.dpi
 
@@ -136,14 +139,18 @@ def _tick_side_extents(axis, ruler: _Ruler) -> dict:
         tick = ticks[0]
         out_len = tick.get_tick_padding() / 72.0
         pad = (tick.get_pad() + tick.get_tick_padding()) / 72.0
-        w = h = 0.0
-        sizes = []
-        for _loc, lab in inview:
-            sw, sh = ruler.size(lab, tick.label1)
-            sizes.append(sw if axis.axis_name == "x" else sh)
-            w, h = max(w, sw), max(h, sh)
-        if major and sizes:
-            first_last = [sizes[0] / 2, sizes[-1] / 2]
+        # the widest label is among the longest strings; the end labels overhang
+        labs = [lab for _loc, lab in inview]
+        longest = max((len(lab) for lab in labs), default=0)
+        measure = {lab for lab in labs if lab and len(lab) >= longest - 1}
+        if labs:
+            measure |= {labs[0], labs[-1]}
+        size = {lab: ruler.size(lab, tick.label1) for lab in measure}
+        w = max((v[0] for v in size.values()), default=0.0)
+        h = max((v[1] for v in size.values()), default=0.0)
+        if major and labs:
+            along = 0 if axis.axis_name == "x" else 1
+            first_last = [size[labs[0]][along] / 2, size[labs[-1]][along] / 2]
         deep = w if axis.axis_name == "y" else h
         for side, line, label in ((1, tick.tick1line, tick.label1),
                                   (2, tick.tick2line, tick.label2)):
