@@ -110,7 +110,7 @@ def report_stage(quick: bool = False, baseline: str | None = None,
     """Report-stage CPU and wall time (best of ``repeats``, alternated with the baseline's
     runs when ``baseline`` names another checkout's ``src``), for one drawing process and
     for the default; with ``os.getloadavg()`` before and after."""
-    variants = {"ours_1proc": (None, 1), "ours_default": (None, None)}
+    variants = {"ours_1proc": (None, 1), "ours_2proc": (None, 2), "ours_default": (None, None)}
     if baseline:
         variants = {"baseline": (baseline, None), **variants}
     runs: dict[str, list] = {k: [] for k in variants}
@@ -119,7 +119,8 @@ def report_stage(quick: bool = False, baseline: str | None = None,
         for key, (src, jobs) in variants.items():
             runs[key].append(_stage(src, quick, jobs))
     load.append(os.getloadavg())
-    out = {"repeats": repeats, "load_before_after": [list(v) for v in load], "runs": runs}
+    out = {"repeats": repeats, "load_before_after": [list(v) for v in load], "runs": runs,
+           "cpus": os.cpu_count(), "baseline_src": baseline}
     best = {}
     for key, rs in runs.items():
         total = [r["cpu_s"] + r["children_cpu_s"] for r in rs]
@@ -133,6 +134,8 @@ def report_stage(quick: bool = False, baseline: str | None = None,
         b = best["baseline"]
         out["ratio_cpu_1proc"] = best["ours_1proc"]["cpu_s"] / b["cpu_s"]
         out["ratio_wall_default"] = best["ours_default"]["wall_s"] / b["wall_s"]
+        out["ratio_wall_2proc"] = best["ours_2proc"]["wall_s"] / b["wall_s"]
+        out["ratio_cpu_2proc"] = best["ours_2proc"]["cpu_s"] / b["cpu_s"]
     return out
 
 
@@ -160,18 +163,21 @@ def markdown(result: dict) -> str:
                   "", f"Sections, figures and `index.html`/`results.json` after the studies, "
                       f"in a fresh process; best of {st['repeats']} alternated runs; load "
                       f"average {st['load_before_after'][0][0]:.1f} before, "
-                      f"{st['load_before_after'][1][0]:.1f} after (2 cores).", "",
+                      f"{st['load_before_after'][1][0]:.1f} after ({st.get('cpus')} CPUs).", "",
                   "| code | CPU (s, all processes) | wall (s) | median wall (s) |",
                   "|---|---|---|---|"]
-        names = {"baseline": "baseline (before issue 18 item 11)",
+        names = {"baseline": f"baseline (`{st.get('baseline_src')}`)",
                  "ours_1proc": "this code, one process",
-                 "ours_default": "this code, default drawing processes"}
+                 "ours_2proc": "this code, two drawing processes",
+                 "ours_default": "this code, default (2 if a CPU is idle, else 1)"}
         for key, b in st["best"].items():
             lines.append(f"| {names.get(key, key)} | {b['cpu_s']:.2f} | {b['wall_s']:.2f} | "
                          f"{b['median_wall_s']:.2f} |")
         if "ratio_cpu_1proc" in st:
             lines += ["", f"CPU ratio (one process / baseline): {st['ratio_cpu_1proc']:.2f}; "
-                          f"wall ratio (default / baseline): {st['ratio_wall_default']:.2f}; "
+                          f"two processes: CPU {st['ratio_cpu_2proc']:.2f}, wall "
+                          f"{st['ratio_wall_2proc']:.2f}; default: wall "
+                          f"{st['ratio_wall_default']:.2f}; "
                           f"results.json numbers identical: "
                           f"{'yes' if st['results_identical'] else 'NO'} "
                           f"({st['results_numbers']} numbers, timing keys aside)."]

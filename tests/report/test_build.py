@@ -46,7 +46,8 @@ def test_two_processes_give_the_same_sections_and_warnings(monkeypatch):
 
 def test_a_failing_section_raises_its_own_error(monkeypatch):
     monkeypatch.setattr(build, "section_for", _fake_section)
-    with pytest.raises(InputError, match="bad section"):
+    with warnings.catch_warnings(), pytest.raises(InputError, match="bad section"):
+        warnings.simplefilter("ignore")
         build.draw_sections(_results(["allan", "bad", "drift"]), jobs=2)
 
 
@@ -57,3 +58,22 @@ def test_jobs_from_argument_and_environment(monkeypatch):
     monkeypatch.setenv(build.JOBS_ENV, "two")
     with pytest.raises(InputError, match=build.JOBS_ENV):
         build.report_jobs()
+
+
+class _Unpicklable:
+    def __reduce__(self):
+        raise TypeError("cannot be sent between processes")
+
+
+def test_a_section_the_pool_cannot_send_back_is_drawn_here(monkeypatch):
+    def section(result):
+        sec = _fake_section(result)
+        sec.results = {"handle": _Unpicklable()}
+        return sec
+
+    monkeypatch.setattr(build, "section_for", section)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        secs = build.draw_sections(_results(["allan", "drift"]), jobs=2)
+    assert [s.key for s in secs] == ["allan", "drift"]
+    assert all(isinstance(s.results["handle"], _Unpicklable) for s in secs)

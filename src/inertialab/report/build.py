@@ -123,6 +123,16 @@ def _section_job(i: int):
     return i, sec, [(str(w.message), w.category, w.filename, w.lineno) for w in caught], None
 
 
+def _draw_here(results: list[StudyResult]) -> list[Section]:
+    """The sections drawn in this process, one after the other."""
+    with _collect_per_section() as collected:
+        out = []
+        for r in results:
+            out.append(section_for(r))
+            collected()
+    return out
+
+
 def _warm_up(results) -> None:
     """Import matplotlib and the figure modules and draw one small figure here, before
     the fork, so that each drawing process inherits the loaded fonts and modules instead
@@ -152,12 +162,7 @@ def draw_sections(results: list[StudyResult], *, jobs: int | None = None) -> lis
     """
     jobs = min(report_jobs(jobs), len(results))
     if jobs <= 1:
-        with _collect_per_section() as collected:
-            out = []
-            for r in results:
-                out.append(section_for(r))
-                collected()
-        return out
+        return _draw_here(results)
     _warm_up(results)
     order = sorted(range(len(results)), key=lambda i: -_COST_HINT.get(results[i].name, 1))
     global _PENDING
@@ -165,6 +170,9 @@ def draw_sections(results: list[StudyResult], *, jobs: int | None = None) -> lis
     try:
         with multiprocessing.get_context("fork").Pool(jobs) as pool:
             done = pool.map(_section_job, order, chunksize=1)
+    except Exception:  # the pool itself failed (e.g. a section it could not send
+        # back): draw everything here, where any real error is raised as is
+        return _draw_here(results)
     finally:
         _PENDING = []
     sections: list[Section | None] = [None] * len(results)

@@ -68,11 +68,14 @@ def m4_even_indices(y, n_columns: int) -> np.ndarray:
     m = n // k
     blocks = y[:m * k].reshape(m, k)
     base = np.arange(m) * k
-    parts = [base, base + k - 1, base + blocks.argmin(axis=1), base + blocks.argmax(axis=1)]
+    rows = np.stack([base, base + k - 1, base + blocks.argmin(axis=1),
+                     base + blocks.argmax(axis=1)], axis=1)
     if m * k < n:  # the short last block
         tail = y[m * k:]
-        parts.append(m * k + np.array([0, tail.size - 1, tail.argmin(), tail.argmax()]))
-    return np.unique(np.concatenate(parts))
+        rows = np.vstack([rows, m * k + np.array([0, tail.size - 1, tail.argmin(),
+                                                  tail.argmax()])])
+    idx = np.sort(rows, axis=1).ravel()  # blocks in order: sorted rows are sorted overall
+    return idx[np.r_[True, idx[1:] != idx[:-1]]]
 
 
 def m4(x, y, n_columns: int) -> tuple[np.ndarray, np.ndarray]:
