@@ -2,6 +2,8 @@
 clipped, overlapping or running into another axes (issue 18 item 11)."""
 
 import importlib
+import json
+import re
 import warnings
 
 import matplotlib.pyplot as plt
@@ -35,3 +37,17 @@ def test_demo_figures_have_no_text_problems(quick_results):
             n += 1
     assert n >= 20
     assert problems == {}
+
+
+@pytest.mark.slow
+def test_report_drawn_in_two_processes_is_the_same_report(quick_results, tmp_path):
+    from inertialab.report.build import write_report
+
+    one = write_report(quick_results, tmp_path / "one", quick=True, jobs=1)
+    two = write_report(quick_results, tmp_path / "two", quick=True, jobs=2)
+    strip = lambda p: re.sub(r"\d{4}-\d\d-\d\d \d\d:\d\d UTC", "", p.read_text())  # noqa: E731
+    assert strip(one["index"]) == strip(two["index"])
+    a, b = (json.loads(p["results"].read_text()) for p in (one, two))
+    a.pop("created_utc")
+    b.pop("created_utc")
+    assert a == b

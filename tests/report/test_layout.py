@@ -4,6 +4,7 @@ log labels stay readable without mathtext, and the PNG encoder writes the Agg pi
 
 import io
 import re
+import warnings
 
 import matplotlib.pyplot as plt
 import numpy as np
@@ -238,3 +239,17 @@ def test_figure_png_has_the_pixels_matplotlib_writes():
     ours = np.asarray(Image.open(io.BytesIO(figure_png(fig, dpi=100))).convert("RGB"))
     assert ours.shape == ref.shape == (520, 750, 3)
     assert np.array_equal(ours, ref)
+
+
+def test_labels_wider_than_the_figure_grow_the_canvas_as_before():
+    """No room for a one-pass layout (a 300-character tick label from a unit id): fit says
+    so and figure_png grows the PNG to what was drawn (bbox_inches="tight"), no warning."""
+    fig, ax = plt.subplots(figsize=(7, 2.3))
+    ax.set_yticks([0, 1], ["U" * 300, "x"])
+    ax.set_xlabel("programme day")
+    fig.set_dpi(110)
+    assert layout.fit(fig) is False
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        png = figure_png(fig, dpi=110)
+    assert Image.open(io.BytesIO(png)).size[0] > 3 * 7 * 110

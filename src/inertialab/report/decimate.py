@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["columns_for", "m4", "m4_indices", "plot_m4"]
+__all__ = ["columns_for", "m4", "m4_even_indices", "m4_indices", "plot_m4", "plot_m4_even"]
 
 
 def m4_indices(x, y, n_columns: int) -> np.ndarray:
@@ -31,11 +31,17 @@ def m4_indices(x, y, n_columns: int) -> np.ndarray:
     if n_columns < 1:
         raise ValueError(f"n_columns must be >= 1, got {n_columns}")
     every = np.arange(n)
-    if n <= 4 * n_columns or not (np.isfinite(y).all() and np.isfinite(x).all()):
+    if n <= 4 * n_columns or not np.isfinite(y).all():
         return every
-    if np.any(np.diff(x) < 0):
-        raise ValueError("x must be non-decreasing")
+    dx = np.diff(x)
     x0, x1 = float(x[0]), float(x[-1])
+    step = (x1 - x0) / (n - 1)
+    if step > 0 and np.isfinite(step) and float(np.abs(dx - step).max()) <= 1e-9 * step:
+        return m4_even_indices(y, n_columns)
+    if not np.isfinite(x).all():
+        return every
+    if np.any(dx < 0):
+        raise ValueError("x must be non-decreasing")
     if not x1 > x0:
         return every
     col = np.minimum(((x - x0) * (n_columns / (x1 - x0))).astype(np.int64), n_columns - 1)
@@ -49,16 +55,42 @@ def m4_indices(x, y, n_columns: int) -> np.ndarray:
     return np.unique(np.concatenate([starts, ends, i_lo, i_hi]))
 
 
+def m4_even_indices(y, n_columns: int) -> np.ndarray:
+    """M4 indices for evenly spaced samples: the columns are blocks of ``n // n_columns``
+    samples (at least ``n_columns`` columns, each no wider than asked), first, last,
+    argmin and argmax per block from one reshape (two passes over ``y``). Short series
+    and series with non-finite values keep every index."""
+    y = np.asarray(y)
+    n = y.size
+    if n <= 4 * n_columns or not np.isfinite(y).all():
+        return np.arange(n)
+    k = max(1, n // n_columns)
+    m = n // k
+    blocks = y[:m * k].reshape(m, k)
+    base = np.arange(m) * k
+    rows = np.stack([base, base + k - 1, base + blocks.argmin(axis=1),
+                     base + blocks.argmax(axis=1)], axis=1)
+    if m * k < n:  # the short last block
+        tail = y[m * k:]
+        rows = np.vstack([rows, m * k + np.array([0, tail.size - 1, tail.argmin(),
+                                                  tail.argmax()])])
+    idx = np.sort(rows, axis=1).ravel()  # blocks in order: sorted rows are sorted overall
+    return idx[np.r_[True, idx[1:] != idx[:-1]]]
+
+
 def m4(x, y, n_columns: int) -> tuple[np.ndarray, np.ndarray]:
     """The samples :func:`m4_indices` keeps, as ``(x, y)``."""
     keep = m4_indices(x, y, n_columns)
     return np.asarray(x)[keep], np.asarray(y)[keep]
 
 
-def columns_for(ax, *, per_pixel: float = 2.0) -> int:
+def columns_for(ax, *, per_pixel: float = 4.0) -> int:
     """Columns for :func:`m4` on ``ax``: ``per_pixel`` per pixel of the widest the axes
     can become (its grid cell with no margins; the figure's width for an axes outside a
-    grid), so half-pixel columns or finer whatever the layout does later."""
+    grid), so quarter-pixel columns or finer whatever the layout does later. Agg's time
+    for a dense trace depends on the pixels it covers, not on the 4 or 16 samples per
+    pixel (measured: 17 ms either way for 1e6 samples), while four columns per pixel
+    halve the visible difference to the full trace against two."""
     fig = ax.get_figure(root=True)
     frac = 1.0
     ss = ax.get_subplotspec()
@@ -71,7 +103,7 @@ def columns_for(ax, *, per_pixel: float = 2.0) -> int:
 
 
 def plot_m4(ax, x, y, *args, **kwargs):
-    """``ax.plot(x, y, ...)`` of the :func:`m4` decimation of a series on half-pixel
+    """``ax.plot(x, y, ...)`` of the :func:`m4` decimation of a series on quarter-pixel
     columns of the x axis's scale (a log axis is decimated in log x); returns the line.
     Set the x scale before calling."""
     x = np.asarray(x, dtype=float)
@@ -79,4 +111,13 @@ def plot_m4(ax, x, y, *args, **kwargs):
     tx = x if ax.get_xscale() == "linear" else ax.xaxis.get_transform().transform(x)
     keep = m4_indices(tx, y, columns_for(ax))
     line, = ax.plot(x[keep], y[keep], *args, **kwargs)
+    return line
+
+
+def plot_m4_even(ax, y, dt: float, *args, t0: float = 0.0, **kwargs):
+    """``ax.plot(t0 + dt * arange(n), y, ...)`` of the :func:`m4_even_indices` decimation
+    on quarter-pixel columns (linear x); the time axis is built for the kept samples only.
+    Returns the line."""
+    keep = m4_even_indices(y, columns_for(ax))
+    line, = ax.plot(t0 + dt * keep, np.asarray(y)[keep], *args, **kwargs)
     return line

@@ -78,14 +78,17 @@ def figure_png(fig, *, dpi: int = 100) -> bytes:
     from inertialab.report import layout
 
     try:
+        one_pass = False
         if not isinstance(fig.get_layout_engine(), (ConstrainedLayoutEngine, TightLayoutEngine)):
             fig.set_dpi(dpi)  # measured at the dpi of the PNG
-            layout.fit(fig)
-        if isinstance(fig.canvas, FigureCanvasAgg) and fig.dpi == dpi:
+            one_pass = layout.fit(fig)
+        if one_pass and isinstance(fig.canvas, FigureCanvasAgg) and fig.dpi == dpi:
             fig.canvas.draw()
             return encode_png(fig.canvas.buffer_rgba(), dpi=dpi)
+        # no one-pass layout (no single grid, or labels longer than the figure): the
+        # canvas grows to what was drawn, as before
         buf = io.BytesIO()
-        fig.savefig(buf, format="png", dpi=dpi,
+        fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight",
                     pil_kwargs={"compress_level": PNG_COMPRESS_LEVEL})
         return buf.getvalue()
     finally:

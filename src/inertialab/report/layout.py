@@ -19,6 +19,7 @@ whose first parse of each label costs milliseconds in pyparsing.
 from __future__ import annotations
 
 import math
+import warnings
 import weakref
 
 import numpy as np
@@ -34,6 +35,7 @@ GAP_IN = 0.14
 
 _SUPER = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
 _fitted: weakref.WeakSet = weakref.WeakSet()
+_pinned: weakref.WeakSet = weakref.WeakSet()  # labels and titles that fit() placed
 
 
 class PowerOfTenFormatter(Formatter):
@@ -93,15 +95,18 @@ class _Ruler:
         self.dpi = fig.dpi
         self.t = Text(0, 0, "")
         self.t.set_figure(fig)
+        self._like = None
 
     def size(self, s: str, like: Text) -> tuple[float, float]:
         if not s:
             return 0.0, 0.0
         t = self.t
+        if self._like is not like:
+            t.set_fontproperties(like.get_fontproperties())
+            t.set_rotation(like.get_rotation())
+            t.set_linespacing(like.get_linespacing())
+            self._like = like
         t.set_text(s)
-        t.set_fontproperties(like.get_fontproperties())
-        t.set_rotation(like.get_rotation())
-        t.set_linespacing(like.get_linespacing())
         bb = t.get_window_extent(self.renderer)
         return bb.width / self.dpi, bb.height / self.dpi
 
@@ -136,14 +141,18 @@ def _tick_side_extents(axis, ruler: _Ruler) -> dict:
         tick = ticks[0]
         out_len = tick.get_tick_padding() / 72.0
         pad = (tick.get_pad() + tick.get_tick_padding()) / 72.0
-        w = h = 0.0
-        sizes = []
-        for _loc, lab in inview:
-            sw, sh = ruler.size(lab, tick.label1)
-            sizes.append(sw if axis.axis_name == "x" else sh)
-            w, h = max(w, sw), max(h, sh)
-        if major and sizes:
-            first_last = [sizes[0] / 2, sizes[-1] / 2]
+        # the widest label is among the longest strings; the end labels overhang
+        labs = [lab for _loc, lab in inview]
+        longest = max((len(lab) for lab in labs), default=0)
+        measure = {lab for lab in labs if lab and len(lab) >= longest - 1}
+        if labs:
+            measure |= {labs[0], labs[-1]}
+        size = {lab: ruler.size(lab, tick.label1) for lab in measure}
+        w = max((v[0] for v in size.values()), default=0.0)
+        h = max((v[1] for v in size.values()), default=0.0)
+        if major and labs:
+            along = 0 if axis.axis_name == "x" else 1
+            first_last = [size[labs[0]][along] / 2, size[labs[-1]][along] / 2]
         deep = w if axis.axis_name == "y" else h
         for side, line, label in ((1, tick.tick1line, tick.label1),
                                   (2, tick.tick2line, tick.label2)):
@@ -167,9 +176,11 @@ def _decorations(ax, ruler: _Ruler) -> dict:
     yt = _tick_side_extents(ax.yaxis, ruler) if ax.axison else none
     d = {"xt": xt, "yt": yt, "l": yt["ext1"], "r": yt["ext2"], "b": xt["ext1"],
          "t": xt["ext2"]}
-    # x tick labels at the ends of the axis stick out sideways by half their width
+    # tick labels at the ends of an axis stick out along it by half their size
     d["l"] = max(d["l"], xt["edge"][0])
     d["r"] = max(d["r"], xt["edge"][1])
+    d["b"] = max(d["b"], yt["edge"][0])
+    d["t"] = max(d["t"], yt["edge"][1])
     if ax.axison:
         for axis, key in ((ax.xaxis, "x"), (ax.yaxis, "y")):
             if not axis.get_visible():
@@ -203,8 +214,10 @@ def fit(fig, *, pad_in: float = EDGE_PAD_IN, gap_in: float = GAP_IN) -> bool:
 
     Works for figures whose axes come from one grid (``plt.subplots``, also with
     colorbars, twins, ``suptitle``/``supylabel``); any other figure gets matplotlib's
-    ``tight_layout`` (one extra layout pass). Returns True when the one-pass layout was
-    used. Calling it again re-measures (cheap: the metrics are cached).
+    ``tight_layout`` (one extra layout pass), and a figure whose labels are wider than
+    the figure is left as it is. Returns True when the one-pass layout was used (else
+    :func:`~inertialab.report.html.figure_png` grows the canvas to what is drawn).
+    Calling it again re-measures (cheap: the metrics are cached).
     """
     axes = [ax for ax in fig.axes if ax.get_visible()]
     grids = set()
@@ -216,7 +229,9 @@ def fit(fig, *, pad_in: float = EDGE_PAD_IN, gap_in: float = GAP_IN) -> bool:
         grids.add(ss.get_topmost_subplotspec().get_gridspec())
     if not axes or grids is None or len(grids) != 1:
         if axes:
-            fig.tight_layout()
+            with warnings.catch_warnings():  # it says so when it cannot; False says it too
+                warnings.simplefilter("ignore", UserWarning)
+                fig.tight_layout()
         _fitted.add(fig)
         return False
     gs = grids.pop()
@@ -260,8 +275,7 @@ def fit(fig, *, pad_in: float = EDGE_PAD_IN, gap_in: float = GAP_IN) -> bool:
     hgap = max((bottom[i] + top[i + 1] for i in range(nrows - 1)), default=0.0) + gap_in
     ax_w = (W - L - R - (ncols - 1) * wgap) / ncols
     ax_h = (H - T - B - (nrows - 1) * hgap) / nrows
-    if ax_w <= 0.2 or ax_h <= 0.2:  # decorations leave no room: matplotlib's layout
-        fig.tight_layout()
+    if ax_w <= 0.2 or ax_h <= 0.2:  # decorations wider than the figure: not laid out
         _fitted.add(fig)
         return False
     gs.update(left=L / W, right=1 - R / W, bottom=B / H, top=1 - T / H,
@@ -286,7 +300,7 @@ def _pin(ax, d: dict, fig) -> None:
     if ax.axison:
         xa, ya = ax.xaxis, ax.yaxis
         if xa.get_visible() and xa.label.get_text():
-            x = xa.label.get_position()[0] if xa._autolabelpos else None
+            x = xa.label.get_position()[0] if _ours(xa) else None
             pad = xa.labelpad / 72.0
             if x is not None:
                 if xa.get_label_position() == "bottom":
@@ -294,18 +308,28 @@ def _pin(ax, d: dict, fig) -> None:
                 else:
                     xa.set_label_coords(x, 1 + (d["xt"]["ext2"] + pad) / ah)
         if ya.get_visible() and ya.label.get_text():
-            y = ya.label.get_position()[1] if ya._autolabelpos else None
+            y = ya.label.get_position()[1] if _ours(ya) else None
             pad = ya.labelpad / 72.0
             if y is not None:
                 if ya.get_label_position() == "left":
                     ya.set_label_coords(-(d["yt"]["ext1"] + pad) / aw, y)
                 else:
                     ya.set_label_coords(1 + (d["yt"]["ext2"] + pad) / aw, y)
-    if getattr(ax, "_autotitlepos", None) is not False:
+    if getattr(ax, "_autotitlepos", None) is not False or ax.title in _pinned:
         y = 1.0 + d["above"] / ah
         for t in (ax.title, ax._left_title, ax._right_title):
             t.set_y(y)
+            _pinned.add(t)
         ax._autotitlepos = False  # pinned: the draw does not search the twins' boxes
+
+
+def _ours(axis) -> bool:
+    """Whether the label of ``axis`` is placed by matplotlib or by an earlier :func:`fit`
+    (a label the caller placed with ``set_label_coords`` stays where it is)."""
+    if axis._autolabelpos or axis.label in _pinned:
+        _pinned.add(axis.label)
+        return True
+    return False
 
 
 def is_fitted(fig) -> bool:

@@ -15,7 +15,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-from inertialab.report.decimate import plot_m4
+from inertialab.report.decimate import plot_m4_even
 from inertialab.report.section import Figure, Section, Table
 
 TERMS = ("Q", "N", "B", "K", "R")
@@ -34,9 +34,8 @@ def _fig_record(res):
             ax.set_visible(False)
             continue
         fs = d["fs_hz"]
-        t = np.arange(d["rate"].size) / fs
-        plot_m4(ax, t, d["rate"], lw=0.4, color="0.5", label="raw rate")
-        plot_m4(ax, t, d["approx"], lw=0.8, color="tab:blue", label=f"A{res.level}")
+        plot_m4_even(ax, d["rate"], 1 / fs, lw=0.4, color="0.5", label="raw rate")
+        plot_m4_even(ax, d["approx"], 1 / fs, lw=0.8, color="tab:blue", label=f"A{res.level}")
         _shade(ax, fs, d["k_on"], d["k_off"])
         ax.set_ylabel("rate [deg/h]")
         ax.set_title(f"{name} run: P1 static, P2 vibration, P3 static")
@@ -113,12 +112,11 @@ def _fig_levels(res):
     levels = [2, 4, 6, 8, 10]
     levels = [j for j in levels if j <= dec.level]
     fig, axes = plt.subplots(len(levels), 2, figsize=(10, 1.5 * len(levels)), sharex=True)
-    t = np.arange(dec.n) / fs
     for i, j in enumerate(levels):
         for col, (sig, lab) in enumerate(((dec.approximation(j), f"A{j}"),
                                           (dec.detail(j), f"D{j}"))):
             ax = axes[i, col] if len(levels) > 1 else axes[col]
-            plot_m4(ax, t, sig, lw=0.5)
+            plot_m4_even(ax, sig, 1 / fs, lw=0.5)
             _shade(ax, fs, d["k_on"], d["k_off"])
             ax.set_ylabel(lab, fontsize=8)
             ax.tick_params(labelsize=7)
@@ -138,14 +136,13 @@ def _fig_separation(res):
     x = dec.approximation(0) if hasattr(dec, "approximation") else None
     a = dec.approximation(L)
     x = a + sum(dec.detail(j) for j in range(1, L + 1)) if x is None else x
-    t = np.arange(a.size) / fs
     fig, axes = plt.subplots(3, 1, figsize=(9, 6.5), sharex=True)
     panels = ((x, f"raw x and bias signal A{L}", "0.5"), (dec.detail(1), "D1", "tab:purple"),
               (x - a, f"drift + noise x - A{L}", "tab:green"))
     for ax, (sig, lab, c) in zip(axes, panels):
-        plot_m4(ax, t, sig, lw=0.4, color=c, label=lab)
+        plot_m4_even(ax, sig, 1 / fs, lw=0.4, color=c, label=lab)
         if lab.startswith("raw"):
-            plot_m4(ax, t, a, lw=1.0, color="tab:blue", label=f"A{L}")
+            plot_m4_even(ax, a, 1 / fs, lw=1.0, color="tab:blue", label=f"A{L}")
         _shade(ax, fs, d["k_on"], d["k_off"])
         ax.set_ylabel("deg/h", fontsize=8)
         ax.legend(fontsize=7, loc="upper right")
@@ -164,17 +161,16 @@ def _fig_waterfall(res):
     if sw is None or sw.get("dec") is None:
         return None
     dec, fs = sw["dec"], sw["fs_hz"]
-    n = dec.detail(1).size
-    t = np.arange(n) / fs
     fig, ax = plt.subplots(figsize=(9, 6))
     levels = list(range(1, dec.level + 1))
     for j in levels:
         sig = dec.detail(j)
         scale = np.max(np.abs(sig)) or 1.0
-        plot_m4(ax, t, sig / scale * 0.45 + j, lw=0.4, color=plt.cm.viridis(j / (dec.level + 1)))
+        plot_m4_even(ax, sig / scale * 0.45 + j, 1 / fs, lw=0.4,
+                     color=plt.cm.viridis(j / (dec.level + 1)))
     a = dec.approximation(dec.level)
     a = (a - np.median(a)) / ((np.max(np.abs(a - np.median(a)))) or 1.0) * 0.45
-    plot_m4(ax, t, a + dec.level + 1, lw=0.8, color="k")
+    plot_m4_even(ax, a + dec.level + 1, 1 / fs, lw=0.8, color="k")
     ax.set_yticks(levels + [dec.level + 1])
     ax.set_yticklabels([f"D{j}" for j in levels] + [f"A{dec.level}"], fontsize=7)
     _shade(ax, fs, sw["k_on"], sw["k_off"])
@@ -229,12 +225,11 @@ def _fig_compensated(res):
     if d is None:
         return None
     fs = d["fs_hz"]
-    t = np.arange(d["rate"].size) / fs
     fig, ax = plt.subplots(figsize=(9, 4))
     for key, lab, c in (("approx", f"denoised A{res.level}", "tab:blue"),
                         ("poly", "polynomial-compensated", "tab:green"),
                         ("rbf", "RBF-compensated", "tab:red")):
-        plot_m4(ax, t, d[key], lw=0.6, color=c, label=lab)
+        plot_m4_even(ax, d[key], 1 / fs, lw=0.6, color=c, label=lab)
     _shade(ax, fs, d["k_on"], d["k_off"])
     ax.set_xlabel("time [s]")
     ax.set_ylabel("rate [deg/h]")
