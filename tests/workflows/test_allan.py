@@ -212,8 +212,12 @@ def test_clock_time_stamp_gaps_become_nan_and_are_reported(tmp_path):
         a = W.analyze(log, stats="oadev", taus="octave")
     j = a.to_json()
     assert j["n_gaps"] == 1 and j["n_missing"] == 5 and min(j["used_fraction"]) < 1.0
+    with pytest.warns(Warning):
+        md = W.analyze(log, stats="mdev,ohdev").to_json()["results"]
+    assert [r["statistic"] for r in md] == ["mdev", "ohdev"]
+    assert all(r["n_gaps"] == 1 and min(r["used_fraction"]) < 1.0 for r in md)
     with pytest.warns(Warning), pytest.raises(InputError, match="no gap-resistant form"):
-        W.analyze(log, stats="mdev")
+        W.analyze(log, stats="totdev")
     bad = tmp_path / "off.csv"
     t2 = t.copy()
     t2[600:] += 0.4

@@ -32,7 +32,46 @@ from inertialab.noise.allan import DeviationResult
 __all__ = ["GAP_STATISTICS", "GapResult", "count_gaps", "gap_deviation"]
 
 #: Statistics with a gap-resistant form.
-GAP_STATISTICS = ("oadev", "adev")
+GAP_STATISTICS = ("oadev", "adev", "mdev", "tdev", "hdev", "ohdev")
+
+#: per statistic: (stride kind, order of the phase difference); "1" overlapping, "m"
+#: non-overlapping, "mod" modified (the difference averaged over m consecutive starts)
+_SPAN = {"oadev": ("1", 2), "adev": ("m", 2), "mdev": ("mod", 2), "tdev": ("mod", 2),
+         "ohdev": ("1", 3), "hdev": ("m", 3)}
+#: variance = sum(d^2) / (NORM m^2 tau0^2 n): Allan 2, Hadamard 6, modified 2 m^2 (the
+#: inner sum of m differences is squared, so MVAR = sum / (2 m^4 tau0^2 n))
+_NORM = {"oadev": 2.0, "adev": 2.0, "ohdev": 6.0, "hdev": 6.0, "mdev": 2.0, "tdev": 2.0}
+_COEF = {2: (1.0, -2.0, 1.0), 3: (-1.0, 3.0, -3.0, 1.0)}
+
+
+def _summands(statistic, x, bad, n_phase, m, span, order):
+    """The statistic's summands at lag ``m`` (phase differences of ``order`` taken from
+    ``x(index array)``), a mask of the gap-free ones and the count a gap-free record has.
+
+    Phase input (``bad is None``): a summand is gap-free when every phase point it reads
+    is finite. Frequency input: when none of the frequency samples it spans is missing
+    (``bad(i, j)`` tells a gap in samples ``i .. j-1``).
+    """
+    if span == "mod":
+        n_d = n_phase - order * m
+        i = np.arange(n_d)
+        d = sum(c * x(i + q * m) for q, c in enumerate(_COEF[order]))
+        # the modified summand: sum of m consecutive differences (prefix sums, gaps as 0)
+        fin = np.isfinite(d)
+        C = np.concatenate(([0.0], np.cumsum(np.where(fin, d, 0.0))))
+        G = np.concatenate(([0], np.cumsum(~fin)))
+        j = np.arange(n_d - m + 1)
+        out = (C[j + m] - C[j]) / m
+        if bad is None:
+            good = (G[j + m] - G[j]) == 0
+        else:  # frequency samples j .. j + (order + 1) m - 2
+            good = ~bad(j, j + (order + 1) * m - 1)
+        return out, good, j.size
+    stride = 1 if span == "1" else m
+    i = np.arange(0, n_phase - order * m, stride)
+    d = sum(c * x(i + q * m) for q, c in enumerate(_COEF[order]))
+    good = np.isfinite(d) if bad is None else ~bad(i, i + order * m)
+    return d, good, i.size
 
 
 @dataclass(frozen=True)
@@ -62,7 +101,8 @@ def count_gaps(values) -> tuple[int, int]:
 
 def gap_deviation(statistic: str, data, *, rate_hz: float, taus="octave", input: str = "rate",
                   confidence: float = 0.683, alpha=None) -> GapResult:
-    """Gap-resistant ``oadev`` (stride 1) or ``adev`` (stride m) of ``data`` with NaN gaps.
+    """Gap-resistant ``oadev``/``ohdev`` (stride 1), ``adev``/``hdev`` (stride m) or
+    ``mdev``/``tdev`` of ``data`` with NaN gaps.
 
     ``alpha`` (noise type per tau) defaults to 0 (white FM / white rate) for the
     interval: the lag-1 identification needs contiguous data.
@@ -94,40 +134,50 @@ def gap_deviation(statistic: str, data, *, rate_hz: float, taus="octave", input:
     var = np.full(ms.size, np.nan)
     used = np.zeros(ms.size, dtype=np.int64)
     frac = np.zeros(ms.size)
+    span, order = _SPAN[statistic]
     for k, m in enumerate(int(q) for q in ms):
-        stride = 1 if statistic == "oadev" else m
-        full = (n_phase - 1 - 2 * m) // stride + 1
-        i = np.arange(0, n_phase - 2 * m, stride)
         if input == "rate":
-            d = tau0 * ((S[i + 2 * m] - S[i + m]) - (S[i + m] - S[i]))
-            good = (B[i + 2 * m] - B[i]) == 0
+            # phase differences from the prefix sums of y (gaps as 0); a summand is used
+            # when none of the frequency samples it spans is missing
+            x = lambda i, _S=S: tau0 * _S[i]  # noqa: E731
+            bad = lambda i, j: (B[j] - B[i]) != 0  # noqa: E731  # y[i .. j) has a gap
         else:
-            d = v[i + 2 * m] - 2.0 * v[i + m] + v[i]
-            good = np.isfinite(d)
+            x = lambda i, _v=v: _v[i]  # noqa: E731
+            bad = None
+        d, good, full = _summands(statistic, x, bad, n_phase, m, span, order)
         dg = d[good]
         used[k] = dg.size
         frac[k] = dg.size / full if full > 0 else 0.0
         if dg.size:
-            var[k] = float(np.dot(dg, dg)) / (2.0 * (m * tau0) ** 2 * dg.size)
+            var[k] = float(np.dot(dg, dg)) / (_NORM[statistic] * m * m * dg.size) / tau0 ** 2
+            if statistic == "tdev":  # TVAR = tau^2 / 3 MVAR
+                var[k] *= (m * tau0) ** 2 / 3.0
     keep = used > 0
     if not keep.any():
-        raise InputError("no second difference without a gap at any tau")
+        raise InputError("no difference without a gap at any tau")
     ms, var, used, frac = ms[keep], var[keep], used[keep], frac[keep]
     dev = np.sqrt(var)
     alphas = np.broadcast_to(np.asarray(0 if alpha is None else alpha, dtype=np.int64),
                              ms.shape).copy()
     from inertialab.noise import edf as _edf
 
-    edfs = np.array([float(_edf.edf_oadev_sp1065(max(3, int(round(f * n_phase))), int(m),
-                                                 max(min(int(a), 2), -2)))
-                     for f, m, a in zip(frac, ms, alphas)])
-    if statistic == "adev":
+    if statistic in ("oadev", "adev"):
+        edfs = np.array([float(_edf.edf_oadev_sp1065(max(3, int(round(f * n_phase))), int(m),
+                                                     max(min(int(a), 2), -2)))
+                         for f, m, a in zip(frac, ms, alphas)])
+    else:  # Greenhall's EDF at the effective record length
+        edfs = np.array([float(_edf.edf(statistic, max(order * int(m) + 2,
+                                                       int(round(f * n_phase))), int(m),
+                                        max(min(int(a), 2), -2))[0][0])
+                         for f, m, a in zip(frac, ms, alphas)])
+    if statistic in ("adev", "hdev"):
         edfs = np.minimum(edfs, used.astype(float))
     lo, hi = interval(dev, edfs, confidence)
     return GapResult(statistic=statistic, tau0_s=tau0, taus_s=ms * tau0, m=ms, dev=dev,
                      n_terms=used, alpha=alphas, edf=edfs, ci_low=lo, ci_high=hi,
                      confidence=float(confidence), n_samples=int(v.size), input=input,
                      alpha_method="user" if alpha is not None else "assumed-wfm",
-                     edf_method="sp1065-table5-effective-n",
+                     edf_method=("sp1065-table5-effective-n" if statistic in ("oadev", "adev")
+                                else "greenhall-effective-n"),
                      alpha_source=("user" if alpha is not None else "assumed",) * ms.size,
                      n_gaps=n_gaps, n_missing=n_missing, used_fraction=frac)
