@@ -257,8 +257,10 @@ def _validate(data, rate_hz, input, *, name="data", check_finite: bool = True) -
 def _check_finite(arr: np.ndarray, name: str, offset: int = 0) -> None:
     if np.issubdtype(arr.dtype, np.integer):
         return
+    release = _phase._Releaser(arr)  # a read-only memory map is not kept resident
     for s in range(0, arr.size, CHUNK):
         blk = arr[s:s + CHUNK]
+        release(s)
         if math.isfinite(float(np.sum(blk, dtype=np.float64))):
             continue  # NaN and infinity propagate into the sum (one pass, no mask)
         ok = np.isfinite(blk)
