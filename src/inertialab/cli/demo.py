@@ -29,7 +29,12 @@ def register(app: typer.Typer, groups: dict) -> None:
         as_json: bool = typer.Option(False, "--json", help="Print the summary as JSON."),
         quiet: bool = typer.Option(False, "--quiet", help="No progress bars."),
     ):
-        """Run the studies on the virtual lab and write a self-contained HTML report."""
+        """Run the studies on the virtual lab and write a self-contained HTML report.
+
+        The report's figures are drawn in two processes when a second CPU is idle, else in
+        this one; the environment variable INERTIALAB_REPORT_JOBS sets the count (the page
+        is the same byte for byte).
+        """
         from inertialab.report.build import write_report
         from inertialab.studies.demo import SUMMARY_COLUMNS, run_studies, select_studies
 
