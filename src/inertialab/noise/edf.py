@@ -72,6 +72,7 @@ from inertialab.noise._filters import (  # noqa: F401 - re-exported (public befo
     _gacv,
     filter_autocorr,
 )
+from inertialab.noise._octave import n_terms
 
 # ----------------------------------------------------------------------------- intervals
 
@@ -553,18 +554,8 @@ def edf(statistic: str, n_phase: int, m, alpha, *, n_terms=None, method: str = "
 
 
 def _n_terms(statistic: str, n_phase: int, m: np.ndarray) -> np.ndarray:
-    nx = n_phase
-    if statistic == "oadev":
-        return nx - 2 * m
-    if statistic == "adev":
-        return (nx - 1) // m - 1
-    if statistic == "ohdev":
-        return nx - 3 * m
-    if statistic == "hdev":
-        return (nx - 1) // m - 2
-    if statistic in ("mdev", "tdev"):
-        return nx - 3 * m + 1
-    return np.full(m.shape, nx - 2)
+    """Summands per m (one count rule: :func:`inertialab.noise._octave.n_terms`)."""
+    return np.broadcast_to(n_terms(statistic, n_phase, m), m.shape).copy()
 
 
 # ----------------------------------------------------------------------------- identification
