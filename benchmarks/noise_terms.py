@@ -253,7 +253,7 @@ def _compact(row: dict) -> list:
     out = [row["seed"]]
     for k in TERMS:
         e = row["fit"][k]
-        out += [e["value"], e["ci"][0], e["ci"][1]]
+        out += [float(f"{v:.6g}") for v in (e["value"], e["ci"][0], e["ci"][1])]
     return out
 
 
@@ -264,7 +264,7 @@ def assemble(methods=METHODS, hours: float = HOURS) -> dict:
            "curve_version": _curve_key(hours),
            "row_columns": ["seed"] + [f"{k}_{c}" for k in TERMS for c in ("value", "lo", "hi")],
            "seeds": {}, "presets": {}}
-    cpu_total = 0.0
+    cpu_total = sim_total = 0.0
     for preset in PRESETS:
         per = {}
         for m in methods:
@@ -281,7 +281,12 @@ def assemble(methods=METHODS, hours: float = HOURS) -> dict:
             "summary": {m: _summary(rs) for m, rs in per.items()},
             "rows": {m: [_compact(r) for r in rs] for m, rs in per.items()}}
         cpu_total += sum(r["cpu_s"] for rs in per.values() for r in rs)
+        seeds = {r["seed"] for rs in per.values() for r in rs}
+        for seed in seeds:
+            c = _load(cache_dir() / preset / "curve" / f"{seed}.json", _curve_key(hours))
+            sim_total += c.get("cpu_s", 0.0) if c else 0.0
     out["fit_cpu_s"] = cpu_total
+    out["simulate_cpu_s"] = sim_total
     return out
 
 
@@ -305,7 +310,11 @@ def markdown(result: dict) -> str:
              "|error| N <= 2 %, B <= 10 %, K <= 15 %. Computed with `python -m "
              "benchmarks.noise_terms rows N --preset P --method M` and stored with "
              "`python -m benchmarks.noise_terms store` (fit version "
-             f"`{result.get('fit_version', '')}`).", "",
+             f"`{result.get('fit_version', '')}`, per method "
+             f"{result.get('method_version', {})}). R and Q: coverage of the true ramp "
+             "and of Q = 0 (non-significant terms have interval [0, upper]); their errors "
+             "are not meaningful. 'significant': share of seeds where the term was not "
+             "reported as an upper bound or absent.", "",
              "| preset | method | term | n | coverage | median abs err | median err | "
              "significant |", "|---|---|---|---|---|---|---|---|"]
     for preset, p in result["presets"].items():
@@ -314,10 +323,13 @@ def markdown(result: dict) -> str:
                 if k not in s:
                     continue
                 e = s[k]
+                if k in ("R", "Q"):  # mostly upper bounds (R) or absent in truth (Q)
+                    err = "| — | — |"
+                else:
+                    err = (f"| {100 * e['median_abs_err']:.1f} % | "
+                           f"{100 * e['median_err']:+.1f} % |")
                 lines.append(f"| {preset} | {m} | {k} | {e['n']} | {100 * e['coverage']:.0f} % "
-                             f"| {100 * e['median_abs_err']:.1f} % | "
-                             f"{100 * e['median_err']:+.1f} % | "
-                             f"{100 * e['significant']:.0f} % |")
+                             f"{err} {100 * e['significant']:.0f} % |")
             if "B_textbook_median_err" in s:
                 lines.append(f"| {preset} | {m} | B textbook min/0.664 | | | | "
                              f"{100 * s['B_textbook_median_err']:+.1f} % | |")
@@ -338,14 +350,23 @@ def store(methods=METHODS, hours: float = HOURS) -> Path:
     """Write benchmarks/results/noise_terms.json from the cache (format of
     ``python -m benchmarks``) and return its path."""
     result = assemble(methods, hours)
-    record = {"name": "noise_terms", "quick": False, "wall_s": result["fit_cpu_s"],
+    # "wall_s": the CPU seconds of the cached work (simulation + Allan + fits), summed
+    record = {"name": "noise_terms", "quick": False,
+              "wall_s": result["fit_cpu_s"] + result["simulate_cpu_s"],
               "date_utc": time.strftime("%Y-%m-%d", time.gmtime()),
               "machine": {"python": platform.python_version(), "machine": platform.machine(),
                           "cpus": os.cpu_count(), "platform": platform.platform()},
               "result": result}
     path = ROOT / "benchmarks" / "results" / "noise_terms.json"
     tmp = path.with_suffix(".json.tmp")
-    tmp.write_text(json.dumps(record, indent=1, allow_nan=True) + "\n")
+    # the per-seed rows go last, one compact line (result["rows"][preset][method])
+    rows_ = {p: v.pop("rows") for p, v in result["presets"].items()}
+    text = json.dumps(record, indent=1, allow_nan=True)
+    tail = "\n }\n}"
+    assert text.endswith(tail)
+    text = (text[:-len(tail)] + ',\n  "rows": '
+            + json.dumps(rows_, separators=(",", ":"), allow_nan=True) + tail)
+    tmp.write_text(text + "\n")
     os.replace(tmp, path)
     return path
 
