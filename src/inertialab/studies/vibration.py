@@ -75,8 +75,19 @@ def run_demo(settings, progress=None) -> StudyResult:
     rb = res.residual_bias_dph or {}
 
     def ratio(a, b, k):
-        num, den = ph[a][k]["value"], ph[b][k]["value"]
-        return round(num / den, 3) if den and np.isfinite(num) and np.isfinite(den) else None
+        """P2/P1 of term k; where P1's term is not significant (reported as an upper
+        bound), the ratio is only bounded below: ``"> r"`` with r = P2 / P1's bound."""
+        ta, tb = ph[a][k], ph[b][k]
+        num, den = ta["value"], tb["value"]
+        a_bound = "upper_bound" in ta.get("flags", ())
+        b_bound = "upper_bound" in tb.get("flags", ())
+        if not (a_bound or b_bound):
+            return (round(num / den, 3) if den and np.isfinite(num) and np.isfinite(den)
+                    else None)
+        ub = tb.get("upper_bound")
+        if b_bound and not a_bound and ub and np.isfinite(num) and np.isfinite(ub):
+            return f"> {num / ub:.3g} ({b.split('/')[-1]} {k} not significant)"
+        return f"n/a ({k} not significant in {a if a_bound else b})"
 
     headline = [
         Headline("N ratio P2/P1 (500 Hz run)", ratio("fixed/P2", "fixed/P1", "N"),
