@@ -543,13 +543,9 @@ def main(argv=None) -> int:
     record["result"] = merged
     record["date_utc"] = time.strftime("%Y-%m-%d", time.gmtime())
     record["wall_s"] = float(sum(walls.values()))
-    from benchmarks.__main__ import _machine
+    from benchmarks.__main__ import store
 
-    record["machine"] = _machine()
-    tmp = path.with_suffix(".json.tmp")
-    tmp.write_text(json.dumps(record, indent=1, allow_nan=True) + "\n")
-    os.replace(tmp, path)
-    print(f"wrote {path}", file=sys.stderr)
+    print(f"wrote {store('allan', record)}", file=sys.stderr)
     return 0
 
 

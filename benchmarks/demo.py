@@ -195,7 +195,7 @@ def budgets_only() -> int:
     ``inertialab demo`` (the issue-9 budgets) and merge them into the stored
     ``benchmarks/results/demo.json``; the report-stage comparison (minutes, alternated
     with a baseline checkout) stays as stored, with its own date."""
-    from benchmarks.__main__ import _machine
+    from benchmarks.__main__ import store
 
     path = Path(__file__).resolve().parent / "results" / "demo.json"
     record = json.loads(path.read_text())
@@ -206,11 +206,7 @@ def budgets_only() -> int:
     res["report_stage_date_utc"] = stage_date
     res["budgets_date_utc"] = time.strftime("%Y-%m-%d", time.gmtime())
     res["budgets_load"] = list(os.getloadavg())
-    record["machine"] = _machine()
-    tmp = path.with_suffix(".json.tmp")
-    tmp.write_text(json.dumps(record, indent=1, allow_nan=True) + "\n")
-    os.replace(tmp, path)
-    print(f"wrote {path}", file=sys.stderr)
+    print(f"wrote {store('demo', record)}", file=sys.stderr)
     return 0
 
 
