@@ -111,13 +111,7 @@ def speed(sizes=(10**7, 10**8), memmap_n: int | None = 10**8) -> dict:
     if memmap_n:
         with tempfile.TemporaryDirectory() as d:
             p = Path(d) / "big.npy"
-            mm = np.lib.format.open_memmap(p, mode="w+", dtype=np.float32, shape=(memmap_n,))
-            rng = np.random.default_rng(7)
-            for s in range(0, memmap_n, 1 << 24):
-                e = min(s + (1 << 24), memmap_n)
-                mm[s:e] = rng.standard_normal(e - s, dtype=np.float32)
-            mm.flush()
-            del mm
+            _write_npy(p, memmap_n)
             r = _child(memmap_n, "inertialab-chunked", str(p))
             r2 = _child(memmap_n, "inertialab", str(p))
         res["memmap"] = {"n": memmap_n, "dtype": "float32 .npy, memory-mapped",

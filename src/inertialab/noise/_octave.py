@@ -234,14 +234,29 @@ def _diff_taps(w: np.ndarray, b0: int, L: int, m: int, q: int, buf, tmp) -> np.n
     return t
 
 
+def _central_span(nx: int, lag: int, max_points: int) -> tuple[int, int]:
+    """``(use, start)``: the central ``use`` (at most ``max_points``) of the angle points
+    ``x_0, x_lag, ...`` of ``nx`` angle points begin at index ``start``."""
+    count = (nx - 1) // lag + 1
+    use = min(count, max_points)
+    return use, ((count - use) // 2) * lag
+
+
+def gather_indices(nx: int, ms, max_points: int) -> dict:
+    """m -> indices of the central ``max_points`` (at most) decimated points at m (the
+    points :func:`inertialab.noise.identify.identify_alpha` takes)."""
+    out = {}
+    for m in (int(v) for v in ms):
+        use, start = _central_span(nx, m, max_points)
+        out[m] = start + m * np.arange(use, dtype=np.int64)
+    return out
+
+
 def _central_cumsum2(w: np.ndarray, nvalid: int, m: int, max_points: int) -> np.ndarray:
     """:func:`_central_cumsum` at lag 2m from the lag-m increments ``w`` (``D(2m)_i =
     D(m)_i + D(m)_{i+m}``), without forming D(2m)."""
     lag = 2 * m
-    nx = nvalid + m
-    count = (nx - 1) // lag + 1
-    use = min(count, max_points)
-    start = ((count - use) // 2) * lag
+    use, start = _central_span(nvalid + m, lag, max_points)
     z = np.empty(use)
     z[0] = 0.0
     if use > 1:
@@ -257,12 +272,7 @@ def decimated_points(d: np.ndarray, ms, max_points: int, chunk: int = 1 << 16) -
     ``x_{start + k m} - x_start`` of the increments ``d`` (``x_0 = 0``, ``x_{i+1} = x_i +
     d_i``), gathered in one pass of chunked cumulative sums (no angle array)."""
     nx = d.size + 1
-    want = {}
-    for m in ms:
-        count = (nx - 1) // m + 1
-        use = min(count, max_points)
-        start = ((count - use) // 2) * m
-        want[m] = start + m * np.arange(use, dtype=np.int64)
+    want = gather_indices(nx, ms, max_points)
     got = {m: np.empty(idx.size) for m, idx in want.items()}
     for m, idx in want.items():  # x_0 = 0 (not produced by the chunks below)
         got[m][idx == 0] = 0.0
@@ -285,10 +295,7 @@ def decimated_points(d: np.ndarray, ms, max_points: int, chunk: int = 1 << 16) -
 def _central_cumsum(w: np.ndarray, nvalid: int, m: int, max_points: int) -> np.ndarray:
     """Central decimated angle points (up to a constant) from lag-m increments ``w``
     (``w_i = x_{i+m} - x_i``, ``nvalid`` entries): ``x_{start + k m} - x_start``."""
-    nx = nvalid + m
-    count = (nx - 1) // m + 1
-    use = min(count, max_points)
-    start = ((count - use) // 2) * m
+    use, start = _central_span(nvalid + m, m, max_points)
     z = np.empty(use)
     z[0] = 0.0
     if use > 1:

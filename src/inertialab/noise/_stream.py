@@ -127,15 +127,3 @@ def _tap_windows(src, m: int, cnt: int, q: int, L: int, bufs) -> float:
         taps = [src.window(b0 + j * m, n) for j in range(q + 1)]
         total += _combine_sumsq(taps, q, bufs)
     return total
-
-
-def gather_indices(nx: int, ms, max_points: int) -> dict:
-    """m -> indices of the central ``max_points`` (at most) decimated points at m (the
-    points :func:`inertialab.noise.identify.identify_alpha` takes)."""
-    out = {}
-    for m in (int(v) for v in ms):
-        count = (nx - 1) // m + 1
-        use = min(count, max_points)
-        start = ((count - use) // 2) * m
-        out[m] = start + m * np.arange(use, dtype=np.int64)
-    return out

@@ -403,7 +403,7 @@ def deviation(statistic: str, data, *, rate_hz: float, taus="octave", input: str
     if chunked:
         from inertialab.noise import _stream
 
-        gather = (_stream.gather_indices(arr.size + 1, ms, _ident.MAX_POINTS)
+        gather = (_octave.gather_indices(arr.size + 1, ms, _ident.MAX_POINTS)
                   if alpha is None else None)
         src = _phase._PhaseFromRate(arr, tau0, spill=True, gather=gather)
         try:
