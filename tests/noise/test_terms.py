@@ -423,3 +423,46 @@ def test_mems_preset_terms_within_bounds_and_intervals():
     assert max(abs(e) for e in errs["K"]) < 0.45
     assert np.median(np.abs(errs["K"])) < 0.2
     assert inside >= 16, inside
+
+
+def test_batched_nnls_equals_scipy_nnls():
+    # the corner-profiled fit solves every (corner, replicate) problem at once by support
+    # enumeration; scipy's Lawson-Hanson nnls on each problem, with the signed c_-2 as
+    # the difference of two non-negative columns, is the independent reference
+    from scipy.optimize import nnls
+
+    import inertialab.noise._terms_ls as L
+
+    rng = np.random.default_rng(7)
+    taus = np.geomspace(0.01, 3e4, 18)
+    X = np.stack([taus**k for k in (-2, -1, 0, 1, 2)], axis=1)
+    n_checked = 0
+    for trial in range(40):
+        active = [bool(v) for v in rng.integers(0, 2, 5)]
+        active[1] = True
+        Xs = np.repeat(X[None], 3, axis=0)
+        Xs[:, :, 2] = rng.uniform(0.2, 1.0, (3, taus.size))
+        c_true = rng.uniform(-0.5, 1.0, 5) * np.array([1e-4, 1e-2, 1.0, 1e-4, 1e-8])
+        B = np.einsum("kp,p->k", Xs[0], c_true)[None] * rng.lognormal(0, 0.3, (5, taus.size))
+        w = rng.uniform(0.5, 2.0, taus.size) / B[0] ** 2
+        c, chi = L._wnnls_many(Xs, B, w, active)
+        cols = [j for j in range(5) if active[j]]
+        for d in range(3):
+            for b in range(B.shape[0]):
+                Xa = Xs[d][:, cols]
+                if 0 in cols:
+                    Xa = np.concatenate([Xa, -Xs[d][:, :1]], axis=1)
+                sw = np.sqrt(w)
+                A = Xa * sw[:, None]
+                sc = np.linalg.norm(A, axis=0)
+                cs, rn = nnls(A / sc, B[b] * sw, maxiter=500)
+                ref = np.zeros(5)
+                ref[cols] = (cs / sc)[:len(cols)]
+                if 0 in cols:
+                    ref[0] -= (cs / sc)[-1]
+                assert chi[d, b] == pytest.approx(rn**2, rel=1e-9, abs=1e-12 * np.sum(w * B[b]**2))
+                # each term's largest contribution agrees to 1e-7 of the largest model value
+                assert np.all(np.abs(c[d, b] - ref) * np.abs(Xs[d]).max(axis=0)
+                              <= 1e-7 * np.max(np.abs(Xs[d]) @ np.abs(ref))), (trial, d, b)
+                n_checked += 1
+    assert n_checked == 40 * 3 * 5

@@ -9,10 +9,10 @@ coefficients and replicates into :class:`~inertialab.noise.terms.NoiseTerm`.
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
-from scipy.optimize import nnls
 
 from inertialab.noise._terms_base import (
     _GAIN,
@@ -54,27 +54,6 @@ def _edf_table(result, sel):
 _ELIMINATE_R = True
 
 
-def _wnnls(X, avar, w, active):
-    """One weighted NNLS of ``avar ~ X c`` (``c_k >= 0`` except the signed ``c_-2``).
-    Returns ``(c, chi2)`` with ``chi2 = sum w (avar - X c)^2``."""
-    cols = [j for j in range(5) if active[j]]
-    Xa = X[:, cols]
-    signed = 0 in cols
-    if signed:  # c_-2 = p - q, p, q >= 0
-        Xa = np.concatenate([Xa, -X[:, :1]], axis=1)
-    sw = np.sqrt(w)
-    A = Xa * sw[:, None]
-    scale = np.linalg.norm(A, axis=0)
-    scale[scale == 0] = 1.0
-    cs, rnorm = nnls(A / scale, avar * sw, maxiter=50 * A.shape[1])
-    ca = cs / scale
-    c = np.zeros(5)
-    c[cols] = ca[:len(cols)]
-    if signed:
-        c[0] -= ca[-1]
-    return c, float(rnorm) ** 2
-
-
 def _corner_grid(taus):
     """Corners ``(t_lo, t_hi)`` of the band-limited B term searched by the fit: ``t_lo``
     in {0, 1, 4, 16, 64} x the shortest tau (:data:`BAND_LO_MAX`), ``t_hi`` on a
@@ -95,42 +74,117 @@ def _band_table(taus, grid):
     return np.array([band_shape(taus, lo, hi) for lo, hi in grid])
 
 
-def _solve(X, avar, edf_tab, active, weighted: bool, n_iter: int, shapes=None, model=None,
-           edf=None):
-    """Reweighted LS of ``avar ~ X c`` with ``c_k >= 0`` except the signed ``c_-2``; with
-    ``shapes`` (:func:`_band_table`) the B column is the band-limited shape and its
-    corners are profiled: each pass solves every corner pair with the same weights and
-    keeps the least chi-square. ``model``, ``edf``: the AVAR and EDF the first pass's
-    weights come from (default the data and the white-noise EDF).
+def _subset_solutions(A, B, free, nonneg):
+    """Least squares of ``B ~ A c`` on every support ``free + S``, ``S`` a subset of
+    ``nonneg`` columns, for a stack of designs at once.
 
-    Returns ``(c, model, dom, i_band)``: coefficients (0 where inactive), the model, the
-    index of its dominant term per tau and the chosen corner pair (0 without shapes)."""
-    k = avar.size
-    model = avar.copy() if model is None else np.asarray(model, dtype=float)
+    ``A``: (n_design, k, p) scaled weighted designs; ``B``: (n_b, k) weighted right-hand
+    sides. Returns ``(c, chi)`` with ``c``: (n_design, n_b, p) and ``chi``: (n_design, n_b),
+    the least chi-square over the supports whose ``nonneg`` coefficients are all >= 0.
+
+    This is the exact NNLS optimum (the constrained optimum is the unconstrained one on
+    its own support, and every feasible support's solution is a feasible point), found by
+    enumeration: the fit has at most four sign-constrained columns (16 supports), and the
+    corner profiling solves ~100 corner pairs x 200 bootstrap replicates per fit, where
+    one scipy ``nnls`` call per problem cost 8 of the quick demo's 9.3 s in per-call
+    overhead (issue 14; measured with cProfile)."""
+    nd, k, p = A.shape
+    nb = B.shape[0]
+    best_c = np.zeros((nd, nb, p))
+    best_chi = np.full((nd, nb), math.inf)
+    for r in range(len(nonneg) + 1):
+        for S in itertools.combinations(nonneg, r):
+            cols = list(free) + list(S)
+            if not cols:
+                chi = np.broadcast_to(np.sum(B * B, axis=1), (nd, nb))
+                c = np.zeros((nd, nb, 0))
+            else:
+                As = A[:, :, cols]
+                c = np.einsum("dpk,bk->dbp", np.linalg.pinv(As, rcond=1e-13), B)
+                res = B[None, :, :] - np.einsum("dkp,dbp->dbk", As, c)
+                chi = np.sum(res * res, axis=2)
+                if S:
+                    chi = np.where(np.all(c[:, :, len(free):] >= 0.0, axis=2), chi, math.inf)
+            better = chi < best_chi
+            if np.any(better):
+                full = np.zeros((nd, nb, p))
+                full[:, :, cols] = c
+                best_c = np.where(better[:, :, None], full, best_c)
+                best_chi = np.where(better, chi, best_chi)
+    return best_c, best_chi
+
+
+def _wnnls_many(Xs, B, w, active):
+    """Weighted NNLS of every right-hand side ``B`` (n_b, k) on every design ``Xs``
+    (n_design, k, 5): ``c_k >= 0`` except the free ``c_-2``. Returns ``(c, chi2)``:
+    (n_design, n_b, 5) and (n_design, n_b), ``chi2 = sum w (b - X c)^2``."""
+    cols = [j for j in range(5) if active[j]]
+    sw = np.sqrt(w)
+    A = Xs[:, :, cols] * sw[None, :, None]
+    scale = np.linalg.norm(A, axis=1)
+    scale[scale == 0] = 1.0
+    free = [0] if 0 in cols else []
+    nonneg = [i for i, j in enumerate(cols) if j != 0]
+    cs, chi = _subset_solutions(A / scale[:, None, :], np.atleast_2d(B) * sw[None, :],
+                                free, nonneg)
+    c = np.zeros(cs.shape[:2] + (5,))
+    c[:, :, cols] = cs / scale[:, None, :]
+    return c, chi
+
+
+def _solve_many(X, B, edf_tab, active, weighted: bool, n_iter: int, shapes=None, model=None,
+                edf=None):
+    """Reweighted LS of every row of ``B`` (n_b, k) on ``X c`` with ``c_k >= 0`` except
+    the signed ``c_-2``; with ``shapes`` (:func:`_band_table`) the B column is the
+    band-limited shape and its corners are profiled: each pass solves every corner pair
+    with the same weights and keeps the least chi-square (the first pair on a tie).
+    ``model``, ``edf``: the AVAR and EDF the first pass's weights come from (default the
+    data and the white-noise EDF; with several rows the weights are shared, so pass
+    ``model`` and use one pass).
+
+    Returns ``(c, model, dom, i_band)`` per row: coefficients (0 where inactive), the
+    model, the index of its dominant term per tau and the chosen corner pair (0 without
+    shapes)."""
+    B = np.atleast_2d(np.asarray(B, dtype=float))
+    nb, k = B.shape
+    if model is None:
+        if nb != 1:
+            raise ValueError("several right-hand sides need a shared model for the weights")
+        model = B[0].copy()
+    model = np.asarray(model, dtype=float)
     edf = edf_tab[1] if edf is None else edf
-    c = np.zeros(5)
-    dom = np.ones(k, dtype=np.int64)
-    i_band = 0
-    Xc = X.copy()
+    band = shapes is not None and active[2]
+    if band:
+        Xs = np.repeat(X[None, :, :], shapes.shape[0], axis=0)
+        Xs[:, :, 2] = shapes
+    else:
+        Xs = X[None, :, :]
+    c = np.zeros((nb, 5))
+    i_band = np.zeros(nb, dtype=np.int64)
+    dom = np.ones((nb, k), dtype=np.int64)
     for _ in range(n_iter if weighted else 1):
         w = edf / (2.0 * model * model) if weighted else np.ones(k)
-        if shapes is None or not active[2]:
-            c, _ = _wnnls(Xc, avar, w, active)
-        else:
-            best = math.inf
-            for i in range(shapes.shape[0]):
-                Xc[:, 2] = shapes[i]
-                ci, chi = _wnnls(Xc, avar, w, active)
-                if chi < best:
-                    best, c, i_band = chi, ci, i
-            Xc[:, 2] = shapes[i_band]
-        contrib = Xc * c[None, :]
-        new = contrib.sum(axis=1)
-        model = np.where(new > 0.05 * avar, new, np.maximum(avar, 1e-300))
-        dom = np.argmax(contrib, axis=1)
-        if weighted:
-            edf = edf_tab[dom, np.arange(k)]
+        cc, chi = _wnnls_many(Xs, B, w, active)
+        if band:
+            i_band = np.argmin(chi, axis=0)
+        c = cc[i_band, np.arange(nb)] if band else cc[0]
+        Xb = Xs[i_band] if band else np.broadcast_to(Xs[0], (nb, k, 5))
+        contrib = Xb * c[:, None, :]
+        new = contrib.sum(axis=2)
+        dom = np.argmax(contrib, axis=2)
+        if nb == 1:
+            model = np.where(new[0] > 0.05 * B[0], new[0], np.maximum(B[0], 1e-300))
+            if weighted:
+                edf = edf_tab[dom[0], np.arange(k)]
     return c, model, dom, i_band
+
+
+def _solve(X, avar, edf_tab, active, weighted: bool, n_iter: int, shapes=None, model=None,
+           edf=None):
+    """:func:`_solve_many` of one AVAR curve: ``(c, model, dom, i_band)``."""
+    c, model, dom, i_band = _solve_many(X, avar, edf_tab, active, weighted, n_iter, shapes,
+                                        model, edf)
+    return c[0], model, dom[0], int(i_band[0]) if np.ndim(i_band) else 0
 
 
 def _observable(n_taus: int):
@@ -154,7 +208,9 @@ def _fit_and_boot(X, avar, edf_tab, active, weighted, n_reweight, n_boot, seed, 
     # misfit (Birge) ratio: ln(avar_hat) has variance ~2/edf; a model that cannot follow
     # the curve leaves larger residuals, and the bootstrap spread is widened by
     # sqrt(chi2/dof) when that exceeds 1 (the band's corners count as parameters)
-    n_par = int(np.count_nonzero(c)) + _n_corners(shapes, i_band)
+    # (an absent B term has no corners: every pair then fits alike and the pair kept is
+    # the first one, so its corners are not counted)
+    n_par = int(np.count_nonzero(c)) + (_n_corners(shapes, i_band) if c[2] > 0 else 0)
     chi2 = float(np.sum(0.5 * edf_dom * np.log(avar / model) ** 2))
     misfit = math.sqrt(max(1.0, chi2 / max(avar.size - n_par, 1)))
     # parametric bootstrap in the Allan domain; each replicate profiles the corners again
@@ -163,10 +219,8 @@ def _fit_and_boot(X, avar, edf_tab, active, weighted, n_reweight, n_boot, seed, 
     if n_boot > 0:
         rng = np.random.default_rng(seed)
         draws = _draw_avar(model, edf_dom, dom, m, n_boot, rng)
-        boot = np.empty((n_boot, 5))
-        for b in range(n_boot):
-            boot[b] = _solve(X, draws[b], edf_tab, active, weighted, 1, shapes, model=model,
-                             edf=edf_dom)[0]
+        boot = _solve_many(X, draws, edf_tab, active, weighted, 1, shapes, model=model,
+                           edf=edf_dom)[0]
         boot = c[None, :] + misfit * (boot - c[None, :])
     return c, model, dom, boot, misfit, fit_rmse, i_band
 
