@@ -115,3 +115,64 @@ def test_bad_input():
                          "gyro_log")
     with pytest.raises(InputError, match="no IMU axis columns"):
         analyse_record(rec)
+
+
+def _turning_rig(rng, n=60_000, fs=FS, tc=2.0):
+    """A quiet gyro (white noise 5e-5 rad/s/sqrt(Hz), 0.17 deg/sqrt(h)) on a rig that
+    turns: a rate of a few deg/s that changes with a 2-s correlation time (first-order
+    Gauss-Markov), which dominates the curve from the first tau, as motion does in a
+    flight log (a noisier gyro's white noise would hide the rise at the short taus, and
+    the check, which reads the rising start of the curve, would not see it)."""
+    a = math.exp(-1.0 / (fs * tc))
+    e = rng.standard_normal(n) * 0.05 * math.sqrt(1 - a * a)   # 0.05 rad/s = 2.9 deg/s
+    from scipy.signal import lfilter
+
+    motion = lfilter([1.0], [1.0, -a], e)
+    return 5e-5 * math.sqrt(fs) * rng.standard_normal(n) + motion
+
+
+def test_moving_record_is_flagged_and_a_static_one_is_not(imu, recwarn):
+    # the static simulated IMU of the fixture gives no not-static warning; a turning rig
+    # rises up to ~2 s and is named as not static, per column, by both entry points
+    from inertialab.errors import DataQualityWarning
+    from inertialab.noise.allan import oadev
+    from inertialab.noise.terms import not_static_reason
+    from inertialab.workflows.allan import analyze, prepare_log
+
+    for a in imu.axes:
+        assert not_static_reason(a.deviation.taus_s, a.deviation.dev) is None
+    rng = np.random.default_rng(5)
+    y = _turning_rig(rng)
+    r = oadev(y, rate_hz=FS)
+    why = not_static_reason(r.taus_s, r.dev)
+    assert why is not None and "not static" in why
+    tau_p = float(re.search(r"tau = ([0-9.e+-]+) s", why).group(1))
+    # a Gauss-Markov process peaks at 1.89 Tc (3.8 s here); the reported tau is where the
+    # curve has begun to fall by slope -1/4, within two octaves after the peak
+    assert 1.89 * 2.0 <= tau_p <= 4 * 1.89 * 2.0
+    data = {"t_s": np.arange(y.size) / FS, "gx_rps": y}
+    rec = validate_frame(pd.DataFrame(data), "gyro_log", path="rig.csv")
+    with pytest.warns(DataQualityWarning, match="column 'gx_rps'.*not static"):
+        analyze(prepare_log(rec))
+    with pytest.warns(DataQualityWarning, match="column 'gx_rps'.*not static"):
+        analyse_record(rec)
+
+
+def test_curve_rising_to_the_end_is_refused_with_file_column_and_reason():
+    from inertialab.errors import DataQualityWarning
+
+    # motion slower than the record: almost every tau lies on the rising start, so no
+    # terms can be read; the error names the file, the column and the reason
+    n = 20_000
+    y = _turning_rig(np.random.default_rng(6), n=n, tc=20.0)   # 20-s turns, 200-s record
+    rec = validate_frame(pd.DataFrame({"t_s": np.arange(n) / FS, "gx_rps": y}), "gyro_log",
+                         path="sway.csv")
+    with pytest.raises(InputError, match=r"^sway\.csv: column 'gx_rps': only \d+ of \d+ "
+                                         r"taus .*not static"):
+        analyse_record(rec)
+    # turns slower still: the curve rises to its longest tau; terms are read but flagged
+    y = _turning_rig(np.random.default_rng(6), n=n, tc=100.0)
+    rec = validate_frame(pd.DataFrame({"t_s": np.arange(n) / FS, "gx_rps": y}), "gyro_log",
+                         path="sway.csv")
+    with pytest.warns(DataQualityWarning, match=r"column 'gx_rps'.*rises up to tau = 81\.9 s"):
+        analyse_record(rec)

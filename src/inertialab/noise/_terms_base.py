@@ -424,28 +424,68 @@ class _Converter:
 # ----------------------------------------------------------------------------- tau range
 
 
+#: largest first-peak tau (s) of the Allan deviation a static record's own filter makes:
+#: an IMU's internal low-pass/decimation filter (bandwidth >= ~5 Hz; correlation time
+#: <= 1/(2 pi 5 Hz) = 0.03 s) puts the peak near a few correlation times, below ~0.1 s;
+#: a curve still rising at 1 s follows something slower than any such filter (motion,
+#: vibration, a rig that turns), and the noise terms would describe that, not the sensor
+STATIC_PEAK_MAX_S = 1.0
+
+
+def filter_peak_tau(taus_s, dev) -> float | None:
+    """First peak ``tau_p`` of an Allan deviation that starts rising or flat (its first
+    log-log slope above -1/4; the peak is where the slope first falls below -1/4), or
+    None when the curve starts falling or never falls."""
+    lt = np.log(np.asarray(taus_s, dtype=float))
+    ld = np.log(np.asarray(dev, dtype=float))
+    if lt.size < 3:
+        return None
+    s = np.diff(ld) / np.diff(lt)
+    if s[0] <= -0.25:
+        return None
+    below = np.nonzero(s <= -0.25)[0]
+    if below.size == 0:
+        return None
+    return math.exp(lt[below[0]])
+
+
 def auto_tau_range(taus_s, dev) -> int:
     """Index of the first tau not coloured by the sensor's internal filter.
 
     A low-pass/decimation filter makes the Allan deviation rise or flatten at the first
     taus before it falls like white noise (slope -1/2). When the first log-log slope is
-    above -1/4 the curve's first peak ``tau_p`` is found (first slope below -1/4) and taus
-    below ``4 tau_p`` are cut; the 1/tau^2 remainder of the filter beyond that is taken up
-    by the signed ``c_-2`` term. A curve that starts falling (white noise, quantisation)
-    keeps every tau (index 0).
+    above -1/4 the curve's first peak ``tau_p`` is found (:func:`filter_peak_tau`) and
+    taus below ``4 tau_p`` are cut; the 1/tau^2 remainder of the filter beyond that is
+    taken up by the signed ``c_-2`` term. A curve that starts falling (white noise,
+    quantisation) keeps every tau (index 0).
     """
+    tau_p = filter_peak_tau(taus_s, dev)
+    if tau_p is None:
+        return 0
     lt = np.log(np.asarray(taus_s, dtype=float))
-    ld = np.log(np.asarray(dev, dtype=float))
-    if lt.size < 3:
-        return 0
-    s = np.diff(ld) / np.diff(lt)
-    if s[0] <= -0.25:
-        return 0
-    below = np.nonzero(s <= -0.25)[0]
-    if below.size == 0:
-        return 0
-    tau_p = math.exp(lt[below[0]])
     return int(np.searchsorted(lt, math.log(4.0 * tau_p) - 1e-9))
+
+
+def not_static_reason(taus_s, dev) -> str | None:
+    """Why a rate record does not look static (its Allan deviation still rises at
+    :data:`STATIC_PEAK_MAX_S` or beyond), or None."""
+    tau_p = filter_peak_tau(taus_s, dev)
+    if tau_p is None:
+        # a curve that starts rising and never falls rises up to its longest tau
+        t = np.asarray(taus_s, dtype=float)
+        d = np.asarray(dev, dtype=float)
+        if t.size < 3 or math.log(d[1] / d[0]) / math.log(t[1] / t[0]) <= -0.25:
+            return None
+        s = np.diff(np.log(d)) / np.diff(np.log(t))
+        if np.any(s <= -0.25):
+            return None
+        tau_p = float(t[-1])
+    if tau_p < STATIC_PEAK_MAX_S:
+        return None
+    return (f"the Allan deviation rises up to tau = {tau_p:.3g} s, where a sensor's own "
+            f"filter colours only tau below ~0.1 s: the record is probably not static "
+            f"(motion, vibration or a turning rig), and noise terms read from it describe "
+            f"that, not the sensor")
 
 
 def local_slopes(taus, dev) -> np.ndarray:

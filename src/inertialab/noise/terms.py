@@ -97,6 +97,7 @@ from inertialab.noise._terms_base import (  # noqa: F401 - the public names live
     _nan,
     auto_tau_range,
     local_slopes,
+    not_static_reason,
 )
 from inertialab.noise._terms_ls import fit_ls
 from inertialab.noise._terms_slope import fit_slope
@@ -120,6 +121,13 @@ def _select(result, tau_range, auto: bool):
             cut = k
             sel[idx[:k]] = False
     if sel.sum() < 3:
+        why = not_static_reason(taus, dev) if cut else None
+        if cut:
+            raise InputError(
+                f"only {int(sel.sum())} of {int(sel.sum()) + cut} taus are left to fit "
+                f"noise terms after the rising start of the curve (cut below "
+                f"{taus[np.nonzero(sel)[0][0]] if sel.any() else taus[-1]:g} s); "
+                + (why if why else "the record is too short for its filter colouring"))
         raise InputError(f"need at least 3 taus with a positive deviation in "
                          f"[{lo:g}, {hi:g}] s to fit noise terms, got {int(sel.sum())}")
     return sel, cut
@@ -235,4 +243,4 @@ def model_intervals(result, terms: NoiseTerms, *, min_points: int = 1000):
 
 __all__ = ["BI_FACTOR", "CONFIDENCE", "EDF_MIN", "N_BOOT", "NoiseTerm", "NoiseTerms",
            "auto_tau_range", "fit_noise_terms", "local_slopes", "model_alpha",
-           "model_intervals"]
+           "model_intervals", "not_static_reason"]

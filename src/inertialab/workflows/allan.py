@@ -21,7 +21,12 @@ from inertialab.errors import InputError
 from inertialab.noise.allan import DeviationResult
 from inertialab.noise.family import ALL_STATISTICS as STATISTICS
 from inertialab.noise.family import PHASE_UNIT, compute
-from inertialab.noise.terms import NoiseTerms, fit_noise_terms, model_intervals
+from inertialab.noise.terms import (
+    NoiseTerms,
+    fit_noise_terms,
+    model_intervals,
+    not_static_reason,
+)
 
 #: Largest magnitude accepted in a record: squares and sums of larger values overflow
 #: float64 (1e154 squared is 1e308); no sensor output comes near it (issue 19 item 7).
@@ -517,17 +522,23 @@ def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: st
     if fit_terms:
         if oad is None:
             oad = one("oadev", taus="octave")
+        import warnings
+
+        from inertialab.errors import DataQualityWarning
+
+        why = not_static_reason(oad.taus_s, oad.dev)
         try:
             terms = fit_noise_terms(oad, unit=log.unit, kind=kind or log.kind, method=method,
                                     rate_hz=log.rate_hz, g_local=log.g_local)
         except InputError as exc:
-            if "at least 3 taus" not in str(exc):
+            if "taus" not in str(exc):
                 raise
-            import warnings
-
-            from inertialab.errors import DataQualityWarning
-
-            warnings.warn(f"noise terms not fitted: {exc}", DataQualityWarning, stacklevel=2)
+            warnings.warn(f"column '{log.column}': noise terms not fitted: {exc}",
+                          DataQualityWarning, stacklevel=2)
+        else:
+            if why:
+                warnings.warn(f"column '{log.column}': {why}", DataQualityWarning,
+                              stacklevel=2)
     if terms is not None:  # rate records: noise types follow the fitted model (issue 14 item 5)
         results = [model_intervals(r, terms) if r.statistic in _MODEL_EDF_STATS else r
                    for r in results]

@@ -146,7 +146,7 @@ class IMUNoise:
 def _axis(name: str, column: str, y, unit: str, *, rate_hz: float, taus, method: str,
           g_local: float, tau_range_s) -> AxisNoise:
     from inertialab.noise.allan import oadev
-    from inertialab.noise.terms import fit_noise_terms
+    from inertialab.noise.terms import fit_noise_terms, not_static_reason
 
     kind = AXES[name]
     dim = U.lookup(unit).dimension
@@ -154,8 +154,18 @@ def _axis(name: str, column: str, y, unit: str, *, rate_hz: float, taus, method:
     if dim != want:
         raise InputError(f"unit '{unit}' is a {dim}, expected a {want}", column=column)
     dev = oadev(np.asarray(y), rate_hz=rate_hz, taus=taus)
-    terms = fit_noise_terms(dev, unit=unit, kind=kind, method=method, rate_hz=rate_hz,
-                            tau_range_s=tau_range_s, g_local=g_local)
+    try:
+        terms = fit_noise_terms(dev, unit=unit, kind=kind, method=method, rate_hz=rate_hz,
+                                tau_range_s=tau_range_s, g_local=g_local)
+    except InputError as exc:
+        raise InputError(str(exc), column=column) from None
+    why = not_static_reason(dev.taus_s, dev.dev) if tau_range_s is None else None
+    if why:
+        import warnings
+
+        from inertialab.errors import DataQualityWarning
+
+        warnings.warn(f"column '{column}': {why}", DataQualityWarning, stacklevel=3)
     c = np.asarray(terms.coefficients, dtype=float)
     si = _SI[kind][0]
     # N^2 = c_-1 (unit^2 s): N in unit/sqrt(Hz); K^2 = 3 c_1 (unit^2 / s): K in unit*sqrt(Hz)/s
@@ -232,8 +242,13 @@ def analyse_record(rec, *, rate_hz: float | None = None, taus="octave", method: 
             raise InputError("needs t_s or argument 'rate_hz'", path=rec.path)
         fs = 1.0 / float(np.median(np.diff(rec.data["t_s"].to_numpy())))
     g = g_local if g_local is not None else float(rec.meta.get("g_local_mps2", U.G_STANDARD))
-    return analyse_imu(cols, rate_hz=float(fs), taus=taus, method=method, g_local=g,
-                       tau_range_s=tau_range_s, progress=progress)
+    try:
+        return analyse_imu(cols, rate_hz=float(fs), taus=taus, method=method, g_local=g,
+                           tau_range_s=tau_range_s, progress=progress)
+    except InputError as exc:
+        if exc.path is not None or rec.path is None:
+            raise
+        raise InputError(str(exc), path=rec.path) from None
 
 
 def _fmt(v: float) -> str:
