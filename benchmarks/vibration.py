@@ -62,6 +62,12 @@ def _per_seed(seed: int) -> dict:
                                        for k in TERMS}
         out[f"t2_{rec}_D_over_raw"] = {k: _ratio(_v(dec[f"{rec}/x-A{L}"], k), _v(raw, k))
                                        for k in TERMS}
+        # K read as significant (not an upper bound, absent or unobservable) in raw, A_L
+        out[f"t2_{rec}_K_significant"] = {
+            name: not ({"upper_bound", "absent", "not_observable"} & set(row["K"]["flags"]))
+            for name, row in (("raw", raw), (f"A{L}", dec[f"{rec}/A{L}"]))}
+        out[f"t2_{rec}_K_ci"] = {"raw": list(raw["K"]["ci"]),
+                                 f"A{L}": list(dec[f"{rec}/A{L}"]["K"]["ci"])}
     # check 15 / T5: Table-3 analogue ("wls", tau >= 2^(L+1) tau0 for A_L rows)
     out["t3_rbf_over_A"] = {k: _ratio(_v(comp["rbf"], k), _v(comp[f"A{L}"], k)) for k in TERMS}
     out["t3_poly_over_A"] = {k: _ratio(_v(comp["poly"], k), _v(comp[f"A{L}"], k)) for k in TERMS}
@@ -139,6 +145,11 @@ def run(quick: bool = False) -> dict:
             "QN_A_over_raw": [max(p[f"t2_{rec}_A_over_raw"]["Q"], p[f"t2_{rec}_A_over_raw"]["N"])
                               for p in per],
             "K_A_over_raw": [p[f"t2_{rec}_A_over_raw"]["K"] for p in per],
+            # the K ratio is read only where both fits report K as significant: the ratio
+            # of two upper bounds says nothing about K (issue 14: a term the data cannot
+            # support is flagged, not compared)
+            "K_both_significant": [all(p[f"t2_{rec}_K_significant"].values()) for p in per],
+            "K_ci": [p[f"t2_{rec}_K_ci"] for p in per],
             "Q_D_over_raw": [p[f"t2_{rec}_D_over_raw"]["Q"] for p in per],
             "N_D_over_raw": [p[f"t2_{rec}_D_over_raw"]["N"] for p in per],
             "BK_D_over_raw": [_max_finite(p[f"t2_{rec}_D_over_raw"]["B"],
@@ -161,7 +172,9 @@ def run(quick: bool = False) -> dict:
     for c in checks["14_table2_ols"].values():
         c["pass"] = {
             "QN_A_le_0.1": all(v <= 0.1 for v in c["QN_A_over_raw"]),
-            "K_A_within_30pct": all(abs(v - 1) <= 0.3 for v in c["K_A_over_raw"]),
+            "K_A_within_30pct": (all(abs(v - 1) <= 0.3 for v, sig in
+                                     zip(c["K_A_over_raw"], c["K_both_significant"]) if sig)
+                                 if any(c["K_both_significant"]) else None),
             "QN_D_within_10pct": all(abs(v - 1) <= 0.1 for v in c["Q_D_over_raw"] +
                                      c["N_D_over_raw"]),
             "BK_D_le_0.2": all(v <= 0.2 for v in c["BK_D_over_raw"])}
@@ -225,16 +238,18 @@ def _lst(xs, nd=3):
     return ", ".join(_fmt(float(v), nd) for v in xs)
 
 
-def _k_note(ratios) -> str:
-    """Why check 14's K part fails on the sweep, from the measured ratios."""
-    r = [v for v in ratios if math.isfinite(v)]
-    if r and max(r) == 0:
-        return ("; on the sweep the OLS fit puts K of A6 at 0 while the raw record's K comes "
-                "from the rising bias of the sweep, so the K part fails there")
-    lo, hi = (min(r), max(r)) if r else (float("nan"), float("nan"))
-    return (f"; on the sweep K of A6 is {_fmt(lo)}-{_fmt(hi)} x the raw record's: the "
-            "sweep's rising bias dominates the long taus of both records (why the fit of A6 "
-            "reads the larger K was not investigated), so the K part fails there")
+def _k_note(cc) -> str:
+    """What check 14's K part read: the seeds where K is significant in both the raw
+    record and A_L, and the intervals where it is not."""
+    sig = cc.get("K_both_significant")
+    if sig is None or all(sig):
+        return ""
+    n_not = sum(1 for v in sig if not v)
+    his = [f"{_fmt(ci['raw'][1])}/{_fmt(max(v[1] for k, v in ci.items() if k != 'raw'))}"
+           for ci, s in zip(cc["K_ci"], sig) if not s]
+    return (f"; K is not significant in the raw record or A6 on {n_not} of {len(sig)} seeds "
+            f"(upper bounds raw/A6 {', '.join(his)} deg/h/sqrt(h)): its ratio there compares "
+            "two upper bounds and is not read")
 
 
 def _row(d):
@@ -245,7 +260,8 @@ def markdown(result: dict) -> str:
     c = result["checks"]
     t = result["targets"]
     seeds = result["seeds"]
-    ok = lambda b: "holds" if b else "**does not hold**"  # noqa: E731
+    ok = lambda b: ("cannot be read" if b is None  # noqa: E731
+                    else "holds" if b else "**does not hold**")
     c14 = c["14_table2_ols"]
     lines = [
         "## Spec 001: FOG under vibration (db4 multiscale separation, RBF compensation)",
@@ -283,8 +299,7 @@ def markdown(result: dict) -> str:
             f"{_lst(cc['K_A_over_raw'])}; Q(x-A6)/raw {_lst(cc['Q_D_over_raw'])}; N "
             f"{_lst(cc['N_D_over_raw'])}; BK(x-A6)/raw {_lst(cc['BK_D_over_raw'])} | "
             + "; ".join(f"{k} {ok(v)}" for k, v in p.items())
-            + (_k_note(cc["K_A_over_raw"]) if rec == "sweep" and not p["K_A_within_30pct"]
-               else "")
+            + _k_note(cc)
             + (f"; the raw record's B is reported absent (an upper bound) on "
                f"{cc['B_raw_absent']} of {len(cc['BK_D_over_raw'])} seeds, where B/raw is "
                "undefined and the B, K part reads K alone"
