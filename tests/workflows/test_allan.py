@@ -36,15 +36,47 @@ def test_prepare_rate_log_from_t_s(tmp_path):
     np.testing.assert_array_equal(log.values, y)
 
 
-def test_non_uniform_time_names_rows(tmp_path):
-    df, _ = _white(200)
+def test_jittery_and_gappy_time_stamps_on_the_sensor_grid(tmp_path):
+    # a logger stamps the sensor's uniform samples with jitter and loses packets: the
+    # samples go on the sensor's grid at the mean rate, the lost ones as NaN (never
+    # interpolated), with one warning naming the rows; repeated stamps are refused
+    from inertialab.errors import DataQualityWarning
+
+    df, y = _white(200)
     t = df["t_s"].to_numpy().copy()
     t[50:] += 0.003  # one step of 0.103 s instead of 0.1
     df["t_s"] = t
-    with pytest.raises(InputError, match=r"rows? 51"):
-        W.prepare_log(_log(tmp_path, df))
-    # --rate overrides the time column
+    with pytest.warns(DataQualityWarning, match=r"column 't_s': time stamps jitter.*rows 51"):
+        log = W.prepare_log(_log(tmp_path, df))
+    assert log.rate_hz == pytest.approx(199 / (t[-1] - t[0]), rel=1e-12)
+    np.testing.assert_array_equal(log.values, y)
+    # --rate overrides the time column, without a warning
     assert W.prepare_log(_log(tmp_path, df), rate_hz=10.0).rate_hz == 10.0
+
+    # 20 000 samples on a logger clock 0.1 % fast, stamps jittering by 20 % of a step,
+    # three packets lost (2, 1 and 5 samples): every kept sample lands in its own slot
+    rng = np.random.default_rng(3)
+    n, fs = 20_000, 10.0
+    keep = np.ones(n, bool)
+    keep[[1000, 1001, 7000, 15000, 15001, 15002, 15003, 15004]] = False
+    t_true = np.arange(n) / fs * 1.001 + rng.uniform(-0.02, 0.02, n)
+    yy = np.random.default_rng(4).normal(0.0, 1.0, n)
+    df2 = pd.DataFrame({"t_s": t_true[keep] - t_true[keep][0], "rate_dph": yy[keep]})
+    with pytest.warns(DataQualityWarning, match=r"8 sample\(s\) lost"):
+        log = W.prepare_log(_log(tmp_path, df2, name="gappy.csv"))
+    assert log.values.size == n - 1 + 1 if keep[0] else n
+    expect = np.where(keep, yy, np.nan)
+    np.testing.assert_array_equal(log.values, expect)
+    assert log.rate_hz == pytest.approx(fs / 1.001, rel=1e-4)
+    with pytest.warns(Warning):
+        res = W.analyze(log, fit_terms=False)
+    assert res.results[0].n_missing == 8 and res.results[0].n_gaps == 3
+
+    t3 = np.arange(200) / 10.0
+    t3[120] = t3[119]
+    df3 = pd.DataFrame({"t_s": t3, "rate_dph": y})
+    with pytest.raises(InputError, match=r"column 't_s', row 121: time stamps repeat"):
+        W.prepare_log(_log(tmp_path, df3, name="rep.csv"))
 
 
 def test_dtheta_and_theta_columns(tmp_path):

@@ -27,7 +27,7 @@ import numpy as np
 
 from inertialab.io.gaps import GAP_FACTOR, detect_gaps
 
-__all__ = ["TimingAudit", "audit", "resample_uniform"]
+__all__ = ["SampleSlots", "TimingAudit", "audit", "resample_uniform", "sample_slots"]
 
 _LISTED = 20
 
@@ -89,6 +89,51 @@ def audit(t, *, gap_factor: float = GAP_FACTOR) -> TimingAudit:
         n_repeated=int(np.count_nonzero(dt == 0)), n_out_of_order=int(np.count_nonzero(dt < 0)),
         gaps=[{"row": i.row, "t_s": i.t_before_s, "duration_s": i.duration_s,
                "missing": i.missing} for i in gaps[:_LISTED]])
+
+
+@dataclass(frozen=True)
+class SampleSlots:
+    """Where each sample of a jittery, gappy log sits on its sensor's sample grid.
+
+    ``index[i]`` is the grid slot of sample ``i`` (0 for the first; a step of ``k``
+    nominal steps, rounded, advances ``k`` slots, so a dropout leaves ``k - 1`` empty
+    slots); ``tau0_s`` the mean step per slot, span / last slot; ``jitter_rel`` and
+    ``jitter_max_rel`` the rms and largest deviation of a step per slot from ``tau0_s``,
+    relative to it."""
+
+    index: np.ndarray
+    tau0_s: float
+    jitter_rel: float
+    jitter_max_rel: float
+
+    @property
+    def n_slots(self) -> int:
+        return int(self.index[-1]) + 1
+
+    @property
+    def n_missing(self) -> int:
+        return self.n_slots - int(self.index.size)
+
+
+def sample_slots(t) -> SampleSlots:
+    """Grid slots of the samples stamped ``t`` (s, strictly increasing).
+
+    A sensor samples on its own clock; a logger stamps the samples on arrival, so the
+    stamps jitter around that grid and a lost packet shows as a step of several nominal
+    steps. Each step advances ``round(step / nominal)`` slots (nominal: the median step),
+    which follows a logger clock that runs slightly off the sensor's (a fixed nominal grid
+    from the first stamp would drift by whole samples over a long log), and counts a
+    step above 1.5 nominal steps as a dropout, as :mod:`inertialab.io.gaps`. Steps that
+    are not positive are the caller's to refuse."""
+    t = np.asarray(t, dtype=float)
+    dt = np.diff(t)
+    nominal = float(np.median(dt))
+    slots = np.maximum(np.rint(dt / nominal), 1.0)
+    index = np.concatenate([[0], np.cumsum(slots)]).astype(np.int64)
+    tau0 = float(t[-1] - t[0]) / float(index[-1])
+    rel = dt / slots / tau0 - 1.0
+    return SampleSlots(index=index, tau0_s=tau0, jitter_rel=float(np.sqrt(np.mean(rel * rel))),
+                       jitter_max_rel=float(np.max(np.abs(rel))))
 
 
 def resample_uniform(t, columns: dict, rate_hz: float) -> tuple[np.ndarray, dict]:

@@ -127,7 +127,8 @@ def _select(result, tau_range, auto: bool):
                 f"only {int(sel.sum())} of {int(sel.sum()) + cut} taus are left to fit "
                 f"noise terms after the rising start of the curve (cut below "
                 f"{taus[np.nonzero(sel)[0][0]] if sel.any() else taus[-1]:g} s); "
-                + (why if why else "the record is too short for its filter colouring"))
+                + (why if why else "too few taus remain beyond it (a short record, or one "
+                          "whose gaps leave few usable taus)"))
         raise InputError(f"need at least 3 taus with a positive deviation in "
                          f"[{lo:g}, {hi:g}] s to fit noise terms, got {int(sel.sum())}")
     return sel, cut

@@ -81,7 +81,18 @@ class LogData:
     g_local: float = units.G_STANDARD
 
 
-def _rate_from_time(t: np.ndarray, path) -> float:
+def _time_grid(t: np.ndarray, path):
+    """Sample rate and grid slots from the time stamps: ``(rate_hz, index)``, ``index``
+    None when every sample is on the grid (stamps uniform to :data:`T_JITTER_TOL`, or
+    jittering without a lost sample), else the slot of each sample
+    (:func:`inertialab.io.timestamps.sample_slots`), the lost ones becoming NaN.
+    Jitter and dropouts are reported as a DataQualityWarning; repeated or backward
+    stamps are an InputError naming the rows."""
+    import warnings
+
+    from inertialab.errors import DataQualityWarning
+    from inertialab.io.timestamps import sample_slots
+
     n = t.size
     if n < 2:
         raise InputError("needs at least two time stamps", path=path, column="t_s")
@@ -89,16 +100,32 @@ def _rate_from_time(t: np.ndarray, path) -> float:
     step = float(np.median(dt))
     if not step > 0:
         raise InputError("time stamps do not increase", path=path, column="t_s")
-    # each step against the median step; the rate is the mean step's inverse
-    bad = np.flatnonzero(np.abs(dt - step) > T_JITTER_TOL * step)
     tau0 = (float(t[-1]) - float(t[0])) / (n - 1)
-    if bad.size:
-        rows = [int(i) + 2 for i in bad[:5]]  # 1-based data row of the later stamp
-        raise InputError(
-            f"time stamps not uniform (step deviates from {step:.9g} s by more than "
-            f"{T_JITTER_TOL:g} relative at {bad.size} step(s)); give argument 'rate_hz' to ignore t_s",
-            path=path, column="t_s", row=rows)
-    return 1.0 / tau0
+    bad = np.flatnonzero(np.abs(dt - step) > T_JITTER_TOL * step)
+    if not bad.size:
+        return 1.0 / tau0, None
+    back = np.flatnonzero(dt <= 0)
+    if back.size:
+        rows = [int(i) + 2 for i in back[:5]]  # 1-based data row of the later stamp
+        raise InputError(f"time stamps repeat or go back at {back.size} step(s); the samples "
+                         "cannot be placed in time (set argument 'gaps' to 'split' and "
+                         "analyse a segment, or give argument 'rate_hz' to ignore t_s)",
+                         path=path, column="t_s", row=rows)
+    sl = sample_slots(t)
+    rows = [int(i) + 2 for i in bad[:5]]
+    where = f"{path}: " if path else ""
+    jit = (f"time stamps jitter by {100 * sl.jitter_rel:.2g} % rms, up to "
+           f"{100 * sl.jitter_max_rel:.2g} %, of the {sl.tau0_s:.6g} s step"
+           if sl.jitter_max_rel > T_JITTER_TOL else
+           f"time stamps on a {sl.tau0_s:.6g} s step apart from dropouts")
+    msg = (f"{where}column 't_s': {jit} (e.g. rows {', '.join(map(str, rows))}): the samples "
+           f"are taken on a uniform grid at {1.0 / sl.tau0_s:.6g} Hz, the mean rate "
+           f"(argument 'rate_hz' sets it)")
+    if sl.n_missing:
+        msg += (f"; {sl.n_missing} sample(s) lost in steps longer than 1.5 nominal steps "
+                f"are missing on that grid (gap-resistant statistics, never interpolated)")
+    warnings.warn(msg, DataQualityWarning, stacklevel=3)
+    return 1.0 / sl.tau0_s, (sl.index if sl.n_missing else None)
 
 
 def prepare_log(record, *, column: str | None = None, rate_hz: float | None = None,
@@ -112,8 +139,11 @@ def prepare_log(record, *, column: str | None = None, rate_hz: float | None = No
         Canonical column (``rate_dph``) or its base (``rate``). Default: the first of
         rate, dtheta, gx, gy, gz, accel, ax, ay, az (``theta`` for ``input="angle"``).
     rate_hz : float, optional
-        Sample rate; else the sidecar's ``fs_hz``, else a uniform ``t_s`` (relative
-        jitter <= 1e-6, else an InputError naming the rows).
+        Sample rate; else the sidecar's ``fs_hz``, else from ``t_s``: uniform stamps
+        (relative jitter <= 1e-6) give their rate; jittering stamps give the mean rate
+        and a DataQualityWarning, and samples lost in dropouts become NaN on the
+        sensor's grid (:func:`_time_grid`); repeated or backward stamps are an
+        InputError naming the rows.
     input : {"rate", "angle"}
         ``"angle"`` reads a cumulative ``theta_*`` column (phase analogue).
         ``dtheta_*`` increments are divided by tau0 (CONTRACTS.md "Records").
@@ -140,6 +170,7 @@ def prepare_log(record, *, column: str | None = None, rate_hz: float | None = No
     suf = record.units.get(col, suf)
     if suf is None:
         raise InputError("column has no unit; give argument 'unit'", path=path, column=col)
+    slots = None
     if rate_hz is not None:
         fs = float(rate_hz)
         if not math.isfinite(fs) or fs <= 0:
@@ -147,12 +178,16 @@ def prepare_log(record, *, column: str | None = None, rate_hz: float | None = No
     elif record.meta.get("fs_hz") is not None and "t_s" not in record.data.columns:
         fs = float(record.meta["fs_hz"])
     elif "t_s" in record.data.columns:
-        fs = _rate_from_time(record.data["t_s"].to_numpy(dtype=float), path)
+        fs, slots = _time_grid(record.data["t_s"].to_numpy(dtype=float), path)
     elif record.meta.get("fs_hz") is not None:
         fs = float(record.meta["fs_hz"])
     else:
         raise InputError("no sample rate: give argument 'rate_hz' or a t_s column", path=path)
     values = record.column(col)
+    if slots is not None:  # dropouts: the lost samples are NaN on the sensor's grid
+        full = np.full(int(slots[-1]) + 1, np.nan)
+        full[slots] = np.asarray(values, dtype=np.float64)
+        values = full
     dim = units.dimension(suf)
     kind_input = input
     if dim == "angle":
