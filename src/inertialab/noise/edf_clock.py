@@ -125,7 +125,7 @@ def edf_htotdev(n_phase: int, m, alpha, *, method: str = "stable32") -> np.ndarr
       EDF (:func:`inertialab.noise.edf.edf_oadev_sp1065`), below ``m = 16`` and for the
       phase noises (alpha 1, 2) at every m; the overlapping-Hadamard Greenhall EDF for
       alpha -3, -4 (Table 5 has no rows). That Stable32 uses Table 5 there is inferred
-      from its printed bounds (three records, 23 FM rows below m = 16 and 9 white-PM rows:
+      from its printed bounds (three records, 14 FM rows below m = 16 and 9 white-PM rows:
       agreement 3.6e-4 and 1.5e-4), not documented; see docs/allan.md.
     * ``method="greenhall"``: the overlapping-Hadamard Greenhall & Riley (2003) EDF
       wherever the Howe formula does not apply (the rule before issue 15 item 4).
