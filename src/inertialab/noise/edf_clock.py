@@ -54,10 +54,11 @@ Chi-Squared", 2020); offered as an option, the statistics use the exact quantile
 
 Verified (not committed: third-party data): on Stable32's tables of a 1253-point Sr87
 clock record (allantoolkit ``tests/assets/Sr87``) and of PHASE.DAT (allantools
-``tests/phasedat``) these EDFs give Stable32's printed bounds to 5.3e-4 for TOTDEV (FM),
-Theo1, TheoH, MTOT/TTOT below m = 10 and HTOTDEV (FM; white PM), with Stable32's
-chi-square to 2e-4 where EDF > 100; not for MTOT/TTOT from m = 10 (up to 6.4e-2) nor for
-flicker PM HTOTDEV/TOTDEV rows (1e-3 to 1.4e-2). Figures and the method: docs/allan.md.
+``tests/phasedat``) these EDFs give Stable32's printed bounds to 6.6e-4 for TOTDEV (FM),
+Theo1, TheoH, MTOT/TTOT up to m = 8 and HTOTDEV (FM; white PM) with the exact quantiles
+(with Stable32's: MTOT/TTOT 4.7e-5, TheoH 1.1e-4, HTOTDEV below m = 16 3.6e-4); not for
+MTOT/TTOT from m = 10 (up to 6.4e-2) nor for flicker-PM HTOTDEV/TOTDEV rows (1e-3 to
+1.4e-2). Figures and the method: docs/allan.md.
 """
 
 from __future__ import annotations
@@ -125,8 +126,8 @@ def edf_htotdev(n_phase: int, m, alpha, *, method: str = "stable32") -> np.ndarr
       EDF (:func:`inertialab.noise.edf.edf_oadev_sp1065`), below ``m = 16`` and for the
       phase noises (alpha 1, 2) at every m; the overlapping-Hadamard Greenhall EDF for
       alpha -3, -4 (Table 5 has no rows). That Stable32 uses Table 5 there is inferred
-      from its printed bounds (three records, 14 FM rows below m = 16 and 9 white-PM rows:
-      agreement 3.6e-4 and 1.5e-4), not documented; see docs/allan.md.
+      from its printed bounds (two records, 14 FM rows below m = 16 and 9 white-PM rows:
+      agreement 3.6e-4 and 1.8e-4), not documented; see docs/allan.md.
     * ``method="greenhall"``: the overlapping-Hadamard Greenhall & Riley (2003) EDF
       wherever the Howe formula does not apply (the rule before issue 15 item 4).
     """
