@@ -40,14 +40,33 @@ def make_record() -> np.ndarray:
     return x + 3e-11 * rng.standard_normal(N_PHASE)
 
 
+def sp1065_table5_edf(n, m, alpha):
+    """NIST SP 1065 Table 5, the simple overlapping-Allan EDF (N phase points; FFM at
+    m = 1 with (N-2) squared as SP 1065 prints it; allantools' edf_simple drops the
+    square)."""
+    if alpha >= 2:
+        return (n + 1) * (n - 2 * m) / (2 * (n - m))
+    if alpha == 1:
+        return math.exp(math.sqrt(math.log((n - 1) / (2 * m))
+                                  * math.log((2 * m + 1) * (n - 1) / 4)))
+    if alpha == 0:
+        return (3 * (n - 1) / (2 * m) - 2 * (n - 2) / n) * 4 * m**2 / (4 * m**2 + 5)
+    if alpha == -1:
+        return 2 * (n - 2) ** 2 / (2.3 * n - 4.9) if m == 1 else 5 * n**2 / (4 * m * (n + 3 * m))
+    return (n - 2) / (m * (n - 3) ** 2) * ((n - 1) ** 2 - 3 * m * (n - 1) + 4 * m**2)
+
+
 def htot_edf(n, m, alpha):
     """SP 1065 §5.2.14 / Howe et al. (PTTI 2000): (N/m)/(b0 + b1 m/N) for m >= 16 and FM
-    noise alpha 0, -1, -2; otherwise Greenhall's overlapping-Hadamard EDF."""
+    noise alpha 0, -1, -2; otherwise SP 1065 Table 5 (the rule Stable32's printed HTOTDEV
+    bounds follow, docs/allan.md), Greenhall's overlapping-Hadamard EDF for alpha < -2."""
     table = {0: (0.559, 1.004), -1: (0.868, 1.140), -2: (0.938, 1.696)}
     if m >= 16 and alpha in table:
         b0, b1 = table[alpha]
         return (n / m) / (b0 + b1 * m / n)
-    return at.edf_greenhall(alpha=max(min(alpha, 2), -4), d=3, m=m, N=n, overlapping=True,
+    if alpha >= -2:
+        return sp1065_table5_edf(n, m, alpha)
+    return at.edf_greenhall(alpha=max(alpha, -4), d=3, m=m, N=n, overlapping=True,
                             modified=False)
 
 

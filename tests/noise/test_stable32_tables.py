@@ -8,7 +8,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from scipy import stats
 
+from inertialab.errors import InputError
 from inertialab.noise import allan as A
 from inertialab.noise import edf_clock as E
 from inertialab.noise.theo import theo1
@@ -103,12 +105,80 @@ def test_theo1_edf_published_values():
 def test_htot_edf_switches_at_m16():
     from inertialab.noise import edf as _edf
 
-    assert E.edf_htotdev(1001, 8, 0)[0] == pytest.approx(
-        _edf.edf_greenhall("ohdev", 1001, 8, 0), rel=1e-12)
-    assert E.edf_htotdev(1001, 16, 0)[0] == pytest.approx(
-        (1001 / 16) / (0.559 + 1.004 * 16 / 1001), rel=1e-12)
-    assert E.edf_htotdev(1001, 32, -2)[0] == pytest.approx(
-        (1001 / 32) / (0.938 + 1.696 * 32 / 1001), rel=1e-12)
+    N = 1001
+    # m >= 16, FM noise: Howe et al. (2000) (N/m)/(b0 + b1 m/N)
+    assert E.edf_htotdev(N, 16, 0)[0] == pytest.approx(
+        (N / 16) / (0.559 + 1.004 * 16 / N), rel=1e-12)
+    assert E.edf_htotdev(N, 32, -2)[0] == pytest.approx(
+        (N / 32) / (0.938 + 1.696 * 32 / N), rel=1e-12)
+    # below m = 16 (default, Stable32's rule): SP 1065 Table 5, written out here
+    m = 8
+    wfm = (3 * (N - 1) / (2 * m) - 2 * (N - 2) / N) * 4 * m * m / (4 * m * m + 5)
+    assert E.edf_htotdev(N, m, 0)[0] == pytest.approx(wfm, rel=1e-12)
+    ffm1 = 2 * (N - 2) ** 2 / (2.3 * N - 4.9)  # m = 1, (N-2) squared (SP 1065 Table 5)
+    assert E.edf_htotdev(N, 1, -1)[0] == pytest.approx(ffm1, rel=1e-12)
+    rwfm = (N - 2) / (2 * (N - 3) ** 2) * ((N - 1) ** 2 - 6 * (N - 1) + 16)  # m = 2
+    assert E.edf_htotdev(N, 2, -2)[0] == pytest.approx(rwfm, rel=1e-12)
+    # phase noise at any m: Table 5 as well (WPM (N+1)(N-2m)/(2(N-m)))
+    assert E.edf_htotdev(N, 64, 2)[0] == pytest.approx(
+        (N + 1) * (N - 128) / (2 * (N - 64)), rel=1e-12)
+    # no Table 5 row for FWFM/RRFM: the overlapping-Hadamard Greenhall EDF
+    assert E.edf_htotdev(N, 8, -3)[0] == pytest.approx(
+        _edf.edf_greenhall("ohdev", N, 8, -3), rel=1e-12)
+    # the former rule stays available
+    assert E.edf_htotdev(N, 8, 0, method="greenhall")[0] == pytest.approx(
+        _edf.edf_greenhall("ohdev", N, 8, 0), rel=1e-12)
+    with pytest.raises(InputError):
+        E.edf_htotdev(N, 8, 0, method="exact")
+
+
+# ------------------------------------------------ Stable32's chi-square (Wallin 2020)
+
+def _as_chi2(q, nu, a1):
+    """Abramowitz & Stegun 26.4.17 with the normal quantile of 26.2.22, by hand."""
+    p = min(q, 1 - q)
+    t = math.sqrt(math.log(1.0 / (p * p)))
+    x = t - (2.30753 + a1 * t) / (1 + 0.99229 * t + 0.04481 * t * t)
+    x = -x if q < 0.5 else x
+    h = 2.0 / (9.0 * nu)
+    return nu * (1 - h + x * math.sqrt(h)) ** 3
+
+
+@pytest.mark.parametrize("nu", [101.0, 187.95, 1465.8, 1e5])
+@pytest.mark.parametrize("q", [0.1585, 0.8415, 0.025, 0.975])
+def test_stable32_chi2_is_the_published_approximation(nu, q):
+    # above EDF 100: A&S 26.4.17/26.2.22 with Stable32's a1 = 0.27601 (A&S: 0.27061)
+    assert E.chi2_stable32(q, nu)[()] == pytest.approx(_as_chi2(q, nu, 0.27601), rel=1e-13)
+    assert E.chi2_stable32(q, nu, a1=0.27061)[()] == pytest.approx(
+        _as_chi2(q, nu, 0.27061), rel=1e-13)
+    exact = stats.chi2.ppf(q, nu)
+    # the book's coefficients: within the approximation's own error of the exact value
+    assert abs(E.chi2_stable32(q, nu, a1=0.27061)[()] / exact - 1) < 4e-4
+    # the swapped digits: Wallin's "up to almost 1e-3 in chi2/EDF" at EDF 101
+    err = abs(E.chi2_stable32(q, nu)[()] - exact) / nu
+    assert err < 1e-3
+    if nu == 101.0 and q in (0.1585, 0.8415):
+        assert err > 5e-4
+
+
+def test_stable32_chi2_exact_up_to_edf_100():
+    for nu in (1.0, 2.5, 10.0, 57.3, 100.0):
+        for q in (0.1585, 0.8415):
+            assert E.chi2_stable32(q, nu)[()] == pytest.approx(stats.chi2.ppf(q, nu),
+                                                               rel=1e-12)
+    from inertialab.noise.edf import chi2_interval
+
+    dev = np.array([1.0, 2.0, 3.0, 4.0])
+    edf = np.array([3.7, 99.0, 0.0, -1.0])
+    lo, hi = E.stable32_chi2_interval(dev, edf, 0.683)
+    lo0, hi0 = chi2_interval(dev, edf, 0.683)
+    np.testing.assert_allclose(lo[:2], lo0[:2], rtol=1e-12)
+    np.testing.assert_allclose(hi[:2], hi0[:2], rtol=1e-12)
+    assert np.all(np.isnan(lo[2:])) and np.all(np.isnan(hi[2:]))
+    # above 100 the bounds are the published approximation's: dev sqrt(edf/chi2)
+    lo, hi = E.stable32_chi2_interval(2.0, 300.0, 0.683)
+    assert lo[()] == pytest.approx(2.0 * math.sqrt(300 / _as_chi2(0.8415, 300, 0.27601)))
+    assert hi[()] == pytest.approx(2.0 * math.sqrt(300 / _as_chi2(0.1585, 300, 0.27601)))
 
 
 def test_bias_factors_are_the_published_ones():

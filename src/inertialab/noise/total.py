@@ -20,8 +20,9 @@ FFM 0.70, RWFM 0.69``; Htotvar ``WFM 0.995, FFM 0.851, RWFM 0.771, FWFM 0.717, R
 :attr:`TotalResult.bias` (1.0 when off).
 
 EDF (:mod:`inertialab.noise.edf_clock`): MTOT and TTOT by SP 1065 Table 8 (``edf = b (N/m)
-- c``, N phase points) for ``m >= 16`` and the MDEV EDF below (as Stable32); HTOT by the Htotvar formula ``(N/m)/(b0 + b1 m/N)`` for ``m >= 16``
-and the overlapping-Hadamard EDF below (as Stable32). Computation: blocks of subsequences
+- c``, N phase points) for ``m >= 16`` and the MDEV EDF below; HTOT by the Htotvar formula
+``(N/m)/(b0 + b1 m/N)`` for ``m >= 16`` and SP 1065 Table 5 below and for phase noise
+(Stable32's printed bounds; docs/allan.md). Computation: blocks of subsequences
 as 2-D arrays (memory bounded by ``block_elems``), ``O(N m)`` per tau, the same cost class
 as Stable32 and allantools (which loops in Python).
 """
@@ -112,7 +113,7 @@ def _finish(statistic, src, x, ms, var, nt, tau0, taus, confidence, alpha, bias_
         emethod = "sp1065-table8|mdev-greenhall(m<16)"
     else:
         edfs = edf_htotdev(N, ms, alphas)
-        emethod = "htotvar-howe2000|ohdev-greenhall(m<16)"
+        emethod = "htotvar-howe2000|sp1065-table5(m<16, PM)"
     lo, hi = interval(dev, edfs, confidence)
     return TotalResult(statistic=statistic, tau0_s=tau0, taus_s=taus, m=ms, dev=dev,
                        n_terms=nt, alpha=alphas, edf=np.asarray(edfs, dtype=float),
