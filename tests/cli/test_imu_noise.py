@@ -46,9 +46,19 @@ def _gappy(tmp_path):
     return p
 
 
-def test_gaps_error_and_split(tmp_path):
+def test_gaps_analysed_or_error_and_split(tmp_path):
+    # default: the 4 lost samples are gaps on the sensor's grid (gap-resistant OADEV), with
+    # a warning naming them; --gaps error refuses, --gaps split needs one segment
+    import json
+
     p = _gappy(tmp_path)
-    res = run("allan-imu", p)
+    res = run("allan-imu", p, "--json")
+    assert res.returncode == 0, res.stderr
+    allan = json.loads(res.stdout)["imu"]["axes"][0]["allan"]
+    assert allan["n_missing"] == 4 and allan["n_gaps"] == 1
+    # m = 1: 404 grid samples give 403 summands; the 5 that touch the 4 lost samples go
+    assert allan["n_terms"][0] == 403 - 5
+    res = run("allan-imu", p, "--gaps", "error")
     assert res.returncode == 2 and "before row 201" in res.stderr and "~4 samples" in res.stderr
     assert len(res.stderr.strip().splitlines()) == 1
     res = run("allan-imu", p, "--gaps", "split")

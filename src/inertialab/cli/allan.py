@@ -68,8 +68,10 @@ def _allan_command(imu_default: bool):
                                                            "gmwm."),
         g_local: float = typer.Option(None, "--g-local", help="Local gravity, m/s^2 (g-based "
                                                               "accelerometer units)."),
-        gaps: str = typer.Option(None, "--gaps", help="error | split: time-stamp dropouts and "
-                                                      "repeats (default: error)."),
+        gaps: str = typer.Option(None, "--gaps", help="error | split: refuse time-stamp "
+                                 "dropouts and repeats, or split the log at them (default: "
+                                 "jitter and dropouts analysed on the sensor's grid, lost "
+                                 "samples as gaps, with a warning)."),
         imu: bool = typer.Option(imu_default, "--imu", help=_IMU_HELP),
         export: tuple[str, str] = typer.Option(None, "--export", help="STYLE FILE (six-axis "
                                                "mode): write noise densities and random walks "
@@ -91,7 +93,7 @@ def _allan_command(imu_default: bool):
             if not imu:
                 raise InputError("--export needs --imu (six-axis noise parameters)")
             return run_six_axes(file=file, export=export, rostopic=rostopic, read=read,
-                                unit=unit, rate=rate, gaps=gaps or "error", g_local=g_local,
+                                unit=unit, rate=rate, gaps=gaps, g_local=g_local,
                                 method=method, out=out, as_json=as_json, quiet=quiet,
                                 command=command)
         return _single(file=file, column=column, rate=rate, input_=input_, unit=unit,

@@ -16,7 +16,7 @@ from inertialab.errors import InputError
 
 
 def run_six_axes(*, file, export=None, rostopic="/imu0", read=None, unit=None, rate=None,
-                 gaps="error", g_local=None, method="wls", out=None, as_json=False,
+                 gaps=None, g_local=None, method="wls", out=None, as_json=False,
                  quiet=False, command="allan"):
     """The six-axis mode of ``allan --imu`` (old spelling ``allan-imu``): read, analyse,
     export, print or emit JSON. ``read`` is the command's
@@ -28,7 +28,7 @@ def run_six_axes(*, file, export=None, rostopic="/imu0", read=None, unit=None, r
     export, export_file = export if export else (None, None)
     if export is not None and export not in ("kalibr", "ros"):
         raise InputError(f"--export must be 'kalibr' or 'ros', got '{export}'")
-    if gaps not in ("error", "split"):
+    if gaps not in (None, "error", "split"):
         raise InputError(f"--gaps must be 'error' or 'split', got '{gaps}'")
     ro = read if read is not None else ReadOptions()
     with collect_warnings(quiet=quiet or as_json) as warns:

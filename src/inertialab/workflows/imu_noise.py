@@ -153,7 +153,13 @@ def _axis(name: str, column: str, y, unit: str, *, rate_hz: float, taus, method:
     want = "angular_rate" if kind == "gyro" else "acceleration"
     if dim != want:
         raise InputError(f"unit '{unit}' is a {dim}, expected a {want}", column=column)
-    dev = oadev(np.asarray(y), rate_hz=rate_hz, taus=taus)
+    y = np.asarray(y)
+    if np.isnan(y).any():  # lost samples on the sensor's grid (analyse_record)
+        from inertialab.noise.gaps import gap_deviation
+
+        dev = gap_deviation("oadev", y, rate_hz=rate_hz, taus=taus)
+    else:
+        dev = oadev(y, rate_hz=rate_hz, taus=taus)
     try:
         terms = fit_noise_terms(dev, unit=unit, kind=kind, method=method, rate_hz=rate_hz,
                                 tau_range_s=tau_range_s, g_local=g_local)
@@ -240,7 +246,16 @@ def analyse_record(rec, *, rate_hz: float | None = None, taus="octave", method: 
     if fs is None:
         if "t_s" not in rec.data.columns:
             raise InputError("needs t_s or argument 'rate_hz'", path=rec.path)
-        fs = 1.0 / float(np.median(np.diff(rec.data["t_s"].to_numpy())))
+        # jitter and dropouts as the single-column analysis: the samples on the sensor's
+        # grid at the mean rate, lost ones as NaN (gap-resistant OADEV)
+        from inertialab.workflows.allan import _time_grid
+
+        fs, slots = _time_grid(rec.data["t_s"].to_numpy(dtype=float), rec.path)
+        if slots is not None:
+            for name, (c, y, u) in cols.items():
+                full = np.full(int(slots[-1]) + 1, np.nan)
+                full[slots] = np.asarray(y, dtype=np.float64)
+                cols[name] = (c, full, u)
     g = g_local if g_local is not None else float(rec.meta.get("g_local_mps2", U.G_STANDARD))
     try:
         return analyse_imu(cols, rate_hz=float(fs), taus=taus, method=method, g_local=g,
