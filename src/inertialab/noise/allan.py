@@ -424,7 +424,18 @@ def deviation(statistic: str, data, *, rate_hz: float, taus="octave", input: str
             if _all_equal(arr):
                 raise InputError("data are constant (zero deviation at every tau); "
                                  "nothing to analyse")
-        if is_octave(ms) and not (input == "angle" and statistic in _octave.E_STATS):
+        K = _octave.fast_kernels()
+        if K is not None and statistic == "totdev" and input == "angle":
+            # compiled: one pass over the angle per m, the reflected summands by index
+            x = np.asarray(arr, dtype=np.float64)
+            if _all_equal(np.diff(x[:_octave.OCT_BLOCK + 1])) and _all_equal(np.diff(x)):
+                raise InputError("data are constant (zero deviation at every tau); "
+                                 "nothing to analyse")
+            src = _angle_source(x)
+            sums = _octave.dense_sums_fast(K, x, statistic, ms)
+            nt = _octave.n_terms_many(statistic, x.size, ms)
+            var = _normalise(statistic, sums, ms, nt, tau0)
+        elif is_octave(ms) and not (input == "angle" and statistic in _octave.E_STATS):
             # (non-overlapping statistics of an angle record: strided views are cheaper)
             # lag-doubling kernels on one working array of first differences
             if input == "rate":
@@ -448,8 +459,13 @@ def deviation(statistic: str, data, *, rate_hz: float, taus="octave", input: str
             sums = sums * (scale * scale)
             if statistic == "totdev":
                 xf = x if input == "angle" else _rate_to_phase(arr, tau0, mean)
-                sums += [_octave.totdev_edge_sum(lambda a, n: xf[a:a + n], xf.size, int(m))
-                         for m in ms]
+                if K is not None:  # the reflected summands only (compiled)
+                    sums += K.dense_totdev(xf, ms, False)
+                else:
+                    sums += [_octave.totdev_edge_sum(lambda a, n: xf[a:a + n], xf.size,
+                                                     int(m)) for m in ms]
+                if input == "rate":
+                    src = _angle_source(xf)  # the identification reads the angle in place
                 del xf
             var = _normalise(statistic, sums, ms, nt, tau0)
         else:

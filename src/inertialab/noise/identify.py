@@ -165,6 +165,9 @@ def identify_alpha(src, ms, *, statistic: str = "oadev", max_points: int = MAX_P
     lo, hi = _ALPHA_RANGE.get(statistic, (-2, 2))
     dmax = 3 if _family(statistic) == "hadamard" else 2
     ms = np.atleast_1d(np.asarray(ms, dtype=np.int64))
+    fast = _identify_fast(src, ms, lo, hi, dmax, max_points, min_points, decimated)
+    if fast is not None:
+        return fast
     alphas = np.zeros(ms.size, dtype=np.int64)
     sources = ["lag1"] * ms.size
     x = getattr(src, "x", None)
@@ -213,6 +216,53 @@ def identify_alpha(src, ms, *, statistic: str = "oadev", max_points: int = MAX_P
     if rn_idx:
         a = _rn_alpha_many(src, ms[rn_idx])
         alphas[rn_idx] = np.clip(a, lo, hi)
+    return NoiseIdentification(ms, alphas, tuple(sources))
+
+
+def _identify_fast(src, ms, lo, hi, dmax, max_points, min_points, decimated):
+    """:func:`identify_alpha` by the compiled kernels, reading the decimated points in
+    place (strided from the in-memory angle, or from the flat buffer of the octave
+    kernels); None where they do not apply (no kernels, or points only via ``window``)."""
+    from inertialab.noise import _octave
+
+    K = _octave.fast_kernels()
+    if K is None:
+        return None
+    x = getattr(src, "x", None)
+    count = (src.n - 1) // ms + 1
+    use = np.minimum(count, max_points)
+    if isinstance(decimated, _octave.Decimated) and decimated and all(
+            int(m) in decimated for m in ms):
+        base = decimated.flat
+        use = np.array([decimated[int(m)].size for m in ms], dtype=np.int64)
+        starts = np.array([decimated.offsets[int(m)] for m in ms], dtype=np.int64)
+        steps = np.ones(ms.size, dtype=np.int64)
+    elif not decimated and x is not None:
+        base = np.asarray(x, dtype=np.float64)
+        steps = ms
+        starts = ((count - use) // 2) * ms
+    else:
+        return None
+    alphas = np.zeros(ms.size, dtype=np.int64)
+    lag = use >= min_points
+    if lag.any():
+        raw = np.empty(int(lag.sum()))
+        K.lag1_strided(base, starts[lag], steps[lag], use[lag], dmax, raw,
+                       np.empty(int(use[lag].max())))
+        alphas[lag] = np.clip(np.rint(raw).astype(np.int64), lo, hi)
+    sources = np.where(lag, "lag1", "b1").tolist()
+    if not lag.all():
+        b1 = ~lag
+        best = np.empty(int(b1.sum()), dtype=np.int64)
+        K.b1_strided(base, starts[b1], steps[b1], use[b1], best)
+        # mu = -2, -1, 0, 1 -> alpha R(n), 0, -1, -2 (B1 -1: too few points -> 0)
+        a = np.where(best < 0, 0, -np.asarray(_MUS)[np.maximum(best, 0)].astype(np.int64) - 1)
+        a = np.clip(a, lo, hi)
+        k_b1 = np.flatnonzero(b1)
+        rn = best == 0
+        alphas[k_b1] = a
+        if rn.any():
+            alphas[k_b1[rn]] = np.clip(_rn_alpha_many(src, ms[k_b1[rn]]), lo, hi)
     return NoiseIdentification(ms, alphas, tuple(sources))
 
 
