@@ -218,16 +218,23 @@ def gather_increments(d, ms, starts, uses, offs, dec, pre, g):
 
 
 @_jit
-def octave_strided(x, want, order, w):
+def octave_strided(x, want, order, w, dec_use, dec_start, dec_off, dec):
     """ADEV (``order = 2``) / HDEV (3) sums at m = 2^l of the angle ``x`` itself: level 0
     from ``x``, then the points ``x_{k m}`` are compacted into ``w`` (``(x.size - 1) // 2
     + 1`` entries) and halved in place per level (``w_k <- w_{2k}``); every level reads
-    contiguous memory."""
+    contiguous memory. ``dec_use[l] > 0`` copies the central decimated points
+    ``x_{(s + k) m}`` (``s = dec_start[l]``, in units of m) into ``dec[dec_off[l]:]``."""
     L = want.size
     sums = np.zeros(L)
     v = x
     n = x.size
     for lev in range(L):
+        u = dec_use[lev]
+        if u > 0:
+            o = dec_off[lev]
+            st = dec_start[lev]
+            for k in range(u):
+                dec[o + k] = v[st + k]
         if want[lev]:
             s = 0.0
             if order == 2:
@@ -307,12 +314,32 @@ def _restart_z(x, i, m):
     return z
 
 
+@_jit
+def _mod_inc(x, j, m):
+    """``z_{j+1} - z_j = x_{j+3m} - 3 x_{j+2m} + 3 x_{j+m} - x_j`` as differences."""
+    x1 = x[j + m]
+    x2 = x[j + 2 * m]
+    return ((x[j + 3 * m] - x2) - (x2 - x1)) - ((x2 - x1) - (x1 - x[j]))
+
+
+@_jit_exact
+def _mod_segment(x, m, i0, n):
+    """``sum z_i^2`` over the summands i0 .. i0+n-1, z restarted at i0."""
+    z = _restart_z(x, i0, m)
+    s = z * z
+    for i in range(i0, i0 + n - 1):
+        z += _mod_inc(x, i, m)
+        s += z * z
+    return s
+
+
 @_jit_exact
 def dense_mod(x, ms, restart):
     """MDEV sums ``sum_i z_i^2``, ``z_i = sum_{j<m}`` (second difference at lag m)
     ``_{i+j}``, by the running recurrence ``z_{i+1} = z_i + x_{i+3m} - 3 x_{i+2m} +
-    3 x_{i+m} - x_i``, recomputed from its definition every ``max(restart, m)`` summands
-    (bounds the accumulated rounding)."""
+    3 x_{i+m} - x_i``, recomputed from its definition at the start of every segment of
+    ``max(min(restart, cnt // 4), m)`` summands (bounds the accumulated rounding); four segments run
+    in lockstep (independent chains: the recurrence's latency is hidden)."""
     nx = x.size
     out = np.zeros(ms.size)
     for k in range(ms.size):
@@ -320,18 +347,39 @@ def dense_mod(x, ms, restart):
         cnt = nx - 3 * m + 1
         if cnt < 1:
             continue
-        every = max(restart, m)
+        seg = max(min(restart, cnt // 4), m)
+        nseg = cnt // seg  # full segments; the remainder is one short segment
         s = 0.0
-        z = 0.0
-        for i in range(cnt):
-            if i % every == 0:
-                z = _restart_z(x, i, m)
-            else:
-                j = i - 1
-                x1 = x[j + m]
-                x2 = x[j + 2 * m]
-                z += ((x[j + 3 * m] - x2) - (x2 - x1)) - ((x2 - x1) - (x1 - x[j]))
-            s += z * z
+        g = 0
+        while g + 4 <= nseg:
+            i0 = g * seg
+            i1 = i0 + seg
+            i2 = i1 + seg
+            i3 = i2 + seg
+            z0 = _restart_z(x, i0, m)
+            z1 = _restart_z(x, i1, m)
+            z2 = _restart_z(x, i2, m)
+            z3 = _restart_z(x, i3, m)
+            s0 = z0 * z0
+            s1 = z1 * z1
+            s2 = z2 * z2
+            s3 = z3 * z3
+            for t in range(seg - 1):
+                z0 += _mod_inc(x, i0 + t, m)
+                z1 += _mod_inc(x, i1 + t, m)
+                z2 += _mod_inc(x, i2 + t, m)
+                z3 += _mod_inc(x, i3 + t, m)
+                s0 += z0 * z0
+                s1 += z1 * z1
+                s2 += z2 * z2
+                s3 += z3 * z3
+            s += (s0 + s1) + (s2 + s3)
+            g += 4
+        while g < nseg:
+            s += _mod_segment(x, m, g * seg, seg)
+            g += 1
+        if cnt > nseg * seg:
+            s += _mod_segment(x, m, nseg * seg, cnt - nseg * seg)
         out[k] = s
     return out
 

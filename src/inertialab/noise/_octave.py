@@ -120,16 +120,45 @@ def dense_sums_fast(K, x: np.ndarray, statistic: str, ms: np.ndarray) -> np.ndar
     if statistic in E_STATS:
         order = 2 if statistic == "adev" else 3
         if is_octave(ms) and ms.size > 1:  # contiguous halvings (half a copy)
-            lev = np.log2(ms).astype(np.int64)
-            want = np.zeros(int(lev.max()) + 1, dtype=np.bool_)
-            want[lev] = True
-            return K.octave_strided(x, want, order, np.empty((x.size - 1) // 2 + 1))[lev]
+            return octave_strided_sums(K, x, statistic, ms, 0)[0]
         return K.dense_strided(x, ms, order)
     if statistic == "totdev":
         return K.dense_totdev(x, ms, True)
     if statistic in ("oadev", "ohdev"):
         return K.dense_overlap(x, ms, 2 if statistic == "oadev" else 3)
     return K.dense_mod(x, ms, MOD_RESTART)
+
+
+def octave_strided_sums(K, x: np.ndarray, statistic: str, ms: np.ndarray, decimate: int):
+    """ADEV/HDEV sums at octave ``ms`` of the in-memory angle ``x`` by the compiled
+    halving kernel, the summand counts and (``decimate`` > 0) the central ``decimate``
+    decimated points per m as :class:`Decimated` (read from the contiguous halved copy:
+    strided reads of a large record miss the cache at every point)."""
+    ms = np.asarray(ms, dtype=np.int64)
+    lev = np.log2(ms).astype(np.int64)
+    L = int(lev.max()) + 1
+    want = np.zeros(L, dtype=np.bool_)
+    want[lev] = True
+    use = np.zeros(L, dtype=np.int64)
+    start = np.zeros(L, dtype=np.int64)
+    dec = Decimated()
+    flat = np.empty(1)
+    if decimate:
+        for lv in (int(v) for v in lev):
+            use[lv], start[lv] = _central_span(x.size, 1 << lv, decimate)
+        off = np.zeros(L, dtype=np.int64)
+        off[1:] = np.cumsum(use)[:-1]
+        flat = np.empty(max(int(use.sum()), 1))
+        dec.flat, dec.offsets = flat, {}
+        for lv in (int(v) for v in lev):
+            dec[1 << lv] = flat[off[lv]:off[lv] + use[lv]]
+            dec.offsets[1 << lv] = int(off[lv])
+        start = start >> np.arange(L)  # in units of m
+    else:
+        off = use
+    sums = K.octave_strided(x, want, 2 if statistic == "adev" else 3,
+                            np.empty((x.size - 1) // 2 + 1), use, start, off, flat)
+    return sums[lev], n_terms_many(statistic, x.size, ms), dec
 
 
 #: Block (entries) of the compiled lag-doubling updates (their scratch buffer).

@@ -477,7 +477,12 @@ def deviation(statistic: str, data, *, rate_hz: float, taus="octave", input: str
                     raise InputError("data are constant (zero deviation at every tau); "
                                      "nothing to analyse")
                 src = _angle_source(x)
-            sums, nt = _octave.dense_sums(src.x, statistic, ms)
+            if (K is not None and statistic in _octave.E_STATS and is_octave(ms)
+                    and ms.size > 1):  # the decimated points from the halved copy
+                sums, nt, decimated = _octave.octave_strided_sums(
+                    K, src.x, statistic, ms, _ident.MAX_POINTS if alpha is None else 0)
+            else:
+                sums, nt = _octave.dense_sums(src.x, statistic, ms)
             var = _normalise(statistic, sums, ms, nt, tau0)
     dev = np.sqrt(var)
     n_phase = src.n

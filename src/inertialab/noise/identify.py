@@ -298,7 +298,9 @@ def _rn_alpha_many(src, ms: np.ndarray) -> np.ndarray:
     mvar = s_mod / n_mod / mf.astype(float) ** 2
     with np.errstate(invalid="ignore", divide="ignore"):
         rn = np.where(avar_o > 0, mvar / np.where(avar_o > 0, avar_o, 1.0), 1.0 / mf)
-    thr = np.array([math.sqrt((1.0 / m) * _rn_theory(min(int(m), M_CAP), 1)) for m in mf])
+    capped, inv = np.unique(np.minimum(mf, M_CAP), return_inverse=True)
+    theory = np.array([_rn_theory(int(c), 1) for c in capped])[inv]
+    thr = np.sqrt((1.0 / mf) * theory)
     out[fit] = np.where(rn < thr, 2, 1)
     return out
 
