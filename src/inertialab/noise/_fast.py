@@ -314,74 +314,82 @@ def _restart_z(x, i, m):
     return z
 
 
-@_jit
-def _mod_inc(x, j, m):
-    """``z_{j+1} - z_j = x_{j+3m} - 3 x_{j+2m} + 3 x_{j+m} - x_j`` as differences."""
-    x1 = x[j + m]
-    x2 = x[j + 2 * m]
-    return ((x[j + 3 * m] - x2) - (x2 - x1)) - ((x2 - x1) - (x1 - x[j]))
-
-
 @_jit_exact
-def _mod_segment(x, m, i0, n):
-    """``sum z_i^2`` over the summands i0 .. i0+n-1, z restarted at i0."""
-    z = _restart_z(x, i0, m)
-    s = z * z
-    for i in range(i0, i0 + n - 1):
-        z += _mod_inc(x, i, m)
-        s += z * z
-    return s
-
-
-@_jit_exact
-def dense_mod(x, ms, restart):
+def dense_mod(x, ms, restart, inc):
     """MDEV sums ``sum_i z_i^2``, ``z_i = sum_{j<m}`` (second difference at lag m)
-    ``_{i+j}``, by the running recurrence ``z_{i+1} = z_i + x_{i+3m} - 3 x_{i+2m} +
-    3 x_{i+m} - x_i``, recomputed from its definition at the start of every segment of
-    ``max(min(restart, cnt // 4), m)`` summands (bounds the accumulated rounding); four segments run
-    in lockstep (independent chains: the recurrence's latency is hidden)."""
+    ``_{i+j}``, by the recurrence ``z_{i+1} = z_i + x_{i+3m} - 3 x_{i+2m} + 3 x_{i+m} -
+    x_i``: per block of ``inc.size`` summands the increments are formed first (one
+    vectorised pass), their quarter sums give z at four points, and the four quarters
+    run as independent chains (the recurrence's latency hidden). z is recomputed from
+    its definition every ``max(restart, m)`` summands (rounded up to whole blocks), which
+    bounds the accumulated rounding."""
     nx = x.size
     out = np.zeros(ms.size)
+    B = inc.size
     for k in range(ms.size):
         m = ms[k]
         cnt = nx - 3 * m + 1
         if cnt < 1:
             continue
-        seg = max(min(restart, cnt // 4), m)
-        nseg = cnt // seg  # full segments; the remainder is one short segment
+        every = ((max(restart, m) + B - 1) // B) * B
         s = 0.0
-        g = 0
-        while g + 4 <= nseg:
-            i0 = g * seg
-            i1 = i0 + seg
-            i2 = i1 + seg
-            i3 = i2 + seg
-            z0 = _restart_z(x, i0, m)
-            z1 = _restart_z(x, i1, m)
-            z2 = _restart_z(x, i2, m)
-            z3 = _restart_z(x, i3, m)
-            s0 = z0 * z0
-            s1 = z1 * z1
-            s2 = z2 * z2
-            s3 = z3 * z3
-            for t in range(seg - 1):
-                z0 += _mod_inc(x, i0 + t, m)
-                z1 += _mod_inc(x, i1 + t, m)
-                z2 += _mod_inc(x, i2 + t, m)
-                z3 += _mod_inc(x, i3 + t, m)
-                s0 += z0 * z0
-                s1 += z1 * z1
-                s2 += z2 * z2
-                s3 += z3 * z3
+        z = 0.0
+        for i in range(0, cnt, B):
+            if i % every == 0:
+                z = _restart_z(x, i, m)
+            n = min(B, cnt - i)
+            _mod_incs(x, i, m, n, inc)  # inc[t] = z_{i+t+1} - z_{i+t}, t < n
+            q = n // 4
+            zb = z
+            za = zb + _sum(inc, 0, q)
+            zc = za + _sum(inc, q, 2 * q)
+            zd = zc + _sum(inc, 2 * q, 3 * q)
+            s0 = 0.0
+            s1 = 0.0
+            s2 = 0.0
+            s3 = 0.0
+            for t in range(q):
+                s0 += zb * zb
+                s1 += za * za
+                s2 += zc * zc
+                s3 += zd * zd
+                zb += inc[t]
+                za += inc[q + t]
+                zc += inc[2 * q + t]
+                zd += inc[3 * q + t]
+            for t in range(4 * q, n):
+                s3 += zd * zd
+                zd += inc[t]
             s += (s0 + s1) + (s2 + s3)
-            g += 4
-        while g < nseg:
-            s += _mod_segment(x, m, g * seg, seg)
-            g += 1
-        if cnt > nseg * seg:
-            s += _mod_segment(x, m, nseg * seg, cnt - nseg * seg)
+            z = zd  # z_{i+n} (unused past the last summand)
         out[k] = s
     return out
+
+
+@_jit
+def _mod_incs(x, i, m, n, inc):
+    """``inc[t] = x_{j+3m} - 3 x_{j+2m} + 3 x_{j+m} - x_j`` (as differences), j = i + t;
+    the last one only where it stays inside the record."""
+    nx = x.size
+    c = min(n, nx - 3 * m - i)
+    a0 = x[i:i + c]
+    a1 = x[i + m:i + m + c]
+    a2 = x[i + 2 * m:i + 2 * m + c]
+    a3 = x[i + 3 * m:i + 3 * m + c]
+    for t in range(c):
+        b1 = a1[t]
+        b2 = a2[t]
+        inc[t] = ((a3[t] - b2) - (b2 - b1)) - ((b2 - b1) - (b1 - a0[t]))
+    for t in range(c, n):
+        inc[t] = 0.0
+
+
+@_jit
+def _sum(v, a, b):
+    s = 0.0
+    for t in range(a, b):
+        s += v[t]
+    return s
 
 
 @_jit

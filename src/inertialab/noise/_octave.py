@@ -61,12 +61,48 @@ def fast_kernels():
     return _FAST or None
 
 
-class Decimated(dict):
-    """m -> decimated angle points (views into one flat array ``flat``; row of m starts
-    at ``offsets[m]``), so that the compiled identification reads them without copies."""
+class Decimated:
+    """Decimated angle points per m, all in one flat array: the row of ``ms[r]`` is
+    ``flat[offs[r]:offs[r] + uses[r]]`` (built by the compiled octave kernels, so that
+    the compiled identification reads them without per-tau Python work). Offers the
+    mapping interface (``get``, ``in``, ``[m]``) the numpy identification uses."""
 
-    flat: np.ndarray
-    offsets: dict
+    def __init__(self, ms, uses, offs, flat):
+        self.ms, self.uses, self.offs, self.flat = ms, uses, offs, flat
+        self._row = {int(m): r for r, m in enumerate(ms)}
+
+    def __len__(self) -> int:
+        return len(self._row)
+
+    def __contains__(self, m) -> bool:
+        return int(m) in self._row
+
+    def __getitem__(self, m) -> np.ndarray:
+        r = self._row[int(m)]
+        return self.flat[self.offs[r]:self.offs[r] + self.uses[r]]
+
+    def get(self, m, default=None):
+        return self[m] if m in self else default
+
+    def rows(self, ms: np.ndarray):
+        """``(offsets, uses)`` of the rows of ``ms`` (int64 arrays), or None where one of
+        them is missing."""
+        if not all(int(m) in self._row for m in ms):
+            return None
+        r = np.array([self._row[int(m)] for m in ms], dtype=np.int64)
+        return self.offs[r], self.uses[r]
+
+
+def _decimated_layout(nx: int, ms: np.ndarray, max_points: int):
+    """``(uses, starts, offs, flat)`` of :class:`Decimated` rows for the m of ``ms``
+    (:func:`_central_span` of each, vectorised; starts in angle-point units)."""
+    count = (nx - 1) // ms + 1
+    uses = np.minimum(count, max_points)
+    starts = ((count - uses) // 2) * ms
+    offs = np.zeros(ms.size, dtype=np.int64)
+    offs[1:] = np.cumsum(uses)[:-1]
+    return uses, starts, offs, np.empty(max(int(uses.sum()), 1))
+
 
 #: Entries per block of the in-place updates (below L2 size; temporaries of this size).
 OCT_BLOCK = 1 << 16
@@ -126,7 +162,7 @@ def dense_sums_fast(K, x: np.ndarray, statistic: str, ms: np.ndarray) -> np.ndar
         return K.dense_totdev(x, ms, True)
     if statistic in ("oadev", "ohdev"):
         return K.dense_overlap(x, ms, 2 if statistic == "oadev" else 3)
-    return K.dense_mod(x, ms, MOD_RESTART)
+    return K.dense_mod(x, ms, MOD_RESTART, np.empty(FAST_BLOCK))
 
 
 def octave_strided_sums(K, x: np.ndarray, statistic: str, ms: np.ndarray, decimate: int):
@@ -141,21 +177,13 @@ def octave_strided_sums(K, x: np.ndarray, statistic: str, ms: np.ndarray, decima
     want[lev] = True
     use = np.zeros(L, dtype=np.int64)
     start = np.zeros(L, dtype=np.int64)
-    dec = Decimated()
+    off = np.zeros(L, dtype=np.int64)
     flat = np.empty(1)
+    dec = None
     if decimate:
-        for lv in (int(v) for v in lev):
-            use[lv], start[lv] = _central_span(x.size, 1 << lv, decimate)
-        off = np.zeros(L, dtype=np.int64)
-        off[1:] = np.cumsum(use)[:-1]
-        flat = np.empty(max(int(use.sum()), 1))
-        dec.flat, dec.offsets = flat, {}
-        for lv in (int(v) for v in lev):
-            dec[1 << lv] = flat[off[lv]:off[lv] + use[lv]]
-            dec.offsets[1 << lv] = int(off[lv])
-        start = start >> np.arange(L)  # in units of m
-    else:
-        off = use
+        u, st, o, flat = _decimated_layout(x.size, ms, decimate)
+        use[lev], start[lev], off[lev] = u, st // ms, o  # starts in units of m
+        dec = Decimated(ms, u, o, flat)
     sums = K.octave_strided(x, want, 2 if statistic == "adev" else 3,
                             np.empty((x.size - 1) // 2 + 1), use, start, off, flat)
     return sums[lev], n_terms_many(statistic, x.size, ms), dec
@@ -339,24 +367,16 @@ def _octave_sums_fast(K, d, statistic, ms, decimate):
     L = int(levels.max()) + 1
     want = np.zeros(L, dtype=np.bool_)
     want[levels] = True
-    nt = np.array([n_terms(statistic, nx, int(m)) for m in ms], dtype=np.int64)
+    nt = n_terms_many(statistic, nx, ms)
     use = np.zeros(L, dtype=np.int64)
     start = np.zeros(L, dtype=np.int64)
     off = np.zeros(L, dtype=np.int64)
-    dec = Decimated()
+    flat = np.empty(1)
+    dec = {}
     if decimate:
-        for lev in (int(v) for v in levels):
-            use[lev], start[lev] = _central_span(nx, 1 << lev, decimate)
-        off[1:] = np.cumsum(use)[:-1]
-        flat = np.empty(max(int(use.sum()), 1))
-        dec.flat = flat
-        dec.offsets = {}
-        for lev in (int(v) for v in levels):
-            m = 1 << lev
-            dec[m] = flat[off[lev]:off[lev] + use[lev]]
-            dec.offsets[m] = int(off[lev])
-    else:
-        flat = np.empty(1)
+        u, st, o, flat = _decimated_layout(nx, ms, decimate)
+        use[levels], start[levels], off[levels] = u, st, o
+        dec = Decimated(ms, u, o, flat)
     if statistic in E_STATS:
         ustart = start // (1 << np.arange(L))  # in units of E(m)
         lev_sums = K.octave_e(d, want, statistic == "hdev", use, ustart, off, flat)

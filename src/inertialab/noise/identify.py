@@ -231,11 +231,10 @@ def _identify_fast(src, ms, lo, hi, dmax, max_points, min_points, decimated):
     x = getattr(src, "x", None)
     count = (src.n - 1) // ms + 1
     use = np.minimum(count, max_points)
-    if isinstance(decimated, _octave.Decimated) and decimated and all(
-            int(m) in decimated for m in ms):
+    rows = decimated.rows(ms) if isinstance(decimated, _octave.Decimated) else None
+    if rows is not None:
         base = decimated.flat
-        use = np.array([decimated[int(m)].size for m in ms], dtype=np.int64)
-        starts = np.array([decimated.offsets[int(m)] for m in ms], dtype=np.int64)
+        starts, use = rows
         steps = np.ones(ms.size, dtype=np.int64)
     elif not decimated and x is not None:
         base = np.asarray(x, dtype=np.float64)
@@ -250,7 +249,7 @@ def _identify_fast(src, ms, lo, hi, dmax, max_points, min_points, decimated):
         K.lag1_strided(base, starts[lag], steps[lag], use[lag], dmax, raw,
                        np.empty(int(use[lag].max())))
         alphas[lag] = np.clip(np.rint(raw).astype(np.int64), lo, hi)
-    sources = np.where(lag, "lag1", "b1").tolist()
+    sources = tuple("lag1" if v else "b1" for v in lag.tolist())
     if not lag.all():
         b1 = ~lag
         best = np.empty(int(b1.sum()), dtype=np.int64)
@@ -263,7 +262,7 @@ def _identify_fast(src, ms, lo, hi, dmax, max_points, min_points, decimated):
         alphas[k_b1] = a
         if rn.any():
             alphas[k_b1[rn]] = np.clip(_rn_alpha_many(src, ms[k_b1[rn]]), lo, hi)
-    return NoiseIdentification(ms, alphas, tuple(sources))
+    return NoiseIdentification(ms, alphas, sources)
 
 
 def _b1_alpha(src, z: np.ndarray, m: int) -> int:
