@@ -218,23 +218,24 @@ def gather_increments(d, ms, starts, uses, offs, dec, pre, g):
 
 
 @_jit
-def octave_strided(x, want, order, w, dec_use, dec_start, dec_off, dec):
+def octave_strided(x, want, order, w, id_use, id_start, idp, alphas, best, buf):
     """ADEV (``order = 2``) / HDEV (3) sums at m = 2^l of the angle ``x`` itself: level 0
     from ``x``, then the points ``x_{k m}`` are compacted into ``w`` (``(x.size - 1) // 2
     + 1`` entries) and halved in place per level (``w_k <- w_{2k}``); every level reads
-    contiguous memory. ``dec_use[l] > 0`` copies the central decimated points
-    ``x_{(s + k) m}`` (``s = dec_start[l]``, in units of m) into ``dec[dec_off[l]:]``."""
+    contiguous memory. Where ``id_use[l] > 0`` the noise type of level l is identified
+    (:func:`identify_rows`, ``idp = (dmax, min_points, lo, hi)``) from its central
+    ``id_use[l]`` decimated points, which start at ``x_{id_start[l] m}``, read in place:
+    ``alphas[l]``, ``best[l]``."""
     L = want.size
     sums = np.zeros(L)
     v = x
     n = x.size
+    one = np.ones(1, dtype=np.int64)
     for lev in range(L):
-        u = dec_use[lev]
+        u = id_use[lev]
         if u > 0:
-            o = dec_off[lev]
-            st = dec_start[lev]
-            for k in range(u):
-                dec[o + k] = v[st + k]
+            identify_rows(v, id_start[lev:lev + 1], one, id_use[lev:lev + 1], idp[0], idp[1],
+                          idp[2], idp[3], alphas[lev:lev + 1], best[lev:lev + 1], buf)
         if want[lev]:
             s = 0.0
             if order == 2:
@@ -480,33 +481,39 @@ def dense_totdev(x, ms, interior):
 def lag1_strided(x, starts, steps, counts, dmax, out, buf):
     """Unrounded lag-1 ACF alpha (SP 1065 §5.5.6, phase data) of the rows ``x[s + j p]``,
     ``j < count``, the algorithm of :func:`inertialab.noise.identify.lag1_alpha`
-    (``buf``: scratch of the largest count)."""
+    (``buf``: scratch of the largest count): the mean, then the lag-0 and lag-1 sums of
+    the centred row in one pass, the differencing and the next mean in another."""
     for r in range(starts.size):
         n = counts[r]
         st = starts[r]
         sp = steps[r]
+        tot = 0.0
         for j in range(n):
-            buf[j] = x[st + j * sp]
+            v = x[st + j * sp]
+            buf[j] = v
+            tot += v
         d = 0
         while True:
-            tot = 0.0
-            for j in range(n):
-                tot += buf[j]
             mean = tot / n
             den = 0.0
-            for j in range(n):
-                c = buf[j] - mean
-                den += c * c
             r1 = 0.0
             for j in range(n - 1):
-                r1 += (buf[j] - mean) * (buf[j + 1] - mean)
+                c0 = buf[j] - mean
+                c1 = buf[j + 1] - mean
+                den += c0 * c0
+                r1 += c0 * c1
+            c0 = buf[n - 1] - mean
+            den += c0 * c0
             r1 = r1 / den if den > 0 else 0.0
             delta = r1 / (1.0 + r1)
             if delta < 0.25 or d >= dmax or n < 4:
                 out[r] = -2.0 * (delta + d) + 2.0
                 break
+            tot = 0.0
             for j in range(n - 1):
-                buf[j] = buf[j + 1] - buf[j]
+                v = buf[j + 1] - buf[j]
+                buf[j] = v
+                tot += v
             n -= 1
             d += 1
 
@@ -714,3 +721,22 @@ def greenhall_many(N, ms, alphas, d, overlapping, modified, t1, t2, t3, c, jmax,
                 inv = (a0 - (d / 2.0) / r) / M
         if inv > 0:
             out[i] = 1.0 / inv
+
+
+@_jit
+def identify_rows(x, starts, steps, counts, dmax, min_points, lo, hi, alphas, best, buf):
+    """Noise type per row (the rules of :func:`inertialab.noise.identify.identify_alpha`):
+    rows of at least ``min_points`` points by the lag-1 ACF (rounded, clipped to [lo,
+    hi]; ``best = -2``), shorter ones by B1 (``best`` its verdict; alpha 0 for -1, else
+    ``-mu - 1`` clipped; mu = -2, ``best = 0``, is left to R(n) by the caller)."""
+    one = np.empty(1)
+    for r in range(starts.size):
+        if counts[r] >= min_points:
+            lag1_strided(x, starts[r:r + 1], steps[r:r + 1], counts[r:r + 1], dmax, one, buf)
+            a = int(np.rint(one[0]))
+            best[r] = -2
+        else:
+            b1_strided(x, starts[r:r + 1], steps[r:r + 1], counts[r:r + 1], best[r:r + 1])
+            b = best[r]
+            a = 0 if b < 0 else 1 - b  # mu = -2, -1, 0, 1 -> (R(n)), 0, -1, -2
+        alphas[r] = min(max(a, lo), hi)

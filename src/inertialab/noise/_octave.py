@@ -156,7 +156,7 @@ def dense_sums_fast(K, x: np.ndarray, statistic: str, ms: np.ndarray) -> np.ndar
     if statistic in E_STATS:
         order = 2 if statistic == "adev" else 3
         if is_octave(ms) and ms.size > 1:  # contiguous halvings (half a copy)
-            return octave_strided_sums(K, x, statistic, ms, 0)[0]
+            return octave_strided_sums(K, x, statistic, ms)[0]
         return K.dense_strided(x, ms, order)
     if statistic == "totdev":
         return K.dense_totdev(x, ms, True)
@@ -165,11 +165,14 @@ def dense_sums_fast(K, x: np.ndarray, statistic: str, ms: np.ndarray) -> np.ndar
     return K.dense_mod(x, ms, MOD_RESTART, np.empty(FAST_BLOCK))
 
 
-def octave_strided_sums(K, x: np.ndarray, statistic: str, ms: np.ndarray, decimate: int):
+def octave_strided_sums(K, x: np.ndarray, statistic: str, ms: np.ndarray,
+                        rules=None, max_points: int = 0):
     """ADEV/HDEV sums at octave ``ms`` of the in-memory angle ``x`` by the compiled
-    halving kernel, the summand counts and (``decimate`` > 0) the central ``decimate``
-    decimated points per m as :class:`Decimated` (read from the contiguous halved copy:
-    strided reads of a large record miss the cache at every point)."""
+    halving kernel and the summand counts; with ``rules = (dmax, min_points, lo, hi)``
+    also each m's noise type from its central ``max_points`` decimated points, read in
+    place from the contiguous halved copy (strided reads of a large record miss the
+    cache at every point): ``(alphas, best)`` as :func:`inertialab.noise._fast.
+    identify_rows` gives them, else None."""
     ms = np.asarray(ms, dtype=np.int64)
     lev = np.log2(ms).astype(np.int64)
     L = int(lev.max()) + 1
@@ -177,16 +180,19 @@ def octave_strided_sums(K, x: np.ndarray, statistic: str, ms: np.ndarray, decima
     want[lev] = True
     use = np.zeros(L, dtype=np.int64)
     start = np.zeros(L, dtype=np.int64)
-    off = np.zeros(L, dtype=np.int64)
-    flat = np.empty(1)
-    dec = None
-    if decimate:
-        u, st, o, flat = _decimated_layout(x.size, ms, decimate)
-        use[lev], start[lev], off[lev] = u, st // ms, o  # starts in units of m
-        dec = Decimated(ms, u, o, flat)
+    alphas = np.zeros(L, dtype=np.int64)
+    best = np.zeros(L, dtype=np.int64)
+    if rules is not None:
+        count = (x.size - 1) // ms + 1
+        u = np.minimum(count, max_points)
+        use[lev], start[lev] = u, (count - u) // 2  # starts in units of m
     sums = K.octave_strided(x, want, 2 if statistic == "adev" else 3,
-                            np.empty((x.size - 1) // 2 + 1), use, start, off, flat)
-    return sums[lev], n_terms_many(statistic, x.size, ms), dec
+                            np.empty((x.size - 1) // 2 + 1), use, start,
+                            np.asarray(rules if rules is not None else (0, 0, 0, 0),
+                                       dtype=np.int64),
+                            alphas, best, np.empty(max(int(use.max()), 1)))
+    ident = (alphas[lev], best[lev]) if rules is not None else None
+    return sums[lev], n_terms_many(statistic, x.size, ms), ident
 
 
 #: Block (entries) of the compiled lag-doubling updates (their scratch buffer).

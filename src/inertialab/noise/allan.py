@@ -346,6 +346,13 @@ def _all_equal(v: np.ndarray) -> bool:
     return True
 
 
+def _angle_constant(x: np.ndarray) -> bool:
+    """True when every first difference of the angle ``x`` is equal (a constant rate):
+    the first 64 differences decide for almost any record, then a block, then all."""
+    return (_all_equal(np.diff(x[:65])) and _all_equal(np.diff(x[:_octave.OCT_BLOCK + 1]))
+            and _all_equal(np.diff(x)))
+
+
 def _angle_source(x: np.ndarray) -> _PhaseArray:
     """In-memory angle source of ``x`` (float64) without re-checking constancy."""
     src = _PhaseArray.__new__(_PhaseArray)
@@ -399,7 +406,7 @@ def deviation(statistic: str, data, *, rate_hz: float, taus="octave", input: str
         raise InputError("the chunked path takes rate samples (input='rate')")
     ms = tau_grid(arr.size, taus, rate_hz=rate_hz, statistic=statistic, input=input)
     tau0 = 1.0 / float(rate_hz)
-    decimated = None
+    decimated = ident = None
     if chunked:
         from inertialab.noise import _stream
 
@@ -428,7 +435,7 @@ def deviation(statistic: str, data, *, rate_hz: float, taus="octave", input: str
         if K is not None and statistic == "totdev" and input == "angle":
             # compiled: one pass over the angle per m, the reflected summands by index
             x = np.asarray(arr, dtype=np.float64)
-            if _all_equal(np.diff(x[:_octave.OCT_BLOCK + 1])) and _all_equal(np.diff(x)):
+            if _angle_constant(x):
                 raise InputError("data are constant (zero deviation at every tau); "
                                  "nothing to analyse")
             src = _angle_source(x)
@@ -473,21 +480,24 @@ def deviation(statistic: str, data, *, rate_hz: float, taus="octave", input: str
                 src = _make_source(arr, rate_hz, input, False)
             else:
                 x = np.asarray(arr, dtype=np.float64)
-                if _all_equal(np.diff(x[:_octave.OCT_BLOCK + 1])) and _all_equal(np.diff(x)):
+                if _angle_constant(x):
                     raise InputError("data are constant (zero deviation at every tau); "
                                      "nothing to analyse")
                 src = _angle_source(x)
             if (K is not None and statistic in _octave.E_STATS and is_octave(ms)
-                    and ms.size > 1):  # the decimated points from the halved copy
-                sums, nt, decimated = _octave.octave_strided_sums(
-                    K, src.x, statistic, ms, _ident.MAX_POINTS if alpha is None else 0)
+                    and ms.size > 1):  # noise types from the halved copy, in place
+                rules = _ident.rules(statistic) if alpha is None else None
+                sums, nt, rows = _octave.octave_strided_sums(K, src.x, statistic, ms, rules,
+                                                             _ident.MAX_POINTS)
+                if rows is not None:
+                    ident = _ident.from_rows(src, ms, *rows, *rules[2:])
             else:
                 sums, nt = _octave.dense_sums(src.x, statistic, ms)
             var = _normalise(statistic, sums, ms, nt, tau0)
     dev = np.sqrt(var)
     n_phase = src.n
     if alpha is None:
-        if not chunked:
+        if not chunked and ident is None:
             ident = _ident.identify_alpha(src, ms, statistic=statistic, decimated=decimated)
         alphas, sources, amethod = ident.alpha, ident.source, "lag1"
     else:

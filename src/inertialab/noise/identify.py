@@ -242,26 +242,27 @@ def _identify_fast(src, ms, lo, hi, dmax, max_points, min_points, decimated):
         starts = ((count - use) // 2) * ms
     else:
         return None
-    alphas = np.zeros(ms.size, dtype=np.int64)
-    lag = use >= min_points
-    if lag.any():
-        raw = np.empty(int(lag.sum()))
-        K.lag1_strided(base, starts[lag], steps[lag], use[lag], dmax, raw,
-                       np.empty(int(use[lag].max())))
-        alphas[lag] = np.clip(np.rint(raw).astype(np.int64), lo, hi)
-    sources = tuple("lag1" if v else "b1" for v in lag.tolist())
-    if not lag.all():
-        b1 = ~lag
-        best = np.empty(int(b1.sum()), dtype=np.int64)
-        K.b1_strided(base, starts[b1], steps[b1], use[b1], best)
-        # mu = -2, -1, 0, 1 -> alpha R(n), 0, -1, -2 (B1 -1: too few points -> 0)
-        a = np.where(best < 0, 0, -np.asarray(_MUS)[np.maximum(best, 0)].astype(np.int64) - 1)
-        a = np.clip(a, lo, hi)
-        k_b1 = np.flatnonzero(b1)
-        rn = best == 0
-        alphas[k_b1] = a
-        if rn.any():
-            alphas[k_b1[rn]] = np.clip(_rn_alpha_many(src, ms[k_b1[rn]]), lo, hi)
+    alphas = np.empty(ms.size, dtype=np.int64)
+    best = np.empty(ms.size, dtype=np.int64)
+    K.identify_rows(base, starts, steps, use, dmax, min_points, lo, hi, alphas, best,
+                    np.empty(int(use.max())))
+    return from_rows(src, ms, alphas, best, lo, hi)
+
+
+def rules(statistic: str, min_points: int = MIN_POINTS) -> tuple:
+    """``(dmax, min_points, lo, hi)`` of :func:`identify_alpha` for ``statistic``."""
+    lo, hi = _ALPHA_RANGE.get(statistic, (-2, 2))
+    return (3 if _family(statistic) == "hadamard" else 2), min_points, lo, hi
+
+
+def from_rows(src, ms, alphas, best, lo, hi) -> NoiseIdentification:
+    """The identification from the compiled per-row verdicts (``best``: -2 lag-1, else
+    B1's; B1's phase-noise verdict 0 goes to R(n) here)."""
+    sources = tuple("b1" if b >= -1 else "lag1" for b in best.tolist())
+    rn = best == 0  # B1 says phase noise: R(n) splits white from flicker
+    if rn.any():
+        alphas = alphas.copy()
+        alphas[rn] = np.clip(_rn_alpha_many(src, ms[rn]), lo, hi)
     return NoiseIdentification(ms, alphas, sources)
 
 
