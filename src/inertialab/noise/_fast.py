@@ -322,8 +322,8 @@ def dense_mod(x, ms, restart, inc):
     x_i``: per block of ``inc.size`` summands the increments are formed first (one
     vectorised pass), their quarter sums give z at four points, and the four quarters
     run as independent chains (the recurrence's latency hidden). z is recomputed from
-    its definition every ``max(restart, m)`` summands (rounded up to whole blocks), which
-    bounds the accumulated rounding."""
+    its definition every ``max(restart, m)`` summands (rounded up to whole blocks; for
+    m > 2^16 only at the start), which bounds the accumulated rounding."""
     nx = x.size
     out = np.zeros(ms.size)
     B = inc.size
@@ -332,7 +332,8 @@ def dense_mod(x, ms, restart, inc):
         cnt = nx - 3 * m + 1
         if cnt < 1:
             continue
-        every = ((max(restart, m) + B - 1) // B) * B
+        # (above 2^16 the numpy kernel, too, carries the sum across the whole record)
+        every = ((max(restart, m) + B - 1) // B) * B if m <= 65536 else cnt + B
         s = 0.0
         z = 0.0
         for i in range(0, cnt, B):
@@ -435,14 +436,32 @@ def _edges(x, m, a, b):
             c1 = min(c1, m)
         if c0 + m <= n1:
             c1 = min(c1, n1 - m + 1)
-        lref = c0 < m
-        rref = c0 + m > n1
-        for c in range(c0, c1):
-            bb = x[c]
-            lt = (x0 - x[m - c]) if lref else x[c - m]
-            rt = (xn - x[2 * n1 - c - m]) if rref else x[c + m]
-            t = (rt - bb) - (bb - lt)
-            s += t * t
+        n = c1 - c0
+        xc = x[c0:c1]
+        if c0 < m and c0 + m > n1:  # both taps reflected
+            for i in range(n):
+                bb = xc[i]
+                t = ((xn - x[2 * n1 - m - c0 - i]) - bb) - (bb - (x0 - x[m - c0 - i]))
+                s += t * t
+        elif c0 < m:  # left tap reflected: x*_{c-m} = 2 x_0 - x_{m-c}
+            xr = x[c0 + m:c1 + m]
+            for i in range(n):
+                bb = xc[i]
+                t = (xr[i] - bb) - (bb - (x0 - x[m - c0 - i]))
+                s += t * t
+        elif c0 + m > n1:  # right tap reflected: x*_{c+m} = 2 x_{n-1} - x_{2(n-1)-c-m}
+            xl = x[c0 - m:c1 - m]
+            for i in range(n):
+                bb = xc[i]
+                t = ((xn - x[2 * n1 - m - c0 - i]) - bb) - (bb - xl[i])
+                s += t * t
+        else:
+            xl = x[c0 - m:c1 - m]
+            xr = x[c0 + m:c1 + m]
+            for i in range(n):
+                bb = xc[i]
+                t = (xr[i] - bb) - (bb - xl[i])
+                s += t * t
         c0 = c1
     return s
 
