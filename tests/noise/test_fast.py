@@ -10,6 +10,7 @@ import pytest
 
 pytest.importorskip("numba")
 
+from inertialab.errors import InputError  # noqa: E402
 from inertialab.noise import _octave as O  # noqa: E402
 from inertialab.noise import edf as E  # noqa: E402
 from inertialab.noise import identify as I  # noqa: E402
@@ -112,3 +113,18 @@ def test_env_switch_off_uses_numpy(monkeypatch):
     x = np.cumsum(np.random.default_rng(1).standard_normal(1000))
     r = deviation("oadev", x, rate_hz=1.0, input="angle")
     assert np.all(np.isfinite(r.dev))
+
+
+@pytest.mark.parametrize("stat", STATISTICS)
+@pytest.mark.parametrize("bad", [np.nan, np.inf, -np.inf])
+def test_fast_angle_non_finite_refused(monkeypatch, stat, bad):
+    # the compiled angle path checks finiteness after its m = 1 sums: same error
+    monkeypatch.setenv("INERTIALAB_FAST", "1")
+    for pos in (0, 1, 500, 998, 999):
+        x = np.cumsum(np.random.default_rng(pos).standard_normal(1000))
+        x[pos] = bad
+        for taus in ("octave", "all", [3.0, 10.0]):
+            with pytest.raises(InputError, match=f"NaN or infinity at sample index {pos}"):
+                deviation(stat, x, rate_hz=1.0, taus=taus, input="angle")
+    with pytest.raises(InputError, match="NaN or infinity at sample index 1"):
+        deviation(stat, np.array([0.0, np.nan, 1.0]), rate_hz=1.0, input="angle")

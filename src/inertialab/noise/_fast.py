@@ -218,6 +218,50 @@ def gather_increments(d, ms, starts, uses, offs, dec, pre, g):
 
 
 @_jit
+def _pairs(v, n, order, w, do_sum):
+    """Level-0 sum of :func:`octave_strided` (when ``do_sum``) and ``w_k = v_{2k}``, two
+    summands per step."""
+    c = max(n - order, 0) if do_sum else 0
+    n2 = (n - 1) // 2 + 1
+    kp = min(c // 2, n2)
+    s = 0.0
+    if order == 2:
+        for k in range(kp):
+            i = 2 * k
+            a0 = v[i]
+            a1 = v[i + 1]
+            a2 = v[i + 2]
+            a3 = v[i + 3]
+            t0 = (a2 - a1) - (a1 - a0)
+            t1 = (a3 - a2) - (a2 - a1)
+            s += t0 * t0 + t1 * t1
+            w[k] = a0
+        for i in range(2 * kp, c):
+            t = (v[i + 2] - v[i + 1]) - (v[i + 1] - v[i])
+            s += t * t
+    else:
+        for k in range(kp):
+            i = 2 * k
+            a0 = v[i]
+            a1 = v[i + 1]
+            a2 = v[i + 2]
+            a3 = v[i + 3]
+            a4 = v[i + 4]
+            t0 = ((a3 - a2) - (a2 - a1)) - ((a2 - a1) - (a1 - a0))
+            t1 = ((a4 - a3) - (a3 - a2)) - ((a3 - a2) - (a2 - a1))
+            s += t0 * t0 + t1 * t1
+            w[k] = a0
+        for i in range(2 * kp, c):
+            a1 = v[i + 1]
+            a2 = v[i + 2]
+            t = ((v[i + 3] - a2) - (a2 - a1)) - ((a2 - a1) - (a1 - v[i]))
+            s += t * t
+    for k in range(kp, n2):
+        w[k] = v[2 * k]
+    return s
+
+
+@_jit
 def octave_strided(x, want, order, w, id_use, id_start, idp, alphas, best, buf):
     """ADEV (``order = 2``) / HDEV (3) sums at m = 2^l of the angle ``x`` itself: level 0
     from ``x``, then the points ``x_{k m}`` are compacted into ``w`` (``(x.size - 1) // 2
@@ -236,6 +280,11 @@ def octave_strided(x, want, order, w, id_use, id_start, idp, alphas, best, buf):
         if u > 0:
             identify_rows(v, id_start[lev:lev + 1], one, id_use[lev:lev + 1], idp[0], idp[1],
                           idp[2], idp[3], alphas[lev:lev + 1], best[lev:lev + 1], buf)
+        if lev == 0 and L > 1:  # level 0 and the first compaction in one pass
+            sums[0] = _pairs(v, n, order, w, want[0])
+            v = w
+            n = (n - 1) // 2 + 1
+            continue
         if want[lev]:
             s = 0.0
             if order == 2:
