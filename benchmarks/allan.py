@@ -268,13 +268,18 @@ def _data(n: int, kind: str) -> np.ndarray:
 def stat_speed(n: int, kind: str = "freq", repeats: int = 3, taus="octave",
                stats=CORE) -> dict:
     """Per-statistic CPU beside allantools in one process: least of ``repeats``
-    alternated runs each (ours, then allantools, then ours ...), our intervals (noise
+    alternated runs each (ours, then allantools, then ours with the numpy kernels
+    (``INERTIALAB_FAST=0``) where the numba ones are in use ...), our intervals (noise
     identification, EDF, chi-square bounds) included, allantools given our m as its
-    taus. Also the largest relative difference of the deviations."""
+    taus. Also the largest relative difference of the deviations (to allantools, and
+    between our two kernel sets)."""
     import allantools as at
 
+    from inertialab.noise._octave import fast_kernels
     from inertialab.noise.allan import deviation
 
+    fast = fast_kernels() is not None  # numba kernels in use (the [fast] extra)
+    load0 = os.getloadavg()[0]
     x = _data(n, kind)
     inp = "rate" if kind == "freq" else "angle"
     _warm_heap()
@@ -289,19 +294,36 @@ def stat_speed(n: int, kind: str = "freq", repeats: int = 3, taus="octave",
         def ref(s=s, at_taus=at_taus):
             return getattr(at, s)(x, rate=1.0, data_type=kind, taus=at_taus)
 
+        def ours_numpy(s=s):  # the numpy kernels (INERTIALAB_FAST=0)
+            old = os.environ.get("INERTIALAB_FAST")
+            os.environ["INERTIALAB_FAST"] = "0"
+            try:
+                return deviation(s, x, rate_hz=1.0, taus=taus, input=inp)
+            finally:
+                if old is None:
+                    del os.environ["INERTIALAB_FAST"]
+                else:
+                    os.environ["INERTIALAB_FAST"] = old
+
         r2 = ref()
-        a = b = math.inf
+        r3 = ours_numpy()  # warm-up of the numpy path
+        a = b = c = math.inf
         for _ in range(repeats):
             a = min(a, _least_cpu(ours, 1))
             b = min(b, _least_cpu(ref, 1))
+            if fast:
+                c = min(c, _least_cpu(ours_numpy, 1))
         common = np.isin(r.taus_s, r2[0])
         idx = np.searchsorted(r2[0], r.taus_s[common])
         diff = float(np.max(np.abs(r.dev[common] / r2[1][idx] - 1)))
         rows.append({"statistic": s, "n_taus": int(r.m.size), "max_m": int(r.m.max()),
                      "inertialab_cpu_s": a, "allantools_cpu_s": b, "cpu_ratio": b / a,
-                     "max_rel_diff": diff})
+                     "max_rel_diff": diff,
+                     "numpy_cpu_s": c if fast else None,
+                     "numpy_cpu_ratio": b / c if fast else None,
+                     "fast_vs_numpy_max_rel_diff": float(np.max(np.abs(r.dev / r3.dev - 1)))})
     return {"n": n, "kind": kind, "taus": taus, "repeats": repeats, "rows": rows,
-            "load_before": os.getloadavg()[0],
+            "fast_kernels": fast, "load_before": load0, "load_after": os.getloadavg()[0],
             "data": ("white-noise rate samples (allantools data_type='freq')" if kind == "freq"
                      else "random-walk phase (white FM; allantools data_type='phase')")
             + ", seed 12345, 1 Hz"}
@@ -557,11 +579,14 @@ def _markdown_issue15(result: dict) -> list[str]:
                           f"included (load {b.get('load_before', float('nan')):.1f} on 2 "
                           "cores):", "",
                       "| statistic | taus | inertialab CPU s | allantools CPU s | ratio | "
-                      "max rel diff |", "|---|---|---|---|---|---|"]
+                      "numpy kernels CPU s (ratio) | max rel diff |",
+                      "|---|---|---|---|---|---|---|"]
             for r in b["rows"]:
+                npc = (f"{_f(r['numpy_cpu_s'])} ({_f(r['numpy_cpu_ratio'], '.2f')}x)"
+                       if r.get("numpy_cpu_s") is not None else "–")
                 lines.append(f"| {r['statistic']} | {r['n_taus']} | {_f(r['inertialab_cpu_s'])} "
                              f"| {_f(r['allantools_cpu_s'])} | {_f(r['cpu_ratio'], '.2f')}x | "
-                             f"{_f(r['max_rel_diff'], '.1e')} |")
+                             f"{npc} | {_f(r['max_rel_diff'], '.1e')} |")
     mem = result.get("memory")
     if mem:
         lines += ["", f"**Extra memory** (tracemalloc peak of the call / input size), n = "

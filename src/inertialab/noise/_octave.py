@@ -31,9 +31,78 @@ taken in ``BLOCK``-sized dot products (single-threaded BLAS, see
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 
 from inertialab.noise._phase import _sumsq
+
+_FAST = None  # the compiled-kernel module once imported; False: unavailable
+
+
+def fast_kernels():
+    """The compiled kernels (:mod:`inertialab.noise._fast`, the ``[fast]`` extra) or None.
+
+    None when the environment variable ``INERTIALAB_FAST`` is ``0`` (read at every call,
+    so it can be switched at run time) or numba does not import; then every statistic
+    runs on the numpy kernels of this module, which give the same numbers to ~1e-12
+    (issue 15 item 5). The first use in a process imports numba (~0.3 s) and loads the
+    kernels from numba's cache (compiled once per machine: a few seconds)."""
+    global _FAST
+    if os.environ.get("INERTIALAB_FAST", "1").strip() == "0":
+        return None
+    if _FAST is None:
+        try:
+            from inertialab.noise import _fast
+        except ImportError:  # numba not installed: numpy kernels
+            _FAST = False
+        else:
+            _FAST = _fast
+    return _FAST or None
+
+
+class Decimated:
+    """Decimated angle points per m, all in one flat array: the row of ``ms[r]`` is
+    ``flat[offs[r]:offs[r] + uses[r]]`` (built by the compiled octave kernels, so that
+    the compiled identification reads them without per-tau Python work). Offers the
+    mapping interface (``get``, ``in``, ``[m]``) the numpy identification uses."""
+
+    def __init__(self, ms, uses, offs, flat):
+        self.ms, self.uses, self.offs, self.flat = ms, uses, offs, flat
+        self._row = {int(m): r for r, m in enumerate(ms)}
+
+    def __len__(self) -> int:
+        return len(self._row)
+
+    def __contains__(self, m) -> bool:
+        return int(m) in self._row
+
+    def __getitem__(self, m) -> np.ndarray:
+        r = self._row[int(m)]
+        return self.flat[self.offs[r]:self.offs[r] + self.uses[r]]
+
+    def get(self, m, default=None):
+        return self[m] if m in self else default
+
+    def rows(self, ms: np.ndarray):
+        """``(offsets, uses)`` of the rows of ``ms`` (int64 arrays), or None where one of
+        them is missing."""
+        if not all(int(m) in self._row for m in ms):
+            return None
+        r = np.array([self._row[int(m)] for m in ms], dtype=np.int64)
+        return self.offs[r], self.uses[r]
+
+
+def _decimated_layout(nx: int, ms: np.ndarray, max_points: int):
+    """``(uses, starts, offs, flat)`` of :class:`Decimated` rows for the m of ``ms``
+    (:func:`_central_span` of each, vectorised; starts in angle-point units)."""
+    count = (nx - 1) // ms + 1
+    uses = np.minimum(count, max_points)
+    starts = ((count - uses) // 2) * ms
+    offs = np.zeros(ms.size, dtype=np.int64)
+    offs[1:] = np.cumsum(uses)[:-1]
+    return uses, starts, offs, np.empty(max(int(uses.sum()), 1))
+
 
 #: Entries per block of the in-place updates (below L2 size; temporaries of this size).
 OCT_BLOCK = 1 << 16
@@ -65,6 +134,77 @@ def n_terms(statistic: str, nx: int, m: int) -> int:
     return nx - 2  # totdev
 
 
+def n_terms_many(statistic: str, nx: int, ms: np.ndarray) -> np.ndarray:
+    """:func:`n_terms` of every m of ``ms`` (int64 array)."""
+    ms = np.asarray(ms, dtype=np.int64)
+    if statistic == "oadev":
+        return nx - 2 * ms
+    if statistic == "adev":
+        return (nx - 1) // ms - 1
+    if statistic == "ohdev":
+        return nx - 3 * ms
+    if statistic == "hdev":
+        return (nx - 1) // ms - 2
+    if statistic in ("mdev", "tdev"):
+        return nx - 3 * ms + 1
+    return np.full(ms.size, nx - 2, dtype=np.int64)  # totdev
+
+
+def dense_sums_fast(K, x: np.ndarray, statistic: str, ms: np.ndarray) -> np.ndarray:
+    """The sums of :func:`dense_sums` by the compiled kernels (``K``), one loop per m."""
+    x = np.asarray(x, dtype=np.float64)
+    if statistic in E_STATS:
+        order = 2 if statistic == "adev" else 3
+        if is_octave(ms) and ms.size > 1:  # contiguous halvings (half a copy)
+            return octave_strided_sums(K, x, statistic, ms)[0]
+        return K.dense_strided(x, ms, order)
+    if statistic == "totdev":
+        return K.dense_totdev(x, ms, True)
+    if statistic in ("oadev", "ohdev"):
+        return K.dense_overlap(x, ms, 2 if statistic == "oadev" else 3)
+    return K.dense_mod(x, ms, MOD_RESTART, np.empty(FAST_BLOCK))
+
+
+def octave_strided_sums(K, x: np.ndarray, statistic: str, ms: np.ndarray,
+                        rules=None, max_points: int = 0):
+    """ADEV/HDEV sums at octave ``ms`` of the in-memory angle ``x`` by the compiled
+    halving kernel and the summand counts; with ``rules = (dmax, min_points, lo, hi)``
+    also each m's noise type from its central ``max_points`` decimated points, read in
+    place from the contiguous halved copy (strided reads of a large record miss the
+    cache at every point): ``(alphas, best)`` as :func:`inertialab.noise._fast.
+    identify_rows` gives them, else None."""
+    ms = np.asarray(ms, dtype=np.int64)
+    lev = np.log2(ms).astype(np.int64)
+    L = int(lev.max()) + 1
+    want = np.zeros(L, dtype=np.bool_)
+    want[lev] = True
+    use = np.zeros(L, dtype=np.int64)
+    start = np.zeros(L, dtype=np.int64)
+    alphas = np.zeros(L, dtype=np.int64)
+    best = np.zeros(L, dtype=np.int64)
+    if rules is not None:
+        count = (x.size - 1) // ms + 1
+        u = np.minimum(count, max_points)
+        use[lev], start[lev] = u, (count - u) // 2  # starts in units of m
+    sums = K.octave_strided(x, want, 2 if statistic == "adev" else 3,
+                            np.empty((x.size - 1) // 2 + 1), use, start,
+                            np.asarray(rules if rules is not None else (0, 0, 0, 0),
+                                       dtype=np.int64),
+                            alphas, best, np.empty(max(int(use.max()), 1)))
+    ident = (alphas[lev], best[lev]) if rules is not None else None
+    return sums[lev], n_terms_many(statistic, x.size, ms), ident
+
+
+#: Block (entries) of the compiled lag-doubling updates (their scratch buffer).
+FAST_BLOCK = 4096
+
+#: Stride of the coarse angle the compiled gather of decimated points reads (1/16 copy).
+GATHER_STRIDE = 16
+
+#: Summands between recomputations of the running modified sum (compiled kernel).
+MOD_RESTART = 4096
+
+
 def octave_sums(d: np.ndarray, statistic: str, ms: np.ndarray, *, decimate: int = 0):
     """Sums of squares of ``statistic``'s filter outputs at each m of ``ms`` (powers of 2).
 
@@ -86,6 +226,9 @@ def octave_sums(d: np.ndarray, statistic: str, ms: np.ndarray, *, decimate: int 
     nt : ndarray of int, shape (k,)
     dec : dict m -> ndarray
     """
+    K = fast_kernels()
+    if K is not None:
+        return _octave_sums_fast(K, d, statistic, ms, decimate)
     nx = d.size + 1
     want = {int(m) for m in ms}
     top = int(max(ms))
@@ -220,6 +363,39 @@ def octave_sums(d: np.ndarray, statistic: str, ms: np.ndarray, *, decimate: int 
         nd = nxt
         m *= 2
     return sums, nt, dec
+
+
+def _octave_sums_fast(K, d, statistic, ms, decimate):
+    """:func:`octave_sums` by the compiled kernels (one fused loop per octave)."""
+    nx = d.size + 1
+    ms = np.asarray(ms, dtype=np.int64)
+    levels = np.log2(ms).astype(np.int64)
+    L = int(levels.max()) + 1
+    want = np.zeros(L, dtype=np.bool_)
+    want[levels] = True
+    nt = n_terms_many(statistic, nx, ms)
+    use = np.zeros(L, dtype=np.int64)
+    start = np.zeros(L, dtype=np.int64)
+    off = np.zeros(L, dtype=np.int64)
+    flat = np.empty(1)
+    dec = {}
+    if decimate:
+        u, st, o, flat = _decimated_layout(nx, ms, decimate)
+        use[levels], start[levels], off[levels] = u, st, o
+        dec = Decimated(ms, u, o, flat)
+    if statistic in E_STATS:
+        ustart = start // (1 << np.arange(L))  # in units of E(m)
+        lev_sums = K.octave_e(d, want, statistic == "hdev", use, ustart, off, flat)
+    elif statistic in B_STATS:
+        if decimate:
+            g = GATHER_STRIDE
+            K.gather_increments(d, 1 << np.arange(L, dtype=np.int64), start, use, off, flat,
+                                np.empty(d.size // g + 1), g)
+        lev_sums = K.octave_b(d, nx, want, np.empty(FAST_BLOCK))
+    else:
+        q = 3 if statistic == "ohdev" else 2
+        lev_sums = K.octave_d(d, nx, want, q, use, start, off, flat, np.empty(FAST_BLOCK))
+    return lev_sums[levels], nt, dec
 
 
 def _diff_taps(w: np.ndarray, b0: int, L: int, m: int, q: int, buf, tmp) -> np.ndarray:
@@ -382,8 +558,11 @@ def dense_sums(x: np.ndarray, statistic: str, ms: np.ndarray):
     2-D gathers."""
     nx = x.size
     ms = np.asarray(ms, dtype=np.int64)
+    nt = n_terms_many(statistic, nx, ms)
+    K = fast_kernels()
+    if K is not None:
+        return dense_sums_fast(K, x, statistic, ms), nt
     sums = np.zeros(ms.size)
-    nt = np.array([n_terms(statistic, nx, int(m)) for m in ms], dtype=np.int64)
     if statistic in E_STATS:
         order = 2 if statistic == "adev" else 3
         pts = (nx - 1) // ms + 1

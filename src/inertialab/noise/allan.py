@@ -346,6 +346,13 @@ def _all_equal(v: np.ndarray) -> bool:
     return True
 
 
+def _angle_constant(x: np.ndarray) -> bool:
+    """True when every first difference of the angle ``x`` is equal (a constant rate):
+    the first 64 differences decide for almost any record, then a block, then all."""
+    return (_all_equal(np.diff(x[:65])) and _all_equal(np.diff(x[:_octave.OCT_BLOCK + 1]))
+            and _all_equal(np.diff(x)))
+
+
 def _angle_source(x: np.ndarray) -> _PhaseArray:
     """In-memory angle source of ``x`` (float64) without re-checking constancy."""
     src = _PhaseArray.__new__(_PhaseArray)
@@ -392,14 +399,28 @@ def deviation(statistic: str, data, *, rate_hz: float, taus="octave", input: str
     from inertialab.noise import identify as _ident
 
     _check_stat(statistic)
-    arr = _validate(data, rate_hz, input)
+    # an angle record on the compiled kernels is checked for NaN/infinity after its sums
+    # (every point enters the m = 1 sums, and non-finite values make them non-finite):
+    # one pass less over the record (issue 15 item 5); otherwise before anything else
+    defer = input == "angle" and not chunked and _octave.fast_kernels() is not None
+    arr = _validate(data, rate_hz, input, check_finite=not defer)
     if not 0.0 < float(confidence) < 1.0:
         raise InputError(f"confidence must be in (0, 1), got {confidence}")
     if chunked and input != "rate":
         raise InputError("the chunked path takes rate samples (input='rate')")
-    ms = tau_grid(arr.size, taus, rate_hz=rate_hz, statistic=statistic, input=input)
+    if defer:
+        try:
+            ms = tau_grid(arr.size, taus, rate_hz=rate_hz, statistic=statistic, input=input)
+        except InputError:
+            _check_finite(arr, "data")  # the non-finite data error takes precedence
+            raise
+        if ms[0] != 1:
+            defer = False
+            _check_finite(arr, "data")
+    else:
+        ms = tau_grid(arr.size, taus, rate_hz=rate_hz, statistic=statistic, input=input)
     tau0 = 1.0 / float(rate_hz)
-    decimated = None
+    decimated = ident = None
     if chunked:
         from inertialab.noise import _stream
 
@@ -424,7 +445,18 @@ def deviation(statistic: str, data, *, rate_hz: float, taus="octave", input: str
             if _all_equal(arr):
                 raise InputError("data are constant (zero deviation at every tau); "
                                  "nothing to analyse")
-        if is_octave(ms) and not (input == "angle" and statistic in _octave.E_STATS):
+        K = _octave.fast_kernels()
+        if K is not None and statistic == "totdev" and input == "angle":
+            # compiled: one pass over the angle per m, the reflected summands by index
+            x = np.asarray(arr, dtype=np.float64)
+            if _angle_constant(x):
+                raise InputError("data are constant (zero deviation at every tau); "
+                                 "nothing to analyse")
+            src = _angle_source(x)
+            sums = _octave.dense_sums_fast(K, x, statistic, ms)
+            nt = _octave.n_terms_many(statistic, x.size, ms)
+            var = _normalise(statistic, sums, ms, nt, tau0)
+        elif is_octave(ms) and not (input == "angle" and statistic in _octave.E_STATS):
             # (non-overlapping statistics of an angle record: strided views are cheaper)
             # lag-doubling kernels on one working array of first differences
             if input == "rate":
@@ -448,8 +480,13 @@ def deviation(statistic: str, data, *, rate_hz: float, taus="octave", input: str
             sums = sums * (scale * scale)
             if statistic == "totdev":
                 xf = x if input == "angle" else _rate_to_phase(arr, tau0, mean)
-                sums += [_octave.totdev_edge_sum(lambda a, n: xf[a:a + n], xf.size, int(m))
-                         for m in ms]
+                if K is not None:  # the reflected summands only (compiled)
+                    sums += K.dense_totdev(xf, ms, False)
+                else:
+                    sums += [_octave.totdev_edge_sum(lambda a, n: xf[a:a + n], xf.size,
+                                                     int(m)) for m in ms]
+                if input == "rate":
+                    src = _angle_source(xf)  # the identification reads the angle in place
                 del xf
             var = _normalise(statistic, sums, ms, nt, tau0)
         else:
@@ -457,16 +494,26 @@ def deviation(statistic: str, data, *, rate_hz: float, taus="octave", input: str
                 src = _make_source(arr, rate_hz, input, False)
             else:
                 x = np.asarray(arr, dtype=np.float64)
-                if _all_equal(np.diff(x[:_octave.OCT_BLOCK + 1])) and _all_equal(np.diff(x)):
+                if _angle_constant(x):
                     raise InputError("data are constant (zero deviation at every tau); "
                                      "nothing to analyse")
                 src = _angle_source(x)
-            sums, nt = _octave.dense_sums(src.x, statistic, ms)
+            if (K is not None and statistic in _octave.E_STATS and is_octave(ms)
+                    and ms.size > 1):  # noise types from the halved copy, in place
+                rules = _ident.rules(statistic) if alpha is None else None
+                sums, nt, rows = _octave.octave_strided_sums(K, src.x, statistic, ms, rules,
+                                                             _ident.MAX_POINTS)
+                if rows is not None:
+                    ident = _ident.from_rows(src, ms, *rows, *rules[2:])
+            else:
+                sums, nt = _octave.dense_sums(src.x, statistic, ms)
             var = _normalise(statistic, sums, ms, nt, tau0)
+    if defer and not np.isfinite(var).all():
+        _check_finite(arr, "data")  # raises where the record holds NaN or infinity
     dev = np.sqrt(var)
     n_phase = src.n
     if alpha is None:
-        if not chunked:
+        if not chunked and ident is None:
             ident = _ident.identify_alpha(src, ms, statistic=statistic, decimated=decimated)
         alphas, sources, amethod = ident.alpha, ident.source, "lag1"
     else:

@@ -58,6 +58,7 @@ is LGPL and a test-only cross-check).
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -72,7 +73,7 @@ from inertialab.noise._filters import (  # noqa: F401 - re-exported (public befo
     _gacv,
     filter_autocorr,
 )
-from inertialab.noise._octave import n_terms
+from inertialab.noise._octave import fast_kernels, n_terms
 
 # ----------------------------------------------------------------------------- intervals
 
@@ -406,6 +407,19 @@ def _inv_edf_sum_many(J, M, S, F, alpha: int, d: int) -> np.ndarray:
     return out
 
 
+@functools.lru_cache(maxsize=1)
+def _fast_tables():
+    """Tables 1-3 as arrays for the compiled EDF: ``[2 - alpha, d - 1, (a0, a1)]``."""
+    t1 = np.full((7, 3, 2), np.nan)
+    t2 = np.full((7, 3, 2), np.nan)
+    for tab, arr in ((_TABLE1, t1), (_TABLE2, t2)):
+        for a, row in tab.items():
+            for j, v in enumerate(row):
+                if v is not None:
+                    arr[2 - a, j] = v
+    return t1, t2, np.array(_TABLE3)
+
+
 def edf_greenhall_many(statistic: str, n_phase: int, m, alpha) -> np.ndarray:
     """:func:`edf_greenhall` for many averaging factors at once (issue 15 item 5).
 
@@ -419,6 +433,12 @@ def edf_greenhall_many(statistic: str, n_phase: int, m, alpha) -> np.ndarray:
     al = np.broadcast_to(np.asarray(alpha, dtype=np.int64), m.shape)
     out = np.full(m.size, np.nan)
     N = int(n_phase)
+    K = fast_kernels()
+    if K is not None:  # the same branches per m, compiled (issue 15 item 5)
+        t1, t2, t3 = _fast_tables()
+        K.greenhall_many(float(N), m, np.ascontiguousarray(al), d, overlapping, modified,
+                         t1, t2, t3, np.asarray(_DIFF[d]), J_MAX, out)
+        return out
     for a in (int(v) for v in np.unique(al)):
         sel = np.flatnonzero((al == a) & (m >= 1))
         if a + 2 * d <= 1 or a > 2 or sel.size == 0:
@@ -529,6 +549,17 @@ def edf(statistic: str, n_phase: int, m, alpha, *, n_terms=None, method: str = "
         out = edf_greenhall_many(statistic, n_phase, m, np.clip(alpha, lo, 2))
         out = np.where(np.isfinite(out) & (out > 0), out, np.nan)
         return out, "greenhall-2003"
+    if method == "sp1065":  # vectorised per noise type (the same closed forms)
+        a_all = np.clip(alpha, -2, 2)
+        for a in (int(v) for v in np.unique(a_all)):
+            sel = a_all == a
+            if statistic == "totdev":
+                out[sel] = (edf_totdev_sp1065(n_phase, m[sel], a) if a <= 0
+                            else edf_greenhall_many("oadev", n_phase, m[sel], a))
+            else:
+                out[sel] = edf_oadev_sp1065(n_phase, m[sel], a)
+        out = np.where(np.isfinite(out) & (out > 0), out, np.nan)
+        return out, "sp1065-table5" if statistic != "totdev" else "sp1065-table7"
     if method == "gaussian":
         if n_terms is None:
             n_terms = _n_terms(statistic, n_phase, m)

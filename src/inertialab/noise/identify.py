@@ -165,6 +165,9 @@ def identify_alpha(src, ms, *, statistic: str = "oadev", max_points: int = MAX_P
     lo, hi = _ALPHA_RANGE.get(statistic, (-2, 2))
     dmax = 3 if _family(statistic) == "hadamard" else 2
     ms = np.atleast_1d(np.asarray(ms, dtype=np.int64))
+    fast = _identify_fast(src, ms, lo, hi, dmax, max_points, min_points, decimated)
+    if fast is not None:
+        return fast
     alphas = np.zeros(ms.size, dtype=np.int64)
     sources = ["lag1"] * ms.size
     x = getattr(src, "x", None)
@@ -216,6 +219,53 @@ def identify_alpha(src, ms, *, statistic: str = "oadev", max_points: int = MAX_P
     return NoiseIdentification(ms, alphas, tuple(sources))
 
 
+def _identify_fast(src, ms, lo, hi, dmax, max_points, min_points, decimated):
+    """:func:`identify_alpha` by the compiled kernels, reading the decimated points in
+    place (strided from the in-memory angle, or from the flat buffer of the octave
+    kernels); None where they do not apply (no kernels, or points only via ``window``)."""
+    from inertialab.noise import _octave
+
+    K = _octave.fast_kernels()
+    if K is None:
+        return None
+    x = getattr(src, "x", None)
+    count = (src.n - 1) // ms + 1
+    use = np.minimum(count, max_points)
+    rows = decimated.rows(ms) if isinstance(decimated, _octave.Decimated) else None
+    if rows is not None:
+        base = decimated.flat
+        starts, use = rows
+        steps = np.ones(ms.size, dtype=np.int64)
+    elif not decimated and x is not None:
+        base = np.asarray(x, dtype=np.float64)
+        steps = ms
+        starts = ((count - use) // 2) * ms
+    else:
+        return None
+    alphas = np.empty(ms.size, dtype=np.int64)
+    best = np.empty(ms.size, dtype=np.int64)
+    K.identify_rows(base, starts, steps, use, dmax, min_points, lo, hi, alphas, best,
+                    np.empty(int(use.max())))
+    return from_rows(src, ms, alphas, best, lo, hi)
+
+
+def rules(statistic: str, min_points: int = MIN_POINTS) -> tuple:
+    """``(dmax, min_points, lo, hi)`` of :func:`identify_alpha` for ``statistic``."""
+    lo, hi = _ALPHA_RANGE.get(statistic, (-2, 2))
+    return (3 if _family(statistic) == "hadamard" else 2), min_points, lo, hi
+
+
+def from_rows(src, ms, alphas, best, lo, hi) -> NoiseIdentification:
+    """The identification from the compiled per-row verdicts (``best``: -2 lag-1, else
+    B1's; B1's phase-noise verdict 0 goes to R(n) here)."""
+    sources = tuple("b1" if b >= -1 else "lag1" for b in best.tolist())
+    rn = best == 0  # B1 says phase noise: R(n) splits white from flicker
+    if rn.any():
+        alphas = alphas.copy()
+        alphas[rn] = np.clip(_rn_alpha_many(src, ms[rn]), lo, hi)
+    return NoiseIdentification(ms, alphas, sources)
+
+
 def _b1_alpha(src, z: np.ndarray, m: int) -> int:
     """B1 (and R(n)) verdict of one tau from its decimated points ``z``."""
     best = int(_b1_mu_many(np.asarray(z, dtype=float)[None, :])[0])
@@ -248,7 +298,9 @@ def _rn_alpha_many(src, ms: np.ndarray) -> np.ndarray:
     mvar = s_mod / n_mod / mf.astype(float) ** 2
     with np.errstate(invalid="ignore", divide="ignore"):
         rn = np.where(avar_o > 0, mvar / np.where(avar_o > 0, avar_o, 1.0), 1.0 / mf)
-    thr = np.array([math.sqrt((1.0 / m) * _rn_theory(min(int(m), M_CAP), 1)) for m in mf])
+    capped, inv = np.unique(np.minimum(mf, M_CAP), return_inverse=True)
+    theory = np.array([_rn_theory(int(c), 1) for c in capped])[inv]
+    thr = np.sqrt((1.0 / mf) * theory)
     out[fit] = np.where(rn < thr, 2, 1)
     return out
 

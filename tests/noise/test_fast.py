@@ -1,0 +1,130 @@
+"""The compiled ``[fast]`` kernels (numba; issue 15 item 5) against the numpy paths they
+replace: every statistic, rate and angle input, octave / all / explicit taus, odd and
+tiny records; deviations, EDFs and intervals to 1e-12 relative, noise types equal.
+``INERTIALAB_FAST=0`` selects the numpy path (the reference here)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+pytest.importorskip("numba")
+
+from inertialab.errors import InputError  # noqa: E402
+from inertialab.noise import _octave as O  # noqa: E402
+from inertialab.noise import edf as E  # noqa: E402
+from inertialab.noise import identify as I  # noqa: E402
+from inertialab.noise._phase import _PhaseArray  # noqa: E402
+from inertialab.noise.allan import STATISTICS, deviation  # noqa: E402
+
+
+def _both(monkeypatch, f):
+    monkeypatch.setenv("INERTIALAB_FAST", "0")
+    assert O.fast_kernels() is None
+    ref = f()
+    monkeypatch.setenv("INERTIALAB_FAST", "1")
+    assert O.fast_kernels() is not None
+    return ref, f()
+
+
+def _rel(a, b):
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    np.testing.assert_array_equal(np.isnan(a), np.isnan(b))
+    ok = ~np.isnan(a) & (b != 0)
+    np.testing.assert_array_equal(a[~ok & ~np.isnan(a)], b[~ok & ~np.isnan(b)])
+    return float(np.max(np.abs(a[ok] / b[ok] - 1))) if ok.any() else 0.0
+
+
+def _data(n, kind, seed, noise="white"):
+    rng = np.random.default_rng(seed)
+    y = rng.standard_normal(n)
+    if noise == "rw":  # random-walk rate: B1/R(n) and the lag-1 differencing work too
+        y = np.cumsum(y)
+    elif noise == "wpm":  # white angle noise as a rate record
+        y = np.diff(rng.standard_normal(n + 1))
+    return (y * 0.3 + 5.0) if kind == "rate" else np.cumsum(y)
+
+
+@pytest.mark.parametrize("stat", STATISTICS)
+@pytest.mark.parametrize("kind", ["rate", "angle"])
+def test_fast_equals_numpy(monkeypatch, stat, kind):
+    worst = 0.0
+    for n, noise in ((5, "white"), (8, "white"), (37, "rw"), (1001, "white"),
+                     (4097, "wpm"), (30001, "rw"), (65537, "white")):
+        data = _data(n, kind, n, noise)
+        for taus in ("octave", "all", [1.0, 3.0, 7.0, 40.0, 300.0]):
+            if taus == "all" and n > 5000:
+                continue
+            try:
+                def run(taus=taus, data=data):
+                    return deviation(stat, data, rate_hz=1.0, taus=taus, input=kind)
+                ref, got = _both(monkeypatch, run)
+            except Exception as exc:  # too short for the statistic: both must refuse
+                monkeypatch.setenv("INERTIALAB_FAST", "1")
+                with pytest.raises(type(exc)):
+                    deviation(stat, data, rate_hz=1.0, taus=taus, input=kind)
+                continue
+            np.testing.assert_array_equal(got.m, ref.m)
+            np.testing.assert_array_equal(got.n_terms, ref.n_terms)
+            np.testing.assert_array_equal(got.alpha, ref.alpha, err_msg=f"{n} {taus}")
+            assert got.alpha_source == ref.alpha_source
+            for f in ("dev", "edf", "ci_low", "ci_high"):
+                worst = max(worst, _rel(getattr(got, f), getattr(ref, f)))
+    assert worst < 1e-12, worst
+
+
+@pytest.mark.parametrize("stat", ["oadev", "mdev", "ohdev"])
+def test_fast_identification_equals_numpy(monkeypatch, stat):
+    # every power-law type, lag-1 rows (>= 30 points) and B1/R(n) rows (fewer)
+    rng = np.random.default_rng(4)
+    seen = set()
+    for k, noise in enumerate((rng.standard_normal(20001),  # white angle
+                               np.cumsum(rng.standard_normal(20001)),  # white rate
+                               np.cumsum(np.cumsum(rng.standard_normal(20001))))):
+        src = _PhaseArray(noise)
+        ms = np.unique(np.r_[1, 2, 3, 50, 400, 700, 900, 2000, 5000, np.arange(600, 660)])
+        ms = ms[3 * ms < noise.size - 1]
+        ref, got = _both(monkeypatch,
+                         lambda src=src, ms=ms: I.identify_alpha(src, ms, statistic=stat))
+        np.testing.assert_array_equal(got.alpha, ref.alpha, err_msg=str(k))
+        assert got.source == ref.source
+        assert {"lag1", "b1"} <= set(got.source)
+        seen.update(got.alpha.tolist())
+    assert len(seen) >= 3, seen  # several noise types (and R(n) on white angle noise)
+
+
+def test_fast_edf_equals_scalar(monkeypatch):
+    monkeypatch.setenv("INERTIALAB_FAST", "1")
+    worst = 0.0
+    for stat in E.GREENHALL_STATS:
+        for N in (10, 37, 1001, 100001):
+            ms = np.unique(np.r_[np.arange(1, min(N, 300)),
+                                 np.geomspace(1, N, 60).astype(np.int64)])
+            for a in range(-4, 3):
+                v = E.edf_greenhall_many(stat, N, ms, a)
+                ref = np.array([E.edf_greenhall(stat, N, int(m), a) for m in ms])
+                worst = max(worst, _rel(v, ref))
+    assert worst < 1e-12
+
+
+def test_env_switch_off_uses_numpy(monkeypatch):
+    monkeypatch.setenv("INERTIALAB_FAST", "0")
+    assert O.fast_kernels() is None
+    x = np.cumsum(np.random.default_rng(1).standard_normal(1000))
+    r = deviation("oadev", x, rate_hz=1.0, input="angle")
+    assert np.all(np.isfinite(r.dev))
+
+
+@pytest.mark.parametrize("stat", STATISTICS)
+@pytest.mark.parametrize("bad", [np.nan, np.inf, -np.inf])
+def test_fast_angle_non_finite_refused(monkeypatch, stat, bad):
+    # the compiled angle path checks finiteness after its m = 1 sums: same error
+    monkeypatch.setenv("INERTIALAB_FAST", "1")
+    for pos in (0, 1, 500, 998, 999):
+        x = np.cumsum(np.random.default_rng(pos).standard_normal(1000))
+        x[pos] = bad
+        for taus in ("octave", "all", [3.0, 10.0]):
+            with pytest.raises(InputError, match=f"NaN or infinity at sample index {pos}"):
+                deviation(stat, x, rate_hz=1.0, taus=taus, input="angle")
+    with pytest.raises(InputError, match="NaN or infinity at sample index 1"):
+        deviation(stat, np.array([0.0, np.nan, 1.0]), rate_hz=1.0, input="angle")
