@@ -1,4 +1,4 @@
-"""Generalized method of wavelet moments (GMWM; Guerrier et al. 2013; issue 14 item 6).
+"""Generalized method of wavelet moments (GMWM; Guerrier et al. 2013; issue 14 item 5).
 
 The record's Haar wavelet variance (WV) at dyadic scales ``tau_j = m tau0``,
 ``m = 1, 2, 4, ...`` is matched by the WV of a sum of latent processes:
@@ -19,22 +19,34 @@ octave pass) and each process's WV is its exact discrete Allan variance over 2
 (``avar_*`` below). WV intervals: chi-square with Percival's ``eta3 = max(M_j/2^j, 1)``
 degrees of freedom (``M_j`` the number of non-boundary coefficients, ``2^j = 2m``).
 
-Estimator: ``theta = argmin sum_j (eta_j/2) (ln wv_hat_j - ln wv_j(theta))^2``, i.e. the
-GMWM objective with the diagonal weight matrix of the log wavelet moments (the inverse
-of their asymptotic variance ``2/eta_j``; logs keep the many-decade moments balanced),
-solved by ``scipy.optimize.least_squares`` on log parameters from data-driven starts.
-The short scales coloured by a sensor's internal filter are cut as in
-:func:`inertialab.noise.terms.auto_tau_range`.
+Estimator (Guerrier et al.'s two-step GMWM, on log wavelet moments):
 
-Model selection (:func:`fit_gmwm`): every candidate ``WN [+QN] [+RW] [+DR] + k GM``
-(k = 0..``max_gm``) is fitted and the one with the least wavelet information criterion
-``WIC = objective + 2 p`` is chosen — Guerrier et al.'s WIC ``E[objective] + 2 tr(...)``
-with its optimism term at its asymptotic value ``p`` (number of parameters) for a
-correctly weighted objective.
+1. every candidate is fitted by ``argmin sum_j (eta3_j/2) (ln wv_hat_j - ln wv_j(theta))^2``
+   (diagonal weights: white noise's variance of the log moments) and the WIC selects one;
+2. that model's spectrum gives the full covariance of the estimators across scales
+   (:func:`inertialab.noise._gmwm_cov.wv_covariance`: neighbouring octaves are correlated
+   0.5 under white noise and 0.88 under a random walk), hence each scale's equivalent
+   degrees of freedom ``eta_j``, the log moments' covariance ``Sigma`` and their bias
+   ``E ln(chi2(eta)/eta)`` (:func:`inertialab.noise._gmwm_cov.log_weights`); every
+   candidate is refitted by ``argmin (l_hat - bias - ln wv(theta))' Sigma^-1 (...)``
+   (``Omega = Sigma^-1``, the efficient weight matrix) and the WIC selects again.
 
-Parameter intervals: parametric bootstrap of the selected model in the WV domain
-(replicate WVs drawn as ``wv_j chi2(eta_j)/eta_j``, correlated across scales through the
-same copula as :mod:`inertialab.noise.terms`), refitted; percentile intervals.
+Both are solved by ``scipy.optimize.least_squares`` (whitened residuals) on log
+parameters from data-driven starts. The short scales coloured by a sensor's internal
+filter are cut as in :func:`inertialab.noise.terms.auto_tau_range`; scales with
+``eta3 < 3`` are left out.
+
+Model selection (:func:`fit_gmwm`): every candidate ``WN [+QN] [+RW [+DR]] + k GM``
+(k = 0..``max_gm``; a drift only beside a random walk, :data:`DR_NEEDS_RW`) is fitted and
+the one with the least wavelet information criterion ``WIC = objective + 2 p`` is chosen —
+Guerrier et al.'s WIC ``E[objective] + 2 tr(...)`` with its optimism term at its
+asymptotic value ``p`` (number of parameters) for a correctly weighted objective.
+
+Parameter intervals: parametric bootstrap in the WV domain: replicate WVs drawn around
+the selected model with ``chi2(eta_j)/eta_j`` marginals and the model's cross-scale
+correlation (Gaussian copula), refitted with the same weights; for B and K each replicate
+re-selects by the WIC among the :data:`BOOT_MODELS` best candidates, so their intervals
+carry the selection uncertainty; percentile intervals.
 
 IEEE terms from the latent processes (:func:`gmwm_noise_terms`): ``N^2 = sigma2 tau0``,
 ``K^2 = gamma2/tau0`` (plus ``2 s2/tc`` of any GM whose Allan peak 1.89 tc is not
@@ -62,85 +74,16 @@ from scipy.optimize import least_squares
 from scipy.stats import chi2
 
 from inertialab.errors import InputError
+from inertialab.noise._gmwm_avar import (  # re-exported (public API)
+    avar_ar1,
+    avar_drift,
+    avar_quant,
+    avar_rw,
+    avar_white,
+)
 
 #: sqrt(2 ln2 / pi) (IEEE 952 flicker floor), as in :mod:`inertialab.noise.terms`.
 BI_FACTOR = math.sqrt(2.0 * math.log(2.0) / math.pi)
-
-# ----------------------------------------------------------------------------- theory
-# Exact Allan variance of each latent process of a rate record sampled at tau0, at the
-# averaging factor m (tau = m tau0). The Haar wavelet variance at scale tau_j = 2^(j-1)
-# is half of it: nu^2(tau_j) = AVAR(m = tau_j) / 2.
-
-
-def avar_white(m, sigma2: float) -> np.ndarray:
-    """White rate noise of per-sample variance ``sigma2``: ``sigma2 / m``."""
-    m = np.asarray(m, dtype=float)
-    return sigma2 / m
-
-
-def avar_quant(m, q2: float, tau0: float = 1.0) -> np.ndarray:
-    """Angle (phase) white noise of variance ``q2`` (angle unit^2), as rate increments
-    ``(x_{k+1} - x_k)/tau0``: ``3 q2 / (m tau0)^2`` (IEEE 952 quantisation noise)."""
-    m = np.asarray(m, dtype=float)
-    return 3.0 * q2 / (m * tau0) ** 2
-
-
-def avar_rw(m, gamma2: float) -> np.ndarray:
-    """Rate random walk with per-sample increment variance ``gamma2``:
-    ``gamma2 (2 m^2 + 1) / (6 m)`` (exact discrete form)."""
-    m = np.asarray(m, dtype=float)
-    return gamma2 * (2.0 * m * m + 1.0) / (6.0 * m)
-
-
-def avar_drift(m, omega: float) -> np.ndarray:
-    """Deterministic rate ramp of ``omega`` per sample: ``omega^2 m^2 / 2``."""
-    m = np.asarray(m, dtype=float)
-    return 0.5 * (omega * m) ** 2
-
-
-def _h3(z: np.ndarray) -> np.ndarray:
-    """``exp(z) - 1 - z - z^2/2`` without cancellation (Horner series for |z| < 0.5)."""
-    z = np.asarray(z, dtype=float)
-    # z^3 (1/3! + z (1/4! + z (1/5! + ...))) to z^15
-    p = np.full(z.shape, 1.0 / math.factorial(15))
-    for k in range(14, 2, -1):
-        p = p * z + 1.0 / math.factorial(k)
-    out = p * z**3
-    big = np.abs(z) >= 0.5
-    if big.any():
-        zl = z[big]
-        out[big] = np.expm1(zl) - zl - 0.5 * zl * zl
-    return out
-
-
-def avar_ar1(m, phi: float, s2: float) -> np.ndarray:
-    """Stationary AR(1) ``z_k = phi z_{k-1} + e_k`` with stationary variance ``s2``
-    (a Gauss–Markov process of correlation time ``-tau0/ln(phi)``), exact discrete form.
-
-    With ``S_m`` the sum of ``m`` consecutive values and ``S'_m`` the next one,
-    ``AVAR(m) = (Var S_m - Cov(S_m, S'_m)) / m^2``, which reduces to
-    ``s2 g(m, e) / (m^2 (1 - phi)^2)``, ``e = ln phi``,
-    ``g = m - 3 phi - m phi^2 + 4 phi^(m+1) - phi^(2m+1)``. The constant, linear and
-    quadratic parts of ``g`` in ``e`` cancel exactly, so ``g`` is evaluated as
-    ``-3 h(e) - m h(2e) + 4 h((m+1)e) - h((2m+1)e)`` with ``h(z) = e^z - 1 - z - z^2/2``
-    computed without cancellation: full precision for correlation times far above
-    ``m tau0``.
-    """
-    m = np.asarray(m, dtype=float)
-    phi = float(phi)
-    if phi == 0.0:
-        return s2 / m
-    if phi < 0.0:
-        g = m - 3 * phi - m * phi**2 + 4 * phi ** (m + 1) - phi ** (2 * m + 1)
-        return s2 * g / (m * m * (1 - phi) ** 2)
-    e = math.log(phi)
-    x = -math.expm1(e)
-    h1, h2 = _h3(np.array([e, 2 * e]))
-    hz = _h3(np.concatenate([(m.ravel() + 1) * e, (2 * m.ravel() + 1) * e]))
-    n = m.size
-    g = -3.0 * h1 - m * h2 + 4.0 * hz[:n].reshape(m.shape) - hz[n:].reshape(m.shape)
-    return s2 * g / (m * m * x * x)
-
 
 # ----------------------------------------------------------------------------- wavelet variance
 
@@ -349,17 +292,19 @@ def _bounds(spec, tau_min, tau_max):
     return np.array(lo), np.array(hi)
 
 
-def _fit_spec(spec, wv, taus, eta, tau0, T, theta0=None, max_nfev=200):
-    sw = np.sqrt(eta / 2.0)
-    lw = np.log(wv)
+def _fit_spec(spec, target, taus, W, tau0, T, theta0=None, max_nfev=200):
+    """Least squares ``|W (target - ln nu(theta))|^2`` on log parameters (``W``: a vector
+    of diagonal weights or a whitening matrix)."""
     m = taus / tau0
+    W = np.asarray(W, dtype=float)
 
     def resid(theta):
         mod = _model_avar(_unpack(spec, theta, tau0), m, tau0) / 2.0
-        return sw * (lw - np.log(np.maximum(mod, 1e-300)))
+        d = target - np.log(np.clip(mod, 1e-300, 1e300))
+        return W * d if W.ndim == 1 else W @ d
 
     lo, hi = _bounds(spec, float(taus[0]), float(taus[-1]))
-    starts = [theta0] if theta0 is not None else [_start(spec, wv, taus, tau0, T)]
+    starts = [theta0] if theta0 is not None else [_start(spec, np.exp(target), taus, tau0, T)]
     if theta0 is None and spec.count("GM") >= 1:
         alt = starts[0].copy()
         k = 0
@@ -384,10 +329,19 @@ def _fit_spec(spec, wv, taus, eta, tau0, T, theta0=None, max_nfev=200):
     return best
 
 
+#: a drift (DR) is a candidate only beside a random walk (RW): on the last two or three
+#: scales of a record their rises (tau^2 and tau) are not told apart, and a DR chosen
+#: instead of the RW sets K to 0 (measured on industrial-400hz: K = 0 in 13 of 50 seeds);
+#: the same order as the Allan fit's backward elimination, which drops R before K
+DR_NEEDS_RW = True
+
+
 def _specs(max_gm: int, with_qn: bool, with_fl: bool):
     out = []
     for qn, rw, dr in product((False, True) if with_qn else (False,), (False, True),
                               (False, True)):
+        if dr and not rw and DR_NEEDS_RW:
+            continue
         for k in range(0, max_gm + 1):
             spec = (("FL",) if with_fl else ()) + (("QN",) if qn else ()) + ("WN",) \
                 + ("GM",) * k + (("RW",) if rw else ()) + (("DR",) if dr else ())
@@ -414,6 +368,8 @@ def fit_gmwm_wv(wv: WaveletVariance, *, max_gm: int = 3, n_boot: int = 50, seed:
     :data:`inertialab.noise.terms.EDF_MIN`, the Allan fit's rule; the last one or two
     scales of a record), and every Gauss–Markov correlation time is capped at
     :data:`TC_MAX_FRACTION` of the longest remaining scale (issue 14 item 5)."""
+    from inertialab.noise._gmwm_cov import log_weights
+
     if min_eta is None:
         from inertialab.noise._terms_base import EDF_MIN as min_eta
     wv = _drop_low_eta(wv, float(min_eta))
@@ -425,31 +381,37 @@ def fit_gmwm_wv(wv: WaveletVariance, *, max_gm: int = 3, n_boot: int = 50, seed:
     lt, lw = np.log(taus), np.log(wvv)
     with_qn = taus.size >= 4 and (lw[1] - lw[0]) / (lt[1] - lt[0]) < -0.75
     specs = _specs(max_gm, with_qn and not filtered, filtered)
-    cands, fits = _select(specs, wvv, taus, eta, tau0, T)
-    # second pass: weights from the EDF of the noise type the selected model implies at
-    # each scale (Greenhall, as the Allan fit); eta3 is white noise's and under-weights
-    # the scales where flicker-like or random-walk noise dominates (measured: the WIC then
-    # chose one GM for the three of consumer-100hz in 17 of 30 seeds, K +19 % med |err|)
-    edf_w = _model_edf(_unpack(*fits[min(cands, key=cands.get)][:2], tau0), wv)
-    cands, fits = _select(specs, wvv, taus, edf_w, tau0, T)
+    # step 1: diagonal weights eta3/2 of the log moments (white noise's variance)
+    cands, fits = _select(specs, lw, taus, np.sqrt(eta / 2.0), tau0, T)
+    # step 2 (Guerrier et al.'s two-step estimator): the weight matrix is the inverse
+    # covariance of the log moments, scales correlated, that the step-1 model implies
+    # (:func:`inertialab.noise._gmwm_cov.log_weights`); every candidate is refitted with it
+    ref = _unpack(*fits[min(cands, key=cands.get)][:2], tau0)
+    bias, linv, eta_a, corr = log_weights(ref, wv.m, wv.n_samples, tau0)
+    target = lw - bias
+    cands, fits = _select(specs, target, taus, linv, tau0, T)
     best = min(cands, key=cands.get)
     spec, theta, obj = fits[best]
     procs = _unpack(spec, theta, tau0)
-    wv_w = WaveletVariance(wv.taus_s, wv.m, wv.wv, edf_w, wv.ci_low, wv.ci_high, wv.tau0_s,
-                           wv.n_samples, wv.confidence)
-    procs, b_ci, k_ci = _with_intervals(spec, theta, procs, wv_w, n_boot, seed, confidence)
+    ranked = sorted(cands, key=cands.get)[:BOOT_MODELS]
+    procs, b_ci, k_ci = _with_intervals(spec, theta, procs, wv, (bias, linv, eta_a, corr),
+                                        n_boot, seed, confidence,
+                                        [fits[k][:2] for k in ranked])
     return GmwmFit(tuple(procs), wv, cands[best], obj, cands,
                    (float(taus[0]), float(taus[-1])), n_boot, b_ci, k_ci)
 
 
-def _select(specs, wvv, taus, eta, tau0, T):
+#: models (best WIC first) among which each bootstrap replicate re-selects for B and K
+BOOT_MODELS = 3
+
+def _select(specs, target, taus, W, tau0, T):
     """Fit every candidate; ``({name: WIC}, {name: (spec, theta, objective)})``."""
     cands, fits = {}, {}
     for spec in specs:
         p = len(spec) + spec.count("GM")
         if taus.size < p + 2:
             continue
-        r = _fit_spec(spec, wvv, taus, eta, tau0, T)
+        r = _fit_spec(spec, target, taus, W, tau0, T)
         if r is None:
             continue
         obj = 2.0 * float(r.cost)
@@ -460,61 +422,53 @@ def _select(specs, wvv, taus, eta, tau0, T):
     return cands, fits
 
 
-def _model_edf(procs, wv: WaveletVariance) -> np.ndarray:
-    """Greenhall EDF (oadev) of each scale for the noise type the model's local log-log
-    slope implies there: AVAR ~ tau^s <=> alpha = -1 - s (white rate 0, flicker -1,
-    random walk -2; s <= -2 gives +2), rounded to the integer types."""
-    from inertialab.noise.edf import edf_greenhall
+def _with_intervals(spec, theta, procs, wv, weights, n_boot, seed, confidence, alts=()):
+    """Parametric bootstrap in the WV domain: replicate wavelet variances drawn around
+    the fitted model with the chi-square marginals (``eta``) and the cross-scale
+    correlation of :func:`inertialab.noise._gmwm_cov.log_weights` (Gaussian copula),
+    each refitted with the same weights; percentile intervals. The processes' intervals
+    come from refits of the selected model; B and K from the model the WIC selects in
+    each replicate among ``alts`` (the selected model and the runners-up, ``(spec,
+    theta)``), so their intervals carry the model-selection uncertainty."""
+    from scipy.stats import norm
 
-    m = wv.taus_s / wv.tau0_s
-    lt = np.log(wv.taus_s)
-    la = np.log(np.maximum(_model_avar(procs, m, wv.tau0_s), 1e-300))
-    slope = np.gradient(la, lt) if lt.size >= 2 else np.zeros(lt.size)
-    alpha = np.clip(np.rint(-1.0 - slope), -2, 2).astype(int)
-    alpha[slope <= -1.5] = 2
-    e = np.array([edf_greenhall("oadev", wv.n_samples + 1, int(mi), int(a))
-                  for mi, a in zip(wv.m, alpha)])
-    return np.where(np.isfinite(e) & (e > 0), e, wv.eta)
-
-
-def _with_intervals(spec, theta, procs, wv, n_boot, seed, confidence):
     nan2 = (float("nan"), float("nan"))
     if n_boot <= 0:
         return procs, nan2, nan2
-    from inertialab.noise._terms_base import OCTAVE_RHO
-
-    tau0, taus, eta = wv.tau0_s, wv.taus_s, wv.eta
+    bias, linv, eta, corr = weights
+    tau0, taus = wv.tau0_s, wv.taus_s
     T = wv.n_samples * tau0
     m = taus / tau0
     model = _model_avar(procs, m, tau0) / 2.0
-    # dominant-process noise type per scale for the copula's correlation
-    alpha_of = {"QN": 2, "FL": 2, "WN": 0, "GM": -1, "RW": -2, "DR": -2}
-    contrib = np.stack([p.avar(m, tau0) for p in procs], axis=1)
-    dom = [alpha_of[procs[j].kind] for j in np.argmax(contrib, axis=1)]
-    rho = np.array([OCTAVE_RHO[a] for a in dom])
-    lm = np.log2(m)
-    L = np.concatenate([[0.0], np.cumsum(np.diff(lm) * np.log(np.sqrt(rho[1:] * rho[:-1])))])
-    C = np.exp(-np.abs(L[:, None] - L[None, :]))
-    from scipy.stats import norm
-
     rng = np.random.default_rng(seed)
-    z = rng.standard_normal((n_boot, m.size)) @ np.linalg.cholesky(C + 1e-12 * np.eye(m.size)).T
+    C = np.linalg.cholesky(corr + 1e-9 * np.eye(m.size))
+    z = rng.standard_normal((n_boot, m.size)) @ C.T
     u = np.clip(norm.cdf(z), 1e-12, 1 - 1e-12)
     draws = model[None, :] * chi2.ppf(u, eta[None, :]) / eta[None, :]
-    reps = []
+    alts = [(spec, theta)] + [a for a in alts if a[0] != spec]
+    reps, bs, ks = [], [], []
+    rng_s = (float(taus[0]), float(taus[-1]))
     for b in range(n_boot):
-        r = _fit_spec(spec, draws[b], taus, eta, tau0, T, theta0=theta, max_nfev=60)
-        if r is not None:
-            reps.append(r.x)
+        target = np.log(draws[b]) - bias
+        best = None
+        for j, (sp, th) in enumerate(alts):
+            r = _fit_spec(sp, target, taus, linv, tau0, T, theta0=th, max_nfev=60)
+            if r is None:
+                continue
+            if j == 0:
+                reps.append(r.x)
+            wic = 2.0 * float(r.cost) + 2.0 * (len(sp) + sp.count("GM"))
+            if best is None or wic < best[0]:
+                best = (wic, _unpack(sp, r.x, tau0))
+        if best is not None:
+            bs.append(b_of(best[1], tau0, rng_s))
+            ks.append(k_of(best[1], tau0, rng_s))
     reps = np.array(reps)
     q = (0.5 * (1 - confidence), 0.5 * (1 + confidence))
     b_ci = k_ci = nan2
-    rng_s = (float(taus[0]), float(taus[-1]))
-    if "GM" in spec and reps.size:
-        bs = [b_of(_unpack(spec, th, tau0), tau0, rng_s) for th in reps]
+    if bs and any("GM" in a[0] for a in alts):
         b_ci = tuple(float(v) for v in np.quantile(bs, q))
-    if ("GM" in spec or "RW" in spec) and reps.size:
-        ks = [k_of(_unpack(spec, th, tau0), tau0, rng_s) for th in reps]
+    if ks and any("GM" in a[0] or "RW" in a[0] for a in alts):
         k_ci = tuple(float(v) for v in np.quantile(ks, q))
     out, i = [], 0
     for p in procs:
