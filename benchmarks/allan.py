@@ -497,7 +497,7 @@ def _sections(quick: bool) -> dict:
                                               repeats=1 if quick else 2)
                                    for k in ("freq", "phase")],
         "stat_speed_1e5": lambda: [stat_speed(10**4 if quick else 10**5, k,
-                                              repeats=2 if quick else 7)
+                                              repeats=2 if quick else 15)
                                    for k in ("freq", "phase")],
         "all_speed_1e4": lambda: stat_speed(10**3 if quick else 10**4, "phase",
                                             repeats=1 if quick else 3, taus="all"),

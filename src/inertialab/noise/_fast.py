@@ -218,6 +218,78 @@ def gather_increments(d, ms, starts, uses, offs, dec, pre, g):
 
 
 @_jit
+def _quads(v, n, order, w):
+    """Level-0 and level-1 sums of :func:`octave_strided` and ``w_k = v_{4k}``, four
+    level-0 and two level-1 summands per step (one pass over the record)."""
+    c0 = max(n - order, 0)
+    n1 = (n - 1) // 2 + 1
+    c1 = max(n1 - order, 0)
+    n2 = (n1 - 1) // 2 + 1
+    K = min(c0 // 4, c1 // 2, n2)
+    s0 = 0.0
+    s1 = 0.0
+    if order == 2:
+        for k in range(K):
+            i = 4 * k
+            a0 = v[i]
+            a1 = v[i + 1]
+            a2 = v[i + 2]
+            a3 = v[i + 3]
+            a4 = v[i + 4]
+            a5 = v[i + 5]
+            a6 = v[i + 6]
+            t0 = (a2 - a1) - (a1 - a0)
+            t1 = (a3 - a2) - (a2 - a1)
+            t2 = (a4 - a3) - (a3 - a2)
+            t3 = (a5 - a4) - (a4 - a3)
+            s0 += (t0 * t0 + t1 * t1) + (t2 * t2 + t3 * t3)
+            u0 = (a4 - a2) - (a2 - a0)
+            u1 = (a6 - a4) - (a4 - a2)
+            s1 += u0 * u0 + u1 * u1
+            w[k] = a0
+        for i in range(4 * K, c0):
+            t = (v[i + 2] - v[i + 1]) - (v[i + 1] - v[i])
+            s0 += t * t
+        for j in range(2 * K, c1):
+            b = v[2 * j + 2]
+            t = (v[2 * j + 4] - b) - (b - v[2 * j])
+            s1 += t * t
+    else:
+        for k in range(K):
+            i = 4 * k
+            a0 = v[i]
+            a1 = v[i + 1]
+            a2 = v[i + 2]
+            a3 = v[i + 3]
+            a4 = v[i + 4]
+            a5 = v[i + 5]
+            a6 = v[i + 6]
+            a8 = v[i + 8]
+            t0 = ((a3 - a2) - (a2 - a1)) - ((a2 - a1) - (a1 - a0))
+            t1 = ((a4 - a3) - (a3 - a2)) - ((a3 - a2) - (a2 - a1))
+            t2 = ((a5 - a4) - (a4 - a3)) - ((a4 - a3) - (a3 - a2))
+            t3 = ((a6 - a5) - (a5 - a4)) - ((a5 - a4) - (a4 - a3))
+            s0 += (t0 * t0 + t1 * t1) + (t2 * t2 + t3 * t3)
+            u0 = ((a6 - a4) - (a4 - a2)) - ((a4 - a2) - (a2 - a0))
+            u1 = ((a8 - a6) - (a6 - a4)) - ((a6 - a4) - (a4 - a2))
+            s1 += u0 * u0 + u1 * u1
+            w[k] = a0
+        for i in range(4 * K, c0):
+            a1 = v[i + 1]
+            a2 = v[i + 2]
+            t = ((v[i + 3] - a2) - (a2 - a1)) - ((a2 - a1) - (a1 - v[i]))
+            s0 += t * t
+        for j in range(2 * K, c1):
+            a1 = v[2 * j + 2]
+            a2 = v[2 * j + 4]
+            t = ((v[2 * j + 6] - a2) - (a2 - a1)) - ((a2 - a1) - (a1 - v[2 * j]))
+            s1 += t * t
+    for k in range(K, n2):
+        w[k] = v[4 * k]
+    return s0, s1
+
+
+@_jit
 def _pairs(v, n, order, w, do_sum):
     """Level-0 sum of :func:`octave_strided` (when ``do_sum``) and ``w_k = v_{2k}``, two
     summands per step."""
@@ -275,11 +347,28 @@ def octave_strided(x, want, order, w, id_use, id_start, idp, alphas, best, buf):
     v = x
     n = x.size
     one = np.ones(1, dtype=np.int64)
+    two = np.full(1, 2, dtype=np.int64)
+    fused = L > 2 and want[0] and want[1]
     for lev in range(L):
+        if lev == 1 and fused:
+            continue  # done with level 0
         u = id_use[lev]
         if u > 0:
             identify_rows(v, id_start[lev:lev + 1], one, id_use[lev:lev + 1], idp[0], idp[1],
                           idp[2], idp[3], alphas[lev:lev + 1], best[lev:lev + 1], buf)
+        if lev == 0 and fused:
+            # levels 0 and 1 and the compaction to x_{4k} in one pass (level 1's noise
+            # type from x at stride 2 first)
+            if id_use[1] > 0:
+                identify_rows(x, 2 * id_start[1:2], two, id_use[1:2], idp[0], idp[1],
+                              idp[2], idp[3], alphas[1:2], best[1:2], buf)
+            s0, s1 = _quads(v, n, order, w)
+            sums[0] = s0
+            sums[1] = s1
+            n1 = (n - 1) // 2 + 1
+            v = w
+            n = (n1 - 1) // 2 + 1
+            continue
         if lev == 0 and L > 1:  # level 0 and the first compaction in one pass
             sums[0] = _pairs(v, n, order, w, want[0])
             v = w
@@ -365,20 +454,26 @@ def _restart_z(x, i, m):
 
 
 @_jit_exact
-def dense_mod(x, ms, restart, inc):
+def dense_mod(x, ms, restart, inc, avar):
     """MDEV sums ``sum_i z_i^2``, ``z_i = sum_{j<m}`` (second difference at lag m)
     ``_{i+j}``, by the recurrence ``z_{i+1} = z_i + x_{i+3m} - 3 x_{i+2m} + 3 x_{i+m} -
     x_i``: per block of ``inc.size`` summands the increments are formed first (one
     vectorised pass), their quarter sums give z at four points, and the four quarters
     run as independent chains (the recurrence's latency hidden). z is recomputed from
     its definition every ``max(restart, m)`` summands (rounded up to whole blocks; for
-    m > 2^16 only at the start), which bounds the accumulated rounding."""
+    m > 2^16 only at the start), which bounds the accumulated rounding. ``avar[k]``
+    receives the OADEV sum at the same m from the same reads (R(n) needs both)."""
     nx = x.size
     out = np.zeros(ms.size)
     B = inc.size
     for k in range(ms.size):
         m = ms[k]
         cnt = nx - 3 * m + 1
+        av = 0.0
+        for i in range(max(nx - 3 * m, 0), nx - 2 * m):  # Allan summands past the last z
+            e = (x[i + 2 * m] - x[i + m]) - (x[i + m] - x[i])
+            av += e * e
+        avar[k] = av
         if cnt < 1:
             continue
         # (above 2^16 the numpy kernel, too, carries the sum across the whole record)
@@ -389,7 +484,7 @@ def dense_mod(x, ms, restart, inc):
             if i % every == 0:
                 z = _restart_z(x, i, m)
             n = min(B, cnt - i)
-            _mod_incs(x, i, m, n, inc)  # inc[t] = z_{i+t+1} - z_{i+t}, t < n
+            av += _mod_incs(x, i, m, n, inc)  # inc[t] = z_{i+t+1} - z_{i+t}, t < n
             q = n // 4
             zb = z
             za = zb + _sum(inc, 0, q)
@@ -414,25 +509,31 @@ def dense_mod(x, ms, restart, inc):
             s += (s0 + s1) + (s2 + s3)
             z = zd  # z_{i+n} (unused past the last summand)
         out[k] = s
+        avar[k] = av
     return out
 
 
 @_jit
 def _mod_incs(x, i, m, n, inc):
     """``inc[t] = x_{j+3m} - 3 x_{j+2m} + 3 x_{j+m} - x_j`` (as differences), j = i + t;
-    the last one only where it stays inside the record."""
+    the last one only where it stays inside the record. Returns the sum of the squared
+    second differences ``x_{j+2m} - 2 x_{j+m} + x_j`` over the same j (Allan summands)."""
     nx = x.size
     c = min(n, nx - 3 * m - i)
     a0 = x[i:i + c]
     a1 = x[i + m:i + m + c]
     a2 = x[i + 2 * m:i + 2 * m + c]
     a3 = x[i + 3 * m:i + 3 * m + c]
+    sq = 0.0
     for t in range(c):
         b1 = a1[t]
         b2 = a2[t]
-        inc[t] = ((a3[t] - b2) - (b2 - b1)) - ((b2 - b1) - (b1 - a0[t]))
+        e0 = (b2 - b1) - (b1 - a0[t])
+        inc[t] = ((a3[t] - b2) - (b2 - b1)) - e0
+        sq += e0 * e0
     for t in range(c, n):
         inc[t] = 0.0
+    return sq
 
 
 @_jit

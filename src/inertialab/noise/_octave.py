@@ -162,7 +162,7 @@ def dense_sums_fast(K, x: np.ndarray, statistic: str, ms: np.ndarray) -> np.ndar
         return K.dense_totdev(x, ms, True)
     if statistic in ("oadev", "ohdev"):
         return K.dense_overlap(x, ms, 2 if statistic == "oadev" else 3)
-    return K.dense_mod(x, ms, MOD_RESTART, np.empty(FAST_BLOCK))
+    return K.dense_mod(x, ms, MOD_RESTART, np.empty(FAST_BLOCK), np.empty(ms.size))
 
 
 def octave_strided_sums(K, x: np.ndarray, statistic: str, ms: np.ndarray,
