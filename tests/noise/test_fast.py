@@ -52,7 +52,9 @@ def test_fast_equals_numpy(monkeypatch, stat, kind):
     for n, noise in ((5, "white"), (8, "white"), (37, "rw"), (1001, "white"),
                      (4097, "wpm"), (30001, "rw"), (65537, "white")):
         data = _data(n, kind, n, noise)
-        for taus in ("octave", "all", [1.0, 3.0, 7.0, 40.0, 300.0]):
+        # (powers of two without m = 2, or without m = 1: the kernels' other branches)
+        for taus in ("octave", "all", [1.0, 3.0, 7.0, 40.0, 300.0], [1.0, 4.0, 16.0, 64.0],
+                     [2.0, 8.0, 32.0]):
             if taus == "all" and n > 5000:
                 continue
             try:

@@ -345,9 +345,11 @@ def _pairs(v, n, order, w, do_sum):
 @_jit
 def octave_strided(x, want, order, w, id_use, id_start, idp, alphas, best, buf):
     """ADEV (``order = 2``) / HDEV (3) sums at m = 2^l of the angle ``x`` itself: level 0
-    from ``x``, then the points ``x_{k m}`` are compacted into ``w`` (``(x.size - 1) // 2
-    + 1`` entries) and halved in place per level (``w_k <- w_{2k}``); every level reads
-    contiguous memory. Where ``id_use[l] > 0`` the noise type of level l is identified
+    from ``x``, then the points ``x_{k m}`` are compacted into ``w`` and halved in place
+    per level (``w_k <- w_{2k}``); every level reads contiguous memory. Where levels 0
+    and 1 are both wanted (and L > 2) they are summed in one pass that writes
+    ``x_{4k}`` (``w``: ``(x.size - 1) // 4 + 1`` entries), else ``x_{2k}`` (``(x.size -
+    1) // 2 + 1``); the caller sizes ``w`` by the same test (no bounds checks here). Where ``id_use[l] > 0`` the noise type of level l is identified
     (:func:`identify_rows`, ``idp = (dmax, min_points, lo, hi)``) from its central
     ``id_use[l]`` decimated points, which start at ``x_{id_start[l] m}``, read in place:
     ``alphas[l]``, ``best[l]``."""
