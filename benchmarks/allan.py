@@ -577,7 +577,9 @@ def _markdown_issue15(result: dict) -> list[str]:
                           f"{b['n']:.0e}, {b['taus']} taus, {b['data']}; least CPU of "
                           f"{b['repeats']} alternated runs in one process, our intervals "
                           f"included (load {b.get('load_before', float('nan')):.1f} on 2 "
-                          "cores):", "",
+                          "cores); our kernels: "
+                          + ("compiled (`[fast]`, numba), the numpy ones beside"
+                             if b.get("fast_kernels") else "numpy") + ":", "",
                       "| statistic | taus | inertialab CPU s | allantools CPU s | ratio | "
                       "numpy kernels CPU s (ratio) | max rel diff |",
                       "|---|---|---|---|---|---|---|"]
