@@ -497,7 +497,7 @@ def _sections(quick: bool) -> dict:
                                               repeats=1 if quick else 2)
                                    for k in ("freq", "phase")],
         "stat_speed_1e5": lambda: [stat_speed(10**4 if quick else 10**5, k,
-                                              repeats=2 if quick else 7)
+                                              repeats=2 if quick else 15)
                                    for k in ("freq", "phase")],
         "all_speed_1e4": lambda: stat_speed(10**3 if quick else 10**4, "phase",
                                             repeats=1 if quick else 3, taus="all"),
@@ -577,7 +577,9 @@ def _markdown_issue15(result: dict) -> list[str]:
                           f"{b['n']:.0e}, {b['taus']} taus, {b['data']}; least CPU of "
                           f"{b['repeats']} alternated runs in one process, our intervals "
                           f"included (load {b.get('load_before', float('nan')):.1f} on 2 "
-                          "cores):", "",
+                          "cores); our kernels: "
+                          + ("compiled (`[fast]`, numba), the numpy ones beside"
+                             if b.get("fast_kernels") else "numpy") + ":", "",
                       "| statistic | taus | inertialab CPU s | allantools CPU s | ratio | "
                       "numpy kernels CPU s (ratio) | max rel diff |",
                       "|---|---|---|---|---|---|---|"]

@@ -5,6 +5,8 @@ tiny records; deviations, EDFs and intervals to 1e-12 relative, noise types equa
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
@@ -52,17 +54,20 @@ def test_fast_equals_numpy(monkeypatch, stat, kind):
     for n, noise in ((5, "white"), (8, "white"), (37, "rw"), (1001, "white"),
                      (4097, "wpm"), (30001, "rw"), (65537, "white")):
         data = _data(n, kind, n, noise)
-        for taus in ("octave", "all", [1.0, 3.0, 7.0, 40.0, 300.0]):
+        # (powers of two without m = 2, or without m = 1: the kernels' other branches)
+        for taus in ("octave", "all", [1.0, 3.0, 7.0, 40.0, 300.0], [1.0, 4.0, 16.0, 64.0],
+                     [2.0, 8.0, 32.0]):
             if taus == "all" and n > 5000:
                 continue
             try:
                 def run(taus=taus, data=data):
                     return deviation(stat, data, rate_hz=1.0, taus=taus, input=kind)
                 ref, got = _both(monkeypatch, run)
-            except Exception as exc:  # too short for the statistic: both must refuse
-                monkeypatch.setenv("INERTIALAB_FAST", "1")
-                with pytest.raises(type(exc)):
-                    deviation(stat, data, rate_hz=1.0, taus=taus, input=kind)
+            except InputError as exc:  # too short for the statistic: both must refuse
+                for flag in ("0", "1"):
+                    monkeypatch.setenv("INERTIALAB_FAST", flag)
+                    with pytest.raises(InputError, match=re.escape(str(exc))):
+                        deviation(stat, data, rate_hz=1.0, taus=taus, input=kind)
                 continue
             np.testing.assert_array_equal(got.m, ref.m)
             np.testing.assert_array_equal(got.n_terms, ref.n_terms)
@@ -128,3 +133,17 @@ def test_fast_angle_non_finite_refused(monkeypatch, stat, bad):
                 deviation(stat, x, rate_hz=1.0, taus=taus, input="angle")
     with pytest.raises(InputError, match="NaN or infinity at sample index 1"):
         deviation(stat, np.array([0.0, np.nan, 1.0]), rate_hz=1.0, input="angle")
+
+
+def test_fast_rn_sums_equal_numpy_kernels(monkeypatch):
+    # the R(n) test's AVAR and MVAR sums from one compiled pass equal the numpy kernels
+    x = np.cumsum(np.random.default_rng(8).standard_normal(30001))
+    ms = np.array([1, 2, 7, 64, 1000, 4097, 9999])
+    monkeypatch.setenv("INERTIALAB_FAST", "0")
+    s_al, _ = O.dense_sums(x, "oadev", ms)
+    s_mod, _ = O.dense_sums(x, "mdev", ms)
+    monkeypatch.setenv("INERTIALAB_FAST", "1")
+    K = O.fast_kernels()
+    av = np.empty(ms.size)
+    mod = K.dense_mod(x, ms, O.MOD_RESTART, np.empty(O.FAST_BLOCK), av)
+    assert _rel(av, s_al) < 1e-12 and _rel(mod, s_mod) < 1e-12

@@ -14,7 +14,9 @@ the record's size (their work arrays come from the caller, so ``tracemalloc`` se
 
 Floating-point reductions are compiled with ``fastmath={"reassoc", "contract"}`` so that
 the compiler may vectorise them (re-association and fused multiply-adds only; NaN and
-infinity semantics are kept).
+infinity semantics are kept). The per-m kernels and the Greenhall EDF live in
+:mod:`inertialab.noise._fast_any` (re-exported here); no kernel calls one in the other
+module (numba's cache tracks only a kernel's own file).
 """
 
 from __future__ import annotations
@@ -24,8 +26,15 @@ import math
 import numba as nb
 import numpy as np
 
+from inertialab.noise._fast_any import (  # noqa: F401 - part of this module's interface
+    dense_mod,
+    dense_overlap,
+    dense_strided,
+    dense_totdev,
+    greenhall_many,
+)
+
 _jit = nb.njit(cache=True, nogil=True, fastmath={"reassoc", "contract"})
-_jit_exact = nb.njit(cache=True, nogil=True)  # sequential sums (running recurrences)
 
 
 # ----------------------------------------------------------------------------- octave
@@ -218,6 +227,78 @@ def gather_increments(d, ms, starts, uses, offs, dec, pre, g):
 
 
 @_jit
+def _quads(v, n, order, w):
+    """Level-0 and level-1 sums of :func:`octave_strided` and ``w_k = v_{4k}``, four
+    level-0 and two level-1 summands per step (one pass over the record)."""
+    c0 = max(n - order, 0)
+    n1 = (n - 1) // 2 + 1
+    c1 = max(n1 - order, 0)
+    n2 = (n1 - 1) // 2 + 1
+    K = min(c0 // 4, c1 // 2, n2)
+    s0 = 0.0
+    s1 = 0.0
+    if order == 2:
+        for k in range(K):
+            i = 4 * k
+            a0 = v[i]
+            a1 = v[i + 1]
+            a2 = v[i + 2]
+            a3 = v[i + 3]
+            a4 = v[i + 4]
+            a5 = v[i + 5]
+            a6 = v[i + 6]
+            t0 = (a2 - a1) - (a1 - a0)
+            t1 = (a3 - a2) - (a2 - a1)
+            t2 = (a4 - a3) - (a3 - a2)
+            t3 = (a5 - a4) - (a4 - a3)
+            s0 += (t0 * t0 + t1 * t1) + (t2 * t2 + t3 * t3)
+            u0 = (a4 - a2) - (a2 - a0)
+            u1 = (a6 - a4) - (a4 - a2)
+            s1 += u0 * u0 + u1 * u1
+            w[k] = a0
+        for i in range(4 * K, c0):
+            t = (v[i + 2] - v[i + 1]) - (v[i + 1] - v[i])
+            s0 += t * t
+        for j in range(2 * K, c1):
+            b = v[2 * j + 2]
+            t = (v[2 * j + 4] - b) - (b - v[2 * j])
+            s1 += t * t
+    else:
+        for k in range(K):
+            i = 4 * k
+            a0 = v[i]
+            a1 = v[i + 1]
+            a2 = v[i + 2]
+            a3 = v[i + 3]
+            a4 = v[i + 4]
+            a5 = v[i + 5]
+            a6 = v[i + 6]
+            a8 = v[i + 8]
+            t0 = ((a3 - a2) - (a2 - a1)) - ((a2 - a1) - (a1 - a0))
+            t1 = ((a4 - a3) - (a3 - a2)) - ((a3 - a2) - (a2 - a1))
+            t2 = ((a5 - a4) - (a4 - a3)) - ((a4 - a3) - (a3 - a2))
+            t3 = ((a6 - a5) - (a5 - a4)) - ((a5 - a4) - (a4 - a3))
+            s0 += (t0 * t0 + t1 * t1) + (t2 * t2 + t3 * t3)
+            u0 = ((a6 - a4) - (a4 - a2)) - ((a4 - a2) - (a2 - a0))
+            u1 = ((a8 - a6) - (a6 - a4)) - ((a6 - a4) - (a4 - a2))
+            s1 += u0 * u0 + u1 * u1
+            w[k] = a0
+        for i in range(4 * K, c0):
+            a1 = v[i + 1]
+            a2 = v[i + 2]
+            t = ((v[i + 3] - a2) - (a2 - a1)) - ((a2 - a1) - (a1 - v[i]))
+            s0 += t * t
+        for j in range(2 * K, c1):
+            a1 = v[2 * j + 2]
+            a2 = v[2 * j + 4]
+            t = ((v[2 * j + 6] - a2) - (a2 - a1)) - ((a2 - a1) - (a1 - v[2 * j]))
+            s1 += t * t
+    for k in range(K, n2):
+        w[k] = v[4 * k]
+    return s0, s1
+
+
+@_jit
 def _pairs(v, n, order, w, do_sum):
     """Level-0 sum of :func:`octave_strided` (when ``do_sum``) and ``w_k = v_{2k}``, two
     summands per step."""
@@ -264,9 +345,11 @@ def _pairs(v, n, order, w, do_sum):
 @_jit
 def octave_strided(x, want, order, w, id_use, id_start, idp, alphas, best, buf):
     """ADEV (``order = 2``) / HDEV (3) sums at m = 2^l of the angle ``x`` itself: level 0
-    from ``x``, then the points ``x_{k m}`` are compacted into ``w`` (``(x.size - 1) // 2
-    + 1`` entries) and halved in place per level (``w_k <- w_{2k}``); every level reads
-    contiguous memory. Where ``id_use[l] > 0`` the noise type of level l is identified
+    from ``x``, then the points ``x_{k m}`` are compacted into ``w`` and halved in place
+    per level (``w_k <- w_{2k}``); every level reads contiguous memory. Where levels 0
+    and 1 are both wanted (and L > 2) they are summed in one pass that writes
+    ``x_{4k}`` (``w``: ``(x.size - 1) // 4 + 1`` entries), else ``x_{2k}`` (``(x.size -
+    1) // 2 + 1``); the caller sizes ``w`` by the same test (no bounds checks here). Where ``id_use[l] > 0`` the noise type of level l is identified
     (:func:`identify_rows`, ``idp = (dmax, min_points, lo, hi)``) from its central
     ``id_use[l]`` decimated points, which start at ``x_{id_start[l] m}``, read in place:
     ``alphas[l]``, ``best[l]``."""
@@ -275,11 +358,28 @@ def octave_strided(x, want, order, w, id_use, id_start, idp, alphas, best, buf):
     v = x
     n = x.size
     one = np.ones(1, dtype=np.int64)
+    two = np.full(1, 2, dtype=np.int64)
+    fused = L > 2 and want[0] and want[1]
     for lev in range(L):
+        if lev == 1 and fused:
+            continue  # done with level 0
         u = id_use[lev]
         if u > 0:
             identify_rows(v, id_start[lev:lev + 1], one, id_use[lev:lev + 1], idp[0], idp[1],
                           idp[2], idp[3], alphas[lev:lev + 1], best[lev:lev + 1], buf)
+        if lev == 0 and fused:
+            # levels 0 and 1 and the compaction to x_{4k} in one pass (level 1's noise
+            # type from x at stride 2 first)
+            if id_use[1] > 0:
+                identify_rows(x, 2 * id_start[1:2], two, id_use[1:2], idp[0], idp[1],
+                              idp[2], idp[3], alphas[1:2], best[1:2], buf)
+            s0, s1 = _quads(v, n, order, w)
+            sums[0] = s0
+            sums[1] = s1
+            n1 = (n - 1) // 2 + 1
+            v = w
+            n = (n1 - 1) // 2 + 1
+            continue
         if lev == 0 and L > 1:  # level 0 and the first compaction in one pass
             sums[0] = _pairs(v, n, order, w, want[0])
             v = w
@@ -318,228 +418,6 @@ def octave_strided(x, want, order, w, id_use, id_start, idp, alphas, best, buf):
         v = w
         n = n2
     return sums
-
-
-# ----------------------------------------------------------------------------- any m
-
-
-@_jit
-def dense_overlap(x, ms, q):
-    """Sums of squared overlapping second (``q = 2``, OADEV) or third (``q = 3``, OHDEV)
-    lag-m differences of the angle ``x`` at each m."""
-    nx = x.size
-    out = np.zeros(ms.size)
-    for k in range(ms.size):
-        m = ms[k]
-        cnt = nx - q * m
-        if cnt < 1:
-            continue
-        s = 0.0
-        x0 = x[:cnt]
-        x1 = x[m:m + cnt]
-        x2 = x[2 * m:2 * m + cnt]
-        if q == 2:
-            for i in range(cnt):
-                b = x1[i]
-                t = (x2[i] - b) - (b - x0[i])
-                s += t * t
-        else:
-            x3 = x[3 * m:3 * m + cnt]
-            for i in range(cnt):
-                a1 = x1[i]
-                a2 = x2[i]
-                t = ((x3[i] - a2) - (a2 - a1)) - ((a2 - a1) - (a1 - x0[i]))
-                s += t * t
-        out[k] = s
-    return out
-
-
-@_jit
-def _restart_z(x, i, m):
-    """``sum_{j<m} (x_{i+j+2m} - 2 x_{i+j+m} + x_{i+j})``: the modified sum at i."""
-    z = 0.0
-    for j in range(i, i + m):
-        b = x[j + m]
-        z += (x[j + 2 * m] - b) - (b - x[j])
-    return z
-
-
-@_jit_exact
-def dense_mod(x, ms, restart, inc):
-    """MDEV sums ``sum_i z_i^2``, ``z_i = sum_{j<m}`` (second difference at lag m)
-    ``_{i+j}``, by the recurrence ``z_{i+1} = z_i + x_{i+3m} - 3 x_{i+2m} + 3 x_{i+m} -
-    x_i``: per block of ``inc.size`` summands the increments are formed first (one
-    vectorised pass), their quarter sums give z at four points, and the four quarters
-    run as independent chains (the recurrence's latency hidden). z is recomputed from
-    its definition every ``max(restart, m)`` summands (rounded up to whole blocks; for
-    m > 2^16 only at the start), which bounds the accumulated rounding."""
-    nx = x.size
-    out = np.zeros(ms.size)
-    B = inc.size
-    for k in range(ms.size):
-        m = ms[k]
-        cnt = nx - 3 * m + 1
-        if cnt < 1:
-            continue
-        # (above 2^16 the numpy kernel, too, carries the sum across the whole record)
-        every = ((max(restart, m) + B - 1) // B) * B if m <= 65536 else cnt + B
-        s = 0.0
-        z = 0.0
-        for i in range(0, cnt, B):
-            if i % every == 0:
-                z = _restart_z(x, i, m)
-            n = min(B, cnt - i)
-            _mod_incs(x, i, m, n, inc)  # inc[t] = z_{i+t+1} - z_{i+t}, t < n
-            q = n // 4
-            zb = z
-            za = zb + _sum(inc, 0, q)
-            zc = za + _sum(inc, q, 2 * q)
-            zd = zc + _sum(inc, 2 * q, 3 * q)
-            s0 = 0.0
-            s1 = 0.0
-            s2 = 0.0
-            s3 = 0.0
-            for t in range(q):
-                s0 += zb * zb
-                s1 += za * za
-                s2 += zc * zc
-                s3 += zd * zd
-                zb += inc[t]
-                za += inc[q + t]
-                zc += inc[2 * q + t]
-                zd += inc[3 * q + t]
-            for t in range(4 * q, n):
-                s3 += zd * zd
-                zd += inc[t]
-            s += (s0 + s1) + (s2 + s3)
-            z = zd  # z_{i+n} (unused past the last summand)
-        out[k] = s
-    return out
-
-
-@_jit
-def _mod_incs(x, i, m, n, inc):
-    """``inc[t] = x_{j+3m} - 3 x_{j+2m} + 3 x_{j+m} - x_j`` (as differences), j = i + t;
-    the last one only where it stays inside the record."""
-    nx = x.size
-    c = min(n, nx - 3 * m - i)
-    a0 = x[i:i + c]
-    a1 = x[i + m:i + m + c]
-    a2 = x[i + 2 * m:i + 2 * m + c]
-    a3 = x[i + 3 * m:i + 3 * m + c]
-    for t in range(c):
-        b1 = a1[t]
-        b2 = a2[t]
-        inc[t] = ((a3[t] - b2) - (b2 - b1)) - ((b2 - b1) - (b1 - a0[t]))
-    for t in range(c, n):
-        inc[t] = 0.0
-
-
-@_jit
-def _sum(v, a, b):
-    s = 0.0
-    for t in range(a, b):
-        s += v[t]
-    return s
-
-
-@_jit
-def dense_strided(x, ms, order):
-    """ADEV (``order = 2``) / HDEV (3) sums: squared differences of ``x[::m]``."""
-    nx = x.size
-    out = np.zeros(ms.size)
-    for k in range(ms.size):
-        m = ms[k]
-        n = (nx - 1) // m + 1
-        s = 0.0
-        if order == 2:
-            for i in range(n - 2):
-                b = x[(i + 1) * m]
-                t = (x[(i + 2) * m] - b) - (b - x[i * m])
-                s += t * t
-        else:
-            for i in range(n - 3):
-                x1 = x[(i + 1) * m]
-                x2 = x[(i + 2) * m]
-                e0 = (x2 - x1) - (x1 - x[i * m])
-                e1 = (x[(i + 3) * m] - x2) - (x2 - x1)
-                t = e1 - e0
-                s += t * t
-        out[k] = s
-    return out
-
-
-@_jit
-def _edges(x, m, a, b):
-    """TOTDEV summands of the centres [a, b) (reflected taps), in segments on which
-    each tap is either inside the record or reflected (cuts at m and n - 1 - m)."""
-    nx = x.size
-    n1 = nx - 1
-    x0 = 2.0 * x[0]
-    xn = 2.0 * x[n1]
-    s = 0.0
-    c0 = a
-    while c0 < b:
-        c1 = b
-        if c0 < m:
-            c1 = min(c1, m)
-        if c0 + m <= n1:
-            c1 = min(c1, n1 - m + 1)
-        n = c1 - c0
-        xc = x[c0:c1]
-        if c0 < m and c0 + m > n1:  # both taps reflected
-            for i in range(n):
-                bb = xc[i]
-                t = ((xn - x[2 * n1 - m - c0 - i]) - bb) - (bb - (x0 - x[m - c0 - i]))
-                s += t * t
-        elif c0 < m:  # left tap reflected: x*_{c-m} = 2 x_0 - x_{m-c}
-            xr = x[c0 + m:c1 + m]
-            for i in range(n):
-                bb = xc[i]
-                t = (xr[i] - bb) - (bb - (x0 - x[m - c0 - i]))
-                s += t * t
-        elif c0 + m > n1:  # right tap reflected: x*_{c+m} = 2 x_{n-1} - x_{2(n-1)-c-m}
-            xl = x[c0 - m:c1 - m]
-            for i in range(n):
-                bb = xc[i]
-                t = ((xn - x[2 * n1 - m - c0 - i]) - bb) - (bb - xl[i])
-                s += t * t
-        else:
-            xl = x[c0 - m:c1 - m]
-            xr = x[c0 + m:c1 + m]
-            for i in range(n):
-                bb = xc[i]
-                t = (xr[i] - bb) - (bb - xl[i])
-                s += t * t
-        c0 = c1
-    return s
-
-
-@_jit
-def dense_totdev(x, ms, interior):
-    """TOTDEV sums over the centres c = 1 .. n-2 of ``(x*_{c+m} - x_c) - (x_c - x*_{c-m})``
-    squared, ``x*`` the reflected extension (taken by index, never built); with
-    ``interior`` False only the centres whose taps reach into the extension."""
-    nx = x.size
-    out = np.zeros(ms.size)
-    for k in range(ms.size):
-        m = ms[k]
-        lo = max(1, m)  # interior centres: c - m >= 0 and c + m <= nx - 1
-        hi = min(nx - 1, nx - 1 - m + 1)
-        s = 0.0
-        n = hi - lo if interior else 0
-        if n > 0:
-            xl = x[lo - m:lo - m + n]
-            xc = x[lo:lo + n]
-            xr = x[lo + m:lo + m + n]
-            for i in range(n):
-                b = xc[i]
-                t = (xr[i] - b) - (b - xl[i])
-                s += t * t
-        s += _edges(x, m, 1, min(lo, nx - 1))
-        s += _edges(x, m, max(hi, lo), nx - 1)
-        out[k] = s
-    return out
 
 
 # ----------------------------------------------------------------------------- noise type
@@ -633,162 +511,6 @@ def b1_strided(x, starts, steps, counts, out):
                 best = i
             prev = th
         out[r] = best
-
-
-# ----------------------------------------------------------------------------- Greenhall EDF
-
-
-@_jit_exact
-def _sw(t, alpha):
-    a = abs(t)
-    if alpha == 2:
-        return -a
-    a2 = a * a
-    if alpha == 0 or alpha == -2 or alpha == -4:
-        p = a2 * a
-        for _ in range((-alpha) // 2):
-            p = p * a2
-        return p
-    lg = math.log(a) if a > 0 else 0.0
-    p = a2
-    for _ in range((1 - alpha) // 2):
-        p = p * a2
-    return p * lg
-
-
-@_jit_exact
-def _sw_d2(a, alpha):
-    """``(sw'', sw'''', sw'''''')`` at ``|t| = a``, as ``edf._sw_derivs``."""
-    if alpha == 2:
-        return 0.0, 0.0, 0.0
-    if alpha == 0:
-        return 6 * a, 0.0, 0.0
-    if alpha == -2:
-        return 20 * a ** 3, 120 * a, 0.0
-    if alpha == -4:
-        return 42 * a ** 5, 840 * a ** 3, 5040 * a
-    lg = math.log(a) if a > 0 else 0.0
-    inv2 = 1.0 / (a * a) if a > 0 else 0.0
-    if alpha == 1:
-        return 2 * lg + 3, -2 * inv2, -12 * inv2 * inv2
-    if alpha == -1:
-        return 12 * a ** 2 * lg + 7 * a ** 2, 24 * lg + 50, -24 * inv2
-    return (30 * a ** 4 * lg + 11 * a ** 4, 360 * a ** 2 * lg + 342 * a ** 2,
-            720 * lg + 1764)  # alpha == -3
-
-
-@_jit_exact
-def _sx(t, F, alpha):
-    a = abs(t)
-    if math.isinf(F):
-        return -_sw_d2(a, alpha)[0]
-    h = 1.0 / F
-    if a * F >= 64.0:
-        g2, g4, g6 = _sw_d2(a, alpha)
-        return -(g2 + h * h * g4 / 12.0 + h ** 4 * g6 / 360.0)
-    return F * F * (2.0 * _sw(t, alpha) - _sw(t - h, alpha) - _sw(t + h, alpha))
-
-
-@_jit_exact
-def _sz(t, F, alpha, d, c):
-    out = c[0] * _sx(t, F, alpha)
-    for k in range(1, d + 1):
-        out = out + c[k] * (_sx(t - k, F, alpha) + _sx(t + k, F, alpha))
-    return out
-
-
-@_jit
-def _inv_sum(J, M, S, F, alpha, d, c):
-    """Greenhall's basic sum (eq. 10) / (sz(0)^2 M), as ``edf._inv_edf_sum``."""
-    s0 = _sz(0.0, F, alpha, d, c)
-    s0 = s0 * s0
-    if J == 0:
-        return s0 / (s0 * M)
-    tot = s0
-    for j in range(1, J):
-        v = _sz(j / S, F, alpha, d, c)
-        tot += 2.0 * (1.0 - j / M) * (v * v)
-    v = _sz(J / S, F, alpha, d, c)
-    tot += (1.0 - J / M) * (v * v)
-    return tot / (s0 * M)
-
-
-@_jit
-def greenhall_many(N, ms, alphas, d, overlapping, modified, t1, t2, t3, c, jmax, out):
-    """EDF of Greenhall & Riley (2003) per (m, alpha): the branches of
-    :func:`inertialab.noise.edf.edf_greenhall` (tables ``t1``/``t2`` indexed
-    ``[2 - alpha, d - 1, :]``, NaN where not allowed; ``t3[d - 1]``; ``c`` the binomial
-    difference coefficients of order d)."""
-    inf = np.inf
-    for i in range(ms.size):
-        m = ms[i]
-        alpha = alphas[i]
-        out[i] = np.nan
-        if alpha + 2 * d <= 1 or alpha > 2 or m < 1:
-            continue
-        F = 1.0 if modified else float(m)
-        S = float(m) if overlapping else 1.0
-        L = m / F + m * d
-        M = 1.0 + math.floor(S * (N - L) / m)
-        if M < 1:
-            continue
-        J = min(M, (d + 1) * S)
-        r = M / S
-        ai = 2 - alpha
-        if modified:
-            if J <= jmax:
-                inv = _inv_sum(int(J), M, S, 1.0, alpha, d, c)
-            elif r > d + 1:
-                inv = (t1[ai, d - 1, 0] - t1[ai, d - 1, 1] / r) / r
-            else:
-                inv = _inv_sum(jmax, float(jmax), jmax / r, 1.0, alpha, d, c)
-        elif alpha <= 0:
-            if J <= jmax:
-                inv = _inv_sum(int(J), M, S, float(m) if m * (d + 1) <= jmax else inf,
-                               alpha, d, c)
-            elif r > d + 1:
-                inv = (t2[ai, d - 1, 0] - t2[ai, d - 1, 1] / r) / r
-            else:
-                inv = _inv_sum(jmax, float(jmax), jmax / r, inf, alpha, d, c)
-        elif alpha == 1:
-            b0 = t3[d - 1, 0]
-            b1 = t3[d - 1, 1]
-            if J <= jmax:
-                inv = _inv_sum(int(J), M, S, float(m), 1, d, c)
-            elif r > d + 1:
-                inv = ((t2[ai, d - 1, 0] - t2[ai, d - 1, 1] / r)
-                       / ((b0 + b1 * math.log(m)) ** 2 * r))
-            else:
-                mp = jmax / r
-                v = _sz(0.0, mp, 1, d, c)
-                tot = v * v
-                for j in range(1, jmax):
-                    v = _sz(j / mp, mp, 1, d, c)
-                    tot += 2.0 * (1.0 - j / jmax) * (v * v)
-                inv = tot / ((b0 + b1 * math.log(m)) ** 2 * jmax)
-        else:  # alpha == 2, unmodified
-            if math.ceil(r) <= d:
-                Si = int(S)
-                v = _sz(0.0, float(m), 2, d, c)
-                s0 = v * v
-                tot = s0
-                Ji = int(J)
-                for j in range(Si, Ji + 1, Si):
-                    v = _sz(j / S, float(m), 2, d, c)
-                    w = (1.0 - J / M) if j == Ji else 2.0 * (1.0 - j / M)
-                    tot += w * (v * v)
-                inv = tot / (s0 * M)
-            else:
-                a0 = 1.0
-                if d == 1:
-                    a0 = 6.0 / 4.0
-                elif d == 2:
-                    a0 = 70.0 / 36.0
-                else:
-                    a0 = 924.0 / 400.0
-                inv = (a0 - (d / 2.0) / r) / M
-        if inv > 0:
-            out[i] = 1.0 / inv
 
 
 @_jit

@@ -162,7 +162,7 @@ def dense_sums_fast(K, x: np.ndarray, statistic: str, ms: np.ndarray) -> np.ndar
         return K.dense_totdev(x, ms, True)
     if statistic in ("oadev", "ohdev"):
         return K.dense_overlap(x, ms, 2 if statistic == "oadev" else 3)
-    return K.dense_mod(x, ms, MOD_RESTART, np.empty(FAST_BLOCK))
+    return K.dense_mod(x, ms, MOD_RESTART, np.empty(FAST_BLOCK), np.empty(ms.size))
 
 
 def octave_strided_sums(K, x: np.ndarray, statistic: str, ms: np.ndarray,
@@ -186,8 +186,9 @@ def octave_strided_sums(K, x: np.ndarray, statistic: str, ms: np.ndarray,
         count = (x.size - 1) // ms + 1
         u = np.minimum(count, max_points)
         use[lev], start[lev] = u, (count - u) // 2  # starts in units of m
-    sums = K.octave_strided(x, want, 2 if statistic == "adev" else 3,
-                            np.empty((x.size - 1) // 2 + 1), use, start,
+    fused = L > 2 and want[0] and want[1]  # the kernel's test: levels 0, 1 in one pass
+    size = (x.size - 1) // 4 + 1 if fused else (x.size - 1) // 2 + 1  # x_{4k} or x_{2k}
+    sums = K.octave_strided(x, want, 2 if statistic == "adev" else 3, np.empty(size), use, start,
                             np.asarray(rules if rules is not None else (0, 0, 0, 0),
                                        dtype=np.int64),
                             alphas, best, np.empty(max(int(use.max()), 1)))

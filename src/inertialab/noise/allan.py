@@ -446,6 +446,7 @@ def deviation(statistic: str, data, *, rate_hz: float, taus="octave", input: str
                 raise InputError("data are constant (zero deviation at every tau); "
                                  "nothing to analyse")
         K = _octave.fast_kernels()
+        octave = is_octave(ms)
         if K is not None and statistic == "totdev" and input == "angle":
             # compiled: one pass over the angle per m, the reflected summands by index
             x = np.asarray(arr, dtype=np.float64)
@@ -456,7 +457,7 @@ def deviation(statistic: str, data, *, rate_hz: float, taus="octave", input: str
             sums = _octave.dense_sums_fast(K, x, statistic, ms)
             nt = _octave.n_terms_many(statistic, x.size, ms)
             var = _normalise(statistic, sums, ms, nt, tau0)
-        elif is_octave(ms) and not (input == "angle" and statistic in _octave.E_STATS):
+        elif octave and not (input == "angle" and statistic in _octave.E_STATS):
             # (non-overlapping statistics of an angle record: strided views are cheaper)
             # lag-doubling kernels on one working array of first differences
             if input == "rate":
@@ -498,7 +499,7 @@ def deviation(statistic: str, data, *, rate_hz: float, taus="octave", input: str
                     raise InputError("data are constant (zero deviation at every tau); "
                                      "nothing to analyse")
                 src = _angle_source(x)
-            if (K is not None and statistic in _octave.E_STATS and is_octave(ms)
+            if (K is not None and statistic in _octave.E_STATS and octave
                     and ms.size > 1):  # noise types from the halved copy, in place
                 rules = _ident.rules(statistic) if alpha is None else None
                 sums, nt, rows = _octave.octave_strided_sums(K, src.x, statistic, ms, rules,

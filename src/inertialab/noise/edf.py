@@ -409,7 +409,8 @@ def _inv_edf_sum_many(J, M, S, F, alpha: int, d: int) -> np.ndarray:
 
 @functools.lru_cache(maxsize=1)
 def _fast_tables():
-    """Tables 1-3 as arrays for the compiled EDF: ``[2 - alpha, d - 1, (a0, a1)]``."""
+    """Tables 1-3 as arrays for the compiled EDF (``[2 - alpha, d - 1, (a0, a1)]``) and
+    the difference coefficients per order d."""
     t1 = np.full((7, 3, 2), np.nan)
     t2 = np.full((7, 3, 2), np.nan)
     for tab, arr in ((_TABLE1, t1), (_TABLE2, t2)):
@@ -417,7 +418,7 @@ def _fast_tables():
             for j, v in enumerate(row):
                 if v is not None:
                     arr[2 - a, j] = v
-    return t1, t2, np.array(_TABLE3)
+    return t1, t2, np.array(_TABLE3), {d: np.asarray(c) for d, c in _DIFF.items()}
 
 
 def edf_greenhall_many(statistic: str, n_phase: int, m, alpha) -> np.ndarray:
@@ -430,15 +431,18 @@ def edf_greenhall_many(statistic: str, n_phase: int, m, alpha) -> np.ndarray:
     """
     d, overlapping, modified = GREENHALL_STATS[statistic]
     m = np.atleast_1d(np.asarray(m, dtype=np.int64))
-    al = np.broadcast_to(np.asarray(alpha, dtype=np.int64), m.shape)
-    out = np.full(m.size, np.nan)
     N = int(n_phase)
     K = fast_kernels()
     if K is not None:  # the same branches per m, compiled (issue 15 item 5)
-        t1, t2, t3 = _fast_tables()
-        K.greenhall_many(float(N), m, np.ascontiguousarray(al), d, overlapping, modified,
-                         t1, t2, t3, np.asarray(_DIFF[d]), J_MAX, out)
+        t1, t2, t3, diffs = _fast_tables()
+        al = np.asarray(alpha, dtype=np.int64)
+        al = al if al.shape == m.shape else np.broadcast_to(al, m.shape).copy()
+        out = np.empty(m.size)
+        K.greenhall_many(float(N), m, al, d, overlapping, modified, t1, t2, t3, diffs[d],
+                         J_MAX, out)
         return out
+    al = np.broadcast_to(np.asarray(alpha, dtype=np.int64), m.shape)
+    out = np.full(m.size, np.nan)
     for a in (int(v) for v in np.unique(al)):
         sel = np.flatnonzero((al == a) & (m >= 1))
         if a + 2 * d <= 1 or a > 2 or sel.size == 0:
@@ -546,7 +550,7 @@ def edf(statistic: str, n_phase: int, m, alpha, *, n_terms=None, method: str = "
     out = np.empty(m.size)
     if method == "greenhall":
         lo, _ = _ALPHA_RANGE.get(statistic, (-2, 2))
-        out = edf_greenhall_many(statistic, n_phase, m, np.clip(alpha, lo, 2))
+        out = edf_greenhall_many(statistic, n_phase, m, np.minimum(np.maximum(alpha, lo), 2))
         out = np.where(np.isfinite(out) & (out > 0), out, np.nan)
         return out, "greenhall-2003"
     if method == "sp1065":  # vectorised per noise type (the same closed forms)

@@ -292,8 +292,16 @@ def _rn_alpha_many(src, ms: np.ndarray) -> np.ndarray:
             return out  # see _rn_alpha
         x = np.asarray(src.window(0, src.n), dtype=np.float64)
     mf = ms[fit]
-    s_al, n_al = _octave.dense_sums(x, "oadev", mf)
-    s_mod, n_mod = _octave.dense_sums(x, "mdev", mf)
+    K = _octave.fast_kernels()
+    if K is not None:  # both sums from one compiled pass per m
+        x = np.asarray(x, dtype=np.float64)
+        s_al = np.empty(mf.size)
+        s_mod = K.dense_mod(x, mf, _octave.MOD_RESTART, np.empty(_octave.FAST_BLOCK), s_al)
+        n_al = _octave.n_terms_many("oadev", x.size, mf)
+        n_mod = _octave.n_terms_many("mdev", x.size, mf)
+    else:
+        s_al, n_al = _octave.dense_sums(x, "oadev", mf)
+        s_mod, n_mod = _octave.dense_sums(x, "mdev", mf)
     avar_o = s_al / n_al
     mvar = s_mod / n_mod / mf.astype(float) ** 2
     with np.errstate(invalid="ignore", divide="ignore"):
