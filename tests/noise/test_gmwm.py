@@ -133,3 +133,31 @@ def test_gm_correlation_time_capped_and_low_eta_scales_dropped():
                 assert p.params["tc_s"] <= fit.tau_range_s[1] / 8 * (1 + 1e-9)
         k = G.k_of(fit.processes, 1 / fs, fit.tau_range_s)
         assert k == pytest.approx(gamma * math.sqrt(fs), rel=0.15), (seed, fit.name)
+
+
+def test_drift_is_a_candidate_only_beside_a_random_walk():
+    # issue 14 item 5: a DR read instead of the RW on the last scales set K to 0
+    specs = G._specs(3, True, True)
+    assert any("DR" in s for s in specs)
+    assert all("RW" in s for s in specs if "DR" in s)
+    assert any("RW" in s and "DR" not in s for s in specs)
+
+
+@pytest.mark.slow
+def test_k_interval_covers_on_white_plus_random_walk():
+    # The bootstrap draws the scales correlated (a random walk's octaves ~0.88) and the
+    # fit weights them with the full covariance: over 20 seeded records of white + random
+    # walk (2^18 samples at 1 Hz) the 95 % interval of K covers the truth in >= 17 and
+    # the median |error| of K is below 15 % (~30 s).
+    n, gamma = 2**18, 3e-3
+    hits, errs = 0, []
+    for seed in range(20):
+        rng = np.random.default_rng(1000 + seed)
+        y = rng.standard_normal(n) + np.cumsum(rng.standard_normal(n)) * gamma
+        fit = G.fit_gmwm(y, 1.0, n_boot=30, max_gm=1, seed=seed, auto_range=False)
+        assert "RW" in fit.name
+        k = G.k_of(fit.processes, 1.0, fit.tau_range_s)
+        errs.append(abs(k / gamma - 1))
+        hits += fit.k_ci[0] <= gamma <= fit.k_ci[1]
+    assert hits >= 17, hits
+    assert np.median(errs) < 0.15
