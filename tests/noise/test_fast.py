@@ -147,3 +147,28 @@ def test_fast_rn_sums_equal_numpy_kernels(monkeypatch):
     av = np.empty(ms.size)
     mod = K.dense_mod(x, ms, O.MOD_RESTART, np.empty(O.FAST_BLOCK), av)
     assert _rel(av, s_al) < 1e-12 and _rel(mod, s_mod) < 1e-12
+
+
+@pytest.mark.parametrize("kind", ["rate", "angle"])
+def test_fast_equals_numpy_tiny_records(monkeypatch, kind):
+    # every length from 3 to 40 points (B1 and R(n) at m = 1, where R(n) = 1 sits on its
+    # threshold and the numpy sums decide on both paths; kernels' edge branches)
+    rng = np.random.default_rng(0)
+    for n in range(3, 41):
+        y = rng.standard_normal(n)
+        data = (np.cumsum(y) if n % 3 == 0 else y) if kind == "rate" else np.cumsum(y)
+        for stat in STATISTICS:
+            for taus in ("octave", "all", [1.0, 2.0, 4.0, 8.0]):
+                out = []
+                for flag in ("0", "1"):
+                    monkeypatch.setenv("INERTIALAB_FAST", flag)
+                    try:
+                        out.append(deviation(stat, data, rate_hz=1.0, taus=taus, input=kind))
+                    except InputError as exc:
+                        out.append(str(exc))
+                a, b = out
+                if isinstance(a, str) or isinstance(b, str):
+                    assert a == b, (n, stat, taus)
+                    continue
+                np.testing.assert_array_equal(a.alpha, b.alpha, err_msg=f"{n} {stat} {taus}")
+                assert _rel(b.dev, a.dev) < 1e-12 and _rel(b.edf, a.edf) < 1e-12

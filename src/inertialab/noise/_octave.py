@@ -549,7 +549,7 @@ class _Buffers:
         return self.b[k][:n] if n <= self.size else np.empty(n)
 
 
-def dense_sums(x: np.ndarray, statistic: str, ms: np.ndarray):
+def dense_sums(x: np.ndarray, statistic: str, ms: np.ndarray, *, compiled: bool = True):
     """Sums of squares of ``statistic`` at any averaging factors ``ms`` of the in-memory
     angle ``x`` (float64), and the summand counts. Per m and block of summands: the lag-m
     increments ``D_i = x_{i+m} - x_i``, their differences at lag m (second differences;
@@ -560,7 +560,7 @@ def dense_sums(x: np.ndarray, statistic: str, ms: np.ndarray):
     nx = x.size
     ms = np.asarray(ms, dtype=np.int64)
     nt = n_terms_many(statistic, nx, ms)
-    K = fast_kernels()
+    K = fast_kernels() if compiled else None  # (compiled=False: the numpy kernels)
     if K is not None:
         return dense_sums_fast(K, x, statistic, ms), nt
     sums = np.zeros(ms.size)

@@ -277,7 +277,7 @@ def _b1_alpha(src, z: np.ndarray, m: int) -> int:
     return _rn_alpha(src, m)
 
 
-def _rn_alpha_many(src, ms: np.ndarray) -> np.ndarray:
+def _rn_alpha_many(src, ms: np.ndarray, compiled: bool = True) -> np.ndarray:
     """:func:`_rn_alpha` for many m at once (the AVAR and MVAR sums from the dense
     kernels of :mod:`inertialab.noise._octave`)."""
     from inertialab.noise import _octave
@@ -292,7 +292,15 @@ def _rn_alpha_many(src, ms: np.ndarray) -> np.ndarray:
             return out  # see _rn_alpha
         x = np.asarray(src.window(0, src.n), dtype=np.float64)
     mf = ms[fit]
-    K = _octave.fast_kernels()
+    K = _octave.fast_kernels() if compiled else None
+    if K is not None and (mf == 1).any():
+        # at m = 1 MVAR equals AVAR, so R(n) = 1 sits on the threshold and rounding
+        # decides the verdict: that row (a record under 30 points) takes the numpy sums,
+        # so that both kernel sets give the same noise type
+        one = ms == 1
+        out[one] = _rn_alpha_many(src, ms[one], compiled=False)
+        out[~one] = _rn_alpha_many(src, ms[~one])
+        return out
     if K is not None:  # both sums from one compiled pass per m
         x = np.asarray(x, dtype=np.float64)
         s_al = np.empty(mf.size)
@@ -300,8 +308,8 @@ def _rn_alpha_many(src, ms: np.ndarray) -> np.ndarray:
         n_al = _octave.n_terms_many("oadev", x.size, mf)
         n_mod = _octave.n_terms_many("mdev", x.size, mf)
     else:
-        s_al, n_al = _octave.dense_sums(x, "oadev", mf)
-        s_mod, n_mod = _octave.dense_sums(x, "mdev", mf)
+        s_al, n_al = _octave.dense_sums(x, "oadev", mf, compiled=compiled)
+        s_mod, n_mod = _octave.dense_sums(x, "mdev", mf, compiled=compiled)
     avar_o = s_al / n_al
     mvar = s_mod / n_mod / mf.astype(float) ** 2
     with np.errstate(invalid="ignore", divide="ignore"):
