@@ -19,22 +19,28 @@ octave pass) and each process's WV is its exact discrete Allan variance over 2
 (``avar_*`` below). WV intervals: chi-square with Percival's ``eta3 = max(M_j/2^j, 1)``
 degrees of freedom (``M_j`` the number of non-boundary coefficients, ``2^j = 2m``).
 
-Estimator (Guerrier et al.'s two-step GMWM, on log wavelet moments):
+Estimator (two steps, on log wavelet moments; logs keep the many-decade moments
+balanced):
 
 1. every candidate is fitted by ``argmin sum_j (eta3_j/2) (ln wv_hat_j - ln wv_j(theta))^2``
-   (diagonal weights: white noise's variance of the log moments) and the WIC selects one;
-2. that model's spectrum gives the full covariance of the estimators across scales
-   (:func:`inertialab.noise._gmwm_cov.wv_covariance`: neighbouring octaves are correlated
-   0.5 under white noise and 0.88 under a random walk), hence each scale's equivalent
-   degrees of freedom ``eta_j``, the log moments' covariance ``Sigma`` and their bias
-   ``E ln(chi2(eta)/eta)`` (:func:`inertialab.noise._gmwm_cov.log_weights`); every
-   candidate is refitted by ``argmin (l_hat - bias - ln wv(theta))' Sigma^-1 (...)``
-   (``Omega = Sigma^-1``, the efficient weight matrix) and the WIC selects again.
+   (diagonal weights: the inverse of white noise's variance of a log moment) and the WIC
+   selects one;
+2. every candidate is refitted with the weights ``edf_j/2``, ``edf_j`` Greenhall's EDF of
+   the noise type the step-1 model's local slope implies at scale j (white, flicker,
+   random walk: eta3 under-weights the scales where the slower noises dominate), and
+   the WIC selects again (default ``weighting="edf"``).
 
-Both are solved by ``scipy.optimize.least_squares`` (whitened residuals) on log
-parameters from data-driven starts. The short scales coloured by a sensor's internal
-filter are cut as in :func:`inertialab.noise.terms.auto_tau_range`; scales with
-``eta3 < 3`` are left out.
+``weighting="full"`` is Guerrier et al.'s efficient two-step GMWM instead: step 2 uses
+``Omega = Sigma^-1``, ``Sigma`` the full covariance of the log moments across scales
+(neighbouring octaves correlated 0.5 under white noise, 0.88 under a random walk) from the
+step-1 model's spectrum, with the chi-square bias ``E ln(chi2(eta)/eta)`` removed
+(:func:`inertialab.noise._gmwm_cov.log_weights`). On the MEMS presets, whose fitted
+models have fewer Gauss–Markov processes than the truth, it was measured less accurate
+than the diagonal EDF weights (docs/noise-terms.md §5), so it is not the default.
+
+Both are solved by ``scipy.optimize.least_squares`` on log parameters from data-driven
+starts. The short scales coloured by a sensor's internal filter are cut as in
+:func:`inertialab.noise.terms.auto_tau_range`; scales with ``eta3 < 3`` are left out.
 
 Model selection (:func:`fit_gmwm`): every candidate ``WN [+QN] [+RW [+DR]] + k GM``
 (k = 0..``max_gm``; a drift only beside a random walk, :data:`DR_NEEDS_RW`) is fitted and
@@ -43,10 +49,10 @@ Guerrier et al.'s WIC ``E[objective] + 2 tr(...)`` with its optimism term at its
 asymptotic value ``p`` (number of parameters) for a correctly weighted objective.
 
 Parameter intervals: parametric bootstrap in the WV domain: replicate WVs drawn around
-the selected model with ``chi2(eta_j)/eta_j`` marginals and the model's cross-scale
-correlation (Gaussian copula), refitted with the same weights; for B and K each replicate
-re-selects by the WIC among the :data:`BOOT_MODELS` best candidates, so their intervals
-carry the selection uncertainty; percentile intervals.
+the selected model with ``chi2(edf_j)/edf_j`` marginals and the cross-scale correlation
+of the model's spectrum (:func:`inertialab.noise._gmwm_cov.wv_covariance`, Gaussian
+copula), refitted with the same weights (optionally, for B and K, re-selected by the
+WIC among the :data:`BOOT_MODELS` best candidates; off by default); percentile intervals.
 
 IEEE terms from the latent processes (:func:`gmwm_noise_terms`): ``N^2 = sigma2 tau0``,
 ``K^2 = gamma2/tau0`` (plus ``2 s2/tc`` of any GM whose Allan peak 1.89 tc is not
@@ -433,8 +439,10 @@ def _model_edf(procs, wv: WaveletVariance) -> np.ndarray:
     return np.where(np.isfinite(e) & (e > 0), e, wv.eta)
 
 
-#: models (best WIC first) among which each bootstrap replicate re-selects for B and K
-BOOT_MODELS = 3
+#: models (best WIC first) among which each bootstrap replicate re-selects for B and K.
+#: 1: no re-selection. Measured on industrial-400hz (16 seeds, 50 replicates): 3 models
+#: gave the same coverage (B 88 %, K 69 %) at twice the cost (5.5 s against 2.6 s CPU)
+BOOT_MODELS = 1
 
 def _select(specs, target, taus, W, tau0, T):
     """Fit every candidate; ``({name: WIC}, {name: (spec, theta, objective)})``."""
