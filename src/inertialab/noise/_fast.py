@@ -435,10 +435,17 @@ def lag1_strided(x, starts, steps, counts, dmax, out, buf):
         st = starts[r]
         sp = steps[r]
         tot = 0.0
-        for j in range(n):
-            v = x[st + j * sp]
-            buf[j] = v
-            tot += v
+        if sp == 1:  # contiguous (vectorised copy)
+            row = x[st:st + n]
+            for j in range(n):
+                v = row[j]
+                buf[j] = v
+                tot += v
+        else:
+            for j in range(n):
+                v = x[st + j * sp]
+                buf[j] = v
+                tot += v
         d = 0
         while True:
             mean = tot / n
