@@ -427,27 +427,40 @@ def octave_strided(x, want, order, w, id_use, id_start, idp, alphas, best, buf):
 def lag1_strided(x, starts, steps, counts, dmax, out, buf):
     """Unrounded lag-1 ACF alpha (SP 1065 §5.5.6, phase data) of the rows ``x[s + j p]``,
     ``j < count``, the algorithm of :func:`inertialab.noise.identify.lag1_alpha`
-    (``buf``: scratch of the largest count): the mean, then the lag-0 and lag-1 sums of
-    the centred row in one pass, the differencing and the next mean in another."""
+    (``buf``: scratch of the largest count): the row and its sum, then per round one pass
+    for the lag-0 and lag-1 sums of the centred row, its differences (in place) and their
+    sum (used if the round does not stop)."""
     for r in range(starts.size):
         n = counts[r]
         st = starts[r]
         sp = steps[r]
         tot = 0.0
-        for j in range(n):
-            v = x[st + j * sp]
-            buf[j] = v
-            tot += v
+        if sp == 1:  # contiguous (vectorised copy)
+            row = x[st:st + n]
+            for j in range(n):
+                v = row[j]
+                buf[j] = v
+                tot += v
+        else:
+            for j in range(n):
+                v = x[st + j * sp]
+                buf[j] = v
+                tot += v
         d = 0
         while True:
             mean = tot / n
             den = 0.0
             r1 = 0.0
-            for j in range(n - 1):
-                c0 = buf[j] - mean
-                c1 = buf[j + 1] - mean
+            tot = 0.0
+            for j in range(n - 1):  # the sums and (for the next round) the differences
+                b0 = buf[j]
+                b1 = buf[j + 1]
+                c0 = b0 - mean
                 den += c0 * c0
-                r1 += c0 * c1
+                r1 += c0 * (b1 - mean)
+                v = b1 - b0
+                buf[j] = v
+                tot += v
             c0 = buf[n - 1] - mean
             den += c0 * c0
             r1 = r1 / den if den > 0 else 0.0
@@ -455,11 +468,6 @@ def lag1_strided(x, starts, steps, counts, dmax, out, buf):
             if delta < 0.25 or d >= dmax or n < 4:
                 out[r] = -2.0 * (delta + d) + 2.0
                 break
-            tot = 0.0
-            for j in range(n - 1):
-                v = buf[j + 1] - buf[j]
-                buf[j] = v
-                tot += v
             n -= 1
             d += 1
 

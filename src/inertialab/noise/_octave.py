@@ -26,7 +26,9 @@ Updates run over ascending blocks of ``OCT_BLOCK`` entries; a block's results ar
 before they are written and later blocks read only entries not yet updated. The sums are
 taken in ``BLOCK``-sized dot products (single-threaded BLAS, see
 :data:`inertialab.noise._phase.BLOCK`). Returned sums are in the unit of ``d`` squared;
-:mod:`inertialab.noise.allan` applies tau.
+:mod:`inertialab.noise.allan` applies tau. With numba installed (the ``[fast]`` extra)
+the same algorithms run compiled (:func:`fast_kernels`; ``INERTIALAB_FAST=0`` keeps
+these numpy ones, the reference).
 """
 
 from __future__ import annotations
