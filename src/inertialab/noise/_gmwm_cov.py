@@ -144,11 +144,10 @@ def model_edf(procs, wv) -> np.ndarray:
     random walk -2; s <= -2 gives +2), rounded to the integer types (``wv``: a
     :class:`inertialab.noise.gmwm.WaveletVariance`)."""
     from inertialab.noise.edf import edf_greenhall
-    from inertialab.noise.gmwm import _model_avar
 
     m = wv.taus_s / wv.tau0_s
     lt = np.log(wv.taus_s)
-    la = np.log(np.maximum(_model_avar(procs, m, wv.tau0_s), 1e-300))
+    la = np.log(np.maximum(sum(p.avar(m, wv.tau0_s) for p in procs), 1e-300))
     slope = np.gradient(la, lt) if lt.size >= 2 else np.zeros(lt.size)
     alpha = np.clip(np.rint(-1.0 - slope), -2, 2).astype(int)
     alpha[slope <= -1.5] = 2
