@@ -35,8 +35,9 @@ balanced):
 (neighbouring octaves correlated 0.5 under white noise, 0.88 under a random walk) from the
 step-1 model's spectrum, with the chi-square bias ``E ln(chi2(eta)/eta)`` removed
 (:func:`inertialab.noise._gmwm_cov.log_weights`). On the MEMS presets, whose fitted
-models have fewer Gauss–Markov processes than the truth, it was measured less accurate
-than the diagonal EDF weights (docs/noise-terms.md §5), so it is not the default.
+models have fewer Gauss–Markov processes than the truth, it was measured no more accurate
+than the diagonal EDF weights (K better on one preset, worse on another, coverage no
+better; docs/noise-terms.md §5), so it is not the default.
 
 Both are solved by ``scipy.optimize.least_squares`` on log parameters from data-driven
 starts. The short scales coloured by a sensor's internal filter are cut as in
@@ -381,8 +382,8 @@ def fit_gmwm_wv(wv: WaveletVariance, *, max_gm: int = 3, n_boot: int = 50, seed:
     ``weighting``: ``"edf"`` (default) diagonal weights of the log moments from the
     Greenhall EDF of the step-1 model's noise type per scale; ``"full"`` Guerrier et
     al.'s efficient weight matrix, the inverse of the log moments' full covariance across
-    scales (module docstring; measured less accurate on the MEMS presets, docs/
-    noise-terms.md §5)."""
+    scales (module docstring; measured no more accurate on the MEMS presets,
+    docs/noise-terms.md §5)."""
     from inertialab.noise._gmwm_cov import log_weights, model_edf
 
     if weighting not in ("edf", "full"):
