@@ -58,7 +58,7 @@ HOURS = 10.0
 CURVE_VERSION = "mems-presets/1|oadev-octave"
 #: key of the cached fits: bump when the fit code changes (METHOD_VERSION: per method)
 FIT_VERSION = "terms/3-bandB-slope-spread"
-METHOD_VERSION = {"gmwm": "gmwm/5-edf-dr-corrboot", "wls": "band-lo64", "ols": "band-lo64"}
+METHOD_VERSION = {"gmwm": "gmwm/6-edf-dr-corrboot-kub", "wls": "band-lo64", "ols": "band-lo64"}
 _FIT_SOURCES = ("terms.py", "_terms_base.py", "_terms_ls.py", "_terms_slope.py", "gmwm.py",
                 "_gmwm_cov.py",
                 "edf.py")

@@ -161,3 +161,23 @@ def test_k_interval_covers_on_white_plus_random_walk():
         hits += fit.k_ci[0] <= gamma <= fit.k_ci[1]
     assert hits >= 17, hits
     assert np.median(errs) < 0.15
+
+
+def test_absent_random_walk_reported_as_an_upper_bound():
+    # issue 14 item 2 for GMWM: white + one GM, no random walk. The WIC leaves the RW out;
+    # K is reported absent with the interval [0, upper], the upper bootstrap percentile
+    # of K in the best candidate that has a random walk
+    fs, n = 10.0, 2**18
+    y = _record(n, fs, 3, sigma=1.0, gms=((0.3, 50.0),))
+    r = A.oadev(y, rate_hz=fs, taus="octave")
+    t = fit_noise_terms(r, unit="dph", method="gmwm", n_boot=20, seed=1)
+    assert "RW" not in t.gmwm["model"], t.gmwm["model"]
+    k = t.K
+    assert k.value == 0.0 and {"absent", "upper_bound"} <= set(k.flags) and not k.significant
+    assert k.ci[0] == 0.0 and 0.0 < k.ci[1] == k.upper_bound and math.isfinite(k.ci[1])
+    assert "upper bound" in k.reason
+    # the bound (data unit, rate/sqrt(s)) is a random walk that would only just show at
+    # the last fitted scale: its AVAR K^2 tau/3 there is below the observed AVAR
+    ku, tau = t.gmwm["k_upper"], t.gmwm["tau_range_s"][1]
+    avar_last = 2.0 * t.gmwm["wv"]["wv"][-1]
+    assert 0.0 < ku**2 * tau / 3.0 < avar_last

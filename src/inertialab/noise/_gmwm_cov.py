@@ -136,4 +136,24 @@ def log_weights(processes, m, n_samples: int, tau0: float):
     L = np.linalg.cholesky(S + 1e-9 * np.diag(np.diag(S)))
     linv = solve_triangular(L, np.eye(m.size), lower=True)
     return bias, linv, eta, corr
-__all__ = ["log_weights", "spectrum", "wv_covariance"]
+
+
+def model_edf(procs, wv) -> np.ndarray:
+    """Greenhall EDF (oadev) of each scale for the noise type the model's local log-log
+    slope implies there: AVAR ~ tau^s <=> alpha = -1 - s (white rate 0, flicker -1,
+    random walk -2; s <= -2 gives +2), rounded to the integer types (``wv``: a
+    :class:`inertialab.noise.gmwm.WaveletVariance`)."""
+    from inertialab.noise.edf import edf_greenhall
+
+    m = wv.taus_s / wv.tau0_s
+    lt = np.log(wv.taus_s)
+    la = np.log(np.maximum(sum(p.avar(m, wv.tau0_s) for p in procs), 1e-300))
+    slope = np.gradient(la, lt) if lt.size >= 2 else np.zeros(lt.size)
+    alpha = np.clip(np.rint(-1.0 - slope), -2, 2).astype(int)
+    alpha[slope <= -1.5] = 2
+    e = np.array([edf_greenhall("oadev", wv.n_samples + 1, int(mi), int(a))
+                  for mi, a in zip(wv.m, alpha)])
+    return np.where(np.isfinite(e) & (e > 0), e, wv.eta)
+
+
+__all__ = ["log_weights", "model_edf", "spectrum", "wv_covariance"]

@@ -35,8 +35,9 @@ balanced):
 (neighbouring octaves correlated 0.5 under white noise, 0.88 under a random walk) from the
 step-1 model's spectrum, with the chi-square bias ``E ln(chi2(eta)/eta)`` removed
 (:func:`inertialab.noise._gmwm_cov.log_weights`). On the MEMS presets, whose fitted
-models have fewer Gauss–Markov processes than the truth, it was measured less accurate
-than the diagonal EDF weights (docs/noise-terms.md §5), so it is not the default.
+models have fewer Gauss–Markov processes than the truth, it was measured no more accurate
+than the diagonal EDF weights (K better on one preset, worse on another, coverage no
+better; docs/noise-terms.md §5), so it is not the default.
 
 Both are solved by ``scipy.optimize.least_squares`` on log parameters from data-driven
 starts. The short scales coloured by a sensor's internal filter are cut as in
@@ -211,7 +212,9 @@ class GmwmFit:
 
     ``processes``: the selected model's processes; ``wv``: the wavelet variance it was
     fitted on; ``wic``: its criterion; ``candidates``: name -> WIC of every model tried;
-    ``objective``; ``tau_range_s`` of the fitted scales."""
+    ``objective``; ``tau_range_s`` of the fitted scales; ``k_upper``: where the selected
+    model has no random walk, the upper percentile of K in the best candidate with one
+    (its upper bound; NaN otherwise)."""
 
     processes: tuple
     wv: WaveletVariance
@@ -222,6 +225,7 @@ class GmwmFit:
     n_boot: int = 0
     b_ci: tuple = (float("nan"), float("nan"))
     k_ci: tuple = (float("nan"), float("nan"))
+    k_upper: float = float("nan")
 
     @property
     def name(self) -> str:
@@ -241,7 +245,7 @@ class GmwmFit:
                 "candidates": {k: float(v) for k, v in self.candidates.items()},
                 "tau_range_s": [float(v) for v in self.tau_range_s],
                 "n_boot": int(self.n_boot), "b_ci": [float(v) for v in self.b_ci],
-                "k_ci": [float(v) for v in self.k_ci],
+                "k_ci": [float(v) for v in self.k_ci], "k_upper": float(self.k_upper),
                 "b": float(b_of(self.processes, self.wv.tau0_s, self.tau_range_s)),
                 "wv": self.wv.to_dict()}
 
@@ -378,9 +382,9 @@ def fit_gmwm_wv(wv: WaveletVariance, *, max_gm: int = 3, n_boot: int = 50, seed:
     ``weighting``: ``"edf"`` (default) diagonal weights of the log moments from the
     Greenhall EDF of the step-1 model's noise type per scale; ``"full"`` Guerrier et
     al.'s efficient weight matrix, the inverse of the log moments' full covariance across
-    scales (module docstring; measured less accurate on the MEMS presets, docs/
-    noise-terms.md §5)."""
-    from inertialab.noise._gmwm_cov import log_weights
+    scales (module docstring; measured no more accurate on the MEMS presets,
+    docs/noise-terms.md §5)."""
+    from inertialab.noise._gmwm_cov import log_weights, model_edf
 
     if weighting not in ("edf", "full"):
         raise InputError(f"GMWM weighting must be 'edf' or 'full', got {weighting!r}")
@@ -408,7 +412,7 @@ def fit_gmwm_wv(wv: WaveletVariance, *, max_gm: int = 3, n_boot: int = 50, seed:
         # implies at each scale (eta3 is white noise's and under-weights the scales
         # where flicker-like or random-walk noise dominates; measured: the WIC then chose
         # one GM for the three of consumer-100hz in 17 of 30 seeds, K +19 % med |err|)
-        eta_a = _model_edf(ref, wv)
+        eta_a = model_edf(ref, wv)
         target, W, bias = lw, np.sqrt(eta_a / 2.0), np.zeros(lw.size)
     cands, fits = _select(specs, target, taus, W, tau0, T)
     best = min(cands, key=cands.get)
@@ -418,31 +422,17 @@ def fit_gmwm_wv(wv: WaveletVariance, *, max_gm: int = 3, n_boot: int = 50, seed:
     procs, b_ci, k_ci = _with_intervals(spec, theta, procs, wv, (bias, W, eta_a, corr),
                                         n_boot, seed, confidence,
                                         [fits[k][:2] for k in ranked])
+    k_upper = float("nan")
+    rw_names = [k for k in cands if "RW" in fits[k][0]]
+    if "RW" not in spec and n_boot > 0 and rw_names:
+        # K not selected: its upper bound is the upper percentile of K in the best
+        # candidate with a random walk (issue 14 item 2: an absent term as an upper bound)
+        rw_spec, rw_theta, _ = fits[min(rw_names, key=cands.get)]
+        k_upper = _with_intervals(rw_spec, rw_theta, _unpack(rw_spec, rw_theta, tau0), wv,
+                                  (bias, W, eta_a, corr), n_boot, seed, confidence)[2][1]
     return GmwmFit(tuple(procs), wv, cands[best], obj, cands,
-                   (float(taus[0]), float(taus[-1])), n_boot, b_ci, k_ci)
+                   (float(taus[0]), float(taus[-1])), n_boot, b_ci, k_ci, k_upper)
 
-
-def _model_edf(procs, wv: WaveletVariance) -> np.ndarray:
-    """Greenhall EDF (oadev) of each scale for the noise type the model's local log-log
-    slope implies there: AVAR ~ tau^s <=> alpha = -1 - s (white rate 0, flicker -1,
-    random walk -2; s <= -2 gives +2), rounded to the integer types."""
-    from inertialab.noise.edf import edf_greenhall
-
-    m = wv.taus_s / wv.tau0_s
-    lt = np.log(wv.taus_s)
-    la = np.log(np.maximum(_model_avar(procs, m, wv.tau0_s), 1e-300))
-    slope = np.gradient(la, lt) if lt.size >= 2 else np.zeros(lt.size)
-    alpha = np.clip(np.rint(-1.0 - slope), -2, 2).astype(int)
-    alpha[slope <= -1.5] = 2
-    e = np.array([edf_greenhall("oadev", wv.n_samples + 1, int(mi), int(a))
-                  for mi, a in zip(wv.m, alpha)])
-    return np.where(np.isfinite(e) & (e > 0), e, wv.eta)
-
-
-#: models (best WIC first) among which each bootstrap replicate re-selects for B and K.
-#: 1: no re-selection. Measured on industrial-400hz (16 seeds, 50 replicates): 3 models
-#: gave the same coverage (B 88 %, K 69 %) at twice the cost (5.5 s against 2.6 s CPU)
-BOOT_MODELS = 1
 
 def _select(specs, target, taus, W, tau0, T):
     """Fit every candidate; ``({name: WIC}, {name: (spec, theta, objective)})``."""
@@ -460,6 +450,12 @@ def _select(specs, target, taus, W, tau0, T):
     if not cands:
         raise InputError("GMWM: no candidate model could be fitted")
     return cands, fits
+
+
+#: models (best WIC first) among which each bootstrap replicate re-selects for B and K.
+#: 1: no re-selection. Measured on industrial-400hz (16 seeds, 50 replicates): 3 models
+#: gave the same coverage (B 88 %, K 69 %) at twice the cost (5.5 s against 2.6 s CPU)
+BOOT_MODELS = 1
 
 
 def _with_intervals(spec, theta, procs, wv, weights, n_boot, seed, confidence, alts=()):
@@ -615,13 +611,20 @@ def gmwm_noise_terms(fit: GmwmFit, conv, rate_hz: float, result=None):
         present = kind in by
         flags = (() if present else ("absent",)) + extra
         reason = "" if present else f"not in the model selected by the WIC ({fit.name})"
+        ub = float("nan")
+        if name == "K" and not present and math.isfinite(fit.k_upper):
+            lo_hi, ub = (0.0, fit.k_upper), k * fit.k_upper
+            flags += ("upper_bound",)
+            reason += ("; upper bound: the upper bootstrap percentile of K in the best "
+                       "model with a random walk")
         val = k * a
         dens = per = None
         if name == "N":
             dens, per = conv.n_extras(val / conv.value("N", 1.0), rate_hz)
         terms[name] = NoiseTerm(value=val, unit=unit, ci=(k * lo_hi[0], k * lo_hi[1]),
                                 method="gmwm", tau_range_s=rng_of(kind), flags=flags,
-                                density=dens, per_sample_std=per, reason=reason)
+                                density=dens, per_sample_std=per, reason=reason,
+                                upper_bound=ub)
     # five-term coefficients (data unit): c_-2 = 3Q^2, c_-1 = N^2, c_0 = (0.6643 B)^2,
     # c_1 = K^2/3, c_2 = R^2/2
     qa = terms["Q"].value / conv.factor("Q")
