@@ -112,9 +112,8 @@ def edf_of(stat, n, m, alpha):
         return at.edf_greenhall(alpha=max(min(alpha, 2), lo), d=d, m=int(m), N=n,
                                 overlapping=over, modified=mod)
     if stat == "totdev":
-        if alpha > 0:  # Table 7 has FM rows only; PM noise: the OADEV EDF (SP 1065 §5.2.11)
-            return at.edf_greenhall(alpha=min(alpha, 2), d=2, m=int(m), N=n, overlapping=True,
-                                    modified=False)
+        if alpha > 0:  # Table 7 has FM rows only; PM noise: SP 1065 Table 5 (§5.2.11)
+            return sp1065_table5_edf(n, int(m), min(alpha, 2))
         return at.edf_totdev(n, m, max(alpha, -2))
     if stat in ("mtotdev", "ttotdev"):
         if m < 16:  # Stable32 (and SigmaTau): the MDEV EDF below m = 16

@@ -39,7 +39,10 @@ EDF algorithms (``method``):
     ``edf_greenhall`` in the tests.
 ``"default"``
     ``"greenhall"`` for every statistic it covers; ``"sp1065"`` Table 7 for ``totdev``
-    (as allantools and Stable32), Greenhall's oadev EDF for totdev's phase noises.
+    (as allantools and Stable32), and for totdev's phase noises Table 5, the overlapping
+    ADEV EDF SP 1065 points to there (Stable32's printed flicker-PM TOTDEV bounds: 1.0e-3
+    with it, 1.3e-2 with Greenhall's oadev EDF used before; allantools takes its simple
+    EDF there).
     (Until issue 14 the default was SP 1065 Table 5 for oadev and the numeric Gaussian
     EDF elsewhere; the latter collapsed for random-walk rate at small m and cost
     2-12 ms and ~49 MB per tau.)
@@ -532,7 +535,7 @@ def edf(statistic: str, n_phase: int, m, alpha, *, n_terms=None, method: str = "
     method : {"default", "greenhall", "sp1065", "gaussian"}
         "default": Greenhall & Riley (2003) for every statistic it covers (adev, oadev,
         mdev, tdev, hdev, ohdev; issue 14 item 4) and SP 1065 Table 7 for ``totdev``
-        (Greenhall's for oadev where Table 7 has no row: alpha = +1, +2).
+        (Table 5 where Table 7 has no row: alpha = +1, +2).
     """
     m = np.atleast_1d(np.asarray(m, dtype=np.int64))
     alpha = np.broadcast_to(np.asarray(alpha, dtype=np.int64), m.shape)
@@ -558,8 +561,7 @@ def edf(statistic: str, n_phase: int, m, alpha, *, n_terms=None, method: str = "
         for a in (int(v) for v in np.unique(a_all)):
             sel = a_all == a
             if statistic == "totdev":
-                out[sel] = (edf_totdev_sp1065(n_phase, m[sel], a) if a <= 0
-                            else edf_greenhall_many("oadev", n_phase, m[sel], a))
+                out[sel] = edf_totdev_sp1065(n_phase, m[sel], a)
             else:
                 out[sel] = edf_oadev_sp1065(n_phase, m[sel], a)
         out = np.where(np.isfinite(out) & (out > 0), out, np.nan)
@@ -573,8 +575,7 @@ def edf(statistic: str, n_phase: int, m, alpha, *, n_terms=None, method: str = "
         if method == "sp1065":
             a = max(min(a, 2), -2)
             if statistic == "totdev":
-                out[i] = (float(edf_totdev_sp1065(n_phase, mm, a)) if a <= 0
-                          else edf_greenhall("oadev", n_phase, mm, a))
+                out[i] = float(edf_totdev_sp1065(n_phase, mm, a))
             else:
                 out[i] = float(edf_oadev_sp1065(n_phase, mm, a))
         elif method == "greenhall":
