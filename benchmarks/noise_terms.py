@@ -60,8 +60,7 @@ CURVE_VERSION = "mems-presets/1|oadev-octave"
 FIT_VERSION = "terms/3-bandB-slope-spread"
 METHOD_VERSION = {"gmwm": "gmwm/6-edf-dr-corrboot-kub", "wls": "band-lo64", "ols": "band-lo64"}
 _FIT_SOURCES = ("terms.py", "_terms_base.py", "_terms_ls.py", "_terms_slope.py", "gmwm.py",
-                "_gmwm_cov.py",
-                "edf.py")
+                "_gmwm_cov.py", "_gmwm_avar.py", "edf.py")
 ROOT = Path(__file__).resolve().parents[1]
 
 
