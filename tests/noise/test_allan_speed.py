@@ -53,7 +53,9 @@ def test_totdev_edges_without_extension(monkeypatch):
         assert _vs_allantools("totdev", x, "phase", "all", rate=1.0) < 1e-10
 
 
-def test_edf_greenhall_many_equals_scalar():
+@pytest.mark.parametrize("fast", ["0", "1"])   # numpy kernel, compiled one where numba is
+def test_edf_greenhall_many_equals_scalar(monkeypatch, fast):
+    monkeypatch.setenv("INERTIALAB_FAST", fast)
     worst = 0.0
     for stat in E.GREENHALL_STATS:
         for N in (10, 37, 1001, 100001):

@@ -14,7 +14,6 @@ pytest.importorskip("numba")
 
 from inertialab.errors import InputError  # noqa: E402
 from inertialab.noise import _octave as O  # noqa: E402
-from inertialab.noise import edf as E  # noqa: E402
 from inertialab.noise import identify as I  # noqa: E402
 from inertialab.noise._phase import _PhaseArray  # noqa: E402
 from inertialab.noise.allan import STATISTICS, deviation  # noqa: E402
@@ -96,20 +95,6 @@ def test_fast_identification_equals_numpy(monkeypatch, stat):
         assert {"lag1", "b1"} <= set(got.source)
         seen.update(got.alpha.tolist())
     assert len(seen) >= 3, seen  # several noise types (and R(n) on white angle noise)
-
-
-def test_fast_edf_equals_scalar(monkeypatch):
-    monkeypatch.setenv("INERTIALAB_FAST", "1")
-    worst = 0.0
-    for stat in E.GREENHALL_STATS:
-        for N in (10, 37, 1001, 100001):
-            ms = np.unique(np.r_[np.arange(1, min(N, 300)),
-                                 np.geomspace(1, N, 60).astype(np.int64)])
-            for a in range(-4, 3):
-                v = E.edf_greenhall_many(stat, N, ms, a)
-                ref = np.array([E.edf_greenhall(stat, N, int(m), a) for m in ms])
-                worst = max(worst, _rel(v, ref))
-    assert worst < 1e-12
 
 
 def test_env_switch_off_uses_numpy(monkeypatch):

@@ -81,7 +81,7 @@ class LogData:
     g_local: float = units.G_STANDARD
 
 
-def _time_grid(t: np.ndarray, path):
+def time_grid(t: np.ndarray, path):
     """Sample rate and grid slots from the time stamps: ``(rate_hz, index)``, ``index``
     None when every sample is on the grid (stamps uniform to :data:`T_JITTER_TOL`, or
     jittering without a lost sample), else the slot of each sample
@@ -142,7 +142,7 @@ def prepare_log(record, *, column: str | None = None, rate_hz: float | None = No
         Sample rate; else the sidecar's ``fs_hz``, else from ``t_s``: uniform stamps
         (relative jitter <= 1e-6) give their rate; jittering stamps give the mean rate
         and a DataQualityWarning, and samples lost in dropouts become NaN on the
-        sensor's grid (:func:`_time_grid`); repeated or backward stamps are an
+        sensor's grid (:func:`time_grid`); repeated or backward stamps are an
         InputError naming the rows.
     input : {"rate", "angle"}
         ``"angle"`` reads a cumulative ``theta_*`` column (phase analogue).
@@ -178,7 +178,7 @@ def prepare_log(record, *, column: str | None = None, rate_hz: float | None = No
     elif record.meta.get("fs_hz") is not None and "t_s" not in record.data.columns:
         fs = float(record.meta["fs_hz"])
     elif "t_s" in record.data.columns:
-        fs, slots = _time_grid(record.data["t_s"].to_numpy(dtype=float), path)
+        fs, slots = time_grid(record.data["t_s"].to_numpy(dtype=float), path)
     elif record.meta.get("fs_hz") is not None:
         fs = float(record.meta["fs_hz"])
     else:
@@ -594,4 +594,4 @@ fit = analyze
 
 __all__ = ["AllanAnalysis", "CLOCK_RATIO", "CLOCK_TIME", "LogData", "T_JITTER_TOL", "analyze",
            "clock_log", "fit", "parse_stats", "parse_taus", "prepare", "prepare_clock", "read_clock",
-           "prepare_log"]
+           "prepare_log", "time_grid"]

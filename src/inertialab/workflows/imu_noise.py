@@ -248,9 +248,9 @@ def analyse_record(rec, *, rate_hz: float | None = None, taus="octave", method: 
             raise InputError("needs t_s or argument 'rate_hz'", path=rec.path)
         # jitter and dropouts as the single-column analysis: the samples on the sensor's
         # grid at the mean rate, lost ones as NaN (gap-resistant OADEV)
-        from inertialab.workflows.allan import _time_grid
+        from inertialab.workflows.allan import time_grid
 
-        fs, slots = _time_grid(rec.data["t_s"].to_numpy(dtype=float), rec.path)
+        fs, slots = time_grid(rec.data["t_s"].to_numpy(dtype=float), rec.path)
         if slots is not None:
             for name, (c, y, u) in cols.items():
                 full = np.full(int(slots[-1]) + 1, np.nan)
