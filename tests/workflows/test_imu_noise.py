@@ -131,7 +131,7 @@ def _turning_rig(rng, n=60_000, fs=FS, tc=2.0):
     return 5e-5 * math.sqrt(fs) * rng.standard_normal(n) + motion
 
 
-def test_moving_record_is_flagged_and_a_static_one_is_not(imu, recwarn):
+def test_moving_record_is_flagged_and_a_static_one_is_not(imu):
     # the static simulated IMU of the fixture gives no not-static warning; a turning rig
     # rises up to ~2 s and is named as not static, per column, by both entry points
     from inertialab.errors import DataQualityWarning

@@ -27,7 +27,8 @@ import numpy as np
 
 from inertialab.io.gaps import GAP_FACTOR, detect_gaps
 
-__all__ = ["SampleSlots", "TimingAudit", "audit", "resample_uniform", "sample_slots"]
+__all__ = ["SampleSlots", "TimingAudit", "audit", "on_slots", "resample_uniform",
+           "sample_slots"]
 
 _LISTED = 20
 
@@ -134,6 +135,14 @@ def sample_slots(t) -> SampleSlots:
     rel = dt / slots / tau0 - 1.0
     return SampleSlots(index=index, tau0_s=tau0, jitter_rel=float(np.sqrt(np.mean(rel * rel))),
                        jitter_max_rel=float(np.max(np.abs(rel))))
+
+
+def on_slots(values, index) -> np.ndarray:
+    """``values`` (one per sample) placed at their grid slots ``index``
+    (:attr:`SampleSlots.index`), NaN in the slots of lost samples (never interpolated)."""
+    full = np.full(int(index[-1]) + 1, np.nan)
+    full[index] = np.asarray(values, dtype=np.float64)
+    return full
 
 
 def resample_uniform(t, columns: dict, rate_hz: float) -> tuple[np.ndarray, dict]:

@@ -184,7 +184,7 @@ def _solve(X, avar, edf_tab, active, weighted: bool, n_iter: int, shapes=None, m
     """:func:`_solve_many` of one AVAR curve: ``(c, model, dom, i_band)``."""
     c, model, dom, i_band = _solve_many(X, avar, edf_tab, active, weighted, n_iter, shapes,
                                         model, edf)
-    return c[0], model, dom[0], int(i_band[0]) if np.ndim(i_band) else 0
+    return c[0], model, dom[0], int(i_band[0])
 
 
 def _observable(n_taus: int):

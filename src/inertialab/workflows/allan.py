@@ -185,9 +185,9 @@ def prepare_log(record, *, column: str | None = None, rate_hz: float | None = No
         raise InputError("no sample rate: give argument 'rate_hz' or a t_s column", path=path)
     values = record.column(col)
     if slots is not None:  # dropouts: the lost samples are NaN on the sensor's grid
-        full = np.full(int(slots[-1]) + 1, np.nan)
-        full[slots] = np.asarray(values, dtype=np.float64)
-        values = full
+        from inertialab.io.timestamps import on_slots
+
+        values = on_slots(values, slots)
     dim = units.dimension(suf)
     kind_input = input
     if dim == "angle":

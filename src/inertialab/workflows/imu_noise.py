@@ -252,10 +252,9 @@ def analyse_record(rec, *, rate_hz: float | None = None, taus="octave", method: 
 
         fs, slots = time_grid(rec.data["t_s"].to_numpy(dtype=float), rec.path)
         if slots is not None:
-            for name, (c, y, u) in cols.items():
-                full = np.full(int(slots[-1]) + 1, np.nan)
-                full[slots] = np.asarray(y, dtype=np.float64)
-                cols[name] = (c, full, u)
+            from inertialab.io.timestamps import on_slots
+
+            cols = {name: (c, on_slots(y, slots), u) for name, (c, y, u) in cols.items()}
     g = g_local if g_local is not None else float(rec.meta.get("g_local_mps2", U.G_STANDARD))
     try:
         return analyse_imu(cols, rate_hz=float(fs), taus=taus, method=method, g_local=g,
