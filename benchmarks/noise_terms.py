@@ -58,7 +58,7 @@ HOURS = 10.0
 CURVE_VERSION = "mems-presets/1|oadev-octave"
 #: key of the cached fits: bump when the fit code changes (METHOD_VERSION: per method)
 FIT_VERSION = "terms/3-bandB-slope-spread"
-METHOD_VERSION = {"gmwm": "gmwm/6-edf-dr-corrboot-kub", "wls": "band-lo64", "ols": "band-lo64"}
+METHOD_VERSION = {"gmwm": "gmwm/6-edf-dr-corrboot-kub", "wls": "band-lo64-rspan", "ols": "band-lo64-rspan"}
 _FIT_SOURCES = ("terms.py", "_terms_base.py", "_terms_ls.py", "_terms_slope.py", "gmwm.py",
                 "_gmwm_cov.py", "_gmwm_avar.py", "edf.py")
 ROOT = Path(__file__).resolve().parents[1]

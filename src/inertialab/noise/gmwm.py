@@ -214,7 +214,8 @@ class GmwmFit:
     fitted on; ``wic``: its criterion; ``candidates``: name -> WIC of every model tried;
     ``objective``; ``tau_range_s`` of the fitted scales; ``k_upper``: where the selected
     model has no random walk, the upper percentile of K in the best candidate with one
-    (its upper bound; NaN otherwise)."""
+    (its upper bound; NaN otherwise); ``r_upper``: the same for a drift (``omega``, rate
+    unit per sample)."""
 
     processes: tuple
     wv: WaveletVariance
@@ -226,6 +227,7 @@ class GmwmFit:
     b_ci: tuple = (float("nan"), float("nan"))
     k_ci: tuple = (float("nan"), float("nan"))
     k_upper: float = float("nan")
+    r_upper: float = float("nan")
 
     @property
     def name(self) -> str:
@@ -422,16 +424,31 @@ def fit_gmwm_wv(wv: WaveletVariance, *, max_gm: int = 3, n_boot: int = 50, seed:
     procs, b_ci, k_ci = _with_intervals(spec, theta, procs, wv, (bias, W, eta_a, corr),
                                         n_boot, seed, confidence,
                                         [fits[k][:2] for k in ranked])
-    k_upper = float("nan")
-    rw_names = [k for k in cands if "RW" in fits[k][0]]
-    if "RW" not in spec and n_boot > 0 and rw_names:
-        # K not selected: its upper bound is the upper percentile of K in the best
-        # candidate with a random walk (issue 14 item 2: an absent term as an upper bound)
-        rw_spec, rw_theta, _ = fits[min(rw_names, key=cands.get)]
-        k_upper = _with_intervals(rw_spec, rw_theta, _unpack(rw_spec, rw_theta, tau0), wv,
-                                  (bias, W, eta_a, corr), n_boot, seed, confidence)[2][1]
+    # a random walk or a drift not selected: its upper bound is the upper bootstrap
+    # percentile of K (R) in the best candidate that has one (issue 14 item 2: an absent
+    # term as an upper bound, never a bare 0)
+    weights = (bias, W, eta_a, corr)
+    k_upper = r_upper = float("nan")
+    if "RW" not in spec and n_boot > 0:
+        boot = _best_with("RW", cands, fits, wv, weights, n_boot, seed, confidence)
+        k_upper = boot[2][1] if boot else k_upper
+    if "DR" not in spec and n_boot > 0:
+        boot = _best_with("DR", cands, fits, wv, weights, n_boot, seed, confidence)
+        if boot:
+            r_upper = next(p.ci["omega"][1] for p in boot[0] if p.kind == "DR")
     return GmwmFit(tuple(procs), wv, cands[best], obj, cands,
-                   (float(taus[0]), float(taus[-1])), n_boot, b_ci, k_ci, k_upper)
+                   (float(taus[0]), float(taus[-1])), n_boot, b_ci, k_ci, k_upper, r_upper)
+
+
+def _best_with(kind, cands, fits, wv, weights, n_boot, seed, confidence):
+    """:func:`_with_intervals` of the best-WIC candidate holding a process ``kind``
+    (None when no candidate has one)."""
+    names = [k for k in cands if kind in fits[k][0]]
+    if not names:
+        return None
+    spec, theta, _ = fits[min(names, key=cands.get)]
+    return _with_intervals(spec, theta, _unpack(spec, theta, wv.tau0_s), wv, weights,
+                           n_boot, seed, confidence)
 
 
 def _select(specs, target, taus, W, tau0, T):
@@ -612,11 +629,13 @@ def gmwm_noise_terms(fit: GmwmFit, conv, rate_hz: float, result=None):
         flags = (() if present else ("absent",)) + extra
         reason = "" if present else f"not in the model selected by the WIC ({fit.name})"
         ub = float("nan")
-        if name == "K" and not present and math.isfinite(fit.k_upper):
-            lo_hi, ub = (0.0, fit.k_upper), k * fit.k_upper
+        upper = {"K": (fit.k_upper, "a random walk"),
+                 "R": (fit.r_upper / tau0, "a drift")}.get(name)
+        if upper and not present and math.isfinite(upper[0]):
+            lo_hi, ub = (0.0, upper[0]), k * upper[0]
             flags += ("upper_bound",)
-            reason += ("; upper bound: the upper bootstrap percentile of K in the best "
-                       "model with a random walk")
+            reason += (f"; upper bound: the upper bootstrap percentile of {name} in the "
+                       f"best model with {upper[1]}")
         val = k * a
         dens = per = None
         if name == "N":

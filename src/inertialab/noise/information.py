@@ -1,0 +1,159 @@
+"""How well a record of given length can determine its noise terms: the Cramér–Rao bound
+of a latent rate model under Whittle's likelihood (issue 14 item 3).
+
+A static rate record of ``n`` samples at ``tau0 = 1/rate_hz`` is modelled as
+
+    y_k = w_k + sum_i g_i,k + r_k
+
+with ``w`` white (variance ``sw2`` per sample), ``g_i`` first-order Gauss–Markov
+processes (stationary variance ``s_i^2``, ``phi_i = exp(-tau0/Tc_i)``) and ``r`` a
+random walk (increment variance ``sr2 = K^2 tau0``). Its first difference is stationary,
+with spectrum (radians per sample)
+
+    S(w) = |1 - e^{-iw}|^2 [ sw2 + sum_i s_i^2 (1 - phi_i^2) / |1 - phi_i e^{-iw}|^2 ] + sr2.
+
+Whittle's approximation treats the periodogram ordinates at the Fourier frequencies
+``w_j = 2 pi j / n`` (``j = 1 .. n/2 - 1``) as independent exponentials of mean
+``S(w_j)``, so the Fisher information of the log-parameters ``theta`` is
+
+    I_ab = sum_j d_a log S(w_j) d_b log S(w_j),
+
+and ``sqrt((I^-1)_aa)`` bounds the standard deviation of any unbiased estimator of
+``theta_a`` (asymptotically). For K: ``sd(log K) = sd(log sr2) / 2``. Two bounds are
+returned: every other parameter known (an oracle; the least any method can reach) and
+every parameter free (what a method that must also estimate the Gauss–Markov sum faces).
+A method with a more rigid model than the truth (the Allan fit's band-limited B) may
+beat the all-free bound at the cost of a bias; no method beats the oracle bound.
+
+A linear ramp (R) is a constant in the first difference and asymptotically orthogonal
+to these parameters; a sensor's internal low-pass filter and its rate quantisation act
+on the short taus only and are left out (quantisation adds ``LSB^2/12`` to ``sw2``).
+
+Written here because no maintained Python package computes Whittle Fisher information
+for a sum of latent processes (R's ``gmwm``/``simts`` give GMWM's asymptotic covariance,
+not the likelihood bound).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from inertialab.errors import InputError
+
+#: Fourier frequencies summed per block (bounds the memory to a few MB per parameter)
+BLOCK = 1 << 18
+#: median |x| / sd of a normal variable: turns a bound on sd(log K) into a bound on the
+#: median |relative error| (for small errors, |K_hat/K - 1| ~ |log K_hat - log K|)
+MEDIAN_ABS_NORMAL = 0.6744897501960817
+
+
+@dataclass(frozen=True)
+class KBound:
+    """Cramér–Rao bounds on ``log K`` (1-sigma) for one record: ``known`` (every other
+    parameter known), ``free`` (every parameter estimated); ``n`` samples. Their
+    ``*_median_err`` are the implied floors on the median |relative error| of K."""
+
+    n: int
+    known: float
+    free: float
+
+    @property
+    def known_median_err(self) -> float:
+        return MEDIAN_ABS_NORMAL * self.known
+
+    @property
+    def free_median_err(self) -> float:
+        return MEDIAN_ABS_NORMAL * self.free
+
+    def to_dict(self) -> dict:
+        return {"n": self.n, "sd_log_k_known": self.known, "sd_log_k_free": self.free,
+                "median_err_known": self.known_median_err,
+                "median_err_free": self.free_median_err}
+
+
+def whittle_information(n: int, sw2: float, gm=(), sr2: float = 0.0) -> tuple:
+    """Fisher information matrix of the log-parameters under Whittle's likelihood of the
+    first-differenced record (module docstring).
+
+    Parameters
+    ----------
+    n : int
+        Samples in the record.
+    sw2 : float
+        White-noise variance per sample (> 0).
+    gm : sequence of (s2, tc_samples)
+        Gauss–Markov processes: stationary variance and correlation time in samples.
+    sr2 : float
+        Random-walk increment variance per sample (0: no random walk, not a parameter).
+
+    Returns
+    -------
+    (names, I) : list of str, ndarray (p, p)
+        ``names`` in order ``log_sw2``, then ``log_s2_i``, ``log_tc_i`` per process, then
+        ``log_sr2`` where ``sr2 > 0``.
+    """
+    n = int(n)
+    if n < 8:
+        raise InputError(f"information bound needs at least 8 samples, got {n}")
+    if not sw2 > 0:
+        raise InputError(f"white-noise variance must be > 0, got {sw2}")
+    gm = [(float(s2), float(tc)) for s2, tc in gm]
+    if any(not (s2 > 0 and tc > 0) for s2, tc in gm):
+        raise InputError(f"Gauss-Markov variances and correlation times must be > 0: {gm}")
+    names = ["log_sw2"]
+    for i in range(len(gm)):
+        names += [f"log_s2_{i}", f"log_tc_{i}"]
+    if sr2 > 0:
+        names.append("log_sr2")
+    p = len(names)
+    info = np.zeros((p, p))
+    last = n // 2 - 1
+    for j0 in range(1, last + 1, BLOCK):
+        j = np.arange(j0, min(j0 + BLOCK, last + 1), dtype=float)
+        c = np.cos(2.0 * np.pi * j / n)
+        d = 2.0 - 2.0 * c
+        grads = [d * sw2]
+        s = d * sw2 + sr2
+        for s2, tc in gm:
+            phi = math.exp(-1.0 / tc)
+            den = 1.0 - 2.0 * phi * c + phi * phi
+            g = d * s2 * (1.0 - phi * phi) / den
+            s = s + g
+            # d g / d log tc = d g / d phi * phi / tc
+            dg_dphi = d * s2 * (-2.0 * phi * den - (1.0 - phi * phi) * (2.0 * phi - 2.0 * c)) \
+                / den**2
+            grads += [g, dg_dphi * phi / tc]
+        if sr2 > 0:
+            grads.append(np.full_like(c, sr2))
+        G = np.stack(grads) / s
+        info += G @ G.T
+    return names, info
+
+
+def k_bound(n: int, sw2: float, gm=(), sr2: float = 0.0) -> KBound:
+    """Cramér–Rao bounds on ``log K`` for a record of ``n`` samples of the model in the
+    module docstring (arguments as :func:`whittle_information`; ``sr2 > 0``)."""
+    if not sr2 > 0:
+        raise InputError("K bound needs a random walk (sr2 > 0)")
+    names, info = whittle_information(n, sw2, gm, sr2)
+    k = names.index("log_sr2")
+    known = 0.5 / math.sqrt(info[k, k])
+    free = 0.5 * math.sqrt(float(np.linalg.inv(info)[k, k]))
+    return KBound(n=int(n), known=known, free=free)
+
+
+def preset_k_bound(preset, hours: float, rate_hz: float | None = None) -> KBound:
+    """:func:`k_bound` of a :class:`inertialab.sim.mems_presets.MemsPreset` logged for
+    ``hours`` at ``rate_hz`` (default its own rate): white ``n_white^2 fs + LSB^2/12``,
+    its Gauss–Markov processes and its random walk."""
+    fs = float(rate_hz or preset.rate_hz)
+    n = int(round(hours * 3600.0 * fs))
+    sw2 = preset.n_white**2 * fs + preset.lsb**2 / 12.0
+    gm = [(s * s, tc * fs) for s, tc in preset.gm]
+    return k_bound(n, sw2, gm, preset.k_rw**2 / fs)
+
+
+__all__ = ["KBound", "k_bound", "preset_k_bound", "whittle_information"]
