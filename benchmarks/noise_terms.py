@@ -49,7 +49,10 @@ SEEDS = {"consumer-100hz": 40, "industrial-400hz": 20, "consumer-1khz": 8,
          "accel-200hz": 20}
 QUICK = {"consumer-100hz": 3, "accel-200hz": 2}
 PRESETS = ("consumer-100hz", "industrial-400hz", "consumer-1khz", "accel-200hz")
-METHODS = ("wls", "ols", "slope", "gmwm")
+METHODS = ("wls", "ols", "slope", "gmwm", "wls-flicker")
+#: benchmark method name -> (fit_noise_terms method, extra keyword arguments);
+#: "wls-flicker": the conventional five-term fit, B a constant c_0 (IEEE 952)
+_FIT_ARGS = {"wls-flicker": ("wls", {"b_shape": "flicker"})}
 #: GMWM costs ~10 s per fit (16 candidate models): run on the first seeds only
 GMWM_SEEDS = 10
 TERMS = ("N", "B", "K", "R", "Q")
@@ -58,7 +61,8 @@ HOURS = 10.0
 CURVE_VERSION = "mems-presets/1|oadev-octave"
 #: key of the cached fits: bump when the fit code changes (METHOD_VERSION: per method)
 FIT_VERSION = "terms/3-bandB-slope-spread"
-METHOD_VERSION = {"gmwm": "gmwm/6-edf-dr-corrboot-kub", "wls": "band-lo64-rspan", "ols": "band-lo64-rspan"}
+METHOD_VERSION = {"gmwm": "gmwm/7-window2-drprofile", "wls": "band-lo64-rspan",
+                  "ols": "band-lo64-rspan", "wls-flicker": "flicker-rspan"}
 _FIT_SOURCES = ("terms.py", "_terms_base.py", "_terms_ls.py", "_terms_slope.py", "gmwm.py",
                 "_gmwm_cov.py", "_gmwm_avar.py", "edf.py")
 ROOT = Path(__file__).resolve().parents[1]
@@ -152,8 +156,9 @@ def fit_row(preset: str, seed: int, method: str, hours: float = HOURS) -> dict:
 
     r, truth, unit, kind = curve(preset, seed, hours)
     t0 = time.process_time()
-    t = fit_noise_terms(r, unit=unit, kind=kind, method=method,
-                        n_boot=50 if method == "gmwm" else 200, seed=seed)
+    fm, extra = _FIT_ARGS.get(method, (method, {}))
+    t = fit_noise_terms(r, unit=unit, kind=kind, method=fm,
+                        n_boot=50 if method == "gmwm" else 200, seed=seed, **extra)
     cpu = time.process_time() - t0
     f = {k: {"value": getattr(t, k).value, "ci": list(getattr(t, k).ci),
              "flags": list(getattr(t, k).flags)} for k in TERMS}
@@ -257,6 +262,20 @@ def _compact(row: dict) -> list:
     return out
 
 
+#: record lengths (h) of the K information table
+BOUND_HOURS = (10.0, 20.0, 40.0)
+
+
+def k_bounds(preset: str, hours=BOUND_HOURS) -> dict:
+    """Whittle Cramér–Rao bounds on log K of the preset (:mod:`inertialab.noise.information`)
+    per record length: what any unbiased method can reach (others known) and what one that
+    also estimates the Gauss–Markov sum faces (all free)."""
+    from inertialab.noise.information import preset_k_bound
+    from inertialab.sim.mems_presets import preset as get
+
+    return {f"{h:g}": preset_k_bound(get(preset), h).to_dict() for h in hours}
+
+
 def assemble(methods=METHODS, hours: float = HOURS) -> dict:
     """The stored result from the cache (every preset and method with cached rows)."""
     out = {"hours": hours, "methods": list(methods), "confidence": 0.95,
@@ -280,6 +299,7 @@ def assemble(methods=METHODS, hours: float = HOURS) -> dict:
             "sources": {m: sorted({r.get("source", "") for r in rs}) for m, rs in per.items()},
             "summary": {m: _summary(rs) for m, rs in per.items()},
             "rows": {m: [_compact(r) for r in rs] for m, rs in per.items()}}
+        out["presets"][preset]["k_bound"] = k_bounds(preset)
         cpu_total += sum(r["cpu_s"] for rs in per.values() for r in rs)
         seeds = {r["seed"] for rs in per.values() for r in rs}
         for seed in seeds:
@@ -342,6 +362,24 @@ def markdown(result: dict) -> str:
         for preset, m, a in agree:
             lines.append(f"| {preset} | {m} | {a['n']} | {100 * a['N']:.0f} % | "
                          f"{100 * a['B']:.0f} % | {100 * a['K']:.0f} % |")
+    bounds = [(preset, p["k_bound"]) for preset, p in result["presets"].items()
+              if "k_bound" in p]
+    if bounds:
+        lines += ["", "What a record can tell about K: the Whittle Cramér–Rao bound on log K "
+                  "(`noise.information`; 1-sigma, and the median |error| floor 0.674 sigma "
+                  "it implies), with every other parameter known (an oracle) and with the "
+                  "Gauss–Markov sum estimated too; WLS's measured median |error| beside it:",
+                  "", "| preset | hours | oracle sd / median floor | all free sd / median "
+                  "floor | WLS median abs err |", "|---|---|---|---|---|"]
+        for preset, kb in bounds:
+            wls = result["presets"][preset]["summary"].get("wls", {}).get("K", {})
+            for h, b in kb.items():
+                w = (f"{100 * wls['median_abs_err']:.1f} %"
+                     if wls and float(h) == result["hours"] else "")
+                lines.append(f"| {preset} | {h} | {100 * b['sd_log_k_known']:.1f} % / "
+                             f"{100 * b['median_err_known']:.1f} % | "
+                             f"{100 * b['sd_log_k_free']:.1f} % / "
+                             f"{100 * b['median_err_free']:.1f} % | {w} |")
     lines.append("")
     return "\n".join(lines)
 

@@ -379,8 +379,6 @@ def test_wls_recovers_band_limited_b_and_k_exactly():
     # (4 and 16 x 10^0.75 x the shortest tau): the profile finds the corners and the
     # terms (1e-6); the pure-flicker fit of the same curve takes K far off (measured
     # -61 %), which is the bias the band removes (issue 14 item 2).
-    import inertialab.noise._terms_ls as L
-
     taus = np.geomspace(0.4, 0.4 * 2**14, 15)
     t_lo, t_hi = 4 * 0.4, 16 * 0.4 * 10**0.75
     n, b, k = 18.0, 3.0, 10 / 60  # deg/h sqrt(s), deg/h, deg/h/sqrt(s)
@@ -393,13 +391,11 @@ def test_wls_recovers_band_limited_b_and_k_exactly():
     np.testing.assert_allclose(t.model_dev(taus), r.dev, rtol=1e-6)
     d = t.to_dict()
     assert d["bias_gm"] == t.bias_gm and NoiseTerms.from_dict(d).to_dict() == d
-    flat = L._shapes_for
-    try:
-        L._shapes_for = lambda taus, band: None
-        t0 = fit_noise_terms(r, unit="dph", tau_range_s=(0.3, 1e5), n_boot=0)
-    finally:
-        L._shapes_for = flat
+    # the conventional five-term fit (B a constant c_0), the public b_shape="flicker"
+    t0 = fit_noise_terms(r, unit="dph", tau_range_s=(0.3, 1e5), n_boot=0, b_shape="flicker")
     assert t0.bias_gm is None and abs(t0.K.value / (k * 60) - 1) > 0.3
+    with pytest.raises(InputError, match="b_shape"):
+        fit_noise_terms(r, unit="dph", b_shape="gm")
 
 
 def test_mems_preset_terms_within_bounds_and_intervals():
@@ -466,3 +462,29 @@ def test_batched_nnls_equals_scipy_nnls():
                               <= 1e-7 * np.max(np.abs(Xs[d]) @ np.abs(ref))), (trial, d, b)
                 n_checked += 1
     assert n_checked == 40 * 3 * 5
+
+
+def test_non_significant_ramp_widens_the_other_intervals_to_the_fit_without_it():
+    # issue 14 item 3: where R is only an upper bound the values stay the full fit's and
+    # the Q N B K intervals span the fits with and without R (flag span_without_R)
+    import inertialab.noise._terms_ls as L
+
+    rng = np.random.default_rng(5)
+    n, fs = 360_000, 10.0
+    y = (rng.standard_normal(n) * 2.0 + np.cumsum(rng.standard_normal(n)) * 2e-3
+         + 2e-7 * np.arange(n))
+    r = A.oadev(y, rate_hz=fs, taus="octave")
+    t = fit_noise_terms(r, unit="dph", n_boot=60, seed=1)
+    assert "upper_bound" in t.R.flags
+    try:
+        L._SPAN_WITHOUT_R = False
+        full = fit_noise_terms(r, unit="dph", n_boot=60, seed=1)
+    finally:
+        L._SPAN_WITHOUT_R = True
+    for k in "QNBK":
+        a, b = getattr(t, k), getattr(full, k)
+        assert a.value == b.value
+        assert a.ci[0] <= b.ci[0] and a.ci[1] >= b.ci[1]
+        if "span_without_R" in a.flags:
+            assert a.ci != b.ci and "without the non-significant R" in a.reason
+    assert "span_without_R" in t.K.flags, (t.K.ci, full.K.ci)

@@ -138,7 +138,7 @@ def fit_noise_terms(result, *, unit: str, kind: str | None = "gyro", method: str
                     rate_hz: float | None = None, tau_range_s=None,
                     g_local: float = units.G_STANDARD, n_reweight: int = 5,
                     confidence: float = CONFIDENCE, n_boot: int | None = None, seed: int = 0,
-                    auto_range: bool = True) -> NoiseTerms:
+                    auto_range: bool = True, b_shape: str = "band") -> NoiseTerms:
     """Fit Q N B K R to a :class:`~inertialab.noise.allan.DeviationResult`.
 
     Parameters
@@ -170,6 +170,11 @@ def fit_noise_terms(result, *, unit: str, kind: str | None = "gyro", method: str
         Seed of the bootstrap.
     auto_range : bool, default True
         Cut the filter-coloured short taus (:func:`auto_tau_range`).
+    b_shape : {"band", "flicker"}, default "band"
+        "wls"/"ols" only: B as band-limited flicker with profiled corners (the default,
+        for a bias instability that is a sum of Gauss–Markov processes), or IEEE 952's
+        textbook constant ``c_0`` at every tau (the conventional five-term fit, kept as the
+        baseline; on the MEMS presets it takes K low, docs/noise-terms.md §3).
 
     Raises
     ------
@@ -181,6 +186,8 @@ def fit_noise_terms(result, *, unit: str, kind: str | None = "gyro", method: str
         raise InputError(f"unknown noise-term method '{method}' (use wls, ols, slope, gmwm)")
     if not 0 < confidence < 1:
         raise InputError(f"confidence must be in (0, 1), got {confidence}")
+    if b_shape not in ("band", "flicker"):
+        raise InputError(f"b_shape must be 'band' or 'flicker', got {b_shape!r}")
     if rate_hz is None:
         rate_hz = 1.0 / float(result.tau0_s)
     if n_boot is None:
@@ -194,7 +201,8 @@ def fit_noise_terms(result, *, unit: str, kind: str | None = "gyro", method: str
         g = fit_gmwm_curve(result, sel, confidence=confidence, n_boot=n_boot, seed=seed)
         return gmwm_noise_terms(g, conv, rate_hz, result)
 
-    return fit_ls(result, sel, conv, rate_hz, method, n_reweight, confidence, n_boot, seed)
+    return fit_ls(result, sel, conv, rate_hz, method, n_reweight, confidence, n_boot, seed,
+                  band=b_shape == "band")
 
 
 # ----------------------------------------------------------------------------- identification
