@@ -10,6 +10,11 @@ The record's Haar wavelet variance (WV) at dyadic scales ``tau_j = m tau0``,
 - ``GM`` one or more first-order Gauss–Markov / AR(1) processes (stationary variance
   ``s2``, correlation time ``tc_s`` between the first fitted scale and 1/8 of the last,
   the bias instability),
+- ``BL`` band-limited flicker: the log-uniform mixture of Gauss–Markov processes with
+  correlation times in ``[t_lo_s, t_hi_s]`` (peak AVAR ``c0``; the Allan fit's B term,
+  :func:`inertialab.noise._terms_base.band_shape`), three parameters for a bias
+  instability spread over decades that ``k GM`` fits with ``2k`` (candidates hold
+  either GMs or one BL),
 - ``FL`` the remainder ``-3 f2/tau^2`` a sensor's internal low-pass filter leaves on white
   noise beyond the cut scales (only when a filter was detected; not an IEEE term).
 
@@ -44,10 +49,16 @@ starts. The short scales coloured by a sensor's internal filter are cut as in
 :func:`inertialab.noise.terms.auto_tau_range`; scales with ``eta3 < 3`` are left out.
 
 Model selection (:func:`fit_gmwm`): every candidate ``WN [+QN] [+RW [+DR]] + k GM``
-(k = 0..``max_gm``; a drift only beside a random walk, :data:`DR_NEEDS_RW`) is fitted and
+(k = 0..``max_gm``) or ``... + BL`` (a drift only beside a random walk,
+:data:`DR_NEEDS_RW`) is fitted and
 the one with the least wavelet information criterion ``WIC = objective + 2 p`` is chosen —
 Guerrier et al.'s WIC ``E[objective] + 2 tr(...)`` with its optimism term at its
 asymptotic value ``p`` (number of parameters) for a correctly weighted objective.
+
+The B and K intervals span those of every candidate within :data:`WIC_WINDOW` of the
+selected one (the WIC does not tell them apart), and a random walk or drift left out is
+reported as an upper bound (K: the bootstrap of the best model with one; R: the
+objective's profile in the drift, :func:`_drift_upper`).
 
 Parameter intervals: parametric bootstrap in the WV domain: replicate WVs drawn around
 the selected model with ``chi2(edf_j)/edf_j`` marginals and the cross-scale correlation
@@ -59,7 +70,7 @@ IEEE terms from the latent processes (:func:`gmwm_noise_terms`): ``N^2 = sigma2 
 ``K^2 = gamma2/tau0`` (plus ``2 s2/tc`` of any GM whose Allan peak 1.89 tc is not
 followed by an octave of fitted scales: within the record it is a random walk, flag
 ``from_gm``), ``R = omega/tau0``, Q, and ``B = max_tau sigma_GM(tau)/0.6643`` of the other
-GMs —
+GMs or of the BL process —
 the IEEE 952 flat-region value of the Gauss–Markov sum, the same definition as the
 virtual-lab truth (:mod:`inertialab.sim.mems_presets`).
 
@@ -88,6 +99,7 @@ from inertialab.noise._gmwm_avar import (  # re-exported (public API)
     avar_rw,
     avar_white,
 )
+from inertialab.noise._terms_base import band_shape
 
 #: sqrt(2 ln2 / pi) (IEEE 952 flicker floor), as in :mod:`inertialab.noise.terms`.
 BI_FACTOR = math.sqrt(2.0 * math.log(2.0) / math.pi)
@@ -152,7 +164,14 @@ def wv_from_curve(result, sel=None, *, confidence: float = 0.95) -> WaveletVaria
 # ----------------------------------------------------------------------------- model
 
 
-_ORDER = ("QN", "WN", "GM", "RW", "DR")
+_ORDER = ("QN", "WN", "GM", "BL", "RW", "DR")
+
+#: number of log parameters of each latent process
+_N_PARAMS = {"GM": 2, "BL": 3}
+
+
+def _n_params(spec) -> int:
+    return sum(_N_PARAMS.get(k, 1) for k in spec)
 
 
 @dataclass(frozen=True)
@@ -176,6 +195,9 @@ class Process:
             return avar_drift(m, p["omega"])
         if self.kind == "FL":
             return -avar_quant(m, p["f2"], tau0)
+        if self.kind == "BL":
+            return p["c0"] * band_shape(np.asarray(m, dtype=float) * tau0, p["t_lo_s"],
+                                        p["t_hi_s"])
         return avar_ar1(m, math.exp(-tau0 / p["tc_s"]), p["s2"])
 
     def to_dict(self) -> dict:
@@ -195,6 +217,11 @@ def _unpack(spec, theta, tau0):
         if kind == "GM":
             out.append(Process("GM", {"s2": _exp(theta[i]), "tc_s": _exp(theta[i + 1])}))
             i += 2
+        elif kind == "BL":
+            lo = _exp(theta[i + 1])
+            out.append(Process("BL", {"c0": _exp(theta[i]), "t_lo_s": lo,
+                                      "t_hi_s": lo * _exp(theta[i + 2])}))
+            i += 3
         else:
             key = {"WN": "sigma2", "QN": "q2", "RW": "gamma2", "DR": "omega", "FL": "f2"}[kind]
             out.append(Process(kind, {key: _exp(theta[i])}))
@@ -275,6 +302,10 @@ def _start(spec, wv, taus, tau0, T):
             th.append(math.log(max(avar[-1] * 3.0 / m[-1] * 0.5, 1e-300)))
         elif kind == "DR":
             th.append(math.log(max(math.sqrt(avar[-1] * 2.0) / m[-1] * 0.3, 1e-300)))
+        elif kind == "BL":  # flat at the curve's minimum between the first and last scales
+            lo, hi = taus[0] * 2.0, taus[-1] / 2.0
+            th += [math.log(float(np.min(avar)) * 0.5), math.log(lo),
+                   math.log(max(hi / lo, BL_RATIO_MIN * 1.01))]
         else:
             tc = float(tcs[j_gm])
             j_gm += 1
@@ -291,6 +322,11 @@ def _start(spec, wv, taus, tau0, T):
 TC_MAX_FRACTION = 1.0 / 8.0
 
 
+#: ratio t_hi/t_lo of a BL process: at least two octaves (below, one GM does), at most
+#: 1e6 (beyond the fitted scales it is flat, IEEE 952 flicker)
+BL_RATIO_MIN, BL_RATIO_MAX = 4.0, 1e6
+
+
 def _bounds(spec, tau_min, tau_max):
     lo, hi = [], []
     tc_hi = math.log(max(TC_MAX_FRACTION * tau_max, 1.01 * tau_min))
@@ -298,6 +334,9 @@ def _bounds(spec, tau_min, tau_max):
         if kind == "GM":  # a GM faster than the first fitted scale looks like white noise
             lo += [-np.inf, math.log(tau_min)]
             hi += [np.inf, tc_hi]
+        elif kind == "BL":  # corners: t_lo as a GM's tc, t_hi >= BL_RATIO_MIN t_lo
+            lo += [-np.inf, math.log(tau_min), math.log(BL_RATIO_MIN)]
+            hi += [np.inf, tc_hi, math.log(BL_RATIO_MAX)]
         else:
             lo.append(-np.inf)
             hi.append(np.inf)
@@ -352,15 +391,15 @@ def _fit_spec(spec, target, taus, W, tau0, T, theta0=None, max_nfev=200, fixed_l
 DR_NEEDS_RW = True
 
 
-def _specs(max_gm: int, with_qn: bool, with_fl: bool):
+def _specs(max_gm: int, with_qn: bool, with_fl: bool, with_bl: bool = True):
     out = []
     for qn, rw, dr in product((False, True) if with_qn else (False,), (False, True),
                               (False, True)):
         if dr and not rw and DR_NEEDS_RW:
             continue
-        for k in range(0, max_gm + 1):
+        for bias in [("GM",) * k for k in range(0, max_gm + 1)] + ([("BL",)] if with_bl else []):
             spec = (("FL",) if with_fl else ()) + (("QN",) if qn else ()) + ("WN",) \
-                + ("GM",) * k + (("RW",) if rw else ()) + (("DR",) if dr else ())
+                + bias + (("RW",) if rw else ()) + (("DR",) if dr else ())
             out.append(spec)
     return out
 
@@ -465,7 +504,7 @@ def _drift_upper(spec, target, taus, W, tau0, T, obj, confidence):
     spec2 = (spec if "RW" in spec else spec + ("RW",)) + ("DR",)
     m_last = taus[-1] / tau0
     avar_last = 2.0 * math.exp(target[-1])
-    dof = max(taus.size - (len(spec) + spec.count("GM")), 1)
+    dof = max(taus.size - _n_params(spec), 1)
     crit = chi2.ppf(confidence, 1) * max(1.0, obj / dof)
     theta, prev = None, None
     for share in DRIFT_SHARES:
@@ -510,7 +549,7 @@ def _select(specs, target, taus, W, tau0, T):
     """Fit every candidate; ``({name: WIC}, {name: (spec, theta, objective)})``."""
     cands, fits = {}, {}
     for spec in specs:
-        p = len(spec) + spec.count("GM")
+        p = _n_params(spec)
         if taus.size < p + 2:
             continue
         r = _fit_spec(spec, target, taus, W, tau0, T)
@@ -571,7 +610,7 @@ def _with_intervals(spec, theta, procs, wv, weights, n_boot, seed, confidence, a
                 continue
             if j == 0:
                 reps.append(r.x)
-            wic = 2.0 * float(r.cost) + 2.0 * (len(sp) + sp.count("GM"))
+            wic = 2.0 * float(r.cost) + 2.0 * _n_params(sp)
             if best is None or wic < best[0]:
                 best = (wic, _unpack(sp, r.x, tau0))
         if best is not None:
@@ -580,7 +619,7 @@ def _with_intervals(spec, theta, procs, wv, weights, n_boot, seed, confidence, a
     reps = np.array(reps)
     q = (0.5 * (1 - confidence), 0.5 * (1 + confidence))
     b_ci = k_ci = nan2
-    if bs and any("GM" in a[0] for a in alts):
+    if bs and any("GM" in a[0] or "BL" in a[0] for a in alts):
         b_ci = tuple(float(v) for v in np.quantile(bs, q))
     if ks and any("GM" in a[0] or "RW" in a[0] for a in alts):
         k_ci = tuple(float(v) for v in np.quantile(ks, q))
@@ -620,11 +659,13 @@ def b_of(processes, tau0: float, tau_range_s=None) -> float:
     over 1024 log-spaced taus of ``tau_range_s`` (the fitted scales: a flat region must
     be seen in the data — a GM whose peak lies beyond the record is read as random walk,
     not as bias instability), else over ``[tau0, 1e3 max tc]``. Rate unit; 0 without GM."""
-    gms = [p for p in processes if p.kind == "GM" and not _slow(p, tau_range_s)]
+    gms = [p for p in processes
+           if (p.kind == "GM" and not _slow(p, tau_range_s)) or p.kind == "BL"]
     if not gms:
         return 0.0
     if tau_range_s is None:
-        lo, hi = tau0, 1e3 * max(p.params["tc_s"] for p in gms)
+        lo = tau0
+        hi = 1e3 * max(p.params.get("tc_s", p.params.get("t_hi_s", tau0)) for p in gms)
     else:
         lo, hi = tau_range_s
     m = np.geomspace(max(lo / tau0, 1.0), max(hi / tau0, 2.0), 1024)
@@ -669,7 +710,7 @@ def gmwm_noise_terms(fit: GmwmFit, conv, rate_hz: float, result=None):
         k = conv.factor(name)
         extra = ()
         if name == "B":
-            kind = "GM"
+            kind = "BL" if "BL" in by else "GM"
             a = b_of(fit.processes, tau0, fit.tau_range_s)
             lo_hi = fit.b_ci
             coeffs[2] = (a * BI_FACTOR) ** 2

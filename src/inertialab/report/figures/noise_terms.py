@@ -22,7 +22,7 @@ from inertialab.report.section import Figure
 _STYLE = {"Q": ("tab:purple", "Q"), "N": ("tab:blue", "N"), "B": ("tab:green", "B"),
           "K": ("tab:orange", "K"), "R": ("tab:red", "R")}
 _PROC = {"WN": "tab:blue", "QN": "tab:purple", "RW": "tab:orange", "DR": "tab:red",
-         "GM": "tab:green", "FL": "0.5"}
+         "GM": "tab:green", "BL": "tab:olive", "FL": "0.5"}
 
 
 def allan_terms_figure(result, terms, *, unit_label: str | None = None, truth=None,
