@@ -91,3 +91,23 @@ def test_bad_input_named():
         k_bound(100, 1.0)
     with pytest.raises(InputError, match="Gauss-Markov"):
         whittle_information(100, 1.0, [(1.0, -2.0)])
+
+
+def test_bound_of_a_fitted_model_equals_the_preset_bound_for_its_truth():
+    # a GMWM-style model holding the preset's own processes (and a drift, which the bound
+    # leaves out) gives the preset's bound
+    from inertialab.noise.gmwm import Process
+    from inertialab.noise.information import processes_k_bound
+
+    p = preset("accel-200hz")
+    fs, hours = 20.0, 10.0
+    tau0, n = 1 / fs, int(hours * 3600 * fs)
+    procs = [Process("WN", {"sigma2": p.n_white**2 * fs + p.lsb**2 / 12}),
+             Process("RW", {"gamma2": p.k_rw**2 / fs}), Process("DR", {"omega": 1e-9})]
+    procs += [Process("GM", {"s2": s * s, "tc_s": tc}) for s, tc in p.gm]
+    want = preset_k_bound(p, hours, rate_hz=fs)
+    got = processes_k_bound(procs, tau0, n)
+    assert got.known == pytest.approx(want.known, rel=1e-12)
+    assert got.free == pytest.approx(want.free, rel=1e-12)
+    with pytest.raises(InputError, match="no random walk"):
+        processes_k_bound(procs[:1], tau0, n)

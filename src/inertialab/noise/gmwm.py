@@ -275,6 +275,7 @@ class GmwmFit:
                 "tau_range_s": [float(v) for v in self.tau_range_s],
                 "n_boot": int(self.n_boot), "b_ci": [float(v) for v in self.b_ci],
                 "k_ci": [float(v) for v in self.k_ci], "k_upper": float(self.k_upper),
+                "r_upper": float(self.r_upper),
                 "b": float(b_of(self.processes, self.wv.tau0_s, self.tau_range_s)),
                 "wv": self.wv.to_dict()}
 

@@ -156,4 +156,30 @@ def preset_k_bound(preset, hours: float, rate_hz: float | None = None) -> KBound
     return k_bound(n, sw2, gm, preset.k_rw**2 / fs)
 
 
-__all__ = ["KBound", "k_bound", "preset_k_bound", "whittle_information"]
+def processes_k_bound(processes, tau0: float, n: int) -> KBound:
+    """:func:`k_bound` of a fitted latent model (the ``processes`` of a
+    :class:`inertialab.noise.gmwm.GmwmFit`: WN, GM, BL, RW; a BL process enters as its
+    sum of sampled Gauss–Markov processes, QN, DR and FL are left out, module docstring)
+    for a record of ``n`` samples at ``tau0`` s: how well a record of that length can
+    determine K if the fitted model is the truth (``n`` larger than the record's: the
+    length needed for a target)."""
+    from inertialab.noise._gmwm_cov import _bl_as_gm
+
+    sw2, sr2, gm = 0.0, 0.0, []
+    for p in processes:
+        q = p.params
+        if p.kind == "WN":
+            sw2 += q["sigma2"]
+        elif p.kind == "RW":
+            sr2 += q["gamma2"]
+        elif p.kind == "GM":
+            gm.append((q["s2"], q["tc_s"] / tau0))
+        elif p.kind == "BL":
+            gm += [(s2, tc / tau0) for s2, tc in _bl_as_gm(q["c0"], q["t_lo_s"], q["t_hi_s"],
+                                                          tau0)]
+    if not sr2 > 0:
+        raise InputError("the model has no random walk: K has no bound to give")
+    return k_bound(n, sw2, gm, sr2)
+
+
+__all__ = ["KBound", "k_bound", "preset_k_bound", "processes_k_bound", "whittle_information"]
