@@ -62,8 +62,10 @@ CURVE_VERSION = "mems-presets/1|oadev-octave"
 #: key of the cached fits: bump when the fit code changes (METHOD_VERSION: per method)
 FIT_VERSION = "terms/3-bandB-slope-spread"
 METHOD_VERSION = {"gmwm": "gmwm/8-bl-window2-drprofile", "wls": "band-lo64-rspan",
-                  "ols": "band-lo64-rspan", "wls-flicker": "flicker-rspan"}
+                  "ols": "band-lo64-rspan", "wls-flicker": "flicker-rspan",
+                  "slope": "boot-spread"}
 _FIT_SOURCES = ("terms.py", "_terms_base.py", "_terms_ls.py", "_terms_slope.py", "gmwm.py",
+                "_gmwm_model.py",
                 "_gmwm_cov.py", "_gmwm_avar.py", "edf.py")
 ROOT = Path(__file__).resolve().parents[1]
 

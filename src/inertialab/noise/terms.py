@@ -195,7 +195,7 @@ def fit_noise_terms(result, *, unit: str, kind: str | None = "gyro", method: str
     sel, _ = _select(result, tau_range_s, auto_range and method != "gmwm")
     if method == "slope":
 
-        return fit_slope(result, sel, conv, rate_hz)
+        return fit_slope(result, sel, conv, rate_hz, n_boot=n_boot, seed=seed)
     if method == "gmwm":
 
         g = fit_gmwm_curve(result, sel, confidence=confidence, n_boot=n_boot, seed=seed)
