@@ -31,6 +31,8 @@ import math
 
 import numpy as np
 
+from inertialab.noise._gmwm_avar import avar_ar1
+
 #: sin^4(pi f m) is resolved exactly up to f m = R_OSC, averaged beyond (see docstring)
 R_OSC = 8.0
 #: grid points per decade of frequency (>= 12 points per oscillation of the fastest
@@ -88,8 +90,6 @@ def _bl_as_gm(c0, t_lo, t_hi, tau0):
     "full" weights); the WV itself is ``band_shape``'s continuous mixture, which the
     sampled sum's WV matches within 2 % from 4 t_lo up (test) and exceeds below (1.5x at
     one sample for t_lo = 4 samples)."""
-    from inertialab.noise._gmwm_avar import avar_ar1
-
     k = max(int(math.ceil(BL_GM_PER_DECADE * math.log10(t_hi / t_lo))), 2)
     edges = np.geomspace(t_lo, t_hi, k + 1)
     tcs = np.sqrt(edges[:-1] * edges[1:])  # log-midpoints: each stands for its bin

@@ -175,7 +175,7 @@ def _fit_spec(spec, target, taus, W, tau0, T, theta0=None, max_nfev=200, fixed_l
                 alt[k + 1] = min(alt[k + 1] + math.log(3.0), hi[k + 1] - 1e-6)
                 k += 2
             else:
-                k += 1
+                k += _N_PARAMS.get(kind, 1)
         starts.append(alt)
     best = None
     for th0 in starts:

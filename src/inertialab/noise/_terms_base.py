@@ -143,6 +143,18 @@ def _band_peak(lo: float, hi: float) -> float:
     return float(np.max(_H(xf / lo) - _H(xf / hi)))
 
 
+def span_intervals(a, b) -> tuple:
+    """The smallest interval holding the finite ones of the intervals ``a`` and ``b``
+    (``a`` where neither is finite): how the term intervals carry a choice the data leave
+    open (a ramp in or out, models the WIC does not tell apart, readings that move)."""
+    fin_a = all(math.isfinite(v) for v in a)
+    if not all(math.isfinite(v) for v in b):
+        return tuple(a)
+    if not fin_a:
+        return tuple(b)
+    return (min(a[0], b[0]), max(a[1], b[1]))
+
+
 @dataclass(frozen=True)
 class NoiseTerm:
     """One noise coefficient in its report unit.

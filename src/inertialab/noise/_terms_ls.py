@@ -29,6 +29,7 @@ from inertialab.noise._terms_base import (
     NoiseTerm,
     NoiseTerms,
     band_shape,
+    span_intervals,
 )
 
 
@@ -324,7 +325,7 @@ def _span_without_r(full: dict, without_r: dict) -> dict:
         a, b = full[name], without_r[name]
         if not (np.all(np.isfinite(a.ci)) and np.all(np.isfinite(b.ci))):
             continue
-        ci = (min(a.ci[0], b.ci[0]), max(a.ci[1], b.ci[1]))
+        ci = span_intervals(a.ci, b.ci)
         if ci == tuple(a.ci):
             continue
         ub = a.upper_bound

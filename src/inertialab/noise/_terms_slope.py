@@ -29,6 +29,7 @@ from inertialab.noise._terms_base import (
     NoiseTerm,
     NoiseTerms,
     local_slopes,
+    span_intervals,
 )
 
 
@@ -113,10 +114,9 @@ def _boot_readings(taus, dev, edf, m, conf, n_boot, seed):
 
 
 def _span_boot(ci, boot, scale):
-    lo, hi = boot
-    if not (math.isfinite(lo) and math.isfinite(hi)):
-        return ci, False
-    new = (min(ci[0], lo * scale), max(ci[1], hi * scale))
+    """``ci`` widened to the bootstrap interval ``boot`` (amplitude, times ``scale``) and
+    whether it widened."""
+    new = span_intervals(ci, (boot[0] * scale, boot[1] * scale))
     return new, new != tuple(ci)
 
 

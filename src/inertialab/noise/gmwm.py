@@ -106,6 +106,7 @@ from inertialab.noise._gmwm_model import (  # Process re-exported (public API)
     _name,
     _unpack,
 )
+from inertialab.noise._terms_base import span_intervals
 
 #: sqrt(2 ln2 / pi) (IEEE 952 flicker floor), as in :mod:`inertialab.noise.terms`.
 BI_FACTOR = math.sqrt(2.0 * math.log(2.0) / math.pi)
@@ -307,7 +308,7 @@ def fit_gmwm_wv(wv: WaveletVariance, *, max_gm: int = 3, n_boot: int = 50, seed:
         sp, th, _ = fits[name]
         _, b2, k2 = _with_intervals(sp, th, _unpack(sp, th, tau0), wv,
                                     (bias, W, eta_a, corr), n_boot, seed, confidence)
-        b_ci, k_ci = _span(b_ci, b2), _span(k_ci, k2)
+        b_ci, k_ci = span_intervals(b_ci, b2), span_intervals(k_ci, k2)
     # a random walk or a drift not selected: its upper bound is the upper bootstrap
     # percentile of K (R) in the best candidate that has one (issue 14 item 2: an absent
     # term as an upper bound, never a bare 0)
@@ -356,15 +357,6 @@ def _drift_upper(spec, target, taus, W, tau0, T, obj, confidence):
             return math.exp(prev[0] + f * (lw - prev[0]))
         prev = (lw, d)
     return math.exp(prev[0]) if prev else float("nan")
-
-
-def _span(a, b):
-    """The smallest interval holding the finite intervals of ``a`` and ``b``."""
-    if not all(math.isfinite(v) for v in b):
-        return a
-    if not all(math.isfinite(v) for v in a):
-        return b
-    return (min(a[0], b[0]), max(a[1], b[1]))
 
 
 def _best_with(kind, cands, fits, wv, weights, n_boot, seed, confidence):
