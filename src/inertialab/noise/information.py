@@ -133,19 +133,65 @@ def whittle_information(n: int, sw2: float, gm=(), sr2: float = 0.0) -> tuple:
     return names, info
 
 
-def k_bound(n: int, sw2: float, gm=(), sr2: float = 0.0) -> KBound:
+#: largest record for :func:`exact_information` (O(n^3) time, ~8 n^2 p bytes of memory)
+EXACT_MAX_N = 6000
+
+
+def exact_information(n: int, sw2: float, gm=(), sr2: float = 0.0) -> tuple:
+    """Exact Gaussian Fisher information of the first-differenced record, the check on
+    :func:`whittle_information` (same arguments and parameter order):
+    ``I_ab = tr(S^-1 dS_a S^-1 dS_b) / 2`` with ``S`` the Toeplitz covariance of the
+    differences (white: lags 0, 1 = ``2 sw2, -sw2``; Gauss–Markov: ``2 a(h) - a(h-1) -
+    a(h+1)``, ``a(h) = s2 phi^|h|``; random walk: ``sr2`` at lag 0) and analytic
+    derivatives. For ``n`` up to :data:`EXACT_MAX_N`; a record of the same length in time
+    at a lower rate gives the same K bound once the rate is well above ``1/t_lo``."""
+    from scipy.linalg import toeplitz
+
+    n = int(n)
+    if not 8 <= n <= EXACT_MAX_N:
+        raise InputError(f"exact information needs 8 <= n <= {EXACT_MAX_N}, got {n}")
+    lags = np.arange(n + 1, dtype=float)
+
+    def diff_acov(a):  # autocovariance of the first difference from that of the process
+        ext = np.concatenate([[a[1]], a])  # a(-1) = a(1)
+        return 2.0 * ext[1:n + 1] - ext[:n] - ext[2:n + 2]
+
+    white = np.zeros(n)
+    white[:2] = [2.0 * sw2, -sw2]
+    comps = [white]
+    total = white.copy()
+    for s2, tc in gm:
+        phi = math.exp(-1.0 / tc)
+        g = diff_acov(s2 * phi**lags)
+        comps += [g, diff_acov(s2 * lags * phi**lags / tc)]  # d/dlog s2, d/dlog tc
+        total += g
+    if sr2 > 0:
+        rw = np.zeros(n)
+        rw[0] = sr2
+        comps.append(rw)
+        total += rw
+    inv = np.linalg.inv(toeplitz(total))
+    mats = [inv @ toeplitz(c) for c in comps]
+    info = np.array([[0.5 * float(np.sum(a * b.T)) for b in mats] for a in mats])
+    names = ["log_sw2"] + [f"log_{k}_{i}" for i in range(len(gm)) for k in ("s2", "tc")]
+    return names + (["log_sr2"] if sr2 > 0 else []), info
+
+
+def k_bound(n: int, sw2: float, gm=(), sr2: float = 0.0, *, exact: bool = False) -> KBound:
     """Cramér–Rao bounds on ``log K`` for a record of ``n`` samples of the model in the
-    module docstring (arguments as :func:`whittle_information`; ``sr2 > 0``)."""
+    module docstring (arguments as :func:`whittle_information`; ``sr2 > 0``); ``exact``:
+    from :func:`exact_information` instead of Whittle's approximation."""
     if not sr2 > 0:
         raise InputError("K bound needs a random walk (sr2 > 0)")
-    names, info = whittle_information(n, sw2, gm, sr2)
+    names, info = (exact_information if exact else whittle_information)(n, sw2, gm, sr2)
     k = names.index("log_sr2")
     known = 0.5 / math.sqrt(info[k, k])
     free = 0.5 * math.sqrt(float(np.linalg.inv(info)[k, k]))
     return KBound(n=int(n), known=known, free=free)
 
 
-def preset_k_bound(preset, hours: float, rate_hz: float | None = None) -> KBound:
+def preset_k_bound(preset, hours: float, rate_hz: float | None = None, *,
+                   exact: bool = False) -> KBound:
     """:func:`k_bound` of a :class:`inertialab.sim.mems_presets.MemsPreset` logged for
     ``hours`` at ``rate_hz`` (default its own rate): white ``n_white^2 fs + LSB^2/12``,
     its Gauss–Markov processes and its random walk."""
@@ -153,7 +199,7 @@ def preset_k_bound(preset, hours: float, rate_hz: float | None = None) -> KBound
     n = int(round(hours * 3600.0 * fs))
     sw2 = preset.n_white**2 * fs + preset.lsb**2 / 12.0
     gm = [(s * s, tc * fs) for s, tc in preset.gm]
-    return k_bound(n, sw2, gm, preset.k_rw**2 / fs)
+    return k_bound(n, sw2, gm, preset.k_rw**2 / fs, exact=exact)
 
 
 def processes_k_bound(processes, tau0: float, n: int) -> KBound:
@@ -182,4 +228,5 @@ def processes_k_bound(processes, tau0: float, n: int) -> KBound:
     return k_bound(n, sw2, gm, sr2)
 
 
-__all__ = ["KBound", "k_bound", "preset_k_bound", "processes_k_bound", "whittle_information"]
+__all__ = ["KBound", "exact_information", "k_bound", "preset_k_bound", "processes_k_bound",
+           "whittle_information"]
