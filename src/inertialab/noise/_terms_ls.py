@@ -316,7 +316,7 @@ def _span_without_r(full: dict, without_r: dict) -> dict:
     """The terms of the full fit with the N, B, K and Q intervals widened to also cover
     the fit without R (issue 14 item 3: the interval carries the uncertainty of the model
     choice that a non-significant R leaves open). Measured on the MEMS presets (200
-    seeds, docs/noise-terms.md §4): K coverage 87-92 % for the full fit alone, 86-96 %
+    seeds, docs/noise-terms.md §3 and §8): K coverage 87-92 % for the full fit alone, 86-96 %
     for the refit without R alone, 91-96 % for the span; its median width is 1.00-1.11x
     the refit's. The values stay the full fit's, which are the less biased (K median
     error -4 to +6 %, against +1 to +11 % without R)."""

@@ -54,6 +54,11 @@ _SLOPE_EDGES = (-0.75, -0.25, 0.25, 0.75)
 N_BOOT_SLOPE = 200
 
 
+#: target log-log slope and gain (sigma = gain x amplitude x tau^slope) of each line read
+_TARGETS = {"Q": (-1.0, math.sqrt(3)), "N": (-0.5, 1.0), "K": (0.5, 1 / math.sqrt(3)),
+            "R": (1.0, 1 / math.sqrt(2))}
+
+
 def _read(taus, dev, edf):
     """The IEEE 952 reading of one curve: ``{name: (amp, sd_ln, run, own)}`` for Q N K R
     (``amp`` in the data unit; ``run`` the slice read; ``own`` every point's reading over
@@ -86,10 +91,6 @@ def _read(taus, dev, edf):
     frac = math.sqrt(max(1.0 - sub / dev[i] ** 2, 0.0)) if not flags else 1.0
     coeffs[2] = float((dev[i] * frac) ** 2)
     return out, coeffs, (i, frac, flags, rng_s)
-
-
-_TARGETS = {"Q": (-1.0, math.sqrt(3)), "N": (-0.5, 1.0), "K": (0.5, 1 / math.sqrt(3)),
-            "R": (1.0, 1 / math.sqrt(2))}
 
 
 def _boot_readings(taus, dev, edf, m, conf, n_boot, seed):
