@@ -377,8 +377,9 @@ def _band_curve(taus, n, b, k, t_lo, t_hi, c_m2=0.0):
 def test_wls_recovers_band_limited_b_and_k_exactly():
     # An exact curve whose B is band-limited flicker with corners on the searched grid
     # (4 and 16 x 10^0.75 x the shortest tau): the profile finds the corners and the
-    # terms (1e-6); the pure-flicker fit of the same curve takes K far off (measured
-    # -61 %), which is the bias the band removes (issue 14 item 2).
+    # terms (1e-6); the pure-flicker fit of the same curve takes K off (measured -61 %
+    # with EDF weights alone, -15 % since its misfit brings in the model-discrepancy
+    # variance), which is the bias the band removes.
     taus = np.geomspace(0.4, 0.4 * 2**14, 15)
     t_lo, t_hi = 4 * 0.4, 16 * 0.4 * 10**0.75
     n, b, k = 18.0, 3.0, 10 / 60  # deg/h sqrt(s), deg/h, deg/h/sqrt(s)
@@ -393,7 +394,7 @@ def test_wls_recovers_band_limited_b_and_k_exactly():
     assert d["bias_gm"] == t.bias_gm and NoiseTerms.from_dict(d).to_dict() == d
     # the conventional five-term fit (B a constant c_0), the public b_shape="flicker"
     t0 = fit_noise_terms(r, unit="dph", tau_range_s=(0.3, 1e5), n_boot=0, b_shape="flicker")
-    assert t0.bias_gm is None and abs(t0.K.value / (k * 60) - 1) > 0.3
+    assert t0.bias_gm is None and abs(t0.K.value / (k * 60) - 1) > 0.1
     with pytest.raises(InputError, match="b_shape"):
         fit_noise_terms(r, unit="dph", b_shape="gm")
 

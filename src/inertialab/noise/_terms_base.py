@@ -16,6 +16,7 @@ import numpy as np
 
 from inertialab import units
 from inertialab.errors import InputError
+from inertialab.noise.lines import Line, line_avar
 
 #: ``sqrt(2 ln2 / pi)``: the Allan floor of bias instability B.
 BI_FACTOR = math.sqrt(2.0 * math.log(2.0) / math.pi)  # 0.66428
@@ -262,6 +263,11 @@ class NoiseTerms:
     misfit : float
         ``sqrt(chi2/dof)`` of the fit when above 1 (the factor the bootstrap spread was
         widened by), else 1.
+    lines : tuple of :class:`inertialab.noise.lines.Line`
+        Spectral lines (sinusoids) found in the record and held in the model as IEEE
+        952's sinusoidal term (:mod:`inertialab.noise.lines`); their Allan variance was
+        taken off the curve before the terms were fitted and is part of
+        :meth:`model_dev`.
     bias_gm : dict or None
         The band limits of the B term (issue 14 item 2, :func:`band_shape`):
         ``{"t_lo_s", "t_hi_s"}``, the shortest and longest Gauss–Markov correlation time
@@ -292,6 +298,7 @@ class NoiseTerms:
     gmwm: dict | None = None
     misfit: float = 1.0
     bias_gm: dict | None = None
+    lines: tuple = ()
 
     def b_shape(self, taus_s) -> np.ndarray:
         """Shape of the B term's AVAR at ``taus_s`` (peak 1; ones for pure flicker)."""
@@ -313,9 +320,11 @@ class NoiseTerms:
         return {k: getattr(self, k) for k in _NAMES}
 
     def model_dev(self, taus_s) -> np.ndarray:
-        """Five-term model deviation at ``taus_s`` (s) in the data unit."""
+        """Model deviation at ``taus_s`` (s) in the data unit: the five terms and the
+        spectral lines."""
         with np.errstate(invalid="ignore"):
-            return np.sqrt(self.contributions(taus_s).sum(axis=-1))
+            return np.sqrt(self.contributions(taus_s).sum(axis=-1)
+                           + line_avar(taus_s, self.lines))
 
     def term_devs(self, taus_s) -> dict[str, np.ndarray]:
         """Each term's own deviation line at ``taus_s`` in the data unit (NaN if absent)."""
@@ -347,6 +356,8 @@ class NoiseTerms:
         d["misfit"] = float(self.misfit)
         if self.bias_gm is not None:
             d["bias_gm"] = dict(self.bias_gm)
+        if self.lines:
+            d["lines"] = [ln.to_dict(self.unit) for ln in self.lines]
         return d
 
     @classmethod
@@ -362,7 +373,8 @@ class NoiseTerms:
                    alpha_model=tuple(int(a) for a in d.get("alpha_model", ())),
                    b_textbook=d.get("b_textbook"), interval=d.get("interval", ""),
                    gmwm=d.get("gmwm"), misfit=float(d.get("misfit", 1.0)),
-                   bias_gm=d.get("bias_gm"))
+                   bias_gm=d.get("bias_gm"),
+                   lines=tuple(Line.from_dict(x) for x in d.get("lines", ())))
 
 
 # ----------------------------------------------------------------------------- conversion
@@ -472,10 +484,38 @@ def auto_tau_range(taus_s, dev) -> int:
     quantisation) keeps every tau (index 0).
     """
     tau_p = filter_peak_tau(taus_s, dev)
-    if tau_p is None:
-        return 0
     lt = np.log(np.asarray(taus_s, dtype=float))
-    return int(np.searchsorted(lt, math.log(4.0 * tau_p) - 1e-9))
+    k = 0 if tau_p is None else int(np.searchsorted(lt, math.log(4.0 * tau_p) - 1e-9))
+    return _white_start(lt, np.log(np.asarray(dev, dtype=float)), k)
+
+
+#: the curve falls "like white noise" between two taus when its log-log slope there is
+#: within this range around -1/2
+WHITE_SLOPES = (-0.6, -0.4)
+
+
+def _white_start(lt, ld, k: int) -> int:
+    """Where a filter-coloured start ends: the first index ``>= k`` from which the curve
+    falls like white noise over two octaves in a row (both slopes in
+    :data:`WHITE_SLOPES`), searched below :data:`STATIC_PEAK_MAX_S` only.
+
+    A curve that starts falling like white noise or faster (angle quantisation) keeps
+    every tau. Real MEMS logs (the ADIS16405 logs of docs/noise-terms.md §10) are
+    coloured by the sensor's averaging filter and quantiser over their first octaves
+    without rising at the start: slopes of -0.3, then a ripple of -0.36/-0.63 beyond the
+    first peak. Fitted there, the white-noise term bent 5-7 % away from the curve's own
+    sigma(tau) sqrt(tau) past the filter. A curve that never falls like white noise over
+    two octaves below 1 s keeps ``k``."""
+    s = np.diff(ld) / np.diff(lt)
+    lo, hi = WHITE_SLOPES
+    if k == 0 and s.size and s[0] <= hi:
+        return 0
+    for i in range(k, s.size - 1):
+        if lt[i] >= math.log(STATIC_PEAK_MAX_S):
+            break
+        if lo <= s[i] <= hi and lo <= s[i + 1] <= hi:
+            return i
+    return k
 
 
 def not_static_reason(taus_s, dev) -> str | None:

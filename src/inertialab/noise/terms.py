@@ -138,7 +138,8 @@ def fit_noise_terms(result, *, unit: str, kind: str | None = "gyro", method: str
                     rate_hz: float | None = None, tau_range_s=None,
                     g_local: float = units.G_STANDARD, n_reweight: int = 5,
                     confidence: float = CONFIDENCE, n_boot: int | None = None, seed: int = 0,
-                    auto_range: bool = True, b_shape: str = "band") -> NoiseTerms:
+                    auto_range: bool = True, b_shape: str = "band",
+                    lines=()) -> NoiseTerms:
     """Fit Q N B K R to a :class:`~inertialab.noise.allan.DeviationResult`.
 
     Parameters
@@ -175,6 +176,11 @@ def fit_noise_terms(result, *, unit: str, kind: str | None = "gyro", method: str
         for a bias instability that is a sum of Gauss–Markov processes), or IEEE 952's
         textbook constant ``c_0`` at every tau (the conventional five-term fit, kept as the
         baseline; on the MEMS presets it takes K low, docs/noise-terms.md §3).
+    lines : sequence of :class:`inertialab.noise.lines.Line`, optional
+        Spectral lines of the record (:func:`inertialab.noise.lines.spectral_lines`):
+        their Allan variance (IEEE 952 sinusoidal term) is taken off the curve before the
+        fit, taus where a line carries more than half the Allan variance are left out,
+        and the lines are part of the returned model (:attr:`NoiseTerms.lines`).
 
     Raises
     ------
@@ -192,17 +198,39 @@ def fit_noise_terms(result, *, unit: str, kind: str | None = "gyro", method: str
         rate_hz = 1.0 / float(result.tau0_s)
     if n_boot is None:
         n_boot = 50 if method == "gmwm" else N_BOOT
+    lines = tuple(lines or ())
+    if lines:
+        result = _without_lines(result, lines)
     sel, _ = _select(result, tau_range_s, auto_range and method != "gmwm")
     if method == "slope":
-
-        return fit_slope(result, sel, conv, rate_hz, n_boot=n_boot, seed=seed)
-    if method == "gmwm":
-
+        terms = fit_slope(result, sel, conv, rate_hz, n_boot=n_boot, seed=seed)
+    elif method == "gmwm":
         g = fit_gmwm_curve(result, sel, confidence=confidence, n_boot=n_boot, seed=seed)
-        return gmwm_noise_terms(g, conv, rate_hz, result)
+        terms = gmwm_noise_terms(g, conv, rate_hz, result)
+    else:
+        terms = fit_ls(result, sel, conv, rate_hz, method, n_reweight, confidence, n_boot,
+                       seed, band=b_shape == "band")
+    return replace(terms, lines=lines) if lines else terms
 
-    return fit_ls(result, sel, conv, rate_hz, method, n_reweight, confidence, n_boot, seed,
-                  band=b_shape == "band")
+
+#: a tau where the lines carry more than this share of the Allan variance is not fitted
+LINE_SHARE_MAX = 0.5
+
+
+def _without_lines(result, lines):
+    """The curve with the lines' Allan variance taken off (NaN where they carry more
+    than :data:`LINE_SHARE_MAX` of it: those taus tell about the line, not the noise)."""
+    from inertialab.noise.lines import line_avar
+
+    taus = np.asarray(result.taus_s, dtype=float)
+    avar = np.asarray(result.dev, dtype=float) ** 2
+    la = line_avar(taus, lines)
+    rest = avar - la
+    with np.errstate(invalid="ignore"):
+        keep = rest > (1.0 - LINE_SHARE_MAX) * avar
+        f = np.where(keep, np.sqrt(np.where(keep, rest, 1.0) / avar), np.nan)
+    return replace(result, dev=np.asarray(result.dev) * f,
+                   ci_low=np.asarray(result.ci_low) * f, ci_high=np.asarray(result.ci_high) * f)
 
 
 # ----------------------------------------------------------------------------- identification
