@@ -62,7 +62,7 @@ def test_fit_with_line_keeps_n_and_models_the_bump():
     assert math.sqrt(t.coefficients[1]) == pytest.approx(n_true, rel=0.01)
     sel = (r.taus_s >= t.tau_range_s[0]) & (r.taus_s <= t.tau_range_s[1])
     md = t.model_dev(r.taus_s[sel])
-    short = r.taus_s[sel] < 100  # the line's region (its bump is at 0.37/f0 = 0.7 s)
+    short = r.taus_s[sel] < 10  # the line's region (its bump is at 0.37/f0 = 0.7 s)
     assert np.all(np.abs(md[short] / r.dev[sel][short] - 1) < 0.01)
     t0 = fit_noise_terms(r, unit="dps", n_boot=0)
     assert abs(math.sqrt(t0.coefficients[1]) / n_true - 1) > 0.02
