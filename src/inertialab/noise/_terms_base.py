@@ -323,8 +323,21 @@ class NoiseTerms:
         """Model deviation at ``taus_s`` (s) in the data unit: the five terms and the
         spectral lines."""
         with np.errstate(invalid="ignore"):
-            return np.sqrt(self.contributions(taus_s).sum(axis=-1)
-                           + line_avar(taus_s, self.lines))
+            return np.sqrt(self._model_avar(taus_s) + line_avar(taus_s, self.lines))
+
+    def _model_avar(self, taus_s) -> np.ndarray:
+        """AVAR of the fitted noise model (without lines): the five terms, or for a GMWM
+        fit the sum of its latent processes (whose Gauss-Markov processes the five
+        coefficients only summarise)."""
+        procs = (self.gmwm or {}).get("processes")
+        tau0 = ((self.gmwm or {}).get("wv") or {}).get("tau0_s")
+        if not procs or not tau0:
+            return self.contributions(taus_s).sum(axis=-1)
+        from inertialab.noise._gmwm_model import Process
+
+        m = np.asarray(taus_s, dtype=float) / float(tau0)
+        return sum(Process(d["process"], dict(d["params"])).avar(m, float(tau0))
+                   for d in procs)
 
     def term_devs(self, taus_s) -> dict[str, np.ndarray]:
         """Each term's own deviation line at ``taus_s`` in the data unit (NaN if absent)."""

@@ -1,0 +1,306 @@
+"""The drift a fitted noise model predicts, and the same drift observed in a record.
+
+What a dead-reckoning or zero-velocity filter accumulates: at rest, the bias is taken as
+the mean of the rate over the preceding ``W`` seconds (the bias window), and the rate
+minus that bias is integrated over the next ``t`` seconds (the horizon)::
+
+    e(t) = int_0^t (y(s) - b_W) ds,   b_W = (1/W) int_{-W}^0 y(s) ds
+
+(angle for a gyro, velocity for an accelerometer). ``e`` is a linear functional of the
+rate with weight ``h = 1`` on ``[0, t]`` and ``-t/W`` on ``[-W, 0]``, so for each
+stationary noise term of one-sided PSD ``G(f)`` (the convention in which the Allan
+variance is ``2 int G(f) sin^4(pi f tau)/(pi f tau)^2 df``)::
+
+    Var e(t) = int_0^inf G(f) |H(f)|^2 df,
+    H(f) = [(1 - e^{-i 2 pi f t}) - (t/W)(e^{i 2 pi f W} - 1)] / (i 2 pi f)
+
+``|H|^2`` vanishes like ``f^2`` at 0, so the random walk's ``1/f^2`` and flicker's
+``1/f`` are integrable. The terms (rate unit ``u``; the model's coefficients as in
+:mod:`inertialab.noise.terms`):
+
+=============  ===============================================  ===========================
+term           G(f)                                             Var e(t)
+=============  ===============================================  ===========================
+white N        ``2 N^2``                                        ``N^2 (t + t^2/W)`` exact
+random walk K  ``K^2 / (2 pi^2 f^2)``                           integral
+band B         ``q (2/(pi f)) [atan(2pi f t_hi) - atan(2pi f t_lo)]``, ``q = c_0/peak``
+                                                                integral (log-uniform
+                                                                Gauss-Markov mixture)
+Gauss-Markov   ``4 s2 T / (1 + (2 pi f T)^2)``                  integral
+quantisation Q angle white noise                                ``Q^2 (1 + (1+r)^2 + r^2)``,
+                                                                ``r = t/W``
+ramp R         deterministic                                    ``(R t (t + W)/2)^2``
+line A, f0     sinusoid of random phase                         ``A^2 |H(f0)|^2 / 2``
+=============  ===============================================  ===========================
+
+The integral runs on a log grid that resolves ``|H|^2``'s oscillation (period ``1/t``
+and ``1/W`` in f) up to 40 oscillations, and beyond on the phase average
+``<|H|^2> = ((1+r)^2 + 1 + r^2)/(2 pi f)^2``, up to the Nyquist frequency. ``e`` is
+Gaussian for the noise terms, so its 95 % band is ``1.96 RMS`` (the ramp, whose sign the
+model does not know, counted in the RMS).
+
+:func:`observed_error` integrates a record the same way over non-overlapping windows
+(``W`` then ``t``, back to back). :func:`check_prediction` compares both and gives, per
+term, the inflation of its amplitude that would make prediction and observation agree.
+:func:`kalibr_reading` gives the two values a Kalibr / imu_utils user reads off the
+Allan curve (sigma at tau = 1 s as the white density, the +1/2 line at tau = 3 s as the
+random walk), for the same prediction.
+
+Hand-written: no maintained library predicts the integrated error of an Allan-fitted
+noise model with a bias window. Tested against the closed form (white noise) and a
+Monte Carlo of each process (tests/noise/test_drift_prediction.py).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from inertialab.errors import InputError
+
+#: the 95 % band of a Gaussian error, in RMS
+Z95 = 1.959963984540054
+#: oscillations of |H|^2 resolved by the fine grid before its phase average takes over
+N_OSC = 40
+#: points per decade of the fine log grid
+PER_DECADE = 1200
+
+
+@dataclass(frozen=True)
+class Component:
+    """One term of a noise model, in the rate unit ``u`` of its record.
+
+    ``kind``: ``white`` (``a`` = N^2, u^2 s), ``rw`` (``a`` = K^2, u^2/s), ``band``
+    (``a`` = q, u^2 per unit ln T; ``b``, ``c`` = t_lo, t_hi in s, 0/inf allowed), ``gm``
+    (``a`` = variance u^2, ``b`` = T s), ``quant`` (``a`` = Q^2, (u s)^2), ``ramp``
+    (``a`` = R, u/s), ``line`` (``a`` = amplitude u, ``b`` = f0 Hz). ``term``: the IEEE
+    name it belongs to (N K B Q R or S for a line)."""
+
+    kind: str
+    term: str
+    a: float
+    b: float = 0.0
+    c: float = 0.0
+
+
+def components_of(terms) -> list[Component]:
+    """The noise model of a :class:`~inertialab.noise.terms.NoiseTerms` as components:
+    a GMWM fit's latent processes, else the five coefficients with the B band."""
+    from inertialab.noise._terms_base import _band_peak
+
+    out: list[Component] = []
+    gm = (terms.gmwm or {}).get("processes")
+    tau0 = ((terms.gmwm or {}).get("wv") or {}).get("tau0_s")
+    if gm and tau0:
+        for d in gm:
+            p, k = d["params"], d["process"]
+            if k == "WN":
+                out.append(Component("white", "N", p["sigma2"] * tau0))
+            elif k == "RW":
+                out.append(Component("rw", "K", p["gamma2"] / tau0))
+            elif k == "QN":
+                out.append(Component("quant", "Q", p["q2"]))
+            elif k == "DR":
+                out.append(Component("ramp", "R", p["omega"] / tau0))
+            elif k == "GM":
+                out.append(Component("gm", "B", p["s2"], p["tc_s"]))
+            elif k == "BL":
+                q = p["c0"] / _band_peak(p["t_lo_s"], p["t_hi_s"])
+                out.append(Component("band", "B", q, p["t_lo_s"], p["t_hi_s"]))
+    else:
+        c = [0.0 if not np.isfinite(v) else float(v) for v in terms.coefficients]
+        if c[0] > 0:
+            out.append(Component("quant", "Q", c[0] / 3.0))
+        if c[1] > 0:
+            out.append(Component("white", "N", c[1]))
+        if c[2] > 0:
+            bg = terms.bias_gm or {}
+            lo = bg.get("t_lo_s") or 0.0
+            hi = bg.get("t_hi_s") or math.inf
+            out.append(Component("band", "B", c[2] / _band_peak(lo, hi), lo, hi))
+        if c[3] > 0:
+            out.append(Component("rw", "K", 3.0 * c[3]))
+        if c[4] > 0:
+            out.append(Component("ramp", "R", math.sqrt(2.0 * c[4])))
+    for ln in getattr(terms, "lines", ()) or ():
+        out.append(Component("line", "S", ln.amplitude, ln.f_hz))
+    return out
+
+
+def _h2(f, t: float, w: float) -> np.ndarray:
+    """|H(f)|^2 of the bias-window integral (module docstring)."""
+    r = t / w
+    a, b = 2 * np.pi * f * t, 2 * np.pi * f * w
+    re = (1 + r) - np.cos(a) - r * np.cos(b)
+    im = np.sin(a) - r * np.sin(b)
+    return (re * re + im * im) / (2 * np.pi * f) ** 2
+
+
+def _psd(comp: Component, f) -> np.ndarray:
+    if comp.kind == "rw":
+        return comp.a / (2 * np.pi**2 * f * f)
+    if comp.kind == "gm":
+        T = comp.b
+        return 4 * comp.a * T / (1 + (2 * np.pi * f * T) ** 2)
+    if comp.kind == "band":
+        hi = np.arctan(2 * np.pi * f * comp.c) if math.isfinite(comp.c) else np.pi / 2
+        lo = np.arctan(2 * np.pi * f * comp.b) if comp.b > 0 else 0.0
+        return comp.a * 2.0 / (np.pi * f) * (hi - lo)
+    raise ValueError(comp.kind)
+
+
+def _integral(comp: Component, t: float, w: float, f_max: float) -> float:
+    """``int_0^f_max G |H|^2 df`` on the fine grid, then on the phase average."""
+    f_lo = 1e-5 / (t + w)
+    if comp.kind == "gm":
+        f_lo = min(f_lo, 1e-3 / (2 * np.pi * comp.b))
+    f_c = min(N_OSC / min(t, w), f_max)
+    n = max(int(PER_DECADE * math.log10(f_c / f_lo)), 64)
+    lf = np.linspace(math.log(f_lo), math.log(f_c), n)
+    f = np.exp(lf)
+    y = _psd(comp, f) * _h2(f, t, w) * f
+    total = float(np.sum(0.5 * (y[1:] + y[:-1]) * np.diff(lf)))
+    # below f_lo: |H|^2 ~ (pi f t (t+W))^2, G at most 1/f^2: a term ~ f_lo, left out
+    if f_max > f_c:
+        r = t / w
+        lf2 = np.linspace(math.log(f_c), math.log(f_max), 400)
+        f2 = np.exp(lf2)
+        y2 = _psd(comp, f2) * ((1 + r) ** 2 + 1 + r * r) / (2 * np.pi * f2) ** 2 * f2
+        total += float(np.sum(0.5 * (y2[1:] + y2[:-1]) * np.diff(lf2)))
+    return total
+
+
+def component_variance(comp: Component, t: float, w: float, rate_hz: float) -> float:
+    """Variance of the integrated error ``e(t)`` from one component, (u s)^2."""
+    r = t / w
+    if comp.kind == "white":
+        return comp.a * (t + t * t / w)
+    if comp.kind == "quant":
+        return comp.a * (1 + (1 + r) ** 2 + r * r)
+    if comp.kind == "ramp":
+        return (comp.a * t * (t + w) / 2.0) ** 2
+    if comp.kind == "line":
+        return 0.5 * comp.a**2 * float(_h2(np.asarray(comp.b), t, w))
+    return _integral(comp, t, w, 0.5 * rate_hz)
+
+
+@dataclass(frozen=True)
+class DriftPrediction:
+    """Predicted integrated error per horizon: ``rms`` and ``band_95`` (u s), and
+    ``by_term`` (IEEE name -> variance per horizon, (u s)^2)."""
+
+    horizons_s: tuple
+    bias_window_s: float
+    rms: np.ndarray
+    band_95: np.ndarray
+    by_term: dict
+
+    def to_dict(self, scale: float = 1.0, unit: str = "") -> dict:
+        return {"horizons_s": [float(v) for v in self.horizons_s],
+                "bias_window_s": float(self.bias_window_s),
+                "predicted_rms": [float(v) * scale for v in self.rms],
+                "band_95": [float(v) * scale for v in self.band_95], "unit": unit,
+                "rms_by_term": {k: [float(math.sqrt(max(x, 0.0))) * scale for x in v]
+                                for k, v in self.by_term.items()}}
+
+
+def _check_args(horizons_s, bias_window_s: float):
+    h = np.atleast_1d(np.asarray(horizons_s, dtype=float))
+    if h.size == 0 or not np.all(np.isfinite(h)) or np.any(h <= 0):
+        raise InputError(f"argument 'horizons_s' must be positive seconds, got {list(h)}")
+    if not (math.isfinite(bias_window_s) and bias_window_s > 0):
+        raise InputError(f"argument 'bias_window_s' must be positive seconds, got "
+                         f"{bias_window_s}")
+    return h
+
+
+def predict(components, horizons_s, bias_window_s: float, rate_hz: float) -> DriftPrediction:
+    """Integrated error the components predict at each horizon (module docstring)."""
+    h = _check_args(horizons_s, bias_window_s)
+    by: dict[str, list] = {}
+    for comp in components:
+        v = [component_variance(comp, float(t), float(bias_window_s), rate_hz) for t in h]
+        acc = by.setdefault(comp.term, [0.0] * h.size)
+        by[comp.term] = [a + b for a, b in zip(acc, v)]
+    var = np.sum([np.asarray(v) for v in by.values()], axis=0) if by else np.zeros(h.size)
+    rms = np.sqrt(var)
+    return DriftPrediction(tuple(float(t) for t in h), float(bias_window_s), rms, Z95 * rms,
+                           {k: np.asarray(v) for k, v in by.items()})
+
+
+def predict_terms(terms, horizons_s, bias_window_s: float = 10.0,
+                  rate_hz: float | None = None) -> DriftPrediction:
+    """:func:`predict` for a fitted :class:`~inertialab.noise.terms.NoiseTerms`."""
+    fs = float(rate_hz or terms.rate_hz)
+    return predict(components_of(terms), horizons_s, bias_window_s, fs)
+
+
+def observed_error(y, rate_hz: float, horizon_s: float, bias_window_s: float) -> np.ndarray:
+    """Integrated errors ``e(t)`` (u s) of a rate record over non-overlapping windows:
+    each window takes the mean of ``W`` seconds as the bias and integrates the next ``t``
+    seconds minus that bias; windows follow back to back. Windows holding a NaN are
+    skipped. Empty when the record is shorter than one window."""
+    y = np.asarray(y, dtype=float)
+    nw = max(int(round(bias_window_s * rate_hz)), 1)
+    nt = max(int(round(horizon_s * rate_hz)), 1)
+    n_win = y.size // (nw + nt)
+    if n_win == 0:
+        return np.empty(0)
+    blocks = y[: n_win * (nw + nt)].reshape(n_win, nw + nt)
+    bias = blocks[:, :nw].mean(axis=1)
+    e = (blocks[:, nw:].sum(axis=1) - nt * bias) / rate_hz
+    return e[np.isfinite(e)]
+
+
+def check_prediction(pred: DriftPrediction, y, rate_hz: float) -> dict:
+    """Prediction against the record ``y`` (the other half, or another log): per horizon
+    the observed RMS (u s), the number of windows, observed/predicted, the coverage of
+    the 95 % band, and per term the inflation of its amplitude that would make the
+    predicted RMS equal the observed one (NaN where that term alone cannot)."""
+    obs, n_win, cover = [], [], []
+    infl: dict[str, list] = {k: [] for k in pred.by_term}
+    for i, t in enumerate(pred.horizons_s):
+        e = observed_error(y, rate_hz, t, pred.bias_window_s)
+        o = float(np.sqrt(np.mean(e * e))) if e.size else float("nan")
+        obs.append(o)
+        n_win.append(int(e.size))
+        cover.append(float(np.mean(np.abs(e) <= pred.band_95[i])) if e.size else float("nan"))
+        tot = float(pred.rms[i]) ** 2
+        for k, v in pred.by_term.items():
+            vk = float(v[i])
+            need = o * o - (tot - vk)
+            infl[k].append(math.sqrt(need / vk) if vk > 0 and need > 0 else float("nan"))
+    obs_a = np.asarray(obs)
+    return {"observed_rms": obs_a, "n_windows": n_win,
+            "ratio": obs_a / np.asarray(pred.rms), "coverage_95": cover, "inflation": infl}
+
+
+def kalibr_reading(result) -> tuple[float, float]:
+    """``(N, K)`` as a Kalibr / imu_utils user reads them off an Allan deviation of rate
+    data (u sqrt(s) and u/sqrt(s)): N = sigma(1 s) (log-log interpolation), K = the
+    height at tau = 3 s of the +1/2-slope line through the curve's highest point
+    relative to that slope past its minimum (the line laid on the rising part; with no
+    rise, through the last point)."""
+    taus = np.asarray(result.taus_s, dtype=float)
+    dev = np.asarray(result.dev, dtype=float)
+    ok = np.isfinite(dev) & (dev > 0)
+    taus, dev = taus[ok], dev[ok]
+    if taus.size < 2:
+        raise InputError("the Allan curve has fewer than 2 usable taus")
+    n = float(np.exp(np.interp(0.0, np.log(taus), np.log(dev))))
+    i_min = int(np.argmin(dev))
+    k = float(np.max(dev[i_min:] * np.sqrt(3.0 / taus[i_min:])))
+    return n, k
+
+
+def kalibr_components(result) -> list[Component]:
+    """The white noise and random walk of :func:`kalibr_reading` as components."""
+    n, k = kalibr_reading(result)
+    return [Component("white", "N", n * n), Component("rw", "K", k * k)]
+
+
+__all__ = ["Component", "DriftPrediction", "Z95", "check_prediction", "component_variance",
+           "components_of", "kalibr_components", "kalibr_reading", "observed_error",
+           "predict", "predict_terms"]
