@@ -280,18 +280,22 @@ def check_prediction(pred: DriftPrediction, y, rate_hz: float) -> dict:
 def kalibr_reading(result) -> tuple[float, float]:
     """``(N, K)`` as a Kalibr / imu_utils user reads them off an Allan deviation of rate
     data (u sqrt(s) and u/sqrt(s)): N = sigma(1 s) (log-log interpolation), K = the
-    height at tau = 3 s of the +1/2-slope line through the curve's highest point
-    relative to that slope past its minimum (the line laid on the rising part; with no
-    rise, through the last point)."""
+    height at tau = 3 s of the +1/2-slope line laid on the rising part of the curve past
+    its minimum (least squares in log over the points whose slope from the previous one
+    exceeds +1/4; with no such point, the line through the last point)."""
     taus = np.asarray(result.taus_s, dtype=float)
     dev = np.asarray(result.dev, dtype=float)
     ok = np.isfinite(dev) & (dev > 0)
     taus, dev = taus[ok], dev[ok]
     if taus.size < 2:
         raise InputError("the Allan curve has fewer than 2 usable taus")
-    n = float(np.exp(np.interp(0.0, np.log(taus), np.log(dev))))
+    lt, ld = np.log(taus), np.log(dev)
+    n = float(np.exp(np.interp(0.0, lt, ld)))
     i_min = int(np.argmin(dev))
-    k = float(np.max(dev[i_min:] * np.sqrt(3.0 / taus[i_min:])))
+    slope = np.diff(ld) / np.diff(lt)
+    rising = [i + 1 for i in range(i_min, slope.size) if slope[i] > 0.25]
+    pts = np.asarray(rising if rising else [taus.size - 1])
+    k = float(np.exp(np.mean(ld[pts] - 0.5 * (lt[pts] - math.log(3.0)))))
     return n, k
 
 
