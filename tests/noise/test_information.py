@@ -107,3 +107,20 @@ def test_bound_of_a_fitted_model_equals_the_preset_bound_for_its_truth():
     assert got.free == pytest.approx(want.free, rel=1e-12)
     with pytest.raises(InputError, match="no random walk"):
         processes_k_bound(procs[:1], tau0, n)
+
+
+def test_whittle_sum_on_a_grid_matches_the_full_sum():
+    # above SUM_EXACT Fourier indices the Whittle sum is integrated on a log grid: the
+    # whole information matrix (white, a fast and a slow GM, random walk) within 1e-4
+    import inertialab.noise.information as info_mod
+
+    n = 2**22
+    gm = [(0.02, 5.0), (0.01, 2000.0)]
+    _, fast = info_mod.whittle_information(n, 1.0, gm, 1e-8)
+    old = info_mod.SUM_EXACT
+    try:
+        info_mod.SUM_EXACT = n
+        _, full = info_mod.whittle_information(n, 1.0, gm, 1e-8)
+    finally:
+        info_mod.SUM_EXACT = old
+    np.testing.assert_allclose(fast, full, rtol=1e-4, atol=1e-4 * np.abs(full).max())

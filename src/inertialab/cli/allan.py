@@ -78,6 +78,23 @@ def _allan_command(imu_default: bool):
                                                "as YAML for kalibr or ros."),
         rostopic: str = typer.Option("/imu0", "--rostopic", help="IMU topic in the Kalibr "
                                                                  "file (six-axis mode)."),
+        predict_drift: str = typer.Option(None, "--predict-drift", help="Six-axis mode: "
+                                          "comma-separated horizons in s (e.g. 1,10,60,300): "
+                                          "the RMS and 95 % band of the angle (gyro) or "
+                                          "velocity (accel) error integrated over each "
+                                          "horizon after removing a bias averaged over "
+                                          "--bias-window, from the fitted model and from the "
+                                          "Kalibr/imu_utils reading."),
+        bias_window: float = typer.Option(10.0, "--bias-window", help="Seconds averaged "
+                                          "for the bias before each horizon "
+                                          "(--predict-drift)."),
+        check_on: str = typer.Option(None, "--check-on", help="With --predict-drift: "
+                                     "'half' (fit the first half of the log, check the "
+                                     "second) or another log of the same sensor: observed "
+                                     "RMS, band coverage and per-term inflation."),
+        plan: bool = typer.Option(False, "--plan", help="Six-axis mode: the record length "
+                                  "for K within +-20 % at 95 % under the fitted model, and "
+                                  "whether this log is that long."),
         as_json: JsonOpt = False,
         out: Path = typer.Option(None, "--out", help="Directory for the figure, result.json "
                                                      "and model.json (noise terms)."),
@@ -95,7 +112,11 @@ def _allan_command(imu_default: bool):
             return run_six_axes(file=file, export=export, rostopic=rostopic, read=read,
                                 unit=unit, rate=rate, gaps=gaps, g_local=g_local,
                                 method=method, out=out, as_json=as_json, quiet=quiet,
-                                command=command)
+                                command=command, terms=terms is not False,
+                                predict_drift=predict_drift, bias_window=bias_window,
+                                check_on=check_on, plan=plan)
+        if predict_drift or check_on or plan:
+            raise InputError("--predict-drift, --check-on and --plan need --imu")
         return _single(file=file, column=column, rate=rate, input_=input_, unit=unit,
                        nominal=nominal, stat=stat, taus=taus, confidence=confidence,
                        method=method, terms=terms, bias=bias, g_local=g_local, gaps=gaps,

@@ -28,7 +28,7 @@ the file's comments. The CLI writes the text; this module only builds it.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -61,9 +61,19 @@ class AxisNoise:
     random_walk : float
         Continuous-time bias random walk, SI (rad/s^2/sqrt(Hz) or m/s^3/sqrt(Hz)).
     random_walk_bound : bool
-        ``random_walk`` is an upper bound (no +1/2 slope in the record).
+        ``random_walk`` is an upper bound (K not significant, or no +1/2 slope).
     bias_instability : float
-        B of the five-term fit, SI (rad/s or m/s^2).
+        B of the noise-term fit, SI (rad/s or m/s^2).
+    bias_instability_bound : bool
+        ``bias_instability`` is an upper bound (B not significant).
+    status : str
+        ``ok``, ``not static`` (terms not fitted: the curve follows motion, not the
+        sensor; ``reason`` says why) or ``no terms`` (``terms=False``).
+    reason : str
+    drift : dict or None
+        The predicted drift and its check (:mod:`inertialab.workflows.imu_drift`).
+    plan : dict or None
+        Record length needed for K within +-20 % at 95 %.
     """
 
     axis: str
@@ -76,18 +86,73 @@ class AxisNoise:
     random_walk: float
     random_walk_bound: bool
     bias_instability: float
+    bias_instability_bound: bool = False
+    status: str = "ok"
+    reason: str = ""
+    drift: dict | None = None
+    plan: dict | None = None
 
     def to_dict(self) -> dict:
         si = _SI[self.kind]
-        return {"axis": self.axis, "column": self.column, "kind": self.kind,
-                "unit": self.unit,
+        d = {"axis": self.axis, "column": self.column, "kind": self.kind,
+             "unit": self.unit, "status": self.status}
+        if self.reason:
+            d["reason"] = self.reason
+        if self.terms is not None:
+            t = self.terms
+            d.update({
                 "noise_density": {"value": self.noise_density, "unit": si[1],
-                                  "convention": "continuous"},
+                                  "convention": "continuous",
+                                  "ci": _si_ci(t.N.ci, t.N.value, self.noise_density)},
                 "random_walk": {"value": self.random_walk, "unit": si[2],
-                                "convention": "continuous", "bound": self.random_walk_bound},
+                                "convention": "continuous",
+                                "bound": "upper" if self.random_walk_bound else None,
+                                "ci": _si_ci(t.K.ci, t.K.value, self.random_walk)},
                 "bias_instability": {"value": self.bias_instability,
-                                     "unit": "rad/s" if self.kind == "gyro" else "m/s^2"},
-                "terms": self.terms.to_dict(), "allan": self.deviation.to_dict()}
+                                     "unit": "rad/s" if self.kind == "gyro" else "m/s^2",
+                                     "bound": "upper" if self.bias_instability_bound else None,
+                                     "ci": _si_ci(t.B.ci, t.B.value, self.bias_instability)},
+                "terms": t.to_dict(),
+                "model_dev": [float(v) for v in t.model_dev(self.deviation.taus_s)]})
+        if self.drift is not None:
+            d["drift_prediction"] = self.drift
+        if self.plan is not None:
+            d["plan"] = self.plan
+        d["allan"] = self.deviation.to_dict()
+        return d
+
+
+def _num(v: float) -> str:
+    return "" if not np.isfinite(v) else f"{v:.4g}"
+
+
+def term_text(term) -> str:
+    """A term for display: ``value [low, high]``, ``<= upper`` for an upper bound,
+    ``n/o`` where not observable."""
+    if "not_observable" in term.flags:
+        return "n/o"
+    if "upper_bound" in term.flags:
+        ub = term.upper_bound if np.isfinite(term.upper_bound) else term.ci[1]
+        return f"<= {_num(ub)}"
+    lo, hi = term.ci
+    if np.isfinite(lo) and np.isfinite(hi):
+        return f"{_num(term.value)} [{_num(lo)}, {_num(hi)}]"
+    return _num(term.value)
+
+
+def _unit_of(axes, kind: str, name: str) -> str:
+    for a in axes:
+        if a.kind == kind and a.terms is not None:
+            return getattr(a.terms, name).unit
+    return "-"
+
+
+def _si_ci(ci, value, si_value):
+    """A term's interval scaled like its value into SI (None where not finite)."""
+    if not (np.isfinite(value) and value > 0 and np.isfinite(si_value)):
+        return None
+    f = si_value / value
+    return [float(c * f) if np.isfinite(c) else None for c in ci]
 
 
 @dataclass(frozen=True)
@@ -121,15 +186,27 @@ class IMUNoise:
         return max(vals) if vals else float("nan")
 
     def table(self) -> tuple[list[str], list[list]]:
-        """One row per axis: the figures of the JSON table (SI units)."""
-        cols = ["axis", "column", "noise_density", "random_walk", "random_walk_bound",
-                "bias_instability", "N", "B", "K", "N_unit", "B_unit", "K_unit"]
+        """One row per axis for display: each term with its unit in the header and its
+        interval (``value [low, high]``), an upper bound as ``<= value``; the
+        continuous-time densities a filter takes in SI (gyro / accelerometer units in
+        the header)."""
+        si = {k: _SI[k] for k in ("gyro", "accel")}
+        kinds = [k for k in ("gyro", "accel") if any(a.kind == k for a in self.axes)]
+        units = {name: " / ".join(_unit_of(self.axes, k, name) for k in kinds)
+                 for name in ("N", "B", "K")}
+        dens = " / ".join(si[k][1] for k in kinds)
+        rw = " / ".join(si[k][2] for k in kinds)
+        cols = ["axis", "column", "status", f"N ({units['N']})", f"B ({units['B']})",
+                f"K ({units['K']})", f"noise density ({dens})", f"random walk ({rw})"]
         rows = []
         for a in self.axes:
             t = a.terms
-            rows.append([a.axis, a.column, a.noise_density, a.random_walk, a.random_walk_bound,
-                         a.bias_instability, t.N.value, t.B.value, t.K.value, t.N.unit,
-                         t.B.unit, t.K.unit])
+            if t is None:
+                rows.append([a.axis, a.column, a.status] + [""] * 5)
+                continue
+            rows.append([a.axis, a.column, a.status, term_text(t.N), term_text(t.B),
+                         term_text(t.K), _num(a.noise_density),
+                         ("<= " if a.random_walk_bound else "") + _num(a.random_walk)])
         return cols, rows
 
     def to_dict(self) -> dict:
@@ -144,9 +221,8 @@ class IMUNoise:
 
 
 def _axis(name: str, column: str, y, unit: str, *, rate_hz: float, taus, method: str,
-          g_local: float, tau_range_s) -> AxisNoise:
-    from inertialab.noise.allan import oadev
-    from inertialab.noise.terms import fit_noise_terms, not_static_reason
+          g_local: float, tau_range_s, terms_on: bool = True, drift=None) -> AxisNoise:
+    from inertialab.noise.terms import not_static_reason
 
     kind = AXES[name]
     dim = U.lookup(unit).dimension
@@ -154,45 +230,102 @@ def _axis(name: str, column: str, y, unit: str, *, rate_hz: float, taus, method:
     if dim != want:
         raise InputError(f"unit '{unit}' is a {dim}, expected a {want}", column=column)
     y = np.asarray(y)
-    if np.isnan(y).any():  # lost samples on the sensor's grid (analyse_record)
-        from inertialab.noise.gaps import gap_deviation
-
-        dev = gap_deviation("oadev", y, rate_hz=rate_hz, taus=taus)
-    else:
-        dev = oadev(y, rate_hz=rate_hz, taus=taus)
-    try:
-        terms = fit_noise_terms(dev, unit=unit, kind=kind, method=method, rate_hz=rate_hz,
-                                tau_range_s=tau_range_s, g_local=g_local)
-    except InputError as exc:
-        raise InputError(str(exc), column=column) from None
+    fit_y = y if drift is None or drift.check_on != "half" else y[: y.size // 2]
+    dev = _deviation(fit_y, rate_hz, taus)
+    nan = float("nan")
+    blank = dict(axis=name, column=column, kind=kind, unit=unit, deviation=dev, terms=None,
+                 noise_density=nan, random_walk=nan, random_walk_bound=False,
+                 bias_instability=nan)
+    if not terms_on:
+        return AxisNoise(**blank, status="no terms")
     why = not_static_reason(dev.taus_s, dev.dev) if tau_range_s is None else None
     if why:
+        # one axis that is not static does not stop the others: its deviation is kept
         import warnings
 
         from inertialab.errors import DataQualityWarning
 
-        warnings.warn(f"column '{column}': {why}", DataQualityWarning, stacklevel=3)
-    c = np.asarray(terms.coefficients, dtype=float)
+        warnings.warn(f"column '{column}': {why}; its noise terms are not fitted",
+                      DataQualityWarning, stacklevel=3)
+        return AxisNoise(**blank, status="not static", reason=why)
+    terms = _fit_terms(fit_y, dev, unit, kind, method, rate_hz, tau_range_s, g_local, column)
     si = _SI[kind][0]
+
+    def to_si(v):
+        return U.convert(v, unit, si, g_local=g_local)
+
+    c = np.asarray(terms.coefficients, dtype=float)
     # N^2 = c_-1 (unit^2 s): N in unit/sqrt(Hz); K^2 = 3 c_1 (unit^2 / s): K in unit*sqrt(Hz)/s
-    density = (U.convert(math.sqrt(c[1]), unit, si, g_local=g_local)
-               if np.isfinite(c[1]) and c[1] > 0 else float("nan"))
-    if np.isfinite(c[3]) and c[3] > 0:
-        rw, bound = U.convert(math.sqrt(3.0 * c[3]), unit, si, g_local=g_local), False
+    density = to_si(math.sqrt(c[1])) if np.isfinite(c[1]) and c[1] > 0 else nan
+    k_bound = "upper_bound" in terms.K.flags or "not_observable" in terms.K.flags
+    if np.isfinite(c[3]) and c[3] > 0 and not k_bound:
+        rw = to_si(math.sqrt(3.0 * c[3]))
+    elif k_bound and np.isfinite(terms.K.upper_bound) and terms.K.upper_bound > 0:
+        # K not significant: its upper bound (the conservative value for a filter)
+        rw = to_si(terms.K.upper_bound / _report_factor(terms, "K"))
     else:
+        # no +1/2 slope to read: the random-walk line through the upper limit of the
+        # longest tau (an upper bound at the curve's confidence)
         tmax = float(dev.taus_s[-1])
         hi = float(dev.ci_high[-1]) if np.isfinite(dev.ci_high[-1]) else float(dev.dev[-1])
-        rw = U.convert(hi * math.sqrt(3.0 / tmax), unit, si, g_local=g_local)
-        bound = True
-    b = (U.convert(math.sqrt(c[2]) / math.sqrt(2.0 * math.log(2.0) / math.pi), unit, si,
-                   g_local=g_local) if np.isfinite(c[2]) and c[2] > 0 else float("nan"))
-    return AxisNoise(axis=name, column=column, kind=kind, unit=unit, deviation=dev, terms=terms,
-                     noise_density=float(density), random_walk=float(rw),
-                     random_walk_bound=bound, bias_instability=float(b))
+        rw = to_si(hi * math.sqrt(3.0 / tmax))
+        k_bound = True
+    b_bound = "upper_bound" in terms.B.flags or "not_observable" in terms.B.flags
+    b_native = math.sqrt(c[2]) / BI if np.isfinite(c[2]) and c[2] > 0 else nan
+    if b_bound and np.isfinite(terms.B.upper_bound) and terms.B.value > 0:
+        b_native *= terms.B.upper_bound / terms.B.value
+    b = to_si(b_native) if np.isfinite(b_native) else nan
+    axis = AxisNoise(axis=name, column=column, kind=kind, unit=unit, deviation=dev,
+                     terms=terms, noise_density=float(density), random_walk=float(rw),
+                     random_walk_bound=k_bound, bias_instability=float(b),
+                     bias_instability_bound=b_bound)
+    if drift is not None:
+        from inertialab.workflows.imu_drift import axis_drift, axis_plan
+
+        y_check = y[y.size // 2:] if drift.check_on == "half" else drift.other.get(name)
+        axis = replace(axis, drift=axis_drift(axis, rate_hz, drift, y_check),
+                       plan=axis_plan(axis, rate_hz, fit_y.size) if drift.plan else None)
+    return axis
+
+
+#: sqrt(2 ln2 / pi): sigma of flicker = BI * B
+BI = math.sqrt(2.0 * math.log(2.0) / math.pi)
+
+
+def _report_factor(terms, name: str) -> float:
+    """Report unit of a term per its native unit (data unit based) for a fit."""
+    from inertialab.noise._terms_base import _Converter
+
+    return _Converter(terms.unit, terms.kind, terms.g_local).factor(name)
+
+
+def _deviation(y, rate_hz, taus):
+    from inertialab.noise.allan import oadev
+
+    if np.isnan(y).any():  # lost samples on the sensor's grid (analyse_record)
+        from inertialab.noise.gaps import gap_deviation
+
+        return gap_deviation("oadev", y, rate_hz=rate_hz, taus=taus)
+    return oadev(y, rate_hz=rate_hz, taus=taus)
+
+
+def _fit_terms(y, dev, unit, kind, method, rate_hz, tau_range_s, g_local, column):
+    """The noise terms of one axis, with the record's spectral lines in the model."""
+    from inertialab.noise.lines import spectral_lines
+    from inertialab.noise.terms import fit_noise_terms
+
+    finite = y[np.isfinite(y)]
+    lines = spectral_lines(finite, rate_hz) if finite.size == y.size else ()
+    try:
+        return fit_noise_terms(dev, unit=unit, kind=kind, method=method, rate_hz=rate_hz,
+                               tau_range_s=tau_range_s, g_local=g_local, lines=lines)
+    except InputError as exc:
+        raise InputError(str(exc), column=column) from None
 
 
 def analyse_imu(columns: dict, *, rate_hz: float, taus="octave", method: str = "wls",
-                g_local: float = U.G_STANDARD, tau_range_s=None, progress=None) -> IMUNoise:
+                g_local: float = U.G_STANDARD, tau_range_s=None, progress=None,
+                terms: bool = True, drift=None) -> IMUNoise:
     """Noise of up to six axes.
 
     Parameters
@@ -206,6 +339,14 @@ def analyse_imu(columns: dict, *, rate_hz: float, taus="octave", method: str = "
         :func:`inertialab.noise.terms.fit_noise_terms` (default octave taus, "wls").
     g_local : float, default 9.80665
         Local gravity for g-based accelerometer units, m/s^2.
+    terms : bool, default True
+        Fit the noise terms (False: the deviations only).
+    drift : :class:`inertialab.workflows.imu_drift.DriftOptions`, optional
+        Predict the integrated error per horizon, check it on another record or the
+        second half, and plan the record length (:mod:`inertialab.workflows.imu_drift`).
+
+    An axis whose curve is not that of a static sensor (it rises to 1 s or beyond) gets
+    status ``not static`` with the reason and its deviation; the other axes go on.
     """
     if not columns:
         raise InputError("no IMU axis to analyse: need gx/gy/gz and/or ax/ay/az columns")
@@ -217,25 +358,37 @@ def analyse_imu(columns: dict, *, rate_hz: float, taus="octave", method: str = "
     for i, name in enumerate(names):
         col, y, unit = columns[name]
         out.append(_axis(name, col, y, unit, rate_hz=float(rate_hz), taus=taus, method=method,
-                         g_local=g_local, tau_range_s=tau_range_s))
+                         g_local=g_local, tau_range_s=tau_range_s, terms_on=terms,
+                         drift=drift))
         if progress is not None:
             progress.update(i + 1, len(names), name)
     n = int(np.asarray(columns[names[0]][1]).shape[0])
     settings = {"rate_hz": float(rate_hz), "taus": taus if isinstance(taus, (str, int)) else
                 list(taus), "method": method, "g_local_mps2": float(g_local),
-                "tau_range_s": None if tau_range_s is None else list(tau_range_s)}
+                "tau_range_s": None if tau_range_s is None else list(tau_range_s),
+                "terms": bool(terms)}
+    if drift is not None:
+        settings["drift"] = drift.to_dict()
     return IMUNoise(axes=tuple(out), rate_hz=float(rate_hz), n_samples=n, settings=settings)
 
 
-def analyse_record(rec, *, rate_hz: float | None = None, taus="octave", method: str = "wls",
-                   g_local: float | None = None, tau_range_s=None, progress=None) -> IMUNoise:
-    """:func:`analyse_imu` on the ``gx gy gz ax ay az`` columns of a ``gyro_log`` record
-    (rate from ``rate_hz``, the sidecar's ``fs_hz`` or the median step of ``t_s``)."""
+def axis_columns(rec) -> dict:
+    """``{axis: (column, samples, unit)}`` of the ``gx gy gz ax ay az`` columns of a
+    record."""
     cols = {}
     for name in AXES:
         c = rec.find(name)
         if c is not None:
             cols[name] = (c, rec.column(c), rec.units[c])
+    return cols
+
+
+def analyse_record(rec, *, rate_hz: float | None = None, taus="octave", method: str = "wls",
+                   g_local: float | None = None, tau_range_s=None, progress=None,
+                   terms: bool = True, drift=None) -> IMUNoise:
+    """:func:`analyse_imu` on the ``gx gy gz ax ay az`` columns of a ``gyro_log`` record
+    (rate from ``rate_hz``, the sidecar's ``fs_hz`` or the median step of ``t_s``)."""
+    cols = axis_columns(rec)
     if not cols:
         raise InputError("no IMU axis columns (gx_*, gy_*, gz_*, ax_*, ay_*, az_*); map them "
                          "with a column map (argument 'column_map')", path=rec.path)
@@ -258,7 +411,8 @@ def analyse_record(rec, *, rate_hz: float | None = None, taus="octave", method: 
     g = g_local if g_local is not None else float(rec.meta.get("g_local_mps2", U.G_STANDARD))
     try:
         return analyse_imu(cols, rate_hz=float(fs), taus=taus, method=method, g_local=g,
-                           tau_range_s=tau_range_s, progress=progress)
+                           tau_range_s=tau_range_s, progress=progress, terms=terms,
+                           drift=drift)
     except InputError as exc:
         if exc.path is not None or rec.path is None:
             raise

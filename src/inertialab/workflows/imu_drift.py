@@ -1,0 +1,166 @@
+"""The drift an IMU noise model predicts, checked against a record, and how long to log.
+
+For each axis of ``allan --imu`` (:mod:`inertialab.workflows.imu_noise`):
+
+* **predicted drift** (:mod:`inertialab.noise.drift_prediction`): the RMS and 95 % band
+  of the error integrated over each horizon after removing a bias averaged over the
+  preceding bias window — angle (deg) for a gyro, velocity (m/s) for an accelerometer —
+  from the fitted model, and from the two values a Kalibr / imu_utils user reads off the
+  curve (sigma at 1 s as the white density, the +1/2 line at 3 s as the random walk);
+* **check** on another record of the same sensor, or on the second half of the log
+  (the model then fitted on the first half): the observed RMS over non-overlapping
+  windows, observed/predicted, the coverage of the 95 % band, and per term the inflation
+  of its amplitude that would make prediction and observation agree;
+* **plan**: the record length at which the Cramer-Rao bound (Whittle, every parameter
+  free; :mod:`inertialab.noise.information`) puts K within +-20 % at 95 %, for the
+  fitted model, and whether this log is that long.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from inertialab import units as U
+from inertialab.errors import InputError
+
+#: default bias window, s (a zero-velocity update or a short stop)
+BIAS_WINDOW_S = 10.0
+#: plan target: K within +-20 % at 95 % (1.96 sd of log K <= ln 1.2)
+PLAN_REL = 0.20
+PLAN_Z = 1.959963984540054
+
+
+@dataclass(frozen=True)
+class DriftOptions:
+    """What :func:`axis_drift` does: ``horizons_s``; ``bias_window_s``; ``check_on``:
+    None, ``"half"`` (fit the first half, check the second) or ``"other"`` (check on
+    ``other``: axis -> samples of another record at the same rate); ``plan``."""
+
+    horizons_s: tuple
+    bias_window_s: float = BIAS_WINDOW_S
+    check_on: str | None = None
+    other: dict = field(default_factory=dict)
+    other_name: str | None = None
+    plan: bool = False
+
+    def __post_init__(self):
+        h = tuple(float(v) for v in self.horizons_s)
+        if not h or not all(math.isfinite(v) and v > 0 for v in h):
+            raise InputError(f"argument 'predict_drift' must be positive horizons in s, "
+                             f"got {list(self.horizons_s)}")
+        if not (math.isfinite(self.bias_window_s) and self.bias_window_s > 0):
+            raise InputError(f"argument 'bias_window' must be positive seconds, got "
+                             f"{self.bias_window_s}")
+        if self.check_on not in (None, "half", "other"):
+            raise InputError(f"argument 'check_on' must be 'half' or a file, got "
+                             f"{self.check_on!r}")
+        object.__setattr__(self, "horizons_s", h)
+
+    def to_dict(self) -> dict:
+        return {"horizons_s": list(self.horizons_s), "bias_window_s": self.bias_window_s,
+                "check_on": self.other_name if self.check_on == "other" else self.check_on,
+                "plan": self.plan}
+
+
+def _integral_unit(axis) -> tuple[float, str]:
+    """Factor from (data unit * s) to the report unit of the integrated error."""
+    if axis.kind == "gyro":
+        return U.convert(1.0, axis.unit, "dps"), "deg"
+    return U.convert(1.0, axis.unit, "mps2", g_local=axis.terms.g_local), "m/s"
+
+
+def axis_drift(axis, rate_hz: float, opts: DriftOptions, y_check=None) -> dict:
+    """``drift_prediction`` of one fitted axis (module docstring), JSON-ready."""
+    from inertialab.noise.drift_prediction import (
+        check_prediction,
+        kalibr_components,
+        kalibr_reading,
+        predict,
+        predict_terms,
+    )
+
+    f, unit = _integral_unit(axis)
+    pred = predict_terms(axis.terms, opts.horizons_s, opts.bias_window_s, rate_hz)
+    out = pred.to_dict(f, unit)
+    n_k, k_k = kalibr_reading(axis.deviation)
+    kal = predict(kalibr_components(axis.deviation), opts.horizons_s, opts.bias_window_s,
+                  rate_hz)
+    out["kalibr"] = {"noise_density": n_k, "random_walk": k_k, "unit": axis.unit + " (s)",
+                     "predicted_rms": [float(v) * f for v in kal.rms],
+                     "band_95": [float(v) * f for v in kal.band_95]}
+    if y_check is not None:
+        y_check = np.asarray(y_check, dtype=float)
+        chk = check_prediction(pred, y_check, rate_hz)
+        chk_k = check_prediction(kal, y_check, rate_hz)
+        out["check"] = {
+            "on": opts.other_name if opts.check_on == "other" else "second half",
+            "observed_rms": [float(v) * f for v in chk["observed_rms"]],
+            "n_windows": chk["n_windows"],
+            "observed_over_predicted": [float(v) for v in chk["ratio"]],
+            "coverage_95": chk["coverage_95"],
+            "inflation": {k: [None if not math.isfinite(x) else float(x) for x in v]
+                          for k, v in chk["inflation"].items()},
+            "kalibr_observed_over_predicted": [float(v) for v in chk_k["ratio"]],
+            "kalibr_coverage_95": chk_k["coverage_95"]}
+    return out
+
+
+def axis_plan(axis, rate_hz: float, n_samples: int) -> dict:
+    """Record length for K within +-20 % at 95 % under the fitted model, and whether the
+    analysed record (``n_samples``) is that long. ``None`` values where the model has no
+    random walk (K is then not read, and no length is promised)."""
+    from inertialab.noise.information import processes_k_bound
+
+    tau0 = 1.0 / rate_hz
+    procs = _processes(axis.terms, tau0, n_samples)
+    have_h = n_samples * tau0 / 3600.0
+    base = {"target": f"K within +-{100 * PLAN_REL:g} % at 95 %", "record_h": have_h,
+            "bound": "Whittle Cramer-Rao, all parameters free"}
+    if not any(p.kind == "RW" for p in procs):
+        return base | {"needed_h": None, "long_enough": None,
+                       "reason": "the fitted model has no random walk"}
+    target = math.log(1.0 + PLAN_REL) / PLAN_Z
+    sd_now = processes_k_bound(procs, tau0, n_samples).free
+    # sd(log K) falls like n^-p; p from two lengths, then one refinement
+    n = float(n_samples)
+    sd = sd_now
+    for _ in range(6):
+        n2 = n * 4.0
+        sd2 = processes_k_bound(procs, tau0, int(n2)).free
+        p = max(math.log(sd / sd2) / math.log(4.0), 0.05)
+        n_next = n * (sd / target) ** (1.0 / p)
+        if abs(math.log(n_next / n)) < 0.05:
+            n = n_next
+            break
+        n = min(max(n_next, 16.0), 1e12)
+        sd = processes_k_bound(procs, tau0, int(n)).free
+    return base | {"needed_h": n * tau0 / 3600.0, "long_enough": bool(sd_now <= target),
+                   "k_rel_95_now": PLAN_Z * sd_now}
+
+
+def _processes(terms, tau0: float, n_samples: int):
+    """The fitted model as latent processes (GMWM's own, or the five-term fit's white
+    noise, band-limited B as a BL process and random walk)."""
+    from inertialab.noise._gmwm_model import Process
+
+    gm = (terms.gmwm or {}).get("processes")
+    if gm:
+        return [Process(d["process"], dict(d["params"])) for d in gm]
+    c = [0.0 if not np.isfinite(v) else float(v) for v in terms.coefficients]
+    out = []
+    if c[1] > 0:
+        out.append(Process("WN", {"sigma2": c[1] / tau0}))
+    if c[2] > 0:
+        bg = terms.bias_gm or {}
+        lo = bg.get("t_lo_s") or tau0
+        hi = bg.get("t_hi_s") or 2.0 * n_samples * tau0
+        out.append(Process("BL", {"c0": c[2], "t_lo_s": lo, "t_hi_s": hi}))
+    if c[3] > 0:
+        out.append(Process("RW", {"gamma2": 3.0 * c[3] * tau0}))
+    return out
+
+
+__all__ = ["BIAS_WINDOW_S", "DriftOptions", "axis_drift", "axis_plan"]
