@@ -209,21 +209,24 @@ def _single(*, file, column, rate, input_, unit, nominal, stat, taus, confidence
                     title=f"{r.statistic.upper()} of {log.column} "
                           f"({res.dev_unit(r.statistic)}), {r.confidence:.1%} intervals")
     if res.terms is not None:
+        from inertialab.workflows.imu_noise import term_text
+
         rows = []
         for k, t in res.terms.terms().items():
-            rows.append([k, t.value, t.unit, t.ci[0], t.ci[1], t.method,
+            rows.append([k, term_text(t), t.unit, t.method,
                          f"{t.tau_range_s[0]:.3g}-{t.tau_range_s[1]:.3g}",
                          ",".join(t.flags)])
         n = res.terms.N
         if n.density is not None:
-            rows.append(["N density", n.density["value"], n.density["unit"], None, None,
+            rows.append(["N density", f"{n.density['value']:.4g}", n.density["unit"],
                          n.method, "continuous-time", ""])
         if n.per_sample_std is not None:
-            rows.append(["N per-sample std", n.per_sample_std["value"],
-                         n.per_sample_std["unit"], None, None, n.method,
-                         f"at {log.rate_hz:g} Hz", ""])
-        print_table(["term", "value", "unit", "ci_low", "ci_high", "method", "tau range s",
-                     "flags"], rows, title="Noise terms (fitted on OADEV)")
+            rows.append(["N per-sample std", f"{n.per_sample_std['value']:.4g}",
+                         n.per_sample_std["unit"], n.method, f"at {log.rate_hz:g} Hz", ""])
+        print_table(["term", f"value [{100 * res.terms.confidence:g} % interval]", "unit",
+                     "method", "tau range (s)", "flags"], rows,
+                    title="Noise terms (fitted on OADEV; '<=' an upper bound, n/o not "
+                          "observable)")
     if out is not None:
         print(f"wrote {Path(out) / 'allan.png'}, result.json, model.json")
 

@@ -39,18 +39,19 @@ def avar_drift(m, omega: float) -> np.ndarray:
     return 0.5 * (omega * m) ** 2
 
 
+#: 1/k! for k = 15 .. 3, the Horner coefficients of h(z)/z^3 (:func:`_h3`)
+_H3_COEF = np.array([1.0 / math.factorial(k) for k in range(15, 2, -1)])
+
+
 def _h3(z: np.ndarray) -> np.ndarray:
-    """``exp(z) - 1 - z - z^2/2`` without cancellation (Horner series for |z| < 0.5)."""
+    """``exp(z) - 1 - z - z^2/2`` without cancellation (Horner series to z^15 for
+    |z| < 0.5, evaluated on those elements only)."""
     z = np.asarray(z, dtype=float)
-    # z^3 (1/3! + z (1/4! + z (1/5! + ...))) to z^15
-    p = np.full(z.shape, 1.0 / math.factorial(15))
-    for k in range(14, 2, -1):
-        p = p * z + 1.0 / math.factorial(k)
-    out = p * z**3
-    big = np.abs(z) >= 0.5
-    if big.any():
-        zl = z[big]
-        out[big] = np.expm1(zl) - zl - 0.5 * zl * zl
+    out = np.expm1(z) - z - 0.5 * z * z
+    small = np.abs(z) < 0.5
+    if small.any():
+        zs = z[small]
+        out[small] = np.polyval(_H3_COEF, zs) * zs**3
     return out
 
 
@@ -76,10 +77,11 @@ def avar_ar1(m, phi: float, s2: float) -> np.ndarray:
         return s2 * g / (m * m * (1 - phi) ** 2)
     e = math.log(phi)
     x = -math.expm1(e)
-    h1, h2 = _h3(np.array([e, 2 * e]))
-    hz = _h3(np.concatenate([(m.ravel() + 1) * e, (2 * m.ravel() + 1) * e]))
+    mr = m.ravel()
+    hz = _h3(np.concatenate([[e, 2 * e], (mr + 1) * e, (2 * mr + 1) * e]))
+    h1, h2 = hz[0], hz[1]
     n = m.size
-    g = -3.0 * h1 - m * h2 + 4.0 * hz[:n].reshape(m.shape) - hz[n:].reshape(m.shape)
+    g = -3.0 * h1 - m * h2 + 4.0 * hz[2:n + 2].reshape(m.shape) - hz[n + 2:].reshape(m.shape)
     return s2 * g / (m * m * x * x)
 
 

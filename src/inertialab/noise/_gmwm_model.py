@@ -149,6 +149,39 @@ def _bounds(spec, tau_min, tau_max):
     return np.array(lo), np.array(hi)
 
 
+#: log step of the forward differences for the non-linear parameters (correlation times,
+#: band corners) in :func:`_log_model_jacobian`
+_FD_STEP = 1e-6
+
+
+def _log_model_jacobian(spec, theta, m, tau0) -> np.ndarray:
+    """d ln(model AVAR)/d theta at the scales ``m``, shape (k, p).
+
+    A process's amplitude enters linearly (its column is its share of the model; a
+    drift's ``omega`` squared: twice that), so only the correlation times and band
+    corners need a difference, and that of their own process only: the Jacobian costs
+    about one model evaluation plus one process per non-linear parameter, where a forward
+    difference of the whole model cost one model per parameter (the GMWM fits spent 80 %
+    of their time there)."""
+    procs = _unpack(spec, theta, tau0)
+    comps = [p.avar(m, tau0) for p in procs]
+    tot = sum(comps)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inv = np.where(np.abs(tot) > 0, 1.0 / tot, 0.0)
+    J = np.zeros((np.size(m), len(theta)))
+    col = 0
+    for kind, comp in zip(spec, comps):
+        n_p = _N_PARAMS.get(kind, 1)
+        J[:, col] = comp * inv * (2.0 if kind == "DR" else 1.0)
+        for j in range(1, n_p):
+            th = np.array(theta[col:col + n_p], dtype=float)
+            th[j] += _FD_STEP
+            moved = _unpack((kind,), th, tau0)[0].avar(m, tau0)
+            J[:, col + j] = (moved - comp) / _FD_STEP * inv
+        col += n_p
+    return J
+
+
 def _fit_spec(spec, target, taus, W, tau0, T, theta0=None, max_nfev=200, fixed_last=None):
     """Least squares ``|W (target - ln nu(theta))|^2`` on log parameters (``W``: a vector
     of diagonal weights or a whitening matrix; ``fixed_last``: the last log parameter held
@@ -161,6 +194,10 @@ def _fit_spec(spec, target, taus, W, tau0, T, theta0=None, max_nfev=200, fixed_l
             mod = _model_avar(_unpack(spec, theta, tau0), m, tau0) / 2.0
         d = target - np.log(np.clip(np.nan_to_num(mod, nan=1e300), 1e-300, 1e300))
         return W * d if W.ndim == 1 else W @ d
+
+    def jac(theta):
+        J = _log_model_jacobian(spec, theta, m, tau0)
+        return -(W[:, None] * J) if W.ndim == 1 else -(W @ J)
 
     lo, hi = _bounds(spec, float(taus[0]), float(taus[-1]))
     if fixed_last is not None:
@@ -181,8 +218,8 @@ def _fit_spec(spec, target, taus, W, tau0, T, theta0=None, max_nfev=200, fixed_l
     for th0 in starts:
         th0 = np.clip(th0, lo + 1e-9, hi - 1e-9)
         try:
-            r = least_squares(resid, th0, bounds=(lo, hi), method="trf", x_scale=1.0,
-                              max_nfev=max_nfev)
+            r = least_squares(resid, th0, jac=jac, bounds=(lo, hi), method="trf",
+                              x_scale=1.0, max_nfev=max_nfev)
         except ValueError:
             continue
         if best is None or r.cost < best.cost:

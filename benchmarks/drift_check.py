@@ -1,0 +1,163 @@
+"""Predicted drift against observed drift on the MEMS presets and the real logs.
+
+For each preset of :mod:`inertialab.sim.mems_presets` and seed ``s``: simulate two
+independent logs of the same sensor (seeds ``s`` and ``s + 10000``), fit the noise terms
+on the first (default WLS, spectral lines included, as ``allan --imu``), predict the
+error integrated over each horizon after a 10-s bias window
+(:mod:`inertialab.noise.drift_prediction`), and integrate the second log the same way
+over non-overlapping windows. Reported per preset and horizon, over the seeds:
+observed/predicted RMS (median and 10-90 % spread of the per-seed ratios, and the ratio
+of the pooled RMS) and the coverage of the 95 % band (pooled windows); the same for the
+Kalibr / imu_utils reading. On the real ADIS16405 logs (``--real``): fit on the first
+half, check on the second, per axis.
+
+Commands::
+
+    python -m benchmarks.drift_check --seeds 50 --hours 3 --json benchmarks/results/drift_check.json
+    python -m benchmarks.drift_check --real
+
+Targets: observed/predicted 1.00 +- 0.05 and coverage 93-97 % at every horizon on the
+presets; 0.8-1.25 at every horizon and axis on the real logs.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+HORIZONS = (1.0, 10.0, 60.0, 300.0)
+WINDOW = 10.0
+PRESETS = ("consumer-100hz", "industrial-400hz", "consumer-1khz", "accel-200hz")
+
+
+def _fit(y, rate_hz, unit):
+    from inertialab.noise.allan import oadev
+    from inertialab.noise.lines import spectral_lines
+    from inertialab.noise.terms import fit_noise_terms
+
+    res = oadev(y, rate_hz=rate_hz, taus="octave")
+    terms = fit_noise_terms(res, unit=unit, kind=None, rate_hz=rate_hz,
+                            lines=spectral_lines(y, rate_hz))
+    return res, terms
+
+
+def seed_row(preset: str, seed: int, hours: float) -> dict:
+    from inertialab.noise.drift_prediction import (
+        kalibr_components,
+        observed_error,
+        predict,
+        predict_terms,
+    )
+    from inertialab.sim.mems_presets import simulate
+
+    a = simulate(preset, hours=hours, seed=seed)
+    b = simulate(preset, hours=hours, seed=seed + 10000)
+    res, terms = _fit(a.y, a.rate_hz, a.unit)
+    pred = predict_terms(terms, HORIZONS, WINDOW, a.rate_hz)
+    kal = predict(kalibr_components(res), HORIZONS, WINDOW, a.rate_hz)
+    row = {"seed": seed, "pred": pred.rms.tolist(), "kalibr": kal.rms.tolist(),
+           "obs_sq": [], "n": [], "in_band": [], "in_kalibr": []}
+    for i, h in enumerate(HORIZONS):
+        e = observed_error(b.y, b.rate_hz, h, WINDOW)
+        row["obs_sq"].append(float(np.sum(e * e)))
+        row["n"].append(int(e.size))
+        row["in_band"].append(int(np.sum(np.abs(e) <= pred.band_95[i])))
+        row["in_kalibr"].append(int(np.sum(np.abs(e) <= kal.band_95[i])))
+    return row
+
+
+def summarise(rows) -> dict:
+    pred = np.array([r["pred"] for r in rows])
+    kal = np.array([r["kalibr"] for r in rows])
+    sq = np.array([r["obs_sq"] for r in rows])
+    n = np.array([r["n"] for r in rows])
+    obs = np.sqrt(sq / n)
+    out = {}
+    for name, p, inb in (("model", pred, "in_band"), ("kalibr", kal, "in_kalibr")):
+        ratio = obs / p
+        cover = np.array([r[inb] for r in rows]).sum(axis=0) / n.sum(axis=0)
+        pooled = np.sqrt(sq.sum(axis=0) / np.sum(n * p * p, axis=0))
+        out[name] = {"ratio_median": np.median(ratio, axis=0).tolist(),
+                     "ratio_p10": np.quantile(ratio, 0.1, axis=0).tolist(),
+                     "ratio_p90": np.quantile(ratio, 0.9, axis=0).tolist(),
+                     "ratio_pooled": pooled.tolist(), "coverage_95": cover.tolist()}
+    out["seeds"] = len(rows)
+    out["windows_per_seed"] = n[0].tolist()
+    return out
+
+
+def run_presets(seeds: int, hours: float, presets=PRESETS) -> dict:
+    out = {}
+    for p in presets:
+        t0 = time.process_time()
+        rows = [seed_row(p, s, hours) for s in range(seeds)]
+        out[p] = summarise(rows) | {"cpu_s": time.process_time() - t0}
+        print(p, _fmt(out[p]), flush=True)
+    return out
+
+
+def run_real() -> dict:
+    from benchmarks.real_logs import LOGS, RATE_HZ, load_shared
+    from inertialab.noise.drift_prediction import (
+        check_prediction,
+        kalibr_components,
+        predict,
+        predict_terms,
+    )
+
+    out = {}
+    for name in LOGS:
+        for axis, (y, unit) in load_shared(name).items():
+            half = y.size // 2
+            res, terms = _fit(y[:half], RATE_HZ, unit)
+            pred = predict_terms(terms, HORIZONS, WINDOW, RATE_HZ)
+            kal = predict(kalibr_components(res), HORIZONS, WINDOW, RATE_HZ)
+            c = check_prediction(pred, y[half:], RATE_HZ)
+            ck = check_prediction(kal, y[half:], RATE_HZ)
+            out[f"{name} {axis}"] = {"ratio": c["ratio"].tolist(),
+                                     "coverage_95": c["coverage_95"],
+                                     "kalibr_ratio": ck["ratio"].tolist(),
+                                     "n_windows": c["n_windows"]}
+            print(name, axis, np.round(c["ratio"], 2), np.round(ck["ratio"], 2), flush=True)
+    return out
+
+
+def _fmt(s) -> str:
+    m = s["model"]
+    return (f"ratio median {np.round(m['ratio_median'], 3)} pooled "
+            f"{np.round(m['ratio_pooled'], 3)} coverage {np.round(m['coverage_95'], 3)}; "
+            f"kalibr pooled {np.round(s['kalibr']['ratio_pooled'], 3)}")
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--seeds", type=int, default=10)
+    ap.add_argument("--hours", type=float, default=3.0)
+    ap.add_argument("--preset", action="append")
+    ap.add_argument("--real", action="store_true")
+    ap.add_argument("--json")
+    a = ap.parse_args(argv)
+    t0 = time.time()
+    result = {"horizons_s": list(HORIZONS), "bias_window_s": WINDOW, "hours": a.hours,
+              "machine": {"platform": platform.platform(), "cpus": os.cpu_count(),
+                          "load_1min_start": os.getloadavg()[0]}}
+    if a.real:
+        result["real"] = run_real()
+    else:
+        result["presets"] = run_presets(a.seeds, a.hours, a.preset or PRESETS)
+    result["machine"]["load_1min_end"] = os.getloadavg()[0]
+    result["wall_s"] = time.time() - t0
+    if a.json:
+        Path(a.json).write_text(json.dumps(result, indent=1))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
