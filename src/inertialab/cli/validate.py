@@ -35,6 +35,7 @@ def register(app: typer.Typer, groups: dict) -> None:
             emit_json("validate", {"kind": rec.kind, "rows": rec.n, "columns": cols,
                                    "column_units": rec.units, "meta": rec.meta,
                                    "timestamps": rec.meta.get("timestamps"),
+                                   "timebase": rec.timebase.to_dict() if rec.timebase else None,
                                    "sha256": rec.sha256},
                       inputs=[file], settings={"kind": kind, "unit": read.unit,
                                                "rate_hz": read.rate_hz, **read.settings()},
@@ -42,8 +43,13 @@ def register(app: typer.Typer, groups: dict) -> None:
             return
         print_table(["column", "unit"], [[c, rec.units.get(c, "")] for c in cols],
                     title=f"{file}: valid {rec.kind} record, {rec.n} rows")
+        tb = rec.timebase
+        if tb is not None:
+            print(f"time base: {tb.rate_hz:.6g} Hz (tau0 {tb.tau0_s:.6g} s, from the "
+                  f"{ {'argument': 'rate option', 'sidecar': 'sidecar fs_hz'}.get(tb.source, tb.source)}), "
+                  f"{tb.n_missing} samples lost on its grid")
         ts = rec.meta.get("timestamps")
         if ts and ts.get("n", 0) > 1:
-            print(f"time stamps: {ts['mean_rate_hz']:.6g} Hz mean, jitter {ts['jitter_s']:.3g} s, "
+            print(f"time stamps: {ts['mean_rate_hz']:.6g} Hz mean over the kept samples, jitter {ts['jitter_s']:.3g} s, "
                   f"{ts['n_gaps']} gaps ({ts['n_dropped']} samples dropped), "
                   f"{ts['n_repeated']} repeated, {ts['n_out_of_order']} out of order")

@@ -9,6 +9,7 @@ import numpy as np
 import pandas as pd
 
 from inertialab.errors import InputError
+from inertialab.io.timestamps import Timebase
 from inertialab.units import split_suffix
 
 
@@ -25,6 +26,10 @@ class Record:
     units : canonical column -> unit suffix, for unit-flexible columns
     sha256 : hash of the validated canonical columns (format-independent)
     arrays : for ``.npy`` logs, the memory-mapped column (not copied into ``data``)
+    timebase : the record's one time base (sample rate, tau0, grid slots, jitter, lost
+        samples, source), decided once on reading
+        (:func:`inertialab.io.timestamps.decide_timebase`); None for a record that is not
+        a continuous log, or a log with neither time stamps nor a rate
     """
 
     kind: str
@@ -34,6 +39,7 @@ class Record:
     units: dict[str, str]
     sha256: str
     arrays: dict[str, np.ndarray] = field(default_factory=dict)
+    timebase: Timebase | None = None
 
     def column(self, name: str) -> np.ndarray:
         """Values of a canonical column as a float ndarray (memmap for .npy logs)."""

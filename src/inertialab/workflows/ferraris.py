@@ -68,14 +68,11 @@ def prepare(record: Record, *, sections=None, g_local: float | None = None) -> F
     meta = dict(record.meta)
     g = _g_from(meta, g_local)
     t = record.column("t_s").astype(float)
-    dt = np.diff(t)
-    fs = float(meta.get("fs_hz") or 0.0) or 1.0 / float(np.median(dt))
-    if np.any(dt <= 0):
-        raise InputError("time stamps must increase", path=record.path, column="t_s")
-    jitter = float(np.max(np.abs(dt * fs - 1.0)))
-    if jitter > 0.5:
-        warnings.warn(f"{record.path}: time steps vary by up to {100 * jitter:.0f} % of 1/fs; the "
-                      "turns are integrated at the nominal rate", DataQualityWarning, stacklevel=2)
+    tb = record.timebase  # the one time base, decided on reading (io.timestamps)
+    if tb is None or tb.back_rows:
+        raise InputError("time stamps must increase", path=record.path, column="t_s",
+                         row=list(tb.back_rows) if tb is not None else None)
+    fs = tb.rate_hz
     acc = record.data[acols].to_numpy(dtype=float)
     gyro = record.data[gcols].to_numpy(dtype=float)
     det = None
