@@ -12,7 +12,7 @@ def test_validate_takes_every_reading_option(tmp_path, capsys):
     rows = "".join(f"{1000 + 5 * i} {0.1 * i:.3f} {9.8:.3f}\n" for i in range(40))
     p.write_text("Logger export v2\nStamp GyroZ AccZ\n" + rows)
     code, out, err = run_inprocess(capsys, "validate", p, "--kind", "gyro_log", "--json",
-                                   "--map", "gz_dps=GyroZ,az_mps2=AccZ", "--time-col", "Stamp",
+                                   "--map", "gz_dps=GyroZ:dps,az_mps2=AccZ", "--time-col", "Stamp",
                                    "--time-unit", "ms")
     assert code in (0, None), err
     obj = json.loads(out)

@@ -221,7 +221,8 @@ def test_mat_v5_struct_and_matrix_by_dataset_path(tmp_path):
     with pytest.raises(InputError, match=r"2 numeric variables .*argument 'dataset'"):
         read_record(p, "gyro_log")
     rec = read_record(p, "gyro_log", options=ReadOptions.from_cli(
-        "t_s=t,gx_rps=gyro_1,gy_rps=gyro_2,gz_rps=gyro_3,ax_mps2=acc_1", dataset="imu"))
+        "t_s=t,gx_rps=gyro_1:rps,gy_rps=gyro_2:rps,gz_rps=gyro_3:rps,ax_mps2=acc_1:mps2",
+        dataset="imu"))
     np.testing.assert_array_equal(rec.data[["gx_rps", "gy_rps", "gz_rps"]], g)
     np.testing.assert_array_equal(rec.data["ax_mps2"], a[:, 0])
     # a 4 x n matrix (row per channel) is turned into columns
@@ -256,7 +257,7 @@ def test_mat_v73_and_hdf5_datasets_by_path(tmp_path):
     t = (t_ns - t_ns[0]) * 1e-9
     p = _mat73(tmp_path / "log73.mat", {"imu": {"t": t[:, None], "gyro": g}})
     rec = read_record(p, "gyro_log", options=ReadOptions.from_cli(
-        "t_s=t,gx_rps=gyro_1,gz_rps=gyro_3", dataset="imu"))
+        "t_s=t,gx_rps=gyro_1:rps,gz_rps=gyro_3:rps", dataset="imu"))
     np.testing.assert_array_equal(rec.data["gz_rps"], g[:, 2])
     h5py = pytest.importorskip("h5py")
     h = tmp_path / "flight.h5"
@@ -266,7 +267,7 @@ def test_mat_v73_and_hdf5_datasets_by_path(tmp_path):
     with pytest.raises(InputError, match=r"2 numeric datasets"):
         read_record(h, "gyro_log")
     rec2 = read_record(h, "gyro_log", options=ReadOptions.from_cli(
-        "t_s=col1,gy_rps=col3", dataset="sensors/imu/data"))
+        "t_s=col1,gy_rps=col3:rps", dataset="sensors/imu/data"))
     np.testing.assert_array_equal(rec2.data["gy_rps"], g[:, 1])
     cut = tmp_path / "cut.h5"
     cut.write_bytes(h.read_bytes()[:3000])

@@ -188,7 +188,7 @@ def _finish(df, kind, p, merged, *, header_units, column_map, parse, unit, rate_
     schema = SCHEMAS[kind]
     if column_map:
         df = apply_map(df, column_map, path=p, g_local=merged.get("g_local_mps2"), meta=merged,
-                       header_units=header_units)
+                       header_units=header_units, unit_option=unit)
     if options.time_unit is not None and options.time_column is None:
         df = _time_unit_only(df, options.time_unit, path=p, meta=merged)
     if schema.time_column == "t_s":
@@ -563,6 +563,9 @@ def validate_frame(df: pd.DataFrame, kind: str, *, path="<frame>", meta: dict | 
     if not (isinstance(ix, pd.RangeIndex) and ix.start == 0 and ix.step == 1):
         df = df.reset_index(drop=True)  # (a copy: only when the index is not 0..n-1)
     df = _coerce(df, schema, path=path).copy(deep=False)  # never alter the caller's frame
+    from inertialab.io.unit_check import check_accel_magnitude
+
+    check_accel_magnitude(df, units, path=path)
     if schema.time_order == "strict" and schema.time_column in df.columns:
         from inertialab.io.timestamps import audit
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import re
 
-__all__ = ["canonical_guess", "suggest_map"]
+__all__ = ["canonical_guess", "name_unit", "suggest_map"]
 
 _AXIS = r"[_\s.\-]*([xyz])"
 _PATTERNS = (
@@ -27,6 +27,12 @@ _BRACKET = re.compile(r"\s*[\[(]([^\])]+)[\])]\s*$")
 
 #: canonical target unit per family, and the dimension it needs
 _TARGET = {"g": "rps", "a": "mps2", "t": "s", "temp": "c"}
+
+
+def name_unit(name: str) -> str | None:
+    """The unit text in a column name's trailing bracket (``Gyro X (deg/s)`` -> ``deg/s``)."""
+    m = _BRACKET.search(str(name))
+    return m.group(1).strip() if m else None
 
 
 def canonical_guess(name: str) -> tuple[str, str | None] | None:
