@@ -103,6 +103,10 @@ def prepare_log(record, *, column: str | None = None, rate_hz: float | None = No
     path = record.path
     if input not in ("rate", "angle"):
         raise InputError(f"argument 'input' must be rate or angle, got '{input}'")
+    if rate_hz is None:
+        from inertialab.io.preflight import preflight
+
+        preflight(record, "allan")  # the checks `validate --kind allan` runs
     names = list(record.arrays) + [c for c in record.data.columns if c not in record.arrays]
     if column is not None:
         col = column.strip().lower()
@@ -122,22 +126,14 @@ def prepare_log(record, *, column: str | None = None, rate_hz: float | None = No
     suf = record.units.get(col, suf)
     if suf is None:
         raise InputError("column has no unit; give argument 'unit'", path=path, column=col)
-    tb = record.timebase
     values = record.column(col)
     if rate_hz is not None:
         fs = float(rate_hz)
         if not math.isfinite(fs) or fs <= 0:
             raise InputError(f"argument 'rate_hz' must be positive, got {rate_hz}")
-    elif tb is None:
-        raise InputError("needs a t_s column or argument 'rate_hz'", path=path)
     else:
-        if tb.back_rows:
-            raise InputError("time stamps repeat or go back; the samples cannot be placed "
-                             "in time (set argument 'gaps' to 'split' and analyse a segment, "
-                             "or give argument 'rate_hz' to ignore t_s)", path=path,
-                             column="t_s", row=list(tb.back_rows))
-        fs = tb.rate_hz
-        values = tb.place(values)  # dropouts: the lost samples are NaN on the grid
+        fs = record.timebase.rate_hz
+        values = record.timebase.place(values)  # dropouts: lost samples NaN on the grid
     dim = units.dimension(suf)
     kind_input = input
     if dim == "angle":

@@ -57,6 +57,9 @@ def prepare(record: Record, *, sections=None, g_local: float | None = None) -> F
     ``sections``: imucal's section list as a dict, or the path of its JSON file; None
     detects them from the accelerometer and the gyro.
     """
+    from inertialab.io.preflight import preflight
+
+    preflight(record, "ferraris")  # the checks `validate --kind ferraris` runs
     acols = _acc_cols(record)
     gcols = _gyro_cols(record)
     if gcols is None:

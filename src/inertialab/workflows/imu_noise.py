@@ -231,6 +231,10 @@ def analyse_record(rec, *, rate_hz: float | None = None, taus="octave", method: 
                    g_local: float | None = None, tau_range_s=None, progress=None) -> IMUNoise:
     """:func:`analyse_imu` on the ``gx gy gz ax ay az`` columns of a ``gyro_log`` record
     (rate from ``rate_hz``, the sidecar's ``fs_hz`` or the median step of ``t_s``)."""
+    if rate_hz is None:
+        from inertialab.io.preflight import preflight
+
+        preflight(rec, "imu")  # the checks `validate --kind imu` runs
     cols = {}
     for name in AXES:
         c = rec.find(name)

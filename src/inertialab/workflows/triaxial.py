@@ -78,7 +78,12 @@ def read(path, *, options=None, unit: str | None = None, g_local: float | None =
     except InputError as exc:
         if exc.column != "t_s":
             raise
-    return read_record(path, "triaxial_static", unit=unit_arg, g_local=g_local, options=options)
+        raw_error = exc
+    try:
+        return read_record(path, "triaxial_static", unit=unit_arg, g_local=g_local,
+                           options=options)
+    except InputError as exc:  # neither a static table nor a log: the log's cause
+        raise (raw_error if exc.column == "pos_id" else exc) from None
 
 
 def is_raw_log(record: Record) -> bool:
