@@ -465,7 +465,8 @@ def fit(session: Session, config: Config | None = None):
     findings = check_accel(run.fit, data.a, data.ref, data.g, counts=data.counts,
                            limits=config.limits)
     if run.gyro_fit is not None:
-        findings += check_gyro(run.gyro_fit, run.gyro_nominal, limits=config.limits)
+        findings += check_gyro(run.gyro_fit, run.gyro_nominal, limits=config.limits,
+                               raw=session.gyro_raw if session.gyro_suffix == "lsb" else None)
     if findings:
         if not config.force:
             raise ImplausibleCalibrationError(refusal(findings))
