@@ -365,9 +365,10 @@ def _with_source_unit(e: MapEntry, src, header_units, unit_suffix) -> MapEntry:
         return e
     text = (header_units or {}).get(src)
     if text is None:
-        from inertialab.io.suggest import name_unit
+        from inertialab.io.suggest import canonical_guess, name_unit
 
-        text = name_unit(str(src))
+        guess = canonical_guess(str(src))
+        text = guess[1] if guess and guess[1] else name_unit(str(src))
     suf = unit_suffix(text) if text else None
     return e if suf is None else MapEntry(e.target, e.source, suf, e.scale)
 

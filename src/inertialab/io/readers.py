@@ -544,12 +544,12 @@ def validate_frame(df: pd.DataFrame, kind: str, *, path="<frame>", meta: dict | 
         if c.required and c.name not in present and c.name == schema.time_column == "t_s":
             raise _missing("needs a t_s column or argument 'rate_hz'", seen, header_units,
                            path=path, column="t_s",
-                           wanted=[x.name for x in schema.columns if x.required])
+                           wanted=[x.name for x in schema.columns])
         if c.required and c.name not in present:
             hint = f" (with a unit suffix, e.g. {c.name}_{_example_suffix(c)})" if c.flexible else ""
             raise _missing(f"missing required column{hint}", seen, header_units, path=path,
                            column=c.name,
-                           wanted=[x.name for x in schema.columns if x.required])
+                           wanted=[x.name for x in schema.columns])
     for group in schema.one_of:
         if not any(g in present for g in group):
             extra = ("t_s",) if schema.time_column == "t_s" and "t_s" not in present else ()

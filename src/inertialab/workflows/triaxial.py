@@ -462,10 +462,13 @@ def fit(session: Session, config: Config | None = None):
         data, method=m, objective=obj, rng=config.seed, gyro_raw=session.gyro_raw, t=session.t,
         gyro_suffix=session.gyro_suffix, gyro_lsb_per_rps=config.gyro_lsb_per_rps,
         meta=session.meta, **kw)
+    limits = config.limits  # a counts log's ADC range: declared in the sidecar key 'adc'
+    if limits.adc is None and isinstance(session.meta.get("adc"), dict):
+        limits = dataclasses.replace(limits, adc=session.meta["adc"])
     findings = check_accel(run.fit, data.a, data.ref, data.g, counts=data.counts,
-                           limits=config.limits)
+                           limits=limits)
     if run.gyro_fit is not None:
-        findings += check_gyro(run.gyro_fit, run.gyro_nominal, limits=config.limits,
+        findings += check_gyro(run.gyro_fit, run.gyro_nominal, limits=limits,
                                raw=session.gyro_raw if session.gyro_suffix == "lsb" else None)
     if findings:
         if not config.force:
