@@ -3,6 +3,7 @@ readers and :mod:`inertialab.io.readers` both use it without importing each othe
 
 from __future__ import annotations
 
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -63,3 +64,21 @@ class Record:
         if self.arrays:
             return int(next(iter(self.arrays.values())).shape[0])
         return len(self.data)
+
+
+@contextmanager
+def naming(path):
+    """Inside it, an :class:`InputError` that names no file is raised again naming
+    ``path`` (the record being analysed), so every error a command prints names its
+    file: ``with naming(record.path): detect(...)``."""
+    try:
+        yield
+    except InputError as exc:
+        if exc.path is not None or path is None:
+            raise
+        text = str(exc)
+        try:
+            new = type(exc)(text, path=path)
+        except TypeError:
+            new = InputError(text, path=path)
+        raise new from None

@@ -25,6 +25,7 @@ from inertialab.calib.triaxial import TriaxialCalibration
 from inertialab.calib.triaxial_checks import ImplausibleCalibrationError, Limits, refusal
 from inertialab.errors import DataQualityWarning, InputError
 from inertialab.io.readers import Record
+from inertialab.io.record import naming
 from inertialab.workflows.triaxial import _acc_cols, _g_from, _gyro_cols
 
 
@@ -80,7 +81,8 @@ def prepare(record: Record, *, sections=None, g_local: float | None = None) -> F
     gyro = record.data[gcols].to_numpy(dtype=float)
     det = None
     if sections is None:
-        det = fr.detect_sections(acc, gyro, fs)
+        with naming(record.path):  # every error names the file
+            det = fr.detect_sections(acc, gyro, fs)
         secs = det.sections
     elif isinstance(sections, dict):
         secs = fr.sections_from_dict(sections, len(acc))

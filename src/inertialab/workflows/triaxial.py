@@ -54,6 +54,7 @@ from inertialab.calib.triaxial_session import (  # noqa: F401 - re-exported
 )
 from inertialab.errors import DataQualityWarning, InputError
 from inertialab.io.readers import Record, hash_frame, read_record
+from inertialab.io.record import naming
 from inertialab.noise.static_intervals import StaticIntervals, sweep_thresholds
 from inertialab.sensors.triaxial import OBJECTIVES
 
@@ -382,11 +383,13 @@ def prepare(record: Record, *, lsb_per_g: float | None = None, schedule: pd.Data
     log_gyro = None if gcols is None else record.data[gcols].to_numpy(dtype=float)
     if raw_log:
         t = record.column("t_s")
-        data = raw_log_data(t, record.data[cols].to_numpy(dtype=float), meta, suffix=suffix,
-                            lsb_per_g=lsb_per_g, schedule=schedule, k_thr=k_thr,
-                            threshold=threshold, window_s=window_s, t_init_s=t_init_s,
-                            min_duration_s=min_duration_s, path=record.path,
-                            header_check=header_check, gyro_raw=log_gyro)
+        with naming(record.path):  # every error names the file
+            data = raw_log_data(t, record.data[cols].to_numpy(dtype=float), meta,
+                                suffix=suffix, lsb_per_g=lsb_per_g, schedule=schedule,
+                                k_thr=k_thr, threshold=threshold, window_s=window_s,
+                                t_init_s=t_init_s, min_duration_s=min_duration_s,
+                                path=record.path, header_check=header_check,
+                                gyro_raw=log_gyro)
     else:
         data = static_data_from_frame(record.data, meta, lsb_per_g=lsb_per_g, path=record.path,
                                       header_check=header_check)
