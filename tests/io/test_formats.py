@@ -90,6 +90,7 @@ def test_bag_imu_topic_read_with_header_stamps(tmp_path, kind):
     np.testing.assert_array_equal(d[["ax_mps2", "ay_mps2", "az_mps2"]].to_numpy(), a)
     np.testing.assert_allclose(d["t_s"], (t_ns - t_ns[0]) * 1e-9, rtol=0, atol=1e-15)
     assert rec.meta["bag"]["topic"] == "/imu/data" and rec.meta["bag"]["n_messages"] == 400
+    assert rec.topic == "/imu/data"  # the exporters' rostopic default
     assert rec.meta["time_origin"]["value"] == int(t_ns[0])
     assert rec.meta["timestamps"]["mean_rate_hz"] == pytest.approx(400.0, rel=1e-12)
     if kind != "ros1":  # the storage file inside the folder reads the same

@@ -60,6 +60,14 @@ class Record:
         return None
 
     @property
+    def topic(self) -> str | None:
+        """The ROS topic a bag record was read from (``meta["bag"]["topic"]``), else None:
+        the default of an exporter's ``rostopic`` (a Kalibr ``imu.yaml`` names the
+        topic the user's bag publishes, not ``/imu0``)."""
+        bag = self.meta.get("bag")
+        return bag.get("topic") if isinstance(bag, dict) else None
+
+    @property
     def n(self) -> int:
         if self.arrays:
             return int(next(iter(self.arrays.values())).shape[0])
