@@ -1,4 +1,4 @@
-"""calib.triaxial_checks: never a silent garbage model (issue 17 item 1)."""
+"""calib.triaxial_checks: never a silent garbage model."""
 
 import warnings
 from types import SimpleNamespace
@@ -50,7 +50,7 @@ def test_cap_of_poses_is_not_identifiable_and_names_the_weak_parameters():
 
 
 def test_data_in_g_labelled_mps2_is_garbage_and_every_bound_says_so():
-    # the silent-garbage case of issue 17: LM converges to |b| ~ 1e3 m/s^2, |k| ~ 100
+    # the silent-garbage case: LM converges to |b| ~ 1e3 m/s^2, |k| ~ 100
     a = tx.forward(X_TRUE, 9.8 * sphere(30, 2)) / 9.8
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")

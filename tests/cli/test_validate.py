@@ -1,4 +1,4 @@
-"""``inertialab validate`` through the shared reading options (issue 16 item 1)."""
+"""``inertialab validate`` through the shared reading options, and validate = analyse."""
 
 import json
 

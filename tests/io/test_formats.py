@@ -1,5 +1,5 @@
 """The formats robots, drones and lab tools log in, each read through the one front
-door from a file written by the format's own library (issue 16 item 2)."""
+door from a file written by the format's own library."""
 
 import math
 import sys

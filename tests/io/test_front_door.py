@@ -1,4 +1,4 @@
-"""The one reading front door (issue 16 item 1): header rows, separators, headerless
+"""The one reading front door: header rows, separators, headerless
 files with positional maps, missing-column errors that list what the file holds and
 suggest the map, and the reading options every command shares."""
 

@@ -116,7 +116,7 @@ def test_per_test_tables_are_sorted_with_a_warning():
 
 
 def test_a_cell_beyond_1e100_is_refused_naming_file_column_and_row(tmp_path):
-    # issue 19 item 5: one 1e308 cell used to reach the arithmetic and come out as
+    # one 1e308 cell used to reach the arithmetic and come out as
     # inf/NaN outputs with exit 0 (vibration apply) or an internal error (allan)
     t = np.arange(50) / 10.0
     rate = np.random.default_rng(1).normal(0.0, 1.0, 50)

@@ -1,4 +1,4 @@
-"""Identifiability and plausibility of a triaxial calibration (issue 17 item 1).
+"""Identifiability and plausibility of a triaxial calibration.
 
 A fit that returns numbers is not a calibration: with poses that do not span the sphere,
 a raw log whose rotations were taken for rests, or data in the wrong unit, least squares
@@ -28,7 +28,7 @@ fewest of 8-32 bits that hold them). A bias is judged as its offset from that ze
 against a quarter of the half range in counts, and, converted with the sensitivity,
 against the physical limit; a refusal names the range and the zero it used.
 
-The defaults are physical bounds for MEMS parts (issue 17), not tolerances of a good
+The defaults are physical bounds for MEMS parts, not tolerances of a good
 calibration: they catch garbage, not a mediocre unit.
 """
 
@@ -43,9 +43,9 @@ from inertialab.errors import InputError
 from inertialab.sensors import triaxial as tx
 
 SCALE_RANGE = (0.5, 2.0)
-"""Plausible scale factors (issue 17 item 1)."""
+"""Plausible scale factors."""
 ANGLE_LIMIT = 0.2
-"""Plausible |non-orthogonality| and |gyro misalignment|, rad (issue 17 item 1)."""
+"""Plausible |non-orthogonality| and |gyro misalignment|, rad."""
 BIAS_LIMIT_G = 0.5
 """Default accelerometer bias limit, in units of local gravity."""
 NORM_TOL_G = 0.02

@@ -1,4 +1,4 @@
-"""Column mapping and parse options for files not written to a spec (issue 10 item 1).
+"""Column mapping and parse options for files not written to a spec.
 
 Real rigs write Xsens, VectorNav, PX4 or ROS exports: other column names, units in
 the header text instead of the name, integer time stamps in ms/us/ns, ``;`` as the

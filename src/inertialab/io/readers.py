@@ -382,7 +382,7 @@ def _coerce_numeric(series: pd.Series, col: Column, *, path, name: str) -> pd.Se
             raise InputError(what, path=path, column=name, row=rows if len(rows) > 1 else rows[0])
     with np.errstate(invalid="ignore"):
         huge = np.abs(values) > MAX_MAGNITUDE
-    if huge.any():  # issue 19 item 5: sums of squares of such values overflow to inf/NaN
+    if huge.any():  # sums of squares of such values overflow to inf/NaN
         i = int(np.flatnonzero(huge)[0])
         raise InputError(f"value {values[i]:.3g} is beyond {MAX_MAGNITUDE:g} in magnitude "
                          "(no sensor reads that; the arithmetic would overflow)",
