@@ -108,3 +108,11 @@ def test_validate_title_keeps_the_file_name_on_one_line_and_units_shown(tmp_path
     rows = {line.split("│")[1].strip(): line.split("│")[2].strip()
             for line in out.splitlines() if line.count("│") == 3}
     assert rows["t_s"] == "s" and rows["temp_c"] == "c" and rows["rate_dph"] == "dph"
+
+
+def test_clock_without_time_same_error_from_validate_and_allan(tmp_path, capsys):
+    p = tmp_path / "phase.csv"
+    p.write_text("phase_ns\n" + "".join(f"{v:.3f}\n" for v in range(20)))
+    v = _err(capsys, "validate", p, "--kind", "clock_log")
+    a = _err(capsys, "allan", p, "--input", "phase")
+    assert v == a == f"error: {p}: needs a t_s column or --rate"

@@ -92,3 +92,23 @@ def test_validate_and_allan_report_the_same_rate_on_a_real_ulog(capsys):
     assert 1.0 / a["tau0_s"] == pytest.approx(v["timebase"]["rate_hz"], rel=1e-12)
     assert a["settings"]["rate_hz"] == v["timebase"]["rate_hz"]
     assert v["timestamps"]["mean_rate_hz"] < 190  # the kept samples' mean, not the rate
+
+
+def test_imu_and_batch_report_the_validate_rate(tmp_path, capsys):
+    pytest.importorskip("pyulog")
+    import shutil
+
+    f = tmp_path / "log.ulg"
+    shutil.copy(PX4 / "px4_events_4s.ulg", f)
+    runs = {}
+    for name, args in (("validate", ("validate", f, "--kind", "imu", "--json")),
+                       ("imu", ("allan", f, "--imu", "--json")),
+                       ("batch", ("batch", "allan", "--inputs", tmp_path / "*.ulg",
+                                  "--scheduler", "serial", "--json"))):
+        code, out, err = run_inprocess(capsys, *args)
+        assert code in (0, None), err
+        runs[name] = json.loads(out)
+    rate = runs["validate"]["timebase"]["rate_hz"]
+    assert rate == pytest.approx(250.0, rel=1e-9)
+    assert runs["imu"]["settings"]["rate_hz"] == rate
+    assert runs["batch"]["units"][0]["figures"]["rate_hz"] == rate

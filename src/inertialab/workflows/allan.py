@@ -301,8 +301,7 @@ def prepare_clock(frame, meta: dict | None = None, *, input: str, column: str | 
     elif meta.get("fs_hz") is not None:
         fs = float(meta["fs_hz"])
     else:
-        raise InputError("no sample rate: give argument 'rate_hz', a t_s column or the "
-                         "sidecar key fs_hz", path=path or None)
+        raise InputError("needs a t_s column or argument 'rate_hz'", path=path or None)
     return clock_log(vals, input=input, unit=suf, rate_hz=fs, nominal_hz=nominal_hz,
                      column=str(col), path=path, sha256=sha256)
 
