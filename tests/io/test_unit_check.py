@@ -101,3 +101,16 @@ def test_validate_json_records_the_inferred_unit(tmp_path, capsys):
     obj = json.loads(out)
     assert obj["meta"]["inferred_units"]["gz_rps"]["unit"] == "dps"
     assert any("read in dps" in w for w in obj["warnings"])
+
+
+def test_sidecar_units_declare_the_source_unit_of_a_mapped_column(tmp_path):
+    from inertialab.io import write_record
+
+    rng = np.random.default_rng(3)
+    g = rng.normal(0, 1.0, 100)  # floats: the data decide nothing
+    p = write_record(pd.DataFrame({"t_s": np.arange(100) / 10.0, "GyroX": g}),
+                     tmp_path / "s.csv", {"units": {"gx": "dps"}})
+    rec = read_record(p, "gyro_log", column_map="gx_rps=GyroX")
+    np.testing.assert_allclose(rec.data["gx_rps"], pd.read_csv(p)["GyroX"] * math.pi / 180,
+                               rtol=1e-12)
+    assert "inferred_units" not in rec.meta

@@ -314,8 +314,9 @@ def apply_map(df: pd.DataFrame, cmap: ColumnMap, *, path=None, g_local: float | 
     unit takes the unit of the file's units header row, or of a bracket in the source's
     name (``Gyro X (deg/s)``); else an acceleration or angular-rate target takes the unit
     the data decide (:mod:`inertialab.io.unit_check`: a warning, recorded in
-    ``meta["inferred_units"]``), unless the reading option ``unit`` (``unit_option``)
-    declares it; a column whose unit nothing declares or decides is an
+    ``meta["inferred_units"]``), unless the sidecar's ``units`` (``{base: unit}``, the
+    source's unit, converted) or the reading option ``unit`` (``unit_option``, the
+    values relabelled) declares it; a column whose unit nothing declares or decides is an
     :class:`InputError` naming it and the units it could be.
     """
     from inertialab.io.formats.text import unit_suffix
@@ -391,12 +392,17 @@ def _infer_units(df, entries, *, path, meta, header_units, unit_option) -> list[
     from inertialab.io.unit_check import CANDIDATES, infer_unit
 
     todo = []
+    side = (meta or {}).get("units")
     for i, e in enumerate(entries):
         if e.unit is not None or e.target in _TIME_TARGETS:
             continue
         base, suf = U.split_suffix(e.target)
         dim = U.SUFFIXES[suf].dimension if suf is not None else None
-        if dim in CANDIDATES and not _declared_by_option(dim, base, unit_option):
+        declared = side.get(base) if isinstance(side, dict) else None
+        if dim in CANDIDATES and declared is not None and declared in U.SUFFIXES \
+                and U.SUFFIXES[declared].dimension == dim:
+            entries[i] = MapEntry(e.target, e.source, declared, e.scale)  # the sidecar's unit
+        elif dim in CANDIDATES and not _declared_by_option(dim, base, unit_option):
             todo.append((i, e, base, dim))
     if not todo:
         return entries
