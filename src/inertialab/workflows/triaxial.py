@@ -642,7 +642,7 @@ def apply(model: TriaxialCalibration, record: Record, *, model_path=None,
     for k in ("lsb_per_g", "lsb_offset", "gyro_lsb_per_rps"):
         meta.pop(k, None)
     return Record(kind=record.kind, data=df, meta=meta, path=record.path, units=out_units,
-                  sha256=hash_frame(df))
+                  sha256=hash_frame(df), timebase=record.timebase)
 
 
 def gyro_applied(model: TriaxialCalibration, record: Record) -> bool:
