@@ -114,3 +114,12 @@ def test_sidecar_units_declare_the_source_unit_of_a_mapped_column(tmp_path):
     np.testing.assert_allclose(rec.data["gx_rps"], pd.read_csv(p)["GyroX"] * math.pi / 180,
                                rtol=1e-12)
     assert "inferred_units" not in rec.meta
+
+
+def test_an_angle_column_must_declare_its_unit(tmp_path):
+    p = tmp_path / "a.csv"
+    p.write_text("t,dth\n" + "".join(f"{i / 10},{0.01 * i}\n" for i in range(20)))
+    with pytest.raises(InputError, match=r"'dth': mapped to 'dtheta_arcsec' without a unit, and "
+                                         r"the unit of an angle cannot be told .*"
+                                         r"arcsec\|deg\|rad"):
+        read_record(p, "gyro_log", column_map="t_s=t,dtheta_arcsec=dth")

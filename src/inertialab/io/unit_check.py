@@ -9,6 +9,7 @@ error naming it and the units it could be, unless the data decide:
   median norm of the samples is gravity, so a median norm within 25 % of 1 is in g and
   within 25 % of 9.81 is in m/s^2 (a single axis decides only with its own median
   within those bands, as an axis along gravity does);
+* an angle (``dtheta``, ``theta``) is never inferred: it must be declared;
 * a gyro: its samples sit on the grid of its ADC's quantisation step (the smallest step
   between the distinct values, every value a whole number of steps from the first), and
   the steps of real gyros do not overlap between units: 5e-6 to 1.5e-3 rad/s
@@ -35,7 +36,8 @@ from inertialab.errors import InputError
 __all__ = ["check_accel_magnitude", "infer_unit", "quantisation_step"]
 
 #: candidate units of the dimensions whose unit can be inferred
-CANDIDATES = {"acceleration": ("g", "mps2"), "angular_rate": ("rps", "dps", "dph")}
+CANDIDATES = {"acceleration": ("g", "mps2"), "angular_rate": ("rps", "dps", "dph"),
+              "angle": ("arcsec", "deg", "rad")}
 #: quantisation steps of real gyros per unit (see the module text)
 GYRO_STEP = {"rps": (5e-6, 1.5e-3), "dps": (3e-3, 0.1), "dph": (5.0, 400.0)}
 #: a median norm within this fraction of 1 g reads in g (of 9.81 in m/s^2)
@@ -95,7 +97,7 @@ def infer_unit(dimension: str, values, triad=None) -> tuple[str | None, str]:
         if len(hits) == 1:
             return hits[0], f"its quantisation step {q:.4g} is a gyro's step in {hits[0]}"
         return None, f"its quantisation step {q:.4g} is no gyro's step in one unit alone"
-    return None, ""
+    return None, f"the unit of an {dimension} cannot be told from its values"
 
 
 def check_accel_magnitude(df, units: dict, *, path) -> None:
