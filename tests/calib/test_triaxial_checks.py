@@ -1,4 +1,4 @@
-"""calib.triaxial_checks: never a silent garbage model (issue 17 item 1)."""
+"""calib.triaxial_checks: never a silent garbage model."""
 
 import warnings
 from types import SimpleNamespace
@@ -50,7 +50,7 @@ def test_cap_of_poses_is_not_identifiable_and_names_the_weak_parameters():
 
 
 def test_data_in_g_labelled_mps2_is_garbage_and_every_bound_says_so():
-    # the silent-garbage case of issue 17: LM converges to |b| ~ 1e3 m/s^2, |k| ~ 100
+    # the silent-garbage case: LM converges to |b| ~ 1e3 m/s^2, |k| ~ 100
     a = tx.forward(X_TRUE, 9.8 * sphere(30, 2)) / 9.8
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -118,3 +118,77 @@ def test_counts_mode_unsigned_offsets_are_not_biases(seed):
     a = tx.forward(x, 9.80665 * sphere(38, 10 + seed))
     f = calibrate(a, objective="norm", g=9.80665, counts=True)
     assert check_accel(f, a, None, 9.80665, counts=True) == []
+
+
+# ------------------------------------------------------------ counts logs and their ADC
+
+def test_adc_range_detected_or_declared():
+    from inertialab.calib.triaxial_checks import adc_range
+
+    assert adc_range([32000, 33500, 40000]).text() == \
+        "unsigned 16-bit ADC (detected), zero at 32768"
+    assert (adc_range([-300, 2000]).signed, adc_range([-300, 2000]).bits) == (True, 12)
+    r = adc_range([1, 2], {"bits": 16, "signed": False})
+    assert (r.zero, r.source) == (32768.0, "declared")
+
+
+def _unsigned_counts_session(tmp_path, shift=32768.0, gyro_extra=0.0):
+    """The simulated 62-pose counts log (signed, MPU-6050 style) moved to an unsigned
+    16-bit ADC (zero at mid-scale 32768), written without any stated sensitivity, as an
+    Xsens MTi raw log is (imu_tk's xsens_acc.mat/xsens_gyro.mat are not in the index we
+    can copy from, so the log is simulated)."""
+    from inertialab.io import write_record
+    from inertialab.workflows import triaxial as fc
+
+    raw = tp.simulate("rawlog62-counts", seed=2)
+    d = raw.data.copy()
+    for c in ("ax_lsb", "ay_lsb", "az_lsb", "gx_lsb", "gy_lsb", "gz_lsb"):
+        d[c] = d[c] + shift + (gyro_extra if c.startswith("g") else 0.0)
+    meta = {k: v for k, v in raw.meta.items()
+            if k not in ("lsb_per_g", "lsb_offset", "gyro_lsb_per_rps", "units")}
+    p = write_record(d, tmp_path / "unsigned.csv", meta)
+    return raw, fc.prepare(fc.read(p), gyro=True, k_thr=6)
+
+
+def test_unsigned_counts_log_calibrates_without_force(tmp_path):
+    from inertialab.workflows import triaxial as fc
+
+    raw, session = _unsigned_counts_session(tmp_path)
+    # the gate before: the mid-scale offset read as a rate (bgx ~ 4.4 rad/s) refused it
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        run = fc.fit(session, fc.Config(method="lm", objective="norm"))
+    assert not run.model.flags
+    old = check_gyro(run.gyro_fit, run.gyro_nominal)  # without the ADC range
+    assert old and old[-1].parameters == ("bgx", "bgy", "bgz")
+    # and the fit is the signed log's: accelerometer offsets 32768 higher, same scale
+    sig_meta = {k: v for k, v in raw.meta.items() if k not in ("lsb_per_g", "lsb_offset",
+                                                               "gyro_lsb_per_rps")}
+    from inertialab.io import write_record
+
+    p = write_record(raw.data, tmp_path / "signed.csv", sig_meta)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ref = fc.fit(fc.prepare(fc.read(p), gyro=True, k_thr=6),
+                     fc.Config(method="lm", objective="norm"))
+    np.testing.assert_allclose(run.fit.x[:3] - 32768.0, ref.fit.x[:3], atol=1e-3)
+    np.testing.assert_allclose(run.fit.x[3:], ref.fit.x[3:], rtol=1e-6, atol=1e-9)
+    # the gyro matrix matches the truth to 1 % (sensitivity found in the data)
+    Mt = raw.truth["gyro_M"] / tp.GYRO_LSB_PER_RPS
+    assert np.max(np.abs(run.gyro_fit.matrix / Mt - 1)[np.abs(Mt) > 0.5 * Mt.max()]) < 0.01
+    np.testing.assert_allclose(run.gyro_fit.bias - 32768.0, ref.gyro_fit.bias, atol=0.5)
+
+
+def test_counts_bias_far_from_the_adc_zero_is_refused_naming_the_range(tmp_path):
+    from inertialab.calib.triaxial_checks import ImplausibleCalibrationError
+    from inertialab.workflows import triaxial as fc
+
+    # a gyro whose zero sits 12000 counts above mid-scale: not an ADC offset a part has
+    _, session = _unsigned_counts_session(tmp_path, gyro_extra=12000.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        with pytest.raises(ImplausibleCalibrationError,
+                           match=r"implausible: bgx, bgy, bgz \(bgx = \+1\d{4}\.\d, "
+                                 r"bgy = .* counts from the ADC zero \(unsigned 16-bit ADC "
+                                 r"\(detected\), zero at 32768\) beyond ±8192 counts\)"):
+            fc.fit(session, fc.Config(method="lm", objective="norm"))

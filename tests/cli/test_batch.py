@@ -101,7 +101,7 @@ def test_batch_allan_map_missing_column_marks_unit(tmp_path):
                 fh.write(f"{10 * k};{v:.6f}".replace(".", ",") + "\n")
     (tmp_path / "g2.csv").write_text("Time;Other\n0;1\n10;2\n")
     res = run("batch", "allan", "--inputs", tmp_path / "*.csv", "--scheduler", "serial",
-              "--map", "t_s=Time:ms,rate_dps=GyrZ", "--json", "--tolerance", "adev_1s<=1")
+              "--map", "t_s=Time:ms,rate_dps=GyrZ:dps", "--json", "--tolerance", "adev_1s<=1")
     obj = _json(res)
     st = {u["unit"]: u for u in obj["units"]}
     assert st["g2"]["status"] == "error" and "'GyrZ'" in st["g2"]["reason"]

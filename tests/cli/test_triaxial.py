@@ -264,6 +264,14 @@ def test_garbage_calibration_exits_2_and_force_writes_it_flagged(capsys, tmp_pat
     pd.DataFrame({"pos_id": range(1, 31), "ax_mps2": a[:, 0], "ay_mps2": a[:, 1],
                   "az_mps2": a[:, 2]}).to_csv(path, index=False)
     out = tmp_path / "res"
+    # records in g labelled m/s^2 are refused on reading, with the unit they look like
+    code, _, err = cli(capsys, "triaxial", "fit", path, "--g-local", "9.8", "--out", out)
+    one_line_error(code, err, "")
+    assert "look like g, not mps2" in err and not out.exists()
+    # a scale three times too large (a wrong LSB size) passes the reader, not the gate
+    pd.DataFrame({"pos_id": range(1, 31), "ax_mps2": 3 * 9.8 * a[:, 0],
+                  "ay_mps2": 3 * 9.8 * a[:, 1], "az_mps2": 3 * 9.8 * a[:, 2]}).to_csv(
+        path, index=False)
     code, _, err = cli(capsys, "triaxial", "fit", path, "--g-local", "9.8", "--out", out)
     one_line_error(code, err, "calibration refused, nothing written: ")
     assert "implausible: kx, ky, kz" in err and "set --force to write it flagged" in err

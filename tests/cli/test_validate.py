@@ -1,4 +1,4 @@
-"""``inertialab validate`` through the shared reading options (issue 16 item 1)."""
+"""``inertialab validate`` through the shared reading options, and validate = analyse."""
 
 import json
 
@@ -12,7 +12,7 @@ def test_validate_takes_every_reading_option(tmp_path, capsys):
     rows = "".join(f"{1000 + 5 * i} {0.1 * i:.3f} {9.8:.3f}\n" for i in range(40))
     p.write_text("Logger export v2\nStamp GyroZ AccZ\n" + rows)
     code, out, err = run_inprocess(capsys, "validate", p, "--kind", "gyro_log", "--json",
-                                   "--map", "gz_dps=GyroZ,az_mps2=AccZ", "--time-col", "Stamp",
+                                   "--map", "gz_dps=GyroZ:dps,az_mps2=AccZ", "--time-col", "Stamp",
                                    "--time-unit", "ms")
     assert code in (0, None), err
     obj = json.loads(out)
@@ -42,3 +42,77 @@ def test_validate_missing_column_lists_columns_and_suggests_the_map(tmp_path, ca
     assert "\n" not in line and "Gyro X [deg/s]" in line
     assert "t_s=Time,gx_rps=Gyro X:dps" in line
     assert "--map t_s=" in line or "argument 'column_map' t_s=" in line  # main.py flags it
+
+
+# ------------------------------------------------------------ validate = analyse
+
+def _err(capsys, *args):
+    code, out, err = run_inprocess(capsys, *args)
+    assert code == 2, (code, out, err)
+    lines = err.strip().splitlines()
+    assert len(lines) == 1, err
+    return lines[0]
+
+
+def test_no_time_column_same_error_from_validate_and_allan(tmp_path, capsys):
+    p = tmp_path / "no_time.csv"
+    p.write_text("rate_dph\n" + "".join(f"{v:.4f}\n" for v in
+                                        np.random.default_rng(0).normal(size=50)))
+    v = _err(capsys, "validate", p, "--kind", "gyro_log")
+    a = _err(capsys, "allan", p)
+    assert v == a == f"error: {p}: needs a t_s column or --rate"
+    assert _err(capsys, "validate", p, "--kind", "allan") == a
+    assert _err(capsys, "allan", p, "--imu") == _err(capsys, "validate", p, "--kind", "imu")
+    # and the rate option makes both read it
+    code, _, err = run_inprocess(capsys, "validate", p, "--kind", "allan", "--rate", "10")
+    assert code in (0, None), err
+
+
+def test_ferraris_session_without_time_column_names_the_real_cause(tmp_path, capsys):
+    import pandas as pd
+
+    src = tmp_path / "session.csv"
+    assert run_inprocess(capsys, "simulate", "ferraris-session", "--seed", "3", "--out",
+                         src)[0] in (0, None)
+    df = pd.read_csv(src, comment="#")
+    p = tmp_path / "no_time.csv"
+    df.drop(columns=["t_s"]).to_csv(p, index=False)
+    f = _err(capsys, "triaxial", "ferraris", p)
+    v = _err(capsys, "validate", p, "--kind", "ferraris")
+    assert f == v and "needs a t_s column or --rate" in f and "pos_id" not in f
+    # without the gyro the session is refused by both, naming the gyro
+    df.drop(columns=[c for c in df.columns if c.startswith("gx")]).to_csv(p, index=False)
+    f = _err(capsys, "triaxial", "ferraris", p)
+    assert f == _err(capsys, "validate", p, "--kind", "ferraris") and "gx_<unit>" in f
+
+
+def test_vibration_kind_needs_vib_on_in_validate_and_command(tmp_path, capsys):
+    p = tmp_path / "static.csv"
+    rng = np.random.default_rng(1)
+    p.write_text("t_s,rate_dph\n" + "".join(f"{i / 100:.2f},{v:.5f}\n"
+                                            for i, v in enumerate(rng.normal(size=300))))
+    v = _err(capsys, "validate", p, "--kind", "vibration")
+    f = _err(capsys, "vibration", "fit", p)
+    assert v == f and "vib_on" in v
+
+
+def test_validate_title_keeps_the_file_name_on_one_line_and_units_shown(tmp_path, capsys):
+    d = tmp_path / ("a_rather_long_folder_name_for_a_rig_" * 3)
+    d.mkdir()
+    p = d / "log_with_a_long_name_of_the_rig_and_the_date_2026-11-26.csv"
+    p.write_text("t_s,rate_dph,temp_c\n" + "".join(f"{i / 10},{i % 3},{20 + i / 100}\n"
+                                                   for i in range(20)))
+    code, out, err = run_inprocess(capsys, "validate", p, "--kind", "gyro_log")
+    assert code in (0, None), err
+    assert f"{p}: valid gyro_log record (gyro_log), 20 rows" in out.splitlines()
+    rows = {line.split("│")[1].strip(): line.split("│")[2].strip()
+            for line in out.splitlines() if line.count("│") == 3}
+    assert rows["t_s"] == "s" and rows["temp_c"] == "c" and rows["rate_dph"] == "dph"
+
+
+def test_clock_without_time_same_error_from_validate_and_allan(tmp_path, capsys):
+    p = tmp_path / "phase.csv"
+    p.write_text("phase_ns\n" + "".join(f"{v:.3f}\n" for v in range(20)))
+    v = _err(capsys, "validate", p, "--kind", "clock_log")
+    a = _err(capsys, "allan", p, "--input", "phase")
+    assert v == a == f"error: {p}: needs a t_s column or --rate"

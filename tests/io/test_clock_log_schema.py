@@ -1,4 +1,4 @@
-"""The ``clock_log`` record kind (issue 15 item 1): clock records through the one front
+"""The ``clock_log`` record kind: clock records through the one front
 door ``read_record``, then ``workflows.allan.read_clock`` on top of it."""
 
 import numpy as np

@@ -1,4 +1,4 @@
-"""The one reading front door (issue 16 item 1): header rows, separators, headerless
+"""The one reading front door: header rows, separators, headerless
 files with positional maps, missing-column errors that list what the file holds and
 suggest the map, and the reading options every command shares."""
 
@@ -123,7 +123,7 @@ def test_rate_builds_the_time_column_and_units_per_dimension(tmp_path):
 def test_time_column_and_unit_options(tmp_path):
     p = _write(tmp_path, "v.csv", "Stamp,RateZ\n1700000000000000000,1\n1700000000002500000,2\n"
                "1700000000005000000,3\n")
-    opts = ReadOptions.from_cli("rate_dph=RateZ", time_col="Stamp", time_unit="ns")
+    opts = ReadOptions.from_cli("rate_dph=RateZ:dph", time_col="Stamp", time_unit="ns")
     rec = read_record(p, "gyro_log", options=opts)
     np.testing.assert_array_equal(rec.data["t_s"], [0.0, 0.0025, 0.005])
     assert rec.meta["time_origin"] == {"column": "Stamp", "unit": "ns",
@@ -154,14 +154,14 @@ def test_parquet_and_2d_npy_through_the_same_door(tmp_path):
     t, g = _gyro_values(40)
     df = pd.DataFrame({"time": t, "wx": g[:, 0]})
     df.to_parquet(tmp_path / "a.parquet")
-    rec = read_record(tmp_path / "a.parquet", "gyro_log", column_map="t_s=time,gx_rps=wx")
+    rec = read_record(tmp_path / "a.parquet", "gyro_log", column_map="t_s=time,gx_rps=wx:rps")
     np.testing.assert_array_equal(rec.data["gx_rps"], g[:, 0])
     np.save(tmp_path / "b.npy", np.column_stack([t, g]))
     rec2 = read_record(tmp_path / "b.npy", "gyro_log",
-                       column_map="t_s=col1,gx_rps=col2,gy_rps=col3,gz_rps=col4")
+                       column_map="t_s=col1,gx_rps=col2:rps,gy_rps=col3:rps,gz_rps=col4:rps")
     np.testing.assert_array_equal(rec2.data[["gx_rps", "gy_rps", "gz_rps"]], g)
     s = np.zeros(40, dtype=[("t", "f8"), ("gz", "f8")])
     s["t"], s["gz"] = t, g[:, 2]
     np.save(tmp_path / "c.npy", s)
-    rec3 = read_record(tmp_path / "c.npy", "gyro_log", column_map="t_s=t,gz_dps=gz")
+    rec3 = read_record(tmp_path / "c.npy", "gyro_log", column_map="t_s=t,gz_dps=gz:dps")
     np.testing.assert_array_equal(rec3.data["gz_dps"], g[:, 2])

@@ -1,4 +1,4 @@
-"""Dropouts, repeated stamps and saturation (issue 10 item 2)."""
+"""Dropouts, repeated stamps and saturation."""
 
 import numpy as np
 import pandas as pd

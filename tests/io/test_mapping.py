@@ -1,4 +1,4 @@
-"""Column mapping, parse options and the vendor example files (issue 10 item 1)."""
+"""Column mapping, parse options and the vendor example files."""
 
 import math
 from pathlib import Path

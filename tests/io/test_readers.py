@@ -116,7 +116,7 @@ def test_per_test_tables_are_sorted_with_a_warning():
 
 
 def test_a_cell_beyond_1e100_is_refused_naming_file_column_and_row(tmp_path):
-    # issue 19 item 5: one 1e308 cell used to reach the arithmetic and come out as
+    # one 1e308 cell used to reach the arithmetic and come out as
     # inf/NaN outputs with exit 0 (vibration apply) or an internal error (allan)
     t = np.arange(50) / 10.0
     rate = np.random.default_rng(1).normal(0.0, 1.0, 50)
@@ -128,3 +128,18 @@ def test_a_cell_beyond_1e100_is_refused_naming_file_column_and_row(tmp_path):
     rate[17] = 1e99  # large but harmless: accepted
     pd.DataFrame({"t_s": t, "rate_dph": rate}).to_csv(p, index=False)
     assert read_record(p, "gyro_log").column("rate_dph")[17] == 1e99
+
+
+def test_naming_puts_the_file_on_errors_that_name_none():
+    from inertialab.calib.triaxial_checks import ImplausibleCalibrationError
+    from inertialab.io.record import naming
+
+    with pytest.raises(InputError, match=r"^rig/log.csv: no initial rest"):
+        with naming("rig/log.csv"):
+            raise InputError("no initial rest")
+    with pytest.raises(ImplausibleCalibrationError, match=r"^rig/log.csv: implausible"):
+        with naming("rig/log.csv"):
+            raise ImplausibleCalibrationError("implausible")
+    with pytest.raises(InputError, match=r"^other.csv: x"):  # a named file is kept
+        with naming("rig/log.csv"):
+            raise InputError("x", path="other.csv")

@@ -1,4 +1,4 @@
-"""Time stamps as they are (issue 16 item 3): rate, jitter, gaps, dropped and repeated
+"""Time stamps as they are: rate, jitter, gaps, dropped and repeated
 samples measured against stamps built with known defects; resampling only when asked."""
 
 import math

@@ -1,4 +1,4 @@
-"""Output safety (issue 19 items 4 and 6): non-regular targets refused, transactional
+"""Output safety: non-regular targets refused, transactional
 directory outputs (replaced whole, merged into foreign directories, locked), rollback
 leaves the filesystem as it was, names from data never leave the output directory."""
 

@@ -1,5 +1,5 @@
 """Figures the CLI writes outside the demo are laid out in one pass with no text problem
-(issue 18 item 11; write_figures draws them through report.html.figure_png)."""
+(write_figures draws them through report.html.figure_png)."""
 
 from types import SimpleNamespace
 

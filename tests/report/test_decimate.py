@@ -1,4 +1,4 @@
-"""M4 decimation (issue 18 item 11): every column keeps its first, last, lowest and highest
+"""M4 decimation: every column keeps its first, last, lowest and highest
 sample (checked against a brute-force scan), and the drawn line looks like the full one."""
 
 import matplotlib.pyplot as plt

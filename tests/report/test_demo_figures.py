@@ -1,5 +1,5 @@
 """Every figure of the demo report (quick settings) is laid out in one pass with no text
-clipped, overlapping or running into another axes (issue 18 item 11)."""
+clipped, overlapping or running into another axes."""
 
 import importlib
 import json

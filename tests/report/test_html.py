@@ -39,3 +39,28 @@ def test_dummy_section_has_its_figure_and_table(tmp_path):
 def test_empty_report_says_no_study(tmp_path):
     paths = render_report([], tmp_path)
     assert "No studies are registered yet" in paths["index"].read_text()
+
+
+def test_summary_shows_no_1_unit_and_no_issue_jargon(tmp_path):
+    sec = Section(key="d", title="D", paragraphs=["p"], tables=[], figures=[], results={},
+                  settings={})
+    paths = render_report([sec], tmp_path, summary=[
+        ["drift", "seeds within band", "18/20", None, "1"],
+        ["allan", "N", 0.0101, 0.01, "deg/sqrt(h)"]])
+    html = paths["index"].read_text()
+    rows = re.findall(r"<tr>(.*?)</tr>", html, flags=re.S)
+    cells = [re.findall(r"<td>(.*?)</td>", r, flags=re.S) for r in rows]
+    cells = [[c.strip() for c in r] for r in cells if len(r) == 5]
+    assert cells[0][-1] == "–" and cells[1][-1] == "deg/sqrt(h)"
+    assert json.loads(paths["results"].read_text())["summary"][0][-1] == "1"  # data kept
+
+
+def test_report_figure_captions_cite_papers_not_issues():
+    import inspect
+
+    from inertialab.report.figures import allan, drift, triaxial
+
+    for mod in (allan, drift, triaxial):
+        src = inspect.getsource(mod)
+        assert not re.search(r"issue \d", src), mod.__name__
+        assert not re.search(r'Figure\([^)]*spec 00\d', src, flags=re.S), mod.__name__

@@ -1,4 +1,4 @@
-"""The one-pass figure layout (issue 18 item 11): margins measured before the draw leave
+"""The one-pass figure layout: margins measured before the draw leave
 no text clipped or overlapping, axis labels sit where matplotlib's own rule puts them,
 log labels stay readable without mathtext, and the PNG encoder writes the Agg pixels."""
 

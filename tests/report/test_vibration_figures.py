@@ -1,4 +1,4 @@
-"""The scalogram drawn as one image over log10(f) (issue 18 item 11: the quad mesh of
+"""The scalogram drawn as one image over log10(f) (the quad mesh of
 pcolormesh was ~0.2 s of the report) puts each cell's colour at its time and frequency."""
 
 import matplotlib

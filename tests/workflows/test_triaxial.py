@@ -110,13 +110,14 @@ def test_absolute_threshold_in_working_units():
     assert fixed.k_thr is None
 
 
-def _g_as_mps2_record(tmp_path):
-    # static records in g written as m/s^2: the silent-garbage case of issue 17
+def _g_as_mps2_record(tmp_path, factor=1.0 / 9.8):
+    # static records in g written as m/s^2 (refused on reading: they look like g), or
+    # three times too large (a wrong LSB size: read, then refused by the gate)
     from inertialab.sensors import triaxial as tx
 
     d = np.random.default_rng(2).standard_normal((30, 3))
     d /= np.linalg.norm(d, axis=1)[:, None]
-    a = tx.forward(X_TRUE, 9.8 * d) / 9.8
+    a = tx.forward(X_TRUE, 9.8 * d) * factor
     path = tmp_path / "g.static.csv"
     path.write_text("# g_local=9.8\npos_id,ax_mps2,ay_mps2,az_mps2\n" + "".join(
         f"{i + 1},{v[0]:.9f},{v[1]:.9f},{v[2]:.9f}\n" for i, v in enumerate(a)))
@@ -126,11 +127,13 @@ def _g_as_mps2_record(tmp_path):
 def test_garbage_fit_is_refused_forced_fit_is_flagged_and_apply_refuses_it(tmp_path):
     from inertialab.calib.triaxial_checks import ImplausibleCalibrationError
 
-    rec = fc.read(_g_as_mps2_record(tmp_path))
+    with pytest.raises(InputError, match="look like g, not mps2"):
+        fc.read(_g_as_mps2_record(tmp_path))
+    rec = fc.read(_g_as_mps2_record(tmp_path, factor=3.0))
     session = fc.prepare(rec)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        with pytest.raises(ImplausibleCalibrationError, match="implausible: bx, by, bz"):
+        with pytest.raises(ImplausibleCalibrationError, match="implausible: kx, ky, kz"):
             fc.fit(session)
         run = fc.fit(session, fc.Config(force=True))
     assert run.model.flags and any("kx, ky, kz" in f for f in run.model.flags)

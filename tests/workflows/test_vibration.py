@@ -51,8 +51,8 @@ def test_dtheta_input_and_unit_conversion():
     (lambda d: d.drop(columns=["vib_freq_hz"]), "vib_freq_hz"),
     (lambda d: d.assign(vib_freq_hz=np.where(np.arange(len(d)) == 450, 0.0, d.vib_freq_hz)),
      "while vibrating"),
-    (lambda d: d.assign(t_s=d.t_s + np.where(np.arange(len(d)) > 500, 0.003, 0.0)),
-     "non-uniform"),
+    (lambda d: d.assign(t_s=d.t_s + np.where(np.arange(len(d)) > 500, 0.02, 0.0)),
+     r"2 sample\(s\) lost.*contiguous log"),
     (lambda d: d.assign(phase=np.where(np.arange(len(d)) == 10, 3, d.phase)), "phase"),
     (lambda d: d.assign(vib_on=np.where(np.arange(len(d)) == 500, 0, d.vib_on)), "contiguous"),
     (lambda d: d.drop(columns=["rate_dph"]), "rate column"),
@@ -60,6 +60,18 @@ def test_dtheta_input_and_unit_conversion():
 def test_bad_records_are_input_errors(mutate, match):
     with pytest.raises(InputError, match=match):
         run_from_frame(mutate(_frame()), path="bad.csv")
+
+
+def test_jitter_is_the_time_base_warning_not_an_error():
+    # one jitter policy for every command: a warning with the figures, the mean rate
+    from inertialab.errors import DataQualityWarning
+
+    d = _frame()
+    d["t_s"] = d["t_s"] + np.where(np.arange(len(d)) > 500, 0.003, 0.0)
+    with pytest.warns(DataQualityWarning, match=r"jitter .* rows 502"):
+        run = run_from_frame(d, path="jit.csv")
+    t = d["t_s"].to_numpy()
+    assert run.fs_hz == pytest.approx((t.size - 1) / (t[-1] - t[0]), rel=1e-12)
 
 
 def test_vibration_from_the_first_sample_is_an_error():

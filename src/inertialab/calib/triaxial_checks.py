@@ -1,4 +1,4 @@
-"""Identifiability and plausibility of a triaxial calibration (issue 17 item 1).
+"""Identifiability and plausibility of a triaxial calibration.
 
 A fit that returns numbers is not a calibration: with poses that do not span the sphere,
 a raw log whose rotations were taken for rests, or data in the wrong unit, least squares
@@ -14,12 +14,21 @@ such fits and says, per parameter, what is wrong and what to add:
   columns of M_g are poorly determined.
 - **implausible**: |bias| beyond the declared limit (default 0.5 g), scale factors outside
   0.5-2 (counts mode without a sensitivity: each axis' counts per m/s^2 relative to
-  their median, and for unsigned counts each offset relative to their median), non-orthogonality angles beyond 0.2 rad, or a pose whose calibrated
+  their median), non-orthogonality angles beyond 0.2 rad, or a pose whose calibrated
   |a| is further than the norm tolerance (default 0.02 g) from local gravity. Gyro:
-  scale (relative to the nominal sensitivity) outside 0.5-2, misalignment beyond 0.2
-  rad, |bias| beyond the gyro bias limit (default 0.35 rad/s = 20 deg/s).
+  scale (relative to the sensitivity stated or found in the data) outside 0.5-2,
+  misalignment beyond 0.2 rad, |bias| beyond the gyro bias limit (default 0.35 rad/s =
+  20 deg/s).
 
-The defaults are physical bounds for MEMS parts (issue 17), not tolerances of a good
+**Counts logs** (``lsb``): the bias of a counts log is an ADC offset. Its zero is that
+of the ADC's range (:func:`adc_range`: signed, zero at 0; unsigned, zero at mid-scale
+2^(bits-1), 32768 for 16 bits), declared (``Limits.adc``, e.g. ``{"bits": 16, "signed":
+false}``) or detected from the raw values (unsigned when no value is negative; the
+fewest of 8-32 bits that hold them). A bias is judged as its offset from that zero:
+against a quarter of the half range in counts, and, converted with the sensitivity,
+against the physical limit; a refusal names the range and the zero it used.
+
+The defaults are physical bounds for MEMS parts, not tolerances of a good
 calibration: they catch garbage, not a mediocre unit.
 """
 
@@ -34,15 +43,81 @@ from inertialab.errors import InputError
 from inertialab.sensors import triaxial as tx
 
 SCALE_RANGE = (0.5, 2.0)
-"""Plausible scale factors (issue 17 item 1)."""
+"""Plausible scale factors."""
 ANGLE_LIMIT = 0.2
-"""Plausible |non-orthogonality| and |gyro misalignment|, rad (issue 17 item 1)."""
+"""Plausible |non-orthogonality| and |gyro misalignment|, rad."""
 BIAS_LIMIT_G = 0.5
 """Default accelerometer bias limit, in units of local gravity."""
 NORM_TOL_G = 0.02
 """Default tolerance on | |a_cal| - g | per pose, in units of local gravity."""
 GYRO_BIAS_LIMIT = 0.35
 """Default gyro bias limit, rad/s (20 deg/s)."""
+ADC_BIAS_FRACTION = 0.25
+"""A counts bias further than this fraction of the half range from the ADC zero is
+implausible (a zero-rate or zero-g output a quarter of full scale off)."""
+_ADC_BITS = (8, 10, 12, 14, 16, 18, 20, 22, 24, 32)
+
+
+@dataclass(frozen=True)
+class AdcRange:
+    """An ADC's output range: ``bits``, ``signed``, and whether it was ``declared`` or
+    ``detected``; its zero (0 signed, 2^(bits-1) unsigned) and half range 2^(bits-1)."""
+
+    bits: int
+    signed: bool
+    source: str = "detected"
+
+    @property
+    def zero(self) -> float:
+        return 0.0 if self.signed else float(2 ** (self.bits - 1))
+
+    @property
+    def half(self) -> float:
+        return float(2 ** (self.bits - 1))
+
+    def text(self) -> str:
+        return (f"{'signed' if self.signed else 'unsigned'} {self.bits}-bit ADC "
+                f"({self.source}), zero at {self.zero:.0f}")
+
+
+def adc_range(raw, declared=None) -> AdcRange:
+    """The ADC range of counts ``raw`` (any shape): ``declared`` (an :class:`AdcRange` or
+    ``{"bits": int, "signed": bool}``) when given, else detected (see the module text)."""
+    if isinstance(declared, AdcRange):
+        return declared
+    if declared is not None:
+        try:
+            bits, signed = int(declared["bits"]), bool(declared["signed"])
+        except (KeyError, TypeError, ValueError):
+            raise InputError(f"ADC range must be {{'bits': int, 'signed': bool}}, got "
+                             f"{declared!r}") from None
+        if bits not in _ADC_BITS:
+            raise InputError(f"ADC bits must be one of {', '.join(map(str, _ADC_BITS))}, "
+                             f"got {bits}")
+        return AdcRange(bits, signed, "declared")
+    v = np.asarray(raw, dtype=float)
+    v = v[np.isfinite(v)]
+    if v.size == 0:
+        return AdcRange(16, True)
+    signed = bool(v.min() < 0)
+    top = max(abs(float(v.min())), abs(float(v.max())))
+    for bits in _ADC_BITS:
+        if (signed and top <= 2 ** (bits - 1)) or (not signed and top < 2 ** bits):
+            return AdcRange(bits, signed)
+    return AdcRange(32, signed)
+
+
+def _adc_finding(offset, adc: AdcRange, names) -> Finding | None:
+    """The finding of counts biases further than a quarter of the half range from the
+    ADC zero, or None."""
+    lim = ADC_BIAS_FRACTION * adc.half
+    bad = [(n, o) for n, o in zip(names, offset) if not np.isfinite(o) or abs(o) > lim]
+    if not bad:
+        return None
+    return Finding("implausible", tuple(n for n, _ in bad),
+                   ", ".join(f"{n} = {o:+.6g}" for n, o in bad) + " counts from the ADC "
+                   f"zero ({adc.text()}) beyond ±{lim:.6g} counts",
+                   "declare the ADC range (signed or unsigned, bits) if it differs")
 
 
 class ImplausibleCalibrationError(InputError):
@@ -59,6 +134,7 @@ class Limits:
     scale: tuple = SCALE_RANGE
     angle: float = ANGLE_LIMIT
     cond: float = COND_FLAG
+    adc: object = None  # AdcRange or {"bits", "signed"} of a counts log; None: detected
 
 
 @dataclass(frozen=True)
@@ -131,16 +207,18 @@ def check_accel(fit: CalibrationFit, a, ref, g: float, *, counts: bool = False,
                            f"cond(J^T J) = {cond:.3g} > {lim.cond:.0e}", remedy))
     x = np.asarray(fit.x, dtype=float)
     k = x[3:6]
+    adc_note = ""
     if counts:
         ref_k = float(np.median(np.abs(k)))
         rel = k / ref_k if ref_k > 0 else np.full(3, np.nan)
-        b = x[:3]
-        if np.min(np.asarray(a)) >= 0:
-            # unsigned counts: the zero is the ADC's mid-scale, common to the three axes;
-            # judge each axis' offset from their median
-            b = b - np.median(b)
+        adc = adc_range(a, lim.adc)
+        b = x[:3] - adc.zero  # the bias of a counts log is an offset from the ADC's zero
+        found = _adc_finding(b, adc, [f"b{c}" for c in "xyz"])
+        if found is not None:
+            out.append(found)
         bias_si = b / np.where(k != 0, k, np.nan)
         scale_what = "counts per m/s^2 relative to the median axis"
+        adc_note = f" ({adc.text()})"
     else:
         rel = k
         bias_si = x[:3]
@@ -150,7 +228,8 @@ def check_accel(fit: CalibrationFit, a, ref, g: float, *, counts: bool = False,
            if not np.isfinite(b) or abs(b) > bias_lim]
     if bad:
         out.append(Finding("implausible", tuple(s.split(" ")[0] for s in bad),
-                           f"{'; '.join(bad)} beyond the bias limit ±{bias_lim:.3g} m/s^2",
+                           f"{'; '.join(bad)}{adc_note} beyond the bias limit "
+                           f"±{bias_lim:.3g} m/s^2",
                            "check the accelerometer unit and argument 'bias_limit'"))
     lo, hi = lim.scale
     bad = [f"k{c} = {r:.4g}" for c, r in zip("xyz", rel) if not np.isfinite(r) or not lo <= r <= hi]
@@ -179,9 +258,12 @@ def check_accel(fit: CalibrationFit, a, ref, g: float, *, counts: bool = False,
     return out
 
 
-def check_gyro(gfit, nominal: np.ndarray, *, limits: Limits | None = None) -> list[Finding]:
+def check_gyro(gfit, nominal: np.ndarray, *, limits: Limits | None = None,
+               raw=None) -> list[Finding]:
     """Findings for a gyro fit (``gfit`` with ``matrix``, ``bias``, ``cond``,
-    ``stderr_matrix``); ``nominal`` is the nominal raw -> rad/s matrix (M0)."""
+    ``stderr_matrix``); ``nominal`` is the nominal raw -> rad/s matrix (M0), the
+    sensitivity stated or found in the data. ``raw``: the raw gyro samples of a counts
+    log (their ADC range gives the zero the bias is an offset from)."""
     lim = limits or Limits()
     out: list[Finding] = []
     M = np.asarray(gfit.matrix, dtype=float)
@@ -217,12 +299,22 @@ def check_gyro(gfit, nominal: np.ndarray, *, limits: Limits | None = None) -> li
         out.append(Finding("implausible", tuple(s.split(" ")[0] for s in bad),
                            f"gyro misalignment {'; '.join(bad)} beyond ±{lim.angle:g} rad",
                            "add rotations about all three axes"))
-    b = M0 @ np.asarray(gfit.bias, dtype=float)
+    offset = np.asarray(gfit.bias, dtype=float)
+    adc_note = ""
+    if raw is not None or lim.adc is not None:
+        adc = adc_range(raw if raw is not None else offset, lim.adc)
+        offset = offset - adc.zero  # a counts bias is an offset from the ADC's zero
+        adc_note = f" ({adc.text()})"
+        found = _adc_finding(offset, adc, [f"bg{c}" for c in "xyz"])
+        if found is not None:
+            out.append(found)
+            return out
+    b = M0 @ offset
     blim = lim.gyro_bias if lim.gyro_bias is not None else GYRO_BIAS_LIMIT
     bad = [f"bg{c} = {v:.4g} rad/s" for c, v in zip("xyz", b) if not np.isfinite(v) or abs(v) > blim]
     if bad:
         out.append(Finding("implausible", tuple(s.split(" ")[0] for s in bad),
-                           f"{'; '.join(bad)} beyond ±{blim:.3g} rad/s",
+                           f"{'; '.join(bad)}{adc_note} beyond ±{blim:.3g} rad/s",
                            "start the log at rest (argument 't_init_s')"))
     return out
 

@@ -134,7 +134,7 @@ def calibrate_record_data(data: StaticData, *, method="lm", objective="norm", rn
 
 def gyro_scale_from_data(t, gyro_raw, start, stop, directions, *, min_angle_deg: float = 10.0
                          ) -> float:
-    """Starting gyro sensitivity (rad/s per raw unit) from the data alone (issue 17 item 5).
+    """Starting gyro sensitivity (rad/s per raw unit) from the data alone.
 
     For each motion between consecutive static intervals, the angle between the two
     gravity directions (from the calibrated accelerometer) is a lower bound of the angle
@@ -176,7 +176,7 @@ def gyro_scale_from_data(t, gyro_raw, start, stop, directions, *, min_angle_deg:
 
 
 def quality(run: CalibrationRun, *, level: float = 0.95) -> dict:
-    """Quality of a calibration on the user's own data (issue 17 item 5).
+    """Quality of a calibration on the user's own data.
 
     Returns a JSON-ready dict:
 

@@ -105,12 +105,14 @@ def _drift_options(predict_drift, bias_window, check_on, plan, rec, *, rate, uni
 
             rec2 = read_record(check_on, "gyro_log", unit=unit, rate_hz=rate,
                                g_local=g_local, gaps=gaps, options=ro)
-            fs1 = rate or rec.meta.get("fs_hz")
-            fs2 = rate or rec2.meta.get("fs_hz")
+            tb1, tb2 = rec.timebase, rec2.timebase
+            fs1 = rate or (tb1.rate_hz if tb1 is not None else None)
+            fs2 = rate or (tb2.rate_hz if tb2 is not None else None)
             if fs1 and fs2 and abs(float(fs1) / float(fs2) - 1) > 1e-3:
                 raise InputError(f"--check-on log is at {fs2:g} Hz, the analysed log at "
                                  f"{fs1:g} Hz: give logs of the same rate", path=check_on)
-            other = {k: v[1] for k, v in axis_columns(rec2).items()}
+            place = tb2.place if (rate is None and tb2 is not None) else (lambda v: v)
+            other = {k: place(v[1]) for k, v in axis_columns(rec2).items()}
             mode, name = "other", str(check_on)
     return DriftOptions(horizons_s=horizons or (1.0,), bias_window_s=float(bias_window),
                         check_on=mode, other=other, other_name=name, plan=bool(plan))

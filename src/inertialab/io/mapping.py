@@ -1,4 +1,4 @@
-"""Column mapping and parse options for files not written to a spec (issue 10 item 1).
+"""Column mapping and parse options for files not written to a spec.
 
 Real rigs write Xsens, VectorNav, PX4 or ROS exports: other column names, units in
 the header text instead of the name, integer time stamps in ms/us/ns, ``;`` as the
@@ -304,28 +304,35 @@ def time_to_seconds(values: pd.Series, unit: str, *, path=None, column: str = ""
 
 
 def apply_map(df: pd.DataFrame, cmap: ColumnMap, *, path=None, g_local: float | None = None,
-              meta: dict | None = None, header_units: dict | None = None) -> pd.DataFrame:
+              meta: dict | None = None, header_units: dict | None = None,
+              unit_option=None) -> pd.DataFrame:
     """Return ``df`` with each mapped source column replaced by its converted target.
 
     Unmapped columns pass through unchanged. Time targets are made relative to the first
     stamp; the stamp itself goes to ``meta["time_origin"]`` (when ``meta`` is given).
     g-based units convert with ``g_local`` (default 9.80665 m/s^2). An entry without a
-    unit takes the unit of the file's units header row when there is one
-    (``header_units``: source column -> unit text).
+    unit takes the unit of the file's units header row, or of a bracket in the source's
+    name (``Gyro X (deg/s)``); else an acceleration or angular-rate target takes the unit
+    the data decide (:mod:`inertialab.io.unit_check`: a warning, recorded in
+    ``meta["inferred_units"]``), unless the sidecar's ``units`` (``{base: unit}``, the
+    source's unit, converted) or the reading option ``unit`` (``unit_option``, the
+    values relabelled) declares it; a column whose unit nothing declares or decides is an
+    :class:`InputError` naming it and the units it could be.
     """
     from inertialab.io.formats.text import unit_suffix
 
     if not cmap:
         return df
     g = U.G_STANDARD if g_local is None else float(g_local)
+    entries = [_with_source_unit(e, _find_source(df, e.source, path=path,
+                                                 header_units=header_units),
+                                 header_units, unit_suffix) for e in cmap.entries]
+    entries = _infer_units(df, entries, path=path, meta=meta, header_units=header_units,
+                           unit_option=unit_option)
     out = {}
     used = set()
-    for e in cmap.entries:
+    for e in entries:
         src = _find_source(df, e.source, path=path, header_units=header_units)
-        if e.unit is None and header_units and src in header_units:
-            suf = unit_suffix(header_units[src])
-            if suf is not None:
-                e = MapEntry(e.target, e.source, suf, e.scale)
         if src in used:
             raise InputError(f"source column mapped to two targets (second: {e.target})",
                              path=path, column=e.source)
@@ -351,6 +358,76 @@ def apply_map(df: pd.DataFrame, cmap: ColumnMap, *, path=None, g_local: float | 
     if meta is not None:
         meta["column_map"] = cmap.to_text()
     return res
+
+
+def _with_source_unit(e: MapEntry, src, header_units, unit_suffix) -> MapEntry:
+    """The entry with the unit of the source's units-header cell or name bracket."""
+    if e.unit is not None:
+        return e
+    text = (header_units or {}).get(src)
+    if text is None:
+        from inertialab.io.suggest import canonical_guess, name_unit
+
+        guess = canonical_guess(str(src))
+        text = guess[1] if guess and guess[1] else name_unit(str(src))
+    suf = unit_suffix(text) if text else None
+    return e if suf is None else MapEntry(e.target, e.source, suf, e.scale)
+
+
+def _declared_by_option(dim: str, base: str, unit_option) -> bool:
+    if unit_option is None:
+        return False
+    if isinstance(unit_option, dict):
+        return base in unit_option
+    return any(U.SUFFIXES.get(p.strip()) is not None
+               and U.SUFFIXES[p.strip()].dimension == dim for p in str(unit_option).split(","))
+
+
+def _infer_units(df, entries, *, path, meta, header_units, unit_option) -> list[MapEntry]:
+    """Entries whose measurement target has no source unit get the unit the data decide
+    (:mod:`inertialab.io.unit_check`), or an error naming the column."""
+    import warnings
+
+    from inertialab.errors import DataQualityWarning
+    from inertialab.io.unit_check import CANDIDATES, infer_unit
+
+    todo = []
+    side = (meta or {}).get("units")
+    for i, e in enumerate(entries):
+        if e.unit is not None or e.target in _TIME_TARGETS:
+            continue
+        base, suf = U.split_suffix(e.target)
+        dim = U.SUFFIXES[suf].dimension if suf is not None else None
+        declared = side.get(base) if isinstance(side, dict) else None
+        if dim in CANDIDATES and declared is not None and declared in U.SUFFIXES \
+                and U.SUFFIXES[declared].dimension == dim:
+            entries[i] = MapEntry(e.target, e.source, declared, e.scale)  # the sidecar's unit
+        elif dim in CANDIDATES and not _declared_by_option(dim, base, unit_option):
+            todo.append((i, e, base, dim))
+    if not todo:
+        return entries
+    col = {i: _numeric(df[_find_source(df, e.source, path=path, header_units=header_units)],
+                       path=path, column=e.source).to_numpy(dtype=float) * e.scale
+           for i, e, _, _ in todo}
+    acc = {b: i for i, _, b, d in todo if d == "acceleration" and b in ("ax", "ay", "az")}
+    triad = np.column_stack([col[acc[b]] for b in ("ax", "ay", "az")]) if len(acc) == 3 else None
+    out = list(entries)
+    for i, e, base, dim in todo:
+        unit, why = infer_unit(dim, col[i], triad if base in acc else None)
+        cands = CANDIDATES[dim]
+        if unit is None:
+            raise InputError(f"mapped to '{e.target}' without a unit, and {why}: declare the "
+                             f"source's unit ({e.target}={e.source}:{'|'.join(cands)}) or give "
+                             "argument 'unit'", path=path, column=e.source)
+        out[i] = MapEntry(e.target, e.source, unit, e.scale)
+        where = f"{path}: " if path else ""
+        warnings.warn(f"{where}column '{e.source}' mapped to '{e.target}' without a unit: "
+                      f"{why}, so it is read in {unit} (declare it: "
+                      f"{e.target}={e.source}:{unit})", DataQualityWarning, stacklevel=5)
+        if meta is not None:
+            meta.setdefault("inferred_units", {})[e.target] = {
+                "source": str(e.source), "unit": unit, "evidence": why}
+    return out
 
 
 def normalise_time_columns(df: pd.DataFrame, *, path=None, meta: dict | None = None

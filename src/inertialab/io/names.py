@@ -1,4 +1,4 @@
-"""Safe file names from data (issue 19): a name taken from a record or a model file
+"""Safe file names from data: a name taken from a record or a model file
 (unit, lot, run, topic, column) becomes a file name only through :func:`safe_slug`."""
 
 from __future__ import annotations

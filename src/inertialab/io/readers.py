@@ -188,7 +188,7 @@ def _finish(df, kind, p, merged, *, header_units, column_map, parse, unit, rate_
     schema = SCHEMAS[kind]
     if column_map:
         df = apply_map(df, column_map, path=p, g_local=merged.get("g_local_mps2"), meta=merged,
-                       header_units=header_units)
+                       header_units=header_units, unit_option=unit)
     if options.time_unit is not None and options.time_column is None:
         df = _time_unit_only(df, options.time_unit, path=p, meta=merged)
     if schema.time_column == "t_s":
@@ -197,7 +197,7 @@ def _finish(df, kind, p, merged, *, header_units, column_map, parse, unit, rate_
         merged["parse"] = parse.to_dict()
     return validate_frame(df, kind, path=p, meta=merged, unit=unit, gaps=gaps,
                           full_scale=full_scale, header_units=header_units,
-                          resample_hz=options.resample_hz)
+                          resample_hz=options.resample_hz, rate_hz=rate_hz)
 
 
 _TIME_NAMES = ("t", "time", "timestamp", "stamp", "time_s", "timestamp_s")
@@ -382,7 +382,7 @@ def _coerce_numeric(series: pd.Series, col: Column, *, path, name: str) -> pd.Se
             raise InputError(what, path=path, column=name, row=rows if len(rows) > 1 else rows[0])
     with np.errstate(invalid="ignore"):
         huge = np.abs(values) > MAX_MAGNITUDE
-    if huge.any():  # issue 19 item 5: sums of squares of such values overflow to inf/NaN
+    if huge.any():  # sums of squares of such values overflow to inf/NaN
         i = int(np.flatnonzero(huge)[0])
         raise InputError(f"value {values[i]:.3g} is beyond {MAX_MAGNITUDE:g} in magnitude "
                          "(no sensor reads that; the arithmetic would overflow)",
@@ -518,13 +518,16 @@ def _missing(what: str, df_seen: pd.DataFrame, header_units, *, path, column=Non
 
 def validate_frame(df: pd.DataFrame, kind: str, *, path="<frame>", meta: dict | None = None,
                    unit=None, gaps: str | None = None, full_scale=None,
-                   header_units: dict | None = None, resample_hz: float | None = None
-                   ) -> Record:
+                   header_units: dict | None = None, resample_hz: float | None = None,
+                   rate_hz: float | None = None) -> Record:
     """Validate an in-memory DataFrame as a record of ``kind`` (see :func:`read_record`).
 
     ``header_units`` (column -> unit text from a units header row) only improves the
     missing-column message; ``resample_hz`` puts a continuous log on a uniform grid
     after the time-stamp audit (only when given; recorded in ``meta["resampled"]``).
+    ``rate_hz`` is the caller's sample rate (first in the time base's precedence, see
+    :func:`inertialab.io.timestamps.decide_timebase`); the record's
+    :attr:`~Record.timebase` is decided here, once.
     """
     from inertialab.io.mapping import normalise_time_columns
 
@@ -538,11 +541,15 @@ def validate_frame(df: pd.DataFrame, kind: str, *, path="<frame>", meta: dict | 
     seen = df
     df, units, present = _resolve_columns(df, schema, path=path, meta=meta, unit=unit)
     for c in schema.columns:
+        if c.required and c.name not in present and c.name == schema.time_column == "t_s":
+            raise _missing("needs a t_s column or argument 'rate_hz'", seen, header_units,
+                           path=path, column="t_s",
+                           wanted=[x.name for x in schema.columns])
         if c.required and c.name not in present:
             hint = f" (with a unit suffix, e.g. {c.name}_{_example_suffix(c)})" if c.flexible else ""
             raise _missing(f"missing required column{hint}", seen, header_units, path=path,
                            column=c.name,
-                           wanted=[x.name for x in schema.columns if x.required])
+                           wanted=[x.name for x in schema.columns])
     for group in schema.one_of:
         if not any(g in present for g in group):
             extra = ("t_s",) if schema.time_column == "t_s" and "t_s" not in present else ()
@@ -560,6 +567,9 @@ def validate_frame(df: pd.DataFrame, kind: str, *, path="<frame>", meta: dict | 
     if not (isinstance(ix, pd.RangeIndex) and ix.start == 0 and ix.step == 1):
         df = df.reset_index(drop=True)  # (a copy: only when the index is not 0..n-1)
     df = _coerce(df, schema, path=path).copy(deep=False)  # never alter the caller's frame
+    from inertialab.io.unit_check import check_accel_magnitude
+
+    check_accel_magnitude(df, units, path=path)
     if schema.time_order == "strict" and schema.time_column in df.columns:
         from inertialab.io.timestamps import audit
 
@@ -592,5 +602,24 @@ def validate_frame(df: pd.DataFrame, kind: str, *, path="<frame>", meta: dict | 
                           "flagged in column 'saturated'", DataQualityWarning, stacklevel=3)
     derived = [c for c in ("segment", "saturated") if c in meta.get("_derived", ())]
     meta.pop("_derived", None)
+    timebase = _timebase(df, schema, meta, rate_hz=rate_hz, resample_hz=resample_hz, path=path)
+    if timebase is not None:
+        meta["timebase"] = timebase.to_dict()
     return Record(kind=kind, data=df, meta=meta, path=path, units=units,
-                  sha256=hash_frame(df.drop(columns=derived) if derived else df))
+                  sha256=hash_frame(df.drop(columns=derived) if derived else df),
+                  timebase=timebase)
+
+
+def _timebase(df, schema: Schema, meta: dict, *, rate_hz, resample_hz, path):
+    """The record's one time base (None for a kind that is not a continuous log)."""
+    from inertialab.io.timestamps import Timebase, decide_timebase
+
+    if schema.time_order != "strict" or schema.time_column != "t_s":
+        return None
+    if resample_hz is not None and "t_s" in df.columns:
+        return Timebase(float(resample_hz), "resampled", len(df), jitter_rel=0.0,
+                        jitter_max_rel=0.0)
+    t = df["t_s"].to_numpy(dtype=float) if "t_s" in df.columns else None
+    nominal = meta.get("fs_hz") if rate_hz is None else None
+    return decide_timebase(t, n=len(df), rate_hz=rate_hz,
+                           nominal_hz=None if nominal is None else float(nominal), path=path)

@@ -3,12 +3,14 @@ readers and :mod:`inertialab.io.readers` both use it without importing each othe
 
 from __future__ import annotations
 
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 
 import numpy as np
 import pandas as pd
 
 from inertialab.errors import InputError
+from inertialab.io.timestamps import Timebase
 from inertialab.units import split_suffix
 
 
@@ -25,6 +27,10 @@ class Record:
     units : canonical column -> unit suffix, for unit-flexible columns
     sha256 : hash of the validated canonical columns (format-independent)
     arrays : for ``.npy`` logs, the memory-mapped column (not copied into ``data``)
+    timebase : the record's one time base (sample rate, tau0, grid slots, jitter, lost
+        samples, source), decided once on reading
+        (:func:`inertialab.io.timestamps.decide_timebase`); None for a record that is not
+        a continuous log, or a log with neither time stamps nor a rate
     """
 
     kind: str
@@ -34,6 +40,7 @@ class Record:
     units: dict[str, str]
     sha256: str
     arrays: dict[str, np.ndarray] = field(default_factory=dict)
+    timebase: Timebase | None = None
 
     def column(self, name: str) -> np.ndarray:
         """Values of a canonical column as a float ndarray (memmap for .npy logs)."""
@@ -53,7 +60,33 @@ class Record:
         return None
 
     @property
+    def topic(self) -> str | None:
+        """The ROS topic a bag record was read from (``meta["bag"]["topic"]``), else None:
+        the default of an exporter's ``rostopic`` (a Kalibr ``imu.yaml`` names the
+        topic the user's bag publishes, not ``/imu0``)."""
+        bag = self.meta.get("bag")
+        return bag.get("topic") if isinstance(bag, dict) else None
+
+    @property
     def n(self) -> int:
         if self.arrays:
             return int(next(iter(self.arrays.values())).shape[0])
         return len(self.data)
+
+
+@contextmanager
+def naming(path):
+    """Inside it, an :class:`InputError` that names no file is raised again naming
+    ``path`` (the record being analysed), so every error a command prints names its
+    file: ``with naming(record.path): detect(...)``."""
+    try:
+        yield
+    except InputError as exc:
+        if exc.path is not None or path is None:
+            raise
+        text = str(exc)
+        try:
+            new = type(exc)(text, path=path)
+        except TypeError:
+            new = InputError(text, path=path)
+        raise new from None

@@ -6,7 +6,7 @@ A :class:`Column` is either *fixed* (one canonical name such as ``temp_set_c``) 
 matched case-insensitively, so the spellings printed in the specs (``temp_meas_C``,
 ``output_mV``, ``V_A_V``) load unchanged; other spellings are listed as ``aliases``.
 A bare flexible name (``ax``) takes its unit from ``--unit``, else from the sidecar
-or header key ``units`` (DESIGN.md precedence: option > suffix > sidecar).
+or header key ``units`` (precedence: option > suffix > sidecar).
 """
 
 from __future__ import annotations

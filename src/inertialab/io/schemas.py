@@ -8,10 +8,11 @@
 | ``triaxial_raw`` | 002 §2.3 raw-log CSV | raw sample |
 | ``dual_tumble`` | 003 §2.2 | DMM sample |
 | ``storage_drift`` | 004 §2.1 | test of one unit on one day |
-| ``clock_log`` | issue 15 (NIST SP 1065 data) | phase or frequency sample of a clock |
+| ``clock_log`` | NIST SP 1065 §3 phase and frequency data | phase or frequency sample of a clock |
 
 Analysis-specific checks (24 positions per set point, phases of a vibration run ...)
-belong to the workflow that needs them, not here (CONTRACTS.md "Records and inputs").
+belong to the workflow that needs them (its checks before computing are
+:mod:`inertialab.io.preflight`), not here.
 """
 
 from __future__ import annotations
@@ -157,7 +158,7 @@ STORAGE_DRIFT = Schema(
 
 CLOCK_LOG = Schema(
     kind="clock_log",
-    source="issue 15 (clock records: NIST SP 1065 §3 phase and frequency data)",
+    source="NIST SP 1065 §3 phase and frequency data",
     description=("Clock or oscillator record at a uniform rate: phase (time error, s ms us "
                  "ns ps) or fractional frequency (1 pct ppm ppb ppt, or Hz with a nominal "
                  "frequency), in any column the reader is told to use; the unit comes from "

@@ -1,5 +1,5 @@
-"""Time stamps as they are: mean rate, jitter, gaps, dropped and repeated samples
-(issue 16 item 3).
+"""Time stamps as they are (mean rate, jitter, gaps, dropped and repeated samples) and
+the one time base of a record.
 
 Real logs are not uniform: a USB IMU's stamps jitter by tens of microseconds, a bag
 loses messages, a driver republishes one. :func:`audit` measures what is there, and
@@ -7,6 +7,21 @@ loses messages, a driver republishes one. :func:`audit` measures what is there, 
 ``meta["timestamps"]`` (so every command's JSON carries the counts). Nothing is
 changed unless asked: :func:`resample_uniform` puts a log on a uniform grid (linear
 interpolation) only when the caller asks for it, and records that it did.
+
+:func:`decide_timebase` decides a record's :class:`Timebase` (sample rate, tau0, grid
+slots, jitter, lost samples, where the rate came from) once, when the record is read;
+every analysis takes its rate from ``record.timebase`` and none derives one from the
+stamps itself (docs/records.md "One time base"). The precedence:
+
+1. ``rate_hz`` given by the caller (``--rate``): the samples are taken as uniform at
+   that rate and the stamps are not used to place them;
+2. the sidecar's (or header's) ``fs_hz``: the nominal rate; the stamps still place the
+   samples on the grid (lost samples become NaN slots). A nominal rate that contradicts
+   the stamps by more than :data:`RATE_CONTRADICTION` (relative) is an error naming both;
+3. the time stamps: uniform stamps (every step within :data:`UNIFORM_TOL` of the
+   median) give ``(n - 1) / span``; jittering or gappy stamps give the mean rate of the
+   sensor's grid (:func:`sample_slots`), one ``DataQualityWarning`` with the figures,
+   and lost samples as NaN slots (never interpolated).
 
 Definitions (the nominal step is the median positive step, as :mod:`inertialab.io.gaps`):
 
@@ -21,14 +36,22 @@ Definitions (the nominal step is the median positive step, as :mod:`inertialab.i
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from inertialab.errors import DataQualityWarning, InputError
 from inertialab.io.gaps import GAP_FACTOR, detect_gaps
 
-__all__ = ["SampleSlots", "TimingAudit", "audit", "on_slots", "resample_uniform",
-           "sample_slots"]
+__all__ = ["RATE_CONTRADICTION", "UNIFORM_TOL", "SampleSlots", "Timebase", "TimingAudit",
+           "audit", "decide_timebase", "on_slots", "resample_uniform", "sample_slots"]
+
+#: Stamps whose every step is within this fraction of the median step are uniform.
+UNIFORM_TOL = 1e-6
+#: A nominal rate (sidecar ``fs_hz``) further than this, relative, from the rate of the
+#: stamps contradicts them (a clock 10 % off its nominal rate is no clock).
+RATE_CONTRADICTION = 0.1
 
 _LISTED = 20
 
@@ -152,3 +175,145 @@ def resample_uniform(t, columns: dict, rate_hz: float) -> tuple[np.ndarray, dict
     n = int(np.floor((t[-1] - t[0]) * rate_hz + 1e-9)) + 1
     grid = t[0] + np.arange(n) / rate_hz
     return grid, {k: np.interp(grid, t, np.asarray(v, dtype=float)) for k, v in columns.items()}
+
+
+@dataclass(frozen=True)
+class Timebase:
+    """The one time base of a record (decided by :func:`decide_timebase` on reading).
+
+    Attributes
+    ----------
+    rate_hz : float
+        Sample rate, Hz (``1 / tau0_s``).
+    source : {"argument", "sidecar", "timestamps", "resampled"}
+        Where the rate came from.
+    n_samples : int
+        Samples in the record.
+    index : ndarray of int or None
+        Grid slot of each sample when some are lost (a step of ``k`` nominal steps
+        advances ``k`` slots); None when every sample has its own consecutive slot.
+    jitter_rel, jitter_max_rel : float
+        RMS and largest deviation of a step per slot from ``tau0_s``, relative to it
+        (NaN without time stamps, 0 for uniform stamps).
+    n_gaps : int
+        Steps longer than 1.5 nominal steps.
+    stamps_rate_hz : float
+        The rate the time stamps alone give (NaN without stamps).
+    back_rows : tuple of int
+        1-based rows whose stamp repeats or goes back (only a log split into segments
+        keeps them); such samples cannot be placed on one grid.
+    """
+
+    rate_hz: float
+    source: str
+    n_samples: int
+    index: np.ndarray | None = None
+    jitter_rel: float = float("nan")
+    jitter_max_rel: float = float("nan")
+    n_gaps: int = 0
+    stamps_rate_hz: float = float("nan")
+    back_rows: tuple = ()
+
+    @property
+    def tau0_s(self) -> float:
+        """Sampling interval, s."""
+        return 1.0 / self.rate_hz
+
+    @property
+    def n_slots(self) -> int:
+        """Slots of the grid from the first to the last sample."""
+        return self.n_samples if self.index is None else int(self.index[-1]) + 1
+
+    @property
+    def n_missing(self) -> int:
+        """Samples lost in gaps (empty grid slots)."""
+        return self.n_slots - self.n_samples
+
+    def place(self, values) -> np.ndarray:
+        """``values`` (one per sample) on the grid, NaN in the slots of lost samples
+        (returned unchanged when none is lost)."""
+        if self.index is None:
+            return values
+        return on_slots(values, self.index)
+
+    def to_dict(self) -> dict:
+        return {"rate_hz": self.rate_hz, "tau0_s": self.tau0_s, "source": self.source,
+                "n_samples": self.n_samples, "n_slots": self.n_slots,
+                "n_missing": self.n_missing, "n_gaps": self.n_gaps,
+                "jitter_rel": self.jitter_rel, "jitter_max_rel": self.jitter_max_rel,
+                "stamps_rate_hz": self.stamps_rate_hz}
+
+
+def _from_stamps(t: np.ndarray):
+    """(rate, index or None, jitter_rel, jitter_max_rel, n_gaps, back rows) of stamps."""
+    dt = np.diff(t)
+    back = np.flatnonzero(dt <= 0)
+    if back.size:
+        pos = dt[dt > 0]
+        step = float(np.median(pos)) if pos.size else float("nan")
+        return 1.0 / step, None, float("nan"), float("nan"), 0, \
+            tuple(int(i) + 2 for i in back[:5])
+    step = float(np.median(dt))
+    if np.all(np.abs(dt - step) <= UNIFORM_TOL * step):
+        return (t.size - 1) / (float(t[-1]) - float(t[0])), None, 0.0, 0.0, 0, ()
+    sl = sample_slots(t)
+    n_gaps = int(np.count_nonzero(np.diff(sl.index) > 1))
+    return (1.0 / sl.tau0_s, sl.index if sl.n_missing else None, sl.jitter_rel,
+            sl.jitter_max_rel, n_gaps, ())
+
+
+def decide_timebase(t, *, n: int, rate_hz: float | None = None,
+                    nominal_hz: float | None = None, path=None) -> Timebase | None:
+    """The time base of a record of ``n`` samples (the precedence in the module's text).
+
+    ``t``: time stamps, s (None when the record has none); ``rate_hz``: the caller's
+    rate (``--rate``); ``nominal_hz``: the sidecar's ``fs_hz``. Returns None when there
+    is neither a rate nor time stamps. Warns once (``DataQualityWarning``) with the
+    figures when stamps that place the samples jitter or lose samples; raises an
+    :class:`InputError` naming both rates when the nominal rate contradicts the stamps.
+    """
+    where = f"{path}: " if path else ""
+    stamps = None
+    if t is not None and np.asarray(t).size >= 2:
+        t = np.asarray(t, dtype=float)
+        stamps = _from_stamps(t)
+    if rate_hz is not None:
+        return Timebase(float(rate_hz), "argument", n,
+                        stamps_rate_hz=stamps[0] if stamps else float("nan"))
+    if stamps is None:
+        if nominal_hz is None:
+            return None
+        return Timebase(float(nominal_hz), "sidecar", n)
+    rate, index, jit, jmax, n_gaps, back = stamps
+    source = "timestamps"
+    if nominal_hz is not None:
+        if not abs(rate / float(nominal_hz) - 1.0) <= RATE_CONTRADICTION:
+            raise InputError(f"the sidecar's fs_hz = {float(nominal_hz):.6g} Hz contradicts the "
+                             f"time stamps ({rate:.6g} Hz, median step "
+                             f"{1.0 / rate:.6g} s); correct fs_hz, or give argument "
+                             "'rate_hz' to set the rate", path=path, column="t_s")
+        rate, source = float(nominal_hz), "sidecar"
+    tb = Timebase(rate, source, n, index=index, jitter_rel=jit, jitter_max_rel=jmax,
+                  n_gaps=n_gaps, stamps_rate_hz=stamps[0], back_rows=back)
+    if not back and (jmax > UNIFORM_TOL or index is not None):
+        jit_text = (f"time stamps jitter by {100 * jit:.2g} % rms, up to "
+                    f"{100 * jmax:.2g} %, of the {1.0 / stamps[0]:.6g} s step"
+                    if jmax > UNIFORM_TOL else
+                    f"time stamps on a {1.0 / stamps[0]:.6g} s step apart from dropouts")
+        rows = _off_rows(t)
+        msg = (f"{where}column 't_s': {jit_text} (e.g. rows {', '.join(map(str, rows))}): "
+               f"the samples are taken on a uniform grid at {tb.rate_hz:.6g} Hz ("
+               + ("the mean rate; argument 'rate_hz' sets it)" if source == "timestamps"
+                  else "the sidecar's fs_hz)"))
+        if tb.n_missing:
+            msg += (f"; {tb.n_missing} sample(s) lost in steps longer than 1.5 nominal steps "
+                    "are missing on that grid (gap-resistant statistics, never interpolated)")
+        warnings.warn(msg, DataQualityWarning, stacklevel=4)
+    return tb
+
+
+def _off_rows(t: np.ndarray) -> list[int]:
+    """The first 1-based rows whose step is off the median step."""
+    dt = np.diff(t)
+    step = float(np.median(dt))
+    return [int(i) + 2 for i in np.flatnonzero(np.abs(dt - step) > UNIFORM_TOL * step)[:5]]

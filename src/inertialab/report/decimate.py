@@ -1,4 +1,4 @@
-"""M4 decimation of long line series before plotting (issue 18 item 11).
+"""M4 decimation of long line series before plotting.
 
 A line of 100 000 samples drawn into 800 pixel columns costs Agg a hundred segments per
 column, and all but the first, last, lowest and highest sample of each column are hidden

@@ -24,7 +24,7 @@ from inertialab.io.writers import atomic_write_text
 from inertialab.report.section import Figure, Section, Table
 
 #: zlib level of the PNGs: level 1 deflates ~2x faster than the default 6; with the "up"
-#: row filter the files stay about the size matplotlib writes (issue 18 item 11).
+#: row filter the files stay about the size matplotlib writes.
 PNG_COMPRESS_LEVEL = 1
 
 
@@ -68,7 +68,7 @@ def figure_png(fig, *, dpi: int = 100) -> bytes:
 
     The layout is computed before the draw by :func:`inertialab.report.layout.fit` (no
     ``tight_layout`` pass, no ``bbox_inches="tight"``, which drew every figure twice;
-    issue 18 item 11: figure rendering was ~11 s of the full demo), and the Agg buffer is
+    figure rendering was ~11 s of the full demo), and the Agg buffer is
     written by :func:`encode_png`. ``dpi`` is the figure's pixels per inch in the PNG.
     """
     import matplotlib.pyplot as plt
@@ -145,6 +145,13 @@ def _render_figure(f: Figure) -> dict:
             "width": w, "height": h}
 
 
+def _unit_cell(unit) -> str:
+    """A unit as the report shows it: a dimensionless ratio or count ("1", or nothing)
+    is shown as "–", never as "1"."""
+    text = "" if unit is None else str(unit)
+    return "–" if text in ("", "1") else text
+
+
 def render_report(sections: list[Section], out_dir, *, title: str = "inertialab report",
                   summary: list[list] | None = None, notes: list[str] | None = None,
                   quick: bool = False, extra: dict | None = None) -> dict[str, Path]:
@@ -173,7 +180,8 @@ def render_report(sections: list[Section], out_dir, *, title: str = "inertialab 
             "figures": [_render_figure(f) for f in s.figures],
             "settings": json.dumps(to_jsonable(s.settings), sort_keys=True) if s.settings else "",
         })
-    summary_rows = [[_cell(c, ".4g") for c in r] for r in (summary or [])]
+    summary_rows = [[_cell(c, ".4g") for c in r[:-1]] + [_unit_cell(r[-1])] if r else []
+                    for r in (summary or [])]
     html = tpl.render(title=title, version=__version__, created=created, sections=rendered,
                       summary=summary_rows, notes=notes or [], quick=quick)
     results = {

@@ -1,4 +1,4 @@
-"""Figure layout computed once, before the one draw that writes the PNG (issue 18 item 11).
+"""Figure layout computed once, before the one draw that writes the PNG.
 
 matplotlib's ``tight_layout`` (and ``bbox_inches="tight"``) find the margins by laying out
 every tick label, axis label and title, then draw the figure again; the draw itself then

@@ -81,53 +81,6 @@ class LogData:
     g_local: float = units.G_STANDARD
 
 
-def time_grid(t: np.ndarray, path):
-    """Sample rate and grid slots from the time stamps: ``(rate_hz, index)``, ``index``
-    None when every sample is on the grid (stamps uniform to :data:`T_JITTER_TOL`, or
-    jittering without a lost sample), else the slot of each sample
-    (:func:`inertialab.io.timestamps.sample_slots`), the lost ones becoming NaN.
-    Jitter and dropouts are reported as a DataQualityWarning; repeated or backward
-    stamps are an InputError naming the rows."""
-    import warnings
-
-    from inertialab.errors import DataQualityWarning
-    from inertialab.io.timestamps import sample_slots
-
-    n = t.size
-    if n < 2:
-        raise InputError("needs at least two time stamps", path=path, column="t_s")
-    dt = np.diff(t)
-    step = float(np.median(dt))
-    if not step > 0:
-        raise InputError("time stamps do not increase", path=path, column="t_s")
-    tau0 = (float(t[-1]) - float(t[0])) / (n - 1)
-    bad = np.flatnonzero(np.abs(dt - step) > T_JITTER_TOL * step)
-    if not bad.size:
-        return 1.0 / tau0, None
-    back = np.flatnonzero(dt <= 0)
-    if back.size:
-        rows = [int(i) + 2 for i in back[:5]]  # 1-based data row of the later stamp
-        raise InputError(f"time stamps repeat or go back at {back.size} step(s); the samples "
-                         "cannot be placed in time (set argument 'gaps' to 'split' and "
-                         "analyse a segment, or give argument 'rate_hz' to ignore t_s)",
-                         path=path, column="t_s", row=rows)
-    sl = sample_slots(t)
-    rows = [int(i) + 2 for i in bad[:5]]
-    where = f"{path}: " if path else ""
-    jit = (f"time stamps jitter by {100 * sl.jitter_rel:.2g} % rms, up to "
-           f"{100 * sl.jitter_max_rel:.2g} %, of the {sl.tau0_s:.6g} s step"
-           if sl.jitter_max_rel > T_JITTER_TOL else
-           f"time stamps on a {sl.tau0_s:.6g} s step apart from dropouts")
-    msg = (f"{where}column 't_s': {jit} (e.g. rows {', '.join(map(str, rows))}): the samples "
-           f"are taken on a uniform grid at {1.0 / sl.tau0_s:.6g} Hz, the mean rate "
-           f"(argument 'rate_hz' sets it)")
-    if sl.n_missing:
-        msg += (f"; {sl.n_missing} sample(s) lost in steps longer than 1.5 nominal steps "
-                f"are missing on that grid (gap-resistant statistics, never interpolated)")
-    warnings.warn(msg, DataQualityWarning, stacklevel=3)
-    return 1.0 / sl.tau0_s, (sl.index if sl.n_missing else None)
-
-
 def prepare_log(record, *, column: str | None = None, rate_hz: float | None = None,
                 input: str = "rate", g_local: float | None = None) -> LogData:
     """Pick the series to analyse from a ``gyro_log`` record.
@@ -139,11 +92,10 @@ def prepare_log(record, *, column: str | None = None, rate_hz: float | None = No
         Canonical column (``rate_dph``) or its base (``rate``). Default: the first of
         rate, dtheta, gx, gy, gz, accel, ax, ay, az (``theta`` for ``input="angle"``).
     rate_hz : float, optional
-        Sample rate; else the sidecar's ``fs_hz``, else from ``t_s``: uniform stamps
-        (relative jitter <= 1e-6) give their rate; jittering stamps give the mean rate
-        and a DataQualityWarning, and samples lost in dropouts become NaN on the
-        sensor's grid (:func:`time_grid`); repeated or backward stamps are an
-        InputError naming the rows.
+        Sample rate, overriding the record's; else the record's time base
+        (``record.timebase``, decided once on reading: argument, sidecar ``fs_hz``, time
+        stamps), samples lost in dropouts NaN on the sensor's grid; repeated or
+        backward stamps are an InputError naming the rows.
     input : {"rate", "angle"}
         ``"angle"`` reads a cumulative ``theta_*`` column (phase analogue).
         ``dtheta_*`` increments are divided by tau0 (CONTRACTS.md "Records").
@@ -151,6 +103,10 @@ def prepare_log(record, *, column: str | None = None, rate_hz: float | None = No
     path = record.path
     if input not in ("rate", "angle"):
         raise InputError(f"argument 'input' must be rate or angle, got '{input}'")
+    if rate_hz is None:
+        from inertialab.io.preflight import preflight
+
+        preflight(record, "allan")  # the checks `validate --kind allan` runs
     names = list(record.arrays) + [c for c in record.data.columns if c not in record.arrays]
     if column is not None:
         col = column.strip().lower()
@@ -170,24 +126,14 @@ def prepare_log(record, *, column: str | None = None, rate_hz: float | None = No
     suf = record.units.get(col, suf)
     if suf is None:
         raise InputError("column has no unit; give argument 'unit'", path=path, column=col)
-    slots = None
+    values = record.column(col)
     if rate_hz is not None:
         fs = float(rate_hz)
         if not math.isfinite(fs) or fs <= 0:
             raise InputError(f"argument 'rate_hz' must be positive, got {rate_hz}")
-    elif record.meta.get("fs_hz") is not None and "t_s" not in record.data.columns:
-        fs = float(record.meta["fs_hz"])
-    elif "t_s" in record.data.columns:
-        fs, slots = time_grid(record.data["t_s"].to_numpy(dtype=float), path)
-    elif record.meta.get("fs_hz") is not None:
-        fs = float(record.meta["fs_hz"])
     else:
-        raise InputError("no sample rate: give argument 'rate_hz' or a t_s column", path=path)
-    values = record.column(col)
-    if slots is not None:  # dropouts: the lost samples are NaN on the sensor's grid
-        from inertialab.io.timestamps import on_slots
-
-        values = on_slots(values, slots)
+        fs = record.timebase.rate_hz
+        values = record.timebase.place(values)  # dropouts: lost samples NaN on the grid
     dim = units.dimension(suf)
     kind_input = input
     if dim == "angle":
@@ -345,16 +291,17 @@ def prepare_clock(frame, meta: dict | None = None, *, input: str, column: str | 
         vals = np.asarray(frame[col], dtype=np.float64)
     except (TypeError, ValueError):
         raise InputError("column is not numeric", path=path or None, column=str(col)) from None
+    timebase = meta.get("timebase") or {}  # the record's one time base (io.timestamps)
     if rate_hz is not None:
         fs = float(rate_hz)
-    elif meta.get("fs_hz") is not None:
-        fs = float(meta["fs_hz"])
-    elif "t_s" in cols:
+    elif "t_s" in cols:  # the stamps place the samples; clocks allow no jitter
         t = np.asarray(frame[cols["t_s"]], dtype=float)
         fs, vals = on_grid(t, vals, path)
+        fs = float(timebase.get("rate_hz", fs))
+    elif meta.get("fs_hz") is not None:
+        fs = float(meta["fs_hz"])
     else:
-        raise InputError("no sample rate: give argument 'rate_hz', a t_s column or the "
-                         "sidecar key fs_hz", path=path or None)
+        raise InputError("needs a t_s column or argument 'rate_hz'", path=path or None)
     return clock_log(vals, input=input, unit=suf, rate_hz=fs, nominal_hz=nominal_hz,
                      column=str(col), path=path, sha256=sha256)
 
@@ -594,4 +541,4 @@ fit = analyze
 
 __all__ = ["AllanAnalysis", "CLOCK_RATIO", "CLOCK_TIME", "LogData", "T_JITTER_TOL", "analyze",
            "clock_log", "fit", "parse_stats", "parse_taus", "prepare", "prepare_clock", "read_clock",
-           "prepare_log", "time_grid"]
+           "prepare_log"]

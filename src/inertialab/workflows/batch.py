@@ -91,15 +91,10 @@ def _unit_allan(path: Path, options: dict) -> dict:
          if (c := rec.find(base)) is not None), None)
     if col is None:
         raise InputError("no rate or acceleration column to analyse", path=path)
-    y = rec.column(col)
-    if "fs_hz" in rec.meta:
-        fs = float(rec.meta["fs_hz"])
-    elif options.get("rate"):
-        fs = float(options["rate"])
-    elif "t_s" in rec.data.columns:
-        fs = 1.0 / float(np.median(np.diff(rec.data["t_s"].to_numpy())))
-    else:
-        raise InputError("needs t_s or argument 'rate_hz'", path=path)
+    if rec.timebase is None:
+        raise InputError("needs a t_s column or argument 'rate_hz'", path=path)
+    fs = rec.timebase.rate_hz  # the record's one time base (io.timestamps)
+    y = rec.timebase.place(rec.column(col))
     res = oadev(y, rate_hz=fs, taus=options.get("taus", "octave"))
     lt, ld = np.log(res.taus_s), np.log(res.dev)
 

@@ -25,6 +25,7 @@ from inertialab.calib.triaxial import TriaxialCalibration
 from inertialab.calib.triaxial_checks import ImplausibleCalibrationError, Limits, refusal
 from inertialab.errors import DataQualityWarning, InputError
 from inertialab.io.readers import Record
+from inertialab.io.record import naming
 from inertialab.workflows.triaxial import _acc_cols, _g_from, _gyro_cols
 
 
@@ -57,6 +58,9 @@ def prepare(record: Record, *, sections=None, g_local: float | None = None) -> F
     ``sections``: imucal's section list as a dict, or the path of its JSON file; None
     detects them from the accelerometer and the gyro.
     """
+    from inertialab.io.preflight import preflight
+
+    preflight(record, "ferraris")  # the checks `validate --kind ferraris` runs
     acols = _acc_cols(record)
     gcols = _gyro_cols(record)
     if gcols is None:
@@ -68,19 +72,17 @@ def prepare(record: Record, *, sections=None, g_local: float | None = None) -> F
     meta = dict(record.meta)
     g = _g_from(meta, g_local)
     t = record.column("t_s").astype(float)
-    dt = np.diff(t)
-    fs = float(meta.get("fs_hz") or 0.0) or 1.0 / float(np.median(dt))
-    if np.any(dt <= 0):
-        raise InputError("time stamps must increase", path=record.path, column="t_s")
-    jitter = float(np.max(np.abs(dt * fs - 1.0)))
-    if jitter > 0.5:
-        warnings.warn(f"{record.path}: time steps vary by up to {100 * jitter:.0f} % of 1/fs; the "
-                      "turns are integrated at the nominal rate", DataQualityWarning, stacklevel=2)
+    tb = record.timebase  # the one time base, decided on reading (io.timestamps)
+    if tb is None or tb.back_rows:
+        raise InputError("time stamps must increase", path=record.path, column="t_s",
+                         row=list(tb.back_rows) if tb is not None else None)
+    fs = tb.rate_hz
     acc = record.data[acols].to_numpy(dtype=float)
     gyro = record.data[gcols].to_numpy(dtype=float)
     det = None
     if sections is None:
-        det = fr.detect_sections(acc, gyro, fs)
+        with naming(record.path):  # every error names the file
+            det = fr.detect_sections(acc, gyro, fs)
         secs = det.sections
     elif isinstance(sections, dict):
         secs = fr.sections_from_dict(sections, len(acc))

@@ -387,7 +387,11 @@ def analyse_record(rec, *, rate_hz: float | None = None, taus="octave", method: 
                    g_local: float | None = None, tau_range_s=None, progress=None,
                    terms: bool = True, drift=None) -> IMUNoise:
     """:func:`analyse_imu` on the ``gx gy gz ax ay az`` columns of a ``gyro_log`` record
-    (rate from ``rate_hz``, the sidecar's ``fs_hz`` or the median step of ``t_s``)."""
+    (rate from ``rate_hz``, else the record's time base)."""
+    if rate_hz is None:
+        from inertialab.io.preflight import preflight
+
+        preflight(rec, "imu")  # the checks `validate --kind imu` runs
     cols = axis_columns(rec)
     if not cols:
         raise InputError("no IMU axis columns (gx_*, gy_*, gz_*, ax_*, ay_*, az_*); map them "
@@ -395,19 +399,12 @@ def analyse_record(rec, *, rate_hz: float | None = None, taus="octave", method: 
     if "segment" in rec.data.columns and rec.data["segment"].nunique() > 1:
         raise InputError("the log has several segments (argument 'gaps' split); analyse one segment",
                          path=rec.path)
-    fs = rate_hz or rec.meta.get("fs_hz")
+    fs, tb = rate_hz, rec.timebase  # the record's one time base (io.timestamps)
     if fs is None:
-        if "t_s" not in rec.data.columns:
-            raise InputError("needs t_s or argument 'rate_hz'", path=rec.path)
-        # jitter and dropouts as the single-column analysis: the samples on the sensor's
-        # grid at the mean rate, lost ones as NaN (gap-resistant OADEV)
-        from inertialab.workflows.allan import time_grid
-
-        fs, slots = time_grid(rec.data["t_s"].to_numpy(dtype=float), rec.path)
-        if slots is not None:
-            from inertialab.io.timestamps import on_slots
-
-            cols = {name: (c, on_slots(y, slots), u) for name, (c, y, u) in cols.items()}
+        if tb is None:
+            raise InputError("needs a t_s column or argument 'rate_hz'", path=rec.path)
+        fs = tb.rate_hz  # lost samples NaN on the grid (gap-resistant OADEV)
+        cols = {name: (c, tb.place(y), u) for name, (c, y, u) in cols.items()}
     g = g_local if g_local is not None else float(rec.meta.get("g_local_mps2", U.G_STANDARD))
     try:
         return analyse_imu(cols, rate_hz=float(fs), taus=taus, method=method, g_local=g,

@@ -54,6 +54,7 @@ from inertialab.calib.triaxial_session import (  # noqa: F401 - re-exported
 )
 from inertialab.errors import DataQualityWarning, InputError
 from inertialab.io.readers import Record, hash_frame, read_record
+from inertialab.io.record import naming
 from inertialab.noise.static_intervals import StaticIntervals, sweep_thresholds
 from inertialab.sensors.triaxial import OBJECTIVES
 
@@ -78,7 +79,12 @@ def read(path, *, options=None, unit: str | None = None, g_local: float | None =
     except InputError as exc:
         if exc.column != "t_s":
             raise
-    return read_record(path, "triaxial_static", unit=unit_arg, g_local=g_local, options=options)
+        raw_error = exc
+    try:
+        return read_record(path, "triaxial_static", unit=unit_arg, g_local=g_local,
+                           options=options)
+    except InputError as exc:  # neither a static table nor a log: the log's cause
+        raise (raw_error if exc.column == "pos_id" else exc) from None
 
 
 def is_raw_log(record: Record) -> bool:
@@ -377,11 +383,13 @@ def prepare(record: Record, *, lsb_per_g: float | None = None, schedule: pd.Data
     log_gyro = None if gcols is None else record.data[gcols].to_numpy(dtype=float)
     if raw_log:
         t = record.column("t_s")
-        data = raw_log_data(t, record.data[cols].to_numpy(dtype=float), meta, suffix=suffix,
-                            lsb_per_g=lsb_per_g, schedule=schedule, k_thr=k_thr,
-                            threshold=threshold, window_s=window_s, t_init_s=t_init_s,
-                            min_duration_s=min_duration_s, path=record.path,
-                            header_check=header_check, gyro_raw=log_gyro)
+        with naming(record.path):  # every error names the file
+            data = raw_log_data(t, record.data[cols].to_numpy(dtype=float), meta,
+                                suffix=suffix, lsb_per_g=lsb_per_g, schedule=schedule,
+                                k_thr=k_thr, threshold=threshold, window_s=window_s,
+                                t_init_s=t_init_s, min_duration_s=min_duration_s,
+                                path=record.path, header_check=header_check,
+                                gyro_raw=log_gyro)
     else:
         data = static_data_from_frame(record.data, meta, lsb_per_g=lsb_per_g, path=record.path,
                                       header_check=header_check)
@@ -457,10 +465,14 @@ def fit(session: Session, config: Config | None = None):
         data, method=m, objective=obj, rng=config.seed, gyro_raw=session.gyro_raw, t=session.t,
         gyro_suffix=session.gyro_suffix, gyro_lsb_per_rps=config.gyro_lsb_per_rps,
         meta=session.meta, **kw)
+    limits = config.limits  # a counts log's ADC range: declared in the sidecar key 'adc'
+    if limits.adc is None and isinstance(session.meta.get("adc"), dict):
+        limits = dataclasses.replace(limits, adc=session.meta["adc"])
     findings = check_accel(run.fit, data.a, data.ref, data.g, counts=data.counts,
-                           limits=config.limits)
+                           limits=limits)
     if run.gyro_fit is not None:
-        findings += check_gyro(run.gyro_fit, run.gyro_nominal, limits=config.limits)
+        findings += check_gyro(run.gyro_fit, run.gyro_nominal, limits=limits,
+                               raw=session.gyro_raw if session.gyro_suffix == "lsb" else None)
     if findings:
         if not config.force:
             raise ImplausibleCalibrationError(refusal(findings))
@@ -630,7 +642,7 @@ def apply(model: TriaxialCalibration, record: Record, *, model_path=None,
     for k in ("lsb_per_g", "lsb_offset", "gyro_lsb_per_rps"):
         meta.pop(k, None)
     return Record(kind=record.kind, data=df, meta=meta, path=record.path, units=out_units,
-                  sha256=hash_frame(df))
+                  sha256=hash_frame(df), timebase=record.timebase)
 
 
 def gyro_applied(model: TriaxialCalibration, record: Record) -> bool:

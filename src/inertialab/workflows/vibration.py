@@ -70,7 +70,6 @@ TERMS = ("Q", "N", "B", "K", "R")
 #: Report units of the five terms (CONTRACTS.md "noise").
 TERM_UNITS = {"Q": "arcsec", "N": "deg/sqrt(h)", "B": "deg/h", "K": "deg/h/sqrt(h)",
               "R": "deg/h^2"}
-_UNIFORM_TOL = 1e-6
 
 
 def _bad_rows(mask: np.ndarray) -> list[int]:
@@ -78,12 +77,13 @@ def _bad_rows(mask: np.ndarray) -> list[int]:
 
 
 def run_from_frame(df, meta: dict | None = None, *, path="<frame>", sha256: str = "",
-                   units_map: dict | None = None) -> VibrationRun:
+                   units_map: dict | None = None, timebase=None) -> VibrationRun:
     """Validate a record frame for the vibration pipeline (spec 001 §2.2 loader checks).
 
     Checks: a rate column (``rate_*``, converted to deg/h) or angle increments
-    (``dtheta_*``, rate = dtheta/tau0); uniform ``t_s`` (relative jitter < 1e-6) or a
-    sidecar ``fs_hz``; no NaN; ``vib_on`` present with one contiguous block of 1s after
+    (``dtheta_*``, rate = dtheta/tau0); the time base (``timebase``, the record's; for a
+    bare frame decided from ``t_s`` and the sidecar ``fs_hz`` by
+    :func:`inertialab.io.timestamps.decide_timebase`) without lost samples; no NaN; ``vib_on`` present with one contiguous block of 1s after
     a static phase; ``vib_freq_hz > 0`` exactly where ``vib_on = 1``; ``phase`` (if
     given) 1 -> 2 -> 3 and consistent with ``vib_on``.
 
@@ -102,31 +102,19 @@ def run_from_frame(df, meta: dict | None = None, *, path="<frame>", sha256: str 
     if rate_col is None and dth_col is None:
         raise InputError("needs a rate column (e.g. rate_dph) or angle increments "
                          "(dtheta_arcsec)", path=path)
-    # time base
-    if "t_s" in cols:
-        t = np.asarray(df[cols["t_s"]], dtype=float)
-        if t.size < 2:
-            raise InputError("too few samples", path=path)
-        dt = np.diff(t)
-        tau0 = float(np.median(dt))
-        if not tau0 > 0:
-            raise InputError("time stamps do not increase", path=path, column="t_s")
-        jitter = np.abs(dt - tau0) / tau0
-        bad = jitter >= _UNIFORM_TOL
-        if bad.any():
-            rows = _bad_rows(bad)
-            raise InputError(
-                f"non-uniform sampling: interval deviates from the median {tau0:g} s by up to "
-                f"{jitter.max():.3g} (relative; allowed < 1e-6); resample the record first",
-                path=path, column="t_s", row=[r + 1 for r in rows])
-        fs = 1.0 / tau0
-        if meta.get("fs_hz") and abs(float(meta["fs_hz"]) * tau0 - 1.0) < _UNIFORM_TOL:
-            fs = float(meta["fs_hz"])  # the nominal rate, free of time-stamp rounding
-    elif meta.get("fs_hz"):
-        fs = float(meta["fs_hz"])
-        tau0 = 1.0 / fs
-    else:
+    # time base: the record's (decided once in io), or decided here for a bare frame
+    if timebase is None:
+        from inertialab.io.timestamps import decide_timebase
+
+        t = np.asarray(df[cols["t_s"]], dtype=float) if "t_s" in cols else None
+        timebase = decide_timebase(t, n=len(df), nominal_hz=meta.get("fs_hz"), path=path)
+    if timebase is None:
         raise InputError("needs a t_s column or the sidecar key fs_hz", path=path)
+    if timebase.n_missing or timebase.back_rows:
+        raise InputError(f"{timebase.n_missing} sample(s) lost in gaps or stamps that go back: "
+                         "the vibration analysis needs a contiguous log", path=path,
+                         column="t_s")
+    fs, tau0 = timebase.rate_hz, timebase.tau0_s
     if rate_col is not None:
         suf = (units_map or {}).get(cols[rate_col]) or units.split_suffix(rate_col)[1]
         x = units.convert(np.asarray(df[cols[rate_col]], dtype=float), suf, "dph")
@@ -190,7 +178,11 @@ def run_from_frame(df, meta: dict | None = None, *, path="<frame>", sha256: str 
 def prepare(record) -> VibrationRun:
     """A ``gyro_log`` :class:`~inertialab.io.Record` validated and segmented for the
     pipeline (:func:`run_from_frame`)."""
+    from inertialab.io.preflight import preflight
+
+    preflight(record, "vibration")  # the checks `validate --kind vibration` runs
     return run_from_frame(record.data, record.meta, path=record.path, sha256=record.sha256,
+                          timebase=record.timebase,
                           units_map=record.units)
 
 

@@ -81,5 +81,9 @@ def read_npy_column(p: Path, kind: str, meta: dict, arr, *, unit, rate_hz, colum
     meta["fs_hz"] = fs
     meta["column"] = name
     data = pd.DataFrame(index=pd.RangeIndex(0))
+    from inertialab.io.timestamps import Timebase
+
+    tb = Timebase(fs, "argument" if rate_hz is not None else "sidecar", int(arr.shape[0]))
+    meta["timebase"] = tb.to_dict()
     return Record(kind=kind, data=data, meta=meta, path=str(p), units={name: suf},
-                  sha256=h.hexdigest(), arrays={name: arr})
+                  sha256=h.hexdigest(), arrays={name: arr}, timebase=tb)

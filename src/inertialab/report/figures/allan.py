@@ -1,4 +1,5 @@
-"""Report section and figures of the Allan study (noise core, issue 3).
+"""Report section and figures of the Allan study (the noise core: IEEE Std 952 noise
+terms, NIST SP 1065 statistics).
 
 :func:`deviation_figure` draws the log-log deviation curves with their confidence bars,
 the fitted five-term model and each term's own line; the ``allan`` CLI writes it with
@@ -32,7 +33,7 @@ def deviation_figure(analysis, *, truth_curve=None, name: str = "allan") -> Figu
     an optional ``(taus_s, dev)`` pair (virtual lab). Statistics in another unit (TDEV,
     TTOT, MTIE, TIE rms: the phase unit) get their own panel; a curve of more than
     :data:`BAND_ABOVE` taus (``taus="all"``/"many") draws its interval as a band instead
-    of bars, so that the figure stays readable (issue 15).
+    of bars, so that the figure stays readable.
     """
     groups: dict = {}
     for r in analysis.results:
@@ -118,9 +119,10 @@ def recovery_figure(rec: dict, name: str = "allan_recovery") -> Figure:
     ax.set_ylabel("relative error (%)")
     ax.set_title("Noise-term recovery over seeds (10-h records, WLS); dashed: acceptance band")
     ax.grid(True, axis="y", alpha=0.3)
-    return Figure(fig, "Relative error of the WLS noise terms per seed on the spec 001 §6.2 "
-                       "identification presets; issue 3 asks for N and K within 5 % and B "
-                       "within 20 % in at least 18 of 20 seeds.", name=name)
+    return Figure(fig, "Relative error of the WLS noise terms per seed on the identification "
+                       "presets of the FOG vibration study (Fang, Shen and Chen); the "
+                       "acceptance target is N and K within 5 % and B within 20 % in at "
+                       "least 18 of 20 seeds.", name=name)
 
 
 def section(result: StudyResult) -> Section:

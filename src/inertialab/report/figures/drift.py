@@ -106,14 +106,15 @@ def acf_figure(d: dict, name: str | None = None) -> Figure:
     ax.set_xlabel("lag k (days)")
     ax.set_ylabel("r_k")
     return Figure(fig, f"Residual autocorrelation ({_LABEL.get(d['quantity'])}, unit "
-                       f"{d['unit_id']}) with the 95 % bounds of spec 004 §3.9.",
+                       f"{d['unit_id']}) with the 95 % bounds (Yue, Li and Sun, NAR modelling of "
+                       "quartz-accelerometer storage drift).",
                   name or f"acf_{d['quantity']}_{safe_slug(d['unit_id'])}")
 
 
 def error_curve_figure(curves: dict, *, unit_id: str, quantity: str, unit: str,
                        n_origins: int | None = None, name: str | None = None) -> Figure:
     """Forecast error per step: mean |e_k| over origins for each method (the seed's
-    Figs. 6/8; spec 004 §5 "per-step curve")."""
+    Figs. 6/8, the per-step curve of Yue, Li and Sun's storage-drift study)."""
     fig, ax = plt.subplots(figsize=(6.5, 3.6))
     for m, v in curves.items():
         arr = np.array([np.nan if x is None else x for x in v], dtype=float)
@@ -125,7 +126,7 @@ def error_curve_figure(curves: dict, *, unit_id: str, quantity: str, unit: str,
     ax.legend(fontsize=7, ncol=2)
     over = f" over {n_origins} origins" if n_origins else ""
     return Figure(fig, f"Forecast error per step{over}, {_LABEL.get(quantity, quantity)} of unit "
-                       f"{unit_id}: NAR and baselines (spec 004 §5).",
+                       f"{unit_id}: NAR and baselines.",
                   name or f"error_curve_{quantity}_{safe_slug(unit_id)}")
 
 
@@ -149,7 +150,7 @@ def schedule_figure(rows: list[dict], name: str = "schedule") -> Figure:
     ax.set_xlabel("programme day (bar ends at the re-calibration day; > = none within horizon)")
     ax.legend(fontsize=8, loc="best")
     return Figure(fig, "Re-calibration schedule: 10 % quantile of the first passage of the "
-                       "bootstrap paths out of the tolerance band (spec 004 §9).", name)
+                       "bootstrap paths out of the tolerance band.", name)
 
 
 def section(result: StudyResult) -> Section:
@@ -167,7 +168,8 @@ def section(result: StudyResult) -> Section:
         tables.append(Table(
             title="Median 20-day forecast RMSE over units (µg / ppm), paper preset",
             columns=["method"] + [f"{q} ({pp[q]['unit_working']})" for q in pp], rows=rows,
-            note="NAR and the baselines of spec 004 §4 from the same origin; lower is better."))
+            note="NAR (Yue, Li and Sun) and the baselines from the same origin; lower "
+                 "is better."))
         tables.append(Table(
             title="Batch figures", columns=["figure"] + list(pp),
             rows=[["CV order (per unit)"] + [" ".join(map(str, pp[q]["orders"])) for q in pp],

@@ -1,7 +1,7 @@
 """Figures and report section of the ``thermal`` study (spec 000).
 
 Layouts are computed once by :func:`inertialab.report.layout.fit` when the figure is
-written (issue 18 item 11). Figures are built from workflow results only: drift against temperature per input
+written. Figures are built from workflow results only: drift against temperature per input
 level before and after compensation (seed Figs. 2-4 and 9), test residuals per model,
 and the transfer to a second unit with its bootstrap band when there is one.
 """

@@ -66,7 +66,8 @@ def convergence_figure(histories: dict, *, floor: float = 1e-16) -> Figure:
     ax.set_ylabel("best J ((m/s²)²)")
     ax.legend(fontsize=8)
     return Figure(fig, "Convergence of CS, ACS and PSO from shared initial populations "
-                  "(objective S9, noise-free sphere, spec 002 §3.9).", name="triaxial_convergence")
+                  "(objective S9, noise-free sphere; Qiao, Gao, Li and Zhao, ACS field "
+                  "calibration).", name="triaxial_convergence")
 
 
 def section(result) -> Section:
@@ -115,7 +116,7 @@ def section(result) -> Section:
 def sections_figure(t, acc, gyro, sections: dict, *, detection=None, title: str = "") -> Figure:
     """A Ferraris session with its sections shaded (faces blue, turns orange) over the raw
     accelerometer and gyro, and, for detected sections, the detector's two statistics
-    against their thresholds (issue 17 item 2: the user checks the detection)."""
+    against their thresholds (so that the user checks the detection)."""
     t = np.asarray(t, dtype=float)
     acc = np.asarray(acc, dtype=float)
     gyro = np.asarray(gyro, dtype=float)
@@ -176,7 +177,7 @@ def coverage_figure(directions, *, title: str = "") -> Figure:
 
 
 def method_errors_figure(poses, *, title: str = "") -> Figure:
-    """Error of every pose under every method (issue 18; the paper's Fig. 8 six-face
+    """Error of every pose under every method (the paper's Fig. 8 six-face
     comparison): grouped bars of the eq.-21 vector error when the table has it, else of
     ``|a_cal| - g``. ``poses`` is :func:`inertialab.calib.triaxial_compare.pose_error_table`."""
     col = "vector_error_mps2" if "vector_error_mps2" in poses and \

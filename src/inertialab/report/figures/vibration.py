@@ -52,7 +52,7 @@ def _log_frequency_image(ax, z, freq, **kw):
     """``z`` (frequency x time) over cell-centred time indices and frequencies ``freq``,
     the frequency axis logarithmic. A geometric ``freq`` grid (the CWT's scales) is drawn
     as one image over log10(f) with decade ticks (the quad mesh of ``pcolormesh`` drew
-    96 x 4096 cells one by one: ~0.2 s of the report, issue 18 item 11); any other grid
+    96 x 4096 cells one by one: ~0.2 s of the report); any other grid
     as ``pcolormesh`` on a log axis. Returns the mappable for the colour bar."""
     lf = np.log10(freq)
     step = np.diff(lf)
