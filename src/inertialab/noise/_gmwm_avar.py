@@ -1,5 +1,5 @@
-"""Exact discrete Allan variances of the GMWM latent processes (:mod:`inertialab.noise.gmwm`,
-issue 14 item 5); the Haar wavelet variance at a dyadic scale is half of each."""
+"""Exact discrete Allan variances of the GMWM latent processes (:mod:`inertialab.noise.gmwm`);
+the Haar wavelet variance at a dyadic scale is half of each."""
 
 from __future__ import annotations
 

@@ -1,5 +1,5 @@
 """Covariance of the Haar wavelet variance across scales, from a latent model's spectrum
-(the weight matrix and the bootstrap law of :mod:`inertialab.noise.gmwm`; issue 14 item 5).
+(the weight matrix and the bootstrap law of :mod:`inertialab.noise.gmwm`).
 
 The Haar (MODWT) wavelet coefficient of a rate sequence at scale ``m`` samples is half the
 difference of two adjacent ``m``-sample means, a linear filter of squared gain
@@ -141,7 +141,7 @@ def wv_covariance(processes, m, n_samples: int, tau0: float):
 
 
 def log_weights(processes, m, n_samples: int, tau0: float):
-    """The GMWM weight of the log wavelet moments from a latent model (issue 14 item 5).
+    """The GMWM weight of the log wavelet moments from a latent model.
 
     Returns ``(bias, linv, eta, corr)``: ``eta_j = 2 nu_j^4 / Var(nu_hat^2_j)`` (the
     equivalent chi-square degrees of freedom), ``bias_j = E[ln(chi2(eta_j)/eta_j)] =

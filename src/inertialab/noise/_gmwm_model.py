@@ -1,5 +1,5 @@
 """The latent processes of the GMWM fit and the least-squares fit of one candidate model
-(:mod:`inertialab.noise.gmwm`, issue 14 item 5): each process's Allan variance, the
+(:mod:`inertialab.noise.gmwm`): each process's Allan variance, the
 log-parameter packing, data-driven starts and bounds, and ``least_squares`` on the log
 wavelet moments. Split from :mod:`inertialab.noise.gmwm`, which selects among the
 candidates, bootstraps the intervals and turns the processes into IEEE terms.
@@ -122,7 +122,7 @@ def _start(spec, wv, taus, tau0, T):
 
 
 #: The correlation time of a Gauss–Markov process is capped at this fraction of the
-#: longest fitted scale (issue 14 item 5): a GM whose Allan peak (1.89 tc) is not followed
+#: longest fitted scale: a GM whose Allan peak (1.89 tc) is not followed
 #: by a few octaves of scales is a random walk within the record, and an uncapped fit was
 #: measured to trade the random walk K for such a long GM on the MEMS presets.
 TC_MAX_FRACTION = 1.0 / 8.0

@@ -1,6 +1,6 @@
 """The data types and constants of the noise-term fit (split from
 :mod:`inertialab.noise.terms` so that its method modules — least squares, slope, GMWM —
-share them without importing the dispatcher back: no import circle, issue 13).
+share them without importing the dispatcher back: no import circle).
 
 :class:`NoiseTerm` (one term with its interval, its JSON form ``to_dict``) and
 :class:`NoiseTerms` (Q N B K R), the IEEE 952 constants, and :func:`auto_tau_range` and
@@ -21,11 +21,11 @@ from inertialab.noise.lines import Line, line_avar
 #: ``sqrt(2 ln2 / pi)``: the Allan floor of bias instability B.
 BI_FACTOR = math.sqrt(2.0 * math.log(2.0) / math.pi)  # 0.66428
 
-#: Taus whose model EDF is below this are not fitted (issue 14 item 2: "EDF < a few").
+#: Taus whose model EDF is below this are not fitted (their estimate is too scattered).
 EDF_MIN = 3.0
 
 #: A term is read (and can be significant) only where it carries at least this share of
-#: the model AVAR at some fitted tau (issue 14 item 2).
+#: the model AVAR at some fitted tau.
 READ_SHARE = 0.25
 
 #: Correlation of log AVAR estimates one octave apart, per noise type (alpha), measured
@@ -33,12 +33,12 @@ READ_SHARE = 0.25
 #: white rate 0.5, flicker 0.67, random walk 0.88; white angle not measured, taken 0.5.
 OCTAVE_RHO = {2: 0.5, 1: 0.5, 0: 0.5, -1: 0.67, -2: 0.88}
 
-#: Default bootstrap replicates and confidence of the term intervals (issue 14 item 3).
+#: Default bootstrap replicates and confidence of the term intervals.
 N_BOOT = 200
 CONFIDENCE = 0.95
 
 #: The short-tau corner of the band-limited B term is searched up to this multiple of the
-#: shortest fitted tau (issue 14 item 2): below it white noise dominates and the corner
+#: shortest fitted tau: below it white noise dominates and the corner
 #: is poorly identified, so it is not allowed to wander into the flat region. 16 was
 #: tried first; on industrial-400hz (shortest Gauss-Markov tc 10 s, 250x the shortest
 #: tau) it left N -0.08 % and K -17 % biased (80 seeds, no bootstrap), 64 -0.04 % and
@@ -116,7 +116,7 @@ def band_shape(taus_s, t_lo: float, t_hi: float) -> np.ndarray:
     ``1/(2 pi t_lo)``, built as the log-uniform mixture of first-order Gauss–Markov
     processes with correlation times in ``[t_lo, t_hi]`` (equal variance per
     ``d ln Tc``; the sum of Gauss–Markov processes of real MEMS gyros and of the
-    virtual-lab presets, issue 14 item 1). Its AVAR is proportional to
+    virtual-lab presets). Its AVAR is proportional to
     ``H(tau/t_lo) - H(tau/t_hi)``, ``H(u) = int_0^u h(v) dv/v`` with ``h`` the
     Gauss–Markov shape; it is flat (``2 ln2 h``, IEEE 952 flicker) between the corners,
     rises like random walk below ``t_lo`` and falls like white noise above ``t_hi``.
@@ -203,7 +203,7 @@ class NoiseTerm:
         return not ({"upper_bound", "not_observable"} & set(self.flags))
 
     def to_dict(self) -> dict:
-        """The one JSON form of a term (CONTRACTS.md "noise"): ``value, unit, ci, method,
+        """The one JSON form of a term (docs/noise-terms.md): ``value, unit, ci, method,
         tau_range_s, sd, flags`` (+ ``density``, ``per_sample_std`` for N, ``reason`` and
         ``upper_bound`` where set)."""
         d = {"value": float(self.value), "unit": self.unit,
@@ -269,7 +269,7 @@ class NoiseTerms:
         taken off the curve before the terms were fitted and is part of
         :meth:`model_dev`.
     bias_gm : dict or None
-        The band limits of the B term (issue 14 item 2, :func:`band_shape`):
+        The band limits of the B term (:func:`band_shape`):
         ``{"t_lo_s", "t_hi_s"}``, the shortest and longest Gauss–Markov correlation time
         of the band-limited flicker (None: no roll-off on that side). None for pure
         flicker (the IEEE five-term model; files written before the band existed).

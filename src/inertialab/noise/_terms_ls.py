@@ -1,5 +1,5 @@
 """Least-squares fit of the five-term model with bootstrap intervals (the "wls" and "ols"
-methods of :func:`inertialab.noise.terms.fit_noise_terms`; issue 14 items 2-3).
+methods of :func:`inertialab.noise.terms.fit_noise_terms`).
 
 See :mod:`inertialab.noise.terms` for the method; this module holds its core: the
 Greenhall EDF table, the reweighted bounded least squares with the signed ``c_-2``,
@@ -90,7 +90,7 @@ def _subset_solutions(A, B, free, nonneg):
     enumeration: the fit has at most four sign-constrained columns (16 supports), and the
     corner profiling solves ~100 corner pairs x 200 bootstrap replicates per fit, where
     one scipy ``nnls`` call per problem cost 8 of the quick demo's 9.3 s in per-call
-    overhead (issue 14; measured with cProfile)."""
+    overhead (measured with cProfile)."""
     nd, k, p = A.shape
     nb = B.shape[-2]
     B = np.broadcast_to(B, (nd, nb, k))
@@ -427,7 +427,7 @@ def fit_ls(result, sel, conv, rate_hz, method, n_reweight, confidence, n_boot, s
 
 def _span_without_r(full: dict, without_r: dict) -> dict:
     """The terms of the full fit with the N, B, K and Q intervals widened to also cover
-    the fit without R (issue 14 item 3: the interval carries the uncertainty of the model
+    the fit without R (the interval carries the uncertainty of the model
     choice that a non-significant R leaves open). Measured on the MEMS presets (200
     seeds, docs/noise-terms.md §3 and §8): K coverage 87-92 % for the full fit alone, 86-96 %
     for the refit without R alone, 91-96 % for the span; its median width is 1.00-1.11x

@@ -4,7 +4,7 @@ Local slopes over three consecutive taus, the longest run within 0.15 of each ta
 slope (>= 3 points), an EDF-weighted fixed-slope line through it. B is read on the
 longest run with ``|slope| <= 0.1`` at its minimum, IEEE 952's flat region, with the
 N and K lines read on their own runs subtracted there (``sigma_B^2 = sigma^2 - N^2/tau -
-K^2 tau/3``; issue 14 item 2); without a flat run the minimum gives an upper bound (flag
+K^2 tau/3``); without a flat run the minimum gives an upper bound (flag
 ``B_bound``). Missing runs give NaN with flag ``not_observable``. Intervals: chi-square
 on the points' EDF, widened to span the reading of every point of the run where those
 differ by more (flag ``read_spread``: the curve bends inside the slope tolerance, and the

@@ -1,4 +1,4 @@
-"""Generalized method of wavelet moments (GMWM; Guerrier et al. 2013; issue 14 item 5).
+"""Generalized method of wavelet moments (GMWM; Guerrier et al. 2013).
 
 The record's Haar wavelet variance (WV) at dyadic scales ``tau_j = m tau0``,
 ``m = 1, 2, 4, ...`` is matched by the WV of a sum of latent processes:
@@ -256,7 +256,7 @@ def fit_gmwm_wv(wv: WaveletVariance, *, max_gm: int = 3, n_boot: int = 50, seed:
     :data:`inertialab.noise.terms.EDF_MIN`, the Allan fit's rule; the last one or two
     scales of a record), and every Gauss–Markov correlation time is capped at
     :data:`inertialab.noise._gmwm_model.TC_MAX_FRACTION` of the longest remaining scale
-    (issue 14 item 5).
+   .
     ``weighting``: ``"edf"`` (default) diagonal weights of the log moments from the
     Greenhall EDF of the step-1 model's noise type per scale; ``"full"`` Guerrier et
     al.'s efficient weight matrix, the inverse of the log moments' full covariance across
@@ -314,7 +314,7 @@ def fit_gmwm_wv(wv: WaveletVariance, *, max_gm: int = 3, n_boot: int = 50, seed:
                                     (bias, W, eta_a, corr), n_boot, seed, confidence)
         b_ci, k_ci = span_intervals(b_ci, b2), span_intervals(k_ci, k2)
     # a random walk or a drift not selected: its upper bound is the upper bootstrap
-    # percentile of K (R) in the best candidate that has one (issue 14 item 2: an absent
+    # percentile of K (R) in the best candidate that has one (an absent
     # term as an upper bound, never a bare 0)
     weights = (bias, W, eta_a, corr)
     k_upper = r_upper = float("nan")

@@ -1,5 +1,5 @@
 """How well a record of given length can determine its noise terms: the Cramér–Rao bound
-of a latent rate model under Whittle's likelihood (issue 14 item 3).
+of a latent rate model under Whittle's likelihood.
 
 A static rate record of ``n`` samples at ``tau0 = 1/rate_hz`` is modelled as
 

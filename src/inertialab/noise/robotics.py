@@ -1,4 +1,4 @@
-"""Noise parameters for robotics estimators from fitted IMU noise terms (issue 14 item 7).
+"""Noise parameters for robotics estimators from fitted IMU noise terms.
 
 Plain numbers (no files: the io floor writes them) for Kalibr, OpenVINS, VINS-Mono /
 VINS-Fusion (and imu_utils, which writes the same four names) and GTSAM, per axis and

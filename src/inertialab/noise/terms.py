@@ -1,4 +1,4 @@
-"""IMU noise terms Q, N, B, K, R from an Allan-type curve (spec 001 §3.3–3.4; issues 3, 14).
+"""IMU noise terms Q, N, B, K, R from an Allan-type curve (spec 001 §3.3–3.4).
 
 Five-term model (spec 001 eq. 4, IEEE Std 952-1997 Annex C), sigma in the rate unit u
 and tau in s::
@@ -12,8 +12,8 @@ Methods (every term reports which one and the tau range it was read on):
     Weighted least squares of the model on the AVAR points, weights ``edf_i/(2 model_i^2)``
     (inverse variance of an AVAR estimate), iteratively reweighted with the fitted
     model; each tau's EDF is Greenhall's (:func:`inertialab.noise.edf.edf_greenhall`) for
-    the noise type of the model's dominant term there (issue 14 item 4). Robust defaults
-    (issue 14 item 2, see :func:`auto_tau_range`): the short-tau region coloured by the
+    the noise type of the model's dominant term there. Robust defaults
+    (see :func:`auto_tau_range`): the short-tau region coloured by the
     sensor's internal low-pass/decimation filter is cut (the curve rises or flattens
     before it falls like white noise; everything below 4x its peak is dropped), and the
     ``c_-2`` coefficient is signed: a filter leaves ``-c/tau^2`` behind on white noise
@@ -27,7 +27,7 @@ Methods (every term reports which one and the tau range it was read on):
     profiled inside the least squares on a grid (``_terms_ls._corner_grid``; pure
     flicker is the grid's first point) and reported as :attr:`NoiseTerms.bias_gm`: a
     constant B extended to the long taus, where a real sum of Gauss–Markov processes
-    falls, took K 15-60 % low on the MEMS presets (issue 14 items 2-3).
+    falls, took K 15-60 % low on the MEMS presets.
 ``"ols"``
     The same with unit weights (the paper-compatible mode of spec 001 §3.4 item 3).
 ``"slope"``
@@ -36,7 +36,7 @@ Methods (every term reports which one and the tau range it was read on):
     Generalized method of wavelet moments (:mod:`inertialab.noise.gmwm`) on the dyadic
     points of the curve (the Haar wavelet variance is half the Allan variance there).
 
-Intervals (issue 14 item 3): a parametric bootstrap on the fitted noise model in the
+Intervals: a parametric bootstrap on the fitted noise model in the
 Allan domain. Each replicate draws every fitted tau's AVAR as
 ``model_i chi2(edf_i)/edf_i`` (Greenhall EDF of the model's noise type), correlated
 across taus through a Gaussian copula whose correlation is a Markov chain in log2(tau)
@@ -59,7 +59,7 @@ B is IEEE 952's flat-region value ``sqrt(c_0)/0.6643``; the textbook reading
 ``min(sigma)/0.6643`` over the fitted taus is reported beside it
 (:attr:`NoiseTerms.b_textbook`).
 
-Units (CONTRACTS.md "noise"): gyros report Q arcsec, N deg/sqrt(h), B deg/h,
+Units (docs/noise-terms.md): gyros report Q arcsec, N deg/sqrt(h), B deg/h,
 K deg/h/sqrt(h), R deg/h^2; accelerometers Q m/s, N m/s/sqrt(h), B ug, K m/s^2/sqrt(h),
 R m/s^3. N also carries ``density`` (continuous-time white-noise density: rad/s/sqrt(Hz)
 for gyros, ug/sqrt(Hz) for accelerometers) and ``per_sample_std`` (the discrete
@@ -163,7 +163,7 @@ def fit_noise_terms(result, *, unit: str, kind: str | None = "gyro", method: str
     n_reweight : int, default 5
         WLS reweighting passes.
     confidence : float, default 0.95
-        Confidence of the term intervals (issue 14 item 3).
+        Confidence of the term intervals.
     n_boot : int, optional
         Bootstrap replicates (0: no intervals, NaN); default 200 (50 for "gmwm", whose
         refits cost ~0.1 s each).
@@ -244,8 +244,8 @@ def model_alpha(terms: NoiseTerms, taus_s) -> np.ndarray:
 
 
 def model_intervals(result, terms: NoiseTerms, *, min_points: int = 1000):
-    """The curve's intervals with the noise type following the fitted model (issue 14
-    item 5), for rate records of inertial sensors.
+    """The curve's intervals with the noise type following the fitted model, for rate
+    records of inertial sensors.
 
     The lag-1 identification is kept where it is significant: decided on at least
     ``min_points`` decimated points (lag-1 ACF standard error <= 0.03, well below the 0.25

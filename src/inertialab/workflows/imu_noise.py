@@ -1,4 +1,4 @@
-"""Six IMU axes in one call, and noise parameters for Kalibr / ROS (issue 10 item 3).
+"""Six IMU axes in one call, and noise parameters for Kalibr / ROS.
 
 :func:`analyse_imu` runs the noise core's overlapping Allan deviation
 (:func:`inertialab.noise.allan.oadev`) and five-term fit

@@ -1,4 +1,4 @@
-"""Figures of the noise-term fit and the GMWM (issue 14 item 8).
+"""Figures of the noise-term fit and the GMWM.
 
 :func:`allan_terms_figure`: the Allan deviation with its confidence intervals, the fitted
 sum over the fitted taus, each term's own line drawn only over the tau range it was
