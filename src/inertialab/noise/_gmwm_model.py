@@ -13,8 +13,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import least_squares
 
+from inertialab.noise._band import band_shape
 from inertialab.noise._gmwm_avar import avar_ar1, avar_drift, avar_quant, avar_rw, avar_white
-from inertialab.noise._terms_base import band_shape
 
 _ORDER = ("QN", "WN", "GM", "BL", "RW", "DR")
 

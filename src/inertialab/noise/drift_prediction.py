@@ -88,7 +88,7 @@ class Component:
 def components_of(terms) -> list[Component]:
     """The noise model of a :class:`~inertialab.noise.terms.NoiseTerms` as components:
     a GMWM fit's latent processes, else the five coefficients with the B band."""
-    from inertialab.noise._terms_base import _band_peak
+    from inertialab.noise._band import _band_peak
 
     out: list[Component] = []
     gm = (terms.gmwm or {}).get("processes")
