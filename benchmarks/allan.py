@@ -329,6 +329,67 @@ def stat_speed(n: int, kind: str = "freq", repeats: int = 3, taus="octave",
             + ", seed 12345, 1 Hz"}
 
 
+#: Noise types of :func:`stat_speed_seeds`: (allantools data_type, generator of n values).
+NOISE_TYPES = {
+    "white_fm": ("freq", lambda rng, n: rng.standard_normal(n)),
+    "flicker_fm": ("freq", lambda rng, n: _flicker(rng.standard_normal(n))),
+    "rw_fm": ("freq", lambda rng, n: np.cumsum(rng.standard_normal(n))),
+    "white_pm": ("phase", lambda rng, n: rng.standard_normal(n)),
+}
+
+
+def _flicker(e):
+    from inertialab.sensors.gyro import kasdin_flicker
+
+    return kasdin_flicker(e)
+
+
+def stat_speed_seeds(n: int, seeds=range(5), repeats: int = 3, types=tuple(NOISE_TYPES),
+                     stats=CORE) -> dict:
+    """Per statistic and noise type, the CPU ratio allantools / ours (least of
+    ``repeats`` alternated runs per seed, our intervals and noise identification
+    included, allantools given our m) over ``seeds``: median, min and max, with the
+    machine's load average before and after (white/flicker/random-walk FM as frequency
+    records, white PM as a phase record; seeds 0.. of ``numpy.random.default_rng``)."""
+    import allantools as at
+
+    from inertialab.noise.allan import deviation
+
+    load0 = os.getloadavg()
+    _warm_heap()
+    out = []
+    for t in types:
+        kind, gen = NOISE_TYPES[t]
+        inp = "rate" if kind == "freq" else "angle"
+        per = {s: [] for s in stats}
+        ours_s = {s: [] for s in stats}
+        for seed in seeds:
+            x = gen(np.random.default_rng(seed), n)
+            for s in stats:
+                r = deviation(s, x, rate_hz=1.0, input=inp)  # warm-up
+
+                def ours(s=s, x=x):
+                    return deviation(s, x, rate_hz=1.0, input=inp)
+
+                def ref(s=s, x=x, m=r.m * 1.0):
+                    return getattr(at, s)(x, rate=1.0, data_type=kind, taus=m)
+
+                ref()
+                a = b = math.inf
+                for _ in range(repeats):
+                    a = min(a, _least_cpu(ours, 1))
+                    b = min(b, _least_cpu(ref, 1))
+                per[s].append(b / a)
+                ours_s[s].append(a)
+        for s in stats:
+            v = np.array(per[s])
+            out.append({"noise": t, "statistic": s, "median_ratio": float(np.median(v)),
+                        "min_ratio": float(v.min()), "max_ratio": float(v.max()),
+                        "ours_median_cpu_s": float(np.median(ours_s[s]))})
+    return {"n": n, "seeds": list(seeds), "repeats": repeats, "rows": out,
+            "load_before": load0, "load_after": os.getloadavg()}
+
+
 def _warm_heap() -> None:
     """Free one 16 MiB array so that glibc raises its mmap threshold to 16 MiB: later
     temporaries up to that size come from the heap instead of fresh, page-faulting
@@ -501,6 +562,10 @@ def _sections(quick: bool) -> dict:
                                    for k in ("freq", "phase")],
         "all_speed_1e4": lambda: stat_speed(10**3 if quick else 10**4, "phase",
                                             repeats=1 if quick else 3, taus="all"),
+        "seeds_speed_1e5": lambda: stat_speed_seeds(10**4 if quick else 10**5,
+                                                    repeats=1 if quick else 5),
+        "seeds_speed_1e7": lambda: stat_speed_seeds(10**5 if quick else 10**7,
+                                                    repeats=1),
         "theo1_speed": lambda: theo1_speed(10**4 if quick else 10**5, 1 if quick else 3),
         "memory": lambda: memory(10**5 if quick else 10**7),
         "out_of_core": lambda: out_of_core(10**6 if quick else 10**8, 1 if quick else 2),

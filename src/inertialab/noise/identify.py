@@ -176,12 +176,13 @@ def rn_flicker_pm(m: int) -> float:
 def _b1_ratio(z: np.ndarray) -> float:
     """Standard variance of the m-averages over their (non-overlapping) Allan variance,
     from the decimated phase ``z`` (every m-th point)."""
-    y = np.diff(z)
+    y = z[1:] - z[:-1]
     if y.size < 3:
         return 1.0
-    d2 = np.diff(y)
+    d2 = y[1:] - y[:-1]
     avar = 0.5 * float(np.dot(d2, d2)) / d2.size
-    return float(np.var(y, ddof=1)) / avar if avar > 0 else 1.0
+    yc = y - np.add.reduce(y) / y.size
+    return float(np.dot(yc, yc)) / (y.size - 1) / avar if avar > 0 else 1.0
 
 
 class _Shared:
@@ -258,6 +259,43 @@ def _rn_alpha_many(sh: _Shared, ms) -> tuple:
     return out, how
 
 
+def _acf_compiled(sh, ms, own, decimated, freq, dmax, max_points, min_points, alphas,
+                  sources) -> np.ndarray:
+    """The lag-1 rows by the compiled kernel (read in place, strided, from the in-memory
+    phase; alphas and sources set); which m it did (none without the kernels, without the
+    phase in memory, or where the caller gathered the points)."""
+    from inertialab.noise import _octave
+
+    done = np.zeros(ms.size, dtype=bool)
+    K = _octave.fast_kernels()
+    if K is None:
+        return done
+    count = (sh.n - 1) // ms + 1
+    sel = np.flatnonzero(own & (count - freq >= min_points))
+    if sel.size == 0:
+        return done
+    m = ms[sel]
+    use = np.minimum(count[sel], max_points)
+    if isinstance(decimated, _octave.Decimated) and decimated.rows(m) is not None:
+        base = decimated.flat  # the rows the caller gathered, contiguous
+        starts, got = decimated.rows(m)
+        if not np.array_equal(got, use):
+            return done
+        steps = np.ones(m.size, dtype=np.int64)
+    elif sh.x is not None and not decimated:
+        base, starts, steps = sh.x, ((count[sel] - use) // 2) * m, m
+    else:
+        return done
+    out = np.empty(sel.size)
+    K.lag1_strided(base, starts, steps, use, dmax, out, np.empty(int(use.max())),
+                   0 if freq else 2)
+    alphas[sel] = np.rint(out).astype(np.int64)
+    for i in sel:
+        sources[i] = "acf"
+    done[sel] = True
+    return done
+
+
 def identify_alpha(src, ms, *, statistic: str = "oadev", data: str = "phase",
                    n_terms=None, max_points: int = MAX_POINTS, min_points: int = MIN_POINTS,
                    decimated: dict | None = None) -> NoiseIdentification:
@@ -278,7 +316,7 @@ def identify_alpha(src, ms, *, statistic: str = "oadev", data: str = "phase",
     sh = _Shared(src)
     N = sh.n
     span = MIN_SPAN.get(statistic, 8)
-    nt = (np.broadcast_to(np.asarray(n_terms, dtype=np.int64), ms.shape)
+    nt = (np.asarray(n_terms, dtype=np.int64) * np.ones(ms.size, dtype=np.int64)
           if n_terms is not None else N - 2 * ms)
     freq = data != "phase"
     alphas = np.zeros(ms.size, dtype=np.int64)
@@ -286,7 +324,9 @@ def identify_alpha(src, ms, *, statistic: str = "oadev", data: str = "phase",
     own = ms * span <= N
     kind = "freq" if freq else "phase"
     lag_rows, lag_idx, rn_idx = [], [], []
-    for i in np.flatnonzero(own):
+    done = _acf_compiled(sh, ms, own, decimated, freq, dmax, max_points, min_points, alphas,
+                         sources)
+    for i in np.flatnonzero(own & ~done):
         m = int(ms[i])
         count = (N - 1) // m + 1  # decimated phase points
         z = decimated.get(m) if decimated is not None else None
@@ -318,7 +358,7 @@ def identify_alpha(src, ms, *, statistic: str = "oadev", data: str = "phase",
         alphas[rn_idx] = a
         for i, h in zip(rn_idx, how):
             sources[i] = h
-    alphas = np.clip(alphas, lo, hi)
+    alphas = np.minimum(np.maximum(alphas, lo), hi)
     if not own.all():
         order = np.argsort(ms, kind="stable")
         last = None
