@@ -368,10 +368,10 @@ def stat_speed_seeds(n: int, seeds=range(5), repeats: int = 3, types=tuple(NOISE
             for s in stats:
                 r = deviation(s, x, rate_hz=1.0, input=inp)  # warm-up
 
-                def ours(s=s, x=x):
+                def ours(s=s, x=x, inp=inp):
                     return deviation(s, x, rate_hz=1.0, input=inp)
 
-                def ref(s=s, x=x, m=r.m * 1.0):
+                def ref(s=s, x=x, m=r.m * 1.0, kind=kind):
                     return getattr(at, s)(x, rate=1.0, data_type=kind, taus=m)
 
                 ref()
