@@ -1,4 +1,4 @@
-"""The Allan family of deviations with confidence intervals (spec 001 §3.1–3.2; issue 3).
+"""The Allan family of deviations with confidence intervals (spec 001 §3.1–3.2).
 
 Statistics: ``adev`` (non-overlapping Allan), ``oadev`` (overlapping Allan), ``mdev``
 (modified Allan), ``tdev`` (time/angle deviation, ``tau/sqrt(3) * mdev``), ``hdev``
@@ -20,7 +20,7 @@ but allocates several arrays of the record's size per tau and has neither IMU te
 complete intervals. Here octave taus run on lag-doubling kernels that update one working
 array of first differences in place (:mod:`inertialab.noise._octave`; the only extra
 memory is that copy), other taus on per-m kernels with reused buffers, and the noise
-identification, EDF and intervals are evaluated for all taus at once (issue 15 item 5).
+identification, EDF and intervals are evaluated for all taus at once.
 A record too large for memory is read in chunks (:func:`oadev_chunked` and
 ``chunked=True``): its angle is computed once and spilled to a temporary file
 (:mod:`inertialab.noise._stream`); the results equal the in-memory ones to ~1e-15.
@@ -80,7 +80,7 @@ class DeviationResult:
     dev : ndarray, shape (k,)
         The deviation, in the unit of the rate data (``tdev``: rate unit times s).
     n_terms : ndarray of int, shape (k,)
-        Number of summands per tau (CONTRACTS.md "noise").
+        Number of summands per tau (docs/allan.md).
     alpha : ndarray of int, shape (k,)
         Power-law noise type of the rate PSD, ``S(f) ~ f^alpha``: +2 white angle
         (quantization), 0 white rate (ARW), -1 flicker rate (bias instability),
@@ -198,7 +198,7 @@ def tau_grid(n_samples: int, taus="octave", *, rate_hz: float = 1.0, statistic: 
         ``"octave"``: m = 2^k; ``"decade"``: m = {1, 2, 4}·10^k; ``"many"``: about ten
         log-spaced m per decade; ``"all"``: every m;
         an int n: n log-spaced unique m; a sequence: taus in seconds, rounded to
-        the nearest m (CONTRACTS.md "noise"). Each is clipped to the statistic's
+        the nearest m. Each is clipped to the statistic's
         largest valid m (:func:`max_m`).
     rate_hz : float, default 1.0
         Sample rate (only used for explicit taus).
@@ -424,7 +424,7 @@ def deviation(statistic: str, data, *, rate_hz: float, taus="octave", input: str
     _check_stat(statistic)
     # an angle record on the compiled kernels is checked for NaN/infinity after its sums
     # (every point enters the m = 1 sums, and non-finite values make them non-finite):
-    # one pass less over the record (issue 15 item 5); otherwise before anything else
+    # one pass less over the record; otherwise before anything else
     defer = input == "angle" and not chunked and _octave.fast_kernels() is not None
     arr = _validate(data, rate_hz, input, check_finite=not defer)
     if not 0.0 < float(confidence) < 1.0:

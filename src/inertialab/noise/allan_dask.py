@@ -1,4 +1,4 @@
-"""The overlapping Allan deviation of a log too long for memory, on Dask (issue 10 item 5).
+"""The overlapping Allan deviation of a log too long for memory, on Dask (docs/batch.md).
 
 ``oadev_dask(path, rate_hz=...)`` computes the overlapping Allan deviation of a rate log
 in a ``.npy`` file, memory-mapped by each task: a parallel pass of per-chunk sums gives

@@ -1,4 +1,4 @@
-"""One entry point for every statistic of the Allan family (issue 15).
+"""One entry point for every statistic of the Allan family (docs/allan.md).
 
 :func:`compute` dispatches ``statistic`` to :func:`inertialab.noise.allan.deviation`
 (adev oadev mdev tdev hdev ohdev totdev), :mod:`~inertialab.noise.total` (mtotdev

@@ -1,4 +1,4 @@
-"""Theo1, TheoBR and TheoH (NIST SP 1065 §5.2.15-5.2.17; issue 15).
+"""Theo1, TheoBR and TheoH (NIST SP 1065 §5.2.15-5.2.17).
 
 * **Theo1** (SP 1065 eq. 30), ``m`` even, ``10 <= m <= N - 1`` in Stable32 (here any even
   ``m >= 2``), at averaging time ``tau = 0.75 m tau0``::

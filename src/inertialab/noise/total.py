@@ -1,4 +1,4 @@
-"""Total deviations of the modified and Hadamard kind: MTOTDEV, TTOTDEV, HTOTDEV (issue 15).
+"""Total deviations of the modified and Hadamard kind: MTOTDEV, TTOTDEV, HTOTDEV.
 
 Definitions of NIST SP 1065 (Riley 2008) §5.2.12-5.2.14 as Stable32 computes them:
 
