@@ -106,8 +106,10 @@ def edf_oadev_sp1065(n_phase: int, m, alpha: int) -> np.ndarray:
     m = np.asarray(m, dtype=float)
     if alpha == 2:
         return (nx + 1) * (nx - 2 * m) / (2 * (nx - m))
-    if alpha == 1:
-        return np.exp(np.sqrt(np.log((nx - 1) / (2 * m)) * np.log((2 * m + 1) * (nx - 1) / 4)))
+    if alpha == 1:  # defined for m <= (N - 1)/2 (NaN beyond: TOTDEV's long taus)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            v = np.log((nx - 1) / (2 * m)) * np.log((2 * m + 1) * (nx - 1) / 4)
+            return np.where(v >= 0, np.exp(np.sqrt(np.maximum(v, 0.0))), np.nan)
     if alpha == 0:
         return (3 * (nx - 1) / (2 * m) - 2 * (nx - 2) / nx) * 4 * m**2 / (4 * m**2 + 5)
     if alpha == -1:
