@@ -753,6 +753,33 @@ def _markdown_issue15(result: dict) -> list[str]:
                 lines.append(f"| {r['statistic']} | {r['n_taus']} | {_f(r['inertialab_cpu_s'])} "
                              f"| {_f(r['allantools_cpu_s'])} | {_f(r['cpu_ratio'], '.2f')}x | "
                              f"{npc} | {_f(r['max_rel_diff'], '.1e')} |")
+    for key in ("seeds_speed_1e5", "seeds_speed_1e7"):
+        b = result.get(key)
+        if not b or "rows" not in b:
+            continue
+        types = list(dict.fromkeys(r["noise"] for r in b["rows"]))
+        lines += ["", f"**CPU ratio allantools / ours per noise type**, n = {b['n']:.0e}, "
+                      f"octave taus, our intervals and noise identification included; median "
+                      f"[min, max] over seeds {b['seeds'][0]}-{b['seeds'][-1]} (least of "
+                      f"{b['repeats']} alternated runs per seed; load "
+                      f"{_f(b['load_before'][0], '.1f')} -> {_f(b['load_after'][0], '.1f')} "
+                      "on 2 cores):", "",
+                  "| statistic | " + " | ".join(t.replace("_", " ") for t in types) + " |",
+                  "|---|" + "---|" * len(types)]
+        for st in dict.fromkeys(r["statistic"] for r in b["rows"]):
+            cells = []
+            for t in types:
+                r = next(r for r in b["rows"] if r["noise"] == t and r["statistic"] == st)
+                cells.append(f"{_f(r['median_ratio'], '.2f')}x [{_f(r['min_ratio'], '.2f')}, "
+                             f"{_f(r['max_ratio'], '.2f')}]")
+            lines.append(f"| {st} | " + " | ".join(cells) + " |")
+    s32 = result.get("stable32_tables")
+    if s32 and "total" in s32:
+        t = s32["total"]
+        lines += ["", f"**Against Stable32's tables** (allantools 2024.6 sdist): alpha equal on "
+                      f"{t['alpha_equal']} of {t['rows']} rows; {t['dev_within_1e-4']} of "
+                      f"{t['dev_rows']} phase-record deviations within 1e-4 (clock defaults); "
+                      f"{t['farther_than_uncorrected']} rows farther than uncorrected."]
     mem = result.get("memory")
     if mem:
         lines += ["", f"**Extra memory** (tracemalloc peak of the call / input size), n = "
