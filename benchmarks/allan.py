@@ -329,6 +329,165 @@ def stat_speed(n: int, kind: str = "freq", repeats: int = 3, taus="octave",
             + ", seed 12345, 1 Hz"}
 
 
+#: Noise types of :func:`stat_speed_seeds`: (allantools data_type, generator of n values).
+NOISE_TYPES = {
+    "white_fm": ("freq", lambda rng, n: rng.standard_normal(n)),
+    "flicker_fm": ("freq", lambda rng, n: _flicker(rng.standard_normal(n))),
+    "rw_fm": ("freq", lambda rng, n: np.cumsum(rng.standard_normal(n))),
+    "white_pm": ("phase", lambda rng, n: rng.standard_normal(n)),
+}
+
+
+def _flicker(e):
+    from inertialab.sensors.gyro import kasdin_flicker
+
+    return kasdin_flicker(e)
+
+
+def stat_speed_seeds(n: int, seeds=range(5), repeats: int = 3, types=tuple(NOISE_TYPES),
+                     stats=CORE) -> dict:
+    """Per statistic and noise type, the CPU ratio allantools / ours (least of
+    ``repeats`` alternated runs per seed, our intervals and noise identification
+    included, allantools given our m) over ``seeds``: median, min and max, with the
+    machine's load average before and after (white/flicker/random-walk FM as frequency
+    records, white PM as a phase record; seeds 0.. of ``numpy.random.default_rng``)."""
+    import allantools as at
+
+    from inertialab.noise.allan import deviation
+
+    load0 = os.getloadavg()
+    _warm_heap()
+    out = []
+    for t in types:
+        kind, gen = NOISE_TYPES[t]
+        inp = "rate" if kind == "freq" else "angle"
+        per = {s: [] for s in stats}
+        ours_s = {s: [] for s in stats}
+        for seed in seeds:
+            x = gen(np.random.default_rng(seed), n)
+            for s in stats:
+                r = deviation(s, x, rate_hz=1.0, input=inp)  # warm-up
+
+                def ours(s=s, x=x, inp=inp):
+                    return deviation(s, x, rate_hz=1.0, input=inp)
+
+                def ref(s=s, x=x, m=r.m * 1.0, kind=kind):
+                    return getattr(at, s)(x, rate=1.0, data_type=kind, taus=m)
+
+                ref()
+                a = b = math.inf
+                for _ in range(repeats):
+                    a = min(a, _least_cpu(ours, 1))
+                    b = min(b, _least_cpu(ref, 1))
+                per[s].append(b / a)
+                ours_s[s].append(a)
+        for s in stats:
+            v = np.array(per[s])
+            out.append({"noise": t, "statistic": s, "median_ratio": float(np.median(v)),
+                        "min_ratio": float(v.min()), "max_ratio": float(v.max()),
+                        "ours_median_cpu_s": float(np.median(ours_s[s]))})
+    return {"n": n, "seeds": list(seeds), "repeats": repeats, "rows": out,
+            "load_before": load0, "load_after": os.getloadavg()}
+
+
+# ----------------------------------------------------------------------------- Stable32's tables
+
+#: Stable32 "Sigma Type" names -> our statistic names.
+_S32_STAT = {"Allan": "adev", "Overlapping Allan": "oadev", "Modified Allan": "mdev",
+             "Time": "tdev", "Hadamard": "hdev", "Overlapping Hadamard": "ohdev",
+             "Total": "totdev", "Modified Total": "mtotdev", "Time Total": "ttotdev",
+             "Hadamard Total": "htotdev"}
+#: The records of allantools' source distribution (tests/), their data kind and tau0.
+_S32_RECORDS = {
+    "phasedat": ("phasedat/PHASE.DAT", "phase", 1.0, "phasedat/phase_dat_*.txt"),
+    "tic": ("Keysight53230A_ti_noise_floor/tic_phase.txt", "phase", 1.0,
+            "Keysight53230A_ti_noise_floor/tic_*.txt"),
+    "gps": ("gps/gps_1pps_phase_data.txt.gz", "phase", 1.0, "gps/stable32_*.txt"),
+    "cs5071a": ("Cs5071A/5071A_phase.txt.gz", "phase", 1.0, "Cs5071A/*_*.txt"),
+    "ocxo": ("ocxo/ocxo_frequency.txt", "freq", 1.0, "ocxo/*.txt"),
+    "pink": ("pink_frequency/pink_frequency.txt", "freq", 42.0, "pink_frequency/*.txt")}
+#: Tables of fixed-type runs (alpha 0 on every row where the record's other tables
+#: identify +2 ... -2) and the ones named so.
+_S32_SKIP = ("alpha0", "nobias", "Cs5071A/totdev_decade.txt", "ocxo/stable32_totdev_alltau.txt")
+
+
+def _s32_table(path: Path):
+    import re
+
+    lines = path.read_text(encoding="latin-1").splitlines()
+    head = "\n".join(lines[:14])
+    kind = re.search(r"Sigma Type: (.*)", head)
+    if not kind:
+        return None
+    stat = _S32_STAT.get(kind.group(1).strip())
+    if stat is None or re.search(r"Alpha = ", head):  # (Theo1 runs take a fixed type)
+        return None
+    rows = []
+    for ln in lines:
+        f = ln.lstrip("# ").split()
+        if len(f) == 7 and f[0].isdigit():
+            try:
+                rows.append([float(v) for v in f])
+            except ValueError:
+                continue
+    return (stat, np.array(rows)) if rows else None
+
+
+def stable32_tables(directory: str | None = None) -> dict:
+    """Noise types and deviations against Stable32's own tables: those shipped in the
+    allantools 2024.6 source distribution (``pip download allantools==2024.6 --no-deps
+    --no-binary :all:``, unpacked; ``directory`` or ``$STABLE32_TABLES`` is its
+    ``tests/`` folder; third-party data, read, never committed). Per record: rows whose
+    identified alpha equals Stable32's, per source; deviations with the clock default
+    (``bias_correction=True``) within 1e-4 of Stable32's, and rows where they are farther
+    than uncorrected (allantools') values by more than 1e-4."""
+    import gzip
+
+    from inertialab.noise.family import compute
+
+    base = Path(directory or os.environ.get("STABLE32_TABLES", ""))
+    if not (base / "phasedat" / "PHASE.DAT").exists():
+        return {"skipped": f"no Stable32 tables under '{base}' (see the docstring)"}
+    out, farther = {}, []
+    for rec, (data, kind, tau0, pattern) in _S32_RECORDS.items():
+        p = base / data
+        with (gzip.open(p, "rt") if p.suffix == ".gz" else open(p)) as fh:
+            x = np.array([float(ln.split()[0]) for ln in fh
+                          if ln.strip() and not ln.lstrip().startswith("#")])
+        agg = {"rows": 0, "alpha_equal": 0, "by_source": {}, "dev_rows": 0,
+               "dev_within_1e-4": 0, "farther_than_uncorrected": 0}
+        for t in sorted(base.glob(pattern)):
+            rel = str(t.relative_to(base))
+            parsed = None if any(k in rel for k in _S32_SKIP) else _s32_table(t)
+            if parsed is None:
+                continue
+            stat, rows = parsed
+            ms, s32a, s32d = rows[:, 0].astype(int), rows[:, 3].astype(int), rows[:, 5]
+            kw = dict(rate_hz=1.0 / tau0, taus=ms * tau0,
+                      input="angle" if kind == "phase" else "rate")
+            r1 = compute(stat, x, bias_correction=True, **kw)
+            r0 = compute(stat, x, bias_correction=False, **kw)
+            ok = r1.alpha == s32a
+            agg["rows"] += ok.size
+            agg["alpha_equal"] += int(ok.sum())
+            for how, o in zip(r1.alpha_source, ok):
+                c = agg["by_source"].setdefault(how, [0, 0])
+                c[0] += int(o)
+                c[1] += 1
+            if kind == "phase":  # (the frequency records' tables print another scale)
+                e1, e0 = np.abs(r1.dev / s32d - 1), np.abs(r0.dev / s32d - 1)
+                agg["dev_rows"] += ok.size
+                agg["dev_within_1e-4"] += int((e1 < 1e-4).sum())
+                bad = np.flatnonzero(e1 > e0 + 1e-4)
+                agg["farther_than_uncorrected"] += int(bad.size)
+                farther += [{"table": rel, "m": int(ms[i]), "rel_err": float(e1[i]),
+                             "uncorrected_rel_err": float(e0[i])} for i in bad]
+        out[rec] = agg
+    tot = {k: sum(v[k] for v in out.values()) for k in
+           ("rows", "alpha_equal", "dev_rows", "dev_within_1e-4", "farther_than_uncorrected")}
+    return {"records": out, "total": tot, "farther": farther, "directory": str(base)}
+
+
 def _warm_heap() -> None:
     """Free one 16 MiB array so that glibc raises its mmap threshold to 16 MiB: later
     temporaries up to that size come from the heap instead of fresh, page-faulting
@@ -501,6 +660,11 @@ def _sections(quick: bool) -> dict:
                                    for k in ("freq", "phase")],
         "all_speed_1e4": lambda: stat_speed(10**3 if quick else 10**4, "phase",
                                             repeats=1 if quick else 3, taus="all"),
+        "seeds_speed_1e5": lambda: stat_speed_seeds(10**4 if quick else 10**5,
+                                                    repeats=1 if quick else 5),
+        "seeds_speed_1e7": lambda: stat_speed_seeds(10**5 if quick else 10**7,
+                                                    repeats=1),
+        "stable32_tables": stable32_tables,
         "theo1_speed": lambda: theo1_speed(10**4 if quick else 10**5, 1 if quick else 3),
         "memory": lambda: memory(10**5 if quick else 10**7),
         "out_of_core": lambda: out_of_core(10**6 if quick else 10**8, 1 if quick else 2),
@@ -589,6 +753,33 @@ def _markdown_issue15(result: dict) -> list[str]:
                 lines.append(f"| {r['statistic']} | {r['n_taus']} | {_f(r['inertialab_cpu_s'])} "
                              f"| {_f(r['allantools_cpu_s'])} | {_f(r['cpu_ratio'], '.2f')}x | "
                              f"{npc} | {_f(r['max_rel_diff'], '.1e')} |")
+    for key in ("seeds_speed_1e5", "seeds_speed_1e7"):
+        b = result.get(key)
+        if not b or "rows" not in b:
+            continue
+        types = list(dict.fromkeys(r["noise"] for r in b["rows"]))
+        lines += ["", f"**CPU ratio allantools / ours per noise type**, n = {b['n']:.0e}, "
+                      f"octave taus, our intervals and noise identification included; median "
+                      f"[min, max] over seeds {b['seeds'][0]}-{b['seeds'][-1]} (least of "
+                      f"{b['repeats']} alternated runs per seed; load "
+                      f"{_f(b['load_before'][0], '.1f')} -> {_f(b['load_after'][0], '.1f')} "
+                      "on 2 cores):", "",
+                  "| statistic | " + " | ".join(t.replace("_", " ") for t in types) + " |",
+                  "|---|" + "---|" * len(types)]
+        for st in dict.fromkeys(r["statistic"] for r in b["rows"]):
+            cells = []
+            for t in types:
+                r = next(r for r in b["rows"] if r["noise"] == t and r["statistic"] == st)
+                cells.append(f"{_f(r['median_ratio'], '.2f')}x [{_f(r['min_ratio'], '.2f')}, "
+                             f"{_f(r['max_ratio'], '.2f')}]")
+            lines.append(f"| {st} | " + " | ".join(cells) + " |")
+    s32 = result.get("stable32_tables")
+    if s32 and "total" in s32:
+        t = s32["total"]
+        lines += ["", f"**Against Stable32's tables** (allantools 2024.6 sdist): alpha equal on "
+                      f"{t['alpha_equal']} of {t['rows']} rows; {t['dev_within_1e-4']} of "
+                      f"{t['dev_rows']} phase-record deviations within 1e-4 (clock defaults); "
+                      f"{t['farther_than_uncorrected']} rows farther than uncorrected."]
     mem = result.get("memory")
     if mem:
         lines += ["", f"**Extra memory** (tracemalloc peak of the call / input size), n = "

@@ -77,6 +77,9 @@ SUFFIXES: dict[str, Unit] = {
     "v_per_g": _u("v_per_g", "voltage_per_acceleration", 1.0),
     "ppm": _u("ppm", "ratio", 1e-6),
     "pct": _u("pct", "ratio", 1e-2),
+    # dimensionless fractional frequency (a clock's y), the same as "1"
+    "ratio": _u("ratio", "ratio", 1.0),
+    "frac": _u("frac", "ratio", 1.0),
     "lsb": _u("lsb", "counts", 1.0),
     "ohm": _u("ohm", "resistance", 1.0),
     "per_c": _u("per_c", "per_temperature", 1.0),

@@ -76,14 +76,17 @@ def test_lag1_identification(kind, alpha):
     else:
         r = A.oadev(np.cumsum(e), rate_hz=1.0, taus=[1, 2, 4])
     assert r.alpha.tolist() == [alpha] * 3
-    assert set(r.alpha_source) == {"lag1"}
+    assert set(r.alpha_source) == {"acf"}
 
 
 def test_b1_fallback_used_with_few_points():
+    # 1000 white-rate samples: B1 (< 30 points) at m = 50, 100; m = 200 has N/m < 8
+    # phase points per m, beyond Stable32's identification range: carried
     rng = np.random.default_rng(5)
-    r = A.oadev(rng.standard_normal(1000), rate_hz=1.0, taus=[100, 200])
-    assert set(r.alpha_source) == {"b1"}
+    r = A.oadev(rng.standard_normal(1000), rate_hz=1.0, taus=[50, 100, 200])
+    assert set(r.alpha_source[:2]) <= {"b1", "b1+rn"} and r.alpha_source[2] == "carried"
     assert set(r.alpha.tolist()) <= {2, 1, 0, -1, -2}
+    assert r.alpha[2] == r.alpha[1]
 
 
 @pytest.mark.slow

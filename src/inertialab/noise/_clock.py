@@ -6,8 +6,8 @@ Conventions as :mod:`inertialab.noise.allan`: ``input="rate"`` is the frequency 
 (rate samples, or fractional frequency), integrated to phase after removing the mean
 (``x_0 = 0``); ``input="angle"`` is the phase analogue (angle, or phase in s). The
 noise type ``alpha`` is the power-law exponent of the rate/frequency PSD (+2 WPM,
-+1 FPM, 0 WFM, -1 FFM, -2 RWFM), identified per tau by the lag-1 ACF method of
-:func:`inertialab.noise.edf.identify_alpha` unless given.
++1 FPM, 0 WFM, -1 FFM, -2 RWFM), identified per tau as Stable32 does
+(:func:`inertialab.noise.identify.identify_alpha`) unless given.
 """
 
 from __future__ import annotations
@@ -88,14 +88,17 @@ def many_m(mmax: int, per_decade: int = 10) -> np.ndarray:
     return np.unique(np.round(np.logspace(0, math.log10(mmax), k)).astype(np.int64))
 
 
-def noise_types(src, ms, statistic: str, alpha):
-    """``(alpha array, sources, method)``: the user's alpha or the identified one."""
+def noise_types(src, ms, statistic: str, alpha, *, data: str = "phase", n_terms=None):
+    """``(alpha array, sources, method)``: the user's alpha or the identified one
+    (``data``: "phase" or "freq", the input kind; ``n_terms``: the statistic's summands
+    per m, where B1's expected values are taken)."""
     from inertialab.noise import identify as _ident
 
     ms = np.asarray(ms, dtype=np.int64)
     if alpha is None:
-        ident = _ident.identify_alpha(src, ms, statistic=statistic)
-        return np.asarray(ident.alpha, dtype=np.int64), tuple(ident.source), "lag1"
+        ident = _ident.identify_alpha(src, ms, statistic=statistic, data=data,
+                                      n_terms=n_terms)
+        return np.asarray(ident.alpha, dtype=np.int64), tuple(ident.source), "stable32"
     a = np.broadcast_to(np.asarray(alpha, dtype=np.int64), ms.shape).copy()
     return a, ("user",) * ms.size, "user"
 

@@ -424,12 +424,13 @@ def octave_strided(x, want, order, w, id_use, id_start, idp, alphas, best, buf):
 
 
 @_jit
-def lag1_strided(x, starts, steps, counts, dmax, out, buf):
-    """Unrounded lag-1 ACF alpha (SP 1065 §5.5.6, phase data) of the rows ``x[s + j p]``,
-    ``j < count``, the algorithm of :func:`inertialab.noise.identify.lag1_alpha`
-    (``buf``: scratch of the largest count): the row and its sum, then per round one pass
-    for the lag-0 and lag-1 sums of the centred row, its differences (in place) and their
-    sum (used if the round does not stop)."""
+def lag1_strided(x, starts, steps, counts, dmax, out, buf, theta=2):
+    """Unrounded lag-1 ACF alpha (SP 1065 §5.6.6) of the rows ``x[s + j p]``, ``j <
+    count``, the algorithm of :func:`inertialab.noise.identify.lag1_alpha` (``r1`` with
+    Stable32's ``(n - 1)/n`` factor; ``buf``: scratch of the largest count): ``theta = 2``
+    phase rows; ``theta = 0`` the rows' first differences (frequency averages) are tested.
+    The row and its sum, then per round one pass for the lag-0 and lag-1 sums of the
+    centred row, its differences (in place) and their sum (used if the round goes on)."""
     for r in range(starts.size):
         n = counts[r]
         st = starts[r]
@@ -446,6 +447,13 @@ def lag1_strided(x, starts, steps, counts, dmax, out, buf):
                 v = x[st + j * sp]
                 buf[j] = v
                 tot += v
+        if theta == 0:  # frequency data: the m-averages (differences of the phase row)
+            tot = 0.0
+            for j in range(n - 1):
+                v = buf[j + 1] - buf[j]
+                buf[j] = v
+                tot += v
+            n -= 1
         d = 0
         while True:
             mean = tot / n
@@ -463,10 +471,10 @@ def lag1_strided(x, starts, steps, counts, dmax, out, buf):
                 tot += v
             c0 = buf[n - 1] - mean
             den += c0 * c0
-            r1 = r1 / den if den > 0 else 0.0
+            r1 = r1 / den * ((n - 1) / n) if den > 0 else 0.0
             delta = r1 / (1.0 + r1)
             if delta < 0.25 or d >= dmax or n < 4:
-                out[r] = -2.0 * (delta + d) + 2.0
+                out[r] = -2.0 * (delta + d) + theta
                 break
             n -= 1
             d += 1
@@ -530,7 +538,7 @@ def identify_rows(x, starts, steps, counts, dmax, min_points, lo, hi, alphas, be
     one = np.empty(1)
     for r in range(starts.size):
         if counts[r] >= min_points:
-            lag1_strided(x, starts[r:r + 1], steps[r:r + 1], counts[r:r + 1], dmax, one, buf)
+            lag1_strided(x, starts[r:r + 1], steps[r:r + 1], counts[r:r + 1], dmax, one, buf, 2)
             a = int(np.rint(one[0]))
             best[r] = -2
         else:

@@ -1,4 +1,4 @@
-"""The Allan family of deviations with confidence intervals (spec 001 §3.1–3.2; issue 3).
+"""The Allan family of deviations with confidence intervals (spec 001 §3.1–3.2).
 
 Statistics: ``adev`` (non-overlapping Allan), ``oadev`` (overlapping Allan), ``mdev``
 (modified Allan), ``tdev`` (time/angle deviation, ``tau/sqrt(3) * mdev``), ``hdev``
@@ -20,7 +20,7 @@ but allocates several arrays of the record's size per tau and has neither IMU te
 complete intervals. Here octave taus run on lag-doubling kernels that update one working
 array of first differences in place (:mod:`inertialab.noise._octave`; the only extra
 memory is that copy), other taus on per-m kernels with reused buffers, and the noise
-identification, EDF and intervals are evaluated for all taus at once (issue 15 item 5).
+identification, EDF and intervals are evaluated for all taus at once.
 A record too large for memory is read in chunks (:func:`oadev_chunked` and
 ``chunked=True``): its angle is computed once and spilled to a temporary file
 (:mod:`inertialab.noise._stream`); the results equal the in-memory ones to ~1e-15.
@@ -80,7 +80,7 @@ class DeviationResult:
     dev : ndarray, shape (k,)
         The deviation, in the unit of the rate data (``tdev``: rate unit times s).
     n_terms : ndarray of int, shape (k,)
-        Number of summands per tau (CONTRACTS.md "noise").
+        Number of summands per tau (docs/allan.md).
     alpha : ndarray of int, shape (k,)
         Power-law noise type of the rate PSD, ``S(f) ~ f^alpha``: +2 white angle
         (quantization), 0 white rate (ARW), -1 flicker rate (bias instability),
@@ -96,12 +96,19 @@ class DeviationResult:
     input : str
         ``"rate"`` or ``"angle"``.
     alpha_method : str
-        ``"lag1"`` (lag-1 ACF, B1/R(n) fallback where marked in ``alpha_source``),
+        ``"stable32"`` (identified per tau as Stable32 does, how in ``alpha_source``),
         ``"user"`` or ``"model"``.
     edf_method : str
         Which EDF algorithm was used (see :mod:`inertialab.noise.edf`).
     alpha_source : tuple of str
-        Per tau: ``"lag1"``, ``"b1"``, ``"user"`` or ``"model"``.
+        Per tau, how alpha was found: ``"acf"`` (lag-1 autocorrelation), ``"b1"`` (B1
+        ratio), ``"b1+rn"`` (B1, then R(n) = MVAR/AVAR), ``"carried"`` (too few points:
+        the type of the nearest shorter identified tau), ``"none"`` (record too short to
+        identify: white rate assumed), ``"user"`` or ``"model"``
+        (:mod:`inertialab.noise.identify`).
+
+    :meth:`to_dict` adds, per tau, ``alpha_source`` and ``bias_factor`` (1.0: no bias
+    correction; see :class:`CorrectedResult`).
     """
 
     statistic: str
@@ -117,7 +124,7 @@ class DeviationResult:
     confidence: float
     n_samples: int = 0
     input: str = "rate"
-    alpha_method: str = "lag1"
+    alpha_method: str = "stable32"
     edf_method: str = ""
     alpha_source: tuple = field(default_factory=tuple)
 
@@ -141,8 +148,24 @@ class DeviationResult:
             "n_samples": int(self.n_samples),
             "input": self.input,
             "alpha_method": self.alpha_method,
+            "alpha_source": list(self.alpha_source),
+            "bias_factor": [float(v) for v in getattr(self, "bias", np.ones(len(self)))],
             "edf_method": self.edf_method,
         }
+
+
+@dataclass(frozen=True)
+class CorrectedResult(DeviationResult):
+    """A :class:`DeviationResult` with Stable32's bias correction applied (TOTDEV, MTOT,
+    TTOT, HTOT, Theo1; :mod:`inertialab.noise.family`): ``bias`` per tau is the factor the
+    variance was divided by (1.0 where the statistic has none for the noise type, or no
+    type was identified)."""
+
+    bias: np.ndarray = field(default_factory=lambda: np.zeros(0))
+
+    def __post_init__(self):
+        if np.size(self.bias) != np.size(self.taus_s):  # none given: 1.0 per tau
+            object.__setattr__(self, "bias", np.ones(np.size(self.taus_s)))
 
 
 # ----------------------------------------------------------------------------- taus
@@ -175,7 +198,7 @@ def tau_grid(n_samples: int, taus="octave", *, rate_hz: float = 1.0, statistic: 
         ``"octave"``: m = 2^k; ``"decade"``: m = {1, 2, 4}·10^k; ``"many"``: about ten
         log-spaced m per decade; ``"all"``: every m;
         an int n: n log-spaced unique m; a sequence: taus in seconds, rounded to
-        the nearest m (CONTRACTS.md "noise"). Each is clipped to the statistic's
+        the nearest m. Each is clipped to the statistic's
         largest valid m (:func:`max_m`).
     rate_hz : float, default 1.0
         Sample rate (only used for explicit taus).
@@ -383,7 +406,7 @@ def deviation(statistic: str, data, *, rate_hz: float, taus="octave", input: str
         Two-sided confidence level of the chi-square interval (spec 001 §3.2).
     alpha : int or array_like of int or None, default None
         Power-law noise type per tau; None identifies it from the data
-        (:func:`inertialab.noise.edf.identify_alpha`).
+        (:func:`inertialab.noise.identify.identify_alpha`).
     edf_method : {"default", "sp1065", "gaussian"}, default "default"
         EDF algorithm (:func:`inertialab.noise.edf.edf`).
     chunked : bool, default False
@@ -401,7 +424,7 @@ def deviation(statistic: str, data, *, rate_hz: float, taus="octave", input: str
     _check_stat(statistic)
     # an angle record on the compiled kernels is checked for NaN/infinity after its sums
     # (every point enters the m = 1 sums, and non-finite values make them non-finite):
-    # one pass less over the record (issue 15 item 5); otherwise before anything else
+    # one pass less over the record; otherwise before anything else
     defer = input == "angle" and not chunked and _octave.fast_kernels() is not None
     arr = _validate(data, rate_hz, input, check_finite=not defer)
     if not 0.0 < float(confidence) < 1.0:
@@ -436,8 +459,8 @@ def deviation(statistic: str, data, *, rate_hz: float, taus="octave", input: str
                 var, nt = _variances(src, statistic, ms, tau0)
             if alpha is None:  # points gathered by the spilling pass (x_start subtracted)
                 decimated = {m: z - z[0] for m, z in src.gathered.items()}
-                ident = _ident.identify_alpha(src, ms, statistic=statistic,
-                                              decimated=decimated)
+                ident = _ident.identify_alpha(src, ms, statistic=statistic, data="freq",
+                                              n_terms=nt, decimated=decimated)
         finally:
             src.close()
     else:
@@ -501,11 +524,7 @@ def deviation(statistic: str, data, *, rate_hz: float, taus="octave", input: str
                 src = _angle_source(x)
             if (K is not None and statistic in _octave.E_STATS and octave
                     and ms.size > 1):  # noise types from the halved copy, in place
-                rules = _ident.rules(statistic) if alpha is None else None
-                sums, nt, rows = _octave.octave_strided_sums(K, src.x, statistic, ms, rules,
-                                                             _ident.MAX_POINTS)
-                if rows is not None:
-                    ident = _ident.from_rows(src, ms, *rows, *rules[2:])
+                sums, nt, _ = _octave.octave_strided_sums(K, src.x, statistic, ms)
             else:
                 sums, nt = _octave.dense_sums(src.x, statistic, ms)
             var = _normalise(statistic, sums, ms, nt, tau0)
@@ -515,8 +534,10 @@ def deviation(statistic: str, data, *, rate_hz: float, taus="octave", input: str
     n_phase = src.n
     if alpha is None:
         if not chunked and ident is None:
-            ident = _ident.identify_alpha(src, ms, statistic=statistic, decimated=decimated)
-        alphas, sources, amethod = ident.alpha, ident.source, "lag1"
+            ident = _ident.identify_alpha(src, ms, statistic=statistic,
+                                          data="freq" if input == "rate" else "phase",
+                                          n_terms=nt, decimated=decimated)
+        alphas, sources, amethod = ident.alpha, ident.source, "stable32"
     else:
         alphas = np.broadcast_to(np.asarray(alpha, dtype=np.int64), ms.shape).copy()
         sources, amethod = ("user",) * ms.size, "user"
@@ -560,5 +581,5 @@ def oadev_chunked(data, *, rate_hz: float, taus="octave", confidence: float = 0.
                      confidence=confidence, alpha=alpha, edf_method=edf_method, chunked=True)
 
 
-__all__ = ["STATISTICS", "DeviationResult", "adev", "deviation", "hdev", "mdev", "max_m",
+__all__ = ["STATISTICS", "CorrectedResult", "DeviationResult", "adev", "deviation", "hdev", "mdev", "max_m",
            "oadev", "oadev_chunked", "ohdev", "tau_grid", "tdev", "totdev"]

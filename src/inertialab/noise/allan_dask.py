@@ -1,4 +1,4 @@
-"""The overlapping Allan deviation of a log too long for memory, on Dask (issue 10 item 5).
+"""The overlapping Allan deviation of a log too long for memory, on Dask (docs/batch.md).
 
 ``oadev_dask(path, rate_hz=...)`` computes the overlapping Allan deviation of a rate log
 in a ``.npy`` file, memory-mapped by each task: a parallel pass of per-chunk sums gives
@@ -267,8 +267,8 @@ def oadev_dask(path, *, rate_hz: float, taus="octave", client=None, scheduler: s
         nt[k] = cnt
     dev = np.sqrt(var)
     if alpha is None:
-        ident = _ident.identify_alpha(src, ms, statistic="oadev")
-        alphas, sources, amethod = ident.alpha, ident.source, "lag1"
+        ident = _ident.identify_alpha(src, ms, statistic="oadev", data="freq", n_terms=nt)
+        alphas, sources, amethod = ident.alpha, ident.source, "stable32"
     else:
         alphas = np.broadcast_to(np.asarray(alpha, dtype=np.int64), ms.shape).copy()
         sources, amethod = ("user",) * ms.size, "user"

@@ -43,17 +43,14 @@ EDF algorithms (``method``):
     ADEV EDF SP 1065 points to there (Stable32's printed flicker-PM TOTDEV bounds: 1.0e-3
     with it, 1.3e-2 with Greenhall's oadev EDF used before; allantools takes its simple
     EDF there).
-    (Until issue 14 the default was SP 1065 Table 5 for oadev and the numeric Gaussian
+    (Before, the default was SP 1065 Table 5 for oadev and the numeric Gaussian
     EDF elsewhere; the latter collapsed for random-walk rate at small m and cost
     2-12 ms and ~49 MB per tau.)
 
-Noise identification (:func:`identify_alpha`) follows NIST SP 1065 §5.5.6 (Riley &
-Greenhall 2004): the lag-1 autocorrelation of the decimated angle, differenced until
-``delta = r1/(1+r1) < 0.25`` (at most d = 2 times, 3 for Hadamard), gives
-``alpha = round(2 - 2(delta + d))``; with fewer than 30 decimated points it falls back
-to the B1 ratio (standard / Allan variance of the m-averages; SP 1065 §5.5.4) and, to
-split white from flicker angle noise, R(n) = MVAR/AVAR (§5.5.5; for records above
-``R_N_MAX`` points whose angle is not in memory, white angle noise is assumed).
+Noise identification (:func:`identify_alpha`, re-exported from
+:mod:`inertialab.noise.identify`, where its rules are) follows Stable32 and NIST SP 1065
+§5.6: lag-1 autocorrelation, B1 ratio, R(n), and the type carried where too few points
+remain.
 
 Why hand-written: no maintained library offers these for our estimator set (allantools
 is LGPL and a test-only cross-check).
@@ -68,7 +65,7 @@ import numpy as np
 from scipy.special import gammaincinv
 
 from inertialab.errors import InputError
-from inertialab.noise._filters import (  # noqa: F401 - re-exported (public before issue 15)
+from inertialab.noise._filters import (  # noqa: F401 - re-exported (public API)
     _ALPHA_RANGE,
     M_CAP,
     _family,
@@ -109,8 +106,10 @@ def edf_oadev_sp1065(n_phase: int, m, alpha: int) -> np.ndarray:
     m = np.asarray(m, dtype=float)
     if alpha == 2:
         return (nx + 1) * (nx - 2 * m) / (2 * (nx - m))
-    if alpha == 1:
-        return np.exp(np.sqrt(np.log((nx - 1) / (2 * m)) * np.log((2 * m + 1) * (nx - 1) / 4)))
+    if alpha == 1:  # defined for m <= (N - 1)/2 (NaN beyond: TOTDEV's long taus)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            v = np.log((nx - 1) / (2 * m)) * np.log((2 * m + 1) * (nx - 1) / 4)
+            return np.where(v >= 0, np.exp(np.sqrt(np.maximum(v, 0.0))), np.nan)
     if alpha == 0:
         return (3 * (nx - 1) / (2 * m) - 2 * (nx - 2) / nx) * 4 * m**2 / (4 * m**2 + 5)
     if alpha == -1:
@@ -425,7 +424,7 @@ def _fast_tables():
 
 
 def edf_greenhall_many(statistic: str, n_phase: int, m, alpha) -> np.ndarray:
-    """:func:`edf_greenhall` for many averaging factors at once (issue 15 item 5).
+    """:func:`edf_greenhall` for many averaging factors at once.
 
     The same algorithm and branches, evaluated as 2-D numpy arrays (one row per m, the
     basic-sum lags as columns) instead of a Python loop over m; equal to the scalar
@@ -436,7 +435,7 @@ def edf_greenhall_many(statistic: str, n_phase: int, m, alpha) -> np.ndarray:
     m = np.atleast_1d(np.asarray(m, dtype=np.int64))
     N = int(n_phase)
     K = fast_kernels()
-    if K is not None:  # the same branches per m, compiled (issue 15 item 5)
+    if K is not None:  # the same branches per m, compiled
         t1, t2, t3, diffs = _fast_tables()
         al = np.asarray(alpha, dtype=np.int64)
         al = al if al.shape == m.shape else np.broadcast_to(al, m.shape).copy()
@@ -534,7 +533,7 @@ def edf(statistic: str, n_phase: int, m, alpha, *, n_terms=None, method: str = "
         Summands per tau (needed by "gaussian").
     method : {"default", "greenhall", "sp1065", "gaussian"}
         "default": Greenhall & Riley (2003) for every statistic it covers (adev, oadev,
-        mdev, tdev, hdev, ohdev; issue 14 item 4) and SP 1065 Table 7 for ``totdev``
+        mdev, tdev, hdev, ohdev) and SP 1065 Table 7 for ``totdev``
         (Table 5 where Table 7 has no row: alpha = +1, +2).
     """
     m = np.atleast_1d(np.asarray(m, dtype=np.int64))
@@ -597,9 +596,8 @@ def _n_terms(statistic: str, n_phase: int, m: np.ndarray) -> np.ndarray:
 # ----------------------------------------------------------------------------- identification
 
 #: Names of :mod:`inertialab.noise.identify` still importable from here (they lived in
-#: this module before issue 15 item 5).
-_MOVED = ("NoiseIdentification", "R_N_MAX", "b1_theory", "identify_alpha", "lag1_alpha",
-          "_b1_alpha", "_rn_theory")
+#: this module before).
+_MOVED = ("NoiseIdentification", "R_N_MAX", "b1_theory", "identify_alpha", "lag1_alpha")
 
 
 def __getattr__(name):  # PEP 562: lazy re-export (identify imports this module)

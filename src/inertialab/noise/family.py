@@ -1,4 +1,4 @@
-"""One entry point for every statistic of the Allan family (issue 15).
+"""One entry point for every statistic of the Allan family (docs/allan.md).
 
 :func:`compute` dispatches ``statistic`` to :func:`inertialab.noise.allan.deviation`
 (adev oadev mdev tdev hdev ohdev totdev), :mod:`~inertialab.noise.total` (mtotdev
@@ -6,7 +6,12 @@ ttotdev htotdev), :mod:`~inertialab.noise.theo` (theo1 theobr theoh) or
 :mod:`~inertialab.noise.tie` (mtie tierms) with the common keywords. ``bias_correction``
 applies Stable32's bias corrections where the statistic has one: TOTDEV (``1 - a tau/T``,
 ``a = 0.481`` FFM, ``0.750`` RWFM, SP 1065 §5.2.11, T the record length), MTOT/TTOT/HTOT
-(their factor tables) and Theo1 (reported as TheoBR, the data-derived correction).
+(their factor tables) and Theo1 (the Howe & Tasset ``Avar/Theo1`` of the noise type;
+``theobr`` and ``theoh`` are their own statistics, bias-removed by the data's own ratio).
+A correction is applied only where the noise type was identified (``alpha_source`` in
+:data:`inertialab.noise.identify.CONFIDENT`: lag-1 ACF, B1, B1 + R(n), or carried from
+such a tau, as Stable32 does; 1.0 where the record was too short to identify any), and
+the factor the variance was divided by is the result's ``bias`` per tau.
 """
 
 from __future__ import annotations
@@ -15,8 +20,9 @@ import numpy as np
 
 from inertialab.errors import InputError
 from inertialab.noise.allan import STATISTICS as CORE
-from inertialab.noise.allan import DeviationResult, deviation
+from inertialab.noise.allan import CorrectedResult, DeviationResult, deviation
 from inertialab.noise.edf_clock import TOTDEV_BIAS_A, totdev_bias  # noqa: F401 - re-exported
+from inertialab.noise.identify import CONFIDENT
 
 #: Every statistic, in their canonical order.
 ALL_STATISTICS = CORE + ("mtotdev", "ttotdev", "htotdev", "theo1", "theobr", "theoh",
@@ -33,10 +39,11 @@ def compute(statistic: str, data, *, rate_hz: float, taus="octave", input: str =
         r = deviation(s, data, alpha=alpha, edf_method=edf_method, chunked=chunked, **common)
         if bias_correction and s == "totdev":
             T = (r.n_samples - (0 if r.input == "rate" else 1)) * r.tau0_s
-            b = totdev_bias(r.alpha, r.taus_s, T)
+            b = np.where(np.isin(r.alpha_source, CONFIDENT),
+                         totdev_bias(r.alpha, r.taus_s, T), 1.0)
             f = 1.0 / np.sqrt(b)
-            r = DeviationResult(**{**r.__dict__, "dev": r.dev * f, "ci_low": r.ci_low * f,
-                                   "ci_high": r.ci_high * f})
+            r = CorrectedResult(**{**r.__dict__, "dev": r.dev * f, "ci_low": r.ci_low * f,
+                                   "ci_high": r.ci_high * f, "bias": b})
         return r
     if s in ("mtotdev", "ttotdev", "htotdev"):
         from inertialab.noise import total
@@ -45,18 +52,8 @@ def compute(statistic: str, data, *, rate_hz: float, taus="octave", input: str =
     if s in ("theo1", "theobr", "theoh"):
         from inertialab.noise import theo
 
-        if s == "theo1" and bias_correction:
-            try:
-                return theo.theobr(data, alpha=alpha, **common)
-            except InputError as exc:
-                if "TheoBR needs" not in str(exc):
-                    raise
-                import warnings
-
-                from inertialab.errors import DataQualityWarning
-
-                warnings.warn(f"Theo1 not bias-corrected: {exc}", DataQualityWarning,
-                              stacklevel=2)
+        if s == "theo1":
+            return theo.theo1(data, alpha=alpha, bias_correction=bias_correction, **common)
         return getattr(theo, s)(data, alpha=alpha, **common)
     if s in ("mtie", "tierms"):
         from inertialab.noise import tie

@@ -264,7 +264,7 @@ def model_intervals(result, terms: NoiseTerms, *, min_points: int = 1000):
     src = list(result.alpha_source) or ["lag1"] * alpha.size
     new_src = []
     for i in range(alpha.size):
-        weak = n_pts[i] < min_points or src[i] != "lag1"
+        weak = n_pts[i] < min_points or src[i] not in ("lag1", "acf")
         angle_in_rate = alpha[i] >= 1 and ma[i] <= 0
         if weak or angle_in_rate:
             alpha[i] = ma[i]

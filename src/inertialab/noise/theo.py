@@ -1,4 +1,4 @@
-"""Theo1, TheoBR and TheoH (NIST SP 1065 §5.2.15-5.2.17; issue 15).
+"""Theo1, TheoBR and TheoH (NIST SP 1065 §5.2.15-5.2.17).
 
 * **Theo1** (SP 1065 eq. 30), ``m`` even, ``10 <= m <= N - 1`` in Stable32 (here any even
   ``m >= 2``), at averaging time ``tau = 0.75 m tau0``::
@@ -15,11 +15,16 @@
 * **TheoH** (eq. 32): the overlapping Allan deviation for ``tau < k`` and TheoBR for
   ``tau >= k``, ``k`` the largest octave Allan tau within 10 % of the record length.
 
-``bias_correction=True`` of :func:`theo1` multiplies the Theo1 variance by the published
-noise-type bias ``Avar/Theo1 = a + b/(0.75 m)^c`` (Howe & Tasset 2004; SP 1065 §5.2.15;
-:data:`inertialab.noise.edf_clock.THEO1_BIAS`) of the identified (or given) alpha per tau,
-so that it estimates the Allan variance; :func:`theobr` replaces that table by the data's
-own average ratio. EDF: the Theo1 EDF of Howe & Peppler (SP 1065 §5.2.15,
+``bias_correction=True`` of :func:`theo1` multiplies the Theo1 variance by the ratio
+``Avar/Theo1`` where the identified (or given) alpha per tau is not white FM, so
+that it estimates the Allan variance, as Stable32 does: its ratio is the data's own
+average ``Avar(9+3i)/Theo1(12+4i)``, ``i = 0 .. floor(N/6) - 3`` (Stable32's Theo1 tables
+of PHASE.DAT: white FM printed uncorrected, flicker PM multiplied by exactly that ratio,
+both reproduced to 4e-5). Below 24 points the published noise-type table ``a + b/(0.75
+m)^c`` (Howe & Tasset 2004; SP 1065 §5.2.15; :data:`inertialab.noise.edf_clock.
+THEO1_BIAS`) stands in. The factor the variance was divided by is
+:attr:`DeviationResult.bias` per tau. TheoBR (:func:`theobr`) is its own statistic, with
+SP 1065's ratio (``i <= floor(0.1 N/3) - 3``) at every tau. EDF: the Theo1 EDF of Howe & Peppler (SP 1065 §5.2.15,
 :func:`inertialab.noise.edf_clock.edf_theo1`) for Theo1 and TheoBR, the OADEV EDF
 (Greenhall & Riley) for TheoH's Allan part.
 """
@@ -32,8 +37,9 @@ import numpy as np
 
 from inertialab.errors import InputError
 from inertialab.noise._clock import grid, interval, noise_types, phase_source
-from inertialab.noise.allan import DeviationResult
+from inertialab.noise.allan import CorrectedResult, DeviationResult
 from inertialab.noise.edf_clock import edf_theo1, theo1_bias
+from inertialab.noise.identify import CONFIDENT
 
 __all__ = ["theo1", "theo1_variance", "theobr", "theoh"]
 
@@ -62,19 +68,25 @@ def theo1_variance(x: np.ndarray, m: int, tau0: float) -> float:
 def _result(statistic, data, x, src, ms, taus, var, nt, tau0, confidence, alpha, input,
             bias_correction=False):
     m_equiv = np.maximum(np.round(taus / tau0).astype(np.int64), 1)
-    alphas, sources, amethod = noise_types(src, m_equiv, "oadev", alpha)
-    if bias_correction:
-        var = var * theo1_bias(alphas, ms)
+    alphas, sources, amethod = noise_types(src, m_equiv, "oadev", alpha,
+                                           data="freq" if input == "rate" else "phase")
+    bias = np.ones(ms.size)
+    if bias_correction:  # Stable32's: none for white FM, the data's Avar/Theo1 otherwise
+        kf = _stable32_ratio(x, tau0)
+        ratio = np.where(alphas == 0, 1.0, kf if kf is not None else theo1_bias(alphas, ms))
+        bias = np.where(np.isin(sources, CONFIDENT), 1.0 / ratio, 1.0)
+        var = var / bias
     dev = np.sqrt(var)
     edfs = edf_theo1(x.size, ms, alphas)
     edfs = np.where(np.isfinite(edfs) & (edfs > 0), edfs, np.nan)
     lo, hi = interval(dev, edfs, confidence)
-    return DeviationResult(statistic=statistic, tau0_s=tau0, taus_s=taus, m=ms, dev=dev,
-                           n_terms=nt, alpha=alphas, edf=edfs, ci_low=lo, ci_high=hi,
-                           confidence=float(confidence), n_samples=int(np.asarray(data).size),
-                           input=input, alpha_method=amethod,
-                           edf_method="theo1-howe-peppler-sp1065",
-                           alpha_source=tuple(sources))
+    kind = CorrectedResult if bias_correction else DeviationResult
+    extra = {"bias": bias} if bias_correction else {}
+    return kind(statistic=statistic, tau0_s=tau0, taus_s=taus, m=ms, dev=dev, n_terms=nt,
+                alpha=alphas, edf=edfs, ci_low=lo, ci_high=hi, confidence=float(confidence),
+                n_samples=int(np.asarray(data).size), input=input, alpha_method=amethod,
+                edf_method="theo1-howe-peppler-sp1065", alpha_source=tuple(sources),
+                **extra)
 
 
 def theo1(data, *, rate_hz: float, taus="octave", input: str = "rate",
@@ -98,10 +110,18 @@ def theo1(data, *, rate_hz: float, taus="octave", input: str = "rate",
                    tau0, confidence, alpha, input, bias_correction=bias_correction)
 
 
-def _br_ratio(x: np.ndarray, tau0: float) -> tuple[float, int]:
+def _stable32_ratio(x: np.ndarray, tau0: float):
+    """Stable32's Theo1 bias ratio: ``(1/(n+1)) sum_i Avar(9+3i) / Theo1(12+4i)`` with
+    ``n = floor(N/6) - 3`` (W. Riley, "Fast bias-removed Theo1 calculation with R"; the
+    ratio Stable32's Run and Plot functions apply); None below 24 phase points."""
+    return _br_ratio(x, tau0, n=int(math.floor(x.size / 6.0)) - 3)[0] if x.size >= 24 else None
+
+
+def _br_ratio(x: np.ndarray, tau0: float, n: int | None = None) -> tuple[float, int]:
     """``(1/(n+1)) sum_i Avar(9+3i) / Theo1(12+4i)`` and n (SP 1065 eq. 31)."""
     N = x.size
-    n = int(math.floor(0.1 * N / 3.0)) - 3
+    if n is None:
+        n = int(math.floor(0.1 * N / 3.0)) - 3
     if n < 0:
         raise InputError(f"TheoBR needs at least 120 phase points, got {N}")
     tot = 0.0
@@ -121,8 +141,9 @@ def theobr(data, *, rate_hz: float, taus="octave", input: str = "rate",
     _, x = phase_source(data, rate_hz, input)
     ratio, _n = _br_ratio(x, r.tau0_s)
     f = math.sqrt(ratio)
-    return DeviationResult(**{**r.__dict__, "statistic": "theobr", "dev": r.dev * f,
-                              "ci_low": r.ci_low * f, "ci_high": r.ci_high * f})
+    return CorrectedResult(**{**r.__dict__, "statistic": "theobr", "dev": r.dev * f,
+                              "ci_low": r.ci_low * f, "ci_high": r.ci_high * f,
+                              "bias": np.full(r.m.size, 1.0 / ratio)})
 
 
 def theoh(data, *, rate_hz: float, taus="octave", input: str = "rate",
@@ -144,9 +165,10 @@ def theoh(data, *, rate_hz: float, taus="octave", input: str = "rate",
     kb = b.taus_s >= k
     cat = {f: np.concatenate((getattr(a, f)[ka], getattr(b, f)[kb]))
            for f in ("taus_s", "m", "dev", "n_terms", "alpha", "edf", "ci_low", "ci_high")}
+    cat["bias"] = np.concatenate((np.ones(int(ka.sum())), b.bias[kb]))
     src_a = tuple(s for s, keep in zip(a.alpha_source, ka) if keep)
     src_b = tuple(s for s, keep in zip(b.alpha_source, kb) if keep)
-    return DeviationResult(statistic="theoh", tau0_s=tau0, confidence=float(confidence),
+    return CorrectedResult(statistic="theoh", tau0_s=tau0, confidence=float(confidence),
                            n_samples=int(np.asarray(data).size), input=input,
                            alpha_method=a.alpha_method, edf_method="oadev|theobr",
                            alpha_source=src_a + src_b, **cat)

@@ -1,4 +1,4 @@
-"""Total deviations of the modified and Hadamard kind: MTOTDEV, TTOTDEV, HTOTDEV (issue 15).
+"""Total deviations of the modified and Hadamard kind: MTOTDEV, TTOTDEV, HTOTDEV.
 
 Definitions of NIST SP 1065 (Riley 2008) §5.2.12-5.2.14 as Stable32 computes them:
 
@@ -29,12 +29,12 @@ as Stable32 and allantools (which loops in Python).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
 from inertialab.noise._clock import grid, interval, noise_types, phase_source
-from inertialab.noise.allan import DeviationResult
+from inertialab.noise.allan import CorrectedResult
 from inertialab.noise.edf_clock import (
     HTOT_BIAS,
     MTOT_BIAS,
@@ -43,6 +43,7 @@ from inertialab.noise.edf_clock import (
     htot_bias,
     mtot_bias,
 )
+from inertialab.noise.identify import CONFIDENT
 
 __all__ = ["MTOT_BIAS", "HTOT_BIAS", "TotalResult", "htotdev", "mtotdev", "ttotdev"]
 
@@ -50,10 +51,9 @@ _BLOCK = 1 << 21  # elements per 2-D block (16 MiB of float64)
 
 
 @dataclass(frozen=True)
-class TotalResult(DeviationResult):
-    """A :class:`DeviationResult` with the bias factor applied per tau (1.0: none)."""
-
-    bias: np.ndarray = field(default_factory=lambda: np.zeros(0))
+class TotalResult(CorrectedResult):
+    """A :class:`DeviationResult` of a total statistic (``bias``: the factor applied per
+    tau, 1.0 for none; also under the key ``bias`` of :meth:`to_dict`)."""
 
     def to_dict(self) -> dict:
         d = super().to_dict()
@@ -98,11 +98,14 @@ def _tot_sum(x: np.ndarray, m: int, centre: bool) -> float:
 
 def _finish(statistic, src, x, ms, var, nt, tau0, taus, confidence, alpha, bias_correction,
             edf_stat, n_samples, input):
-    alphas, sources, amethod = noise_types(src, ms, edf_stat, alpha)
+    alphas, sources, amethod = noise_types(src, ms, statistic, alpha,
+                                           data="freq" if input == "rate" else "phase",
+                                           n_terms=nt)
     if bias_correction:
         b = mtot_bias(alphas) if statistic in ("mtotdev", "ttotdev") else htot_bias(alphas)
         if statistic == "htotdev":
             b = np.where(ms == 1, 1.0, b)  # m = 1 is OHDEV
+        b = np.where(np.isin(sources, CONFIDENT), b, 1.0)  # no type, no correction
     else:
         b = np.ones(ms.size)
     var = var / b

@@ -166,7 +166,7 @@ def prepare_log(record, *, column: str | None = None, rate_hz: float | None = No
 
 
 #: Fractional-frequency units (dimensionless ratio) and their factor to the ratio.
-CLOCK_RATIO = {"1": 1.0, "ratio": 1.0, "pct": 1e-2, "ppm": 1e-6, "ppb": 1e-9, "ppt": 1e-12}
+CLOCK_RATIO = {"1": 1.0, "ratio": 1.0, "frac": 1.0, "pct": 1e-2, "ppm": 1e-6, "ppb": 1e-9, "ppt": 1e-12}
 #: Phase (time-error) units and their factor to seconds.
 CLOCK_TIME = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9, "ps": 1e-12}
 _CLOCK_NAMES = {"phase": ("phase", "x", "tie", "time_error"),
