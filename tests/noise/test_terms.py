@@ -489,3 +489,18 @@ def test_non_significant_ramp_widens_the_other_intervals_to_the_fit_without_it()
         if "span_without_R" in a.flags:
             assert a.ci != b.ci and "without the non-significant R" in a.reason
     assert "span_without_R" in t.K.flags, (t.K.ci, full.K.ci)
+
+
+def test_upper_bound_term_says_bound_in_json():
+    # a term that is only a bound carries "bound": "upper" beside its upper_bound, so a
+    # reader of the JSON never takes its value for a confident number
+    from inertialab.noise._terms_base import NoiseTerm
+
+    t = NoiseTerm(value=3.0, unit="deg/h", ci=(0.0, 5.0), method="wls",
+                  tau_range_s=(1.0, 10.0), flags=("upper_bound",), upper_bound=5.0)
+    d = t.to_dict()
+    assert d["bound"] == "upper" and d["upper_bound"] == 5.0
+    assert NoiseTerm.from_dict(d).to_dict() == d
+    ok = NoiseTerm(value=3.0, unit="deg/h", ci=(2.0, 4.0), method="wls",
+                   tau_range_s=(1.0, 10.0))
+    assert "bound" not in ok.to_dict()

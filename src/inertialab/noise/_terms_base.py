@@ -133,7 +133,7 @@ class NoiseTerm:
     def to_dict(self) -> dict:
         """The one JSON form of a term (docs/noise-terms.md): ``value, unit, ci, method,
         tau_range_s, sd, flags`` (+ ``density``, ``per_sample_std`` for N, ``reason`` and
-        ``upper_bound`` where set)."""
+        ``upper_bound`` where set, ``"bound": "upper"`` where the term is only a bound)."""
         d = {"value": float(self.value), "unit": self.unit,
              "ci": [float(self.ci[0]), float(self.ci[1])], "method": self.method,
              "tau_range_s": [float(self.tau_range_s[0]), float(self.tau_range_s[1])],
@@ -146,6 +146,8 @@ class NoiseTerm:
             d["reason"] = self.reason
         if math.isfinite(self.upper_bound):
             d["upper_bound"] = float(self.upper_bound)
+        if "upper_bound" in self.flags:
+            d["bound"] = "upper"  # the value is not a confident number: use upper_bound
         return d
 
     @classmethod
