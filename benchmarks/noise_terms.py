@@ -61,11 +61,11 @@ HOURS = 10.0
 CURVE_VERSION = "mems-presets/1|oadev-octave"
 #: key of the cached fits: bump when the fit code changes (METHOD_VERSION: per method)
 FIT_VERSION = "terms/3-bandB-slope-spread"
-METHOD_VERSION = {"gmwm": "gmwm/8-bl-window2-drprofile", "wls": "band-lo64-rspan",
-                  "ols": "band-lo64-rspan", "wls-flicker": "flicker-rspan",
+METHOD_VERSION = {"gmwm": "gmwm/9-tcmin4-disc-jac", "wls": "band-lo64-rspan-disc-bcap",
+                  "ols": "band-lo64-rspan-bcap", "wls-flicker": "flicker-rspan-disc-bcap",
                   "slope": "boot-spread"}
-_FIT_SOURCES = ("terms.py", "_terms_base.py", "_terms_ls.py", "_terms_slope.py", "gmwm.py",
-                "_gmwm_model.py",
+_FIT_SOURCES = ("terms.py", "_terms_base.py", "_band.py", "_terms_ls.py", "_terms_slope.py",
+                "gmwm.py", "_gmwm_model.py",
                 "_gmwm_cov.py", "_gmwm_avar.py", "edf.py")
 ROOT = Path(__file__).resolve().parents[1]
 
