@@ -30,7 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from inertialab.calib.triaxial import COND_FLAG, CalibrationFit, suggest_orientations
-from inertialab.errors import InputError
+from inertialab.errors import ImplausibleCalibrationError, InputError  # noqa: F401 - re-exported
 from inertialab.sensors import triaxial as tx
 
 SCALE_RANGE = (0.5, 2.0)
@@ -43,10 +43,6 @@ NORM_TOL_G = 0.02
 """Default tolerance on | |a_cal| - g | per pose, in units of local gravity."""
 GYRO_BIAS_LIMIT = 0.35
 """Default gyro bias limit, rad/s (20 deg/s)."""
-
-
-class ImplausibleCalibrationError(InputError):
-    """A fit whose parameters are not identifiable or not physically plausible."""
 
 
 @dataclass(frozen=True)

@@ -26,7 +26,10 @@ from inertialab.cli.common import (
 from inertialab.cli.options import JsonOpt, QuietOpt, reading_options
 from inertialab.errors import InputError
 from inertialab.io.mapping import ReadOptions
+from inertialab.workflows.registries import export_targets, stat_help
 
+_EXPORT_HELP = ("TARGET FILE (six-axis mode): write the noise densities and random walks "
+                "(continuous time, SI) for " + " | ".join(export_targets("noise")) + ".")
 _IMU_HELP = ("Analyse gyro x/y/z and accelerometer x/y/z together (one table, one figure, "
              "noise densities and random walks).")
 
@@ -52,9 +55,7 @@ def _allan_command(imu_default: bool):
                                  "column suffix."),
         nominal: float = typer.Option(None, "--nominal", help="Nominal frequency, Hz, of a "
                                       "frequency record in hz: y = (f - nominal)/nominal."),
-        stat: str = typer.Option("oadev", "--stat", help="Comma-separated: adev, oadev, "
-                                 "mdev, tdev, hdev, ohdev, totdev, mtotdev, ttotdev, "
-                                 "htotdev, theo1, theobr, theoh, mtie, tierms."),
+        stat: str = typer.Option("oadev", "--stat", help=stat_help()),
         taus: str = typer.Option("octave", "--taus", help="octave | decade | many | all | a "
                                  "count | comma-separated seconds."),
         terms: bool = typer.Option(None, "--terms/--no-terms", help="Fit the IMU noise terms "
@@ -73,11 +74,9 @@ def _allan_command(imu_default: bool):
                                  "jitter and dropouts analysed on the sensor's grid, lost "
                                  "samples as gaps, with a warning)."),
         imu: bool = typer.Option(imu_default, "--imu", help=_IMU_HELP),
-        export: tuple[str, str] = typer.Option(None, "--export", help="STYLE FILE (six-axis "
-                                               "mode): write noise densities and random walks "
-                                               "as YAML for kalibr or ros."),
-        rostopic: str = typer.Option("/imu0", "--rostopic", help="IMU topic in the Kalibr "
-                                                                 "file (six-axis mode)."),
+        export: tuple[str, str] = typer.Option(None, "--export", help=_EXPORT_HELP),
+        rostopic: str = typer.Option("/imu0", "--rostopic", help="IMU topic in the Kalibr, "
+                                     "OpenVINS and VINS files (six-axis mode)."),
         as_json: JsonOpt = False,
         out: Path = typer.Option(None, "--out", help="Directory for the figure, result.json "
                                                      "and model.json (noise terms)."),

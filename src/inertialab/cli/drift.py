@@ -321,8 +321,9 @@ def register(app: typer.Typer, groups: dict) -> None:
     ):
         """Compensate a later record with the forecast bias and scale factor: residuals
         with and without the forecast, and a = I/k - b for an output current (spec 004 §9)."""
-        from inertialab.io import load_model, read_record, write_record
+        from inertialab.io import read_record, write_record
         from inertialab.workflows.drift import apply
+        from inertialab.workflows.registries import load_model
 
         with collect_warnings(quiet=quiet or as_json) as warns:
             m = load_model(model, expected_type="storage-drift")
@@ -355,8 +356,8 @@ def register(app: typer.Typer, groups: dict) -> None:
         quiet: QuietOpt = False,
     ):
         """Forecast again from a saved storage-drift model."""
-        from inertialab.io import load_model
         from inertialab.workflows.drift import check_horizon, forecast
+        from inertialab.workflows.registries import load_model
 
         if horizon is not None:
             check_horizon(horizon)

@@ -22,16 +22,10 @@ from inertialab.cli.common import (
 from inertialab.cli.options import JsonOpt, OutDirOpt, QuietOpt, SeedOpt, reading_options
 from inertialab.errors import InputError
 from inertialab.io.mapping import ReadOptions
+from inertialab.units import THERMAL_UNITS
 
 _METHOD_CHOICES = ("iafsa-scm-anfis", "scm-anfis", "anfis", "fis", "ann", "poly-sep", "poly-2d",
                    "all")
-_UNITS = {"temp": "degC", "output": "mV", "k0": "mV", "k1": "mV/g", "k2": "mV/g^2",
-          "kip": "mV/g^2", "kp": "mV/g", "wall_s": "s", "fun": "mg", "f_default": "mg",
-          "radius": "1 (scaled)", "squash": "1", "accept": "1", "reject": "1",
-          "visual": "1 (unit cube)", "step": "1 (unit cube)", "visual_min": "1 (unit cube)",
-          "step_min": "1 (unit cube)", "crowd": "1", "try_number": "1", "n_fish": "1",
-          "max_generations": "1", "adaptive_exponent": "1", "r_max": "1",
-          "search_epochs": "1"}
 
 
 def _methods(method: str) -> tuple[str, ...]:
@@ -83,7 +77,8 @@ def _apply_command(name: str):
         read: ReadOptions | None = None,
     ):
         """Compensate a record with a thermal model; writes comp_output_mv, comp_a_g, status."""
-        from inertialab.io import load_model, write_record
+        from inertialab.io import write_record
+        from inertialab.workflows.registries import load_model
         from inertialab.workflows.thermal import apply
 
         with collect_warnings(quiet=quiet or as_json) as warns:
@@ -231,7 +226,7 @@ def register(app: typer.Typer, groups: dict) -> None:
                     "seed": seed, "reference_temp_c": samples.reference_temp_c}
         if as_json:
             emit_json("thermal fit", payload, inputs=[{"path": str(file), "sha256": rec.sha256}],
-                      settings=settings, units=dict(_UNITS), warnings_=warns)
+                      settings=settings, units=dict(THERMAL_UNITS), warnings_=warns)
             return
         rows = [[m, v.rmse_ug, v.me_ug, v.ae_ug, v.maxe_ppm, v.mare_ppm, v.rules, v.wall_s]
                 for m, v in result.metrics.items()]
@@ -266,7 +261,7 @@ def register(app: typer.Typer, groups: dict) -> None:
         read: ReadOptions | None = None,
     ):
         """Export a fuzzy thermal model as dependency-free C99 (inputs clamped, status flag)."""
-        from inertialab.io import load_model
+        from inertialab.workflows.registries import load_model
         from inertialab.workflows.thermal import export
 
         mdl = load_model(model, expected_type="thermal-compensation")

@@ -32,6 +32,9 @@ from inertialab.cli.options import (
 from inertialab.errors import InputError
 from inertialab.io.mapping import ReadOptions
 from inertialab.jsonable import to_jsonable
+from inertialab.workflows.registries import export_help
+
+_TARGETS_HELP = export_help("calibration")
 
 
 def _read_schedule(file: Path, schedule: Path | None):
@@ -303,8 +306,9 @@ def triaxial_apply(
     read: ReadOptions = None,
 ):
     """Apply a triaxial calibration: calibrated = correction_matrix @ (raw - offset)."""
-    from inertialab.io import load_model, write_record
+    from inertialab.io import write_record
     from inertialab.workflows import triaxial as wf
+    from inertialab.workflows.registries import load_model
 
     if out.exists() and out.is_dir():
         raise InputError("--out must be a file for this command", path=out)
@@ -418,8 +422,7 @@ def triaxial_ferraris(
 def triaxial_export(
     model_file: Path = typer.Argument(..., help="model.json from 'triaxial fit' or 'triaxial "
                                                 "ferraris'."),
-    to: str = typer.Option(..., "--to", help="imucal (JSON, format 2.0.0) | imu_tk (.calib text, "
-                                             "one per triad) | kalibr (scale-misalignment YAML)"),
+    to: str = typer.Option(..., "--to", help=_TARGETS_HELP),
     out: Path = typer.Option(..., "--out", help="Output file (imu_tk: the stem of "
                                                 "<stem>_acc.calib and <stem>_gyro.calib)."),
     drop_g_sensitivity: bool = typer.Option(False, "--drop-g-sensitivity",
@@ -428,24 +431,14 @@ def triaxial_export(
     force: bool = typer.Option(False, "--force", help="Export a flagged calibration anyway."),
     as_json: JsonOpt = False,
 ):
-    """Export a triaxial calibration for imucal, imu_tk or Kalibr."""
-    from inertialab.io import load_model
-    from inertialab.io.exporters import imu_tk, imucal, kalibr_intrinsics
+    """Export a triaxial calibration for another tool (--to: one of the registered targets)."""
+    from inertialab.io.exporters import export_calibration, get
+    from inertialab.workflows.registries import load_model
 
+    fmt = get("calibration", to).target
     model = load_model(model_file, expected_type="triaxial-calibration")
-    fmt = to.strip().lower().replace("-", "_")
-    if fmt == "imucal":
-        imucal.write_imucal(model, out, force=force)
-        written = [str(out)]
-    elif fmt == "imu_tk":
-        stem = str(out)[:-6] if str(out).endswith(".calib") else str(out)
-        written = imu_tk.write_imu_tk(model, stem, drop_g_sensitivity=drop_g_sensitivity,
-                                      force=force)
-    elif fmt == "kalibr":
-        kalibr_intrinsics.write_kalibr(model, out, force=force)
-        written = [str(out)]
-    else:
-        raise InputError(f"--to must be imucal, imu_tk or kalibr, got '{to}'")
+    written = export_calibration(model, fmt, out, force=force,
+                                 drop_g_sensitivity=drop_g_sensitivity)
     if as_json:
         emit_json("triaxial export", {"written": written, "format": fmt}, inputs=[model_file],
                   settings={"to": fmt, "drop_g_sensitivity": drop_g_sensitivity, "force": force},

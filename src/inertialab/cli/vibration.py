@@ -170,7 +170,8 @@ def register(app: typer.Typer, groups: dict) -> None:
         read: ReadOptions = None,
     ):
         """Apply a saved vibration-compensation model to a new record (spec §3.10)."""
-        from inertialab.io import load_model, read_record, write_record
+        from inertialab.io import read_record, write_record
+        from inertialab.workflows.registries import load_model
         from inertialab.workflows.vibration import apply
 
         if Path(out).is_dir():

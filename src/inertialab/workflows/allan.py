@@ -18,9 +18,9 @@ import numpy as np
 
 from inertialab import units
 from inertialab.errors import InputError
+from inertialab.noise import registry as stat_registry
 from inertialab.noise.allan import DeviationResult
-from inertialab.noise.family import ALL_STATISTICS as STATISTICS
-from inertialab.noise.family import PHASE_UNIT, compute
+from inertialab.noise.family import compute
 from inertialab.noise.terms import (
     NoiseTerms,
     fit_noise_terms,
@@ -53,6 +53,13 @@ _MODEL_EDF_STATS = ("adev", "oadev", "mdev", "tdev", "hdev", "ohdev")
 
 #: Relative jitter of ``t_s`` above which a log is not uniform (spec 001 §2.2).
 T_JITTER_TOL = 1e-6
+
+#: Every statistic (names from :mod:`inertialab.noise.registry`), canonical order.
+STATISTICS = stat_registry.names()
+#: Statistics in the unit of the phase.
+PHASE_UNIT = stat_registry.phase_unit()
+#: Statistics with a gap-resistant form.
+GAP_STATISTICS = stat_registry.with_gaps()
 
 #: Memory-mapped inputs longer than this (samples) take the out-of-core path.
 CHUNKED_MIN = 1 << 26
@@ -219,10 +226,9 @@ def prepare_log(record, *, column: str | None = None, rate_hz: float | None = No
                    kind=kind, path=str(path), sha256=record.sha256, g_local=g)
 
 
-#: Fractional-frequency units (dimensionless ratio) and their factor to the ratio.
-CLOCK_RATIO = {"1": 1.0, "ratio": 1.0, "pct": 1e-2, "ppm": 1e-6, "ppb": 1e-9, "ppt": 1e-12}
-#: Phase (time-error) units and their factor to seconds.
-CLOCK_TIME = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9, "ps": 1e-12}
+#: Clock units (their tables live in :mod:`inertialab.units`).
+CLOCK_RATIO = units.CLOCK_RATIO
+CLOCK_TIME = units.CLOCK_TIME
 _CLOCK_NAMES = {"phase": ("phase", "x", "tie", "time_error"),
                 "frequency": ("freq", "frequency", "y", "fract", "ffd")}
 
@@ -523,7 +529,7 @@ def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: st
         import warnings
 
         from inertialab.errors import DataQualityWarning
-        from inertialab.noise.gaps import GAP_STATISTICS, count_gaps, gap_deviation
+        from inertialab.noise.gaps import count_gaps, gap_deviation
 
         g, miss = count_gaps(log.values)
         warnings.warn(f"{log.path or 'data'}: {miss} missing sample(s) in {g} gap(s); "

@@ -147,7 +147,8 @@ def _unit_triaxial(path: Path, options: dict) -> dict:
 def _unit_thermal(path: Path, options: dict) -> dict:
     """Thermal compensation of one unit's tumble record with a saved model: RMS of the
     compensated residual against the nominal input (ug) before and after."""
-    from inertialab.io import load_model, read_record
+    from inertialab.io import read_record
+    from inertialab.workflows.registries import load_model
 
     model_path = options.get("model")
     if not model_path:

@@ -50,8 +50,8 @@ from inertialab.calib.thermal import (  # noqa: F401 - re-exported for callers o
     recalibrate,
     score,
 )
-from inertialab.calib.thermal_export import export_c
 from inertialab.errors import InputError, MissingReferenceError
+from inertialab.io.exporters.thermal_c import export_c
 from inertialab.progress import NullProgress
 from inertialab.seeding import as_generator
 from inertialab.sensors.pendulous import (
@@ -595,7 +595,7 @@ def apply(model: ThermalModel, record, *, reference: str = "auto",
 
 
 def export(model: ThermalModel, *, prefix: str = "qfa", unit_record=None):
-    """C99 source of a fuzzy thermal model (:func:`inertialab.calib.thermal_export.export_c`).
+    """C99 source of a fuzzy thermal model (:func:`inertialab.io.exporters.thermal_c.export_c`).
     ``unit_record``: a thermal-tumble record of the unit the code will run on, when it is
     another unit of the lot; its 55 °C tumble gives the coefficients of the §3.7 mapping."""
     unit_ref, unit_id = None, ""

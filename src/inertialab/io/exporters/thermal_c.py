@@ -1,13 +1,14 @@
-"""C99 export of a fuzzy thermal-compensation model (spec 000 §8.4).
+"""C99 export of a fuzzy thermal-compensation model (spec 000 §8.4; docs/thermal.md).
 
 :func:`export_c` turns a :class:`~inertialab.calib.thermal.ThermalModel` whose map is
-a TSK fuzzy system (FIS, ANFIS, SCM-ANFIS, IAFSA-SCM-ANFIS) into one dependency-free
+a TSK fuzzy system (FIS, ANFIS, SCM-ANFIS, IAFSA-SCM-ANFIS; read through its attributes:
+this floor does not import the model classes) into one dependency-free
 ``.h``/``.c`` pair for a navigation computer: double precision, no allocation, only
 ``exp`` from libm, constants written with ``%.17g`` so they round-trip exactly. The C
 code repeats the Python computation step by step (deployment ``a_i`` estimate, eq. 5,
-clamping to the calibrated range with the status codes of CONTRACTS.md, [0, 1]
-scaling, the normalised firing strengths with the max-log shift, the consequents), so
-both agree to rounding. This module returns the text; the CLI writes the files.
+clamping to the calibrated range with the status codes below, [0, 1] scaling, the
+normalised firing strengths with the max-log shift, the consequents), so both agree to
+rounding. :func:`export_c` returns the text, :func:`write_c` writes the two files.
 
 Entry points (``PREFIX`` defaults to ``qfa``)::
 
@@ -25,7 +26,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from inertialab.errors import InputError
-from inertialab.learn.anfis import ANFIS
+
+__all__ = ["CExport", "MAX_RULES", "export_c", "write_c"]
 
 
 @dataclass(frozen=True)
@@ -52,7 +54,7 @@ MAX_RULES = 1000
 
 def _comment(text, limit: int = 64) -> str:
     """Data-derived text (unit id, method) made safe for a C comment: allow-listed
-    characters only, at most ``limit`` of them (issue 19 item 2)."""
+    characters only, at most ``limit`` of them)."""
     return _COMMENT_UNSAFE.sub("_", str(text))[:limit]
 
 
@@ -101,7 +103,7 @@ def export_c(model, *, prefix: str = "qfa", unit_ref=None, unit_id: str = "") ->
     if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]{0,30}", prefix):
         raise InputError(f"C prefix must be a C identifier, got {prefix!r}")
     reg = getattr(model, "regressor", None)
-    if not isinstance(reg, ANFIS):
+    if getattr(reg, "fis_", None) is None or not hasattr(reg, "x_lo_"):
         raise InputError(
             f"C export supports the fuzzy models (fis, anfis, scm-anfis, iafsa-scm-anfis), "
             f"not {getattr(model, 'method', type(model).__name__)!r}")
@@ -226,3 +228,16 @@ double {P}_comp_g(double T_C, double U_mV, double a_p_g, int *status)
     return CExport(header=header, source=source, header_name=f"{P}_comp.h",
                    source_name=f"{P}_comp.c", n_rules=R, exp_calls=R, flops=14 * R + 30,
                    unit_id=str(unit_id) if map_unit else "")
+
+
+def write_c(ex: CExport, directory) -> list[str]:
+    """Write the ``.h``/``.c`` pair of :func:`export_c` into ``directory`` (atomically,
+    each file); returns their paths."""
+    from pathlib import Path
+
+    from inertialab.io.writers import atomic_write_text
+
+    d = Path(directory)
+    atomic_write_text(d / ex.header_name, ex.header)
+    atomic_write_text(d / ex.source_name, ex.source)
+    return [str(d / ex.header_name), str(d / ex.source_name)]
