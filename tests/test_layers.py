@@ -184,3 +184,27 @@ def test_no_module_above_700_lines():
     big = [f"{p.relative_to(SRC)}: {n}" for p in SRC.rglob("*.py")
            if (n := len(p.read_text().splitlines())) > MAX_LINES]
     assert not big, "modules above 700 lines:\n" + "\n".join(big)
+
+
+def _string_imports(tree):
+    """Calls that import a module named by a string (``importlib.import_module(...)``,
+    ``__import__(...)``) whose name is a project module."""
+    for node in ast.walk(tree):
+        if not isinstance(node, ast.Call) or not node.args:
+            continue
+        f = node.func
+        name = f.attr if isinstance(f, ast.Attribute) else getattr(f, "id", "")
+        if name not in ("import_module", "__import__"):
+            continue
+        arg = node.args[0]
+        text = arg.value if isinstance(arg, ast.Constant) else ast.unparse(arg)
+        if "inertialab" in str(text):
+            yield node.lineno, str(text)
+
+
+def test_no_project_module_imported_by_string():
+    """Registries and discovery import their modules explicitly, so this test's import
+    graph sees every edge (third-party extras may still be imported by name)."""
+    bad = [f"{modname}:{line}: {text}" for path, modname in _modules()
+           for line, text in _string_imports(ast.parse(path.read_text()))]
+    assert not bad, "project modules imported by string:\n" + "\n".join(bad)

@@ -1,5 +1,5 @@
 """Ferraris protocol on arrays: six static faces plus one turn about each axis
-(issue 17 item 2; Ferraris et al. 1995; the model imucal documents).
+(Ferraris et al. 1995; the model imucal documents).
 
 Model (raw -> physical)::
 
@@ -127,7 +127,7 @@ class Detection:
 def detect_sections(acc, gyro, fs: float, *, window_s: float = 0.5, min_rest_s: float = 1.5,
                     trim_s: float = 0.2, k_acc: float = 10.0, k_gyro: float = 8.0,
                     turn_tilt_deg: float = 20.0) -> Detection:
-    """Ferraris sections from the accelerometer *and* the gyro (issue 17 item 2).
+    """Ferraris sections from the accelerometer *and* the gyro.
 
     A sample is at rest when the accelerometer's moving variance (``window_s``) is below
     ``k_acc`` times its noise floor (the 10th percentile) and the gyro is within ``k_gyro``
@@ -390,7 +390,7 @@ def to_model(fit: FerrarisFit, *, acc_unit: str, gyro_unit: str, g: float,
 
 def check_ferraris(fit: FerrarisFit, *, acc_nominal: float | None, gyro_nominal: float | None,
                    g: float, limits=None) -> list:
-    """Plausibility of a Ferraris fit (issue 17 item 1; bounds of
+    """Plausibility of a Ferraris fit (bounds of
     :mod:`inertialab.calib.triaxial_checks`).
 
     ``acc_nominal``/``gyro_nominal`` are the nominal raw units per m/s^2 and per rad/s

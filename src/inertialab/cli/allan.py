@@ -1,10 +1,10 @@
-"""``inertialab allan FILE`` and ``inertialab simulate gyro-static`` (issue 3, issue 15).
+"""``inertialab allan FILE`` and ``inertialab simulate gyro-static``.
 
-One ``allan`` command with every option (issue 15 item 6): one series
+One ``allan`` command with every option: one series
 (:mod:`inertialab.workflows.allan`) or, with ``--imu``, six IMU axes
 (:mod:`inertialab.workflows.imu_noise`, Kalibr/ROS export); ``allan-imu`` is its hidden
 old spelling (``--imu`` on by default). Thin: parse the options, read the record, call
-the workflow, print the table and the noise terms (or the JSON object of issue 3), write
+the workflow, print the table and the noise terms (or its JSON object), write
 the figure, ``result.json`` and ``model.json`` with ``--out``.
 """
 
@@ -36,7 +36,7 @@ _IMU_HELP = ("Analyse gyro x/y/z and accelerometer x/y/z together (one table, on
 
 def _allan_command(imu_default: bool):
     """The ``allan`` command (``imu_default=False``) and its hidden old spelling
-    ``allan-imu`` (``True``): one function, every option (issue 15 item 6)."""
+    ``allan-imu`` (``True``): one function, every option."""
 
     @reading_options
     def allan(
@@ -208,7 +208,7 @@ def _single(*, file, column, rate, input_, unit, nominal, stat, taus, confidence
 
 def register(app: typer.Typer, groups: dict) -> None:
     app.command("allan")(_allan_command(False))
-    # old spelling, hidden for one release (issue 13, issue 15 item 6)
+    # old spelling, hidden for one release
     app.command("allan-imu", hidden=True)(_allan_command(True))
 
     simulate = groups["simulate"]

@@ -1,6 +1,6 @@
 """Shared CLI plumbing: the JSON envelope, error handling, progress bars, output files.
 
-DESIGN.md "Command line": ``--json`` prints one object alone on stdout with
+The command line's output rules (docs/cli.md): ``--json`` prints one object alone on stdout with
 ``command``, ``schema_version``, ``inertialab_version``, ``inputs`` (path and sha256),
 ``settings``, ``units``, ``warnings`` and then the command's own keys; NaN/inf become
 ``null`` with a ``non_estimable`` flag listing their keys. User errors exit 2 with one
@@ -111,7 +111,7 @@ def collect_warnings(quiet: bool = False):
         try:
             yield messages
         except BaseException:
-            # the command fails: its one error line is all the user gets (DESIGN.md)
+            # the command fails: its one error line is all the user gets
             failed = True
             raise
         finally:
@@ -169,7 +169,7 @@ def progress_bar(label: str, *, quiet: bool = False) -> _Bar:
 
 
 def prepare_out_dir(path) -> Path:
-    """Register the ``--out`` directory of a command (issue 19); nothing is created here.
+    """Register the ``--out`` directory of a command; nothing is created here.
 
     Under the command line (:func:`inertialab.cli.main.main` runs every command in an
     output transaction) the directory is built in a temporary sibling on the first write
@@ -193,7 +193,7 @@ def _after_path(exc: Exception, path) -> str:
 @contextlib.contextmanager
 def output_file(path):
     """Yield a temporary path for a one-record output; renamed to ``path`` on success,
-    removed on error (DESIGN.md: outputs replaced atomically, removed on error). Only a
+    removed on error (outputs are replaced atomically, removed on error). Only a
     regular file (or nothing) at ``path`` is replaced."""
     p = Path(path)
     if p.is_dir():
@@ -207,7 +207,7 @@ def write_figures(figures, out_dir, *, dpi: int = 110) -> list[Path]:
     files into ``out_dir``; return the paths. Names become file names only through
     :func:`~inertialab.io.names.safe_slug` (a figure named from data cannot leave
     ``out_dir``). Each figure is laid out once and drawn once
-    (:func:`inertialab.report.html.figure_png`; issue 18 item 11)."""
+    (:func:`inertialab.report.html.figure_png`)."""
     from inertialab.report.html import figure_png
 
     paths = []

@@ -67,7 +67,7 @@ def _hidden_grid(text):
 
 
 def _unit_payload(r) -> dict:
-    """The per-unit, per-quantity JSON of issue 8 item 5 (plus a few extras)."""
+    """The per-unit, per-quantity JSON of ``drift fit`` (docs/drift.md)."""
     base = {n: {"rmse": e.get("rmse"), "max_ae": e.get("max_ae")} if "error" not in e
             else {"rmse": None, "max_ae": None, "error": e["error"]}
             for n, e in r.baselines.items()}
@@ -180,7 +180,7 @@ def register(app: typer.Typer, groups: dict) -> None:
                        training_data_sha256=rec.sha256, settings=sett)
             atomic_write_text(out_dir / "result.json", json.dumps(
                 json_ready({"settings": sett, **payload}), indent=2, allow_nan=False) + "\n")
-            # file names from unit ids only as safe, collision-free slugs (issue 19 item 1)
+            # file names from unit ids only as safe, collision-free slugs
             taken = {"schedule"}
             slugs: dict = {}
             figs = []

@@ -1,4 +1,4 @@
-"""Options shared by every command, declared once (DESIGN.md "Command line", issue 13).
+"""Options shared by every command, declared once (docs/cli.md).
 
 Two forms:
 
@@ -224,7 +224,7 @@ def flagged(message: str) -> str:
     return re.sub(r"argument '([a-z_]+)'", sub, message)
 
 
-#: Bounds of the size arguments (issue 19): flag -> (lowest, highest, what it is). A value
+#: Bounds of the size arguments: flag -> (lowest, highest, what it is). A value
 #: outside is a usage error (exit 2) before any work starts, instead of a MemoryError or a
 #: run that does not end. :func:`check_limits` applies them to every command line (main
 #: calls it); a command may also declare ``callback=bounded("--rate")`` on its option.
@@ -310,7 +310,7 @@ OUTPUT_FLAGS = {"--out": 1, "--c": 1, "--truth": 1, "--save-config": 1, "--expor
 def check_out_targets(args: list[str]) -> None:
     """Refuse, before any work, an output option naming an existing device, FIFO or
     socket (or a link to one): an output replaces only a regular file or fills a
-    directory (issue 19). Which of the two a command wants it checks itself."""
+    directory. Which of the two a command wants it checks itself."""
     import os
     import stat
 

@@ -190,7 +190,7 @@ def register(app: typer.Typer, groups: dict) -> None:
         print(f"wrote {out}: residual bias {res.residual['delta_b']:.4g} deg/h")
 
     vib.command("apply")(vibration_apply)
-    # old spelling, hidden for one release (issue 13)
+    # old spelling, hidden for one release
     app.command("vibration-compensate", hidden=True)(vibration_apply)
 
     @simulate.command("fog-vibration")

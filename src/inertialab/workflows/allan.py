@@ -1,11 +1,11 @@
-"""Workflow ``allan``: the Allan family of one series (issue 3, issue 15).
+"""Workflow ``allan``: the Allan family of one series.
 
-Verbs (issue 13): :func:`prepare` (= :func:`prepare_log`) turns a validated ``gyro_log`` :class:`~inertialab.io.Record` into one
+Verbs: :func:`prepare` (= :func:`prepare_log`) turns a validated ``gyro_log`` :class:`~inertialab.io.Record` into one
 rate series (column choice, units, sample rate from ``--rate``, the sidecar or a uniform
 ``t_s``); :func:`analyze` computes the requested statistics of the Allan family with
 their confidence intervals (:mod:`inertialab.noise.allan`) and the five noise terms
 (:mod:`inertialab.noise.terms`, fitted on the overlapping Allan deviation); the result
-serialises to the JSON keys of issue 3; :func:`fit` is :func:`analyze`. The virtual-lab
+serialises to the JSON keys of :func:`fit` is :func:`analyze`. The virtual-lab
 study (``allan-test`` record, recovery over seeds) is :mod:`inertialab.studies.allan`.
 """
 
@@ -29,7 +29,7 @@ from inertialab.noise.terms import (
 )
 
 #: Largest magnitude accepted in a record: squares and sums of larger values overflow
-#: float64 (1e154 squared is 1e308); no sensor output comes near it (issue 19 item 7).
+#: float64 (1e154 squared is 1e308); no sensor output comes near it.
 MAX_MAGNITUDE = 1e100
 
 
@@ -153,7 +153,7 @@ def prepare_log(record, *, column: str | None = None, rate_hz: float | None = No
         InputError naming the rows.
     input : {"rate", "angle"}
         ``"angle"`` reads a cumulative ``theta_*`` column (phase analogue).
-        ``dtheta_*`` increments are divided by tau0 (CONTRACTS.md "Records").
+        ``dtheta_*`` increments are divided by tau0 (docs/records.md).
     """
     path = record.path
     if input not in ("rate", "angle"):
@@ -236,7 +236,7 @@ _CLOCK_NAMES = {"phase": ("phase", "x", "tie", "time_error"),
 def clock_log(values, *, input: str, unit: str | None, rate_hz: float,
               nominal_hz: float | None = None, column: str = "", path: str = "",
               sha256: str | None = None) -> LogData:
-    """A clock series as a :class:`LogData` in its own units (issue 15 item 1).
+    """A clock series as a :class:`LogData` in its own units.
 
     Parameters
     ----------
@@ -416,7 +416,7 @@ class AllanAnalysis:
             self.unit, f"{self.unit}*s")
 
     def statistic_json(self, r: DeviationResult) -> dict:
-        """The issue-3 JSON object of one statistic."""
+        """The JSON object of one statistic (docs/allan.md)."""
         terms = None
         if self.terms is not None:
             terms = {k: t.to_dict() for k, t in self.terms.terms().items()}
@@ -432,7 +432,7 @@ class AllanAnalysis:
         return out
 
     def to_json(self) -> dict:
-        """One statistic: its object; several: ``{"results": [...]}`` (issue 3 item 6)."""
+        """One statistic: its object; several: ``{"results": [...]}``."""
         objs = [self.statistic_json(r) for r in self.results]
         return objs[0] if len(objs) == 1 else {"results": objs}
 
@@ -490,8 +490,8 @@ def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: st
     method : {"wls", "ols", "slope"}, default "wls"
         Noise-term method (:func:`inertialab.noise.terms.fit_noise_terms`).
     fit_terms : bool or None, default None
-        Fit the IMU noise terms (None: yes for gyro/accelerometer logs, no for a clock,
-        issue 15 item 1); a curve too short for them (fewer than 3 taus in [tau0, T/8])
+        Fit the IMU noise terms (None: yes for gyro/accelerometer logs, no for a
+        clock); a curve too short for them (fewer than 3 taus in [tau0, T/8])
         gives ``terms=None`` and a DataQualityWarning instead of an error.
     bias_correction : bool or None, default None
         Stable32's bias corrections of TOTDEV, MTOT, TTOT, HTOT and Theo1
@@ -553,7 +553,7 @@ def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: st
     _check_magnitude(log.values, log.column)
     for s in names:
         results.append(one(s))
-    for r in results:  # finite input must give finite output (issue 19 item 5)
+    for r in results:  # finite input must give finite output
         if np.isinf(np.asarray(r.dev, dtype=float)).any():
             raise InputError(f"{r.statistic} overflowed to infinity: the record holds values "
                              "too large for the arithmetic (e.g. a 1e308 cell)",
@@ -580,7 +580,7 @@ def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: st
             if why:
                 warnings.warn(f"column '{log.column}': {why}", DataQualityWarning,
                               stacklevel=2)
-    if terms is not None:  # rate records: noise types follow the fitted model (issue 14 item 5)
+    if terms is not None:  # rate records: noise types follow the fitted model
         results = [model_intervals(r, terms) if r.statistic in _MODEL_EDF_STATS else r
                    for r in results]
     n = results[0].n_samples
@@ -594,7 +594,7 @@ def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: st
                                        "fit_terms": bool(fit_terms)} if clock else {})})
 
 
-#: The workflow verbs (issue 13): prepare(record) -> LogData, fit(data, ...) -> AllanAnalysis.
+#: The workflow verbs: prepare(record) -> LogData, fit(data, ...) -> AllanAnalysis.
 prepare = prepare_log
 fit = analyze
 

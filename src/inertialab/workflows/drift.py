@@ -322,7 +322,7 @@ def fit_drift(frame: pd.DataFrame, *, meta: dict | None = None,
     ----------
     frame : validated ``storage_drift`` record (``Record.data``)
     meta : sidecar (``t0``, ``k_ref``, ``tol_bias_ug``/``tol_sf_ppm`` if the settings
-        keep the defaults, see CONTRACTS.md "drift")
+        keep the defaults, see docs/drift.md)
     settings : :class:`DriftSettings`
     quantities : which of "bias", "sf" (a quantity absent from the record is skipped
         when both are asked for)
@@ -436,7 +436,7 @@ def evaluate(record, settings: DriftSettings = DriftSettings(), *, quantities=("
 
 # ---------------------------------------------------------------------------- apply
 
-#: Output columns of :func:`apply` (units in the names; DESIGN "Records").
+#: Output columns of :func:`apply` (units in the names, docs/records.md).
 APPLY_STATUS = {0: "forecast used", 1: "on or before the origin: calibrated value used"}
 
 

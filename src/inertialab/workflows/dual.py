@@ -163,7 +163,7 @@ def prepare(record, *, g_local: float | None = None) -> Reduced:
                        record.meta, path=path, run_id=run_id, g_local=g_local,
                        dmm_range_v=rng_v)
     unsorted = [name for k, name in ((0, "CCW"), (1, "CW")) if np.any(np.diff(t[d == k]) < 0)]
-    if unsorted:  # CONTRACTS.md: per-test tables are sorted, with a warning
+    if unsorted:  # per-test tables are sorted, with a warning
         red = replace(red, warnings=red.warnings + (
             f"{path}: the {' and '.join(unsorted)} rows were not in time order; sorted by t_s",))
     return red

@@ -160,7 +160,7 @@ def prepare_samples(frame: pd.DataFrame, config: ThermalConfig | None = None, *,
 
 
 
-#: Plausibility limits of a thermal tumble (issue 19 item 5) [ours]: a 55 °C tumble that
+#: Plausibility limits of a thermal tumble [ours]: a 55 °C tumble that
 #: leaves more than 10 mg rms around eq. 1 (a healthy one leaves µg), or a sample whose
 #: output differs from the 55 °C model by more than 1 g (the seed's drift is 5 mg), is
 #: not a temperature drift but a broken cell; refusing it keeps NaN and nonsense out of
@@ -445,8 +445,7 @@ def fit_thermal(samples: ThermalSamples, config: ThermalConfig | None = None, *,
     Random streams: ``SeedSequence(config.seed)`` spawns the split stream and a model
     stream; each (fold, method) draws from its own child of the model stream keyed by
     the fold index and the method's *name* (:func:`method_stream`), so a model gets the
-    same numbers whether it is fitted alone or beside others, in any order (issue 18
-    item 2).
+    same numbers whether it is fitted alone or beside others, in any order.
     """
     cfg = (config or ThermalConfig()).validate()
     progress = progress or NullProgress()

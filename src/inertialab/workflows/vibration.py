@@ -1,6 +1,6 @@
-"""Workflow ``vibration``: FOG errors under linear vibration (spec 001, issue 4).
+"""Workflow ``vibration``: FOG errors under linear vibration (spec 001).
 
-Verbs (issue 13): :func:`prepare` (a ``gyro_log`` record -> validated, segmented
+Verbs: :func:`prepare` (a ``gyro_log`` record -> validated, segmented
 :class:`~inertialab.calib.vibration.VibrationRun`), :func:`fit` (sweep and optional fixed
 run -> :class:`VibrationResult` with the fitted
 :class:`~inertialab.calib.vibration.VibrationModel`), :func:`apply` (model + record ->
@@ -67,7 +67,7 @@ __all__ = [
 ]
 
 TERMS = ("Q", "N", "B", "K", "R")
-#: Report units of the five terms (CONTRACTS.md "noise").
+#: Report units of the five terms (docs/vibration.md).
 TERM_UNITS = {"Q": "arcsec", "N": "deg/sqrt(h)", "B": "deg/h", "K": "deg/h/sqrt(h)",
               "R": "deg/h^2"}
 _UNIFORM_TOL = 1e-6
@@ -262,7 +262,7 @@ class VibrationConfig:
         J (seed: 10).
     spread, goal : float, default 1.2 and 1e-4
         RBF settings of the seed; ``spread="validate"`` picks it from ``spread_grid`` by
-        the held-out RMSE on the even bins (issue 18 item 6; the seed "tuned 1.2 after many
+        the held-out RMSE on the even bins (the seed "tuned 1.2 after many
         validations"), reported in ``fit["rbf"]["spread_selection"]``.
     centers : str, default="max_error"
         RBF centre selection (seed wording "random fixed"; spec default newrb's).
@@ -347,7 +347,7 @@ class VibrationResult:
     settings: dict
 
     def to_json(self) -> dict:
-        """The issue's ``--json`` keys, verbatim."""
+        """The ``--json`` keys of ``vibration fit`` (docs/vibration.md)."""
         return {
             "level": int(self.level),
             "delta_j": {str(j): float(d) for j, d in self.level_selection.delta.items()},
@@ -390,7 +390,7 @@ def _fit_block(targets: BiasTargets, cfg: VibrationConfig, level: int, run: Vibr
     odd = targets.bin_index % 2 == 1
     selection = None
     spread = cfg.spread
-    if spread == "validate":  # issue 18 item 6: the spread with the least held-out RMSE
+    if spread == "validate":  # the spread with the least held-out RMSE
         selection = select_spread(f, e, odd, grid=cfg.spread_grid, goal=cfg.goal,
                                   centers=cfg.centers, max_neurons=cfg.max_neurons,
                                   rng=cfg.rng)
@@ -544,7 +544,7 @@ def analyse(sweep: VibrationRun, fixed: VibrationRun | None = None,
         metrics["decomposition_physical"][f"{rname}/A{level}"] = noise_terms_row(
             sigs[f"A{level}"], r.fs_hz, method="wls", tau_min_s=tmin_phys)
     metrics["tau_ranges_s"]["A_L_physical_min"] = tmin_phys
-    # issue 18 item 5: bias and 10-s stability per phase of the raw records
+    # bias and 10-s stability per phase of the raw records
     metrics["raw_phases"] = {rname: phase_stats(r.rate_dph, r) for rname, r in runs.items()}
 
     # 6: targets and models
