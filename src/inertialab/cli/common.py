@@ -38,6 +38,7 @@ __all__ = [
     "atomic_write_text",
     "collect_warnings",
     "emit_json",
+    "envelope",
     "file_sha256",
     "json_ready",
     "output_file",
@@ -63,13 +64,14 @@ def json_ready(obj, path: str = "", nulls: list[str] | None = None):
     return to_jsonable(obj, nulls=nulls, path=path)
 
 
-def emit_json(command: str, payload: dict, *, inputs=(), settings: dict | None = None,
-              units: dict | None = None, warnings_: list[str] | None = None,
-              stream=None) -> dict:
-    """Print the one JSON object of a command on stdout (and return it).
-
-    ``inputs`` are paths (hashed here) or ``{"path", "sha256"}`` dicts.
-    """
+def envelope(command: str, payload: dict, *, inputs=(), settings: dict | None = None,
+             units: dict | None = None, warnings_: list[str] | None = None,
+             meta: dict | None = None) -> dict:
+    """The one JSON object of a command: ``command``, ``schema_version``,
+    ``inertialab_version``, ``dependencies``, ``inputs`` (paths are hashed here;
+    ``{"path", "sha256"}`` dicts pass through), ``settings``, ``units``, ``warnings``,
+    ``meta`` (when given: ``timestamps``), then the payload's keys, and
+    ``non_estimable`` listing the keys whose non-finite numbers became null."""
     ins = []
     for item in inputs:
         if isinstance(item, dict):
@@ -89,9 +91,20 @@ def emit_json(command: str, payload: dict, *, inputs=(), settings: dict | None =
         "units": dict(units or {}),
         "warnings": list(warnings_ or []),
     }
+    if meta is not None:
+        obj["meta"] = json_ready(meta)
     obj.update(body)
     if nulls:
         obj["non_estimable"] = nulls
+    return obj
+
+
+def emit_json(command: str, payload: dict, *, inputs=(), settings: dict | None = None,
+              units: dict | None = None, warnings_: list[str] | None = None,
+              stream=None) -> dict:
+    """Print the :func:`envelope` of a command on stdout (and return it)."""
+    obj = envelope(command, payload, inputs=inputs, settings=settings, units=units,
+                   warnings_=warnings_)
     text = json.dumps(obj, indent=2, allow_nan=False)
     (stream or sys.stdout).write(text + "\n")
     return obj
