@@ -19,8 +19,10 @@ with ``--json`` or writes it as ``--out DIR/result.json`` (with the models and f
 of the result); otherwise it prints the result's summary tables.
 
 A result (from the workflow) provides ``to_json()`` (its keys), ``settings`` and
-``units`` (dicts), ``artifacts()`` (``{"models": [(file name, model, units)]}``) and
-``summary_rows()`` (a list of ``(title, columns, rows)``).
+``units`` (dicts), ``artifacts()`` (``{"models": [(file name, model, units)], "files":
+{file name: text}}``) and ``summary_rows()`` (a list of ``(title, columns, rows)``
+tables and plain lines); ``sha256``, the training record's canonical hash, goes into the
+model files.
 """
 
 from __future__ import annotations
@@ -97,8 +99,12 @@ class Run:
 
             sys.stdout.write(json.dumps(env, indent=2, allow_nan=False) + "\n")
             return env
-        for title, columns, rows in result.summary_rows():
-            print_table(columns, rows, title=title)
+        for item in result.summary_rows():
+            if isinstance(item, str):
+                print(item)
+            else:
+                title, columns, rows = item
+                print_table(columns, rows, title=title)
         if out_dir is not None:
             print(f"written: {out_dir}")
         return env
@@ -107,10 +113,13 @@ class Run:
     def _write(out_dir, result, env, figures, after) -> None:
         from inertialab.io import save_model
 
-        sha = next((i.get("sha256") for i in env["inputs"] if isinstance(i, dict)), None)
-        for name, model, units in result.artifacts().get("models", ()):
+        sha = getattr(result, "sha256", None)  # the training record's canonical hash
+        art = result.artifacts()
+        for name, model, units in art.get("models", ()):
             save_model(model, out_dir / name, units=units, training_data_sha256=sha,
                        settings=env["settings"])
+        for name, text in art.get("files", {}).items():
+            atomic_write_text(out_dir / name, text)
         atomic_write_text(out_dir / "result.json",
                           json.dumps(json_ready(env), indent=2, allow_nan=False) + "\n")
         if figures is not None:

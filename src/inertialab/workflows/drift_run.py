@@ -124,6 +124,7 @@ class FitResult:
 
     fit: object
     settings: dict
+    sha256: str | None = None
     units = UNITS
 
     def to_json(self) -> dict:
@@ -161,7 +162,7 @@ def run_fit(record, config: FitConfig, *, progress=None) -> FitResult:
                  origin_day=c.origin_day, progress=progress)
     sett = {**c.to_dict(), "hidden_grid": None if grid is None else list(grid),
             "tol_bias_ug": tb, "tol_sf_ppm": ts}
-    return FitResult(fit=fit, settings=sett)
+    return FitResult(fit=fit, settings=sett, sha256=record.sha256)
 
 
 @dataclass
