@@ -131,6 +131,8 @@ def drift_forecast(model: Path = typer.Argument(..., help="model.json written by
     """Forecast again from a saved storage-drift model."""
     from inertialab.workflows.registries import load_model
 
+    if horizon is not None:
+        wf.check_horizon(horizon)  # before any work
     run.execute("drift forecast", lambda bar: wf.run_forecast(
         load_model(model, expected_type="storage-drift"), horizon), inputs=[model])
 

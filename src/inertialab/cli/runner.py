@@ -82,7 +82,8 @@ class Run:
     def execute(self, command: str, produce, *, inputs=(), figures=None, after=None) -> dict:
         """Run ``produce(progress) -> result``, then write, print or emit (module
         docstring). ``figures(result)`` gives the figures written to ``--out``;
-        ``after(result, out_dir)`` writes anything else there. Returns the envelope."""
+        ``after(result, out_dir)`` writes anything else there; ``inputs`` may be a
+        function of the result (to name a record's canonical hash). Returns the envelope."""
         out_dir = prepare_out_dir(self.out) if self.out is not None else None
         started, t0 = _utc(), time.perf_counter()
         with collect_warnings(quiet=self.quiet or self.as_json) as warns:
@@ -90,6 +91,8 @@ class Run:
                 result = produce(bar)
         meta = {"timestamps": {"started_utc": started, "finished_utc": _utc(),
                                "wall_s": round(time.perf_counter() - t0, 6)}}
+        if callable(inputs):
+            inputs = inputs(result)
         env = envelope(command, result.to_json(), inputs=inputs, settings=result.settings,
                        units=result.units, warnings_=warns, meta=meta)
         if out_dir is not None:
@@ -116,6 +119,8 @@ class Run:
         sha = getattr(result, "sha256", None)  # the training record's canonical hash
         art = result.artifacts()
         for name, model, units in art.get("models", ()):
+            if "/" in name:
+                (out_dir / name).parent.mkdir(parents=True, exist_ok=True)
             save_model(model, out_dir / name, units=units, training_data_sha256=sha,
                        settings=env["settings"])
         for name, text in art.get("files", {}).items():

@@ -12,13 +12,15 @@ from inertialab.config import Config, setting
 from inertialab.errors import InputError
 from inertialab.workflows import drift as wf
 
-__all__ = ["Config", "EvaluateConfig", "FitConfig", "UNITS", "run_apply", "run_evaluate", "run_fit",
+__all__ = ["Config", "EvaluateConfig", "FitConfig", "UNITS", "check_horizon", "run_apply", "run_evaluate", "run_fit",
            "run_forecast"]
 
 #: Units of the numeric keys of the drift commands' JSON.
 UNITS = {"bias": "ug", "sf": "ppm", "day": "day", "order": "1", "cv_scores": "1",
          "ljung_box_p": "1", "recalibration_day": "day", "tolerance": "ug (bias) | ppm (sf)",
          "k_ref": "mA/g", "skill_vs_persistence": "1"}
+#: The forecast horizon check (1 .. 1000 grid steps), for callers that check first.
+check_horizon = wf.check_horizon
 _QUANTITIES = {"both": ("bias", "sf"), "bias": ("bias",), "sf": ("sf",)}
 
 
