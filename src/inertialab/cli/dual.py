@@ -24,7 +24,7 @@ from inertialab.cli.common import (
 from inertialab.cli.options import JsonOpt, OutDirOpt, QuietOpt, reading_options
 from inertialab.errors import InputError
 from inertialab.io.mapping import ReadOptions
-from inertialab.sensors.dual_meter import PAPER_ALIASES
+from inertialab.workflows.dual import PAPER_ALIASES
 
 _SCALE = {"KA0": (1e6, "ug"), "KB0": (1e6, "ug"), "kA1": (1e6, "ppm"),
           "kB1": (1e6, "ppm"), "eta": (1e6, "urad"), "KA2": (1e6, "ug/g^2"),
@@ -168,10 +168,9 @@ def simulate_dual(
     as_json: JsonOpt = False,
 ):
     """Write a virtual dual-tumble record (S5 writes <stem>_orient2 too)."""
-    from inertialab.calib.dual_prior import prior_from_history
     from inertialab.io import write_record
     from inertialab.sim.dual import scenario_config, simulate_run, simulate_two_orientation
-    from inertialab.workflows.dual import UNITS
+    from inertialab.workflows.dual import UNITS, prior_from_history
 
     kw = {}
     if h is not None:
