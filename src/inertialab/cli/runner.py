@@ -144,9 +144,9 @@ def _hints(cls) -> dict:
 def _option(f: dataclasses.Field, meta: dict, hint) -> inspect.Parameter:
     text = meta["help"] + (f" [{meta['unit']}]" if meta.get("unit") else "")
     default = None if f.default is dataclasses.MISSING else f.default
+    decl = "/".join("--" + part for part in meta["flag"].split("/"))  # "a/no-a": a switch
     return inspect.Parameter(f.name, inspect.Parameter.KEYWORD_ONLY, default=default,
-                             annotation=Annotated[hint, typer.Option("--" + meta["flag"],
-                                                                     help=text)])
+                             annotation=Annotated[hint, typer.Option(decl, help=text)])
 
 
 def config_command(config_cls, *, out: str | None = "dir"):
@@ -156,7 +156,7 @@ def config_command(config_cls, *, out: str | None = "dir"):
     hints = _hints(config_cls)
     fields = [(f, m) for f, m in config_cls.fields() if m["cli"]]
     for f, m in fields:
-        FLAG_OF.setdefault(f.name, "--" + m["flag"])
+        FLAG_OF.setdefault(f.name, "--" + m["flag"].split("/")[0])
     params = [_option(f, m, hints[f.name]) for f, m in fields]
     common = dict(_COMMON)
     if out is not None:
