@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 from inertialab.errors import InputError
 
-__all__ = ["Config", "setting"]
+__all__ = ["Config", "seed_setting", "setting"]
 
 _KEY = "inertialab"
 
@@ -42,6 +42,11 @@ def setting(default=dataclasses.MISSING, *, help: str, flag: str | None = None,
     if default_factory is not dataclasses.MISSING:
         return dataclasses.field(default_factory=default_factory, metadata=meta)
     return dataclasses.field(default=default, metadata=meta)
+
+
+def seed_setting(help: str = "Random seed (same seed, same numbers)."):
+    """The ``seed`` setting every seeded workflow declares (a non-negative integer)."""
+    return setting(0, help=help, lo=0, hi=2**63 - 1)
 
 
 def _describe(v) -> str:

@@ -14,7 +14,7 @@ from pathlib import Path
 import typer
 
 from inertialab.cli.common import emit_json
-from inertialab.cli.options import reading_options
+from inertialab.cli.options import JsonOpt, SeedOpt, reading_options
 from inertialab.cli.runner import config_command
 from inertialab.errors import InputError
 from inertialab.io.mapping import ReadOptions
@@ -86,10 +86,10 @@ def register(app: typer.Typer, groups: dict) -> None:
                                                                   "tactical."),
         hours: float = typer.Option(1.0, "--hours", help="Record length in hours."),
         rate: float = typer.Option(10.0, "--rate", help="Output rate in Hz."),
-        seed: int = typer.Option(0, "--seed", help="Random seed."),
+        seed: SeedOpt = 0,
         out: Path = typer.Option(..., "--out", help="Record file (.csv or .parquet); the "
                                                     "sidecar is written beside it."),
-        as_json: bool = typer.Option(False, "--json", help="Print a summary as JSON."),
+        as_json: JsonOpt = False,
     ):
         """A FOG at rest (spec 001 §6.2 noise model) with known Q N B K R."""
         from inertialab.io import write_record

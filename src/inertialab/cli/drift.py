@@ -12,7 +12,7 @@ from pathlib import Path
 import typer
 
 from inertialab.cli.common import emit_json
-from inertialab.cli.options import JsonOpt, reading_options
+from inertialab.cli.options import JsonOpt, SeedOpt, reading_options
 from inertialab.cli.runner import config_command
 from inertialab.errors import InputError
 from inertialab.io.mapping import ReadOptions
@@ -141,7 +141,7 @@ def simulate_storage(
     preset: str = typer.Option("paper", "--preset", help="paper | nav"),
     units: int = typer.Option(12, "--units", help="Number of accelerometers."),
     days: int = typer.Option(120, "--days", help="Programme length in days."),
-    seed: int = typer.Option(0, "--seed", help="Seed (units spawned from it)."),
+    seed: SeedOpt = 0,
     no_outliers: bool = typer.Option(False, "--no-outliers", help="No ±8σ outliers."),
     missing_prob: float = typer.Option(None, "--missing-prob",
                                        help="Probability a day is missing (default 0.05)."),

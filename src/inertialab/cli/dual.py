@@ -21,7 +21,7 @@ from inertialab.cli.common import (
     print_table,
     write_figures,
 )
-from inertialab.cli.options import JsonOpt, OutDirOpt, QuietOpt, reading_options
+from inertialab.cli.options import JsonOpt, OutDirOpt, QuietOpt, SeedOpt, reading_options
 from inertialab.errors import InputError
 from inertialab.io.mapping import ReadOptions
 from inertialab.workflows.dual import PAPER_ALIASES
@@ -159,7 +159,7 @@ def dual_design(
 def simulate_dual(
     out: Path = typer.Option(..., "--out", help="Record file (.csv or .parquet)."),
     scenario: str = typer.Option("S1", "--scenario", help="S0 ... S5 (spec 003 §6.4)."),
-    seed: int = typer.Option(20240603, "--seed", help="Random seed."),
+    seed: SeedOpt = 20240603,
     h: float = typer.Option(None, "--h", help="Head-error scale (S2 sweep; default 1)."),
     positions: int = typer.Option(None, "--positions", help="Positions per pass (S4)."),
     draw_unit: bool = typer.Option(False, "--draw-unit",

@@ -18,7 +18,7 @@ from inertialab.cli.common import (
     collect_warnings,
     emit_json,
 )
-from inertialab.cli.options import JsonOpt, QuietOpt, reading_options
+from inertialab.cli.options import JsonOpt, QuietOpt, SeedOpt, reading_options
 from inertialab.cli.runner import config_command
 from inertialab.errors import InputError
 from inertialab.io.mapping import ReadOptions
@@ -192,7 +192,7 @@ def simulate_triaxial(
                                  help="sphere1000-clean | sphere100-clean | sphere1000-noisy | "
                                       "turntable62 | turntable62-mount | turntable62-realistic | "
                                       "sixface | rawlog62 | rawlog62-gyro | rawlog62-counts | line5000"),
-    seed: int = typer.Option(0, "--seed", help="Random seed."),
+    seed: SeedOpt = 0,
     g_local: float = typer.Option(9.8, "--g-local", help="Gravity of the virtual rig, m/s^2 "
                                                          "(paper: 9.8)."),
     n_units: int = typer.Option(5000, "--n-units", help="Units in line5000."),
@@ -235,7 +235,7 @@ def simulate_triaxial(
 def simulate_ferraris(
     out: Path = typer.Option(..., "--out", help="Record file (.csv or .parquet); the true "
                                                 "sections go to <stem>.sections.json."),
-    seed: int = typer.Option(0, "--seed", help="Random seed."),
+    seed: SeedOpt = 0,
     placement_deg: float = typer.Option(2.0, "--placement-deg",
                                         help="Hand-placement tilt per axis, deg (1 sigma)."),
     angle_sigma_deg: float = typer.Option(1.0, "--angle-sigma-deg",

@@ -16,7 +16,7 @@ from inertialab.cli.common import (
     collect_warnings,
     emit_json,
 )
-from inertialab.cli.options import JsonOpt, QuietOpt, reading_options
+from inertialab.cli.options import JsonOpt, QuietOpt, SeedOpt, reading_options
 from inertialab.cli.runner import config_command
 from inertialab.errors import InputError
 from inertialab.io.mapping import ReadOptions
@@ -104,7 +104,7 @@ def register(app: typer.Typer, groups: dict) -> None:
         experiment: str = typer.Option("fixed", "--experiment",
                                        help="sweep (E1, 1-500 Hz log sweep) | fixed (E2, "
                                             "500 Hz)."),
-        seed: int = typer.Option(0, "--seed", help="Random seed."),
+        seed: SeedOpt = 0,
         preset: str = typer.Option("mid", "--preset", help="FOG grade: mid | nav | tactical."),
         out: Path = typer.Option(..., "--out", help="Record file (.csv or .parquet); the "
                                                     "sidecar is written beside it."),
@@ -118,7 +118,7 @@ def register(app: typer.Typer, groups: dict) -> None:
                                                           "(default 5)."),
         sweep_rate: float = typer.Option(None, "--sweep-oct-per-min",
                                          help="Sweep rate, octaves per minute (default 1)."),
-        as_json: bool = typer.Option(False, "--json", help="Print a summary as JSON."),
+        as_json: JsonOpt = False,
     ):
         """Simulate a FOG on a linear shaker (spec 001 §6): three phases, §2.2 record."""
         from inertialab.io import write_record

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from inertialab.config import Config, setting
+from inertialab.config import Config, seed_setting, setting
 from inertialab.errors import InputError
 from inertialab.workflows import drift as wf
 
@@ -80,7 +80,7 @@ class FitConfig(_Common):
     max_gap: int = setting(3, help="Longest gap (steps) interpolated.", lo=0, hi=36_500)
     hampel: bool = setting(False, help="Hampel outlier screen (spec 004 §2.2).")
     arima: bool = setting(False, help="Add the ARIMA-by-AIC baseline (slow).")
-    seed: int = setting(0, help="Seed of the restarts and bootstrap paths.", lo=0, hi=2**63 - 1)
+    seed: int = seed_setting("Seed of the restarts and bootstrap paths.")
 
 
 @dataclass(frozen=True)
@@ -93,7 +93,7 @@ class EvaluateConfig(_Common):
     direct: bool = setting(False, help="Add the direct strategy (one net per step; K x R "
                                        "fits per origin).")
     max_gap: int = setting(3, help="Longest gap (steps) interpolated.", lo=0, hi=36_500)
-    seed: int = setting(0, help="Seed of the restarts.", lo=0, hi=2**63 - 1)
+    seed: int = seed_setting("Seed of the restarts.")
 
 
 def _unit_payload(r) -> dict:

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from inertialab.config import Config, setting
+from inertialab.config import Config, seed_setting, setting
 from inertialab.errors import InputError
 from inertialab.units import THERMAL_UNITS
 from inertialab.workflows import thermal as wf
@@ -57,7 +57,7 @@ class FitConfig(Config):
     step: float = setting(0.10, help="IAFSA initial step, unit-cube units (0.10).")
     try_number: int = setting(5, help="IAFSA prey attempts (5).", lo=1, hi=10_000)
     crowd: float = setting(0.618, help="IAFSA crowd factor (0.618).")
-    seed: int = setting(0, help="Random seed (same seed, same numbers).", lo=0, hi=2**63 - 1)
+    seed: int = seed_setting("Random seed (same seed, same numbers).")
 
     def thermal_config(self) -> wf.ThermalConfig:
         methods = methods_from(self.method)

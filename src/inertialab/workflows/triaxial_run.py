@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from inertialab.calib.triaxial_checks import Limits
-from inertialab.config import Config, setting
+from inertialab.config import Config, seed_setting, setting
 from inertialab.errors import InputError
 from inertialab.workflows import ferraris as wfr
 from inertialab.workflows import triaxial as wf
@@ -73,7 +73,7 @@ class FitConfig(Config):
                                      hi=1e6)
     force: bool = setting(False, help="Write a non-identifiable or implausible calibration "
                                       "anyway, flagged (apply then needs force too).")
-    seed: int = setting(0, help="Random seed (same seed, same numbers).", lo=0, hi=2**63 - 1)
+    seed: int = seed_setting("Random seed (same seed, same numbers).")
 
     def fit_config(self, method: str) -> wf.Config:
         return wf.Config(method=method, objective=self.objective, seed=self.seed,

@@ -9,7 +9,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from inertialab.calib.vibration import UNITS as MODEL_UNITS
-from inertialab.config import Config, setting
+from inertialab.config import Config, seed_setting, setting
 from inertialab.errors import InputError
 from inertialab.workflows import vibration as wf
 
@@ -69,7 +69,7 @@ class FitConfig(Config):
                                              "all.")
     targets: str = setting("bins", help="E1 training pairs: bins (1-Hz bin means) | samples "
                                         "(every 2^L-th sample).", choices=("bins", "samples"))
-    seed: int = setting(0, help="Random seed (same seed, same numbers).", lo=0, hi=2**63 - 1)
+    seed: int = seed_setting("Random seed (same seed, same numbers).")
 
     def vibration_config(self, *, views: bool) -> wf.VibrationConfig:
         return wf.VibrationConfig(level=_level(self.level), spread=_spread(self.spread),
