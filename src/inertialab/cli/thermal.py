@@ -10,7 +10,6 @@ from typing import Annotated
 import typer
 
 from inertialab.cli.common import (
-    atomic_write_text,
     collect_warnings,
     emit_json,
     prepare_out_dir,
@@ -146,16 +145,15 @@ def register(app: typer.Typer, groups: dict) -> None:
         read: ReadOptions | None = None,
     ):
         """Export a fuzzy thermal model as dependency-free C99 (inputs clamped, status flag)."""
+        from inertialab.io.exporters import get
         from inertialab.workflows.registries import load_model
         from inertialab.workflows.thermal import export
 
         mdl = load_model(model, expected_type="thermal-compensation")
         rec = _read(unit_record, read) if unit_record is not None else None
         ex = export(mdl, prefix=prefix, unit_record=rec)
-        out_dir = prepare_out_dir(c)
-        atomic_write_text(out_dir / ex.header_name, ex.header)
-        atomic_write_text(out_dir / ex.source_name, ex.source)
-        payload = {"files": [str(out_dir / ex.header_name), str(out_dir / ex.source_name)],
+        files = get("thermal", "c99").write(ex, prepare_out_dir(c))
+        payload = {"files": files,
                    "n_rules": ex.n_rules, "exp_calls": ex.exp_calls, "flops": ex.flops,
                    "functions": [f"{prefix}_comp_mV", f"{prefix}_comp_g"],
                    "mapped_unit": None if rec is None else ex.unit_id}
