@@ -22,7 +22,8 @@ A result (from the workflow) provides ``to_json()`` (its keys), ``settings`` and
 ``units`` (dicts), ``artifacts()`` (``{"models": [(file name, model, units)], "files":
 {file name: text}}``) and ``summary_rows()`` (a list of ``(title, columns, rows)``
 tables and plain lines); ``sha256``, the training record's canonical hash, goes into the
-model files.
+model files; ``warnings`` (optional) are the result's own warning lines, reported with
+the Python warnings raised while it ran.
 """
 
 from __future__ import annotations
@@ -93,6 +94,13 @@ class Run:
                                "wall_s": round(time.perf_counter() - t0, 6)}}
         if callable(inputs):
             inputs = inputs(result)
+        own = [w for w in getattr(result, "warnings", ()) if not any(w in x for x in warns)]
+        if own and not (self.quiet or self.as_json):  # the result's own, not Python warnings
+            import sys
+
+            for w in own:
+                sys.stderr.write(f"warning: {' '.join(w.split())}\n")
+        warns = list(warns) + own
         env = envelope(command, result.to_json(), inputs=inputs, settings=result.settings,
                        units=result.units, warnings_=warns, meta=meta)
         if out_dir is not None:
