@@ -12,12 +12,13 @@ study (``allan-test`` record, recovery over seeds) is :mod:`inertialab.studies.a
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from inertialab import units
-from inertialab.errors import InputError
+from inertialab.errors import DataQualityWarning, InputError
 from inertialab.noise import registry as stat_registry
 from inertialab.noise.allan import DeviationResult
 from inertialab.noise.family import compute
@@ -470,6 +471,32 @@ def parse_taus(taus: str):
     return vals
 
 
+def _check_finite(results, column) -> None:
+    """Finite input must give finite output: a one-line error naming the statistic."""
+    for r in results:
+        if np.isinf(np.asarray(r.dev, dtype=float)).any():
+            raise InputError(f"{r.statistic} overflowed to infinity: the record holds values "
+                             "too large for the arithmetic (e.g. a 1e308 cell)", column=column)
+
+
+def _noise_terms(oad, log: LogData, *, kind, method: str):
+    """The five noise terms fitted on the OADEV ``oad`` of ``log``; None (with a warning)
+    when the curve is too short for them; a warning too when the record is not static."""
+    why = not_static_reason(oad.taus_s, oad.dev)
+    try:
+        terms = fit_noise_terms(oad, unit=log.unit, kind=kind, method=method,
+                                rate_hz=log.rate_hz, g_local=log.g_local)
+    except InputError as exc:
+        if "taus" not in str(exc):
+            raise
+        warnings.warn(f"column '{log.column}': noise terms not fitted: {exc}",
+                      DataQualityWarning, stacklevel=3)
+        return None
+    if why:
+        warnings.warn(f"column '{log.column}': {why}", DataQualityWarning, stacklevel=3)
+    return terms
+
+
 def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: str | None = None,
             stats=("oadev",), taus="octave", confidence: float = 0.683, method: str = "wls",
             input: str = "rate", kind: str | None = None, alpha=None,
@@ -526,9 +553,6 @@ def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: st
                   chunked=chunked and log.input == "rate")
     gappy = not isinstance(log.values, np.memmap) and bool(np.isnan(log.values).any())
     if gappy:
-        import warnings
-
-        from inertialab.errors import DataQualityWarning
         from inertialab.noise.gaps import count_gaps, gap_deviation
 
         g, miss = count_gaps(log.values)
@@ -553,33 +577,13 @@ def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: st
     _check_magnitude(log.values, log.column)
     for s in names:
         results.append(one(s))
-    for r in results:  # finite input must give finite output
-        if np.isinf(np.asarray(r.dev, dtype=float)).any():
-            raise InputError(f"{r.statistic} overflowed to infinity: the record holds values "
-                             "too large for the arithmetic (e.g. a 1e308 cell)",
-                             column=log.column)
+    _check_finite(results, log.column)
     oad = next((r for r in results if r.statistic == "oadev"), None)
     terms = None
     if fit_terms:
         if oad is None:
             oad = one("oadev", taus="octave")
-        import warnings
-
-        from inertialab.errors import DataQualityWarning
-
-        why = not_static_reason(oad.taus_s, oad.dev)
-        try:
-            terms = fit_noise_terms(oad, unit=log.unit, kind=kind or log.kind, method=method,
-                                    rate_hz=log.rate_hz, g_local=log.g_local)
-        except InputError as exc:
-            if "taus" not in str(exc):
-                raise
-            warnings.warn(f"column '{log.column}': noise terms not fitted: {exc}",
-                          DataQualityWarning, stacklevel=2)
-        else:
-            if why:
-                warnings.warn(f"column '{log.column}': {why}", DataQualityWarning,
-                              stacklevel=2)
+        terms = _noise_terms(oad, log, kind=kind or log.kind, method=method)
     if terms is not None:  # rate records: noise types follow the fitted model
         results = [model_intervals(r, terms) if r.statistic in _MODEL_EDF_STATS else r
                    for r in results]
