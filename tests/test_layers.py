@@ -227,7 +227,7 @@ LONG_FUNCTIONS = {
 }
 MAX_FUNCTION_LINES = 100
 #: Lines of src/inertialab/cli/ (target 2,000; a ceiling that only goes down).
-CLI_MAX_LINES = 2_710
+CLI_MAX_LINES = 2_700
 
 
 def test_cli_imports_no_method_or_model_floor():

@@ -178,8 +178,8 @@ def config_command(config_cls, *, out: str | None = "dir"):
         @functools.wraps(fn)
         def wrapper(*args, **kwargs):
             values = {f.name: kwargs.pop(f.name) for f, _ in fields}
-            run = Run(out=kwargs.pop("out", None), as_json=kwargs.pop("as_json"),
-                      quiet=kwargs.pop("quiet"))
+            run = Run(out=kwargs.pop("out", None) if "out" in common else None,
+                      as_json=kwargs.pop("as_json"), quiet=kwargs.pop("quiet"))
             return fn(*args, config=config_cls(**values).validate(), run=run, **kwargs)
 
         pos = [p for p in own if p.kind != inspect.Parameter.KEYWORD_ONLY]

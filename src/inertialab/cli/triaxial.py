@@ -15,10 +15,9 @@ import typer
 
 from inertialab.cli.common import (
     atomic_write_text,
-    collect_warnings,
     emit_json,
 )
-from inertialab.cli.options import JsonOpt, QuietOpt, SeedOpt, reading_options
+from inertialab.cli.options import JsonOpt, SeedOpt, reading_options
 from inertialab.cli.runner import config_command
 from inertialab.errors import InputError
 from inertialab.io.mapping import ReadOptions
@@ -97,40 +96,29 @@ def _fit_figures(res):
     return figs
 
 
+@config_command(wr.ApplyConfig, out=None)
 def triaxial_apply(
     model_file: Path = typer.Argument(..., help="model.json from 'triaxial fit --out'."),
     file: Path = typer.Argument(..., help="Raw log or static-record file in the model's raw unit."),
     out: Path = typer.Option(..., "--out", help="Output record file (.csv or .parquet); a "
                                                 "sidecar .meta.json is written beside it."),
-    unit: str = typer.Option(None, "--unit", help="Unit of suffix-less ax/ay/az (mps2 | g | lsb)."),
-    force: bool = typer.Option(False, "--force", help="Apply a flagged calibration anyway."),
-    as_json: JsonOpt = False,
-    quiet: QuietOpt = False,
-    read: ReadOptions = None,
+    *, config, run, read: ReadOptions = None,
 ):
     """Apply a triaxial calibration: calibrated = correction_matrix @ (raw - offset)."""
     from inertialab.io import write_record
-    from inertialab.workflows import triaxial as wf
     from inertialab.workflows.registries import load_model
 
     if out.exists() and out.is_dir():
         raise InputError("--out must be a file for this command", path=out)
-    ulower = None if unit is None else unit.lower()
-    with collect_warnings(quiet=quiet or as_json) as warns:
+
+    def produce(bar):
         model = load_model(model_file, expected_type="triaxial-calibration")
-        rec = wf.read(file, options=read, unit=ulower)
-        cal = wf.apply(model, rec, model_path=model_file, force=force)
-        write_record(cal.data, out, cal.meta)
-    cols = [rec.find(b) for b in ("ax", "ay", "az")]
-    gyro_done = wf.gyro_applied(model, rec)
-    summary = {"output": str(out), "rows": int(len(cal.data)), "accelerometer_columns": cols,
-               "gyro_calibrated": gyro_done, "raw_unit": model.raw_unit}
-    if as_json:
-        emit_json("triaxial apply", summary, inputs=[model_file, file],
-                  settings={"unit": ulower, "force": force}, units={}, warnings_=warns)
-        return
-    print(f"written: {out} ({len(cal.data)} rows, calibrated to m/s^2"
-          + (" and rad/s" if gyro_done else "") + ")")
+        res = wr.run_apply(model, file, config, options=read, model_path=model_file,
+                           output=out)
+        write_record(res.data, out, res.meta)
+        return res
+
+    run.execute("triaxial apply", produce, inputs=[model_file, file])
 
 
 @config_command(wr.FerrarisConfig)

@@ -366,3 +366,50 @@ def run_ferraris(record, config: FerrarisConfig, *, name: str = "", progress=Non
                 "force": c.force}
     return FerrarisResult(run=run, session=session, settings=settings, name=name,
                           sha256=record.sha256)
+
+
+# -------------------------------------------------------------------------- apply
+
+@dataclass(frozen=True)
+class ApplyConfig(Config):
+    """Settings of ``triaxial apply``."""
+
+    unit: str | None = setting(None, help="Unit of suffix-less ax/ay/az (mps2 | g | lsb).")
+    force: bool = setting(False, help="Apply a flagged calibration anyway.")
+
+
+@dataclass
+class ApplyResult:
+    """``triaxial apply``: the calibrated record (``data``, ``meta``) and its summary."""
+
+    data: object
+    meta: dict
+    summary: dict
+    settings: dict
+    units = {}
+
+    def to_json(self) -> dict:
+        return dict(self.summary)
+
+    def artifacts(self) -> dict:
+        return {}
+
+    def summary_rows(self) -> list:
+        s = self.summary
+        return [f"written: {s['output']} ({s['rows']} rows, calibrated to m/s^2"
+                + (" and rad/s" if s["gyro_calibrated"] else "") + ")"]
+
+
+def run_apply(model, path, config: ApplyConfig, *, options=None, model_path=None,
+              output=None) -> ApplyResult:
+    """Apply a triaxial calibration to the record at ``path``:
+    calibrated = correction_matrix @ (raw - offset) (and the gyro block)."""
+    c = config.validate()
+    unit = None if c.unit is None else c.unit.lower()
+    rec = wf.read(path, options=options, unit=unit)
+    cal = wf.apply(model, rec, model_path=model_path, force=c.force)
+    summary = {"output": None if output is None else str(output), "rows": int(len(cal.data)),
+               "accelerometer_columns": [rec.find(b) for b in ("ax", "ay", "az")],
+               "gyro_calibrated": wf.gyro_applied(model, rec), "raw_unit": model.raw_unit}
+    return ApplyResult(data=cal.data, meta=cal.meta, summary=summary,
+                       settings={"unit": unit, "force": c.force})
