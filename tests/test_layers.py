@@ -1,6 +1,8 @@
-"""DESIGN.md's floors (docs/architecture.md), read with ast: imports point down only,
-no import circles, sim/ only above workflows, no CLI flag names below cli/, matplotlib
-only in report/, methods never print, no module above 700 lines."""
+"""The floors of docs/architecture.md, read with ast: imports point down only, no import
+circles, no project module imported by string, sim/ only above workflows, no CLI flag
+names below cli/, cli/ imports no method or model floor, matplotlib only in report/,
+methods never print, no module above 700 lines, no function above 100 lines (a shrinking
+list of exceptions), a line budget for cli/."""
 
 import ast
 import re
@@ -11,7 +13,7 @@ SRC = Path(__file__).resolve().parent.parent / "src" / "inertialab"
 # rank: a module may import only modules of lower rank, or of its own package.
 RANK = {
     "units": 0, "errors": 0, "seeding": 0, "__init__": 0, "jsonable": 0, "_blas": 0,
-    "progress": 0, "estimator": 0,
+    "progress": 0, "estimator": 0, "config": 0,
     "io": 1,
     "metrics": 2, "regress": 2, "noise": 2,
     "learn": 3, "optim": 3,
@@ -22,12 +24,12 @@ RANK = {
     "report": 8,
     "cli": 9, "__main__": 9,
 }
-# method packages that must not import each other (DESIGN.md: "learn and optim may import
-# regress; all may import metrics; nothing else crosses"); calib and sim do not cross.
+# method packages that must not import each other ("learn and optim may import regress;
+# all may import metrics; nothing else crosses"); calib and sim do not cross.
 METHODS = {"noise", "learn", "optim", "regress"}
 ALLOWED_CROSS = {("learn", "regress"), ("optim", "regress")}
 NO_CROSS = {("calib", "sim"), ("sim", "calib")}
-# floors that may import sim/ (DESIGN.md: studies/ and cli/ only)
+# floors that may import sim/ (studies/ and cli/ only)
 SIM_USERS = {"sim", "studies", "cli", "__main__"}
 MAX_LINES = 700
 
@@ -184,3 +186,74 @@ def test_no_module_above_700_lines():
     big = [f"{p.relative_to(SRC)}: {n}" for p in SRC.rglob("*.py")
            if (n := len(p.read_text().splitlines())) > MAX_LINES]
     assert not big, "modules above 700 lines:\n" + "\n".join(big)
+
+
+def _string_imports(tree):
+    """Calls that import a module named by a string (``importlib.import_module(...)``,
+    ``__import__(...)``) whose name is a project module."""
+    for node in ast.walk(tree):
+        if not isinstance(node, ast.Call) or not node.args:
+            continue
+        f = node.func
+        name = f.attr if isinstance(f, ast.Attribute) else getattr(f, "id", "")
+        if name not in ("import_module", "__import__"):
+            continue
+        arg = node.args[0]
+        text = arg.value if isinstance(arg, ast.Constant) else ast.unparse(arg)
+        if "inertialab" in str(text):
+            yield node.lineno, str(text)
+
+
+def test_no_project_module_imported_by_string():
+    """Registries and discovery import their modules explicitly, so this test's import
+    graph sees every edge (third-party extras may still be imported by name)."""
+    bad = [f"{modname}:{line}: {text}" for path, modname in _modules()
+           for line, text in _string_imports(ast.parse(path.read_text()))]
+    assert not bad, "project modules imported by string:\n" + "\n".join(bad)
+
+
+# The command line parses, runs one workflow call and writes; it imports no method or
+# model floor.
+CLI_FORBIDDEN = {"calib", "noise", "sensors", "learn", "optim", "regress"}
+#: Functions still above 100 lines, with their current length as a ceiling (split them
+#: and shrink this list; nothing may join it). cli/ has none.
+LONG_FUNCTIONS = {
+    "calib/triaxial.py:calibrate": 112, "noise/_octave.py:octave_sums": 158,
+    "noise/allan.py:deviation": 164, "noise/allan_dask.py:oadev_dask": 109,
+    "sim/dual.py:simulate_run": 116, "sim/ferraris_session.py:simulate_ferraris": 135,
+    "sim/fog_vibration.py:simulate": 120, "sim/thermal_tumble.py:run_tumble": 106,
+    "studies/triaxial.py:run_demo": 117, "workflows/vibration.py:run_from_frame": 108,
+    "workflows/vibration.py:analyse": 125,
+}
+MAX_FUNCTION_LINES = 100
+#: Lines of src/inertialab/cli/ (target 2,000; a ceiling that only goes down).
+CLI_MAX_LINES = 2_700
+
+
+def test_cli_imports_no_method_or_model_floor():
+    bad = []
+    for path, modname in _modules():
+        if _layer(modname) != "cli":
+            continue
+        for imp in _imports(path, modname, is_pkg=path.name == "__init__.py"):
+            if imp.startswith("inertialab.") and _layer(imp) in CLI_FORBIDDEN:
+                bad.append(f"{modname} -> {imp}")
+    assert not bad, "cli/ imports a method or model floor:\n" + "\n".join(sorted(set(bad)))
+
+
+def test_no_function_above_100_lines():
+    bad = []
+    for path in sorted(SRC.rglob("*.py")):
+        rel = path.relative_to(SRC).as_posix()
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                n = node.end_lineno - node.lineno + 1
+                limit = LONG_FUNCTIONS.get(f"{rel}:{node.name}", MAX_FUNCTION_LINES)
+                if n > limit:
+                    bad.append(f"{rel}:{node.name}: {n} lines (at most {limit})")
+    assert not bad, "functions too long:\n" + "\n".join(bad)
+
+
+def test_cli_line_budget():
+    n = sum(len(p.read_text().splitlines()) for p in (SRC / "cli").rglob("*.py"))
+    assert n <= CLI_MAX_LINES, f"cli/ has {n} lines (at most {CLI_MAX_LINES})"

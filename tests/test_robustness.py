@@ -20,7 +20,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from inertialab import InputError
-from inertialab.io import load_model, read_record
+from inertialab.calib.model_types import load_model
+from inertialab.io import read_record
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "docs" / "examples"
 KINDS = {

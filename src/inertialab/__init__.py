@@ -1,6 +1,6 @@
 """inertialab: inertial-sensor test records to noise figures, calibration, models and forecasts.
 
-The package is layered (see DESIGN.md): ``units``, ``errors`` and ``seeding`` at the
+The package is layered (docs/architecture.md): ``units``, ``errors`` and ``seeding`` at the
 bottom; ``io``; the method packages ``noise``, ``learn``, ``optim``, ``regress`` and
 ``metrics``; ``sensors``; ``sim`` (the virtual lab); ``workflows``; ``report``; ``cli``.
 """

@@ -41,10 +41,27 @@ class InputError(ValueError):
         super().__init__(f"{prefix}: {text}" if prefix else text)
 
 
+class OutputError(InputError):
+    """An output cannot be written where it was asked for (exit 2, one line)."""
+
+
+class ImplausibleCalibrationError(InputError):
+    """A fit whose parameters are not identifiable or not physically plausible."""
+
+
+class SchemaError(ValueError):
+    """A model payload does not match its type's schema (``where`` is the key path,
+    e.g. ``.coef[2]``)."""
+
+    def __init__(self, where: str, message: str):
+        self.where = where
+        super().__init__(f"payload{where}: {message}")
+
+
 class NotFittedError(RuntimeError, AttributeError):
     """An estimator's ``predict``/``forecast``/``to_dict`` was called before ``fit``.
 
-    The one such error of every estimator (issue 13); like scikit-learn's
+    The one such error of every estimator; like scikit-learn's
     ``NotFittedError`` it is both a ``RuntimeError`` and an ``AttributeError``.
     """
 

@@ -1,7 +1,7 @@
-"""The estimator contract shared by every learner and calibration model (DESIGN.md
-"Conventions", issue 13), after scikit-learn's: the keyword-only constructor only
-stores its hyper-parameters under their own names, ``fit`` validates, sets
-``attr_`` attributes and returns ``self``, and anything that needs a fit raises
+"""The estimator contract shared by every learner and calibration model, after
+scikit-learn's (its developer guide, "Rolling your own estimator"): the keyword-only
+constructor only stores its hyper-parameters under their own names, ``fit`` validates,
+sets ``attr_`` attributes and returns ``self``, and anything that needs a fit raises
 :class:`~inertialab.errors.NotFittedError` before it.
 
 :class:`Estimator` gives ``get_params``/``set_params`` read from the constructor's

@@ -1,6 +1,6 @@
 """Unit conversions: the only module of inertialab that converts units.
 
-Units travel in column-name suffixes (DESIGN.md "Conventions") and in model files.
+Units travel in column-name suffixes (docs/records.md) and in model files.
 This module knows every suffix, its physical dimension and its factor to the SI
 unit of that dimension, plus the composite units in which noise terms are reported
 (deg/sqrt(h), deg/h/sqrt(h), ug/sqrt(Hz) ...).
@@ -50,7 +50,7 @@ def _u(name, dim, scale, g_power=0):
     return Unit(name, dim, float(scale), g_power)
 
 
-# Column-name suffixes of DESIGN.md, one spelling per unit.
+# Column-name suffixes, one spelling per unit (docs/records.md).
 SUFFIXES: dict[str, Unit] = {
     "s": _u("s", "time", 1.0),
     "ms": _u("ms", "time", 1e-3),
@@ -290,3 +290,24 @@ def unit_suffix_or_error(column: str, *, dimension_: str | None = None, path=Non
             f"unit '{suf}' is a {SUFFIXES[suf].dimension}, expected a {dimension_}",
             path=path, column=column)
     return suf
+
+
+# --------------------------------------------------------------------- clock units
+#: Fractional-frequency units of a clock record (dimensionless) and their factor to the
+#: ratio (NIST SP 1065 section 2: y = (f - f0) / f0).
+CLOCK_RATIO = {"1": 1.0, "ratio": 1.0, "frac": 1.0, "pct": 1e-2, "ppm": 1e-6, "ppb": 1e-9,
+               "ppt": 1e-12}
+#: Phase (time-error) units of a clock record and their factor to seconds.
+CLOCK_TIME = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9, "ps": 1e-12}
+
+# ------------------------------------------------------- thermal study, reported units
+#: Units of the thermal study's reported settings and coefficients (spec 000: the
+#: accelerometer output in mV, its model coefficients K0 .. Kp, the optimiser's unit-cube
+#: parameters and counts).
+THERMAL_UNITS = {"temp": "degC", "output": "mV", "k0": "mV", "k1": "mV/g", "k2": "mV/g^2",
+                 "kip": "mV/g^2", "kp": "mV/g", "wall_s": "s", "fun": "mg", "f_default": "mg",
+                 "radius": "1 (scaled)", "squash": "1", "accept": "1", "reject": "1",
+                 "visual": "1 (unit cube)", "step": "1 (unit cube)",
+                 "visual_min": "1 (unit cube)", "step_min": "1 (unit cube)", "crowd": "1",
+                 "try_number": "1", "n_fish": "1", "max_generations": "1",
+                 "adaptive_exponent": "1", "r_max": "1", "search_epochs": "1"}

@@ -11,8 +11,8 @@ import pytest
 
 from inertialab.calib.drift import DriftModel, DriftSettings, fit_series
 from inertialab.calib.drift_eval import evaluate_rolling_origin
+from inertialab.calib.model_types import load_model
 from inertialab.errors import DataQualityWarning, InputError
-from inertialab.io import load_model
 from inertialab.sim.drift import benchmark_process
 from inertialab.workflows.drift import to_daily_grid
 

@@ -14,8 +14,9 @@ from inertialab.calib.dual import (
     fit_single,
     fit_two_orientation,
 )
+from inertialab.calib.model_types import load_model
 from inertialab.errors import InputError
-from inertialab.io import load_model, save_model
+from inertialab.io import save_model
 from inertialab.sensors.dual_meter import (
     COEF_NAMES,
     estimable_combinations,

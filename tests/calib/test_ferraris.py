@@ -142,7 +142,7 @@ def test_model_fixture_ferraris_v1_still_loads_and_applies():
     # below were printed (10 significant digits) when it was written
     from pathlib import Path
 
-    from inertialab.io import load_model
+    from inertialab.calib.model_types import load_model
 
     path = (Path(__file__).resolve().parents[1] / "data" / "models"
             / "triaxial-calibration-ferraris-v1.json")

@@ -10,6 +10,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from inertialab.calib.model_types import load_model
 from inertialab.calib.thermal import (
     STATUS_N_CLAMPED,
     STATUS_T_CLAMPED,
@@ -21,7 +22,7 @@ from inertialab.calib.thermal import (
     score,
 )
 from inertialab.errors import ExtrapolationWarning, InputError
-from inertialab.io import load_model, save_model
+from inertialab.io import save_model
 from inertialab.sim.thermal_tumble import simulate
 from inertialab.workflows.thermal import fit_thermal, make_splits, prepare_samples
 

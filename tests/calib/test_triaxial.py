@@ -7,10 +7,11 @@ import numpy as np
 import pytest
 
 from inertialab.calib import triaxial as fc
+from inertialab.calib.model_types import load_model
 from inertialab.calib.triaxial_batch import calibrate_batch
 from inertialab.calib.triaxial_session import to_model
 from inertialab.errors import MissingReferenceError, UnderdeterminedError
-from inertialab.io.modelfile import load_model, save_model
+from inertialab.io.modelfile import save_model
 from inertialab.regress.nlls import levenberg_marquardt
 from inertialab.sensors import triaxial as tx
 from inertialab.sim import triaxial_poses as tp

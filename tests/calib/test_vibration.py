@@ -4,6 +4,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from inertialab.calib.model_types import load_model
 from inertialab.calib.vibration import (
     VibrationModel,
     VibrationRun,
@@ -11,7 +12,7 @@ from inertialab.calib.vibration import (
     residual_metrics,
 )
 from inertialab.errors import ExtrapolationWarning, InputError, NotFittedError
-from inertialab.io import load_model, save_model
+from inertialab.io import save_model
 from inertialab.sensors.gyro_vibration import bias_shift_dph
 from inertialab.workflows.vibration import run_from_frame
 

@@ -13,9 +13,9 @@ from inertialab.noise.allan import oadev
 from tests.helpers import run_inprocess as run
 
 ISSUE_KEYS = {"statistic", "tau0_s", "taus_s", "dev", "ci_low", "ci_high", "n_terms", "alpha",
-              "edf", "unit", "noise_terms"}
+              "alpha_source", "edf", "unit", "noise_terms"}
 ENVELOPE = {"command", "schema_version", "inertialab_version", "inputs", "settings", "units",
-            "warnings"}
+            "warnings", "meta"}
 
 
 

@@ -66,7 +66,7 @@ def test_gaps_analysed_or_error_and_split(tmp_path):
 
 
 @pytest.mark.parametrize("extra, pattern", [
-    (("--export", "matlab", "x.yaml"), "kalibr' or 'ros"),
+    (("--export", "matlab", "x.yaml"), "must be one of kalibr, openvins"),
     (("--map", "gz_rps=gz_dps:mps2"), "acceleration"),
     (("--map", "gx_rps=NoSuchCol"), "'NoSuchCol'"),
 ])

@@ -95,7 +95,7 @@ def test_out_dir_and_model_applies_to_a_new_record(records, tmp_path, capsys):
     summary = json.loads(text)
     df = pd.read_csv(comp)
     # independent: the model loaded in Python and applied to the same record
-    from inertialab.io import load_model
+    from inertialab.calib.model_types import load_model
     from inertialab.workflows.vibration import load_run
 
     m = load_model(out / "model.json")

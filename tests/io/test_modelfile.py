@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 
 from inertialab import InputError
-from inertialab.io import load_model, read_envelope, save_model
+from inertialab.calib.model_types import load_model
+from inertialab.io import read_envelope, save_model
 from inertialab.io.modelfile import FORMAT_VERSION
 from inertialab.learn.poly import PolynomialRegressor
 

@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from inertialab.io.modelfile import load_model, save_model
+from inertialab.calib.model_types import load_model
+from inertialab.io.modelfile import save_model
 from inertialab.learn.anfis import ANFIS, StepSizeRule, premise_gradient, train_hybrid
 from inertialab.learn.fis import genfis, grid_fis
 

@@ -156,7 +156,7 @@ def test_model_file_fixture_v1_loads():
     # model-file format version 1 (allan-test, 0.5 h at 10 Hz, seed 1); it must keep loading.
     from pathlib import Path
 
-    from inertialab.io import load_model
+    from inertialab.calib.model_types import load_model
 
     p = Path(__file__).resolve().parents[1] / "data" / "models" / "noise-terms-v1.json"
     t = load_model(p)

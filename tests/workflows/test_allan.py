@@ -14,7 +14,7 @@ from inertialab.noise.allan import oadev
 from inertialab.workflows import allan as W
 
 ISSUE_KEYS = {"statistic", "tau0_s", "taus_s", "dev", "ci_low", "ci_high", "n_terms", "alpha",
-              "edf", "unit", "noise_terms"}
+              "alpha_source", "edf", "unit", "noise_terms"}
 
 
 def _log(tmp_path, df, name="log.csv", meta=None):

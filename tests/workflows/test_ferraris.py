@@ -6,8 +6,9 @@ import warnings
 import numpy as np
 import pytest
 
+from inertialab.calib.model_types import load_model
 from inertialab.calib.triaxial_checks import ImplausibleCalibrationError
-from inertialab.io import load_model, save_model, write_record
+from inertialab.io import save_model, write_record
 from inertialab.sim.ferraris_session import simulate_ferraris
 from inertialab.workflows import ferraris as wf
 from inertialab.workflows import triaxial as wt

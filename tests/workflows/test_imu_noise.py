@@ -92,7 +92,7 @@ def test_kalibr_and_ros_export(imu):
     yaml = pytest.importorskip("yaml")
     assert yaml.safe_load(k)["gyroscope_random_walk"] == pytest.approx(v["gyroscope_random_walk"])
     assert yaml.safe_load(r)["imu0"]["per_axis"]["az"]["noise_density"] > 0
-    with pytest.raises(InputError, match="kalibr' or 'ros"):
+    with pytest.raises(InputError, match="must be one of kalibr, openvins"):
         export_yaml(imu, "matlab")
 
 

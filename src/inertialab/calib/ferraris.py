@@ -1,5 +1,5 @@
 """Ferraris protocol on arrays: six static faces plus one turn about each axis
-(issue 17 item 2; Ferraris et al. 1995; the model imucal documents).
+(Ferraris et al. 1995; the model imucal documents).
 
 Model (raw -> physical)::
 
@@ -35,6 +35,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from inertialab.calib.base import GyroBlock
 from inertialab.calib.triaxial import TriaxialCalibration
 from inertialab.errors import InputError, UnderdeterminedError
 from inertialab.noise.static_intervals import gyro_rest
@@ -126,7 +127,7 @@ class Detection:
 def detect_sections(acc, gyro, fs: float, *, window_s: float = 0.5, min_rest_s: float = 1.5,
                     trim_s: float = 0.2, k_acc: float = 10.0, k_gyro: float = 8.0,
                     turn_tilt_deg: float = 20.0) -> Detection:
-    """Ferraris sections from the accelerometer *and* the gyro (issue 17 item 2).
+    """Ferraris sections from the accelerometer *and* the gyro.
 
     A sample is at rest when the accelerometer's moving variance (``window_s``) is below
     ``k_acc`` times its noise floor (the 10th percentile) and the gyro is within ``k_gyro``
@@ -340,10 +341,12 @@ def fit_ferraris(acc, gyro, fs: float, sections: dict, *, g: float, rotation_deg
 
 def to_model(fit: FerrarisFit, *, acc_unit: str, gyro_unit: str, g: float,
              n_samples: int | None = None) -> TriaxialCalibration:
-    """The Ferraris fit as a :class:`TriaxialCalibration` (``method = "ferraris"``):
-    ``correction_matrix = M_a``, ``offset = b_a``; the gyro block carries ``M_g``,
-    ``b_g`` and ``g_sensitivity`` = K_ga, so that ``apply_gyro(raw, acc)`` gives
-    ``M_g (raw - b_g - K_ga acc)``."""
+    """The Ferraris fit as a :class:`TriaxialCalibration` (``method = "ferraris"``, model
+    type ``triaxial-calibration``): ``correction_matrix = M_a``, ``offset = b_a``; the
+    gyro block is a typed :class:`~inertialab.calib.base.GyroBlock` (stored as its
+    ``to_dict``; :func:`inertialab.calib.base.gyro_block` reads it back) carrying ``M_g``,
+    ``b_g`` and ``g_sensitivity`` = K_ga, the turns' senses and axes, so that
+    ``apply_gyro(raw, acc)`` gives ``M_g (raw - b_g - K_ga acc)``."""
     ff = fit.faces
     stderr = dict.fromkeys(tx.PARAM_NAMES)
     if ff.cov is not None:
@@ -363,32 +366,31 @@ def to_model(fit: FerrarisFit, *, acc_unit: str, gyro_unit: str, g: float,
             J[:, c] = (reduce(p0 + dp) - reduce(p0 - dp)) / (2 * h)
         cv = J @ ff.cov @ J.T
         stderr = {n: float(np.sqrt(max(cv[i, i], 0.0))) for i, n in enumerate(tx.PARAM_NAMES)}
-    gyro = {
-        "method": "ferraris", "raw_unit": gyro_unit, "correction_matrix": fit.M_g,
-        "offset": fit.b_g, "g_sensitivity": fit.K_ga,
-        "params": {"bgx": float(fit.b_g[0]), "bgy": float(fit.b_g[1]), "bgz": float(fit.b_g[2]),
-                   **{f"m{i + 1}{j + 1}": float(fit.M_g[i, j]) for i in range(3)
-                      for j in range(3)},
-                   **{f"kga{i + 1}{j + 1}": float(fit.K_ga[i, j]) for i in range(3)
-                      for j in range(3)}},
-        "residual_rms": fit.gyro_static_rms, "n_records": 6, "static_intervals": 6,
-        "turns": {s: {"sense": int(fit.senses[j]), "axis": fit.turn_axes[j].tolist()}
-                  for j, s in enumerate(ROT_SECTIONS)},
-        "rotation_deg": fit.rotation_deg,
-    }
+    gyro = GyroBlock(
+        method="ferraris", raw_unit=gyro_unit, correction_matrix=fit.M_g, offset=fit.b_g,
+        g_sensitivity=fit.K_ga,
+        params={"bgx": float(fit.b_g[0]), "bgy": float(fit.b_g[1]), "bgz": float(fit.b_g[2]),
+                **{f"m{i + 1}{j + 1}": float(fit.M_g[i, j]) for i in range(3)
+                   for j in range(3)},
+                **{f"kga{i + 1}{j + 1}": float(fit.K_ga[i, j]) for i in range(3)
+                   for j in range(3)}},
+        residual_rms=fit.gyro_static_rms, n_records=6, static_intervals=6,
+        extra={"turns": {s: {"sense": int(fit.senses[j]), "axis": fit.turn_axes[j].tolist()}
+                         for j, s in enumerate(ROT_SECTIONS)},
+               "rotation_deg": fit.rotation_deg})
     return TriaxialCalibration(
         method="ferraris", objective="faces", params=dict(zip(tx.PARAM_NAMES, ff.x.tolist())),
         correction_matrix=ff.M, offset=ff.b, raw_unit=acc_unit, g_local=float(g),
         stderr=stderr, phi=None,
         residual_rms=float(np.sqrt(np.mean(ff.norm_residual ** 2))), iterations=0, nfev=0,
-        n_records=6, static_intervals=None if n_samples is None else 6, gyro=gyro)
+        n_records=6, static_intervals=None if n_samples is None else 6, gyro=gyro.to_dict())
 
 
 # =========================================================================== checks
 
 def check_ferraris(fit: FerrarisFit, *, acc_nominal: float | None, gyro_nominal: float | None,
                    g: float, limits=None) -> list:
-    """Plausibility of a Ferraris fit (issue 17 item 1; bounds of
+    """Plausibility of a Ferraris fit (bounds of
     :mod:`inertialab.calib.triaxial_checks`).
 
     ``acc_nominal``/``gyro_nominal`` are the nominal raw units per m/s^2 and per rad/s

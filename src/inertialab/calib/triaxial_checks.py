@@ -39,7 +39,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from inertialab.calib.triaxial import COND_FLAG, CalibrationFit, suggest_orientations
-from inertialab.errors import InputError
+from inertialab.errors import ImplausibleCalibrationError, InputError  # noqa: F401 - re-exported
 from inertialab.sensors import triaxial as tx
 
 SCALE_RANGE = (0.5, 2.0)
@@ -118,10 +118,6 @@ def _adc_finding(offset, adc: AdcRange, names) -> Finding | None:
                    ", ".join(f"{n} = {o:+.6g}" for n, o in bad) + " counts from the ADC "
                    f"zero ({adc.text()}) beyond ±{lim:.6g} counts",
                    "declare the ADC range (signed or unsigned, bits) if it differs")
-
-
-class ImplausibleCalibrationError(InputError):
-    """A fit whose parameters are not identifiable or not physically plausible."""
 
 
 @dataclass(frozen=True)

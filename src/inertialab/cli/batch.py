@@ -140,14 +140,14 @@ def register(app: typer.Typer, groups: dict) -> None:
             "decimal": read.parse.decimal, "skip_rows": read.parse.skip_rows, "unit": unit,
             "rate": rate, "gaps": gaps if name == "allan" else None, "g_local": g_local,
             "model": str(model) if model else None}.items() if v is not None}
-        if model is not None and not Path(model).is_file():  # issue 19 item 9
+        if model is not None and not Path(model).is_file():
             raise InputError("no such model file", path=model)
         with collect_warnings(quiet=quiet or as_json) as warns:
             with progress_bar(f"batch {name}", quiet=quiet) as bar:
                 res = run_batch(name, paths, options=options, checks=checks,
                                 scheduler=scheduler, workers=workers, progress=bar)
         errors = [u for u in res.units if u.status == "error"]
-        if errors and strict:  # nothing written, one line (issue 19 item 6)
+        if errors and strict:  # nothing written, one line
             raise InputError(f"{len(errors)} of {len(res.units)} units could not be processed "
                              f"(--strict); first: {errors[0].unit}: {errors[0].reason}")
         warns = list(warns) + [f"unit {u.unit}: {u.reason}" for u in errors]

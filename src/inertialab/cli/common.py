@@ -1,6 +1,6 @@
 """Shared CLI plumbing: the JSON envelope, error handling, progress bars, output files.
 
-DESIGN.md "Command line": ``--json`` prints one object alone on stdout with
+The command line's output rules (docs/cli.md): ``--json`` prints one object alone on stdout with
 ``command``, ``schema_version``, ``inertialab_version``, ``inputs`` (path and sha256),
 ``settings``, ``units``, ``warnings`` and then the command's own keys; NaN/inf become
 ``null`` with a ``non_estimable`` flag listing their keys. User errors exit 2 with one
@@ -38,6 +38,7 @@ __all__ = [
     "atomic_write_text",
     "collect_warnings",
     "emit_json",
+    "envelope",
     "file_sha256",
     "json_ready",
     "output_file",
@@ -63,13 +64,14 @@ def json_ready(obj, path: str = "", nulls: list[str] | None = None):
     return to_jsonable(obj, nulls=nulls, path=path)
 
 
-def emit_json(command: str, payload: dict, *, inputs=(), settings: dict | None = None,
-              units: dict | None = None, warnings_: list[str] | None = None,
-              stream=None) -> dict:
-    """Print the one JSON object of a command on stdout (and return it).
-
-    ``inputs`` are paths (hashed here) or ``{"path", "sha256"}`` dicts.
-    """
+def envelope(command: str, payload: dict, *, inputs=(), settings: dict | None = None,
+             units: dict | None = None, warnings_: list[str] | None = None,
+             meta: dict | None = None) -> dict:
+    """The one JSON object of a command: ``command``, ``schema_version``,
+    ``inertialab_version``, ``dependencies``, ``inputs`` (paths are hashed here;
+    ``{"path", "sha256"}`` dicts pass through), ``settings``, ``units``, ``warnings``,
+    ``meta`` (when given: ``timestamps``), then the payload's keys, and
+    ``non_estimable`` listing the keys whose non-finite numbers became null."""
     ins = []
     for item in inputs:
         if isinstance(item, dict):
@@ -89,9 +91,20 @@ def emit_json(command: str, payload: dict, *, inputs=(), settings: dict | None =
         "units": dict(units or {}),
         "warnings": list(warnings_ or []),
     }
+    if meta is not None:
+        obj["meta"] = json_ready(meta)
     obj.update(body)
     if nulls:
         obj["non_estimable"] = nulls
+    return obj
+
+
+def emit_json(command: str, payload: dict, *, inputs=(), settings: dict | None = None,
+              units: dict | None = None, warnings_: list[str] | None = None,
+              stream=None) -> dict:
+    """Print the :func:`envelope` of a command on stdout (and return it)."""
+    obj = envelope(command, payload, inputs=inputs, settings=settings, units=units,
+                   warnings_=warnings_)
     text = json.dumps(obj, indent=2, allow_nan=False)
     (stream or sys.stdout).write(text + "\n")
     return obj
@@ -111,7 +124,7 @@ def collect_warnings(quiet: bool = False):
         try:
             yield messages
         except BaseException:
-            # the command fails: its one error line is all the user gets (DESIGN.md)
+            # the command fails: its one error line is all the user gets
             failed = True
             raise
         finally:
@@ -169,7 +182,7 @@ def progress_bar(label: str, *, quiet: bool = False) -> _Bar:
 
 
 def prepare_out_dir(path) -> Path:
-    """Register the ``--out`` directory of a command (issue 19); nothing is created here.
+    """Register the ``--out`` directory of a command; nothing is created here.
 
     Under the command line (:func:`inertialab.cli.main.main` runs every command in an
     output transaction) the directory is built in a temporary sibling on the first write
@@ -193,7 +206,7 @@ def _after_path(exc: Exception, path) -> str:
 @contextlib.contextmanager
 def output_file(path):
     """Yield a temporary path for a one-record output; renamed to ``path`` on success,
-    removed on error (DESIGN.md: outputs replaced atomically, removed on error). Only a
+    removed on error (outputs are replaced atomically, removed on error). Only a
     regular file (or nothing) at ``path`` is replaced."""
     p = Path(path)
     if p.is_dir():
@@ -207,7 +220,7 @@ def write_figures(figures, out_dir, *, dpi: int = 110) -> list[Path]:
     files into ``out_dir``; return the paths. Names become file names only through
     :func:`~inertialab.io.names.safe_slug` (a figure named from data cannot leave
     ``out_dir``). Each figure is laid out once and drawn once
-    (:func:`inertialab.report.html.figure_png`; issue 18 item 11)."""
+    (:func:`inertialab.report.html.figure_png`)."""
     from inertialab.report.html import figure_png
 
     paths = []

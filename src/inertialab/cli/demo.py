@@ -14,6 +14,7 @@ from inertialab.cli.common import (
     print_table,
     progress_bar,
 )
+from inertialab.cli.options import JsonOpt, QuietOpt, SeedOpt
 
 
 def register(app: typer.Typer, groups: dict) -> None:
@@ -25,9 +26,9 @@ def register(app: typer.Typer, groups: dict) -> None:
         study: list[str] = typer.Option(None, "--study",
                                         help="Run only this study (repeatable): allan, "
                                              "vibration, thermal, triaxial, dual, drift."),
-        seed: int = typer.Option(None, "--seed", help="Override every study's seed."),
-        as_json: bool = typer.Option(False, "--json", help="Print the summary as JSON."),
-        quiet: bool = typer.Option(False, "--quiet", help="No progress bars."),
+        seed: SeedOpt = None,
+        as_json: JsonOpt = False,
+        quiet: QuietOpt = False,
     ):
         """Run the studies on the virtual lab and write a self-contained HTML report.
 

@@ -7,7 +7,6 @@ aliases that typer must see as objects through :func:`~inertialab.cli.options.re
 """
 
 import json
-import sys
 from pathlib import Path
 
 import typer
@@ -16,116 +15,46 @@ from inertialab.cli.common import (
     atomic_write_text,
     collect_warnings,
     emit_json,
-    json_ready,
-    prepare_out_dir,
     print_table,
-    write_figures,
 )
-from inertialab.cli.options import JsonOpt, OutDirOpt, QuietOpt, reading_options
+from inertialab.cli.options import JsonOpt, SeedOpt, reading_options
+from inertialab.cli.runner import config_command
 from inertialab.errors import InputError
 from inertialab.io.mapping import ReadOptions
-from inertialab.sensors.dual_meter import PAPER_ALIASES
-
-_SCALE = {"KA0": (1e6, "ug"), "KB0": (1e6, "ug"), "kA1": (1e6, "ppm"),
-          "kB1": (1e6, "ppm"), "eta": (1e6, "urad"), "KA2": (1e6, "ug/g^2"),
-          "KB2": (1e6, "ug/g^2"), "KAx": (1e6, "ug/g^2"), "KBx": (1e6, "ug/g^2")}
+from inertialab.workflows import dual_run as wd
 
 
 @reading_options
+@config_command(wd.FitConfig)
 def dual_fit(
     files: list[Path] = typer.Argument(..., help="dual_tumble record(s); two files with "
                                                  "opposite OA signs add the two-orientation fit."),
-    method: str = typer.Option("all", "--method",
-                               help="ebr | ls | single-ls | ridge-hkb | ridge-gcv | all"),
-    prior: str = typer.Option("none", "--prior",
-                              help="none (paper: beta0 = 0, W = I) | certificate | FILE "
-                                   "(inertialab.prior/1 JSON, or a CSV of past calibrations)"),
-    ebr_rule: str = typer.Option("E1", "--ebr-rule", help="E1 (Stein) | E2 (ML) | E3 (SURE)"),
-    lambda_combination: str = typer.Option("star", "--lambda-combination",
-                                           help="star | max | min of lambda* and lambda0"),
-    second_order: bool = typer.Option(False, "--second-order",
-                                      help="Iterated second-order correction of y (spec §1.5)."),
-    g_local: float = typer.Option(None, "--g-local", help="Local gravity, m/s^2."),
-    out: OutDirOpt = None,
-    as_json: JsonOpt = False,
-    quiet: QuietOpt = False,
-    *,
-    read: ReadOptions,
+    *, config, run, read: ReadOptions,
 ):
     """Calibrate two accelerometers tumbled on a dividing head (g^2 model, LS, EBR)."""
-    from inertialab.io import read_record, save_model
-    from inertialab.workflows import dual as wf
+    from inertialab.io import read_record
 
-    methods = wf.parse_methods(method)
-    m = method.strip().lower()
     if len(files) > 2:
         raise InputError("give one record, or two for the two-orientation fit")
-    if out is not None and out.exists() and not out.is_dir():
-        raise InputError("--out must be a directory for this command", path=out)
-    config = wf.DualConfig(methods=methods, prior=prior, second_order=second_order,
-                           ebr_rule=ebr_rule, lambda_combination=lambda_combination,
-                           sensitivity=out is not None)
-    with collect_warnings(quiet=quiet or as_json) as warns:
-        records = [read_record(f, "dual_tumble", g_local=g_local, options=read) for f in files]
-        reds = [wf.prepare(r, g_local=g_local) for r in records]
-        res = wf.fit(reds, config, truth=records[0].meta.get("truth"))
-    fit = res.fit
-    payload = res.payload()
-    all_warn = list(warns) + [w for w in fit.warnings if w not in warns]
-    settings = {"method": m, "prior": prior, "ebr_rule": ebr_rule.upper(),
-                "lambda_combination": lambda_combination.lower(),
-                "second_order": second_order, "g_local": g_local, "seed": None}
-    out_dir = prepare_out_dir(out) if out is not None else None  # only after success
-    if out_dir is not None:
+    config.dual_config(sensitivity=False)  # refuse bad settings before reading
+
+    def produce(bar):
+        records = [read_record(f, "dual_tumble", g_local=config.g_local, options=read)
+                   for f in files]
+        return wd.run_fit(records, config, sensitivity=run.out is not None)
+
+    def figures(res):
         from inertialab.report.figures.dual import (
             coefficient_figure,
             residual_figure,
             sensitivity_figure,
         )
 
-        save_model(res.model, out_dir / "model.json", units=wf.UNITS,
-                   training_data_sha256=records[0].sha256)
-        atomic_write_text(out_dir / "result.json",
-                          json.dumps(json_ready(payload), indent=2, allow_nan=False) + "\n")
-        write_figures([residual_figure(fit), coefficient_figure(fit),
-                       sensitivity_figure(res.sensitivity)], out_dir)
-    if as_json:
-        emit_json("dual fit", payload, inputs=files, settings=settings,
-                  units=wf.UNITS, warnings_=all_warn)
-        return
-    if not quiet:
-        for w in fit.warnings:
-            if not any(w in x for x in warns):
-                sys.stderr.write(f"warning: {' '.join(w.split())}\n")
-    cols = list(fit.methods)
-    rows = []
-    for n, (f, u) in _SCALE.items():
-        label = f"{n} = {PAPER_ALIASES[n]}" if n in PAPER_ALIASES else n
-        row = [f"{label} ({u})"]
-        for k in cols:
-            r = fit.methods[k]
-            v, sd = r.coef.get(n), r.sd.get(n)
-            if v is None:
-                row.append("-")
-            else:
-                sds = "n/e" if sd is None or sd != sd or sd == float("inf") else f"{sd * f:.3g}"
-                row.append(f"{v * f:+.4g} +- {sds}")
-        rows.append(row)
-    rows.append(["R (ug)"] + [f"{fit.methods[k].residual * 1e6:.3g}" for k in cols])
-    rows.append(["R_val (ug)"] + [f"{fit.methods[k].r_val * 1e6:.3g}" for k in cols])
-    rows.append(["rank"] + [str(fit.methods[k].rank) for k in cols])
-    print_table(["coefficient", *cols], rows,
-                title="dual fit (n/e: not estimable; EBR SD = posterior)")
-    if "ls" in fit.methods:
-        for c in fit.methods["ls"].estimable:
-            print(f"  estimable {c['name']:>9s} = {c['value']:+.4e} +- {c['sd']:.2e}")
-    two = res.two_orientation
-    if two is not None:
-        print("two-orientation LS: " + ", ".join(
-            f"{n} = {two.coef[n]:+.3e} +- {two.sd[n] or float('nan'):.1e}"
-            for n in ("KA2", "KB2", "KAx", "KBx")))
-    if out_dir is not None:
-        print(f"written: {out_dir}")
+        fit = res.res.fit
+        return [residual_figure(fit), coefficient_figure(fit),
+                sensitivity_figure(res.res.sensitivity)]
+
+    run.execute("dual fit", produce, inputs=files, figures=figures)
 
 
 def dual_design(
@@ -159,7 +88,7 @@ def dual_design(
 def simulate_dual(
     out: Path = typer.Option(..., "--out", help="Record file (.csv or .parquet)."),
     scenario: str = typer.Option("S1", "--scenario", help="S0 ... S5 (spec 003 §6.4)."),
-    seed: int = typer.Option(20240603, "--seed", help="Random seed."),
+    seed: SeedOpt = 20240603,
     h: float = typer.Option(None, "--h", help="Head-error scale (S2 sweep; default 1)."),
     positions: int = typer.Option(None, "--positions", help="Positions per pass (S4)."),
     draw_unit: bool = typer.Option(False, "--draw-unit",
@@ -168,10 +97,9 @@ def simulate_dual(
     as_json: JsonOpt = False,
 ):
     """Write a virtual dual-tumble record (S5 writes <stem>_orient2 too)."""
-    from inertialab.calib.dual_prior import prior_from_history
     from inertialab.io import write_record
     from inertialab.sim.dual import scenario_config, simulate_run, simulate_two_orientation
-    from inertialab.workflows.dual import UNITS
+    from inertialab.workflows.dual import UNITS, prior_from_history
 
     kw = {}
     if h is not None:

@@ -1,7 +1,7 @@
 """``inertialab`` command line entry point.
 
-Every module ``inertialab/cli/<name>.py`` that defines ``register(app, groups)`` adds its
-commands; ``groups`` holds one group per study (``vibration thermal triaxial dual
+Every command module of :func:`command_modules` defines ``register(app, groups)`` and
+adds its commands; ``groups`` holds one group per study (``vibration thermal triaxial dual
 drift``, command shape ``inertialab <study> fit|apply|...``) plus ``simulate`` and the
 hidden groups of the old spellings (``calibrate``, ``design``), so that modules can
 share a group. User errors
@@ -22,8 +22,6 @@ for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
 
 import contextlib  # noqa: E402
 import errno  # noqa: E402
-import importlib  # noqa: E402
-import pkgutil  # noqa: E402
 import signal  # noqa: E402
 import sys  # noqa: E402
 import warnings  # noqa: E402
@@ -58,6 +56,23 @@ def _version_callback(value: bool):
         raise typer.Exit(0)
 
 
+def command_modules() -> tuple:
+    """The command modules, each with ``register(app, groups)``, in registration order."""
+    from inertialab.cli import (
+        allan,
+        batch,
+        demo,
+        drift,
+        dual,
+        thermal,
+        triaxial,
+        validate,
+        vibration,
+    )
+
+    return (allan, batch, demo, drift, dual, thermal, triaxial, validate, vibration)
+
+
 def build_app() -> typer.Typer:
     """Assemble the typer app from the command modules."""
     app = typer.Typer(
@@ -88,15 +103,8 @@ def build_app() -> typer.Typer:
                                 **({"cls": _DefaultFitGroup} if name in _DEFAULT_FIT_GROUPS
                                    else {}))
               for name, text in _GROUP_HELP.items()}
-    import inertialab.cli as pkg
-
-    for info in sorted(pkgutil.iter_modules(pkg.__path__), key=lambda i: i.name):
-        if info.name in ("main", "common", "options"):
-            continue
-        mod = importlib.import_module(f"inertialab.cli.{info.name}")
-        register = getattr(mod, "register", None)
-        if register is not None:
-            register(app, groups)
+    for mod in command_modules():
+        mod.register(app, groups)
     for name, sub in groups.items():
         if sub.registered_commands or sub.registered_groups:
             app.add_typer(sub, name=name, hidden=name in _HIDDEN_GROUPS)
@@ -237,7 +245,7 @@ _USER_ERRNOS = {errno.ENOSPC, errno.EDQUOT, errno.EROFS, errno.EACCES, errno.EPE
 
 def user_error(exc: BaseException, files: list[str]) -> str | None:
     """The one-line message of an exception that bad input or the environment caused
-    (issue 19: exit 2, not an internal error), or None for a genuine bug."""
+    (exit 2, not an internal error), or None for a genuine bug."""
     if isinstance(exc, InputError):
         from inertialab.cli.options import flagged
 
@@ -265,7 +273,7 @@ def user_error(exc: BaseException, files: list[str]) -> str | None:
 
 
 def _one_line_warning(message, category, filename, lineno, file=None, line=None):
-    """warnings.showwarning for the CLI: one line, no source line (issue 19)."""
+    """warnings.showwarning for the CLI: one line, no source line."""
     stream = file if file is not None else sys.stderr
     with contextlib.suppress(OSError, ValueError):
         stream.write(f"warning: {category.__name__}: {_one_line(message)}\n")
@@ -276,7 +284,7 @@ MAX_CONFIG_BYTES = 1 << 20
 
 
 def _read_config(path) -> dict:
-    """Parse a ``--config`` TOML file: bounded size, nesting and integers (issue 19)."""
+    """Parse a ``--config`` TOML file: bounded size, nesting and integers."""
     import tomllib
 
     try:

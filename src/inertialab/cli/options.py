@@ -1,4 +1,4 @@
-"""Options shared by every command, declared once (DESIGN.md "Command line", issue 13).
+"""Options shared by every command, declared once (docs/cli.md).
 
 Two forms:
 
@@ -26,6 +26,7 @@ from typing import Annotated, Any
 
 import typer
 
+from inertialab.io.formats.registry import formats_with_option
 from inertialab.io.mapping import ReadOptions
 
 JsonOpt = Annotated[bool, typer.Option("--json", help="Print one JSON object alone on stdout.")]
@@ -38,6 +39,12 @@ OutDirOpt = Annotated[Path | None, typer.Option(
 OutFileOpt = Annotated[Path | None, typer.Option(
     "--out", help="Output file (a sidecar .meta.json is written beside it); overwrites only "
                   "a regular file (a directory, device or FIFO there is refused).")]
+
+
+def _for(option: str) -> str:
+    """Help suffix naming the file formats a reading option applies to (the registry of
+    :mod:`inertialab.io.formats.registry`)."""
+    return f" [{', '.join(formats_with_option(option))}]"
 
 
 def _opt(name: str, annotation, default=None) -> inspect.Parameter:
@@ -53,7 +60,8 @@ READING_PARAMS: list[inspect.Parameter] = [
     _opt("map_file", Annotated[Path | None, typer.Option(
         "--map-file", help="Column map and parse options from a JSON/TOML file.")]),
     _opt("sep", Annotated[str | None, typer.Option(
-        "--sep", help="Field separator , ; tab or ' ' for blanks (default: sniffed).")]),
+        "--sep", help="Field separator , ; tab or ' ' for blanks (default: sniffed)."
+                      + _for("parse"))]),
     _opt("decimal", Annotated[str | None, typer.Option(
         "--decimal", help="Decimal mark . or , (default: sniffed).")]),
     _opt("skip_rows", Annotated[int | None, typer.Option(
@@ -69,11 +77,13 @@ READING_PARAMS: list[inspect.Parameter] = [
                        "(g,dps) or per column (gx=dps,ax=g).")]),
     _opt("topic", Annotated[str | None, typer.Option(
         "--topic", help="ROS bag topic or PX4 ULog message (sensor_combined, sensor_gyro, "
-                        "sensor_accel); default: the only IMU topic.")]),
+                        "sensor_accel); default: the only IMU topic." + _for("topic"))]),
     _opt("instance", Annotated[int | None, typer.Option(
-        "--instance", help="ULog multi-instance (sensor_gyro 0, 1, 2 ...); default 0.")]),
+        "--instance", help="ULog multi-instance (sensor_gyro 0, 1, 2 ...); default 0."
+                           + _for("instance"))]),
     _opt("dataset", Annotated[str | None, typer.Option(
-        "--dataset", help="MATLAB variable or HDF5 dataset path (imu/gyro).")]),
+        "--dataset", help="MATLAB variable or HDF5 dataset path (imu/gyro)."
+                          + _for("dataset"))]),
     _opt("join", Annotated[list[Path] | None, typer.Option(
         "--join", help="Further time x y z file joined on time (imu_tk: gyro beside "
                        "accelerometer); repeatable.")]),
@@ -171,6 +181,9 @@ FLAG_OF: dict[str, str] = {
     "input": "--input",
     "stats": "--stat",
     "export": "--export",
+    "to": "--to",
+    "rostopic": "--rostopic",
+    "imu_topic": "--rostopic",
     "gaps": "--gaps",
     "model": "--model",
     "workers": "--workers",
@@ -211,7 +224,7 @@ def flagged(message: str) -> str:
     return re.sub(r"argument '([a-z_]+)'", sub, message)
 
 
-#: Bounds of the size arguments (issue 19): flag -> (lowest, highest, what it is). A value
+#: Bounds of the size arguments: flag -> (lowest, highest, what it is). A value
 #: outside is a usage error (exit 2) before any work starts, instead of a MemoryError or a
 #: run that does not end. :func:`check_limits` applies them to every command line (main
 #: calls it); a command may also declare ``callback=bounded("--rate")`` on its option.
@@ -297,7 +310,7 @@ OUTPUT_FLAGS = {"--out": 1, "--c": 1, "--truth": 1, "--save-config": 1, "--expor
 def check_out_targets(args: list[str]) -> None:
     """Refuse, before any work, an output option naming an existing device, FIFO or
     socket (or a link to one): an output replaces only a regular file or fills a
-    directory (issue 19). Which of the two a command wants it checks itself."""
+    directory. Which of the two a command wants it checks itself."""
     import os
     import stat
 

@@ -1,51 +1,25 @@
 """``inertialab thermal fit / apply / export`` and ``inertialab simulate thermal-tumble``
 (spec 000). Thin: parse, call :mod:`inertialab.workflows.thermal`, print or write.
-``thermal compensate`` is the old spelling of ``thermal apply`` (hidden, one release)."""
+``thermal compensate`` is the old spelling of ``thermal apply`` (hidden, one release).
+``thermal fit`` runs through the runner (:mod:`inertialab.cli.runner`) with the settings of
+:class:`inertialab.workflows.thermal_run.FitConfig`."""
 
-
-import json
 from pathlib import Path
 from typing import Annotated
 
 import typer
 
 from inertialab.cli.common import (
-    atomic_write_text,
     collect_warnings,
     emit_json,
-    json_ready,
     prepare_out_dir,
-    print_table,
-    progress_bar,
     write_figures,
 )
-from inertialab.cli.options import JsonOpt, OutDirOpt, QuietOpt, SeedOpt, reading_options
+from inertialab.cli.options import JsonOpt, QuietOpt, reading_options
+from inertialab.cli.runner import config_command
 from inertialab.errors import InputError
 from inertialab.io.mapping import ReadOptions
-
-_METHOD_CHOICES = ("iafsa-scm-anfis", "scm-anfis", "anfis", "fis", "ann", "poly-sep", "poly-2d",
-                   "all")
-_UNITS = {"temp": "degC", "output": "mV", "k0": "mV", "k1": "mV/g", "k2": "mV/g^2",
-          "kip": "mV/g^2", "kp": "mV/g", "wall_s": "s", "fun": "mg", "f_default": "mg",
-          "radius": "1 (scaled)", "squash": "1", "accept": "1", "reject": "1",
-          "visual": "1 (unit cube)", "step": "1 (unit cube)", "visual_min": "1 (unit cube)",
-          "step_min": "1 (unit cube)", "crowd": "1", "try_number": "1", "n_fish": "1",
-          "max_generations": "1", "adaptive_exponent": "1", "r_max": "1",
-          "search_epochs": "1"}
-
-
-def _methods(method: str) -> tuple[str, ...]:
-    from inertialab.workflows.thermal import METHODS
-
-    m = method.strip().lower()
-    if m == "all":
-        return METHODS
-    parts = tuple(p.strip() for p in m.split(",") if p.strip())
-    bad = [p for p in parts if p not in _METHOD_CHOICES or p == "all"]
-    if not parts or bad:
-        raise InputError(f"--method must be one of {', '.join(_METHOD_CHOICES)} "
-                         f"(or a comma-separated list), got '{method}'")
-    return parts
+from inertialab.workflows import thermal_run as wt
 
 
 def _plain(text: str) -> str:
@@ -83,7 +57,8 @@ def _apply_command(name: str):
         read: ReadOptions | None = None,
     ):
         """Compensate a record with a thermal model; writes comp_output_mv, comp_a_g, status."""
-        from inertialab.io import load_model, write_record
+        from inertialab.io import write_record
+        from inertialab.workflows.registries import load_model
         from inertialab.workflows.thermal import apply
 
         with collect_warnings(quiet=quiet or as_json) as warns:
@@ -123,132 +98,36 @@ def _apply_command(name: str):
     return thermal_apply
 
 
+@config_command(wt.FitConfig)
+def thermal_fit(
+    file: Annotated[Path, typer.Argument(help="thermal_tumble record (CSV or Parquet).")],
+    *, config, run, read: ReadOptions | None = None,
+):
+    """Fit integrated temperature-compensation models on a thermal tumble record.
+
+    --out writes model.json (IAFSA-SCM-ANFIS when fitted, else the first method),
+    models/ (every method), result.json and figures of the saved model."""
+    config.thermal_config()  # refuse bad settings before reading the record
+
+    def figures(res):
+        from inertialab.report.figures.thermal import (
+            bias_figure,
+            drift_figure,
+            residual_figure,
+            scale_factor_figure,
+        )
+
+        return [drift_figure(res.samples, res.own, title=res.result.model_method),
+                residual_figure(res.result), bias_figure(res.bsf), scale_factor_figure(res.bsf)]
+
+    run.execute("thermal fit", lambda bar: wt.run_fit(_read(file, read), config, progress=bar),
+                inputs=lambda res: [{"path": str(file), "sha256": res.sha256}], figures=figures)
+
+
 def register(app: typer.Typer, groups: dict) -> None:
     thermal, simulate = groups["thermal"], groups["simulate"]
 
-    @thermal.command("fit")
-    @reading_options
-    def thermal_fit(
-        file: Annotated[Path, typer.Argument(help="thermal_tumble record (CSV or Parquet).")],
-        method: Annotated[str, typer.Option(
-            "--method", help="iafsa-scm-anfis | scm-anfis | anfis | fis | ann | poly-sep | "
-                             "poly-2d | all (or a comma list)")] = "iafsa-scm-anfis",
-        split: Annotated[str, typer.Option(
-            "--split", help="random | interp_T | leave_one_T_out | up_down")] = "random",
-        target: Annotated[str, typer.Option("--target", help="linear55 | measured55")] = "linear55",
-        input_: Annotated[str, typer.Option("--input", help="ua (eq. 5) | raw (N = U)")] = "ua",
-        learn_drift: Annotated[bool, typer.Option("--learn-drift", help="Learn Nc - N.")] = False,
-        radii: Annotated[str, typer.Option("--radii", help="scalar | per_dim (IAFSA)")] = "scalar",
-        fish: Annotated[int, typer.Option("--fish", help="IAFSA fish (spec: 10).")] = 10,
-        generations: Annotated[int, typer.Option(
-            "--generations", help="IAFSA generations (30).")] = 30,
-        epochs: Annotated[int, typer.Option("--epochs", help="Final ANFIS epochs (150).")] = 150,
-        search_epochs: Annotated[int, typer.Option(
-            "--search-epochs", help="ANFIS epochs inside the IAFSA objective (20).")] = 20,
-        visual: Annotated[float, typer.Option(
-            "--visual", help="IAFSA initial visual range, unit-cube units (0.30).")] = 0.30,
-        step: Annotated[float, typer.Option(
-            "--step", help="IAFSA initial step, unit-cube units (0.10).")] = 0.10,
-        try_number: Annotated[int, typer.Option(
-            "--try-number", help="IAFSA prey attempts (5).")] = 5,
-        crowd: Annotated[float, typer.Option(
-            "--crowd", help="IAFSA crowd factor (0.618).")] = 0.618,
-        seed: SeedOpt = 0,
-        out: OutDirOpt = None,
-        as_json: JsonOpt = False,
-        quiet: QuietOpt = False,
-        read: ReadOptions | None = None,
-    ):
-        """Fit integrated temperature-compensation models on a thermal tumble record.
-
-        --out writes model.json (IAFSA-SCM-ANFIS when fitted, else the first method),
-        models/ (every method), result.json and figures of the saved model."""
-        from inertialab.io import save_model
-        from inertialab.workflows.thermal import (
-            ThermalConfig,
-            bias_scale_factor,
-            bias_scale_factor_table,
-            fit,
-            markdown_table,
-            prepare,
-        )
-
-        methods = _methods(method)
-        cfg = ThermalConfig(methods=methods, split=split, target=target, input=input_,
-                            learn_drift=learn_drift, radii=radii, fish=fish,
-                            generations=generations, epochs=epochs, search_epochs=search_epochs,
-                            fish_visual=visual, fish_step=step, fish_try_number=try_number,
-                            fish_crowd=crowd, seed=seed).validate()
-        if "poly-sep" in methods and (learn_drift or input_ == "raw"):
-            raise InputError("poly-sep needs --input ua without --learn-drift")
-        if out is not None and Path(out).exists() and not Path(out).is_dir():
-            raise InputError("--out must be a directory for this command", path=out)
-        with collect_warnings(quiet=quiet or as_json) as warns:
-            rec = _read(file, read)
-            samples = prepare(rec, cfg)
-            with progress_bar("thermal fit", quiet=quiet or as_json) as bar:
-                result = fit(samples, cfg, progress=bar)
-        main_model = result.models[result.model_method]
-        own = result.own_drift()
-        payload = result.summary(own)
-        # everything is computed before the output folder is touched: bad input leaves
-        # nothing behind
-        out_dir = prepare_out_dir(out) if out is not None else None
-        if out_dir is not None:
-            from inertialab.report.figures.thermal import (
-                bias_figure,
-                drift_figure,
-                residual_figure,
-                scale_factor_figure,
-            )
-
-            units = {"temp": "degC", "output": "mV"}
-            save_model(main_model, out_dir / "model.json", units=units,
-                       training_data_sha256=rec.sha256)
-            (out_dir / "models").mkdir(exist_ok=True)
-            for m, mod in result.models.items():
-                save_model(mod, out_dir / "models" / f"{m}.json", units=units,
-                           training_data_sha256=rec.sha256)
-            atomic_write_text(out_dir / "result.json",
-                              json.dumps(json_ready(payload), indent=2, allow_nan=False) + "\n")
-            for name, table, title in (
-                    ("table1", result.table1(), "Table 1: fish-swarm parameters"),
-                    ("table2", result.table2(), f"Table 2: test errors per model "
-                                                f"({split} split, {result.test_index.size} "
-                                                "test samples)")):
-                atomic_write_text(out_dir / f"{name}.csv", table.to_csv(index=False))
-                atomic_write_text(out_dir / f"{name}.md", markdown_table(table, title=title))
-            bsf = bias_scale_factor(samples)
-            atomic_write_text(out_dir / "bias_scale_factor.csv",
-                              bias_scale_factor_table(bsf).to_csv(index=False))
-            write_figures([drift_figure(samples, own, title=result.model_method),
-                           residual_figure(result), bias_figure(bsf),
-                           scale_factor_figure(bsf)], out_dir)
-        settings = {"method": list(methods), "split": split, "target": target, "input": input_,
-                    "learn_drift": learn_drift, "radii": radii, "fish": fish,
-                    "generations": generations, "epochs": epochs, "search_epochs": search_epochs,
-                    "visual": visual, "step": step, "try_number": try_number, "crowd": crowd,
-                    "seed": seed, "reference_temp_c": samples.reference_temp_c}
-        if as_json:
-            emit_json("thermal fit", payload, inputs=[{"path": str(file), "sha256": rec.sha256}],
-                      settings=settings, units=dict(_UNITS), warnings_=warns)
-            return
-        rows = [[m, v.rmse_ug, v.me_ug, v.ae_ug, v.maxe_ppm, v.mare_ppm, v.rules, v.wall_s]
-                for m, v in result.metrics.items()]
-        print_table(["model", "RMSE µg", "ME µg", "AE µg", "MAXE ppm", "MARE ppm", "rules",
-                     "wall s"], rows,
-                    title=f"thermal fit ({split} split, raw drift RMS {result.raw_rms_ug:.0f} µg)")
-        if result.search:
-            s = result.search
-            p = s["params"]
-            print(f"IAFSA: radius={p['radius']}, squash={p['squash']:.4g}, accept={p['accept']:.4g}, "
-                  f"reject={p['reject']:.4g}, rules={s['n_rules']}, "
-                  f"F*={s['fun'] * 1e3:.2f} µg (default {s['f_default'] * 1e3:.2f})")
-            t1 = payload["fish"]
-            print("fish swarm (Table 1): " + ", ".join(f"{k}={v:g}" for k, v in t1.items()))
-        if out_dir is not None:
-            print(f"written: {out_dir}")
-
+    thermal.command("fit")(reading_options(thermal_fit))
     thermal.command("apply")(_apply_command("thermal apply"))
     thermal.command("compensate", hidden=True)(_apply_command("thermal compensate"))
 
@@ -266,16 +145,15 @@ def register(app: typer.Typer, groups: dict) -> None:
         read: ReadOptions | None = None,
     ):
         """Export a fuzzy thermal model as dependency-free C99 (inputs clamped, status flag)."""
-        from inertialab.io import load_model
+        from inertialab.io.exporters import get
+        from inertialab.workflows.registries import load_model
         from inertialab.workflows.thermal import export
 
         mdl = load_model(model, expected_type="thermal-compensation")
         rec = _read(unit_record, read) if unit_record is not None else None
         ex = export(mdl, prefix=prefix, unit_record=rec)
-        out_dir = prepare_out_dir(c)
-        atomic_write_text(out_dir / ex.header_name, ex.header)
-        atomic_write_text(out_dir / ex.source_name, ex.source)
-        payload = {"files": [str(out_dir / ex.header_name), str(out_dir / ex.source_name)],
+        files = get("thermal", "c99").write(ex, prepare_out_dir(c))
+        payload = {"files": files,
                    "n_rules": ex.n_rules, "exp_calls": ex.exp_calls, "flops": ex.flops,
                    "functions": [f"{prefix}_comp_mV", f"{prefix}_comp_g"],
                    "mapped_unit": None if rec is None else ex.unit_id}

@@ -1,4 +1,4 @@
-"""Per-type payload schemas of model files (issue 19, DESIGN.md "Model files").
+"""Per-type payload schemas of model files (docs/model-files.md).
 
 :func:`inertialab.io.modelfile.load_model` checks a payload here before the class's
 ``from_dict`` sees it: types, shapes, finiteness and ranges, so that a wrong-typed or
@@ -8,7 +8,8 @@ reading each type's ``to_dict`` (and the fixtures under ``tests/data/models/``);
 schema does not name are allowed (newer writers may add some) but still pass the
 generic checks of the loader (finite numbers, bounded nesting and integers).
 
-A schema is a callable ``check(value, where)`` that raises :class:`SchemaError`; the
+A schema is a callable ``check(value, where)`` that raises
+:class:`~inertialab.errors.SchemaError`; the
 builders below compose them.
 """
 
@@ -17,20 +18,14 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 
+from inertialab.errors import SchemaError
+
 Check = Callable[[object, str], None]
 
 #: Longest list in a payload (a model of a million numbers is not a calibration).
 MAX_ITEMS = 1_000_000
 #: Longest string value.
 MAX_TEXT = 4096
-
-
-class SchemaError(ValueError):
-    """A payload does not match its type's schema (``where`` is the key path)."""
-
-    def __init__(self, where: str, message: str):
-        self.where = where
-        super().__init__(f"payload{where}: {message}")
 
 
 def _is_num(v) -> bool:
@@ -260,7 +255,8 @@ DRIFT = obj({
     }), min_len=1), min_len=1),
 })
 
-#: type tag -> payload schema (tags of :data:`inertialab.io.modelfile.MODEL_TYPES`).
+#: type tag -> payload schema (the tags of :data:`inertialab.calib.model_types.MODEL_TYPES`;
+#: every registered type has one, tested).
 SCHEMAS: dict[str, Check] = {
     "polynomial": POLYNOMIAL,
     "rbf": RBF,

@@ -1,4 +1,4 @@
-"""Model files: a JSON envelope around a model's parameters (DESIGN.md "Model files").
+"""Model files: a JSON envelope around a model's parameters.
 
 ::
 
@@ -7,66 +7,55 @@
      "training_data_sha256": "..." | null, "settings": {...},
      "dependencies": {"numpy": "...", ...}, "payload": {...}}
 
-Loading never executes code from the file: the type tag is looked up in the allow-list
-:data:`MODEL_TYPES` (tag -> inertialab class, imported lazily) and the class rebuilds
-itself from the plain-JSON payload with ``from_dict``. The file is parsed strictly
-(:func:`parse_json_strict`: no NaN/Infinity, bounded size, nesting and integers) and the
-payload checked against its type's schema (:mod:`inertialab.io.model_schemas`: types,
-shapes, finiteness, ranges) before ``from_dict`` runs. An unknown tag, a newer format
-version, a malformed envelope or a payload the schema or the class rejects is an
-:class:`~inertialab.errors.InputError`. Writes are atomic (temporary file + rename).
-Never pickle.
+Loading never executes code from the file: the type tag is looked up in an allow-list
+of classes that the caller gives (``types``: the registry of model types,
+:data:`inertialab.calib.model_types.TYPES`, which lives on the floor that may import
+the model classes; call :func:`inertialab.calib.model_types.load_model`) and the class
+rebuilds itself from the plain-JSON payload with ``from_dict``. The file is parsed
+strictly (:func:`parse_json_strict`: no NaN/Infinity, bounded size, nesting and
+integers) and the payload checked against its type's schema
+(:mod:`inertialab.io.model_schemas`: types, shapes, finiteness, ranges) before
+``from_dict`` runs. An unknown tag, a newer format version, a malformed envelope or a
+payload the schema or the class rejects is an :class:`~inertialab.errors.InputError`.
+Writes are atomic (temporary file + rename). Never pickle. The format is described in
+docs/model-files.md.
 """
 
 from __future__ import annotations
 
 import datetime as _dt
-import importlib
+import importlib.metadata
 import json
 import math
 import stat
 from pathlib import Path
 
-from inertialab.errors import InputError
-from inertialab.io.model_schemas import SchemaError, check_payload
+from inertialab.errors import InputError, SchemaError
+from inertialab.io.model_schemas import SCHEMAS, check_payload
 from inertialab.jsonable import to_jsonable
 
 FORMAT = "inertialab-model"
 FORMAT_VERSION = 1
 
-#: The allow-list: type tag -> "module:Class" inside inertialab.
-MODEL_TYPES: dict[str, str] = {
-    "polynomial": "inertialab.learn.poly:PolynomialRegressor",
-    "rbf": "inertialab.learn.rbf:RBFNetwork",
-    "anfis": "inertialab.learn.anfis:ANFIS",
-    "mlp-lm": "inertialab.learn.mlp_lm:MLPRegressorLM",
-    "nar": "inertialab.learn.nar:NARForecaster",
-    "noise-terms": "inertialab.noise.terms:NoiseTerms",
-    "vibration-compensation": "inertialab.calib.vibration:VibrationModel",
-    "thermal-compensation": "inertialab.calib.thermal:ThermalModel",
-    "triaxial-calibration": "inertialab.calib.triaxial:TriaxialCalibration",
-    "dual-calibration": "inertialab.calib.dual:DualCalibration",
-    "storage-drift": "inertialab.calib.drift:DriftModel",
-}
-
-_DEPENDENCIES = ("numpy", "scipy", "pandas", "pywt", "statsmodels")
+#: Distribution name of each numeric dependency recorded in a model file.
+_DEPENDENCIES = {"numpy": "numpy", "scipy": "scipy", "pandas": "pandas", "pywt": "PyWavelets",
+                 "statsmodels": "statsmodels"}
 
 
 def dependency_versions() -> dict[str, str]:
     """Versions of inertialab's numeric dependencies (for provenance)."""
     out = {}
-    for name in _DEPENDENCIES:
+    for name, dist in _DEPENDENCIES.items():
         try:
-            mod = importlib.import_module(name)
-            out[name] = str(getattr(mod, "__version__", "unknown"))
-        except ImportError:  # pragma: no cover - core deps are installed
+            out[name] = importlib.metadata.version(dist)
+        except importlib.metadata.PackageNotFoundError:  # pragma: no cover - core deps
             out[name] = "missing"
     return out
 
 
 def _model_type(obj) -> str:
     tag = getattr(obj, "MODEL_TYPE", None)
-    if tag is None or tag not in MODEL_TYPES:
+    if tag is None or tag not in SCHEMAS:
         raise TypeError(f"{type(obj).__name__} is not a registered model type")
     return tag
 
@@ -105,7 +94,7 @@ def save_model(obj, path, *, units: dict | None = None, training_data_sha256: st
 
 
 #: Largest model file read (bytes), deepest nesting and longest integer accepted
-#: (issue 19: a model file is data, never a way to exhaust memory or the stack).
+#: (a model file is data, never a way to exhaust memory or the stack).
 MAX_MODEL_BYTES = 64 << 20
 MAX_DEPTH = 32
 MAX_INT_DIGITS = 80
@@ -196,12 +185,14 @@ def _parse(raw: bytes, *, what: str, path) -> object:
     return obj
 
 
-def read_envelope(path) -> dict:
+def read_envelope(path, *, types=None) -> dict:
     """Read and check a model file's envelope (without building the model).
 
     The file must be a regular file of at most :data:`MAX_MODEL_BYTES`; its JSON is
-    parsed by :func:`parse_json_strict`.
+    parsed by :func:`parse_json_strict`; its type must be one of ``types`` (tag ->
+    class; default: the tags with a payload schema).
     """
+    known = SCHEMAS if types is None else types
     p = Path(path)
     try:
         st = p.stat()
@@ -236,23 +227,25 @@ def read_envelope(path) -> dict:
         raise InputError(f"model file format_version {version} is newer than this inertialab "
                          f"reads ({FORMAT_VERSION}); upgrade inertialab", path=p)
     tag = env.get("type")
-    if tag not in MODEL_TYPES:
-        raise InputError(f"unknown model type {tag!r} (known: {', '.join(sorted(MODEL_TYPES))})",
+    if tag not in known:
+        raise InputError(f"unknown model type {tag!r} (known: {', '.join(sorted(known))})",
                          path=p)
     if not isinstance(env.get("payload"), dict):
         raise InputError("model file has no payload object", path=p)
     return env
 
 
-def load_model(path, *, expected_type: str | None = None):
+def load_model(path, *, types: dict, expected_type: str | None = None):
     """Load a model written by :func:`save_model`.
 
     Parameters
     ----------
+    types : dict
+        The allow-list, tag -> class (:data:`inertialab.calib.model_types.TYPES`).
     expected_type : str, optional
         Refuse a model of another type (e.g. a thermal model given to ``drift forecast``).
     """
-    env = read_envelope(path)
+    env = read_envelope(path, types=types)
     tag = env["type"]
     if expected_type is not None and tag != expected_type:
         raise InputError(f"model file holds a '{tag}' model, expected '{expected_type}'", path=path)
@@ -260,8 +253,7 @@ def load_model(path, *, expected_type: str | None = None):
         check_payload(tag, env["payload"])
     except SchemaError as exc:
         raise InputError(f"{_model_name(tag)} {exc}", path=path) from None
-    module_name, _, cls_name = MODEL_TYPES[tag].partition(":")
-    cls = getattr(importlib.import_module(module_name), cls_name)
+    cls = types[tag]
     try:
         obj = cls.from_dict(env["payload"])
     except (KeyError, TypeError, ValueError, IndexError, AttributeError, OverflowError,

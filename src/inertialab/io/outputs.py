@@ -41,7 +41,7 @@ import signal
 import stat
 from pathlib import Path
 
-from inertialab.errors import InputError
+from inertialab.errors import InputError, OutputError
 
 #: The file that marks a directory as written by inertialab (and so replaceable whole).
 MARKER = "_inertialab"
@@ -51,10 +51,6 @@ _TMP_TAG = ".inertialab-tmp-"
 _LOCK_TAG = ".inertialab-lock"
 _OLD_TAG = ".inertialab-old-"
 _SIGNALS = (signal.SIGINT, signal.SIGTERM)
-
-
-class OutputError(InputError):
-    """An output cannot be written where it was asked for (exit 2, one line)."""
 
 
 def output_error(exc: OSError, path) -> OutputError:

@@ -549,6 +549,8 @@ class NARForecaster(Estimator):
             obj.combine_, obj.split_ = d["combine_used"], d["split_used"]
             obj.accepted_ = bool(d["accepted"])
             obj.y_ = np.asarray(d["tail"], dtype=float)
+            ent = d.get("seed_entropy")  # kept so that a loaded model saves again
+            obj.seed_seq_ = np.random.SeedSequence(None if ent is None else int(ent))
             obj.order_selection_ = None
             obj.whiteness_ = None
             members = []

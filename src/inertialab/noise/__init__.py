@@ -1,5 +1,58 @@
-"""inertialab.noise: Allan family, noise terms, wavelet multiscale views, spectra, EMD.
+"""inertialab.noise: the Allan family with confidence intervals, the IEEE-952 noise
+terms, GMWM, wavelet multiscale views, spectra, EMD.
 
-Import the functions from their modules (``inertialab.noise.wavelet`` ...); this package
-keeps no import-time side effects.
+The public face (``from inertialab.noise import oadev, fit_noise_terms``) is imported on
+first use, so ``import inertialab.noise.<module>`` stays light::
+
+    oadev adev mdev tdev hdev ohdev totdev deviation DeviationResult   (allan)
+    mtotdev ttotdev htotdev (total)  theo1 theobr theoh (theo)  mtie tierms (tie)
+    compute (family: any statistic by name)  STATISTICS Statistic (registry)
+    gap_deviation (gaps)  fit_noise_terms NoiseTerms NoiseTerm (terms)
+    fit_gmwm (gmwm)  robotics_values (robotics)  k_bound (information)
+    detect_static_intervals (static_intervals)
 """
+
+_ALLAN = ("oadev", "adev", "mdev", "tdev", "hdev", "ohdev", "totdev", "deviation",
+          "DeviationResult", "tau_grid")
+_TOTAL = ("mtotdev", "ttotdev", "htotdev")
+_THEO = ("theo1", "theobr", "theoh")
+_TIE = ("mtie", "tierms")
+_TERMS = ("fit_noise_terms", "NoiseTerms", "NoiseTerm")
+_REGISTRY = ("STATISTICS", "Statistic")
+
+__all__ = [*_ALLAN, *_TOTAL, *_THEO, *_TIE, *_TERMS, *_REGISTRY, "compute", "gap_deviation",
+           "fit_gmwm", "robotics_values", "k_bound", "detect_static_intervals"]
+
+
+def __getattr__(name):  # PEP 562: the public face, imported on first use
+    if name in _ALLAN:
+        from inertialab.noise import allan as mod
+    elif name in _TOTAL:
+        from inertialab.noise import total as mod
+    elif name in _THEO:
+        from inertialab.noise import theo as mod
+    elif name in _TIE:
+        from inertialab.noise import tie as mod
+    elif name in _TERMS:
+        from inertialab.noise import terms as mod
+    elif name in _REGISTRY:
+        from inertialab.noise import registry as mod
+    elif name == "compute":
+        from inertialab.noise import family as mod
+    elif name == "gap_deviation":
+        from inertialab.noise import gaps as mod
+    elif name == "fit_gmwm":
+        from inertialab.noise import gmwm as mod
+    elif name == "robotics_values":
+        from inertialab.noise import robotics as mod
+    elif name == "k_bound":
+        from inertialab.noise import information as mod
+    elif name == "detect_static_intervals":
+        from inertialab.noise import static_intervals as mod
+    else:
+        raise AttributeError(f"module 'inertialab.noise' has no attribute {name!r}")
+    return getattr(mod, name)
+
+
+def __dir__():
+    return sorted(__all__)

@@ -5,8 +5,7 @@ Every optimiser is a function::
     f(fun, bounds, *, pop_size, max_generations, rng, x_init=None, target=None,
       stall=None, memoize=None, callback=None) -> OptimResult
 
-(CONTRACTS.md "optim"): cuckoo search and adaptive cuckoo search (spec 002), PSO
-(spec 002 baseline), the artificial fish swarm and its improved form (spec 000).
+namely cuckoo search and adaptive cuckoo search (spec 002), PSO (spec 002 baseline), the artificial fish swarm and its improved form (spec 000).
 The shared pieces live in :mod:`inertialab.optim.base`.
 """
 

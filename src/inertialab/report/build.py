@@ -1,10 +1,10 @@
-"""Turn study results into report sections (each study's ``report.figures.<name>``)."""
+"""Turn study results into report sections (each study's ``report.figures.<name>``,
+listed in :func:`figure_modules`)."""
 
 from __future__ import annotations
 
 import contextlib
 import gc
-import importlib
 import multiprocessing
 import os
 import sys
@@ -18,18 +18,30 @@ from inertialab.studies.base import StudyResult
 from inertialab.studies.demo import summary_rows
 
 
+def figure_modules() -> dict:
+    """Study name -> its figure module (imported here, explicitly: matplotlib loads
+    when a report is drawn, not when the package is imported)."""
+    from inertialab.report.figures import (
+        allan,
+        batch,
+        drift,
+        dual,
+        thermal,
+        triaxial,
+        vibration,
+    )
+
+    return {"allan": allan, "vibration": vibration, "thermal": thermal,
+            "triaxial": triaxial, "dual": dual, "drift": drift, "batch": batch}
+
+
 def section_for(result: StudyResult) -> Section:
     """The report section of a study result.
 
-    Uses ``inertialab.report.figures.<result.name>.section`` when the study ships one,
-    else a plain section with the headline table and the text.
+    Uses the ``section`` of the study's figure module (:func:`figure_modules`) when it
+    has one, else a plain section with the headline table and the text.
     """
-    try:
-        mod = importlib.import_module(f"inertialab.report.figures.{result.name}")
-    except ModuleNotFoundError as exc:
-        if exc.name != f"inertialab.report.figures.{result.name}":
-            raise
-        mod = None
+    mod = figure_modules().get(result.name)
     if mod is not None and hasattr(mod, "section"):
         sec = mod.section(result)
     else:
@@ -55,7 +67,7 @@ def _collect_per_section():
 
     matplotlib allocates hundreds of thousands of small objects per section; each
     automatic full collection also walks every object the studies left alive (their
-    results), which cost ~15 % of the report's CPU (issue 18 item 11). A collection of
+    results), which cost ~15 % of the report's CPU. A collection of
     generation 0 after a section walks only what the section allocated."""
     was = gc.isenabled()
     gc.disable()
@@ -66,7 +78,7 @@ def _collect_per_section():
             gc.enable()
 
 
-#: Relative drawing cost of each study's section (full demo, issue 18 item 11): the
+#: Relative drawing cost of each study's section (full demo): the
 #: process pool starts the costly ones first.
 _COST_HINT = {"vibration": 10, "thermal": 4, "drift": 3, "dual": 2, "triaxial": 2, "allan": 1}
 
@@ -82,7 +94,7 @@ def report_jobs(jobs: int | None = None) -> int:
     below CPUs - 1), else 1; never more than the CPUs, and 1 where processes cannot be
     forked (not Linux, or a daemon process). On a busy machine a second process only
     competes for the same cores (measured: load ~5 on 2 cores, 5.2 s wall with two
-    processes against 4.4 s with one; issue 18 item 11)."""
+    processes against 4.4 s with one)."""
     cpus = os.cpu_count() or 1
     if jobs is None:
         env = os.environ.get(JOBS_ENV, "").strip()
@@ -141,9 +153,7 @@ def _warm_up(results) -> None:
 
     from inertialab.report.html import figure_png
 
-    for r in results:
-        with contextlib.suppress(ModuleNotFoundError):
-            importlib.import_module(f"inertialab.report.figures.{r.name}")
+    figure_modules()
     fig, ax = plt.subplots(figsize=(2.0, 1.5))
     ax.plot([1.0, 10.0], [1.0, 10.0])
     ax.set_yscale("log")

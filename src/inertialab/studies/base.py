@@ -1,7 +1,8 @@
 """The study protocol: what a paper's reproduction gives the demo and the report.
 
 A module ``inertialab/studies/<name>.py`` that takes part in ``inertialab demo`` defines
-a module-level ``STUDY = Study(...)``. The demo discovers them (:func:`discover_studies`), runs
+a module-level ``STUDY = Study(...)`` and is listed in
+:func:`inertialab.studies.study_modules`. The demo finds them (:func:`discover_studies`), runs
 ``study.run(settings, progress)`` with the study's ``quick`` or ``full`` settings
 and hands the :class:`StudyResult` to the report, which turns it into a section with
 ``inertialab.report.figures.<name>.section(result)``. Workflows never draw.
@@ -9,15 +10,13 @@ and hands the :class:`StudyResult` to the report, which turns it into a section 
 
 from __future__ import annotations
 
-import importlib
-import pkgutil
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field, is_dataclass
 from typing import Any
 
 from inertialab.progress import NullProgress, Progress  # noqa: F401 - re-exported
 
-#: Canonical order of the studies in the demo and the report (CONTRACTS.md "demo").
+#: Canonical order of the studies in the demo and the report.
 STUDY_ORDER = ("allan", "vibration", "thermal", "triaxial", "dual", "drift")
 
 
@@ -89,13 +88,10 @@ def settings_dict(settings) -> dict:
 
 def discover_studies() -> dict[str, Study]:
     """All ``STUDY`` objects of the study modules, in :data:`STUDY_ORDER`."""
-    import inertialab.studies as pkg
+    from inertialab.studies import study_modules
 
     found: dict[str, Study] = {}
-    for info in pkgutil.iter_modules(pkg.__path__):
-        if info.name in ("base", "demo"):
-            continue
-        mod = importlib.import_module(f"inertialab.studies.{info.name}")
+    for mod in study_modules():
         study = getattr(mod, "STUDY", None)
         if isinstance(study, Study):
             found[study.name] = study

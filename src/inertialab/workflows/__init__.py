@@ -1,4 +1,4 @@
-"""Thin workflows, one module per study (DESIGN.md "Layers", docs/architecture.md).
+"""Thin workflows, one module per study (docs/architecture.md).
 
 Each offers one verb set on records: ``prepare(record) -> data``, ``fit(data, config) ->
 result`` and ``apply(model, record) -> record``; the estimators live on the calib/ and

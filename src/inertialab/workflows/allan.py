@@ -1,26 +1,27 @@
-"""Workflow ``allan``: the Allan family of one series (issue 3, issue 15).
+"""Workflow ``allan``: the Allan family of one series.
 
-Verbs (issue 13): :func:`prepare` (= :func:`prepare_log`) turns a validated ``gyro_log`` :class:`~inertialab.io.Record` into one
+Verbs: :func:`prepare` (= :func:`prepare_log`) turns a validated ``gyro_log`` :class:`~inertialab.io.Record` into one
 rate series (column choice, units, sample rate from ``--rate``, the sidecar or a uniform
 ``t_s``); :func:`analyze` computes the requested statistics of the Allan family with
 their confidence intervals (:mod:`inertialab.noise.allan`) and the five noise terms
 (:mod:`inertialab.noise.terms`, fitted on the overlapping Allan deviation); the result
-serialises to the JSON keys of issue 3; :func:`fit` is :func:`analyze`. The virtual-lab
+serialises to the JSON keys of :func:`fit` is :func:`analyze`. The virtual-lab
 study (``allan-test`` record, recovery over seeds) is :mod:`inertialab.studies.allan`.
 """
 
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from inertialab import units
-from inertialab.errors import InputError
+from inertialab.errors import DataQualityWarning, InputError
+from inertialab.noise import registry as stat_registry
 from inertialab.noise.allan import DeviationResult
-from inertialab.noise.family import ALL_STATISTICS as STATISTICS
-from inertialab.noise.family import PHASE_UNIT, compute
+from inertialab.noise.family import compute
 from inertialab.noise.terms import (
     NoiseTerms,
     fit_noise_terms,
@@ -29,7 +30,7 @@ from inertialab.noise.terms import (
 )
 
 #: Largest magnitude accepted in a record: squares and sums of larger values overflow
-#: float64 (1e154 squared is 1e308); no sensor output comes near it (issue 19 item 7).
+#: float64 (1e154 squared is 1e308); no sensor output comes near it.
 MAX_MAGNITUDE = 1e100
 
 
@@ -53,6 +54,13 @@ _MODEL_EDF_STATS = ("adev", "oadev", "mdev", "tdev", "hdev", "ohdev")
 
 #: Relative jitter of ``t_s`` above which a log is not uniform (spec 001 §2.2).
 T_JITTER_TOL = 1e-6
+
+#: Every statistic (names from :mod:`inertialab.noise.registry`), canonical order.
+STATISTICS = stat_registry.names()
+#: Statistics in the unit of the phase.
+PHASE_UNIT = stat_registry.phase_unit()
+#: Statistics with a gap-resistant form.
+GAP_STATISTICS = stat_registry.with_gaps()
 
 #: Memory-mapped inputs longer than this (samples) take the out-of-core path.
 CHUNKED_MIN = 1 << 26
@@ -98,7 +106,7 @@ def prepare_log(record, *, column: str | None = None, rate_hz: float | None = No
         backward stamps are an InputError naming the rows.
     input : {"rate", "angle"}
         ``"angle"`` reads a cumulative ``theta_*`` column (phase analogue).
-        ``dtheta_*`` increments are divided by tau0 (CONTRACTS.md "Records").
+        ``dtheta_*`` increments are divided by tau0 (docs/records.md).
     """
     path = record.path
     if input not in ("rate", "angle"):
@@ -165,10 +173,9 @@ def prepare_log(record, *, column: str | None = None, rate_hz: float | None = No
                    kind=kind, path=str(path), sha256=record.sha256, g_local=g)
 
 
-#: Fractional-frequency units (dimensionless ratio) and their factor to the ratio.
-CLOCK_RATIO = {"1": 1.0, "ratio": 1.0, "frac": 1.0, "pct": 1e-2, "ppm": 1e-6, "ppb": 1e-9, "ppt": 1e-12}
-#: Phase (time-error) units and their factor to seconds.
-CLOCK_TIME = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9, "ps": 1e-12}
+#: Clock units (their tables live in :mod:`inertialab.units`).
+CLOCK_RATIO = units.CLOCK_RATIO
+CLOCK_TIME = units.CLOCK_TIME
 _CLOCK_NAMES = {"phase": ("phase", "x", "tie", "time_error"),
                 "frequency": ("freq", "frequency", "y", "fract", "ffd")}
 
@@ -176,7 +183,7 @@ _CLOCK_NAMES = {"phase": ("phase", "x", "tie", "time_error"),
 def clock_log(values, *, input: str, unit: str | None, rate_hz: float,
               nominal_hz: float | None = None, column: str = "", path: str = "",
               sha256: str | None = None) -> LogData:
-    """A clock series as a :class:`LogData` in its own units (issue 15 item 1).
+    """A clock series as a :class:`LogData` in its own units.
 
     Parameters
     ----------
@@ -357,7 +364,7 @@ class AllanAnalysis:
             self.unit, f"{self.unit}*s")
 
     def statistic_json(self, r: DeviationResult) -> dict:
-        """The issue-3 JSON object of one statistic."""
+        """The JSON object of one statistic (docs/allan.md)."""
         terms = None
         if self.terms is not None:
             terms = {k: t.to_dict() for k, t in self.terms.terms().items()}
@@ -368,12 +375,14 @@ class AllanAnalysis:
         if hasattr(r, "used_fraction"):  # a record with gaps (noise.gaps)
             out.update({"n_gaps": r.n_gaps, "n_missing": r.n_missing,
                         "used_fraction": r.used_fraction})
+        if getattr(r, "alpha_source", None):  # how each tau's noise type was identified
+            out["alpha_source"] = list(r.alpha_source)
         if hasattr(r, "bias"):  # Stable32 bias factors (noise.total)
             out["bias_factor"] = r.bias
         return out
 
     def to_json(self) -> dict:
-        """One statistic: its object; several: ``{"results": [...]}`` (issue 3 item 6)."""
+        """One statistic: its object; several: ``{"results": [...]}``."""
         objs = [self.statistic_json(r) for r in self.results]
         return objs[0] if len(objs) == 1 else {"results": objs}
 
@@ -411,6 +420,32 @@ def parse_taus(taus: str):
     return vals
 
 
+def _check_finite(results, column) -> None:
+    """Finite input must give finite output: a one-line error naming the statistic."""
+    for r in results:
+        if np.isinf(np.asarray(r.dev, dtype=float)).any():
+            raise InputError(f"{r.statistic} overflowed to infinity: the record holds values "
+                             "too large for the arithmetic (e.g. a 1e308 cell)", column=column)
+
+
+def _noise_terms(oad, log: LogData, *, kind, method: str):
+    """The five noise terms fitted on the OADEV ``oad`` of ``log``; None (with a warning)
+    when the curve is too short for them; a warning too when the record is not static."""
+    why = not_static_reason(oad.taus_s, oad.dev)
+    try:
+        terms = fit_noise_terms(oad, unit=log.unit, kind=kind, method=method,
+                                rate_hz=log.rate_hz, g_local=log.g_local)
+    except InputError as exc:
+        if "taus" not in str(exc):
+            raise
+        warnings.warn(f"column '{log.column}': noise terms not fitted: {exc}",
+                      DataQualityWarning, stacklevel=3)
+        return None
+    if why:
+        warnings.warn(f"column '{log.column}': {why}", DataQualityWarning, stacklevel=3)
+    return terms
+
+
 def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: str | None = None,
             stats=("oadev",), taus="octave", confidence: float = 0.683, method: str = "wls",
             input: str = "rate", kind: str | None = None, alpha=None,
@@ -431,8 +466,8 @@ def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: st
     method : {"wls", "ols", "slope"}, default "wls"
         Noise-term method (:func:`inertialab.noise.terms.fit_noise_terms`).
     fit_terms : bool or None, default None
-        Fit the IMU noise terms (None: yes for gyro/accelerometer logs, no for a clock,
-        issue 15 item 1); a curve too short for them (fewer than 3 taus in [tau0, T/8])
+        Fit the IMU noise terms (None: yes for gyro/accelerometer logs, no for a
+        clock); a curve too short for them (fewer than 3 taus in [tau0, T/8])
         gives ``terms=None`` and a DataQualityWarning instead of an error.
     bias_correction : bool or None, default None
         Stable32's bias corrections of TOTDEV, MTOT, TTOT, HTOT and Theo1
@@ -467,10 +502,7 @@ def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: st
                   chunked=chunked and log.input == "rate")
     gappy = not isinstance(log.values, np.memmap) and bool(np.isnan(log.values).any())
     if gappy:
-        import warnings
-
-        from inertialab.errors import DataQualityWarning
-        from inertialab.noise.gaps import GAP_STATISTICS, count_gaps, gap_deviation
+        from inertialab.noise.gaps import count_gaps, gap_deviation
 
         g, miss = count_gaps(log.values)
         warnings.warn(f"{log.path or 'data'}: {miss} missing sample(s) in {g} gap(s); "
@@ -494,34 +526,14 @@ def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: st
     _check_magnitude(log.values, log.column)
     for s in names:
         results.append(one(s))
-    for r in results:  # finite input must give finite output (issue 19 item 5)
-        if np.isinf(np.asarray(r.dev, dtype=float)).any():
-            raise InputError(f"{r.statistic} overflowed to infinity: the record holds values "
-                             "too large for the arithmetic (e.g. a 1e308 cell)",
-                             column=log.column)
+    _check_finite(results, log.column)
     oad = next((r for r in results if r.statistic == "oadev"), None)
     terms = None
     if fit_terms:
         if oad is None:
             oad = one("oadev", taus="octave")
-        import warnings
-
-        from inertialab.errors import DataQualityWarning
-
-        why = not_static_reason(oad.taus_s, oad.dev)
-        try:
-            terms = fit_noise_terms(oad, unit=log.unit, kind=kind or log.kind, method=method,
-                                    rate_hz=log.rate_hz, g_local=log.g_local)
-        except InputError as exc:
-            if "taus" not in str(exc):
-                raise
-            warnings.warn(f"column '{log.column}': noise terms not fitted: {exc}",
-                          DataQualityWarning, stacklevel=2)
-        else:
-            if why:
-                warnings.warn(f"column '{log.column}': {why}", DataQualityWarning,
-                              stacklevel=2)
-    if terms is not None:  # rate records: noise types follow the fitted model (issue 14 item 5)
+        terms = _noise_terms(oad, log, kind=kind or log.kind, method=method)
+    if terms is not None:  # rate records: noise types follow the fitted model
         results = [model_intervals(r, terms) if r.statistic in _MODEL_EDF_STATS else r
                    for r in results]
     n = results[0].n_samples
@@ -535,7 +547,7 @@ def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: st
                                        "fit_terms": bool(fit_terms)} if clock else {})})
 
 
-#: The workflow verbs (issue 13): prepare(record) -> LogData, fit(data, ...) -> AllanAnalysis.
+#: The workflow verbs: prepare(record) -> LogData, fit(data, ...) -> AllanAnalysis.
 prepare = prepare_log
 fit = analyze
 

@@ -1,4 +1,4 @@
-"""The fleet runner: one command over many files or units on Dask (issue 10 item 5).
+"""The fleet runner: one command over many files or units on Dask.
 
 ``run_batch(command, paths, ...)`` runs ``allan``, ``calibrate-triaxial`` or
 ``thermal-compensate`` on every file and returns a :class:`BatchResult`: one row per
@@ -142,7 +142,8 @@ def _unit_triaxial(path: Path, options: dict) -> dict:
 def _unit_thermal(path: Path, options: dict) -> dict:
     """Thermal compensation of one unit's tumble record with a saved model: RMS of the
     compensated residual against the nominal input (ug) before and after."""
-    from inertialab.io import load_model, read_record
+    from inertialab.io import read_record
+    from inertialab.workflows.registries import load_model
 
     model_path = options.get("model")
     if not model_path:
@@ -216,7 +217,7 @@ def run_unit(command: str, path, options: dict | None = None,
     except InputError as exc:
         return UnitResult(unit, str(p), "error", reason=" ".join(str(exc).split()),
                           wall_s=time.perf_counter() - t0)
-    except Exception as exc:  # a worker failure must not stop the lot (issue 10 item 6)
+    except Exception as exc:  # a worker failure must not stop the lot
         return UnitResult(unit, str(p), "error",
                           reason=f"{type(exc).__name__}: {' '.join(str(exc).split())}",
                           wall_s=time.perf_counter() - t0)

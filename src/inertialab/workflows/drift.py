@@ -189,6 +189,21 @@ def _check_duplicates(frame: pd.DataFrame, value_cols: list[str], path):
 
 
 
+def _truth(df, quantity: str, meta: dict, path, kref: dict):
+    """The virtual lab's true values of ``quantity`` in the working unit (µg, ppm), or
+    None for a real record."""
+    tcol = _find(df, f"true_{quantity}")
+    if tcol is None:
+        return None
+    if quantity == "bias":
+        return _bias_ug(df, tcol, meta, path, _find(df, "sf"))
+    suf = split_suffix(tcol)[1]
+    tv = _sf_ma_per_g(df, tcol, meta, path) if suf == "v_per_g" else df[tcol].to_numpy(dtype=float)
+    if suf in ("ppm", "pct"):
+        return convert(tv, suf, "ppm")
+    return np.array([1e6 * (v - kref[str(u)]) / kref[str(u)] for v, u in zip(tv, df["unit_id"])])
+
+
 def to_daily_grid(frame: pd.DataFrame, *, quantity: str, meta: dict | None = None,
                   max_gap: int = 3, hampel: bool = False, path="<frame>") -> dict[str, DailySeries]:
     """Regularise a storage record to one series per unit on its grid (spec 004 §2.2).
@@ -228,17 +243,7 @@ def to_daily_grid(frame: pd.DataFrame, *, quantity: str, meta: dict | None = Non
         kref = {}
     else:
         vals, kref = _sf_values(df, col, meta, path)
-    tcol = _find(df, f"true_{quantity}")
-    truth = None
-    if tcol is not None:
-        if quantity == "bias":
-            truth = _bias_ug(df, tcol, meta, path, _find(df, "sf"))
-        else:
-            tv = (_sf_ma_per_g(df, tcol, meta, path)
-                  if split_suffix(tcol)[1] == "v_per_g" else df[tcol].to_numpy(dtype=float))
-            truth = np.array([1e6 * (v - kref[str(u)]) / kref[str(u)]
-                              for v, u in zip(tv, df["unit_id"])]) \
-                if split_suffix(tcol)[1] not in ("ppm", "pct") else convert(tv, split_suffix(tcol)[1], "ppm")
+    truth = _truth(df, quantity, meta, path, kref)
     outl = df["is_outlier_true"].to_numpy(dtype=bool) if "is_outlier_true" in df.columns else None
     days = _programme_days(df, meta, path)
     work = pd.DataFrame({"unit_id": df["unit_id"].astype(str).to_numpy(), "day": days,
@@ -322,7 +327,7 @@ def fit_drift(frame: pd.DataFrame, *, meta: dict | None = None,
     ----------
     frame : validated ``storage_drift`` record (``Record.data``)
     meta : sidecar (``t0``, ``k_ref``, ``tol_bias_ug``/``tol_sf_ppm`` if the settings
-        keep the defaults, see CONTRACTS.md "drift")
+        keep the defaults, see docs/drift.md)
     settings : :class:`DriftSettings`
     quantities : which of "bias", "sf" (a quantity absent from the record is skipped
         when both are asked for)
@@ -436,7 +441,7 @@ def evaluate(record, settings: DriftSettings = DriftSettings(), *, quantities=("
 
 # ---------------------------------------------------------------------------- apply
 
-#: Output columns of :func:`apply` (units in the names; DESIGN "Records").
+#: Output columns of :func:`apply` (units in the names, docs/records.md).
 APPLY_STATUS = {0: "forecast used", 1: "on or before the origin: calibrated value used"}
 
 
@@ -529,22 +534,30 @@ def apply(model: DriftModel, record) -> tuple[pd.DataFrame, dict]:
                     "rmse_uncompensated": metrics.rmse(meas[m], ycal[m]), "n": int(m.sum()),
                     "unit": unit}
     if "output_ma" in frame.columns:
-        missing = sorted({u for u, b, k in zip(out["unit_id"], hat["bias"],
-                                               out["sf_hat_ma_per_g"])
-                          if not (np.isfinite(b) and np.isfinite(k))})
-        if missing:
-            raise InputError(f"output_ma needs both a bias and a scale-factor model (with "
-                             f"k_ref); unit(s) {', '.join(missing[:5])} lack one", path=path,
-                             column="output_ma")
-        i_ma = pd.to_numeric(frame["output_ma"], errors="coerce").to_numpy(dtype=float)
-        if not np.all(np.isfinite(i_ma)):
-            rows = (np.flatnonzero(~np.isfinite(i_ma))[:5] + 1).tolist()
-            raise InputError("output_ma must be a finite number of mA", path=path,
-                             column="output_ma", row=rows[0] if len(rows) == 1 else rows)
-        a = i_ma / out["sf_hat_ma_per_g"].to_numpy() - 1e-6 * hat["bias"]
-        out["a_g"] = a
-        if "a_ref_g" in frame.columns:
-            out["a_error_ug"] = 1e6 * (a - pd.to_numeric(frame["a_ref_g"], errors="coerce")
-                                       .to_numpy(dtype=float))
+        _output_current(frame, out, hat["bias"], path)
     out["status"] = status
     return out, summary
+
+
+def _output_current(frame, out, bias_hat, path) -> None:
+    """``a_g`` = I / k̂ - b̂ for the output current ``output_ma`` (and ``a_error_ug``
+    against ``a_ref_g``), added to ``out``."""
+    hat = {"bias": bias_hat}
+    missing = sorted({u for u, b, k in zip(out["unit_id"], hat["bias"],
+                                           out["sf_hat_ma_per_g"])
+                      if not (np.isfinite(b) and np.isfinite(k))})
+    if missing:
+        raise InputError(f"output_ma needs both a bias and a scale-factor model (with "
+                         f"k_ref); unit(s) {', '.join(missing[:5])} lack one", path=path,
+                         column="output_ma")
+    i_ma = pd.to_numeric(frame["output_ma"], errors="coerce").to_numpy(dtype=float)
+    if not np.all(np.isfinite(i_ma)):
+        rows = (np.flatnonzero(~np.isfinite(i_ma))[:5] + 1).tolist()
+        raise InputError("output_ma must be a finite number of mA", path=path,
+                         column="output_ma", row=rows[0] if len(rows) == 1 else rows)
+    a = i_ma / out["sf_hat_ma_per_g"].to_numpy() - 1e-6 * hat["bias"]
+    out["a_g"] = a
+    if "a_ref_g" in frame.columns:
+        out["a_error_ug"] = 1e6 * (a - pd.to_numeric(frame["a_ref_g"], errors="coerce")
+                                   .to_numpy(dtype=float))
+

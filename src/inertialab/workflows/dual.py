@@ -36,14 +36,15 @@ from inertialab.calib.dual_prior import (
     DualPrior,
     history_prior,
     prior_from_dict,
+    prior_from_history,
     resolve_prior,
 )
 from inertialab.calib.dual_reduce import Reduced, reduce_stops
 from inertialab.errors import InputError
 from inertialab.sensors.dual_meter import COEF_UNITS, PAPER_ALIASES
 
-__all__ = ["METHOD_CHOICES", "UNITS", "DualConfig", "DualResult", "design", "fit", "load_prior",
-           "parse_methods", "prepare"]
+__all__ = ["METHOD_CHOICES", "PAPER_ALIASES", "UNITS", "DualConfig", "DualResult", "design",
+           "fit", "load_prior", "parse_methods", "prepare", "prior_from_history"]
 
 #: Values of the ``method`` argument ("all" = every method of :data:`METHODS`).
 METHOD_CHOICES = ("ebr", "ls", "single-ls", "ridge-hkb", "ridge-gcv", "all")
@@ -163,7 +164,7 @@ def prepare(record, *, g_local: float | None = None) -> Reduced:
                        record.meta, path=path, run_id=run_id, g_local=g_local,
                        dmm_range_v=rng_v)
     unsorted = [name for k, name in ((0, "CCW"), (1, "CW")) if np.any(np.diff(t[d == k]) < 0)]
-    if unsorted:  # CONTRACTS.md: per-test tables are sorted, with a warning
+    if unsorted:  # per-test tables are sorted, with a warning
         red = replace(red, warnings=red.warnings + (
             f"{path}: the {' and '.join(unsorted)} rows were not in time order; sorted by t_s",))
     return red

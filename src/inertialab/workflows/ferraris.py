@@ -1,4 +1,4 @@
-"""Workflow ``ferraris`` (issue 17 item 2): a Ferraris calibration session -> model.
+"""Workflow ``ferraris``: a Ferraris calibration session -> model.
 
 - :func:`prepare` (record -> :class:`FerrarisSession`): raw accelerometer and gyro
   columns of a ``triaxial_raw`` record, the sample rate (from ``t_s`` or the header's

@@ -26,6 +26,9 @@ import numpy as np
 from inertialab import units as U
 from inertialab.errors import InputError
 
+#: axis name -> (kind) of the six IMU axes (column bases ``gx_<unit>`` ...)
+AXES = {"gx": "gyro", "gy": "gyro", "gz": "gyro", "ax": "accel", "ay": "accel", "az": "accel"}
+
 #: default bias window, s (a zero-velocity update or a short stop)
 BIAS_WINDOW_S = 10.0
 #: plan target: K within +-20 % at 95 % (1.96 sd of log K <= ln 1.2)
@@ -163,4 +166,126 @@ def _processes(terms, tau0: float, n_samples: int):
     return out
 
 
-__all__ = ["BIAS_WINDOW_S", "DriftOptions", "axis_drift", "axis_plan"]
+def inflated(res):
+    """``(analysis, note)``: the six-axis analysis with each sensor's noise densities and
+    random walks multiplied by the largest observed/predicted RMS of its checked axes over
+    the horizons (at least 1), so that the drift the exported values predict covers the
+    observed drift at every horizon; ``note``: the comment lines that say so."""
+    from dataclasses import replace
+
+    out, note = [], []
+    for kind, label in (("gyro", "gyroscope"), ("accel", "accelerometer")):
+        ratios = [r for a in res.axes if a.kind == kind and a.drift and "check" in a.drift
+                  for r in a.drift["check"]["observed_over_predicted"] if math.isfinite(r)]
+        f = max([1.0, *ratios])
+        if ratios:
+            check = next(a.drift["check"]["on"] for a in res.axes
+                         if a.kind == kind and a.drift and "check" in a.drift)
+            note.append(f"{label} noise density and random walk inflated x{f:.3g}: the "
+                        f"largest observed/predicted drift RMS on {check} over horizons "
+                        f"{', '.join(f'{h:g}' for h in res.axes[0].drift['horizons_s'])} s "
+                        f"after a {res.axes[0].drift['bias_window_s']:g}-s bias window")
+        out += [(a.axis, f) for a in res.axes if a.kind == kind]
+    scale = dict(out)
+    axes = tuple(replace(a, noise_density=a.noise_density * scale[a.axis],
+                         random_walk=a.random_walk * scale[a.axis]) for a in res.axes)
+    return replace(res, axes=axes), tuple(note)
+
+
+def axis_columns(rec) -> dict:
+    """``{axis: (column, samples, unit)}`` of the ``gx gy gz ax ay az`` columns of a
+    record."""
+    cols = {}
+    for name in AXES:
+        c = rec.find(name)
+        if c is not None:
+            cols[name] = (c, rec.column(c), rec.units[c])
+    return cols
+
+
+def drift_options(predict_drift, bias_window, check_on, plan, rec, *, rate, unit, g_local,
+                   gaps, ro):
+    """The :class:`DriftOptions` of the command's settings (``check_on``: ``half`` or
+    another log, read like the main one), or None without a prediction or plan."""
+    if not predict_drift and not plan:
+        return None
+    horizons = ()
+    if predict_drift:
+        try:
+            horizons = tuple(float(v) for v in str(predict_drift).split(",") if v.strip())
+        except ValueError:
+            raise InputError(f"argument 'predict_drift' must be comma-separated seconds, got "
+                             f"'{predict_drift}'") from None
+    other, name, mode = {}, None, None
+    if check_on:
+        if str(check_on).strip().lower() == "half":
+            mode = "half"
+        else:
+            from inertialab.io import read_record
+            rec2 = read_record(check_on, "gyro_log", unit=unit, rate_hz=rate,
+                               g_local=g_local, gaps=gaps, options=ro)
+            tb1, tb2 = rec.timebase, rec2.timebase
+            fs1 = rate or (tb1.rate_hz if tb1 is not None else None)
+            fs2 = rate or (tb2.rate_hz if tb2 is not None else None)
+            if fs1 and fs2 and abs(float(fs1) / float(fs2) - 1) > 1e-3:
+                raise InputError(f"the check log is at {fs2:g} Hz, the analysed log at "
+                                 f"{fs1:g} Hz: give logs of the same rate", path=check_on)
+            place = tb2.place if (rate is None and tb2 is not None) else (lambda v: v)
+            other = {k: place(v[1]) for k, v in axis_columns(rec2).items()}
+            mode, name = "other", str(check_on)
+    return DriftOptions(horizons_s=horizons or (1.0,), bias_window_s=float(bias_window),
+                        check_on=mode, other=other, other_name=name, plan=bool(plan))
+
+
+def display_tables(res, file) -> list:
+    """``(title, columns, rows)`` of everything ``allan --imu`` prints: the noise table
+    (:meth:`IMUNoise.table`), then :func:`drift_tables`."""
+    cols, rows = res.table()
+    title = (f"{file}: IMU noise, {res.n_samples} samples at {res.rate_hz:g} Hz "
+             f"({100 * res.term_confidence:g} % intervals; '<=' an upper bound; densities "
+             "continuous-time, SI)")
+    return [(title, cols, rows), *drift_tables(res)]
+
+
+def drift_tables(res) -> list:
+    """``(title, columns, rows)`` of the predicted-drift, check and plan tables."""
+    out = []
+    axes = [a for a in res.axes if a.drift is not None]
+    if axes and res.settings.get("drift", {}).get("horizons_s"):
+        hz = axes[0].drift["horizons_s"]
+        w = axes[0].drift["bias_window_s"]
+        cols = ["axis", "source"] + [f"{h:g} s" for h in hz]
+        rows = []
+        for a in axes:
+            d, u = a.drift, a.drift["unit"]
+            rows.append([a.axis, f"model RMS ({u})"] + [f"{v:.3g}" for v in d["predicted_rms"]])
+            rows.append([a.axis, f"Kalibr RMS ({u})"]
+                        + [f"{v:.3g}" for v in d["kalibr"]["predicted_rms"]])
+            c = d.get("check")
+            if c:
+                rows.append([a.axis, f"observed RMS ({u})"]
+                            + [f"{v:.3g}" for v in c["observed_rms"]])
+                rows.append([a.axis, "observed/model"]
+                            + [f"{v:.2f}" for v in c["observed_over_predicted"]])
+                rows.append([a.axis, "observed/Kalibr"]
+                            + [f"{v:.2f}" for v in c["kalibr_observed_over_predicted"]])
+                rows.append([a.axis, "in model 95 % band"]
+                            + [f"{100 * v:.0f} %" for v in c["coverage_95"]])
+        check = axes[0].drift.get("check", {}).get("on")
+        out.append((f"Integrated error after a {w:g}-s bias window (angle for gyros, "
+                    "velocity for accelerometers)" + (f"; checked on {check}" if check
+                                                      else ""), cols, rows))
+    plans = [a for a in res.axes if a.plan is not None]
+    if plans:
+        rows = [[a.axis, "-" if a.plan["needed_h"] is None else f"{a.plan['needed_h']:.3g}",
+                 f"{a.plan['record_h']:.3g}",
+                 {True: "yes", False: "no", None: "-"}[a.plan["long_enough"]],
+                 a.plan.get("reason", "")] for a in plans]
+        out.append(("Record length for K within +-20 % at 95 % (Cramer-Rao bound of the "
+                    "fitted model)", ["axis", "needed (h)", "this log (h)", "long enough",
+                                      "note"], rows))
+    return out
+
+
+__all__ = ["AXES", "BIAS_WINDOW_S", "DriftOptions", "axis_columns", "axis_drift", "axis_plan",
+           "display_tables", "drift_options", "drift_tables", "inflated"]

@@ -13,16 +13,21 @@ two numbers visual-inertial estimators ask for, in SI units:
 * **random walk** (bias random walk, continuous time): ``K`` of
   ``sigma^2(tau) = ... + K^2 tau / 3``, i.e. ``sqrt(3 c_1)``; rad/s^2/sqrt(Hz) and
   m/s^3/sqrt(Hz). Discrete: ``K / sqrt(update_rate)`` per sample. When the record is
-  too short to show the +1/2 slope (``c_1`` not positive), the value written is
-  ``sigma_hi(tau_max) sqrt(3 / tau_max)``, the rate-random-walk line through the upper
-  confidence limit of the longest tau (an upper bound at that confidence), and the
-  axis is flagged ``random_walk_bound``.
+  too short to show the +1/2 slope, or K is not significant, the value written is an
+  upper bound (K's upper bound, else the rate-random-walk line through the upper
+  confidence limit of the longest tau) and the axis is flagged ``random_walk_bound``
+  (JSON ``"bound": "upper"``).
 
-:func:`export_yaml` writes these as Kalibr's ``imu.yaml`` (one isotropic value per
-sensor: the largest of its three axes, which is the conservative choice for an
-estimator that takes one number) or as a ROS parameter file (the same keys under a
-namespace, plus the per-axis values). The continuous/discrete convention is stated in
-the file's comments. The CLI writes the text; this module only builds it.
+Per axis also: spectral lines (:mod:`inertialab.noise.lines`), a ``status`` (an axis
+that is not static keeps its deviation and gets no terms; the others go on), and with
+:class:`inertialab.workflows.imu_drift.DriftOptions` the predicted drift, its check and
+the record-length plan.
+
+:func:`export_yaml` writes these for any noise target of
+:data:`inertialab.io.exporters.EXPORTERS` (Kalibr, ROS, OpenVINS, VINS, imu_utils,
+GTSAM): one value per sensor, the largest of its three axes (the conservative choice
+for an estimator that takes one number); the continuous/discrete convention and any
+bound are stated in the file's comments.
 """
 
 from __future__ import annotations
@@ -34,11 +39,11 @@ import numpy as np
 
 from inertialab import units as U
 from inertialab.errors import InputError
+from inertialab.workflows.imu_drift import AXES, axis_columns
 
 __all__ = ["AXES", "AxisNoise", "IMUNoise", "analyse_imu", "analyse_record", "export_yaml"]
 
 #: axis name -> (column base, kind)
-AXES = {"gx": "gyro", "gy": "gyro", "gz": "gyro", "ax": "accel", "ay": "accel", "az": "accel"}
 
 _SI = {"gyro": ("rps", "rad/s/sqrt(Hz)", "rad/s^2/sqrt(Hz)"),
        "accel": ("mps2", "m/s^2/sqrt(Hz)", "m/s^3/sqrt(Hz)")}
@@ -171,6 +176,12 @@ class IMUNoise:
     rate_hz: float
     n_samples: int
     settings: dict = field(default_factory=dict)
+
+    @property
+    def term_confidence(self) -> float:
+        """Confidence of the term intervals (0.95 when no axis has terms)."""
+        return next((float(a.terms.confidence) for a in self.axes if a.terms is not None),
+                    0.95)
 
     def axis(self, name: str) -> AxisNoise:
         for a in self.axes:
@@ -372,17 +383,6 @@ def analyse_imu(columns: dict, *, rate_hz: float, taus="octave", method: str = "
     return IMUNoise(axes=tuple(out), rate_hz=float(rate_hz), n_samples=n, settings=settings)
 
 
-def axis_columns(rec) -> dict:
-    """``{axis: (column, samples, unit)}`` of the ``gx gy gz ax ay az`` columns of a
-    record."""
-    cols = {}
-    for name in AXES:
-        c = rec.find(name)
-        if c is not None:
-            cols[name] = (c, rec.column(c), rec.units[c])
-    return cols
-
-
 def analyse_record(rec, *, rate_hz: float | None = None, taus="octave", method: str = "wls",
                    g_local: float | None = None, tau_range_s=None, progress=None,
                    terms: bool = True, drift=None) -> IMUNoise:
@@ -416,54 +416,56 @@ def analyse_record(rec, *, rate_hz: float | None = None, taus="octave", method: 
         raise InputError(str(exc), path=rec.path) from None
 
 
-def _fmt(v: float) -> str:
-    return "null" if not np.isfinite(v) else f"{v:.6e}"
+def analyse_file(file, *, read=None, unit=None, rate=None, gaps=None, g_local=None,
+                 method="wls", terms=True, predict_drift=None, bias_window=10.0,
+                 check_on=None, plan=False, inflate=None, export=None, progress=None):
+    """``(record, IMUNoise)`` of a log file: the settings checked, the record read (and
+    the check log, :func:`inertialab.workflows.imu_drift.drift_options`), the axes
+    analysed."""
+    from inertialab.io import read_record
+    from inertialab.workflows.imu_drift import drift_options
+
+    if export:
+        from inertialab.io.exporters import get
+
+        get("noise", export[0])  # an unknown target before anything is read
+    if inflate not in (None, "auto", "none"):
+        raise InputError(f"argument 'inflate' must be 'auto' or 'none', got '{inflate}'")
+    if inflate == "auto" and not (export and check_on and predict_drift):
+        raise InputError("argument 'inflate' auto needs an export, a drift prediction and a "
+                         "check log (the inflation comes from the observed drift)")
+    if gaps not in (None, "error", "split"):
+        raise InputError(f"argument 'gaps' must be 'error' or 'split', got '{gaps}'")
+    if check_on and not predict_drift:
+        raise InputError("argument 'check_on' needs argument 'predict_drift'")
+    if not terms and (predict_drift or plan):
+        raise InputError("a drift prediction or plan needs the noise terms")
+    rec = read_record(file, "gyro_log", unit=unit, rate_hz=rate, g_local=g_local, gaps=gaps,
+                      options=read)
+    drift = drift_options(predict_drift, bias_window, check_on, plan, rec, rate=rate,
+                          unit=unit, g_local=g_local, gaps=gaps, ro=read)
+    return rec, analyse_record(rec, rate_hz=rate, method=method, g_local=g_local,
+                               progress=progress, terms=terms, drift=drift)
+
+
+def export_noise_file(res: IMUNoise, target: str, path, *, rostopic: str, inflate=None) -> str:
+    """Write the noise parameters for ``target`` (an exporter of
+    :data:`inertialab.io.exporters.EXPORTERS`), inflated where ``inflate`` is ``auto``
+    (:func:`inertialab.workflows.imu_drift.inflated`); returns the target's name."""
+    from inertialab.io.exporters import export_noise, get
+    from inertialab.workflows.imu_drift import inflated
+
+    target = get("noise", target).target
+    exported, note = inflated(res) if inflate == "auto" else (res, ())
+    export_noise(exported, target, path, rostopic=rostopic, note=note)
+    return target
 
 
 def export_yaml(result: IMUNoise, style: str = "kalibr", *, rostopic: str = "/imu0",
-                namespace: str = "imu") -> str:
-    """Kalibr ``imu.yaml`` or ROS parameter YAML text of an :class:`IMUNoise`.
+                 namespace: str = "imu") -> str:
+    """The text of a noise-parameter file for ``style`` (any noise target of
+    :data:`inertialab.io.exporters.EXPORTERS`: kalibr, ros, openvins, vins, imu_utils,
+    gtsam), continuous-time values, each sensor's largest axis."""
+    from inertialab.io.exporters import noise_text
 
-    Both hold ``gyroscope_noise_density`` [rad/s/sqrt(Hz)], ``gyroscope_random_walk``
-    [rad/s^2/sqrt(Hz)], ``accelerometer_noise_density`` [m/s^2/sqrt(Hz)],
-    ``accelerometer_random_walk`` [m/s^3/sqrt(Hz)] (continuous time, the largest of the
-    three axes) and ``update_rate`` [Hz]; ``ros`` nests them under ``namespace`` and
-    adds the per-axis values.
-    """
-    if style not in ("kalibr", "ros"):
-        raise InputError(f"argument 'export' must be 'kalibr' or 'ros', got '{style}'")
-    d = result.to_dict()["kalibr"]
-    bound = {k: any(a.random_walk_bound for a in result.axes if a.kind == k)
-             for k in ("gyro", "accel")}
-    head = [
-        "# IMU noise parameters from inertialab (overlapping Allan deviation, five-term fit)",
-        "# Continuous-time values: noise densities are white-noise spectral densities and",
-        "# random walks are bias random-walk densities. Discrete-time equivalents at",
-        "# update_rate: sigma_d = noise_density * sqrt(update_rate),",
-        "# sigma_bd = random_walk / sqrt(update_rate).",
-        "# Each value is the largest of the sensor's three axes.",
-    ]
-    for k, lab in (("gyro", "gyroscope"), ("accel", "accelerometer")):
-        if bound[k]:
-            head.append(f"# {lab}_random_walk is an upper bound: the record is too short to "
-                        "show the +1/2 slope.")
-    body = [
-        "#Accelerometers",
-        f"accelerometer_noise_density: {_fmt(d['accelerometer_noise_density'])}  # m/s^2/sqrt(Hz)",
-        f"accelerometer_random_walk: {_fmt(d['accelerometer_random_walk'])}  # m/s^3/sqrt(Hz)",
-        "#Gyroscopes",
-        f"gyroscope_noise_density: {_fmt(d['gyroscope_noise_density'])}  # rad/s/sqrt(Hz)",
-        f"gyroscope_random_walk: {_fmt(d['gyroscope_random_walk'])}  # rad/s^2/sqrt(Hz)",
-    ]
-    if style == "kalibr":
-        body += [f"rostopic: {rostopic}", f"update_rate: {result.rate_hz:.6g}  # Hz"]
-        return "\n".join(head + body) + "\n"
-    lines = head + [f"{namespace}:"]
-    lines += ["  " + ln if not ln.startswith("#") else "  " + ln for ln in body]
-    lines.append(f"  update_rate: {result.rate_hz:.6g}  # Hz")
-    lines.append("  per_axis:  # continuous time, SI")
-    for a in result.axes:
-        lines.append(f"    {a.axis}: {{noise_density: {_fmt(a.noise_density)}, "
-                     f"random_walk: {_fmt(a.random_walk)}, "
-                     f"random_walk_bound: {'true' if a.random_walk_bound else 'false'}}}")
-    return "\n".join(lines) + "\n"
+    return noise_text(result, style, rostopic=rostopic, namespace=namespace)

@@ -50,8 +50,8 @@ from inertialab.calib.thermal import (  # noqa: F401 - re-exported for callers o
     recalibrate,
     score,
 )
-from inertialab.calib.thermal_export import export_c
 from inertialab.errors import InputError, MissingReferenceError
+from inertialab.io.exporters.thermal_c import export_c
 from inertialab.progress import NullProgress
 from inertialab.seeding import as_generator
 from inertialab.sensors.pendulous import (
@@ -160,7 +160,7 @@ def prepare_samples(frame: pd.DataFrame, config: ThermalConfig | None = None, *,
 
 
 
-#: Plausibility limits of a thermal tumble (issue 19 item 5) [ours]: a 55 °C tumble that
+#: Plausibility limits of a thermal tumble [ours]: a 55 °C tumble that
 #: leaves more than 10 mg rms around eq. 1 (a healthy one leaves µg), or a sample whose
 #: output differs from the 55 °C model by more than 1 g (the seed's drift is 5 mg), is
 #: not a temperature drift but a broken cell; refusing it keeps NaN and nonsense out of
@@ -445,8 +445,7 @@ def fit_thermal(samples: ThermalSamples, config: ThermalConfig | None = None, *,
     Random streams: ``SeedSequence(config.seed)`` spawns the split stream and a model
     stream; each (fold, method) draws from its own child of the model stream keyed by
     the fold index and the method's *name* (:func:`method_stream`), so a model gets the
-    same numbers whether it is fitted alone or beside others, in any order (issue 18
-    item 2).
+    same numbers whether it is fitted alone or beside others, in any order.
     """
     cfg = (config or ThermalConfig()).validate()
     progress = progress or NullProgress()
@@ -595,7 +594,7 @@ def apply(model: ThermalModel, record, *, reference: str = "auto",
 
 
 def export(model: ThermalModel, *, prefix: str = "qfa", unit_record=None):
-    """C99 source of a fuzzy thermal model (:func:`inertialab.calib.thermal_export.export_c`).
+    """C99 source of a fuzzy thermal model (:func:`inertialab.io.exporters.thermal_c.export_c`).
     ``unit_record``: a thermal-tumble record of the unit the code will run on, when it is
     another unit of the lot; its 55 °C tumble gives the coefficients of the §3.7 mapping."""
     unit_ref, unit_id = None, ""

@@ -367,7 +367,7 @@ def prepare(record: Record, *, lsb_per_g: float | None = None, schedule: pd.Data
     gyro : also keep the gyro channels (raw logs only)
 
     Gyro columns of a raw log take part in the static detection whether or not ``gyro``
-    is asked for: a rest is the accelerometer still and the gyro at rest (issue 17).
+    is asked for: a rest is the accelerometer still and the gyro at rest.
     """
     meta = dict(record.meta)
     cols = _acc_cols(record)
@@ -409,7 +409,7 @@ class Config:
     ``None`` means the method's own default: objective ``norm`` (``scalar`` for the
     six-position method), 1000 generations for the metaheuristics, a 2 deg face tilt for
     the six-position refinement. A setting the method does not use is refused, not
-    ignored (issue 17 item 3): ``objective`` with ``six-position``/``ellipsoid``,
+    ignored: ``objective`` with ``six-position``/``ellipsoid``,
     ``max_generations`` outside ``acs cs pso``, ``robust`` outside ``lm``,
     ``placement_deg`` outside ``six-position``.
 
@@ -500,7 +500,7 @@ def methods_from(text: str) -> list[str]:
 
 
 def fit_methods(session: Session, config: Config, methods) -> tuple[dict, dict]:
-    """Several methods on one session (issue 18): ``(runs, skipped)``.
+    """Several methods on one session: ``(runs, skipped)``.
 
     Each setting of ``config`` goes to the methods that use it (``objective`` to lm, acs,
     cs, pso; ``max_generations`` to the metaheuristics; ``robust`` to lm;
@@ -537,7 +537,7 @@ _USES = {
 
 
 def _refuse_ignored(method: str, config: Config) -> None:
-    """A setting the method would ignore is an error (issue 17 item 3)."""
+    """A setting the method would ignore is an error."""
     given = {"objective": config.objective is not None,
              "max_generations": config.max_generations is not None,
              "robust": bool(config.robust), "placement_deg": config.placement_deg is not None}

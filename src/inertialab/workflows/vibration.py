@@ -1,6 +1,6 @@
-"""Workflow ``vibration``: FOG errors under linear vibration (spec 001, issue 4).
+"""Workflow ``vibration``: FOG errors under linear vibration (spec 001).
 
-Verbs (issue 13): :func:`prepare` (a ``gyro_log`` record -> validated, segmented
+Verbs: :func:`prepare` (a ``gyro_log`` record -> validated, segmented
 :class:`~inertialab.calib.vibration.VibrationRun`), :func:`fit` (sweep and optional fixed
 run -> :class:`VibrationResult` with the fitted
 :class:`~inertialab.calib.vibration.VibrationModel`), :func:`apply` (model + record ->
@@ -67,7 +67,7 @@ __all__ = [
 ]
 
 TERMS = ("Q", "N", "B", "K", "R")
-#: Report units of the five terms (CONTRACTS.md "noise").
+#: Report units of the five terms (docs/vibration.md).
 TERM_UNITS = {"Q": "arcsec", "N": "deg/sqrt(h)", "B": "deg/h", "K": "deg/h/sqrt(h)",
               "R": "deg/h^2"}
 
@@ -254,7 +254,7 @@ class VibrationConfig:
         J (seed: 10).
     spread, goal : float, default 1.2 and 1e-4
         RBF settings of the seed; ``spread="validate"`` picks it from ``spread_grid`` by
-        the held-out RMSE on the even bins (issue 18 item 6; the seed "tuned 1.2 after many
+        the held-out RMSE on the even bins (the seed "tuned 1.2 after many
         validations"), reported in ``fit["rbf"]["spread_selection"]``.
     centers : str, default="max_error"
         RBF centre selection (seed wording "random fixed"; spec default newrb's).
@@ -339,7 +339,7 @@ class VibrationResult:
     settings: dict
 
     def to_json(self) -> dict:
-        """The issue's ``--json`` keys, verbatim."""
+        """The ``--json`` keys of ``vibration fit`` (docs/vibration.md)."""
         return {
             "level": int(self.level),
             "delta_j": {str(j): float(d) for j, d in self.level_selection.delta.items()},
@@ -382,7 +382,7 @@ def _fit_block(targets: BiasTargets, cfg: VibrationConfig, level: int, run: Vibr
     odd = targets.bin_index % 2 == 1
     selection = None
     spread = cfg.spread
-    if spread == "validate":  # issue 18 item 6: the spread with the least held-out RMSE
+    if spread == "validate":  # the spread with the least held-out RMSE
         selection = select_spread(f, e, odd, grid=cfg.spread_grid, goal=cfg.goal,
                                   centers=cfg.centers, max_neurons=cfg.max_neurons,
                                   rng=cfg.rng)
@@ -449,6 +449,69 @@ def _views(run: VibrationRun, cfg: VibrationConfig) -> dict:
                   "inst_freq_hz": hilbert_frequency(r.imfs, run.fs_hz) if r.imfs.size else
                   np.zeros((0, seg.size)), "backend": r.backend}
     return out
+
+
+def _settings(cfg: VibrationConfig) -> dict:
+    """The settings :func:`analyse` reports."""
+    return {
+        "level": cfg.level, "wavelet": "db4", "wavelet_level": cfg.wavelet_level,
+        "spread": cfg.spread, "goal": cfg.goal, "centers": cfg.centers,
+        "max_neurons": cfg.max_neurons, "target_guard_s": cfg.target_guard_s,
+        "level_guard_s": cfg.level_guard_s, "residual_guard_s": cfg.residual_guard_s,
+        "edge_s": cfg.edge_s, "delta_threshold": cfg.delta_threshold,
+        "bin_width_hz": cfg.bin_width_hz, "min_bin_count": cfg.min_bin_count,
+        "targets": cfg.targets, "seed": cfg.rng,
+        "methods": {"phases": "wls", "decomposition": "ols", "compensation": "wls"},
+    }
+
+
+def _compensate_fixed(fixed, a_fix, level: int, model, cfg, tmin_phys: float, tables: dict,
+                      metrics: dict, views: dict, tables_step) -> dict:
+    """Step 7 of :func:`analyse`: compensate the fixed run (RBF and polynomial), its noise
+    tables and residual metrics (filled into ``tables``, ``metrics``, ``views``); returns
+    the residual bias of each model, deg/h."""
+    comp = {"raw": fixed.rate_dph, f"A{level}": a_fix}
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", ExtrapolationWarning)
+        comp["rbf"] = model.compensate(fixed.rate_dph, fixed.vib_on, fixed.freq_hz,
+                                       model="rbf", approx=a_fix)
+        comp["poly"] = model.compensate(fixed.rate_dph, fixed.vib_on, fixed.freq_hz,
+                                        model="poly", approx=a_fix)
+    clipped = any(issubclass(w.category, ExtrapolationWarning) for w in caught)
+    if clipped:
+        warnings.warn(f"{fixed.path}: drive frequencies outside the sweep's training range "
+                      f"{model.f_range_hz_} Hz were clipped to it (spec §3.10)",
+                      ExtrapolationWarning, stacklevel=3)
+    metrics["clipped_frequencies"] = bool(clipped)
+    tables_step()
+    raw_row = None
+    for sname, s in comp.items():
+        tmin = None if sname == "raw" else tmin_phys
+        row = noise_terms_row(s, fixed.fs_hz, method="wls", tau_min_s=tmin)
+        tables["compensation"][sname] = row
+        if sname == "raw":
+            raw_row = row
+        metrics["ratios"][f"compensation/{sname}/raw"] = _ratios(row, raw_row)
+    # the paper's reading of Table 3: OLS over the full tau range (spec §3.4)
+    metrics["compensation_paper"] = {
+        sname: noise_terms_row(sig, fixed.fs_hz, method="ols") for sname, sig in comp.items()}
+    metrics["ratios"]["compensation/rbf/A"] = _ratios(tables["compensation"]["rbf"],
+                                                      tables["compensation"][f"A{level}"])
+    metrics["ratios"]["compensation/poly/A"] = _ratios(tables["compensation"]["poly"],
+                                                       tables["compensation"][f"A{level}"])
+    metrics["residual"] = {name: residual_metrics(comp[name], fixed,
+                                                  guard_s=cfg.residual_guard_s,
+                                                  edge_s=cfg.edge_s)
+                           for name in (f"A{level}", "rbf", "poly")}
+    residual = {"rbf": metrics["residual"]["rbf"]["delta_b"],
+                "poly": metrics["residual"]["poly"]["delta_b"]}
+    views["fixed"] = {"rate": fixed.rate_dph, "approx": a_fix, "rbf": comp["rbf"],
+                      "poly": comp["poly"], "fs_hz": fixed.fs_hz, "k_on": fixed.k_on,
+                      "k_off": fixed.k_off}
+    metrics["compensation_note"] = (
+        f"rows raw (wls, tau >= tau0) and A{level}, rbf, poly (wls, tau >= "
+        f"{tmin_phys:g} s = 2^(L+1) tau0), whole fixed record")
+    return residual
 
 
 def analyse(sweep: VibrationRun, fixed: VibrationRun | None = None,
@@ -536,7 +599,7 @@ def analyse(sweep: VibrationRun, fixed: VibrationRun | None = None,
         metrics["decomposition_physical"][f"{rname}/A{level}"] = noise_terms_row(
             sigs[f"A{level}"], r.fs_hz, method="wls", tau_min_s=tmin_phys)
     metrics["tau_ranges_s"]["A_L_physical_min"] = tmin_phys
-    # issue 18 item 5: bias and 10-s stability per phase of the raw records
+    # bias and 10-s stability per phase of the raw records
     metrics["raw_phases"] = {rname: phase_stats(r.rate_dph, r) for rname, r in runs.items()}
 
     # 6: targets and models
@@ -560,48 +623,9 @@ def analyse(sweep: VibrationRun, fixed: VibrationRun | None = None,
     prog.update(5, total, "compensation")
     residual = None
     if fixed is not None:
-        a_fix = decs["fixed"].approximation(level)
-        comp = {"raw": fixed.rate_dph, f"A{level}": a_fix}
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always", ExtrapolationWarning)
-            comp["rbf"] = model.compensate(fixed.rate_dph, fixed.vib_on, fixed.freq_hz,
-                                           model="rbf", approx=a_fix)
-            comp["poly"] = model.compensate(fixed.rate_dph, fixed.vib_on, fixed.freq_hz,
-                                            model="poly", approx=a_fix)
-        clipped = any(issubclass(w.category, ExtrapolationWarning) for w in caught)
-        if clipped:
-            warnings.warn(f"{fixed.path}: drive frequencies outside the sweep's training range "
-                          f"{model.f_range_hz_} Hz were clipped to it (spec §3.10)",
-                          ExtrapolationWarning, stacklevel=2)
-        metrics["clipped_frequencies"] = bool(clipped)
-        prog.update(6, total, "compensation tables")
-        raw_row = None
-        for sname, s in comp.items():
-            tmin = None if sname == "raw" else tmin_phys
-            row = noise_terms_row(s, fixed.fs_hz, method="wls", tau_min_s=tmin)
-            tables["compensation"][sname] = row
-            if sname == "raw":
-                raw_row = row
-            metrics["ratios"][f"compensation/{sname}/raw"] = _ratios(row, raw_row)
-        # the paper's reading of Table 3: OLS over the full tau range (spec §3.4)
-        metrics["compensation_paper"] = {
-            sname: noise_terms_row(sig, fixed.fs_hz, method="ols") for sname, sig in comp.items()}
-        metrics["ratios"]["compensation/rbf/A"] = _ratios(tables["compensation"]["rbf"],
-                                                          tables["compensation"][f"A{level}"])
-        metrics["ratios"]["compensation/poly/A"] = _ratios(tables["compensation"]["poly"],
-                                                           tables["compensation"][f"A{level}"])
-        metrics["residual"] = {name: residual_metrics(comp[name], fixed,
-                                                      guard_s=cfg.residual_guard_s,
-                                                      edge_s=cfg.edge_s)
-                               for name in (f"A{level}", "rbf", "poly")}
-        residual = {"rbf": metrics["residual"]["rbf"]["delta_b"],
-                    "poly": metrics["residual"]["poly"]["delta_b"]}
-        views["fixed"] = {"rate": fixed.rate_dph, "approx": a_fix, "rbf": comp["rbf"],
-                          "poly": comp["poly"], "fs_hz": fixed.fs_hz, "k_on": fixed.k_on,
-                          "k_off": fixed.k_off}
-        metrics["compensation_note"] = (
-            f"rows raw (wls, tau >= tau0) and A{level}, rbf, poly (wls, tau >= "
-            f"{tmin_phys:g} s = 2^(L+1) tau0), whole fixed record")
+        residual = _compensate_fixed(fixed, decs["fixed"].approximation(level), level, model,
+                                     cfg, tmin_phys, tables, metrics, views,
+                                     lambda: prog.update(6, total, "compensation tables"))
     else:
         metrics["compensation_note"] = ("no fixed-frequency record: the compensation rows are "
                                         "omitted (spec §3.11)")
@@ -610,16 +634,7 @@ def analyse(sweep: VibrationRun, fixed: VibrationRun | None = None,
                               "fs_hz": runs[sel_run].fs_hz, "k_on": runs[sel_run].k_on,
                               "k_off": runs[sel_run].k_off}
     prog.update(total, total, "done")
-    settings = {
-        "level": cfg.level, "wavelet": "db4", "wavelet_level": cfg.wavelet_level,
-        "spread": cfg.spread, "goal": cfg.goal, "centers": cfg.centers,
-        "max_neurons": cfg.max_neurons, "target_guard_s": cfg.target_guard_s,
-        "level_guard_s": cfg.level_guard_s, "residual_guard_s": cfg.residual_guard_s,
-        "edge_s": cfg.edge_s, "delta_threshold": cfg.delta_threshold,
-        "bin_width_hz": cfg.bin_width_hz, "min_bin_count": cfg.min_bin_count,
-        "targets": cfg.targets, "seed": cfg.rng,
-        "methods": {"phases": "wls", "decomposition": "ols", "compensation": "wls"},
-    }
+    settings = _settings(cfg)
     metrics["wall_s"] = time.perf_counter() - t_start
     return VibrationResult(level=int(level), level_selection=sel, tables=tables,
                            residual_bias_dph=residual, fit=fit, metrics=metrics, model=model,

@@ -24,7 +24,7 @@ import math
 import numpy as np
 
 from inertialab.errors import InputError
-from inertialab.io.exporters import NoiseParams, yaml_number
+from inertialab.io.exporters._common import NoiseParams, dump_yaml, units_comments
 
 __all__ = ["gtsam_params", "gtsam_preintegration_yaml", "to_gtsam", "write_gtsam_params"]
 
@@ -36,6 +36,11 @@ def gtsam_params(*, gyro_noise_density: float, gyro_random_walk: float,
     """The covariance matrices (numpy) and gravity vector of the preintegration."""
     p = NoiseParams(gyro_noise_density, gyro_random_walk, accel_noise_density,
                     accel_random_walk, rate_hz)
+    return _params(p, g=g, integration_sigma=integration_sigma, bias_init_sigma=bias_init_sigma)
+
+
+def _params(p: NoiseParams, *, g: float, integration_sigma: float,
+            bias_init_sigma: float | None) -> dict:
     for name, v in (("g", g), ("integration_sigma", integration_sigma)):
         if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
             raise InputError(f"argument '{name}' must be finite and positive, got {v!r}")
@@ -54,20 +59,24 @@ def gtsam_params(*, gyro_noise_density: float, gyro_random_walk: float,
     }
 
 
-def _flow(a: np.ndarray) -> str:
-    if a.ndim == 1:
-        return "[" + ", ".join(yaml_number(v) for v in a) + "]"
-    return "[" + ", ".join(_flow(r) for r in a) + "]"
+def gtsam_text(p: NoiseParams, *, note=(), g: float = 9.80665, integration_sigma: float = 1e-4,
+               bias_init_sigma: float | None = None) -> str:
+    """YAML of :func:`gtsam_params` for ``p``."""
+    p.require_all("GTSAM")
+    d = _params(p, g=g, integration_sigma=integration_sigma, bias_init_sigma=bias_init_sigma)
+    doc = {k: (v.tolist() if isinstance(v, np.ndarray) else float(v)) for k, v in d.items()}
+    return dump_yaml(doc, comments=[
+        "GTSAM PreintegrationCombinedParams (continuous-time covariances, SI units),",
+        "by inertialab; keys are GTSAM's setter names without 'set'", *units_comments(),
+        *note, *p.bound_comments()])
 
 
-def gtsam_preintegration_yaml(**params) -> str:
+def gtsam_preintegration_yaml(*, gyro_noise_density: float, gyro_random_walk: float,
+                              accel_noise_density: float, accel_random_walk: float,
+                              rate_hz: float, **opts) -> str:
     """YAML of :func:`gtsam_params` (same arguments)."""
-    d = gtsam_params(**params)
-    lines = ["# GTSAM PreintegrationCombinedParams (continuous-time covariances, SI units),",
-             "# by inertialab; keys are GTSAM's setter names without 'set'"]
-    for k, v in d.items():
-        lines.append(f"{k}: {yaml_number(v) if isinstance(v, float) else _flow(v)}")
-    return "\n".join(lines) + "\n"
+    return gtsam_text(NoiseParams(gyro_noise_density, gyro_random_walk, accel_noise_density,
+                                  accel_random_walk, rate_hz), **opts)
 
 
 def to_gtsam(**params):

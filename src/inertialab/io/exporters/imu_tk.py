@@ -1,6 +1,5 @@
-"""imu_tk ``.calib`` text files (one per triad), as ``CalibratedTriad_::load`` reads them
-(issue 17 item 6): 21 whitespace-separated numbers, the misalignment matrix T (3x3,
-row-major), the scale matrix K (3x3) and the bias B (3), with the calibrated reading
+"""imu_tk ``.calib`` text files (one per triad), as ``CalibratedTriad_::load`` reads
+them: 21 whitespace-separated numbers, the misalignment matrix T (3x3, row-major), the scale matrix K (3x3) and the bias B (3), with the calibrated reading
 ``X' = T K (X - B)``.
 
 Ours is ``a = M (u - b)``; so ``K = diag(M)``, ``T = M K^-1`` (unit diagonal, as imu_tk

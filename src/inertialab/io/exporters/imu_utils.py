@@ -17,41 +17,68 @@ from __future__ import annotations
 import math
 
 from inertialab.errors import InputError
-from inertialab.io.exporters import NoiseParams, yaml_number
+from inertialab.io.exporters._common import (
+    NoiseParams,
+    check_topic,
+    dump_yaml,
+    units_comments,
+)
 
 __all__ = ["imu_utils_yaml", "vins_imu_yaml", "write_imu_utils", "write_vins_imu"]
+
+
+def _g_norm(g_norm) -> float:
+    if not (isinstance(g_norm, (int, float)) and math.isfinite(g_norm) and 1.0 < g_norm < 100.0):
+        raise InputError(f"argument 'g_norm' must be a gravity in m/s^2, got {g_norm!r}")
+    return float(g_norm)
+
+
+def vins_text(p: NoiseParams, *, g_norm: float = 9.80665, imu_topic: str = "/imu0",
+              note=()) -> str:
+    """The IMU block of a VINS-Mono config for ``p``."""
+    p.require_all("VINS")
+    doc = {"imu_topic": check_topic(imu_topic, "imu_topic"),
+           "acc_n": p.accel_noise_density, "gyr_n": p.gyro_noise_density,
+           "acc_w": p.accel_random_walk, "gyr_w": p.gyro_random_walk, "g_norm": _g_norm(g_norm)}
+    return dump_yaml(doc, directive="%YAML:1.0", comments=[
+        "IMU noise for VINS-Mono / VINS-Fusion, by inertialab: acc_n, gyr_n noise densities",
+        "(m/s^2/sqrt(Hz), rad/s/sqrt(Hz)); acc_w, gyr_w bias random walks (m/s^3/sqrt(Hz),",
+        "rad/s^2/sqrt(Hz)); g_norm gravity magnitude, m/s^2.", *units_comments(),
+        f"IMU rate {p.rate_hz!r} Hz", *note, *p.bound_comments()])
 
 
 def vins_imu_yaml(*, gyro_noise_density: float, gyro_random_walk: float,
                   accel_noise_density: float, accel_random_walk: float, rate_hz: float,
                   g_norm: float = 9.80665, imu_topic: str = "/imu0") -> str:
     """The IMU parameter block of a VINS-Mono config (``%YAML:1.0`` first line)."""
-    p = NoiseParams(gyro_noise_density, gyro_random_walk, accel_noise_density,
-                    accel_random_walk, rate_hz)
-    if not (isinstance(g_norm, (int, float)) and math.isfinite(g_norm) and 1.0 < g_norm < 100.0):
-        raise InputError(f"argument 'g_norm' must be a gravity in m/s^2, got {g_norm!r}")
-    return "\n".join([
-        "%YAML:1.0",
-        "# IMU noise for VINS-Mono / VINS-Fusion (continuous time, SI units), by inertialab",
-        f"imu_topic: \"{_plain(imu_topic)}\"",
-        f"acc_n: {yaml_number(p.accel_noise_density)}   # accelerometer noise density, "
-        "m/s^2/sqrt(Hz)",
-        f"gyr_n: {yaml_number(p.gyro_noise_density)}   # gyroscope noise density, rad/s/sqrt(Hz)",
-        f"acc_w: {yaml_number(p.accel_random_walk)}   # accelerometer bias random walk, "
-        "m/s^3/sqrt(Hz)",
-        f"gyr_w: {yaml_number(p.gyro_random_walk)}   # gyroscope bias random walk, "
-        "rad/s^2/sqrt(Hz)",
-        f"g_norm: {yaml_number(float(g_norm))}   # gravity magnitude, m/s^2",
-        f"# IMU rate {yaml_number(p.rate_hz)} Hz",
-        "",
-    ])
+    return vins_text(NoiseParams(gyro_noise_density, gyro_random_walk, accel_noise_density,
+                                 accel_random_walk, rate_hz), g_norm=g_norm, imu_topic=imu_topic)
 
 
-def _plain(t: str) -> str:
-    t = str(t)
-    if any(c in t for c in "\n\r\"\\") or not t:
-        raise InputError(f"name must be plain text without quotes or newlines, got {t!r}")
-    return t
+def _axis_value(ax, k, v) -> float:
+    if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
+        raise InputError(f"per-axis {ax} {k} must be finite and positive, got {v!r}")
+    return float(v)
+
+
+def imu_utils_text(p: NoiseParams, *, name: str = "imu", per_axis: dict | None = None,
+                   note=()) -> str:
+    """imu_utils' result file for ``p`` (``per_axis``: see :func:`imu_utils_yaml`)."""
+    p.require_all("imu_utils")
+    if not str(name) or len(str(name)) > 256:
+        raise InputError("argument 'name' must be a non-empty name of at most 256 characters")
+    doc = {"type": "IMU", "name": str(name), "rate_hz": p.rate_hz}
+    for block, unit, keys, vals in (
+            ("Gyr", "rad/s", ("gyr_n", "gyr_w"), (p.gyro_noise_density, p.gyro_random_walk)),
+            ("Acc", "m/s^2", ("acc_n", "acc_w"), (p.accel_noise_density, p.accel_random_walk))):
+        b = {"unit": f" {unit}", "avg-axis": dict(zip(keys, vals))}
+        for ax in ("x", "y", "z"):
+            if per_axis and ax in per_axis:
+                b[f"{ax}-axis"] = {k: _axis_value(ax, k, per_axis[ax][k]) for k in keys}
+        doc[block] = b
+    text = dump_yaml(doc, comments=["imu_utils result format, by inertialab", *units_comments(),
+                                    *note, *p.bound_comments()])
+    return "%YAML:1.0\n---\n" + text
 
 
 def imu_utils_yaml(*, gyro_noise_density: float, gyro_random_walk: float,
@@ -59,25 +86,8 @@ def imu_utils_yaml(*, gyro_noise_density: float, gyro_random_walk: float,
                    name: str = "imu", per_axis: dict | None = None) -> str:
     """imu_utils' result file. ``per_axis`` optionally maps ``"x"|"y"|"z"`` to
     ``{"gyr_n", "gyr_w", "acc_n", "acc_w"}`` (same units)."""
-    p = NoiseParams(gyro_noise_density, gyro_random_walk, accel_noise_density,
-                    accel_random_walk, rate_hz)
-    lines = ["%YAML:1.0", "---", "type: IMU", f"name: \"{_plain(name)}\"",
-             f"rate_hz: {yaml_number(p.rate_hz)}"]
-    for block, unit, keys, vals in (
-            ("Gyr", "rad/s", ("gyr_n", "gyr_w"), (p.gyro_noise_density, p.gyro_random_walk)),
-            ("Acc", "m/s^2", ("acc_n", "acc_w"), (p.accel_noise_density, p.accel_random_walk))):
-        lines += [f"{block}:", f"   unit: \" {unit}\"", "   avg-axis:"]
-        lines += [f"      {k}: {yaml_number(v)}" for k, v in zip(keys, vals)]
-        for ax in ("x", "y", "z"):
-            if per_axis and ax in per_axis:
-                lines.append(f"   {ax}-axis:")
-                for k in keys:
-                    v = per_axis[ax][k]
-                    if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
-                        raise InputError(f"per-axis {ax} {k} must be finite and positive, "
-                                         f"got {v!r}")
-                    lines.append(f"      {k}: {yaml_number(float(v))}")
-    return "\n".join(lines) + "\n"
+    return imu_utils_text(NoiseParams(gyro_noise_density, gyro_random_walk, accel_noise_density,
+                                      accel_random_walk, rate_hz), name=name, per_axis=per_axis)
 
 
 def write_vins_imu(path, **params) -> None:
@@ -92,3 +102,4 @@ def write_imu_utils(path, **params) -> None:
     from inertialab.io.writers import atomic_write_text
 
     atomic_write_text(path, imu_utils_yaml(**params))
+

@@ -1,5 +1,5 @@
 """imucal's calibration JSON (format 2.0.0, ``cal_type`` ``"Ferraris"``), as
-``imucal.management.load_calibration_info`` reads it (issue 17 item 6, issue 16).
+``imucal.management.load_calibration_info`` reads it.
 
 imucal's documented model: ``a = R_a^-1 K_a^-1 (u_a - b_a)`` in m/s^2 and
 ``omega = R_g^-1 K_g^-1 (u_g - K_ga a - b_g)`` in deg/s, with K diagonal. Ours is

@@ -19,10 +19,9 @@ from __future__ import annotations
 import numpy as np
 
 from inertialab.errors import InputError
-from inertialab.io.exporters import NoiseParams, yaml_number
-from inertialab.io.exporters.kalibr import _topic
+from inertialab.io.exporters._common import NoiseParams, check_topic, dump_yaml, units_comments
 
-__all__ = ["openvins_imu_chain_yaml", "write_openvins_imu_chain"]
+__all__ = ["openvins_doc", "openvins_imu_chain_yaml", "write_openvins_imu_chain"]
 
 
 def _matrix(name: str, m, shape) -> np.ndarray:
@@ -34,18 +33,11 @@ def _matrix(name: str, m, shape) -> np.ndarray:
     return a
 
 
-def _rows(a: np.ndarray, indent: str) -> list[str]:
-    return [f"{indent}- [ {', '.join(yaml_number(v) for v in row)} ]" for row in a]
-
-
-def openvins_imu_chain_yaml(*, gyro_noise_density: float, gyro_random_walk: float,
-                            accel_noise_density: float, accel_random_walk: float,
-                            rate_hz: float, rostopic: str = "/imu0", time_offset_s: float = 0.0,
-                            model: str = "kalibr", Tw=None, R_IMUtoGYRO=None, Ta=None,
-                            R_IMUtoACC=None, Tg=None, T_i_b=None) -> str:
-    """The text of an OpenVINS ``kalibr_imu_chain.yaml`` (see the module docstring)."""
-    p = NoiseParams(gyro_noise_density, gyro_random_walk, accel_noise_density,
-                    accel_random_walk, rate_hz)
+def openvins_doc(p: NoiseParams, *, rostopic: str = "/imu0", time_offset_s: float = 0.0,
+                 model: str = "kalibr", Tw=None, R_IMUtoGYRO=None, Ta=None, R_IMUtoACC=None,
+                 Tg=None, T_i_b=None) -> dict:
+    """The ``imu0`` mapping (see the module docstring)."""
+    p.require_all("OpenVINS")
     if model not in ("kalibr", "rpng", "calibrated"):
         raise InputError(f"argument 'model' must be 'kalibr', 'rpng' or 'calibrated', got "
                          f"{model!r}")
@@ -59,19 +51,30 @@ def openvins_imu_chain_yaml(*, gyro_noise_density: float, gyro_random_walk: floa
         if not np.allclose(r @ r.T, np.eye(3), atol=1e-6) or np.linalg.det(r) < 0:
             raise InputError(f"argument '{name}' must be a rotation matrix")
     tib = _matrix("T_i_b", T_i_b if T_i_b is not None else np.eye(4), (4, 4))
-    lines = ["%YAML:1.0", "", "# OpenVINS IMU chain (Kalibr format + intrinsics), by inertialab",
-             "imu0:", "  T_i_b:", *_rows(tib, "    "),
-             f"  accelerometer_noise_density: {yaml_number(p.accel_noise_density)}  # m/s^2/sqrt(Hz)",
-             f"  accelerometer_random_walk: {yaml_number(p.accel_random_walk)}  # m/s^3/sqrt(Hz)",
-             f"  gyroscope_noise_density: {yaml_number(p.gyro_noise_density)}  # rad/s/sqrt(Hz)",
-             f"  gyroscope_random_walk: {yaml_number(p.gyro_random_walk)}  # rad/s^2/sqrt(Hz)",
-             f"  rostopic: {_topic(rostopic)}",
-             f"  time_offset: {yaml_number(float(time_offset_s))}",
-             f"  update_rate: {yaml_number(p.rate_hz)}",
-             f"  model: \"{model}\""]
-    for name, a in mats.items():
-        lines += [f"  {name}:", *_rows(a, "    ")]
-    return "\n".join(lines) + "\n"
+    imu = {"T_i_b": tib.tolist(),
+           "accelerometer_noise_density": p.accel_noise_density,
+           "accelerometer_random_walk": p.accel_random_walk,
+           "gyroscope_noise_density": p.gyro_noise_density,
+           "gyroscope_random_walk": p.gyro_random_walk,
+           "rostopic": check_topic(rostopic), "time_offset": float(time_offset_s),
+           "update_rate": p.rate_hz, "model": model}
+    imu.update({k: v.tolist() for k, v in mats.items()})
+    return {"imu0": imu}
+
+
+def noise_text(p: NoiseParams, *, note=(), **opts) -> str:
+    """The file text for ``p`` (``opts``: :func:`openvins_doc`)."""
+    return dump_yaml(openvins_doc(p, **opts), directive="%YAML:1.0",
+                     comments=["OpenVINS IMU chain (Kalibr format + intrinsics), by inertialab",
+                               *units_comments(), *note, *p.bound_comments()])
+
+
+def openvins_imu_chain_yaml(*, gyro_noise_density: float, gyro_random_walk: float,
+                            accel_noise_density: float, accel_random_walk: float,
+                            rate_hz: float, **opts) -> str:
+    """The text of an OpenVINS ``kalibr_imu_chain.yaml`` (see the module docstring)."""
+    return noise_text(NoiseParams(gyro_noise_density, gyro_random_walk, accel_noise_density,
+                                  accel_random_walk, rate_hz), **opts)
 
 
 def write_openvins_imu_chain(path, **params) -> None:

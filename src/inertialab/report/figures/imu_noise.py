@@ -80,6 +80,11 @@ def drift_figure(result) -> Figure | None:
                           "reading's RMS (dotted), the observed RMS (dots)")
 
 
+def imu_figures(result) -> list:
+    """The Allan figure and, with a drift prediction, the drift figure."""
+    return [f for f in (imu_figure(result), drift_figure(result)) if f is not None]
+
+
 def imu_table(result) -> Table:
     cols, rows = result.table()
     return Table("IMU noise per axis (densities continuous-time, SI)", cols, rows)
@@ -89,4 +94,4 @@ def figure_rows(result) -> list[list]:
     return [list(r) for r in result.table()[1]]
 
 
-__all__ = ["drift_figure", "figure_rows", "imu_figure", "imu_table", "np"]
+__all__ = ["drift_figure", "figure_rows", "imu_figure", "imu_figures", "imu_table", "np"]

@@ -1,4 +1,4 @@
-"""Tests of inertialab.calib.thermal_export (spec 000 §8.4, issue 5 item 4)."""
+"""Tests of inertialab.io.exporters.thermal_c, the C99 export (spec 000 §8.4)."""
 
 from __future__ import annotations
 
@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 
 from inertialab.calib.thermal import ThermalConfig, compensate, fit_model
-from inertialab.calib.thermal_export import export_c
 from inertialab.errors import ExtrapolationWarning, InputError
+from inertialab.io.exporters.thermal_c import export_c
 from inertialab.sim.thermal_tumble import simulate
 from inertialab.workflows.thermal import make_splits, prepare_samples
 

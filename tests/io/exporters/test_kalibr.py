@@ -1,9 +1,9 @@
-"""io.exporters.kalibr_intrinsics: Kalibr's scale-misalignment block (issue 17 item 6)."""
+"""io.exporters.kalibr: Kalibr's scale-misalignment intrinsics block."""
 
 import numpy as np
 import yaml
 
-from inertialab.io.exporters.kalibr_intrinsics import write_kalibr
+from inertialab.io.exporters.kalibr import write_kalibr
 
 
 def test_yaml_reproduces_our_model(ferraris_model, tmp_path):

@@ -1,0 +1,141 @@
+"""The contract every saved model follows, and the typed gyro block of a triaxial
+calibration.
+
+A model type (a calibration of ``calib/``, a learner of ``learn/``, the noise terms of
+``noise/``) is a class with
+
+* ``MODEL_TYPE``: its tag in the model file (``"triaxial-calibration"``);
+* ``FORMAT_VERSION``: the version of its payload layout (1 when the class declares none);
+* ``to_dict()``: a plain-JSON payload (numbers, strings, lists, dicts), and
+* ``from_dict(payload)``: the class method that rebuilds an equal model from it, raising
+  :class:`~inertialab.errors.InputError` (or ``KeyError/TypeError/ValueError``) on a
+  payload it cannot use.
+
+:class:`ModelContract` states it as a :class:`typing.Protocol`; the registry of model
+types (:mod:`inertialab.calib.model_types`) lists every class that follows it and
+``tests/test_registries.py`` checks each one (round trip, schema, fixture).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import ClassVar, Protocol, runtime_checkable
+
+import numpy as np
+
+from inertialab.errors import InputError
+
+__all__ = ["GyroBlock", "ModelContract", "format_version", "gyro_block"]
+
+
+@runtime_checkable
+class ModelContract(Protocol):
+    """What a saved model provides (see the module docstring)."""
+
+    MODEL_TYPE: ClassVar[str]
+
+    def to_dict(self) -> dict: ...
+
+    @classmethod
+    def from_dict(cls, d: dict): ...
+
+
+def format_version(cls) -> int:
+    """The payload version of model class ``cls`` (1 when it declares none)."""
+    return int(getattr(cls, "FORMAT_VERSION", 1))
+
+
+_CORE = ("method", "raw_unit", "correction_matrix", "offset", "g_sensitivity", "params",
+         "residual_rms", "n_records", "static_intervals")
+
+
+@dataclass
+class GyroBlock:
+    """The gyro part of a triaxial calibration (Ferraris protocol or turntable fit).
+
+    ``rate = correction_matrix @ (raw - offset - g_sensitivity @ acc)`` with ``raw`` in
+    ``raw_unit``, ``rate`` in rad/s and ``acc`` the calibrated specific force in m/s^2
+    (``g_sensitivity`` in raw unit per m/s^2; None when not estimated).
+
+    Attributes
+    ----------
+    method : str                ``ferraris`` or ``integration``
+    raw_unit : str              unit suffix of the raw gyro samples
+    correction_matrix : ndarray (3, 3), rad/s per raw unit
+    offset : ndarray (3,), raw unit
+    g_sensitivity : ndarray (3, 3) or None, raw unit per m/s^2
+    params : dict               named parameters (bias, matrix entries)
+    residual_rms : float        raw unit
+    n_records, static_intervals : int
+    extra : dict                method-specific entries (``turns``, ``rotation_deg``,
+                                ``stderr``, ``iterations`` ...), kept in order
+    """
+
+    method: str
+    raw_unit: str
+    correction_matrix: np.ndarray
+    offset: np.ndarray
+    g_sensitivity: np.ndarray | None = None
+    params: dict = field(default_factory=dict)
+    residual_rms: float = math.nan
+    n_records: int = 0
+    static_intervals: int | None = None
+    extra: dict = field(default_factory=dict)
+
+    def __post_init__(self):
+        self.correction_matrix = np.asarray(self.correction_matrix, dtype=float)
+        self.offset = np.asarray(self.offset, dtype=float)
+        if self.correction_matrix.shape != (3, 3) or self.offset.shape != (3,):
+            raise InputError(f"gyro block needs a 3x3 correction matrix and a 3-vector offset, "
+                             f"got {self.correction_matrix.shape} and {self.offset.shape}")
+        if self.g_sensitivity is not None:
+            self.g_sensitivity = np.asarray(self.g_sensitivity, dtype=float)
+            if self.g_sensitivity.shape != (3, 3):
+                raise InputError("gyro g-sensitivity must be 3x3, got "
+                                 f"{self.g_sensitivity.shape}")
+
+    def to_dict(self) -> dict:
+        """The block as a triaxial calibration stores it (arrays stay numpy; the model
+        file writer makes them lists). ``g_sensitivity`` is omitted when None."""
+        d = {"method": self.method, "raw_unit": self.raw_unit,
+             "correction_matrix": self.correction_matrix, "offset": self.offset}
+        if self.g_sensitivity is not None:
+            d["g_sensitivity"] = self.g_sensitivity
+        d.update({"params": dict(self.params), "residual_rms": self.residual_rms,
+                  "n_records": self.n_records, "static_intervals": self.static_intervals})
+        d.update(self.extra)
+        return d
+
+    @classmethod
+    def from_dict(cls, d: dict) -> GyroBlock:
+        """Rebuild from :meth:`to_dict` (or a stored block: lists instead of arrays)."""
+        try:
+            return cls(method=str(d.get("method", "")), raw_unit=str(d["raw_unit"]),
+                       correction_matrix=d["correction_matrix"], offset=d["offset"],
+                       g_sensitivity=d.get("g_sensitivity"), params=dict(d.get("params") or {}),
+                       residual_rms=float(d["residual_rms"]) if d.get("residual_rms")
+                       is not None else math.nan,
+                       n_records=int(d.get("n_records", 0)),
+                       static_intervals=d.get("static_intervals"),
+                       extra={k: v for k, v in d.items() if k not in _CORE})
+        except (KeyError, TypeError, ValueError) as exc:
+            raise InputError(f"not a valid gyro block ({exc})") from None
+
+    def apply(self, raw, acc=None) -> np.ndarray:
+        """Calibrated rates (rad/s) of raw gyro samples ``(n, 3)``; ``acc`` (m/s^2) is
+        needed when the block corrects the g-sensitivity."""
+        r = np.asarray(raw, dtype=float) - self.offset
+        if self.g_sensitivity is not None:
+            if acc is None:
+                raise InputError("this gyro calibration corrects the g-sensitivity: give the "
+                                 "calibrated accelerations (argument 'acc')")
+            r = r - np.asarray(acc, dtype=float) @ self.g_sensitivity.T
+        return r @ self.correction_matrix.T
+
+
+def gyro_block(model) -> GyroBlock | None:
+    """The typed gyro block of a triaxial calibration (None when it has none)."""
+    g = getattr(model, "gyro", None)
+    return None if g is None else GyroBlock.from_dict(g)
+

@@ -1,0 +1,107 @@
+"""The registry of model types: every class a model file may hold, imported explicitly.
+
+It lives on the calibration floor because that is the lowest floor that may import all
+of them (the learners of ``learn/``, the noise terms of ``noise/`` and the calibrations
+of ``calib/``); the model-file envelope (:mod:`inertialab.io.modelfile`) is one floor
+below and takes the registry as an argument. :func:`load_model` and :func:`save_model`
+here are the ones to call.
+
+Each :class:`ModelType` entry names the tag, the class (which follows
+:class:`inertialab.calib.base.ModelContract`), what kind of model it is and how it is
+applied; the payload schema is the tag's entry in :mod:`inertialab.io.model_schemas`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+from inertialab.calib import thermal as _thermal
+from inertialab.calib.base import format_version
+from inertialab.calib.drift import DriftModel
+from inertialab.calib.dual import DualCalibration
+from inertialab.calib.thermal import ThermalModel
+from inertialab.calib.triaxial import TriaxialCalibration
+from inertialab.calib.vibration import VibrationModel
+from inertialab.io import modelfile
+from inertialab.io.model_schemas import SCHEMAS
+from inertialab.learn.anfis import ANFIS
+from inertialab.learn.mlp_lm import MLPRegressorLM
+from inertialab.learn.nar import NARForecaster
+from inertialab.learn.poly import PolynomialRegressor
+from inertialab.learn.rbf import RBFNetwork
+from inertialab.noise.terms import NoiseTerms
+
+__all__ = ["MODEL_TYPES", "ModelType", "TYPES", "load_model", "save_model"]
+
+
+@dataclass(frozen=True)
+class ModelType:
+    """One registered model type.
+
+    Attributes
+    ----------
+    cls : type
+        The class; its ``MODEL_TYPE`` is the tag.
+    kind : str
+        ``calibration`` (a product model of ``calib/``), ``learner`` or ``noise``.
+    apply : callable or None
+        How the model is used on arrays (a method of ``cls`` or a function taking the
+        model first); None for a model that is only reported (the noise terms).
+    """
+
+    cls: type
+    kind: str
+    apply: Callable | None
+
+    @property
+    def tag(self) -> str:
+        return self.cls.MODEL_TYPE
+
+    @property
+    def version(self) -> int:
+        """Payload version (``FORMAT_VERSION``; 1 when the class declares none)."""
+        return format_version(self.cls)
+
+    @property
+    def schema(self):
+        """The payload check of :mod:`inertialab.io.model_schemas` (None: none)."""
+        return SCHEMAS.get(self.tag)
+
+    @property
+    def name(self) -> str:
+        """The name a user knows the model by (messages)."""
+        return modelfile.MODEL_NAMES.get(self.tag, self.tag)
+
+
+_ENTRIES = (
+    ModelType(PolynomialRegressor, "learner", PolynomialRegressor.predict),
+    ModelType(RBFNetwork, "learner", RBFNetwork.predict),
+    ModelType(ANFIS, "learner", ANFIS.predict),
+    ModelType(MLPRegressorLM, "learner", MLPRegressorLM.predict),
+    ModelType(NARForecaster, "learner", NARForecaster.forecast),
+    ModelType(NoiseTerms, "noise", None),
+    ModelType(VibrationModel, "calibration", VibrationModel.compensate),
+    ModelType(ThermalModel, "calibration", _thermal.compensate),
+    ModelType(TriaxialCalibration, "calibration", TriaxialCalibration.apply),
+    ModelType(DualCalibration, "calibration", DualCalibration.predict_outputs),
+    ModelType(DriftModel, "calibration", DriftModel.forecast),
+)
+
+#: tag -> entry, in the order above.
+MODEL_TYPES: dict[str, ModelType] = {e.tag: e for e in _ENTRIES}
+#: tag -> class: the allow-list :mod:`inertialab.io.modelfile` takes.
+TYPES: dict[str, type] = {tag: e.cls for tag, e in MODEL_TYPES.items()}
+
+
+def load_model(path, *, expected_type: str | None = None):
+    """Load a model file of any registered type (:func:`inertialab.io.modelfile.load_model`
+    with this registry); ``expected_type`` refuses a model of another type."""
+    return modelfile.load_model(path, types=TYPES, expected_type=expected_type)
+
+
+def save_model(obj, path, **kw):
+    """Write a registered model (:func:`inertialab.io.modelfile.save_model`)."""
+    if type(obj) not in TYPES.values():
+        raise TypeError(f"{type(obj).__name__} is not a registered model type")
+    return modelfile.save_model(obj, path, **kw)

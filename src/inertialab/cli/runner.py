@@ -1,0 +1,192 @@
+"""The one command runner: read -> run -> write -> print or emit, for every command built
+on it, and the options every such command shares, declared here once.
+
+A command module declares its settings as a workflow :class:`~inertialab.config.Config`
+and writes a function taking ``config`` (built from the flags the config's fields
+declare) and ``run`` (the shared ``--out/--json/--quiet`` of this invocation)::
+
+    @group.command("fit")
+    @reading_options
+    @config_command(wf.FitConfig, out="dir")
+    def fit(file: Path = typer.Argument(...), *, config, run, read):
+        run.execute("drift fit", lambda progress: wf.run_fit(read_record(file, ...),
+                    config, progress=progress), inputs=[file], figures=...)
+
+:meth:`Run.execute` runs the workflow inside the warning collector and progress bar,
+builds the one JSON envelope (``command``, ``inputs`` with their sha256, ``settings``,
+``units``, ``warnings``, ``meta.timestamps``, then the result's own keys) and prints it
+with ``--json`` or writes it as ``--out DIR/result.json`` (with the models and figures
+of the result); otherwise it prints the result's summary tables.
+
+A result (from the workflow) provides ``to_json()`` (its keys), ``settings`` and
+``units`` (dicts), ``artifacts()`` (``{"models": [(file name, model, units)], "files":
+{file name: text}}``) and ``summary_rows()`` (a list of ``(title, columns, rows)``
+tables and plain lines); ``sha256``, the training record's canonical hash, goes into the
+model files; ``warnings`` (optional) are the result's own warning lines, reported with
+the Python warnings raised while it ran.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import datetime as _dt
+import functools
+import inspect
+import json
+import time
+import typing
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from inertialab.cli.common import (
+    atomic_write_text,
+    collect_warnings,
+    envelope,
+    json_ready,
+    prepare_out_dir,
+    print_table,
+    progress_bar,
+    write_figures,
+)
+from inertialab.cli.options import FLAG_OF, OutDirOpt, OutFileOpt
+
+__all__ = ["Run", "config_command"]
+
+_COMMON = {
+    "as_json": inspect.Parameter(
+        "as_json", inspect.Parameter.KEYWORD_ONLY, default=False,
+        annotation=Annotated[bool, typer.Option("--json", help="Print one JSON object alone "
+                                                               "on stdout.")]),
+    "quiet": inspect.Parameter(
+        "quiet", inspect.Parameter.KEYWORD_ONLY, default=False,
+        annotation=Annotated[bool, typer.Option("--quiet", help="No progress bar or warnings "
+                                                                "on stderr.")]),
+}
+
+
+def _utc() -> str:
+    return _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%dT%H:%M:%S.%fZ")
+
+
+@dataclass
+class Run:
+    """The shared options of one invocation: ``out`` (a directory, or a file for commands
+    that write one record), ``as_json``, ``quiet``."""
+
+    out: Path | None = None
+    as_json: bool = False
+    quiet: bool = False
+
+    def execute(self, command: str, produce, *, inputs=(), figures=None, after=None) -> dict:
+        """Run ``produce(progress) -> result``, then write, print or emit (module
+        docstring). ``figures(result)`` gives the figures written to ``--out``;
+        ``after(result, out_dir)`` writes anything else there; ``inputs`` may be a
+        function of the result (to name a record's canonical hash). Returns the envelope."""
+        out_dir = prepare_out_dir(self.out) if self.out is not None else None
+        started, t0 = _utc(), time.perf_counter()
+        with collect_warnings(quiet=self.quiet or self.as_json) as warns:
+            with progress_bar(command, quiet=self.quiet or self.as_json) as bar:
+                result = produce(bar)
+        meta = {"timestamps": {"started_utc": started, "finished_utc": _utc(),
+                               "wall_s": round(time.perf_counter() - t0, 6)}}
+        if callable(inputs):
+            inputs = inputs(result)
+        own = [w for w in getattr(result, "warnings", ()) if not any(w in x for x in warns)]
+        if own and not (self.quiet or self.as_json):  # the result's own, not Python warnings
+            import sys
+
+            for w in own:
+                sys.stderr.write(f"warning: {' '.join(w.split())}\n")
+        warns = list(warns) + own
+        env = envelope(command, result.to_json(), inputs=inputs, settings=result.settings,
+                       units=result.units, warnings_=warns, meta=meta)
+        if out_dir is not None:
+            self._write(out_dir, result, env, figures, after)
+        if self.as_json:
+            import sys
+
+            sys.stdout.write(json.dumps(env, indent=2, allow_nan=False) + "\n")
+            return env
+        for item in result.summary_rows():
+            if isinstance(item, str):
+                print(item)
+            else:
+                title, columns, rows = item
+                print_table(columns, rows, title=title)
+        if out_dir is not None:
+            print(f"written: {out_dir}")
+        return env
+
+    @staticmethod
+    def _write(out_dir, result, env, figures, after) -> None:
+        from inertialab.io import save_model
+
+        sha = getattr(result, "sha256", None)  # the training record's canonical hash
+        art = result.artifacts()
+        for name, model, units in art.get("models", ()):
+            if "/" in name:
+                (out_dir / name).parent.mkdir(parents=True, exist_ok=True)
+            save_model(model, out_dir / name, units=units, training_data_sha256=sha,
+                       settings=env["settings"])
+        for name, text in art.get("files", {}).items():
+            atomic_write_text(out_dir / name, text)
+        atomic_write_text(out_dir / "result.json",
+                          json.dumps(json_ready(env), indent=2, allow_nan=False) + "\n")
+        if figures is not None:
+            write_figures(figures(result), out_dir)
+        if after is not None:
+            after(result, out_dir)
+
+
+def _hints(cls) -> dict:
+    import inertialab.config as _config_module  # the Config base's names, for get_type_hints
+
+    module = inspect.getmodule(cls)
+    ns = {**vars(_config_module), **(vars(module) if module else {})}
+    return typing.get_type_hints(cls, globalns=ns)
+
+
+def _option(f: dataclasses.Field, meta: dict, hint) -> inspect.Parameter:
+    text = meta["help"] + (f" [{meta['unit']}]" if meta.get("unit") else "")
+    default = None if f.default is dataclasses.MISSING else f.default
+    decl = "/".join("--" + part for part in meta["flag"].split("/"))  # "a/no-a": a switch
+    return inspect.Parameter(f.name, inspect.Parameter.KEYWORD_ONLY, default=default,
+                             annotation=Annotated[hint, typer.Option(decl, help=text)])
+
+
+def config_command(config_cls, *, out: str | None = "dir"):
+    """Decorator: add the options of ``config_cls``'s settings and the shared
+    ``--out`` (``out="dir"`` or ``"file"``; None: none), ``--json`` and ``--quiet`` to a
+    command, which receives ``config`` (validated) and ``run`` (:class:`Run`)."""
+    hints = _hints(config_cls)
+    fields = [(f, m) for f, m in config_cls.fields() if m["cli"]]
+    for f, m in fields:
+        FLAG_OF.setdefault(f.name, "--" + m["flag"].split("/")[0])
+    params = [_option(f, m, hints[f.name]) for f, m in fields]
+    common = dict(_COMMON)
+    if out is not None:
+        common["out"] = inspect.Parameter("out", inspect.Parameter.KEYWORD_ONLY, default=None,
+                                          annotation=OutDirOpt if out == "dir" else OutFileOpt)
+
+    def deco(fn):
+        sig = inspect.signature(fn, eval_str=True)
+        own = [p for p in sig.parameters.values() if p.name not in ("config", "run")]
+
+        @functools.wraps(fn)
+        def wrapper(*args, **kwargs):
+            values = {f.name: kwargs.pop(f.name) for f, _ in fields}
+            run = Run(out=kwargs.pop("out", None) if "out" in common else None,
+                      as_json=kwargs.pop("as_json"), quiet=kwargs.pop("quiet"))
+            return fn(*args, config=config_cls(**values).validate(), run=run, **kwargs)
+
+        pos = [p for p in own if p.kind != inspect.Parameter.KEYWORD_ONLY]
+        kw = [p for p in own if p.kind == inspect.Parameter.KEYWORD_ONLY]
+        wrapper.__signature__ = sig.replace(parameters=pos + params + list(common.values()) + kw)
+        wrapper.__annotations__ = {p.name: p.annotation for p in
+                                   pos + params + list(common.values()) + kw}
+        return wrapper
+
+    return deco

@@ -1,0 +1,65 @@
+"""Noise parameters of a six-axis analysis to the file of each tool: one function,
+:func:`export_noise`, for every target of :data:`inertialab.io.exporters.EXPORTERS`
+of kind ``noise``.
+
+The analysis (:class:`inertialab.workflows.imu_noise.IMUNoise`, a floor above) is read
+through its attributes only: ``rate_hz`` and ``axes``, each with ``axis``, ``kind``
+(``gyro``/``accel``), ``noise_density``, ``random_walk`` and ``random_walk_bound``
+(continuous time, SI). Each sensor's value is the largest of its three axes, the
+conservative choice for an estimator that takes one number; a random walk that is an
+upper bound on any axis is marked so in the file's comments.
+"""
+
+from __future__ import annotations
+
+import math
+
+from inertialab.errors import InputError
+from inertialab.io.exporters._common import NoiseParams
+
+__all__ = ["noise_params", "per_axis"]
+
+_PER_SENSOR_NOTE = "Each value is the largest of the sensor's three axes."
+
+
+def _worst(axes, kind: str, what: str) -> float:
+    vals = [float(getattr(a, what)) for a in axes if a.kind == kind]
+    vals = [v for v in vals if math.isfinite(v)]
+    return max(vals) if vals else math.nan
+
+
+def noise_params(noise) -> NoiseParams:
+    """The :class:`NoiseParams` of a six-axis analysis (module docstring); an absent
+    sensor's numbers are NaN (written as null where the tool allows it)."""
+    axes = tuple(getattr(noise, "axes", ()))
+    if not axes:
+        raise InputError("no IMU axes to export")
+    return NoiseParams(
+        _worst(axes, "gyro", "noise_density"), _worst(axes, "gyro", "random_walk"),
+        _worst(axes, "accel", "noise_density"), _worst(axes, "accel", "random_walk"),
+        float(noise.rate_hz),
+        gyro_random_walk_bound=any(a.random_walk_bound for a in axes if a.kind == "gyro"),
+        accel_random_walk_bound=any(a.random_walk_bound for a in axes if a.kind == "accel"),
+        allow_missing=True)
+
+
+def per_axis(noise) -> list[tuple]:
+    """``(axis, noise_density, random_walk, random_walk_bound)`` per analysed axis."""
+    return [(a.axis, a.noise_density, a.random_walk, bool(a.random_walk_bound))
+            for a in noise.axes]
+
+
+def imu_utils_axes(noise) -> dict:
+    """imu_utils' per-axis mapping ``{"x": {"gyr_n", "gyr_w", "acc_n", "acc_w"}}`` of the
+    axes whose gyro and accelerometer were both analysed."""
+    by = {a.axis: a for a in noise.axes}
+    out = {}
+    for ax in "xyz":
+        g, a = by.get(f"g{ax}"), by.get(f"a{ax}")
+        if g is not None and a is not None:
+            out[ax] = {"gyr_n": g.noise_density, "gyr_w": g.random_walk,
+                       "acc_n": a.noise_density, "acc_w": a.random_walk}
+    return out
+
+
+NOTE = (_PER_SENSOR_NOTE,)

@@ -1,0 +1,43 @@
+"""What the command line and the batch runner read from the registries: the statistics
+(:mod:`inertialab.noise.registry`), the export targets (:mod:`inertialab.io.exporters`)
+and the model types (:mod:`inertialab.calib.model_types`, imported when a model is
+loaded: it imports every model class).
+
+The command line imports no method or model floor; it asks here for its choices and
+help texts, so a new statistic or exporter appears there with no CLI change.
+"""
+
+from __future__ import annotations
+
+from inertialab.io import exporters
+from inertialab.noise import registry as _stats
+
+__all__ = ["export_help", "export_targets", "load_model", "stat_help", "stat_names"]
+
+
+def stat_names() -> tuple[str, ...]:
+    """The statistic names ``--stat`` takes, canonical order."""
+    return _stats.names()
+
+
+def stat_help() -> str:
+    """The ``--stat`` help text: every registered statistic."""
+    return "Comma-separated: " + ", ".join(stat_names()) + "."
+
+
+def export_targets(kind: str) -> tuple[str, ...]:
+    """The export targets of ``kind`` (``noise``, ``calibration`` or ``thermal``)."""
+    return exporters.targets(kind)
+
+
+def export_help(kind: str) -> str:
+    """Help text listing the export targets of ``kind`` and their tools."""
+    return " | ".join(f"{e.target} ({e.tool})" for e in exporters.EXPORTERS if e.kind == kind)
+
+
+def load_model(path, *, expected_type: str | None = None):
+    """Load a model file of any registered type (refusing another type than
+    ``expected_type`` when given)."""
+    from inertialab.calib.model_types import load_model as _load
+
+    return _load(path, expected_type=expected_type)

@@ -1,0 +1,139 @@
+"""``thermal fit`` as one call (spec 000; docs/thermal.md): :class:`FitConfig` (the
+settings the command line offers, with their bounds) and ``run_fit(record, config) ->
+FitResult`` whose result knows ``to_json()``, ``settings``, ``units``, ``artifacts()``
+(the saved model, one model per method, Tables 1 and 2, the bias/scale-factor table)
+and ``summary_rows()``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from inertialab.config import Config, seed_setting, setting
+from inertialab.errors import InputError
+from inertialab.units import THERMAL_UNITS
+from inertialab.workflows import thermal as wf
+
+__all__ = ["FitConfig", "FitResult", "run_fit"]
+
+_CHOICES = ("iafsa-scm-anfis", "scm-anfis", "anfis", "fis", "ann", "poly-sep", "poly-2d",
+            "all")
+
+
+def methods_from(method: str) -> tuple[str, ...]:
+    """The methods of a ``method`` text: one name, a comma list, or ``all``."""
+    m = method.strip().lower()
+    if m == "all":
+        return wf.METHODS
+    parts = tuple(p.strip() for p in m.split(",") if p.strip())
+    bad = [p for p in parts if p not in _CHOICES or p == "all"]
+    if not parts or bad:
+        raise InputError(f"argument 'method' must be one of {', '.join(_CHOICES)} (or a "
+                         f"comma-separated list), got '{method}'")
+    return parts
+
+
+@dataclass(frozen=True)
+class FitConfig(Config):
+    """Settings of ``thermal fit``."""
+
+    method: str = setting("iafsa-scm-anfis", help="iafsa-scm-anfis | scm-anfis | anfis | fis | "
+                                                  "ann | poly-sep | poly-2d | all (or a comma "
+                                                  "list)")
+    split: str = setting("random", help="random | interp_T | leave_one_T_out | up_down",
+                         choices=("random", "interp_T", "leave_one_T_out", "up_down"))
+    target: str = setting("linear55", help="linear55 | measured55",
+                          choices=("linear55", "measured55"))
+    input: str = setting("ua", help="ua (eq. 5) | raw (N = U)", choices=("ua", "raw"))
+    learn_drift: bool = setting(False, help="Learn Nc - N.")
+    radii: str = setting("scalar", help="scalar | per_dim (IAFSA)", choices=("scalar", "per_dim"))
+    fish: int = setting(10, help="IAFSA fish (spec: 10).", lo=1, hi=10_000)
+    generations: int = setting(30, help="IAFSA generations (30).", lo=1, hi=100_000)
+    epochs: int = setting(150, help="Final ANFIS epochs (150).", lo=1, hi=1_000_000)
+    search_epochs: int = setting(20, help="ANFIS epochs inside the IAFSA objective (20).",
+                                 lo=1, hi=1_000_000)
+    # visual, step and crowd lie in (0, 1]: checked with that message by ThermalConfig
+    visual: float = setting(0.30, help="IAFSA initial visual range, unit-cube units (0.30).")
+    step: float = setting(0.10, help="IAFSA initial step, unit-cube units (0.10).")
+    try_number: int = setting(5, help="IAFSA prey attempts (5).", lo=1, hi=10_000)
+    crowd: float = setting(0.618, help="IAFSA crowd factor (0.618).")
+    seed: int = seed_setting("Random seed (same seed, same numbers).")
+
+    def thermal_config(self) -> wf.ThermalConfig:
+        methods = methods_from(self.method)
+        if "poly-sep" in methods and (self.learn_drift or self.input == "raw"):
+            raise InputError("poly-sep needs argument 'input' ua without argument "
+                             "'learn_drift'")
+        return wf.ThermalConfig(methods=methods, split=self.split, target=self.target,
+                                input=self.input, learn_drift=self.learn_drift,
+                                radii=self.radii, fish=self.fish, generations=self.generations,
+                                epochs=self.epochs, search_epochs=self.search_epochs,
+                                fish_visual=self.visual, fish_step=self.step,
+                                fish_try_number=self.try_number, fish_crowd=self.crowd,
+                                seed=self.seed).validate()
+
+
+@dataclass
+class FitResult:
+    """The fit (:class:`~inertialab.workflows.thermal.ThermalFit`), its samples, the
+    model's own drift and the bias/scale-factor curves."""
+
+    result: object
+    samples: object
+    own: object
+    bsf: object
+    settings: dict
+    sha256: str | None = None
+    units = dict(THERMAL_UNITS)
+
+    def to_json(self) -> dict:
+        return self.result.summary(self.own)
+
+    def artifacts(self) -> dict:
+        r, u = self.result, {"temp": "degC", "output": "mV"}
+        models = [("model.json", r.models[r.model_method], u)]
+        models += [(f"models/{m}.json", mod, u) for m, mod in r.models.items()]
+        files = {}
+        for name, table, title in (
+                ("table1", r.table1(), "Table 1: fish-swarm parameters"),
+                ("table2", r.table2(), f"Table 2: test errors per model ({self.settings['split']}"
+                                       f" split, {r.test_index.size} test samples)")):
+            files[f"{name}.csv"] = table.to_csv(index=False)
+            files[f"{name}.md"] = wf.markdown_table(table, title=title)
+        files["bias_scale_factor.csv"] = wf.bias_scale_factor_table(self.bsf).to_csv(index=False)
+        return {"models": models, "files": files}
+
+    def summary_rows(self) -> list:
+        r = self.result
+        rows = [[m, v.rmse_ug, v.me_ug, v.ae_ug, v.maxe_ppm, v.mare_ppm, v.rules, v.wall_s]
+                for m, v in r.metrics.items()]
+        out = [(f"thermal fit ({self.settings['split']} split, raw drift RMS "
+                f"{r.raw_rms_ug:.0f} µg)",
+                ["model", "RMSE µg", "ME µg", "AE µg", "MAXE ppm", "MARE ppm", "rules",
+                 "wall s"], rows)]
+        if r.search:
+            s, p = r.search, r.search["params"]
+            out.append(f"IAFSA: radius={p['radius']}, squash={p['squash']:.4g}, "
+                       f"accept={p['accept']:.4g}, reject={p['reject']:.4g}, "
+                       f"rules={s['n_rules']}, F*={s['fun'] * 1e3:.2f} µg (default "
+                       f"{s['f_default'] * 1e3:.2f})")
+            out.append("fish swarm (Table 1): " + ", ".join(
+                f"{k}={v:g}" for k, v in self.to_json()["fish"].items()))
+        return out
+
+
+def run_fit(record, config: FitConfig, *, progress=None) -> FitResult:
+    """Fit integrated temperature-compensation models on a thermal tumble record."""
+    c = config.validate()
+    cfg = c.thermal_config()
+    samples = wf.prepare(record, cfg)
+    result = wf.fit(samples, cfg, progress=progress)
+    settings = {"method": list(cfg.methods), "split": c.split, "target": c.target,
+                "input": c.input, "learn_drift": c.learn_drift, "radii": c.radii,
+                "fish": c.fish, "generations": c.generations, "epochs": c.epochs,
+                "search_epochs": c.search_epochs, "visual": c.visual, "step": c.step,
+                "try_number": c.try_number, "crowd": c.crowd, "seed": c.seed,
+                "reference_temp_c": samples.reference_temp_c}
+    return FitResult(result=result, samples=samples, own=result.own_drift(),
+                     bsf=wf.bias_scale_factor(samples), settings=settings,
+                     sha256=record.sha256)
