@@ -309,6 +309,8 @@ def check_out_targets(args: list[str]) -> None:
             continue
         k = i + OUTPUT_FLAGS[flag]
         target = value if eq else (args[k] if k < len(args) else None)
+        if target is not None and not target.strip():  # Path('') is the current directory
+            raise InputError(f"{flag} is empty; name a file or directory")
         if not target:
             continue
         try:

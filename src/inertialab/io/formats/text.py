@@ -39,6 +39,7 @@ import pandas as pd
 
 from inertialab import units as U
 from inertialab.errors import InputError
+from inertialab.limits import regular_input
 
 __all__ = ["MAX_TEXT_BYTES", "TextLayout", "TextTable", "layout_of", "load_text", "unit_suffix"]
 
@@ -110,7 +111,8 @@ def unit_suffix(text: str) -> str | None:
 # ----------------------------------------------------------------------------- checks
 
 def _check_bytes(path: Path) -> tuple[bytes, bool]:
-    """Size, NUL and encoding checks; return (head bytes, truncated)."""
+    """Regular file, size, NUL and encoding checks; return (head bytes, truncated)."""
+    regular_input(path)
     size = path.stat().st_size
     limit = _max_bytes()
     if size > limit:
