@@ -58,13 +58,16 @@ def _gib(n: float) -> str:
     return f"{n / 2**30:.3g} GiB" if n >= 2**20 else f"{n:.0f} bytes"
 
 
-def check_budget(nbytes: float, what: str, path=None) -> None:
+def check_budget(nbytes: float, what: str, path=None, *, scanned: bool = False) -> None:
     """Refuse (:class:`InputError`) an allocation of ``nbytes`` for ``what`` above
-    :func:`memory_budget`; ``path`` names the file that declared it."""
+    :func:`memory_budget`; ``path`` names the file that declared it. ``scanned``: the
+    count stopped once past the budget (the message says "more than")."""
     budget = memory_budget()
     n = float(nbytes)
     if not math.isfinite(n) or n > budget:
         size = _gib(n) if math.isfinite(n) else "an unbounded amount"
+        if scanned:
+            size = f"more than {_gib(budget)}"
         raise InputError(f"{what} needs {size}, above the memory budget of {_gib(budget)} "
                          "(set INERTIALAB_MAX_BYTES to allow more)", path=path)
 
