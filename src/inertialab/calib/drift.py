@@ -29,8 +29,9 @@ from inertialab import metrics
 from inertialab.errors import InputError
 from inertialab.learn.forecast_baselines import make_baseline
 from inertialab.learn.monitoring import cusum_alarms, first_passage
-from inertialab.learn.nar import NARForecaster
+from inertialab.learn.nar import MAX_ORDER, NARForecaster
 from inertialab.learn.nar_direct import DirectNARForecaster
+from inertialab.limits import bounded, bounded_int
 
 __all__ = ["DEFAULT_BASELINES", "DIRECT", "MAX_HORIZON", "QUANTITIES", "check_horizon", "DailySeries", "DriftModel", "DriftSettings",
            "SeriesResult", "error_metrics", "fill_gaps", "fit_series"]
@@ -54,6 +55,22 @@ def check_horizon(horizon) -> int:
         raise InputError(f"argument 'horizon' must be an integer from 1 to {MAX_HORIZON} "
                          f"steps, got {horizon}")
     return k
+
+#: Most grid steps one unit's series may span (about 270 years of days): a day column
+#: with one stray value of 1e9 would otherwise allocate a grid of a billion steps.
+MAX_GRID_STEPS = 100_000
+
+
+def check_span(n_steps: int, unit, first_day, last_day, *, path=None) -> int:
+    """Refuse a unit whose programme days span more than :data:`MAX_GRID_STEPS` grid
+    steps (one line naming the unit and its first and last day), before the grid is
+    allocated; returns ``n_steps``."""
+    if not 1 <= n_steps <= MAX_GRID_STEPS:
+        raise InputError(f"unit {unit}: its days run from {first_day:g} to {last_day:g}, "
+                         f"{n_steps} grid steps; a storage programme spans at most "
+                         f"{MAX_GRID_STEPS} (is a day value wrong?)", path=path, column="day")
+    return n_steps
+
 
 DEFAULT_BASELINES = ("persistence", "window_mean", "ar_ls", "ar_aic", "poly_trend",
                      "exp_saturation", "exp_ar1", "kernel_nar")
@@ -165,6 +182,21 @@ class DriftSettings:
     tol_sf_ppm: float = 50.0
     recal_quantile: float = 0.1
     seed: int = 0
+
+    def __post_init__(self):
+        """Every setting bounded before any work (a NaN tolerance would silently
+        disable the re-calibration alarm; an order of 1e9 would never end)."""
+        check_horizon(self.horizon)
+        bounded_int("order", self.order, 1, MAX_ORDER)
+        bounded_int("H", self.H, 1, MAX_ORDER)
+        bounded_int("hidden", self.hidden, 1, 10_000)
+        bounded_int("restarts", self.restarts, 1, 1_000)
+        bounded_int("n_paths", self.n_paths, 1, 100_000)
+        bounded_int("max_gap", self.max_gap, 0, 36_500)
+        bounded("tol_bias_ug", self.tol_bias_ug, 0.0, 1e9, lo_open=True)
+        bounded("tol_sf_ppm", self.tol_sf_ppm, 0.0, 1e9, lo_open=True)
+        bounded("recal_quantile", self.recal_quantile, 0.0, 1.0, lo_open=True)
+        bounded_int("seed", self.seed, 0, 2**63 - 1)
 
     def tolerance(self, quantity: str) -> float:
         return float(self.tol_bias_ug if quantity == "bias" else self.tol_sf_ppm)

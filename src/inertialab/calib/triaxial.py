@@ -30,6 +30,7 @@ from inertialab.errors import (
     UnderdeterminedError,
 )
 from inertialab.jsonable import to_jsonable
+from inertialab.limits import MAX_MAGNITUDE, finite
 from inertialab.optim.base import Target
 from inertialab.optim.cuckoo import adaptive_cuckoo_search, cuckoo_search
 from inertialab.optim.pso import pso
@@ -54,6 +55,18 @@ DATASHEET = {"b_xy": 0.49, "b_z": 0.78, "k_rel": 0.03, "theta": 0.02}
 """MPU-6050 ±2 g datasheet ranges in m/s^2, relative and rad (spec 002 §6.1, §6.4)."""
 
 # =========================================================================== model
+
+def _finite_result(values: np.ndarray, raw: np.ndarray, what: str) -> np.ndarray:
+    """Calibrated values, refused when finite raw samples gave a non-finite or
+    overflowing result (a model of extreme entries: nothing with ``inf`` is written)."""
+    bad = ~np.isfinite(values) | (np.abs(np.nan_to_num(values)) > MAX_MAGNITUDE)
+    bad &= np.isfinite(raw)
+    if bad.any():
+        row = int(np.flatnonzero(bad.any(axis=1))[0]) + 1 if values.ndim == 2 else None
+        raise InputError(f"{what} is not finite for finite raw samples; the calibration's "
+                         "entries are out of range", row=row)
+    return values
+
 
 @dataclass
 class TriaxialCalibration:
@@ -96,7 +109,8 @@ class TriaxialCalibration:
         raw = np.asarray(raw, dtype=float)
         if raw.ndim != 2 or raw.shape[1] != 3:
             raise InputError(f"raw samples must have shape (n, 3), got {raw.shape}")
-        return (raw - self.offset) @ np.asarray(self.correction_matrix).T
+        return _finite_result((raw - self.offset) @ np.asarray(self.correction_matrix).T,
+                              raw, "calibrated acceleration")
 
     def apply_gyro(self, raw, acc=None) -> np.ndarray:
         """Calibrated rates (rad/s) for raw gyro samples (n, 3); needs the gyro block.
@@ -115,7 +129,8 @@ class TriaxialCalibration:
                 raise InputError("this gyro calibration corrects the g-sensitivity: give the "
                                  "calibrated accelerations (argument 'acc')")
             raw = raw - np.asarray(acc, dtype=float) @ np.asarray(kga, dtype=float).T
-        return raw @ np.asarray(self.gyro["correction_matrix"]).T
+        return _finite_result(raw @ np.asarray(self.gyro["correction_matrix"]).T, raw,
+                              "calibrated rate")
 
     def to_dict(self) -> dict:
         return {
@@ -152,6 +167,12 @@ class TriaxialCalibration:
                     gy["g_sensitivity"] = np.asarray(gy["g_sensitivity"], dtype=float)
                     if gy["g_sensitivity"].shape != (3, 3):
                         raise ValueError("g_sensitivity shape")
+                for key in ("correction_matrix", "offset", "g_sensitivity"):
+                    if gy.get(key) is not None:
+                        finite(f"gyro.{key}", gy[key])
+            finite("correction_matrix", cm)
+            finite("offset", off)
+            finite("g_local", float(d["g_local"]))
             return cls(
                 method=str(d["method"]), objective=str(d["objective"]),
                 params={str(k): float(v) for k, v in d["params"].items()},

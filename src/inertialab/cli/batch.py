@@ -6,8 +6,6 @@ Thin: the ``--tolerance`` rules (:func:`parse_tolerance`) and the ``--inputs`` g
 """
 
 # no "from __future__ import annotations": typer must see the Annotated shared options
-import fnmatch
-import glob as _glob
 import re
 import sys
 from collections.abc import Sequence
@@ -78,22 +76,10 @@ def parse_tolerance(text: str | Sequence[str] | None) -> tuple:
 
 
 def expand_inputs(patterns: str | Sequence[str]) -> list[Path]:
-    """Sorted files matching the glob pattern(s) (``**`` recurses); sidecars
-    (``*.meta.json``) and directories are left out. Nothing matched is an InputError."""
-    pats = [patterns] if isinstance(patterns, str) else list(patterns)
-    found: set[Path] = set()
-    for pat in pats:
-        hits = _glob.glob(str(pat), recursive=True)
-        if not hits and Path(pat).is_file():
-            hits = [str(pat)]
-        for h in hits:
-            p = Path(h)
-            if p.is_file() and not fnmatch.fnmatch(p.name, "*.meta.json") \
-                    and not p.name.endswith(".schedule.csv"):
-                found.add(p)
-    if not found:
-        raise InputError(f"--inputs {' '.join(map(str, pats))!s}: the glob matches no file")
-    return sorted(found)
+    """The files of ``--inputs`` (:func:`inertialab.workflows.batch.expand_inputs`)."""
+    from inertialab.workflows.batch import expand_inputs as expand
+
+    return expand(patterns)
 
 
 def register(app: typer.Typer, groups: dict) -> None:

@@ -26,6 +26,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from inertialab.limits import bounded
 from inertialab.seeding import as_generator
 from inertialab.sensors.triaxial import gain_matrix, rotation
 from inertialab.sim.triaxial_poses import (
@@ -99,6 +100,14 @@ def simulate_ferraris(*, seed=0, fs: float = FS_HZ, g: float = G_LOCAL,
     counts : bool
         Write 16-bit counts (16384 LSB/g, 131 LSB/(deg/s)) instead of m/s^2 and deg/s.
     """
+    bounded("g_local", g, 1.0, 100.0)
+    bounded("placement_deg", placement_deg, 0.0, 45.0)
+    bounded("angle_sigma_deg", angle_sigma_deg, 0.0, 90.0)
+    bounded("rate_hz", fs, 1e-3, 1e5)
+    for name, v in (("rest_s", rest_s), ("first_rest_s", first_rest_s), ("move_s", move_s),
+                    ("turn_s", turn_s)):
+        bounded(name, v, 0.0, 3600.0)
+    bounded("shake_mps2", shake_mps2, 0.0, 1e3)
     rng = as_generator(seed)
     x = X_MPU6050_A.copy() if x_true is None else np.asarray(x_true, dtype=float)
     T_a = gain_matrix(x) @ rotation(PHI_HOUSING)
