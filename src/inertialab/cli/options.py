@@ -288,7 +288,10 @@ def check_value(flag: str, text: str) -> None:
     v = _number(text)
     if v is None:
         return
-    if not math.isfinite(v) or not lo <= v <= hi:
+    if not math.isfinite(v):
+        raise InputError(f"{flag} must be finite ({what} between {lo:g} and {hi:g}), "
+                         f"got {text[:40]}")
+    if not lo <= v <= hi:
         raise InputError(f"{flag} is {what} and must be between {lo:g} and {hi:g}, "
                          f"got {text[:40]}")
 
