@@ -434,15 +434,30 @@ def _scratch_dir():
 
 @contextlib.contextmanager
 def _local_client(scheduler: str, workers: int):
-    """:func:`open_client`, its workers' scratch space inside :func:`_scratch_dir` and
-    their SIGINT ignored (the parent run is interrupted and reports once)."""
+    """:func:`open_client` with its workers' scratch space inside :func:`_scratch_dir`,
+    started with SIGINT blocked: the worker processes inherit the blocked signal, so a
+    Ctrl-C reaches only this process, which stops them and reports once (a signal that
+    arrives meanwhile is delivered here when the cluster is up)."""
+    import signal
+
     import dask
 
-    from inertialab import signals
-
     with _scratch_dir() as scratch, dask.config.set({"temporary-directory": str(scratch)}):
-        with open_client(scheduler, workers) as cl:
-            if scheduler == "local":
+        try:
+            old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+        except (AttributeError, ValueError, OSError):  # pragma: no cover - not POSIX
+            old = None
+        cm = open_client(scheduler, workers)
+        try:
+            cl = cm.__enter__()
+        finally:
+            if old is not None:
+                signal.pthread_sigmask(signal.SIG_SETMASK, old)
+        with contextlib.ExitStack() as stack:
+            stack.push(cm)
+            if scheduler == "local":  # and they ignore it from now on
+                from inertialab import signals
+
                 with contextlib.suppress(Exception):
                     cl.run(signals.ignore_in_worker)
             yield cl
