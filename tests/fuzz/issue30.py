@@ -531,14 +531,16 @@ def overwrite_cases() -> list[Case]:
 
 
 def yaml_cases() -> list[Case]:
-    """Item 5: a ROS topic that would add a key to the Kalibr YAML (owner: the
-    exporter's YAML serialiser)."""
+    """Item 5: a ROS topic that would add a key to the Kalibr noise YAML, or make it
+    unparsable (owner: the exporters' YAML serialiser)."""
     cases = []
     for label, topic in (("newline-key", "/imu0\nevil: yes"), ("flow-mapping", "/imu: {a: 1}")):
         def setup(d, topic=topic):
-            m = _edit_model("triaxial-calibration", d, lambda p: p.update(raw_unit="m/s^2"))
-            return ["triaxial", "export", str(m), "--to", "kalibr", "--rostopic", topic,
-                    "--out", str(d / "imu.yaml")]
+            for name in ("vectornav.csv", "vectornav.map.json"):
+                shutil.copy(EXAMPLES / "vendors" / name, d)
+            return ["allan", str(d / "vectornav.csv"), "--imu", "--map-file",
+                    str(d / "vectornav.map.json"), "--export", "kalibr", str(d / "imu.yaml"),
+                    "--rostopic", topic, "--quiet"]
 
         def parses(d, o):
             f = d / "imu.yaml"
@@ -550,9 +552,13 @@ def yaml_cases() -> list[Case]:
                 doc = yaml.safe_load(f.read_text())
             except yaml.YAMLError as exc:
                 return [f"YAML does not parse: {type(exc).__name__}"]
-            return ["key 'evil' injected"] if "evil" in json.dumps(doc) and \
-                "evil: yes" not in json.dumps(doc) else []
-        cases.append(_c("30-yaml", "triaxial export", label, setup, allowed=["imu.yaml"],
+            if not isinstance(doc, dict):
+                return [f"YAML is not a mapping: {type(doc).__name__}"]
+            extra = sorted(set(doc) - {"accelerometer_noise_density", "accelerometer_random_walk",
+                                       "gyroscope_noise_density", "gyroscope_random_walk",
+                                       "rostopic", "update_rate"})
+            return [f"keys injected: {extra}"] if extra else []
+        cases.append(_c("30-yaml", "allan --export kalibr", label, setup, allowed=["imu.yaml"],
                         check=parses, owner="spine helper: exporters write YAML through a "
                                             "serialiser"))
     return cases
