@@ -36,12 +36,12 @@ from inertialab.limits import bounded, bounded_int
 __all__ = ["DEFAULT_BASELINES", "DIRECT", "MAX_HORIZON", "QUANTITIES", "check_horizon", "DailySeries", "DriftModel", "DriftSettings",
            "SeriesResult", "error_metrics", "fill_gaps", "fit_series"]
 
-#: quantity -> working unit (CONTRACTS.md "drift": bias µg, scale factor ppm)
+#: quantity -> working unit (bias µg, scale factor ppm; docs/drift.md)
 QUANTITIES = {"bias": "ug", "sf": "ppm"}
 
 #: Longest forecast horizon in grid steps (about 2.7 years of a daily programme). A
 #: closed-loop forecast far past the 20 steps of spec 004 §5 says nothing, and its cost
-#: (bootstrap paths x steps) grows linearly: 1e8 steps ran for minutes (issue 19 item 8).
+#: (bootstrap paths x steps) grows linearly: 1e8 steps ran for minutes.
 MAX_HORIZON = 1000
 
 
@@ -162,7 +162,7 @@ class DriftSettings:
     ``hidden_grid`` by validation, §3.2); restarts
     R = 10; preset "paper" (best member, random split) or "strict" (median, block split);
     n_paths B = 200; max_gap 3; Hampel screen off; tolerances 50 µg and 50 ppm
-    (CONTRACTS.md "drift"); re-calibration at the 10 % quantile of the first passage.
+    (docs/drift.md); re-calibration at the 10 % quantile of the first passage.
     """
 
     horizon: int = 20
@@ -231,7 +231,7 @@ def error_metrics(actual, predicted) -> dict | None:
 
 @dataclass
 class SeriesResult:
-    """Fit and forecast of one unit's quantity (JSON keys of the CLI, issue 8 item 5)."""
+    """Fit and forecast of one unit's quantity (the JSON keys of ``drift fit --json``)."""
 
     unit_id: str
     quantity: str
@@ -484,7 +484,7 @@ class DriftModel:
 
     @classmethod
     def from_dict(cls, d: dict) -> DriftModel:
-        """Rebuild from :meth:`to_dict`, validating every field (issue 19 items 5 and 7):
+        """Rebuild from :meth:`to_dict`, validating every field:
         types, finiteness and ranges, and a one-step forecast of every entry; anything
         else is an :class:`InputError`."""
         try:

@@ -48,7 +48,7 @@ FUZZY = ("fis", "anfis", "scm-anfis", "iafsa-scm-anfis")
 #: The proposed model of spec 000 (§3.6).
 PROPOSED = "iafsa-scm-anfis"
 SPLITS = ("random", "interp_T", "leave_one_T_out", "up_down")
-#: Status codes of compensated output (CONTRACTS.md "thermal"; same in the C export).
+#: Status codes of compensated output (docs/thermal.md; same in the C export).
 STATUS_OK, STATUS_T_CLAMPED, STATUS_N_CLAMPED = 0, 1, 2
 
 
@@ -348,7 +348,7 @@ class ThermalModel:
         return model
 
     def check(self) -> ThermalModel:
-        """Plausibility of a loaded model (issue 19 item 5): known method, input and
+        """Plausibility of a loaded model: known method, input and
         target, finite reference coefficients with a non-zero scale factor, finite
         non-empty calibrated ranges, a finite regressor. Raises InputError."""
         if self.method not in METHODS:

@@ -73,19 +73,19 @@ class TriaxialCalibration:
     """A triaxial accelerometer calibration (and optionally a gyro calibration).
 
     ``calibrated = correction_matrix @ (raw - offset)`` with ``raw`` in ``raw_unit``
-    and ``calibrated`` in m/s^2 (CONTRACTS.md "calibrate triaxial"). ``params`` are
+    and ``calibrated`` in m/s^2 (docs/triaxial.md). ``params`` are
     the 9 model parameters of spec 002 §1.2 in the unit the fit used (m/s^2, or
     counts in counts mode: ``bx`` in counts, ``kx`` in counts per m/s^2).
 
     The gyro block (``gyro``) is a dict with ``correction_matrix`` (raw gyro unit ->
     rad/s), ``offset`` (raw gyro unit) and ``raw_unit``. ``flags`` lists what made the
-    fit implausible or not identifiable when it was written anyway (issue 17 item 1,
-    :mod:`inertialab.calib.triaxial_checks`); a flagged model is applied only on request.
+    fit implausible or not identifiable when it was written anyway
+    (:mod:`inertialab.calib.triaxial_checks`); a flagged model is applied only on request.
     """
 
     MODEL_TYPE = "triaxial-calibration"
     FORMAT_VERSION = 1
-    """Version of the payload layout of :meth:`to_dict` (per model type, issue 13)."""
+    """Version of the payload layout of :meth:`to_dict` (per model type)."""
 
     method: str
     objective: str
@@ -372,7 +372,7 @@ def calibrate(a, *, ref=None, method: str = "lm", objective: str = "norm", g: fl
         bounded variant of §3.6; the box is centred on the initial estimate in counts mode).
     refine_faces : bool, default True
         Six-position only: refine the 12-parameter closed form so that every face has
-        |a| = g (:func:`~inertialab.sensors.triaxial_classic.face_fit`, issue 17 item 3:
+        |a| = g (:func:`~inertialab.sensors.triaxial_classic.face_fit`, for
         hand-placed faces); False is the classic closed form of spec 002 §3.7.
     placement_rad : float, default 2 deg
         Six-position with ``refine_faces``: standard deviation of a face's tilt.

@@ -1,4 +1,5 @@
-"""Transactional outputs (issue 19): nothing half-written, nothing outside the target.
+"""Transactional outputs: nothing half-written, nothing outside the target, no input
+overwritten (docs/robustness.md).
 
 A command's outputs are all or nothing:
 
@@ -21,7 +22,9 @@ A command's outputs are all or nothing:
 
 The command line runs every command inside :func:`transaction`: writes are staged and
 committed together when the command returns; an exception, ``SIGINT`` or ``SIGTERM``
-removes every temporary file and directory (DESIGN.md "Command line"). Library code uses
+removes every temporary file and directory. An output that resolves to one of the
+run's inputs or its sidecar, an empty output name, and a previous output that cannot be
+removed (a read-only directory in it) are refused before anything is replaced. Library code uses
 :func:`output_dir` (``with output_dir(path) as tmp: ...``) or the atomic writers of
 :mod:`inertialab.io.writers`, which join the current transaction when there is one.
 
@@ -567,7 +570,7 @@ def stage_dir(path) -> Path:
 def ensure_finite(values, what: str, *, path=None, allow_nan_in=None):
     """Raise :class:`~inertialab.errors.InputError` when ``values`` (an array, a
     sequence, a scalar, a pandas Series or DataFrame) holds NaN or infinity: a result
-    computed from finite input must be finite (issue 19), so a non-finite output is an
+    computed from finite input must be finite, so a non-finite output is an
     error naming ``what`` (and the first offending column and row of a frame), never a
     file of NaN. ``allow_nan_in``: frame columns where NaN is a documented value.
     Returns ``values`` unchanged.

@@ -1,5 +1,5 @@
 """Record metadata: ``<stem>.meta.json`` sidecars, spec 002's ``# key=value`` header
-lines and ``*.schedule.csv`` files (DESIGN.md "Sidecars")."""
+lines and ``*.schedule.csv`` files (docs/records.md)."""
 
 from __future__ import annotations
 
@@ -49,8 +49,8 @@ NUMERIC_KEYS = {
 
 
 def check_numeric_keys(meta: dict, *, path) -> dict:
-    """Refuse a known numeric key that is not a finite number in its range (issue 19
-    item 7: a non-numeric ``fs_hz`` is an InputError naming the file and key)."""
+    """Refuse a known numeric key that is not a finite number in its range (a
+    non-numeric ``fs_hz`` is an InputError naming the file and key)."""
     for key, (lo, hi) in NUMERIC_KEYS.items():
         if key not in meta or meta[key] is None:
             continue

@@ -1,5 +1,5 @@
 """Virtual lab rig ``ferraris-session``: a 6-DOF IMU calibrated by hand with the Ferraris
-protocol (issue 17 item 2; Ferraris et al. 1995, as imucal records it).
+protocol (Ferraris et al. 1995, as imucal records it).
 
 The session, in time order: an initial rest, the six static faces ``x_p x_a y_p y_a z_p
 z_a`` (sensor axis up / down), then one full turn about each axis ``x_rot y_rot z_rot``
@@ -16,7 +16,7 @@ Sensor model (imucal's documented form): ``u_a = T_a a + b_a`` with ``T_a = K_a 
 rate, both in the housing frame, plus white noise. The default device is the MPU6050-A of
 spec 002 §6.1 (accelerometer), its gyro triad of the ``triaxial-poses`` rig, and a
 g-sensitivity of ~0.1 deg/s/g. Units: acceleration m/s^2 and rate deg/s (as the real
-session of issue 17: 102.4 Hz, m/s^2, deg/s), or 16-bit counts.
+session of the public MPU-6050 Ferraris recording: 102.4 Hz, m/s^2, deg/s), or 16-bit counts.
 
 The truth holds the true matrices and the true sections in imucal's section-list format.
 """
@@ -44,7 +44,7 @@ GENERATOR_VERSION = "1"
 KIND = "ferraris-session"
 
 FS_HZ = 102.4
-"""Sample rate of the real session of issue 17, Hz."""
+"""Sample rate of the real Ferraris session (MPU-6050 recording), Hz."""
 G_LOCAL = 9.81
 K_GA_DPS_PER_MPS2 = np.array([[0.004, -0.010, 0.012],
                               [0.009, 0.003, -0.006],

@@ -1,4 +1,4 @@
-"""Rig ``gyro-static``: a FOG at rest logging its rate (spec 001 §6.2; issue 3).
+"""Rig ``gyro-static``: a FOG at rest logging its rate (spec 001 §6.2).
 
 Writes a ``gyro_log`` record (``t_s``, ``rate_dph``) with the §6.2 static noise model of
 :mod:`inertialab.sensors.gyro` (no vibration), plus a truth table of the components and

@@ -1,4 +1,4 @@
-"""The fleet runner: one command over many files or units on Dask (issue 10 item 5).
+"""The fleet runner: one command over many files or units on Dask (docs/batch.md).
 
 ``run_batch(command, paths, ...)`` runs ``allan``, ``calibrate-triaxial`` or
 ``thermal-compensate`` on every file and returns a :class:`BatchResult`: one row per
@@ -225,7 +225,7 @@ def run_unit(command: str, path, options: dict | None = None,
     except InputError as exc:
         return UnitResult(unit, str(p), "error", reason=" ".join(str(exc).split()),
                           wall_s=time.perf_counter() - t0)
-    except Exception as exc:  # a worker failure must not stop the lot (issue 10 item 6)
+    except Exception as exc:  # a worker failure must not stop the lot
         return UnitResult(unit, str(p), "error",
                           reason=f"{type(exc).__name__}: {' '.join(str(exc).split())}",
                           wall_s=time.perf_counter() - t0)

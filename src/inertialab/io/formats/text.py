@@ -2,7 +2,7 @@
 
 What a vendor CSV throws at a reader, handled before pandas sees the file:
 
-* **size and content checks first** (issue 19 item 3): a file above
+* **size and content checks first** (docs/robustness.md): a file above
   :data:`MAX_TEXT_BYTES`, a NUL byte in its first or last MiB (a sparse or binary
   file), UTF-16 text or bytes that are not UTF-8 are a one-line
   :class:`~inertialab.errors.InputError` before any parsing, so a 2 GB sparse file
