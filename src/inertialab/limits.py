@@ -126,7 +126,7 @@ def finite(name: str, values, *, max_abs: float = MAX_MAGNITUDE, path=None):
         flat = int(np.flatnonzero(bad.ravel())[0])
         at = "" if arr.ndim == 0 else \
             f"[{', '.join(str(int(i)) for i in np.unravel_index(flat, arr.shape))}]"
-        raise InputError(f"'{name}{at}' is {arr.ravel()[flat]!r}; values must be finite with "
+        raise InputError(f"'{name}{at}' is {float(arr.ravel()[flat])!r}; values must be finite with "
                          f"magnitude at most {max_abs:g}", path=path)
     return values
 

@@ -60,7 +60,8 @@ def _finite_result(values: np.ndarray, raw: np.ndarray, what: str) -> np.ndarray
     """Calibrated values, refused when finite raw samples gave a non-finite or
     overflowing result (a model of extreme entries: nothing with ``inf`` is written)."""
     bad = ~np.isfinite(values) | (np.abs(np.nan_to_num(values)) > MAX_MAGNITUDE)
-    bad &= np.isfinite(raw)
+    fin = np.isfinite(raw)  # a row with a missing raw value may stay missing
+    bad &= fin.all(axis=-1, keepdims=True) if fin.ndim == 2 else fin
     if bad.any():
         row = int(np.flatnonzero(bad.any(axis=1))[0]) + 1 if values.ndim == 2 else None
         raise InputError(f"{what} is not finite for finite raw samples; the calibration's "
