@@ -26,8 +26,9 @@ from pathlib import Path
 
 from inertialab.errors import InputError
 
-__all__ = ["MAX_COLUMNS", "MAX_MAGNITUDE", "MAX_WORKERS", "bounded", "bounded_int",
-           "check_budget", "finite", "memory_budget", "regular_input"]
+__all__ = ["MAX_COLUMNS", "MAX_MAGNITUDE", "MAX_WORK", "MAX_WORKERS", "bounded",
+           "bounded_int", "check_budget", "check_work", "finite", "memory_budget",
+           "regular_input"]
 
 #: Default budget of one allocation declared by an input or an argument (bytes);
 #: ``INERTIALAB_MAX_BYTES`` in the environment overrides it (e.g. ``8e9``).
@@ -70,6 +71,22 @@ def check_budget(nbytes: float, what: str, path=None, *, scanned: bool = False) 
             size = f"more than {_gib(budget)}"
         raise InputError(f"{what} needs {size}, above the memory budget of {_gib(budget)} "
                          "(set INERTIALAB_MAX_BYTES to allow more)", path=path)
+
+
+#: Most elementary steps (about one multiply-add each) one computation may take when an
+#: argument asks for everything (``taus="all"`` on a long record is O(N^2)): about half
+#: a minute (measured: TOTDEV at every tau of 60 000 samples, 1.8e9 steps, 53 s on a
+#: loaded 2-core machine).
+MAX_WORK = 1e9
+
+
+def check_work(steps: float, what: str, hint: str, path=None) -> None:
+    """Refuse a computation of about ``steps`` elementary steps above :data:`MAX_WORK`
+    (it would run for minutes to hours with no sign of progress); ``hint`` says what to
+    ask for instead."""
+    if not float(steps) <= MAX_WORK:
+        raise InputError(f"{what} takes about {float(steps):.2g} steps, more than the "
+                         f"{MAX_WORK:.0g} a run may take; {hint}", path=path)
 
 
 def _number(name: str, value) -> float:
