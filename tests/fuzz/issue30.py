@@ -478,7 +478,7 @@ def overwrite_cases() -> list[Case]:
         return ["thermal", "fit", str(shutil.copy(EXAMPLES / "thermal_tumble.csv", d)),
                 "--method", "poly-2d", "--out", ""]
     cases.append(_c("30-overwrite", "thermal fit", "--out ''", empty_out, expect_code=2,
-                    runner=lambda a, c: cat.run_inprocess(a, c)))
+                    check=_stderr_has("--out is empty")))
 
     def same_as_input(cmd, kind, rec):
         def setup(d):
@@ -489,11 +489,20 @@ def overwrite_cases() -> list[Case]:
                 shutil.copy(side, d)
             return [*cmd, str(m), str(f), "--out", str(f)]
         return setup
+    def drift_apply(d):  # a record of the model's one unit, written by the virtual lab
+        o = cat.run_inprocess(["simulate", "storage-drift", "--units", "1", "--days", "40",
+                               "--out", str(d / "sd.csv")], d)
+        if o.code != 0:
+            raise RuntimeError(o.stderr)
+        m = shutil.copy(MODELS / "storage-drift-v1.json", d / "model.json")
+        return ["drift", "apply", str(m), str(d / "sd.csv"), "--out", str(d / "sd.csv")]
+    cases.append(_c("30-overwrite", "drift apply", "--out INPUT", drift_apply, expect_code=2,
+                    check=_stderr_has("would overwrite input")))
     for cmd, kind, rec in ((("thermal", "apply"), "thermal-compensation", "thermal_tumble.csv"),
-                           (("drift", "apply"), "storage-drift", "storage_drift.csv"),
                            (("triaxial", "apply"), "triaxial-calibration", "triaxial.raw.csv")):
         cases.append(_c("30-overwrite", " ".join(cmd), "--out INPUT",
-                        same_as_input(cmd, kind, rec), expect_code=2))
+                        same_as_input(cmd, kind, rec), expect_code=2,
+                        check=_stderr_has("would overwrite input")))
 
     def sidecar(d):
         m = shutil.copy(MODELS / "thermal-compensation-v1.json", d / "model.json")
@@ -501,13 +510,18 @@ def overwrite_cases() -> list[Case]:
         (d / "rec.meta.json").write_text('{"schema_version": 1}\n')
         return ["thermal", "apply", str(m), str(f), "--out", str(d / "rec.parquet")]
     cases.append(_c("30-overwrite", "thermal apply", "--out over the input's sidecar",
-                    sidecar, expect_code=2))
+                    sidecar, expect_code=2, check=_stderr_has("sidecar of input")))
+
+    def physical(p):  # the fixture is in counts, which the exporters refuse earlier
+        p["raw_unit"] = "m/s^2"
+        if p.get("gyro"):
+            p["gyro"]["raw_unit"] = "rad/s"
 
     def export_model(d):
-        m = shutil.copy(MODELS / "triaxial-calibration-v1.json", d / "model.json")
+        m = _edit_model("triaxial-calibration", d, physical)
         return ["triaxial", "export", str(m), "--to", "kalibr", "--out", str(m)]
     cases.append(_c("30-overwrite", "triaxial export", "--out MODEL", export_model,
-                    expect_code=2))
+                    expect_code=2, check=_stderr_has("would overwrite input")))
 
     def read_only(d):
         out = d / "out"

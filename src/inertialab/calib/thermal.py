@@ -358,7 +358,8 @@ class ThermalModel:
                              "measured55")
         ref = [self.ref.k0, self.ref.k1, self.ref.k2, self.ref.kip, self.ref.kp]
         if _non_finite([float(v) for v in ref], "ref") or self.ref.k1 == 0.0:
-            raise InputError("thermal model: reference coefficients must be finite with k1 != 0")
+            raise InputError("thermal model: reference coefficients must be finite (at most "
+                             f"{MAX_MAGNITUDE:g} in magnitude) with k1 != 0")
         for name in ("t_range_c", "n_range_mv"):
             lo, hi = (float(v) for v in getattr(self, name))
             if _non_finite([lo, hi], name) or not lo < hi:
@@ -367,7 +368,8 @@ class ThermalModel:
             raise InputError("thermal model: reference_temp_c is not finite")
         bad = _non_finite(_regressor_to_dict(self.regressor)[1], "regressor")
         if bad:
-            raise InputError(f"thermal model: {bad} is not finite")
+            raise InputError(f"thermal model: {bad} is not finite or beyond {MAX_MAGNITUDE:g} "
+                             "in magnitude")
         return self
 
     @classmethod

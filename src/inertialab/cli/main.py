@@ -228,7 +228,10 @@ def user_error(exc: BaseException, files: list[str]) -> str | None:
     if isinstance(exc, InputError):
         from inertialab.cli.options import flagged
 
-        return flagged(_one_line(exc))  # library messages name arguments; users see flags
+        text = flagged(_one_line(exc))  # library messages name arguments; users see flags
+        if exc.path is None and files and not text.startswith("-"):
+            text += _about(files)  # a data error raised below the reader: name the inputs
+        return text
     if isinstance(exc, MemoryError):
         return (f"not enough memory for this input{_about(files)}; use a smaller file or "
                 "smaller size arguments")
