@@ -15,7 +15,7 @@ What else a signal may meet, handled here so that there is one line and no trace
 - a signal after the outputs were committed (:func:`mark_committed`) ends the process
   at once with ``error: interrupted by SIGTERM after the outputs were complete`` and
   ``128 + signal``, instead of dying silently with -15;
-- worker processes (:func:`ignore_in_worker`) ignore both signals: the parent is
+- worker processes (:func:`ignore_in_worker`) ignore SIGINT: the parent is
   interrupted, shuts its workers down and reports once.
 """
 
@@ -106,7 +106,7 @@ def restore() -> None:
 
 
 def ignore_in_worker() -> None:
-    """In a worker process: ignore SIGINT and SIGTERM-from-the-terminal's Ctrl-C (the
-    parent run is interrupted, stops its workers and reports once)."""
+    """In a worker process: ignore SIGINT, the terminal's Ctrl-C that reaches the whole
+    process group (the parent run is interrupted, stops its workers and reports once)."""
     with contextlib.suppress(ValueError, OSError):
         signal.signal(signal.SIGINT, signal.SIG_IGN)
