@@ -752,7 +752,7 @@ def slow_cases() -> list[Case]:
             return argv
 
         def sig_file(d):
-            return ["simulate", "gyro-static", "--preset", "allan-test", "--hours", "40",
+            return ["simulate", "gyro-static", "--preset", "allan-test", "--hours", "10",
                     "--rate", "100", "--out", str(d / "out.csv")]
 
         for label, setup in (("dir", sig_dir), ("reused-dir", sig_reused), ("file", sig_file)):
