@@ -289,7 +289,7 @@ def check_value(flag: str, text: str) -> None:
     if v is None:
         return
     if not math.isfinite(v):
-        raise InputError(f"{flag} must be finite ({what} between {lo:g} and {hi:g}), "
+        raise InputError(f"{flag} is {what} and must be finite, between {lo:g} and {hi:g}, "
                          f"got {text[:40]}")
     if not lo <= v <= hi:
         raise InputError(f"{flag} is {what} and must be between {lo:g} and {hi:g}, "
