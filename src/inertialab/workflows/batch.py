@@ -434,30 +434,33 @@ def _scratch_dir():
 
 @contextlib.contextmanager
 def _local_client(scheduler: str, workers: int):
-    """:func:`open_client` with its workers' scratch space inside :func:`_scratch_dir`,
-    started with SIGINT blocked: the worker processes inherit the blocked signal, so a
-    Ctrl-C reaches only this process, which stops them and reports once (a signal that
-    arrives meanwhile is delivered here when the cluster is up)."""
+    """:func:`open_client` with its workers' scratch space inside :func:`_scratch_dir`.
+
+    The LocalCluster starts with SIGINT ignored: its worker processes inherit the
+    ignored disposition (an ignored signal stays ignored across ``exec``, and Python
+    keeps it), so a Ctrl-C to the process group reaches only this process, which stops
+    the workers and reports once. A Ctrl-C during the second or two of the start is
+    ignored with them (press it again)."""
     import signal
 
     import dask
 
+    from inertialab import signals
+
     with _scratch_dir() as scratch, dask.config.set({"temporary-directory": str(scratch)}):
         try:
-            old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
-        except (AttributeError, ValueError, OSError):  # pragma: no cover - not POSIX
+            old = signal.signal(signal.SIGINT, signal.SIG_IGN)
+        except ValueError:  # not the main thread: leave signals alone
             old = None
         cm = open_client(scheduler, workers)
         try:
             cl = cm.__enter__()
         finally:
             if old is not None:
-                signal.pthread_sigmask(signal.SIG_SETMASK, old)
+                signal.signal(signal.SIGINT, old)
         with contextlib.ExitStack() as stack:
             stack.push(cm)
-            if scheduler == "local":  # and they ignore it from now on
-                from inertialab import signals
-
+            if scheduler == "local":  # a worker restarted later ignores it too
                 with contextlib.suppress(Exception):
                     cl.run(signals.ignore_in_worker)
             yield cl
