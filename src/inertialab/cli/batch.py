@@ -128,6 +128,8 @@ def register(app: typer.Typer, groups: dict) -> None:
             "model": str(model) if model else None}.items() if v is not None}
         if model is not None and not Path(model).is_file():  # issue 19 item 9
             raise InputError("no such model file", path=model)
+        # staged first: the Dask workers' scratch space lives inside its staging area
+        d = prepare_out_dir(out) if out is not None else None
         with collect_warnings(quiet=quiet or as_json) as warns:
             with progress_bar(f"batch {name}", quiet=quiet) as bar:
                 res = run_batch(name, paths, options=options, checks=checks,
@@ -139,8 +141,7 @@ def register(app: typer.Typer, groups: dict) -> None:
         warns = list(warns) + [f"unit {u.unit}: {u.reason}" for u in errors]
         table = res.table()
         summary = res.summary()
-        if out is not None:
-            d = prepare_out_dir(out)
+        if d is not None:
             atomic_write_text(d / "units.csv", table.to_csv(index=False))
             import json
 
