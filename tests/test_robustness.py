@@ -508,3 +508,23 @@ def test_library_bounds_hold_without_the_command_line():
         gyro_static.simulate(hours=100, rate_hz=100)
     with pytest.raises(InputError, match="argument 'workers'"):
         run_batch("allan", ["x.csv"], workers=10**9)
+
+
+def test_input_globs_are_bounded_and_match_like_glob(tmp_path):
+    import glob
+
+    from inertialab.workflows.batch import expand_inputs
+
+    for rel in ("a/x1.csv", "a/b/x2.csv", "a/b/c/x3.csv", "a/.hidden/x4.csv", "a/x1.meta.json",
+                "a/b/y.txt", "z[1].csv"):
+        (tmp_path / rel).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / rel).write_text("t_s,x\n")
+    for pat in ("a/**/*.csv", "a/*/x?.csv", "a/**", "*.csv"):
+        want = sorted(p for p in map(Path, glob.glob(str(tmp_path / pat), recursive=True))
+                      if p.is_file() and not p.name.endswith(".meta.json"))
+        assert expand_inputs(str(tmp_path / pat)) == want, pat
+    assert expand_inputs(str(tmp_path / "z[1].csv")) == [tmp_path / "z[1].csv"]
+    with pytest.raises(InputError, match="scans more than .* directories"):
+        expand_inputs(str(tmp_path / "**" / "*.csv"), max_dirs=2)
+    with pytest.raises(InputError, match="matches no file"):
+        expand_inputs(str(tmp_path / "nothing*.csv"))

@@ -381,8 +381,13 @@ def _match(root: Path, rest: list[str], budget: list[int], pattern: str) -> list
     head, tail = rest[0], rest[1:]
     if head == "**":
         out = _match(root, tail, budget, pattern)
-        for d in _listdir(root, budget, pattern, dirs_only=True):
-            out += _match(d, rest, budget, pattern)
+        for e in _listdir(root, budget, pattern, dirs_only=bool(tail)):
+            if e.name.startswith("."):  # as glob: ** does not enter hidden names
+                continue
+            if e.is_dir() and not e.is_symlink():
+                out += _match(e, rest, budget, pattern)
+            elif not tail:  # a final **: every file below
+                out.append(e)
         return out
     if not _MAGIC.search(head):
         nxt = root / head
