@@ -26,7 +26,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from inertialab.limits import bounded
+from inertialab.limits import bounded, check_budget
 from inertialab.seeding import as_generator
 from inertialab.sensors.triaxial import gain_matrix, rotation
 from inertialab.sim.triaxial_poses import (
@@ -108,6 +108,10 @@ def simulate_ferraris(*, seed=0, fs: float = FS_HZ, g: float = G_LOCAL,
                     ("turn_s", turn_s)):
         bounded(name, v, 0.0, 3600.0)
     bounded("shake_mps2", shake_mps2, 0.0, 1e3)
+    # six rests and three turns with the moves between them, about 20 doubles per sample
+    seconds = first_rest_s + 6 * rest_s + 3 * turn_s + 9 * move_s
+    check_budget(seconds * fs * 20 * 8, f"a simulated Ferraris session of {seconds:g} s at "
+                 f"{fs:g} Hz")
     rng = as_generator(seed)
     x = X_MPU6050_A.copy() if x_true is None else np.asarray(x_true, dtype=float)
     T_a = gain_matrix(x) @ rotation(PHI_HOUSING)
