@@ -421,3 +421,111 @@ def test_warnings_print_as_one_line_and_handlers_are_restored():
     show, term = warnings.showwarning, signal.getsignal(signal.SIGTERM)
     run_cli(["--version"])
     assert warnings.showwarning is show and signal.getsignal(signal.SIGTERM) is term
+
+
+# --------------------------------------------------------------------------------------
+# limits.py and signals.py: the one place for budgets, bounds and the signal handler
+
+def test_budget_and_bounds_refuse_with_one_line(monkeypatch):
+    import math
+
+    from inertialab import limits
+
+    monkeypatch.delenv("INERTIALAB_MAX_BYTES", raising=False)
+    assert limits.memory_budget() == 2**30
+    limits.check_budget(2**30, "x")  # at the budget: fine
+    with pytest.raises(InputError, match=r"x needs 2 GiB, above the memory budget of 1 GiB"):
+        limits.check_budget(2**31, "x", "f.h5")
+    with pytest.raises(InputError, match="unbounded amount"):
+        limits.check_budget(math.inf, "x")
+    monkeypatch.setenv("INERTIALAB_MAX_BYTES", "4e9")
+    assert limits.memory_budget() == 4_000_000_000
+    monkeypatch.setenv("INERTIALAB_MAX_BYTES", "nonsense")
+    assert limits.memory_budget() == 2**30
+    assert limits.bounded("g_local", 9.8, 1, 100) == 9.8 and limits.bounded("x", None) is None
+    for bad in (float("nan"), float("inf"), 0.5, 101, "abc", True):
+        with pytest.raises(InputError, match="argument 'g_local'"):
+            limits.bounded("g_local", bad, 1, 100)
+    with pytest.raises(InputError, match=r"in \(0, 1\]"):
+        limits.bounded("q", 0.0, 0, 1, lo_open=True)
+    assert limits.bounded_int("order", 3.0, 1, 10) == 3
+    with pytest.raises(InputError, match="whole number"):
+        limits.bounded_int("order", 2.5, 1, 10)
+    with pytest.raises(InputError, match=r"'m\[1, 0\]' is 1e\+200"):
+        limits.finite("m", [[1.0, 2.0], [1e200, 0.0]])
+    limits.finite("m", [[1.0, -1e100]])
+
+
+def test_regular_input_kinds(tmp_path):
+    import os
+
+    from inertialab import limits
+
+    (tmp_path / "f.csv").write_text("x\n")
+    assert limits.regular_input(tmp_path / "f.csv") == tmp_path / "f.csv"
+    os.mkfifo(tmp_path / "p.csv")
+    with pytest.raises(InputError, match="is a FIFO"):
+        limits.regular_input(tmp_path / "p.csv")
+    with pytest.raises(InputError, match="is a directory"):
+        limits.regular_input(tmp_path)
+    assert limits.regular_input(tmp_path, allow_dir=True) == tmp_path
+    with pytest.raises(InputError, match="no such file"):
+        limits.regular_input(tmp_path / "missing.csv")
+
+
+def test_signal_handler_installs_raises_and_restores():
+    import signal
+
+    from inertialab import signals
+
+    old = signal.getsignal(signal.SIGTERM)
+    signals.install()
+    try:
+        with pytest.raises(signals.Terminated) as exc:
+            signal.raise_signal(signal.SIGTERM)
+        assert exc.value.signum == signal.SIGTERM and signals.received() == [signal.SIGTERM]
+        assert signals.interrupted_line(signal.SIGTERM) == \
+            "error: interrupted by SIGTERM; nothing was written\n"
+        assert "after the outputs were complete" in signals.interrupted_line(
+            signal.SIGINT, after_commit=True)
+    finally:
+        signals.restore()
+    assert signal.getsignal(signal.SIGTERM) is old
+
+
+def test_library_bounds_hold_without_the_command_line():
+    from inertialab.calib.drift import DriftSettings
+    from inertialab.seeding import as_generator
+    from inertialab.sim import gyro_static
+    from inertialab.workflows.batch import run_batch
+
+    with pytest.raises(InputError, match="argument 'tol_bias_ug'"):
+        DriftSettings(tol_bias_ug=float("nan"))
+    with pytest.raises(InputError, match="argument 'order'"):
+        DriftSettings(order=10**9)
+    with pytest.raises(InputError, match="argument 'seed' must be >= 0"):
+        as_generator(-1)
+    with pytest.raises(InputError, match="memory budget"):
+        gyro_static.simulate(hours=100, rate_hz=100)
+    with pytest.raises(InputError, match="argument 'workers'"):
+        run_batch("allan", ["x.csv"], workers=10**9)
+
+
+def test_input_globs_are_bounded_and_match_like_glob(tmp_path):
+    import glob
+
+    from inertialab.workflows.batch import expand_inputs
+
+    for rel in ("a/x1.csv", "a/b/x2.csv", "a/b/c/x3.csv", "a/.hidden/x4.csv", "a/x1.meta.json",
+                "a/b/y.txt", "z[1].csv"):
+        (tmp_path / rel).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / rel).write_text("t_s,x\n")
+    for pat in ("a/**/*.csv", "a/*/x?.csv", "a/**", "*.csv"):
+        want = sorted(p for p in map(Path, glob.glob(str(tmp_path / pat), recursive=True))
+                      if p.is_file() and not p.name.endswith(".meta.json"))
+        assert expand_inputs(str(tmp_path / pat)) == want, pat
+    assert expand_inputs(str(tmp_path / "z[1].csv")) == [tmp_path / "z[1].csv"]
+    with pytest.raises(InputError, match="scans more than .* directories"):
+        expand_inputs(str(tmp_path / "**" / "*.csv"), max_dirs=2)
+    with pytest.raises(InputError, match="matches no file"):
+        expand_inputs(str(tmp_path / "nothing*.csv"))

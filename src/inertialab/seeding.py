@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from inertialab.errors import InputError
+
 RngLike = "int | np.random.Generator | np.random.SeedSequence | None"
 
 
@@ -23,7 +25,7 @@ def as_generator(rng=None) -> np.random.Generator:
         return np.random.Generator(np.random.PCG64(rng))
     if isinstance(rng, (int, np.integer)) and not isinstance(rng, bool):
         if rng < 0:
-            raise ValueError(f"seed must be >= 0, got {rng}")
+            raise InputError(f"argument 'seed' must be >= 0, got {rng}")
         return np.random.Generator(np.random.PCG64(np.random.SeedSequence(int(rng))))
     raise TypeError(f"rng must be an int, a numpy Generator or None, not {type(rng).__name__}")
 

@@ -1,4 +1,5 @@
-"""Count the hostile cases of issue 19 per class and their outcomes (docs/robustness.md).
+"""Count the hostile cases per class and their outcomes (docs/robustness.md): the first
+fuzz's classes (catalogue.py) and the second's (issue30.py).
 
     python -m tests.fuzz.report            # fast set (in-process, about a minute)
     python -m tests.fuzz.report --slow     # plus the slow set (subprocesses, minutes)
@@ -22,6 +23,10 @@ import time
 from pathlib import Path
 
 from tests.fuzz import catalogue as cat
+from tests.fuzz import issue30
+
+#: Every class counted: issue 19's items, then the second fuzz's.
+ALL_CLASSES = {**cat.CLASSES, **issue30.CLASSES}
 
 
 def _random_cases(n: int, seed: int) -> list[cat.Case]:
@@ -39,7 +44,7 @@ def _random_cases(n: int, seed: int) -> list[cat.Case]:
 
 
 def measure(cases: list[cat.Case], root: Path, log=None) -> tuple[dict, list[str]]:
-    rows: dict[str, collections.Counter] = {c: collections.Counter() for c in cat.CLASSES}
+    rows: dict[str, collections.Counter] = {c: collections.Counter() for c in ALL_CLASSES}
     problems = []
     for i, case in enumerate(cases):
         t0 = time.perf_counter()
@@ -72,10 +77,10 @@ COLUMNS = ["cases", "exit 0", "exit 2", "exit 130/143", "other", "violations", "
 
 
 def table(rows: dict) -> str:
-    lines = ["| class (issue 19 item) | " + " | ".join(COLUMNS) + " |",
+    lines = ["| class | " + " | ".join(COLUMNS) + " |",
              "|---" * (len(COLUMNS) + 1) + "|"]
     total = collections.Counter()
-    for cls, text in cat.CLASSES.items():
+    for cls, text in ALL_CLASSES.items():
         r = rows[cls]
         total.update(r)
         lines.append(f"| {text} | " + " | ".join(str(r[c]) for c in COLUMNS) + " |")
@@ -90,9 +95,9 @@ def main(argv=None) -> int:
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--markdown", action="store_true", help="print only the table")
     args = ap.parse_args(argv)
-    cases = cat.fast_cases() + _random_cases(args.random, args.seed)
+    cases = cat.fast_cases() + issue30.fast_cases() + _random_cases(args.random, args.seed)
     if args.slow:
-        cases += cat.slow_cases()
+        cases += cat.slow_cases() + issue30.slow_cases()
     log = None if args.markdown else (lambda s: print(s, file=sys.stderr, flush=True))
     with tempfile.TemporaryDirectory(prefix="inertialab-fuzz-") as tmp:
         t0 = time.perf_counter()

@@ -10,13 +10,28 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from tests.fuzz import catalogue as cat
+from tests.fuzz import issue30
 
 CASES = cat.fast_cases()
+CASES30 = issue30.fast_cases()
 
 
 @pytest.mark.parametrize("case", CASES, ids=[c.id for c in CASES])
 def test_hostile_case(case, tmp_path, request):
     outcome, bad = cat.run_case(case, tmp_path / "case")
+    assert not bad, f"{case.id}: {bad}"
+
+
+@pytest.mark.parametrize("case", CASES30, ids=[c.id for c in CASES30])
+def test_second_fuzz_case(case, tmp_path, request):
+    """The second fuzz's findings (tests/fuzz/issue30.py): FIFOs and other cases that
+    could block run under the watchdog; a case owned by another change is xfail."""
+    if case.owner:
+        request.applymarker(pytest.mark.xfail(reason=f"pending: {case.owner}", strict=False))
+    try:
+        outcome, bad = cat.run_case(case, tmp_path / "case")
+    except cat._Skip as exc:
+        pytest.skip(str(exc))
     assert not bad, f"{case.id}: {bad}"
 
 

@@ -29,18 +29,19 @@ from inertialab import metrics
 from inertialab.errors import InputError
 from inertialab.learn.forecast_baselines import make_baseline
 from inertialab.learn.monitoring import cusum_alarms, first_passage
-from inertialab.learn.nar import NARForecaster
+from inertialab.learn.nar import MAX_ORDER, NARForecaster
 from inertialab.learn.nar_direct import DirectNARForecaster
+from inertialab.limits import bounded, bounded_int
 
 __all__ = ["DEFAULT_BASELINES", "DIRECT", "MAX_HORIZON", "QUANTITIES", "check_horizon", "DailySeries", "DriftModel", "DriftSettings",
            "SeriesResult", "error_metrics", "fill_gaps", "fit_series"]
 
-#: quantity -> working unit (CONTRACTS.md "drift": bias µg, scale factor ppm)
+#: quantity -> working unit (bias µg, scale factor ppm; docs/drift.md)
 QUANTITIES = {"bias": "ug", "sf": "ppm"}
 
 #: Longest forecast horizon in grid steps (about 2.7 years of a daily programme). A
 #: closed-loop forecast far past the 20 steps of spec 004 §5 says nothing, and its cost
-#: (bootstrap paths x steps) grows linearly: 1e8 steps ran for minutes (issue 19 item 8).
+#: (bootstrap paths x steps) grows linearly: 1e8 steps ran for minutes.
 MAX_HORIZON = 1000
 
 
@@ -54,6 +55,22 @@ def check_horizon(horizon) -> int:
         raise InputError(f"argument 'horizon' must be an integer from 1 to {MAX_HORIZON} "
                          f"steps, got {horizon}")
     return k
+
+#: Most grid steps one unit's series may span (about 270 years of days): a day column
+#: with one stray value of 1e9 would otherwise allocate a grid of a billion steps.
+MAX_GRID_STEPS = 100_000
+
+
+def check_span(n_steps: int, unit, first_day, last_day, *, path=None) -> int:
+    """Refuse a unit whose programme days span more than :data:`MAX_GRID_STEPS` grid
+    steps (one line naming the unit and its first and last day), before the grid is
+    allocated; returns ``n_steps``."""
+    if not 1 <= n_steps <= MAX_GRID_STEPS:
+        raise InputError(f"unit {unit}: its days run from {first_day:g} to {last_day:g}, "
+                         f"{n_steps} grid steps; a storage programme spans at most "
+                         f"{MAX_GRID_STEPS} (is a day value wrong?)", path=path, column="day")
+    return n_steps
+
 
 DEFAULT_BASELINES = ("persistence", "window_mean", "ar_ls", "ar_aic", "poly_trend",
                      "exp_saturation", "exp_ar1", "kernel_nar")
@@ -145,7 +162,7 @@ class DriftSettings:
     ``hidden_grid`` by validation, §3.2); restarts
     R = 10; preset "paper" (best member, random split) or "strict" (median, block split);
     n_paths B = 200; max_gap 3; Hampel screen off; tolerances 50 µg and 50 ppm
-    (CONTRACTS.md "drift"); re-calibration at the 10 % quantile of the first passage.
+    (docs/drift.md); re-calibration at the 10 % quantile of the first passage.
     """
 
     horizon: int = 20
@@ -165,6 +182,21 @@ class DriftSettings:
     tol_sf_ppm: float = 50.0
     recal_quantile: float = 0.1
     seed: int = 0
+
+    def __post_init__(self):
+        """Every setting bounded before any work (a NaN tolerance would silently
+        disable the re-calibration alarm; an order of 1e9 would never end)."""
+        check_horizon(self.horizon)
+        bounded_int("order", self.order, 1, MAX_ORDER)
+        bounded_int("H", self.H, 1, MAX_ORDER)
+        bounded_int("hidden", self.hidden, 1, 10_000)
+        bounded_int("restarts", self.restarts, 1, 1_000)
+        bounded_int("n_paths", self.n_paths, 1, 100_000)
+        bounded_int("max_gap", self.max_gap, 0, 36_500)
+        bounded("tol_bias_ug", self.tol_bias_ug, 0.0, 1e9, lo_open=True)
+        bounded("tol_sf_ppm", self.tol_sf_ppm, 0.0, 1e9, lo_open=True)
+        bounded("recal_quantile", self.recal_quantile, 0.0, 1.0, lo_open=True)
+        bounded_int("seed", self.seed, 0, 2**63 - 1)
 
     def tolerance(self, quantity: str) -> float:
         return float(self.tol_bias_ug if quantity == "bias" else self.tol_sf_ppm)
@@ -199,7 +231,7 @@ def error_metrics(actual, predicted) -> dict | None:
 
 @dataclass
 class SeriesResult:
-    """Fit and forecast of one unit's quantity (JSON keys of the CLI, issue 8 item 5)."""
+    """Fit and forecast of one unit's quantity (the JSON keys of ``drift fit --json``)."""
 
     unit_id: str
     quantity: str
@@ -452,7 +484,7 @@ class DriftModel:
 
     @classmethod
     def from_dict(cls, d: dict) -> DriftModel:
-        """Rebuild from :meth:`to_dict`, validating every field (issue 19 items 5 and 7):
+        """Rebuild from :meth:`to_dict`, validating every field:
         types, finiteness and ranges, and a one-step forecast of every entry; anything
         else is an :class:`InputError`."""
         try:

@@ -32,6 +32,7 @@ from inertialab.learn.mlp_lm import MLPRegressorLM
 from inertialab.learn.poly import PolynomialRegressor, SeparatePolynomials, _monomials
 from inertialab.learn.scm_search import FISH_DEFAULTS, search_scm
 from inertialab.learn.subclust import DEFAULTS as SCM_DEFAULTS
+from inertialab.limits import MAX_MAGNITUDE, bounded_int
 from inertialab.optim.fish_swarm import iafsa
 from inertialab.sensors.pendulous import (
     SingleAxisCoefficients,
@@ -47,7 +48,7 @@ FUZZY = ("fis", "anfis", "scm-anfis", "iafsa-scm-anfis")
 #: The proposed model of spec 000 (§3.6).
 PROPOSED = "iafsa-scm-anfis"
 SPLITS = ("random", "interp_T", "leave_one_T_out", "up_down")
-#: Status codes of compensated output (CONTRACTS.md "thermal"; same in the C export).
+#: Status codes of compensated output (docs/thermal.md; same in the C export).
 STATUS_OK, STATUS_T_CLAMPED, STATUS_N_CLAMPED = 0, 1, 2
 
 
@@ -134,13 +135,12 @@ class ThermalConfig:
             if not (np.isfinite(v) and 0 < v <= 1):
                 raise InputError(f"argument '{name}' must be in (0, 1] (unit-cube "
                                  f"coordinates), got {v}")
-        if int(self.fish_try_number) != self.fish_try_number or self.fish_try_number < 1:
-            raise InputError(f"argument 'fish_try_number' must be a positive integer, "
-                             f"got {self.fish_try_number}")
+        # each try is a model evaluation per fish and generation: bounded
+        bounded_int("fish_try_number", self.fish_try_number, 1, 1000)
         if not (np.isfinite(self.fish_crowd) and 0 < self.fish_crowd <= 1):
             raise InputError(f"argument 'fish_crowd' must be in (0, 1], got {self.fish_crowd}")
-        if int(self.fish) < 1 or int(self.generations) < 1:
-            raise InputError("arguments 'fish' and 'generations' must be at least 1")
+        bounded_int("fish", self.fish, 1, 10_000)
+        bounded_int("generations", self.generations, 1, 100_000)
         return self
 
     def fish_params(self) -> dict:
@@ -256,7 +256,9 @@ _DIAGNOSTICS = {"report", "history", "train_mse", "val_mse", "mu", "trace", "sto
 
 
 def _non_finite(obj, path: str) -> str | None:
-    """Key path of the first non-finite number in a JSON-like payload, else None."""
+    """Key path of the first non-finite number (or one beyond
+    :data:`~inertialab.limits.MAX_MAGNITUDE`, which overflows once squared or written
+    into a C constant) in a JSON-like payload, else None."""
     if isinstance(obj, dict):
         for k, v in obj.items():
             if k in _DIAGNOSTICS:
@@ -269,7 +271,8 @@ def _non_finite(obj, path: str) -> str | None:
             hit = _non_finite(v, f"{path}[{i}]")
             if hit:
                 return hit
-    elif isinstance(obj, (float, np.floating)) and not np.isfinite(obj):
+    elif isinstance(obj, (float, np.floating, int, np.integer)) and not isinstance(obj, bool) \
+            and not (np.isfinite(float(obj)) and abs(float(obj)) <= MAX_MAGNITUDE):
         return path
     return None
 
@@ -345,7 +348,7 @@ class ThermalModel:
         return model
 
     def check(self) -> ThermalModel:
-        """Plausibility of a loaded model (issue 19 item 5): known method, input and
+        """Plausibility of a loaded model: known method, input and
         target, finite reference coefficients with a non-zero scale factor, finite
         non-empty calibrated ranges, a finite regressor. Raises InputError."""
         if self.method not in METHODS:
@@ -354,17 +357,19 @@ class ThermalModel:
             raise InputError("thermal model: input must be ua or raw and target linear55 or "
                              "measured55")
         ref = [self.ref.k0, self.ref.k1, self.ref.k2, self.ref.kip, self.ref.kp]
-        if not np.all(np.isfinite(ref)) or self.ref.k1 == 0.0:
-            raise InputError("thermal model: reference coefficients must be finite with k1 != 0")
+        if _non_finite([float(v) for v in ref], "ref") or self.ref.k1 == 0.0:
+            raise InputError("thermal model: reference coefficients must be finite (at most "
+                             f"{MAX_MAGNITUDE:g} in magnitude) with k1 != 0")
         for name in ("t_range_c", "n_range_mv"):
             lo, hi = (float(v) for v in getattr(self, name))
-            if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
+            if _non_finite([lo, hi], name) or not lo < hi:
                 raise InputError(f"thermal model: {name} must be a finite, non-empty range")
-        if not np.isfinite(float(self.reference_temp_c)):
+        if _non_finite(float(self.reference_temp_c), "reference_temp_c"):
             raise InputError("thermal model: reference_temp_c is not finite")
         bad = _non_finite(_regressor_to_dict(self.regressor)[1], "regressor")
         if bad:
-            raise InputError(f"thermal model: {bad} is not finite")
+            raise InputError(f"thermal model: {bad} is not finite or beyond {MAX_MAGNITUDE:g} "
+                             "in magnitude")
         return self
 
     @classmethod

@@ -30,6 +30,7 @@ from inertialab.errors import (
     UnderdeterminedError,
 )
 from inertialab.jsonable import to_jsonable
+from inertialab.limits import MAX_MAGNITUDE, finite
 from inertialab.optim.base import Target
 from inertialab.optim.cuckoo import adaptive_cuckoo_search, cuckoo_search
 from inertialab.optim.pso import pso
@@ -55,24 +56,37 @@ DATASHEET = {"b_xy": 0.49, "b_z": 0.78, "k_rel": 0.03, "theta": 0.02}
 
 # =========================================================================== model
 
+def _finite_result(values: np.ndarray, raw: np.ndarray, what: str) -> np.ndarray:
+    """Calibrated values, refused when finite raw samples gave a non-finite or
+    overflowing result (a model of extreme entries: nothing with ``inf`` is written)."""
+    bad = ~np.isfinite(values) | (np.abs(np.nan_to_num(values)) > MAX_MAGNITUDE)
+    fin = np.isfinite(raw)  # a row with a missing raw value may stay missing
+    bad &= fin.all(axis=-1, keepdims=True) if fin.ndim == 2 else fin
+    if bad.any():
+        row = int(np.flatnonzero(bad.any(axis=1))[0]) + 1 if values.ndim == 2 else None
+        raise InputError(f"{what} is not finite for finite raw samples; the calibration's "
+                         "entries are out of range", row=row)
+    return values
+
+
 @dataclass
 class TriaxialCalibration:
     """A triaxial accelerometer calibration (and optionally a gyro calibration).
 
     ``calibrated = correction_matrix @ (raw - offset)`` with ``raw`` in ``raw_unit``
-    and ``calibrated`` in m/s^2 (CONTRACTS.md "calibrate triaxial"). ``params`` are
+    and ``calibrated`` in m/s^2 (docs/triaxial.md). ``params`` are
     the 9 model parameters of spec 002 §1.2 in the unit the fit used (m/s^2, or
     counts in counts mode: ``bx`` in counts, ``kx`` in counts per m/s^2).
 
     The gyro block (``gyro``) is a dict with ``correction_matrix`` (raw gyro unit ->
     rad/s), ``offset`` (raw gyro unit) and ``raw_unit``. ``flags`` lists what made the
-    fit implausible or not identifiable when it was written anyway (issue 17 item 1,
-    :mod:`inertialab.calib.triaxial_checks`); a flagged model is applied only on request.
+    fit implausible or not identifiable when it was written anyway
+    (:mod:`inertialab.calib.triaxial_checks`); a flagged model is applied only on request.
     """
 
     MODEL_TYPE = "triaxial-calibration"
     FORMAT_VERSION = 1
-    """Version of the payload layout of :meth:`to_dict` (per model type, issue 13)."""
+    """Version of the payload layout of :meth:`to_dict` (per model type)."""
 
     method: str
     objective: str
@@ -96,7 +110,8 @@ class TriaxialCalibration:
         raw = np.asarray(raw, dtype=float)
         if raw.ndim != 2 or raw.shape[1] != 3:
             raise InputError(f"raw samples must have shape (n, 3), got {raw.shape}")
-        return (raw - self.offset) @ np.asarray(self.correction_matrix).T
+        return _finite_result((raw - self.offset) @ np.asarray(self.correction_matrix).T,
+                              raw, "calibrated acceleration")
 
     def apply_gyro(self, raw, acc=None) -> np.ndarray:
         """Calibrated rates (rad/s) for raw gyro samples (n, 3); needs the gyro block.
@@ -115,7 +130,8 @@ class TriaxialCalibration:
                 raise InputError("this gyro calibration corrects the g-sensitivity: give the "
                                  "calibrated accelerations (argument 'acc')")
             raw = raw - np.asarray(acc, dtype=float) @ np.asarray(kga, dtype=float).T
-        return raw @ np.asarray(self.gyro["correction_matrix"]).T
+        return _finite_result(raw @ np.asarray(self.gyro["correction_matrix"]).T, raw,
+                              "calibrated rate")
 
     def to_dict(self) -> dict:
         return {
@@ -152,6 +168,12 @@ class TriaxialCalibration:
                     gy["g_sensitivity"] = np.asarray(gy["g_sensitivity"], dtype=float)
                     if gy["g_sensitivity"].shape != (3, 3):
                         raise ValueError("g_sensitivity shape")
+                for key in ("correction_matrix", "offset", "g_sensitivity"):
+                    if gy.get(key) is not None:
+                        finite(f"gyro.{key}", gy[key])
+            finite("correction_matrix", cm)
+            finite("offset", off)
+            finite("g_local", float(d["g_local"]))
             return cls(
                 method=str(d["method"]), objective=str(d["objective"]),
                 params={str(k): float(v) for k, v in d["params"].items()},
@@ -351,7 +373,7 @@ def calibrate(a, *, ref=None, method: str = "lm", objective: str = "norm", g: fl
         bounded variant of §3.6; the box is centred on the initial estimate in counts mode).
     refine_faces : bool, default True
         Six-position only: refine the 12-parameter closed form so that every face has
-        |a| = g (:func:`~inertialab.sensors.triaxial_classic.face_fit`, issue 17 item 3:
+        |a| = g (:func:`~inertialab.sensors.triaxial_classic.face_fit`, for
         hand-placed faces); False is the classic closed form of spec 002 §3.7.
     placement_rad : float, default 2 deg
         Six-position with ``refine_faces``: standard deviation of a face's tilt.

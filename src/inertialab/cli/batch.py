@@ -6,8 +6,6 @@ Thin: the ``--tolerance`` rules (:func:`parse_tolerance`) and the ``--inputs`` g
 """
 
 # no "from __future__ import annotations": typer must see the Annotated shared options
-import fnmatch
-import glob as _glob
 import re
 import sys
 from collections.abc import Sequence
@@ -78,22 +76,10 @@ def parse_tolerance(text: str | Sequence[str] | None) -> tuple:
 
 
 def expand_inputs(patterns: str | Sequence[str]) -> list[Path]:
-    """Sorted files matching the glob pattern(s) (``**`` recurses); sidecars
-    (``*.meta.json``) and directories are left out. Nothing matched is an InputError."""
-    pats = [patterns] if isinstance(patterns, str) else list(patterns)
-    found: set[Path] = set()
-    for pat in pats:
-        hits = _glob.glob(str(pat), recursive=True)
-        if not hits and Path(pat).is_file():
-            hits = [str(pat)]
-        for h in hits:
-            p = Path(h)
-            if p.is_file() and not fnmatch.fnmatch(p.name, "*.meta.json") \
-                    and not p.name.endswith(".schedule.csv"):
-                found.add(p)
-    if not found:
-        raise InputError(f"--inputs {' '.join(map(str, pats))!s}: the glob matches no file")
-    return sorted(found)
+    """The files of ``--inputs`` (:func:`inertialab.workflows.batch.expand_inputs`)."""
+    from inertialab.workflows.batch import expand_inputs as expand
+
+    return expand(patterns)
 
 
 def register(app: typer.Typer, groups: dict) -> None:
@@ -142,6 +128,8 @@ def register(app: typer.Typer, groups: dict) -> None:
             "model": str(model) if model else None}.items() if v is not None}
         if model is not None and not Path(model).is_file():
             raise InputError("no such model file", path=model)
+        # staged first: the Dask workers' scratch space lives inside its staging area
+        d = prepare_out_dir(out) if out is not None else None
         with collect_warnings(quiet=quiet or as_json) as warns:
             with progress_bar(f"batch {name}", quiet=quiet) as bar:
                 res = run_batch(name, paths, options=options, checks=checks,
@@ -153,8 +141,7 @@ def register(app: typer.Typer, groups: dict) -> None:
         warns = list(warns) + [f"unit {u.unit}: {u.reason}" for u in errors]
         table = res.table()
         summary = res.summary()
-        if out is not None:
-            d = prepare_out_dir(out)
+        if d is not None:
             atomic_write_text(d / "units.csv", table.to_csv(index=False))
             import json
 

@@ -29,6 +29,7 @@ import warnings  # noqa: E402
 import typer  # noqa: E402
 
 from inertialab import __version__  # noqa: E402
+from inertialab import signals as _signals  # noqa: E402
 from inertialab.cli.options import check_limits, check_out_targets  # noqa: E402
 from inertialab.errors import InputError  # noqa: E402
 
@@ -197,33 +198,19 @@ def expand_config(args: list[str]) -> list[str]:
     return expanded + args[:i] + args[i + 2:]
 
 
-class Terminated(BaseException):
-    """Raised in the main thread by the SIGTERM/SIGINT handler of :func:`main` (a
-    ``BaseException`` that is not ``KeyboardInterrupt``, so that neither an ``except
-    Exception`` in a command nor click's own ``KeyboardInterrupt`` handling swallows it,
-    and the output transaction unwinds)."""
-
-    def __init__(self, signum: int):
-        super().__init__(signum)
-        self.signum = signum
-
-
-#: The signal that interrupted the run (an import interrupted by it surfaces as another
-#: exception, e.g. ``ImportError: initialization failed``).
-_SIGNALLED: list[int] = []
-
-
-def _on_signal(signum, frame):  # pragma: no cover - exercised in a subprocess test
-    _SIGNALLED.append(signum)
-    raise Terminated(signum)
+#: The one handler and its exception live in :mod:`inertialab.signals`.
+Terminated = _signals.Terminated
 
 
 def _input_files(args: list[str]) -> list[str]:
     """The arguments that name existing regular files (the run's inputs, for messages and
-    so that no directory output replaces a directory holding one)."""
+    so that no output replaces one); the values of output options are not inputs."""
+    from inertialab.cli.options import OUTPUT_FLAGS
+
+    outs = {i + OUTPUT_FLAGS[a] for i, a in enumerate(args) if a in OUTPUT_FLAGS}
     out = []
-    for a in args:
-        if a.startswith("-") or len(a) > 4096 or "\0" in a:
+    for i, a in enumerate(args):
+        if i in outs or a.startswith("-") or len(a) > 4096 or "\0" in a:
             continue
         with contextlib.suppress(OSError, ValueError):
             if os.path.isfile(a):
@@ -249,7 +236,10 @@ def user_error(exc: BaseException, files: list[str]) -> str | None:
     if isinstance(exc, InputError):
         from inertialab.cli.options import flagged
 
-        return flagged(_one_line(exc))  # library messages name arguments; users see flags
+        text = flagged(_one_line(exc))  # library messages name arguments; users see flags
+        if exc.path is None and files and not text.startswith("-"):
+            text += _about(files)  # a data error raised below the reader: name the inputs
+        return text
     if isinstance(exc, MemoryError):
         return (f"not enough memory for this input{_about(files)}; use a smaller file or "
                 "smaller size arguments")
@@ -310,8 +300,7 @@ def _read_config(path) -> dict:
 
 
 def _interrupted(signum: int) -> int:
-    sys.stderr.write(f"error: interrupted by {signal.Signals(signum).name}; nothing was "
-                     "written\n")
+    sys.stderr.write(_signals.interrupted_line(signum))
     return 128 + signum
 
 
@@ -326,11 +315,8 @@ def main(argv: list[str] | None = None) -> None:
 
     args = sys.argv[1:] if argv is None else list(argv)
     files = _input_files(args)
-    _SIGNALLED.clear()
-    old_handlers = {}
-    for signum in (signal.SIGTERM, signal.SIGINT):
-        with contextlib.suppress(ValueError):  # not the main thread: leave signals alone
-            old_handlers[signum] = signal.signal(signum, _on_signal)
+    _signals.install()
+    code = 1
     old_show = warnings.showwarning
     warnings.showwarning = _one_line_warning
     try:
@@ -349,9 +335,9 @@ def main(argv: list[str] | None = None) -> None:
     except BrokenPipeError:
         code = 1
     except Exception as exc:
-        message = None if _SIGNALLED else user_error(exc, files)
-        if _SIGNALLED:  # the signal landed inside code that wrapped it (an import)
-            code = _interrupted(_SIGNALLED[-1])
+        message = None if _signals.received() else user_error(exc, files)
+        if _signals.received():  # the signal landed inside code that wrapped it (an import)
+            code = _interrupted(_signals.received()[-1])
         elif message is not None:
             sys.stderr.write(f"error: {message}\n")
             code = 2
@@ -365,8 +351,10 @@ def main(argv: list[str] | None = None) -> None:
             code = 1
     finally:
         warnings.showwarning = old_show
-        for signum, handler in old_handlers.items():
-            signal.signal(signum, handler)
+        if argv is None and code == 0:  # a process: a late signal gets its line too
+            _signals.mark_committed()
+        else:
+            _signals.restore()
     with contextlib.suppress(BrokenPipeError, ValueError):
         sys.stdout.flush()
     raise SystemExit(code)

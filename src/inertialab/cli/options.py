@@ -212,6 +212,11 @@ FLAG_OF: dict[str, str] = {
     "step_deg": "--step-deg",
     "range_deg": "--range-deg",
     "prior": "--prior",
+    "order": "--order",
+    "tol_bias_ug": "--tol-bias-ug",
+    "acc_g": "--acc-g",
+    "rotation_deg": "--rotation-deg",
+    "inputs": "--inputs",
 }
 
 
@@ -246,7 +251,20 @@ LIMITS: dict[str, tuple[float, float, str]] = {
     "--p1-s": (0, 1e6, "a duration in seconds"),
     "--p2-s": (0, 1e6, "a duration in seconds"),
     "--p3-s": (0, 1e6, "a duration in seconds"),
+    "--workers": (1, 256, "a number of worker processes"),
+    "--seed": (0, 2**63 - 1, "a random seed"),
+    "--try-number": (1, 1_000, "a number of prey attempts"),
+    "--positions": (1, 100_000, "a number of positions"),
+    "--acc-g": (0, 1_000, "an acceleration amplitude in g"),
+    "--placement-deg": (0, 45, "an angle in degrees"),
+    "--rotation-deg": (1, 3_600, "a rotation angle in degrees"),
+    "--range-deg": (-720, 720, "an angle in degrees"),
+    "--g-local": (1, 100, "a local gravity in m/s^2"),
+    "--tol-bias-ug": (1e-9, 1e9, "a tolerance in ug"),
+    "--resample": (1e-9, 1e9, "a sample rate in Hz"),
 }
+#: Options taking several values, each checked against :data:`LIMITS`.
+N_VALUES = {"--range-deg": 2}
 #: ``--taus``: at most this many log-spaced taus, and taus in seconds up to this.
 MAX_TAU_COUNT = 100_000
 MAX_TAU_S = 1e10
@@ -283,7 +301,10 @@ def check_value(flag: str, text: str) -> None:
     v = _number(text)
     if v is None:
         return
-    if not math.isfinite(v) or not lo <= v <= hi:
+    if not math.isfinite(v):
+        raise InputError(f"{flag} is {what} and must be finite, between {lo:g} and {hi:g}, "
+                         f"got {text[:40]}")
+    if not lo <= v <= hi:
         raise InputError(f"{flag} is {what} and must be between {lo:g} and {hi:g}, "
                          f"got {text[:40]}")
 
@@ -298,8 +319,9 @@ def check_limits(args: list[str]) -> None:
             continue
         if eq:
             check_value(flag, value)
-        elif i + 1 < len(args):
-            check_value(flag, args[i + 1])
+        else:
+            for v in args[i + 1:i + 1 + N_VALUES.get(flag, 1)]:
+                check_value(flag, v)
 
 
 #: Options that name an output (file or directory); see :func:`check_out_targets`.
@@ -322,6 +344,8 @@ def check_out_targets(args: list[str]) -> None:
             continue
         k = i + OUTPUT_FLAGS[flag]
         target = value if eq else (args[k] if k < len(args) else None)
+        if target is not None and not target.strip():  # Path('') is the current directory
+            raise InputError(f"{flag} is empty; name a file or directory")
         if not target:
             continue
         try:

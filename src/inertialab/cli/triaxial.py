@@ -29,18 +29,12 @@ _TARGETS_HELP = export_help("calibration")
 
 def _read_schedule(file: Path, schedule: Path | None):
     """The pose schedule of a raw log: ``--schedule`` or ``<stem>.schedule.csv`` if present."""
-    import pandas as pd
-
-    from inertialab.io.sidecar import schedule_path
+    from inertialab.io.sidecar import read_schedule, schedule_path
 
     sp = schedule if schedule is not None else schedule_path(file)
     if schedule is None and not Path(sp).exists():
         return None, None
-    if not Path(sp).exists():
-        raise InputError("no such schedule file", path=sp)
-    sched = pd.read_csv(sp, comment="#", skipinitialspace=True)
-    sched.columns = [c.strip().lower() for c in sched.columns]
-    return sched, sp
+    return read_schedule(sp), sp  # the text front door: regular file, size, encoding
 
 
 @config_command(wr.FitConfig)

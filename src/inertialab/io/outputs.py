@@ -1,4 +1,5 @@
-"""Transactional outputs (issue 19): nothing half-written, nothing outside the target.
+"""Transactional outputs: nothing half-written, nothing outside the target, no input
+overwritten (docs/robustness.md).
 
 A command's outputs are all or nothing:
 
@@ -21,7 +22,9 @@ A command's outputs are all or nothing:
 
 The command line runs every command inside :func:`transaction`: writes are staged and
 committed together when the command returns; an exception, ``SIGINT`` or ``SIGTERM``
-removes every temporary file and directory (DESIGN.md "Command line"). Library code uses
+removes every temporary file and directory. An output that resolves to one of the
+run's inputs or its sidecar, an empty output name, and a previous output that cannot be
+removed (a read-only directory in it) are refused before anything is replaced. Library code uses
 :func:`output_dir` (``with output_dir(path) as tmp: ...``) or the atomic writers of
 :mod:`inertialab.io.writers`, which join the current transaction when there is one.
 
@@ -41,6 +44,7 @@ import signal
 import stat
 from pathlib import Path
 
+from inertialab import signals as _signals
 from inertialab.errors import InputError, OutputError
 
 #: The file that marks a directory as written by inertialab (and so replaceable whole).
@@ -90,11 +94,20 @@ def _check_parents(p: Path) -> None:
         return
 
 
+def _given(path) -> str:
+    """``path`` as text; an empty or blank output name is refused (``Path('')`` is the
+    current directory, so ``--out ''`` would replace whatever the user stands in)."""
+    text = os.fspath(path) if isinstance(path, os.PathLike) else str(path)
+    if not text.strip():
+        raise OutputError("output path is empty; name a file or directory", path=repr(text))
+    return text
+
+
 def file_target(path) -> Path:
     """The path a single-file output will replace: ``path`` itself, or the regular file a
-    symbolic link points to. Refuses directories, devices, FIFOs, sockets and dangling
-    links (:class:`OutputError`); never creates anything."""
-    p = Path(os.path.abspath(path))
+    symbolic link points to. Refuses directories, devices, FIFOs, sockets, dangling links
+    and an empty name (:class:`OutputError`); never creates anything."""
+    p = Path(os.path.abspath(_given(path)))
     try:
         st = os.lstat(p)
     except FileNotFoundError:
@@ -118,8 +131,9 @@ def file_target(path) -> Path:
 
 def dir_target(path) -> Path:
     """The directory a directory output will fill (a link to a directory is followed).
-    Refuses an existing non-directory (:class:`OutputError`); never creates anything."""
-    p = Path(os.path.abspath(path))
+    Refuses an existing non-directory and an empty name (:class:`OutputError`); never
+    creates anything."""
+    p = Path(os.path.abspath(_given(path)))
     try:
         st = os.stat(p)
     except FileNotFoundError:
@@ -287,10 +301,28 @@ class _DirOutput:
         root = str(self.target) + os.sep
         return not any(str(p).startswith(root) for p in self.protect)
 
+    def check_removable(self) -> None:
+        """Refuse (before any work and again before the commit) to replace whole a
+        previous output that cannot be removed: a read-only directory in it would leave
+        the old files in an undeletable staging directory beside the new output."""
+        if not self._replaceable() or not self.target.is_dir():
+            return
+        for root, dirs, _files in os.walk(self.target):
+            if not os.access(root, os.W_OK | os.X_OK):
+                raise OutputError(f"the previous output cannot be replaced: '{root}' is "
+                                  "read-only; make it writable or choose another output",
+                                  path=self.target)
+            dirs[:] = [d for d in dirs if not os.path.islink(os.path.join(root, d))]
+        if not os.access(self.target.parent, os.W_OK | os.X_OK):
+            raise OutputError("cannot write output (its parent directory is read-only); "
+                              "choose a writable place", path=self.target)
+
     def commit(self) -> None:
         if self.staging is None:
             return
         try:
+            if self.target.exists() and self._replaceable():
+                self.check_removable()
             umask = os.umask(0)
             os.umask(umask)
             os.chmod(self.staging, 0o777 & ~umask)
@@ -316,6 +348,7 @@ class _DirOutput:
         """Move the staged files into a directory inertialab did not write (never
         deleting anything of its own); all targets are checked before the first move."""
         moves = []
+        inputs = _protected_files(self.protect)
         for root, _dirs, files in os.walk(self.staging):
             rel = Path(root).relative_to(self.staging)
             for f in files:
@@ -323,6 +356,9 @@ class _DirOutput:
                     continue
                 dest = self.target / rel / f
                 file_target(dest)  # refuses a directory/device of the same name
+                if os.path.realpath(dest) in inputs:
+                    raise OutputError(f"output would overwrite {inputs[os.path.realpath(dest)]} "
+                                      f"'{dest}'; choose another output", path=self.target)
                 moves.append((Path(root) / f, dest))
         for src, dest in moves:
             dest.parent.mkdir(parents=True, exist_ok=True)
@@ -339,6 +375,18 @@ class _DirOutput:
         _remove_created(self.created)
 
 
+def _protected_files(paths) -> dict[str, str]:
+    """Real path -> what it is, for the run's inputs and the sidecars beside them."""
+    from inertialab.io.sidecar import sidecar_path
+
+    out: dict[str, str] = {}
+    for p in paths:
+        with contextlib.suppress(OSError, ValueError):
+            out.setdefault(os.path.realpath(sidecar_path(p)), "the sidecar of input")
+            out[os.path.realpath(p)] = "input"
+    return out
+
+
 class Transaction:
     """The outputs of one command: staged while it runs, committed together at the end.
 
@@ -351,6 +399,7 @@ class Transaction:
 
     def __init__(self, protect=()):
         self.protect = tuple(Path(os.path.abspath(p)) for p in protect)
+        self._inputs = _protected_files(self.protect)
         self.dirs: dict[Path, _DirOutput] = {}
         self.alias: dict[Path, Path] = {}  # the path as given (absolute) -> its target
         self.files: list[tuple[Path, Path]] = []  # (temporary, target)
@@ -362,7 +411,9 @@ class Transaction:
         target directory to name in messages and to write into."""
         target = dir_target(path)
         if target not in self.dirs:
-            self.dirs[target] = _DirOutput(target, self.protect)
+            out = _DirOutput(target, self.protect)
+            out.check_removable()
+            self.dirs[target] = out
         self.alias[Path(os.path.abspath(path))] = target
         return target
 
@@ -386,7 +437,17 @@ class Transaction:
         return None
 
     # -- single files
+    def refuse_input(self, target: Path, given=None) -> None:
+        """Refuse an output that resolves to one of the run's input files or to an
+        input's sidecar (``--out`` naming the record it reads would destroy it)."""
+        real = os.path.realpath(target)
+        what = self._inputs.get(real)
+        if what is not None:
+            raise OutputError(f"output would overwrite {what} '{real}'; choose another "
+                              "output", path=given if given is not None else target)
+
     def stage_file(self, tmp: Path, target: Path) -> None:
+        self.refuse_input(Path(target))
         self.files.append((Path(tmp), Path(target)))
 
     def makedirs(self, d: Path) -> None:
@@ -406,6 +467,8 @@ class Transaction:
                 self.created.clear()
                 for out in self.dirs.values():
                     out.commit()
+                # a signal held back during the renames now finds the outputs complete
+                _signals.mark_committed()
             finally:
                 self._cleanup()
 
@@ -503,7 +566,7 @@ def stage_dir(path) -> Path:
 def ensure_finite(values, what: str, *, path=None, allow_nan_in=None):
     """Raise :class:`~inertialab.errors.InputError` when ``values`` (an array, a
     sequence, a scalar, a pandas Series or DataFrame) holds NaN or infinity: a result
-    computed from finite input must be finite (issue 19), so a non-finite output is an
+    computed from finite input must be finite, so a non-finite output is an
     error naming ``what`` (and the first offending column and row of a frame), never a
     file of NaN. ``allow_nan_in``: frame columns where NaN is a documented value.
     Returns ``values`` unchanged.

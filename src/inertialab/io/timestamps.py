@@ -43,6 +43,7 @@ import numpy as np
 
 from inertialab.errors import DataQualityWarning, InputError
 from inertialab.io.gaps import GAP_FACTOR, detect_gaps
+from inertialab.limits import check_budget
 
 __all__ = ["RATE_CONTRADICTION", "UNIFORM_TOL", "SampleSlots", "Timebase", "TimingAudit",
            "audit", "decide_timebase", "on_slots", "resample_uniform", "sample_slots"]
@@ -168,11 +169,15 @@ def on_slots(values, index) -> np.ndarray:
     return full
 
 
-def resample_uniform(t, columns: dict, rate_hz: float) -> tuple[np.ndarray, dict]:
+def resample_uniform(t, columns: dict, rate_hz: float, *, path=None) -> tuple[np.ndarray, dict]:
     """Linear interpolation of ``columns`` (name -> values at ``t``) onto
-    ``t0 + k / rate_hz`` within ``[t0, t_last]``. ``t`` must increase strictly."""
+    ``t0 + k / rate_hz`` within ``[t0, t_last]``. ``t`` must increase strictly. A grid
+    above the memory budget is refused before it is allocated (``path`` names the file)."""
     t = np.asarray(t, dtype=float)
-    n = int(np.floor((t[-1] - t[0]) * rate_hz + 1e-9)) + 1
+    span = float(np.floor((t[-1] - t[0]) * rate_hz + 1e-9)) + 1  # samples, before allocating
+    check_budget(span * 8 * (len(columns) + 2), f"resampling {t[-1] - t[0]:g} s at "
+                 f"{rate_hz:g} Hz ({span:.0f} samples)", path)
+    n = int(span)
     grid = t[0] + np.arange(n) / rate_hz
     return grid, {k: np.interp(grid, t, np.asarray(v, dtype=float)) for k, v in columns.items()}
 

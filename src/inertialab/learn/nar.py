@@ -32,6 +32,7 @@ from inertialab.estimator import Estimator
 from inertialab.learn.forecast_baselines import Forecast
 from inertialab.learn.mlp_lm import MLPRegressorLM, forward, n_params
 from inertialab.learn.order_cv import OrderSelection, select_order_cv
+from inertialab.limits import bounded_int, finite
 
 __all__ = ["AUTO_H_MAX", "PRESETS", "SPEC_H", "NARForecaster", "Whiteness", "auto_lag_bound",
            "whiteness"]
@@ -42,6 +43,9 @@ PRESETS = {"paper": ("best", "random"), "strict": ("median", "block")}
 #: Spec 004 §3.1 lag bound H = 6 [R-2] (the study's value) and the cap of ``H="auto"``.
 SPEC_H = 6
 AUTO_H_MAX = 40
+
+#: Largest lag order a NAR model may have (a storage programme has a few hundred days).
+MAX_ORDER = 1000
 
 
 def auto_lag_bound(n: int) -> int:
@@ -320,9 +324,8 @@ class NARForecaster(Estimator):
                 usable=ok)
             p = self.order_selection_.order
         else:
-            p = int(self.order)
-            if p < 1:
-                raise InputError(f"order must be >= 1, got {self.order}")
+            # a lag order above half the usable samples leaves nothing to train on
+            p = bounded_int("order", self.order, 1, min(MAX_ORDER, max(1, int(ok.sum()) // 2)))
             self.order_selection_ = None
         z = self._to_unit(np.where(fin, y, 0.0))
         idx = np.arange(p, y.size)
@@ -548,9 +551,18 @@ class NARForecaster(Estimator):
             obj.constant_ = bool(d["constant"])
             obj.combine_, obj.split_ = d["combine_used"], d["split_used"]
             obj.accepted_ = bool(d["accepted"])
+            bounded_int("order", obj.order_, 1, MAX_ORDER)
+            bounded_int("hidden", obj.hidden_, 1, 10_000)
             obj.y_ = np.asarray(d["tail"], dtype=float)
             ent = d.get("seed_entropy")  # kept so that a loaded model saves again
             obj.seed_seq_ = np.random.SeedSequence(None if ent is None else int(ent))
+            if obj.y_.shape != (obj.order_,):
+                # the forecast's state is the last `order` values, exactly
+                raise InputError(f"nar model: the state ('tail') holds {obj.y_.size} values; "
+                                 f"a model of order {obj.order_} needs exactly {obj.order_}")
+            finite("tail", obj.y_)
+            finite("lo", obj.lo_)
+            finite("span", obj.span_)
             obj.order_selection_ = None
             obj.whiteness_ = None
             members = []
@@ -558,6 +570,7 @@ class NARForecaster(Estimator):
                 theta = np.asarray(m["theta"], dtype=float)
                 if theta.size != n_params(obj.order_, obj.hidden_):
                     raise InputError("nar model: weight count does not match the architecture")
+                finite("theta", theta)
                 ps = np.random.SeedSequence(int(m["path_seed"]["entropy"]),
                                             spawn_key=tuple(m["path_seed"]["spawn_key"]))
                 resid = np.asarray(m["resid"], dtype=float)

@@ -25,6 +25,7 @@ import numpy as np
 
 from inertialab.errors import DataQualityWarning, InputError, NotFittedError
 from inertialab.estimator import Estimator
+from inertialab.limits import bounded_int
 
 __all__ = ["CV_GRID", "NadarayaWatson", "OrderSelection", "lag_targets", "select_order_cv"]
 
@@ -144,7 +145,7 @@ def select_order_cv(y, *, H: int = 6, c: float = 0.5, bandwidth: str = "rule",
         raise InputError(f"bandwidth must be 'rule' or 'cv', got {bandwidth!r}")
     if int(H) < 1:
         raise InputError(f"H must be >= 1, got {H}")
-    H_req = int(H)
+    H_req = bounded_int("H", H, 1, 1000)  # each order is a kernel CV over all targets
     H = H_req
     while H >= 1 and lag_targets(ok, H).size < 10 * H:
         H -= 1

@@ -39,6 +39,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from inertialab.errors import InputError
+from inertialab.limits import check_work
 from inertialab.noise import _octave, _phase
 from inertialab.noise._octave import is_octave
 from inertialab.noise._phase import (  # noqa: F401 - phase_window is public API here too
@@ -220,7 +221,11 @@ def tau_grid(n_samples: int, taus="octave", *, rate_hz: float = 1.0, statistic: 
         elif kind == "decade":
             top = int(math.floor(math.log10(mmax))) + 1
             m = np.array([k * 10**e for e in range(top) for k in (1, 2, 4)], dtype=np.int64)
-        elif kind == "all":
+        elif kind == "all":  # every m: about n_phase steps each (more for the modified
+            # total and Theo families, measured ~8x), O(N^2) in all
+            heavy = 8.0 if statistic.startswith(("mtot", "htot", "ttot", "theo")) else 1.0
+            check_work(heavy * mmax * n_phase, f"{statistic} at every tau of {n_samples} "
+                       "samples", "ask for taus 'many' (dense, log-spaced) or a count")
             m = np.arange(1, mmax + 1, dtype=np.int64)
         elif kind == "many":
             from inertialab.noise._clock import many_m

@@ -30,6 +30,7 @@ import numpy as np
 import pandas as pd
 
 from inertialab.errors import InputError
+from inertialab.limits import bounded, bounded_int, check_budget
 from inertialab.seeding import as_generator
 
 GENERATOR_VERSION = "storage-drift/1"
@@ -208,8 +209,15 @@ def simulate_storage_batch(n_units: int = 12, n_days: int = 120, preset: str = "
     """
     if preset not in PRESETS:
         raise InputError(f"unknown preset {preset!r} (known: {', '.join(PRESETS)})")
+    bounded_int("n_units", n_units, 1, 1_000_000)
+    bounded_int("n_days", n_days, 2, 1_000_000)
     if int(n_units) < 1 or int(n_days) < 2:
         raise InputError("need at least 1 unit and 2 days")
+    # one row per unit and day, about 16 columns
+    check_budget(float(n_units) * float(n_days) * 16 * 8,
+                 f"a simulated programme of {n_units} units x {n_days} days")
+    if missing_prob is not None:
+        bounded("missing_prob", missing_prob, 0.0, 1.0)
     pre = PRESETS[preset]
     mp = pre.missing_prob if missing_prob is None else float(missing_prob)
     if isinstance(rng, np.random.SeedSequence):

@@ -28,6 +28,7 @@ import pandas as pd
 
 from inertialab import units
 from inertialab.errors import InputError
+from inertialab.limits import bounded, bounded_int, check_budget
 from inertialab.seeding import as_generator
 from inertialab.sensors.dual_meter import COEF_NAMES, TURN_ON_TAU, meter_outputs
 
@@ -220,9 +221,15 @@ def simulate_run(config: DualLabConfig | None = None, rng=None, *, coef: dict | 
             coef, history = draw_unit(g, n_history=cfg.n_history, ref=cfg.coef)
         else:
             coef = dict(cfg.coef)
-    N = int(cfg.n_positions)
-    if N < 1:
-        raise InputError(f"n_positions must be >= 1, got {N}")
+    N = bounded_int("n_positions", cfg.n_positions, 1, 100_000)
+    S = bounded_int("n_samples", cfg.n_samples, 1, 1_000_000)
+    bounded("g_local", cfg.g_local_mps2, 1.0, 100.0)
+    for name, v in vars(cfg).items():  # every number of the rig: finite, of sane size
+        if isinstance(v, float):
+            bounded(name, v, -1e9, 1e9)
+    # (2, P, S) arrays of about a dozen quantities
+    check_budget(2.0 * (N + 1) * S * 12 * 8, f"a simulated tumble of {N} positions x "
+                 f"{S} samples")
     P = N + 1
     theta_deg = np.arange(P) * 360.0 / N
     theta = np.deg2rad(theta_deg)

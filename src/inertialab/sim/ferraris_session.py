@@ -1,5 +1,5 @@
 """Virtual lab rig ``ferraris-session``: a 6-DOF IMU calibrated by hand with the Ferraris
-protocol (issue 17 item 2; Ferraris et al. 1995, as imucal records it).
+protocol (Ferraris et al. 1995, as imucal records it).
 
 The session, in time order: an initial rest, the six static faces ``x_p x_a y_p y_a z_p
 z_a`` (sensor axis up / down), then one full turn about each axis ``x_rot y_rot z_rot``
@@ -16,7 +16,7 @@ Sensor model (imucal's documented form): ``u_a = T_a a + b_a`` with ``T_a = K_a 
 rate, both in the housing frame, plus white noise. The default device is the MPU6050-A of
 spec 002 §6.1 (accelerometer), its gyro triad of the ``triaxial-poses`` rig, and a
 g-sensitivity of ~0.1 deg/s/g. Units: acceleration m/s^2 and rate deg/s (as the real
-session of issue 17: 102.4 Hz, m/s^2, deg/s), or 16-bit counts.
+session of the public MPU-6050 Ferraris recording: 102.4 Hz, m/s^2, deg/s), or 16-bit counts.
 
 The truth holds the true matrices and the true sections in imucal's section-list format.
 """
@@ -26,6 +26,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from inertialab.limits import bounded, check_budget
 from inertialab.seeding import as_generator
 from inertialab.sensors.triaxial import gain_matrix, rotation
 from inertialab.sim.triaxial_poses import (
@@ -43,7 +44,7 @@ GENERATOR_VERSION = "1"
 KIND = "ferraris-session"
 
 FS_HZ = 102.4
-"""Sample rate of the real session of issue 17, Hz."""
+"""Sample rate of the real Ferraris session (MPU-6050 recording), Hz."""
 G_LOCAL = 9.81
 K_GA_DPS_PER_MPS2 = np.array([[0.004, -0.010, 0.012],
                               [0.009, 0.003, -0.006],
@@ -99,6 +100,18 @@ def simulate_ferraris(*, seed=0, fs: float = FS_HZ, g: float = G_LOCAL,
     counts : bool
         Write 16-bit counts (16384 LSB/g, 131 LSB/(deg/s)) instead of m/s^2 and deg/s.
     """
+    bounded("g_local", g, 1.0, 100.0)
+    bounded("placement_deg", placement_deg, 0.0, 45.0)
+    bounded("angle_sigma_deg", angle_sigma_deg, 0.0, 90.0)
+    bounded("rate_hz", fs, 1e-3, 1e5)
+    for name, v in (("rest_s", rest_s), ("first_rest_s", first_rest_s), ("move_s", move_s),
+                    ("turn_s", turn_s)):
+        bounded(name, v, 0.0, 3600.0)
+    bounded("shake_mps2", shake_mps2, 0.0, 1e3)
+    # six rests and three turns with the moves between them, about 20 doubles per sample
+    seconds = first_rest_s + 6 * rest_s + 3 * turn_s + 9 * move_s
+    check_budget(seconds * fs * 20 * 8, f"a simulated Ferraris session of {seconds:g} s at "
+                 f"{fs:g} Hz")
     rng = as_generator(seed)
     x = X_MPU6050_A.copy() if x_true is None else np.asarray(x_true, dtype=float)
     T_a = gain_matrix(x) @ rotation(PHI_HOUSING)

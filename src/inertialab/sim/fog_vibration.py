@@ -31,6 +31,7 @@ import numpy as np
 import pandas as pd
 
 from inertialab.errors import InputError
+from inertialab.limits import bounded, check_budget
 from inertialab.sensors.gyro import GyroNoiseParams, simulate_gyro_components
 from inertialab.sensors.gyro import preset as gyro_preset
 from inertialab.sensors.gyro_vibration import (
@@ -135,6 +136,8 @@ def _profile(experiment: str, s: RigSettings):
     if min(n1, n2, n3) < 1:
         raise InputError("every phase must contain at least one sample")
     n = n1 + n2 + n3
+    # the record, truth and noise streams: about 20 doubles per sample
+    check_budget(n * 20 * 8, f"a simulated vibration run of {n} samples")
     f = np.zeros(n)
     dt = np.arange(n2) / fs
     if experiment == "sweep":
@@ -182,6 +185,10 @@ def simulate(experiment: str = "fixed", seed: int = 0, preset: str = "mid", *,
     p = gyro_preset(preset).with_(**{k: v for k, v in overrides.items() if k in fog_keys})
     if not s.fs_hz > 0:
         raise InputError(f"fs_hz must be positive, got {s.fs_hz}")
+    for name in sorted(overrides):  # every numeric override: finite, of a sane magnitude
+        if isinstance(overrides[name], (int, float)) and not isinstance(overrides[name], bool):
+            bounded(name, overrides[name], -1e9, 1e9)
+    bounded("acc_g", s.acc_g, 0, 1000)
     e = effects or VibrationEffects()
     fs = float(s.fs_hz)
     tau0 = 1.0 / fs

@@ -38,6 +38,7 @@ import numpy as np
 import pandas as pd
 
 from inertialab.errors import InputError
+from inertialab.limits import bounded, bounded_int, check_budget
 from inertialab.seeding import as_generator
 from inertialab.sensors.triaxial import G_PAPER, forward, k_matrix, rotation
 
@@ -163,6 +164,7 @@ def simulate_static(scenario: str, *, seed=0, g: float = G_PAPER, x_true=None) -
     """A static-record scenario of spec 002 §6.3 (see the module table)."""
     if scenario not in STATIC_SCENARIOS:
         raise InputError(f"unknown static scenario '{scenario}' (known: {', '.join(STATIC_SCENARIOS)})")
+    bounded("g_local", g, 1.0, 100.0)
     rng = as_generator(seed)
     x = X_MPU6050_A.copy() if x_true is None else np.asarray(x_true, dtype=float)
     phi = None
@@ -280,6 +282,15 @@ def simulate_raw_log(scenario: str = "rawlog62", *, seed=0, g: float = G_PAPER, 
         raise InputError(f"unknown raw-log scenario '{scenario}' (known: {', '.join(RAW_SCENARIOS)})")
     gyro = scenario != "rawlog62" if gyro is None else bool(gyro)
     counts = scenario == "rawlog62-counts" if counts is None else bool(counts)
+    bounded("g_local", g, 1.0, 100.0)
+    bounded("rate_hz", fs, 1e-3, 1e5)
+    for name, v in (("first_dwell_s", first_dwell_s), ("dwell_s", dwell_s),
+                    ("transition_s", transition_s)):
+        bounded(name, v, 0.0, 3600.0)
+    bounded("vibration_sigma", vibration_sigma, 0.0, 1e3)
+    # 62 poses of dwell and transition, about 24 doubles per sample
+    check_budget((first_dwell_s + 62 * (dwell_s + transition_s)) * fs * 24 * 8,
+                 "a simulated raw log")
     rng = as_generator(seed)
     x = X_MPU6050_A.copy() if x_true is None else np.asarray(x_true, dtype=float)
     p, h = turntable_angles()
@@ -367,8 +378,9 @@ def draw_line_truth(n_units: int, rng) -> np.ndarray:
 def simulate_line(n_units: int = 5000, *, seed=0, g: float = G_PAPER,
                   ref_sigma_deg: float = 0.1, sigma_rec: float = 0.003) -> SimRecord:
     """Production-line batch ``line5000`` (spec 002 §6.4): one row per unit and position."""
-    if n_units < 1:
-        raise InputError(f"n_units must be >= 1, got {n_units}")
+    bounded_int("n_units", n_units, 1, 10_000_000)
+    bounded("g_local", g, 1.0, 100.0)
+    check_budget(n_units * 62 * 16 * 8, f"a simulated line of {n_units} units")
     rng = as_generator(seed)
     X = draw_line_truth(n_units, rng)
     dirs = rig18()

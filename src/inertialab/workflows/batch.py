@@ -1,4 +1,4 @@
-"""The fleet runner: one command over many files or units on Dask.
+"""The fleet runner: one command over many files or units on Dask (docs/batch.md).
 
 ``run_batch(command, paths, ...)`` runs ``allan``, ``calibrate-triaxial`` or
 ``thermal-compensate`` on every file and returns a :class:`BatchResult`: one row per
@@ -18,7 +18,10 @@ out-of-core Allan kernel of a single long log is
 from __future__ import annotations
 
 import contextlib
+import fnmatch
 import math
+import os
+import re
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -27,6 +30,7 @@ from pathlib import Path
 import numpy as np
 
 from inertialab.errors import InputError
+from inertialab.limits import MAX_WORKERS, bounded_int
 from inertialab.noise.allan_dask import open_client
 from inertialab.progress import NullProgress
 
@@ -105,7 +109,7 @@ def _unit_allan(path: Path, options: dict) -> dict:
 
     k = int(np.argmin(res.dev))
     unit = rec.units.get(col, "")
-    out = {"column": col, "unit": unit, "rate_hz": fs, "n_samples": int(res.n_samples),
+    out = {"column": col, "column_unit": unit, "rate_hz": fs, "n_samples": int(res.n_samples),
            "adev_1s": at(1.0), "adev_100s": at(100.0), "adev_min": float(res.dev[k]),
            "tau_min_s": float(res.taus_s[k]), "sha256": rec.sha256}
     return out
@@ -309,7 +313,8 @@ class BatchResult:
         rows = []
         for u in self.units:
             r = {"unit": u.unit, "status": u.status}
-            r.update({k: v for k, v in u.figures.items() if k != "sha256"})
+            # a figure never replaces the unit's id or status columns
+            r.update({k: v for k, v in u.figures.items() if k != "sha256" and k not in r})
             r["failed"] = "; ".join(u.failed)
             r["reason"] = u.reason
             r["path"] = u.path
@@ -320,6 +325,146 @@ class BatchResult:
         return {"command": self.command, "scheduler": self.scheduler, "workers": self.workers,
                 "tolerance": [c.text() for c in self.checks], "summary": self.summary(),
                 "units": [u.to_dict() for u in self.units]}
+
+
+# ----------------------------------------------------------------------------- inputs
+
+#: Most directories one ``--inputs`` pattern may scan (``/**/*.csv`` would walk the whole
+#: file system for minutes).
+MAX_SCANNED_DIRS = 20_000
+#: Most files one batch may take.
+MAX_INPUTS = 1_000_000
+_MAGIC = re.compile(r"[*?[]")
+
+
+def expand_inputs(patterns, *, max_dirs: int = MAX_SCANNED_DIRS) -> list[Path]:
+    """Sorted regular files matching the glob pattern(s) (``**`` recurses, names
+    starting with a dot only when the pattern says so); sidecars (``*.meta.json``),
+    schedules and directories are left out. A pattern scanning more than ``max_dirs``
+    directories is refused (one line naming it) instead of walking a whole disk;
+    nothing matched is an InputError."""
+    pats = [patterns] if isinstance(patterns, (str, Path)) else list(patterns)
+    found: set[Path] = set()
+    budget = [int(max_dirs)]
+    for pat in pats:
+        text = str(pat)
+        parts = Path(text).parts
+        k = next((i for i, part in enumerate(parts) if _MAGIC.search(part)), len(parts))
+        if k == len(parts):  # no wildcard: the file itself
+            hits = [Path(text)]
+        else:
+            root = Path(*parts[:k]) if k else Path(".")
+            hits = _match(root, list(parts[k:]), budget, text)
+            if not hits and Path(text).is_file():  # a name holding [ ] or ? itself
+                hits = [Path(text)]
+        for p in hits:
+            if p.is_file() and not fnmatch.fnmatch(p.name, "*.meta.json") \
+                    and not p.name.endswith(".schedule.csv"):
+                found.add(p)
+                if len(found) > MAX_INPUTS:
+                    raise InputError(f"argument 'inputs' {text}: more than {MAX_INPUTS} files")
+    if not found:
+        raise InputError(f"argument 'inputs' {' '.join(map(str, pats))!s}: the glob matches "
+                         "no file")
+    return sorted(found)
+
+
+def _match(root: Path, rest: list[str], budget: list[int], pattern: str) -> list[Path]:
+    """Paths below ``root`` matching the components ``rest`` (``**``: any depth),
+    counting every directory listed against ``budget[0]``."""
+    if not rest:
+        return [root]
+    head, tail = rest[0], rest[1:]
+    if head == "**":
+        out = _match(root, tail, budget, pattern)
+        for e in _listdir(root, budget, pattern, dirs_only=bool(tail)):
+            if e.name.startswith("."):  # as glob: ** does not enter hidden names
+                continue
+            if e.is_dir() and not e.is_symlink():
+                out += _match(e, rest, budget, pattern)
+            elif not tail:  # a final **: every file below
+                out.append(e)
+        return out
+    if not _MAGIC.search(head):
+        nxt = root / head
+        return _match(nxt, tail, budget, pattern) if (tail and nxt.is_dir()) or \
+            (not tail and nxt.exists()) else []
+    out = []
+    for entry in _listdir(root, budget, pattern, dirs_only=bool(tail)):
+        name = entry.name
+        if name.startswith(".") and not head.startswith("."):
+            continue
+        if fnmatch.fnmatchcase(name, head):
+            out += _match(entry, tail, budget, pattern)
+    return out
+
+
+def _listdir(d: Path, budget: list[int], pattern: str, *, dirs_only: bool) -> list[Path]:
+    budget[0] -= 1
+    if budget[0] < 0:
+        raise InputError(f"argument 'inputs' {pattern}: the pattern scans more than "
+                         f"{MAX_SCANNED_DIRS} directories; give a narrower one")
+    try:
+        with os.scandir(d) as it:
+            entries = [(e.name, e.is_dir(follow_symlinks=False)) for e in it]
+    except OSError:
+        return []
+    return sorted(d / n for n, is_dir in entries if is_dir or not dirs_only)
+
+
+@contextlib.contextmanager
+def _scratch_dir():
+    """A scratch directory for the Dask workers inside the current output's staging
+    area (removed with it, or at the end of the run), else a temporary directory
+    removed at the end: a batch never leaves ``dask-scratch-space/`` behind."""
+    import shutil
+    import tempfile
+
+    from inertialab.io import outputs
+
+    tx = outputs.current()
+    base = None
+    if tx is not None and tx.dirs:
+        base = tx.route(next(iter(tx.dirs)))
+    path = Path(tempfile.mkdtemp(prefix=".dask-scratch-", dir=base))
+    try:
+        yield path
+    finally:
+        shutil.rmtree(path, ignore_errors=True)
+
+
+@contextlib.contextmanager
+def _local_client(scheduler: str, workers: int):
+    """:func:`open_client` with its workers' scratch space inside :func:`_scratch_dir`.
+
+    The LocalCluster starts with SIGINT ignored: its worker processes inherit the
+    ignored disposition (an ignored signal stays ignored across ``exec``, and Python
+    keeps it), so a Ctrl-C to the process group reaches only this process, which stops
+    the workers and reports once. A Ctrl-C during the second or two of the start is
+    ignored with them (press it again)."""
+    import signal
+
+    import dask
+
+    from inertialab import signals
+
+    with _scratch_dir() as scratch, dask.config.set({"temporary-directory": str(scratch)}):
+        try:
+            old = signal.signal(signal.SIGINT, signal.SIG_IGN)
+        except ValueError:  # not the main thread: leave signals alone
+            old = None
+        cm = open_client(scheduler, workers)
+        try:
+            cl = cm.__enter__()
+        finally:
+            if old is not None:
+                signal.signal(signal.SIGINT, old)
+        with contextlib.ExitStack() as stack:
+            stack.push(cm)
+            if scheduler == "local":  # a worker restarted later ignores it too
+                with contextlib.suppress(Exception):
+                    cl.run(signals.ignore_in_worker)
+            yield cl
 
 
 # ----------------------------------------------------------------------------- engine
@@ -349,6 +494,7 @@ def run_batch(command: str, paths: Sequence, *, options: dict | None = None,
     """
     if command not in COMMANDS:
         raise InputError(f"batch command must be one of {', '.join(COMMANDS)}, got '{command}'")
+    workers = bounded_int("workers", workers, 1, MAX_WORKERS)
     progress = progress or NullProgress()
     paths = [Path(p) for p in paths]
     if not paths:
@@ -363,8 +509,8 @@ def run_batch(command: str, paths: Sequence, *, options: dict | None = None,
             rows.append(run_unit(command, p, opts, checks))
             progress.update(i + 1, n, p.name)
         return BatchResult(command, tuple(rows), checks, "serial", 1, time.perf_counter() - t0)
-    ctx = contextlib.nullcontext(client) if client is not None else open_client(scheduler,
-                                                                                  workers)
+    ctx = contextlib.nullcontext(client) if client is not None else _local_client(scheduler,
+                                                                                    workers)
     with ctx as cl:
         from dask.distributed import as_completed
 

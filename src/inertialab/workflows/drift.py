@@ -36,6 +36,7 @@ from inertialab.calib.drift import (
     DriftModel,
     DriftSettings,
     check_horizon,
+    check_span,
     fill_gaps,
     fit_series,
 )
@@ -260,6 +261,8 @@ def to_daily_grid(frame: pd.DataFrame, *, quantity: str, meta: dict | None = Non
         step = 1
         if ud.size > 2:
             step = max(1, int(round(float(np.median(np.diff(ud))))))
+        span = (float(ud[-1]) - float(ud[0])) / step + 1  # checked before the grid
+        check_span(int(min(span, 2**62)), uid, float(ud[0]), float(ud[-1]), path=path)
         gi = np.round((d - ud[0]) / step).astype(int)
         n = int(gi.max()) + 1
         g = u.assign(gi=gi).groupby("gi")

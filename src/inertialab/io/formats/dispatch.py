@@ -15,6 +15,7 @@ import pandas as pd
 
 from inertialab.errors import InputError
 from inertialab.io.formats.base import Loaded, columns_frame, need
+from inertialab.limits import regular_input
 
 __all__ = ["Loaded", "is_bag_folder", "load_frame", "need"]
 
@@ -71,7 +72,7 @@ def load_frame(path, *, parse=None, options=None) -> Loaded:
     """Read ``path`` into a :class:`Loaded` (see the module docstring)."""
     from inertialab.io.mapping import ReadOptions
 
-    p = Path(path)
+    p = regular_input(path, allow_dir=is_bag_folder(Path(path)))
     opts = options if options is not None else ReadOptions()
     kind = format_of(p)
     if kind == _TEXT:

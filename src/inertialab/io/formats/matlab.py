@@ -25,6 +25,7 @@ import pandas as pd
 
 from inertialab.errors import InputError
 from inertialab.io.formats.base import Loaded, columns_frame, need
+from inertialab.limits import check_budget, memory_budget
 
 __all__ = ["read_matlab"]
 
@@ -77,8 +78,58 @@ def _from_value(v, p: Path, where: str, meta: dict) -> pd.DataFrame:
     return columns_frame(a, meta=meta)
 
 
+_MI_MATRIX, _MI_COMPRESSED = 14, 15
+_SCAN_CHUNK = 1 << 20
+
+
+def _mat5_decompressed_bytes(p: Path) -> int:
+    """Bytes a MATLAB v5 file holds once its compressed variables are inflated, counted
+    by streaming each ``miCOMPRESSED`` element through zlib without keeping the output
+    and stopping as soon as the total passes the memory budget (a 4 MB file may declare
+    4 GiB of zeros)."""
+    import struct
+    import zlib
+
+    budget = memory_budget()
+    total = 0
+    with open(p, "rb") as fh:
+        head = fh.read(128)
+        if len(head) < 128:
+            return 0
+        order = "<" if head[126:128] == b"IM" else ">"
+        while total <= budget:
+            tag = fh.read(8)
+            if len(tag) < 8:
+                break
+            mtype, nbytes = struct.unpack(order + "II", tag)
+            if mtype not in (_MI_MATRIX, _MI_COMPRESSED):
+                break  # not a top-level variable: damaged, loadmat says so
+            if mtype == _MI_MATRIX:
+                total += nbytes
+                fh.seek(nbytes + (-nbytes % 8), 1)
+                continue
+            inflate = zlib.decompressobj()
+            left = nbytes
+            while left > 0 and total <= budget:
+                chunk = fh.read(min(left, _SCAN_CHUNK))
+                if not chunk:
+                    break
+                left -= len(chunk)
+                try:
+                    while chunk and total <= budget:  # bounded output per call
+                        total += len(inflate.decompress(chunk, 16 * _SCAN_CHUNK))
+                        chunk = inflate.unconsumed_tail
+                except zlib.error:
+                    return total  # corrupt: loadmat says so
+            if left > 0 and total <= budget:
+                fh.seek(left, 1)
+    return total
+
+
 def _mat5(p: Path, dataset: str | None) -> Loaded:
     sio = need("scipy.io", "MATLAB files", path=p)
+    check_budget(_mat5_decompressed_bytes(p), "the variables of this MATLAB file", p,
+                 scanned=True)
     try:
         doc = sio.loadmat(str(p), simplify_cells=True)
     except NotImplementedError:  # v7.3 without the HDF5 signature where we looked
@@ -132,22 +183,75 @@ def _hdf5(p: Path, dataset: str | None) -> Loaded:
                                  "one (argument 'dataset')", path=p)
             parts = _parts(found[0])
         where = "/".join(parts)
-        if where not in fh:
-            parent = "/".join(parts[:-1]) or "/"
-            have = ", ".join(fh[parent].keys()) if parent in fh or parent == "/" else ""
-            raise InputError(f"no dataset or group '{where}' (in {parent}: {have or 'nothing'})",
-                             path=p)
-        obj = fh[where]
+        obj = _resolve(h5py, fh, parts, p)
         meta["dataset"] = where
+        if isinstance(obj, h5py.Group):
+            members = {k: _inside(h5py, obj, k, f"{where}/{k}", p) for k in obj}
+            members = {k: v for k, v in members.items() if isinstance(v, h5py.Dataset)}
+        else:
+            members = {where: obj}
+        for name, ds in members.items():
+            _check_dataset(ds, name, p)
+        check_budget(sum(ds.size * ds.dtype.itemsize for ds in members.values()),
+                     f"dataset '{where}' ({' + '.join(str(ds.shape) for ds in members.values())}"
+                     " values)", p)
         try:
             if isinstance(obj, h5py.Group):
-                value = {k: obj[k][()] for k in obj if isinstance(obj[k], h5py.Dataset)}
+                value = {k: ds[()] for k, ds in members.items()}
             else:
                 value = obj[()]
         except Exception as exc:
             text = " ".join(str(exc).split())[:160] or type(exc).__name__
             raise InputError(f"dataset '{where}' is unreadable ({text})", path=p) from None
     return Loaded(_from_value(value, p, where, meta), meta)
+
+
+def _inside(h5py, group, name: str, where: str, p: Path):
+    """``group[name]`` after checking its link: an external link (data in another file)
+    is refused; a soft-link loop or a dangling link is one error line."""
+    link = group.get(name, getlink=True)
+    if isinstance(link, h5py.ExternalLink):
+        raise InputError(f"'{where}' is an external link to '{link.filename}'; inertialab "
+                         "reads only data stored inside the file", path=p)
+    try:
+        return group[name]
+    except Exception as exc:  # KeyError / RuntimeError: dangling link or soft-link loop
+        text = " ".join(str(exc).split())[:120] or type(exc).__name__
+        raise InputError(f"'{where}' cannot be resolved (a dangling or looping soft link: "
+                         f"{text})", path=p) from None
+
+
+def _resolve(h5py, fh, parts: list[str], p: Path):
+    """The object at ``parts``, one link at a time (see :func:`_inside`)."""
+    obj = fh
+    for k, part in enumerate(parts):
+        here = "/".join(parts[:k + 1])
+        if not isinstance(obj, h5py.Group) or part not in _names(obj):
+            parent = "/".join(parts[:k]) or "/"
+            have = ", ".join(_names(obj)) if isinstance(obj, h5py.Group) else ""
+            raise InputError(f"no dataset or group '{'/'.join(parts)}' (in {parent}: "
+                             f"{have or 'nothing'})", path=p)
+        obj = _inside(h5py, obj, part, here, p)
+    return obj
+
+
+def _names(group) -> list[str]:
+    try:
+        return list(group.keys())
+    except Exception:  # pragma: no cover - a corrupt group
+        return []
+
+
+def _check_dataset(ds, where: str, p: Path) -> None:
+    """Refuse a dataset whose data live outside the file (external raw storage, a
+    virtual dataset) before reading it."""
+    if ds.external:
+        files = ", ".join(str(e[0]) for e in ds.external[:3])
+        raise InputError(f"dataset '{where}' stores its data in external file(s) ({files}); "
+                         "inertialab reads only data stored inside the file", path=p)
+    if getattr(ds, "is_virtual", False):
+        raise InputError(f"dataset '{where}' is a virtual dataset (its data live in other "
+                         "files); inertialab reads only data stored inside the file", path=p)
 
 
 def read_matlab(path, kind: str, *, dataset: str | None = None) -> Loaded:

@@ -13,6 +13,7 @@ import pandas as pd
 from inertialab.errors import InputError
 from inertialab.io.record import Record
 from inertialab.io.schemas import SCHEMAS
+from inertialab.limits import regular_input
 from inertialab.units import SUFFIXES, split_suffix
 
 _MAX_ROWS_LISTED = 5
@@ -30,6 +31,7 @@ def check_rate(value, *, path, where: str) -> float:
 
 
 def open_npy(p: Path) -> np.ndarray:
+    regular_input(p)
     try:
         return np.load(p, mmap_mode="r", allow_pickle=False)
     except (ValueError, OSError, EOFError) as exc:

@@ -31,6 +31,7 @@ import pandas as pd
 
 from inertialab.errors import DataQualityWarning, InputError
 from inertialab.io.formats.base import Loaded, need
+from inertialab.limits import check_budget
 
 __all__ = ["IMU_TYPES", "read_bag"]
 
@@ -84,7 +85,7 @@ def read_bag(path, *, topic: str | None = None) -> Loaded:
 
             conns, name = _choose(r1.connections(src), topic, p)
             ids = {c.id for c in conns}
-            sink = _Sink(sum(c.msgcount for c in conns))
+            sink = _Sink(sum(c.msgcount for c in conns), p)
             store1 = typesys.get_typestore(typesys.Stores.ROS1_NOETIC)
 
             def deser(raw):
@@ -96,7 +97,7 @@ def read_bag(path, *, topic: str | None = None) -> Loaded:
                 conns, name = _choose(reader.connections, topic, p)
                 msgtype = conns[0].msgtype
                 ros1 = _is_ros1(conns[0])
-                sink = _Sink(sum(int(getattr(c, "msgcount", 0) or 0) for c in conns))
+                sink = _Sink(sum(int(getattr(c, "msgcount", 0) or 0) for c in conns), p)
 
                 def deser(raw):
                     return reader.deserialize(raw, msgtype)
@@ -152,8 +153,9 @@ class _Sink:
     """Decoded stamps and values, preallocated from the bag's message count (grown by
     doubling if the count was short): 8 + 8 + 48 bytes per message, nothing else."""
 
-    def __init__(self, expected: int):
+    def __init__(self, expected: int, path=None):
         n = max(int(expected), 1024)
+        check_budget(n * 72, f"the bag's declared {int(expected)} messages", path)
         self.t = np.empty(n, np.int64)
         self.recv = np.empty(n, np.int64)
         self.v = np.empty((n, 6), np.float64)

@@ -16,10 +16,12 @@ the message bytes are still decoded (and checked) against rosbags' deserialiser.
 from __future__ import annotations
 
 import bz2
+import os
 import struct
 from pathlib import Path
 
 from inertialab.errors import InputError
+from inertialab.limits import check_budget
 
 __all__ = ["Connection", "connections", "iter_messages"]
 
@@ -73,6 +75,7 @@ def _records(buf, base: int, p: Path, stop: int | None = None):
             i = d0 + dl
         return
     fh = buf
+    size = os.fstat(fh.fileno()).st_size
     while True:
         at = fh.tell()
         if stop is not None and at >= stop:
@@ -83,11 +86,15 @@ def _records(buf, base: int, p: Path, stop: int | None = None):
         if len(head) < 4:
             raise InputError(f"truncated or damaged ROS bag record at byte {at}", path=p)
         hl = struct.unpack("<i", head)[0]
+        if hl > size - at:
+            raise InputError(f"truncated or damaged ROS bag record at byte {at}", path=p)
         h = fh.read(hl) if hl >= 0 else b""
         dlb = fh.read(4)
         if hl < 0 or len(h) < hl or len(dlb) < 4:
             raise InputError(f"truncated or damaged ROS bag record at byte {at}", path=p)
         dl = struct.unpack("<i", dlb)[0]
+        if dl > size - at:
+            raise InputError(f"truncated or damaged ROS bag record at byte {at}", path=p)
         data = fh.read(dl) if dl >= 0 else b""
         if dl < 0 or len(data) < dl:
             raise InputError(f"truncated or damaged ROS bag record at byte {at}", path=p)
@@ -142,17 +149,34 @@ def connections(path) -> list[Connection]:
 def _decompress(f: dict, data, p: Path, at: int) -> bytes:
     kind = f.get("compression", b"none").decode("ascii", "replace")
     try:
+        declared = struct.unpack("<I", f["size"])[0] if len(f.get("size", b"")) == 4 else None
+    except struct.error:  # pragma: no cover - guarded by the length test
+        declared = None
+    if kind in ("bz2", "lz4"):
+        # a chunk says how large it inflates to: check it, and never inflate past it
+        check_budget(declared if declared is not None else float("inf"),
+                     f"the {kind} chunk at byte {at}", p)
+    try:
         if kind == "none":
             return bytes(data)
         if kind == "bz2":
-            return bz2.decompress(data)
-        if kind == "lz4":
+            out = bz2.BZ2Decompressor().decompress(data, max_length=declared + 1)
+        elif kind == "lz4":
             import lz4.frame
 
-            return lz4.frame.decompress(data)
+            out = lz4.frame.LZ4FrameDecompressor().decompress(data, max_length=declared + 1)
+        else:
+            out = None
+        if out is not None:
+            if len(out) > declared:
+                raise InputError(f"{kind} chunk at byte {at} inflates beyond its declared "
+                                 f"{declared} bytes", path=p)
+            return out
     except ImportError:
         raise InputError("reading an lz4-compressed bag needs the 'lz4' package: pip install "
                          "'inertialab[formats]'", path=p) from None
+    except InputError:
+        raise
     except Exception as exc:
         raise InputError(f"damaged {kind} chunk at byte {at} ({type(exc).__name__})",
                          path=p) from None

@@ -2,7 +2,7 @@
 
 What a vendor CSV throws at a reader, handled before pandas sees the file:
 
-* **size and content checks first** (issue 19 item 3): a file above
+* **size and content checks first** (docs/robustness.md): a file above
   :data:`MAX_TEXT_BYTES`, a NUL byte in its first or last MiB (a sparse or binary
   file), UTF-16 text or bytes that are not UTF-8 are a one-line
   :class:`~inertialab.errors.InputError` before any parsing, so a 2 GB sparse file
@@ -39,6 +39,7 @@ import pandas as pd
 
 from inertialab import units as U
 from inertialab.errors import InputError
+from inertialab.limits import MAX_COLUMNS, regular_input
 
 __all__ = ["MAX_TEXT_BYTES", "TextLayout", "TextTable", "layout_of", "load_text", "unit_suffix"]
 
@@ -110,7 +111,8 @@ def unit_suffix(text: str) -> str | None:
 # ----------------------------------------------------------------------------- checks
 
 def _check_bytes(path: Path) -> tuple[bytes, bool]:
-    """Size, NUL and encoding checks; return (head bytes, truncated)."""
+    """Regular file, size, NUL and encoding checks; return (head bytes, truncated)."""
+    regular_input(path)
     size = path.stat().st_size
     limit = _max_bytes()
     if size > limit:
@@ -147,9 +149,19 @@ def _decode(head: bytes, truncated: bool, path: Path) -> str:
 
 def _split(line: str, sep: str) -> list[str]:
     if sep == r"\s+":
-        return line.split()
-    row = next(csv.reader([line.rstrip("\r\n")], delimiter=sep, skipinitialspace=True), [])
-    return [c.strip() for c in row]
+        cells = line.split()
+    else:
+        try:
+            row = next(csv.reader([line.rstrip("\r\n")], delimiter=sep,
+                                  skipinitialspace=True), [])
+        except csv.Error as exc:  # a field above the csv module's size limit
+            raise InputError(f"a line has a field the text reader cannot take ({exc}); not a "
+                             "table inertialab reads") from None
+        cells = [c.strip() for c in row]
+    if len(cells) > MAX_COLUMNS:
+        raise InputError(f"a line has {len(cells)} fields, more than the {MAX_COLUMNS} "
+                         "columns a table may have")
+    return cells
 
 
 def _is_number(cell: str, decimal: str) -> bool:
@@ -167,13 +179,49 @@ def _is_data_row(cells: list[str], decimal: str) -> bool:
     return num >= 1 and 3 * num >= len(filled)
 
 
+_QUOTED = re.compile(r'"(?:[^"]|"")*"')
+#: Most physical lines one quoted cell may span (a stray quote must not swallow a file).
+_MAX_CELL_LINES = 50
+
+
+def _records(lines: list[str]) -> tuple[list[str], list[int]]:
+    """Physical lines joined into records where a quoted cell holds a line break;
+    returns (records, physical lines per record)."""
+    recs, sizes = [], []
+    i = 0
+    while i < len(lines):
+        rec, k = lines[i], 1
+        while rec.count('"') % 2 and i + k < len(lines) and k < _MAX_CELL_LINES:
+            rec += lines[i + k]
+            k += 1
+        if rec.count('"') % 2:  # unbalanced to the end: a stray quote, not a cell
+            rec, k = lines[i], 1
+        recs.append(rec)
+        sizes.append(k)
+        i += k
+    return recs, sizes
+
+
+def _unquoted(line: str) -> str:
+    """``line`` with every quoted cell replaced by ``Q``: a separator, blank or line break
+    inside quotes says nothing about the table's separator."""
+    return _QUOTED.sub("Q", line) if '"' in line else line
+
+
 def _guess_sep(lines: list[str], seps=_CANDIDATE_SEPS) -> tuple[str, int]:
     """First candidate separator that splits the last lines (the data, past any header)
-    into one consistent count of fields above one; returns (separator, field count)."""
+    into one consistent count of fields above one; returns (separator, field count).
+    Quoted cells are blanked first (a ``;`` inside quotes is text)."""
+    lines = [_unquoted(ln) for ln in lines]
     n = len(lines)
     sample = lines[-min(40, max(2, math.ceil(n / 2))):] if n > 2 else lines
     for sep in seps:
-        split = [_split(ln, sep) for ln in sample]
+        try:
+            split = [_split(ln, sep) for ln in sample]
+        except InputError:  # a field or field count out of bounds: not this separator
+            if sep == seps[-1]:
+                raise
+            continue
         counts = [len(r) for r in split]
         if not counts:
             continue
@@ -291,7 +339,7 @@ def layout_of(lines: list[str], parse=None, *, path=None) -> TextLayout:
                 skip += 1
             else:
                 break
-    rest = [ln for ln in lines[skip:]]
+    rest, sizes = _records(lines[skip:])
     if not any(ln.strip() for ln in rest):
         raise InputError("no header and no data (empty table)", path=path)
     sep = opts.sep
@@ -326,11 +374,19 @@ def layout_of(lines: list[str], parse=None, *, path=None) -> TextLayout:
         if len([c for c in r if c.strip()]) > ncol > 0:
             raise InputError(f"header line has {len(r)} names but the data rows have {ncol} "
                              "fields", path=path)
+    if head_rows and 1 < len(head_rows[-1]) < ncol:
+        # more fields than names: most often decimal commas in a comma-separated file
+        # (0,25 read as two fields), which would invent columns and shift every value
+        hint = " (decimal commas in a comma-separated file? save it with '.' decimals or " \
+               "another separator)" if sep == "," else ""
+        raise InputError(f"the header names {len(head_rows[-1])} columns but the data rows "
+                         f"have {ncol} fields{hint}", path=path)
     if head_rows:
         names, units = _header_names(head_rows, ncol, path=path)
     else:
         names, units = [f"col{j + 1}" for j in range(ncol)], {}
-    return TextLayout(skip=skip + start, n_header=first - start, sep=sep, decimal=dec, names=names,
+    return TextLayout(skip=skip + sum(sizes[:start]), n_header=sum(sizes[start:first]),
+                      sep=sep, decimal=dec, names=names,
                       header_units=units, hash_lines=hash_lines)
 
 
@@ -353,7 +409,12 @@ def load_text(path, parse=None, *, nrows: int | None = None) -> TextTable:
     """
     p = Path(path)
     lines, bom = _head_lines(p, parse)
-    lay = layout_of(lines, parse, path=p)
+    try:
+        lay = layout_of(lines, parse, path=p)
+    except InputError as exc:
+        if exc.path is None:  # raised below without the file: name it
+            raise InputError(str(exc), path=p) from None
+        raise
     lay.bom = bom
     lead = lay.skip + lay.n_header
     ncol = len(lay.names)
