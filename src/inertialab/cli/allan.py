@@ -55,7 +55,7 @@ def _allan_command(imu_default: bool):
                                 unit=c.unit, rate=c.rate, gaps=c.gaps, g_local=c.g_local,
                                 method=c.method, out=run.out, as_json=run.as_json,
                                 quiet=run.quiet, command=command, terms=c.terms is not False,
-                                drift=c.drift_settings())
+                                drift=c.drift_settings(), confidence=c.confidence)
         if any(config.drift_settings().values()):
             raise InputError("--predict-drift, --check-on, --plan and --inflate need --imu")
         config.check()  # refuse bad settings before reading

@@ -8,7 +8,7 @@ from inertialab.cli import common as C
 
 def run_six_axes(*, file, export=None, rostopic=None, read=None, unit=None, rate=None,
                  gaps=None, g_local=None, method="wls", out=None, as_json=False,
-                 quiet=False, command="allan", terms=True, drift=None):
+                 quiet=False, command="allan", terms=True, drift=None, confidence=None):
     """The six-axis mode of ``allan --imu`` (old spelling ``allan-imu``): read, analyse,
     export, print or emit JSON. ``read`` is the command's
     :class:`~inertialab.io.mapping.ReadOptions`; ``drift`` the drift settings of
@@ -22,7 +22,8 @@ def run_six_axes(*, file, export=None, rostopic=None, read=None, unit=None, rate
         with C.progress_bar("allan-imu", quiet=quiet) as bar:
             rec, res = analyse_file(file, read=ro, unit=unit, rate=rate, gaps=gaps,
                                     g_local=g_local, method=method, terms=terms,
-                                    export=export, progress=bar, **(drift or {}))
+                                    export=export, progress=bar, confidence=confidence,
+                                    **(drift or {}))
     export, export_file = export if export else (None, None)
     if export is not None:
         export = export_noise_file(res, export, export_file, rostopic=rostopic or rec.topic,

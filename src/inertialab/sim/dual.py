@@ -199,6 +199,21 @@ def _meta(cfg: DualLabConfig, seed) -> dict:
             **meters}
 
 
+def _checked_size(cfg: DualLabConfig) -> tuple[int, int]:
+    """``(positions, samples per position)`` of a rig within bounds and the memory budget
+    (every number of the rig finite and of sane size)."""
+    N = bounded_int("n_positions", cfg.n_positions, 1, 100_000)
+    S = bounded_int("n_samples", cfg.n_samples, 1, 1_000_000)
+    bounded("g_local", cfg.g_local_mps2, 1.0, 100.0)
+    for name, v in vars(cfg).items():
+        if isinstance(v, float):
+            bounded(name, v, -1e9, 1e9)
+    # (2, P, S) arrays of about a dozen quantities
+    check_budget(2.0 * (N + 1) * S * 12 * 8, f"a simulated tumble of {N} positions x "
+                 f"{S} samples")
+    return N, S
+
+
 def simulate_run(config: DualLabConfig | None = None, rng=None, *, coef: dict | None = None,
                  run_id: str = "run1") -> DualRun:
     """Simulate one CCW + CW tumble.
@@ -221,15 +236,7 @@ def simulate_run(config: DualLabConfig | None = None, rng=None, *, coef: dict | 
             coef, history = draw_unit(g, n_history=cfg.n_history, ref=cfg.coef)
         else:
             coef = dict(cfg.coef)
-    N = bounded_int("n_positions", cfg.n_positions, 1, 100_000)
-    S = bounded_int("n_samples", cfg.n_samples, 1, 1_000_000)
-    bounded("g_local", cfg.g_local_mps2, 1.0, 100.0)
-    for name, v in vars(cfg).items():  # every number of the rig: finite, of sane size
-        if isinstance(v, float):
-            bounded(name, v, -1e9, 1e9)
-    # (2, P, S) arrays of about a dozen quantities
-    check_budget(2.0 * (N + 1) * S * 12 * 8, f"a simulated tumble of {N} positions x "
-                 f"{S} samples")
+    N, S = _checked_size(cfg)
     P = N + 1
     theta_deg = np.arange(P) * 360.0 / N
     theta = np.deg2rad(theta_deg)

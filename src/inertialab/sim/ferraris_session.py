@@ -77,29 +77,9 @@ def face_attitude(up_body, heading: float = 0.0) -> np.ndarray:
     return Rz @ R_wb
 
 
-def simulate_ferraris(*, seed=0, fs: float = FS_HZ, g: float = G_LOCAL,
-                      placement_deg: float = 2.0, angle_sigma_deg: float = 1.0,
-                      senses=None, rest_s: float = 6.0, first_rest_s: float = 5.0,
-                      move_s: float = 3.0, turn_s: float = 8.0, shake_mps2: float = 0.3,
-                      counts: bool = False, x_true=None, k_ga_dps=None) -> SimRecord:
-    """Simulate one Ferraris calibration session (see the module docstring).
-
-    Parameters
-    ----------
-    seed : int
-        Draw order: face tilts and headings, turn angles and senses, noise.
-    fs : float, default 102.4
-        Sample rate, Hz.
-    placement_deg : float, default 2
-        Standard deviation of a face's tilt per axis, deg.
-    angle_sigma_deg : float, default 1
-        Standard deviation of a turn's angle around 360 deg.
-    senses : sequence of three +-1, optional
-        Turning sense of x_rot, y_rot, z_rot (+1 counterclockwise seen from above);
-        default random.
-    counts : bool
-        Write 16-bit counts (16384 LSB/g, 131 LSB/(deg/s)) instead of m/s^2 and deg/s.
-    """
+def _check_session(fs, g, placement_deg, angle_sigma_deg, rest_s, first_rest_s, move_s,
+                   turn_s, shake_mps2) -> None:
+    """The session's arguments within bounds and its length within the memory budget."""
     bounded("g_local", g, 1.0, 100.0)
     bounded("placement_deg", placement_deg, 0.0, 45.0)
     bounded("angle_sigma_deg", angle_sigma_deg, 0.0, 90.0)
@@ -112,6 +92,31 @@ def simulate_ferraris(*, seed=0, fs: float = FS_HZ, g: float = G_LOCAL,
     seconds = first_rest_s + 6 * rest_s + 3 * turn_s + 9 * move_s
     check_budget(seconds * fs * 20 * 8, f"a simulated Ferraris session of {seconds:g} s at "
                  f"{fs:g} Hz")
+
+
+def simulate_ferraris(*, seed=0, fs: float = FS_HZ, g: float = G_LOCAL,
+                      placement_deg: float = 2.0, angle_sigma_deg: float = 1.0,
+                      senses=None, rest_s: float = 6.0, first_rest_s: float = 5.0,
+                      move_s: float = 3.0, turn_s: float = 8.0, shake_mps2: float = 0.3,
+                      counts: bool = False, x_true=None, k_ga_dps=None) -> SimRecord:
+    """Simulate one Ferraris calibration session (see the module docstring).
+
+    Parameters
+    ----------
+    seed : int
+        Draw order: face tilts and headings, turn angles and senses, noise.
+    fs : float, default 102.4 (Hz)
+    placement_deg : float, default 2
+        Standard deviation of a face's tilt per axis, deg.
+    angle_sigma_deg : float, default 1
+        Standard deviation of a turn's angle around 360 deg.
+    senses : sequence of three +-1, optional
+        Turning sense of x_rot, y_rot, z_rot (+1 counterclockwise from above); default random.
+    counts : bool
+        Write 16-bit counts (16384 LSB/g, 131 LSB/(deg/s)) instead of m/s^2 and deg/s.
+    """
+    _check_session(fs, g, placement_deg, angle_sigma_deg, rest_s, first_rest_s, move_s, turn_s,
+                   shake_mps2)
     rng = as_generator(seed)
     x = X_MPU6050_A.copy() if x_true is None else np.asarray(x_true, dtype=float)
     T_a = gain_matrix(x) @ rotation(PHI_HOUSING)

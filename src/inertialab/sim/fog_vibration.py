@@ -148,6 +148,17 @@ def _profile(experiment: str, s: RigSettings):
     return f, n1, n1 + n2 - 1, p2_s
 
 
+def _check_overrides(overrides: dict, s) -> None:
+    """Every numeric override finite and of a sane magnitude; the vibration within 1000 g;
+    a positive sample rate."""
+    if not s.fs_hz > 0:
+        raise InputError(f"fs_hz must be positive, got {s.fs_hz}")
+    for name in sorted(overrides):
+        if isinstance(overrides[name], (int, float)) and not isinstance(overrides[name], bool):
+            bounded(name, overrides[name], -1e9, 1e9)
+    bounded("acc_g", s.acc_g, 0, 1000)
+
+
 def simulate(experiment: str = "fixed", seed: int = 0, preset: str = "mid", *,
              effects: VibrationEffects | None = None, vibration: bool = True,
              **overrides) -> FogVibrationRun:
@@ -183,12 +194,7 @@ def simulate(experiment: str = "fixed", seed: int = 0, preset: str = "mid", *,
         raise InputError(f"unknown simulate option(s): {', '.join(sorted(bad))}")
     s = replace(RigSettings(), **{k: v for k, v in overrides.items() if k in rig_keys})
     p = gyro_preset(preset).with_(**{k: v for k, v in overrides.items() if k in fog_keys})
-    if not s.fs_hz > 0:
-        raise InputError(f"fs_hz must be positive, got {s.fs_hz}")
-    for name in sorted(overrides):  # every numeric override: finite, of a sane magnitude
-        if isinstance(overrides[name], (int, float)) and not isinstance(overrides[name], bool):
-            bounded(name, overrides[name], -1e9, 1e9)
-    bounded("acc_g", s.acc_g, 0, 1000)
+    _check_overrides(overrides, s)
     e = effects or VibrationEffects()
     fs = float(s.fs_hz)
     tau0 = 1.0 / fs

@@ -23,6 +23,7 @@ from inertialab.noise import registry as stat_registry
 from inertialab.noise.allan import DeviationResult
 from inertialab.noise.family import compute
 from inertialab.noise.terms import (
+    CONFIDENCE,
     NoiseTerms,
     fit_noise_terms,
     model_intervals,
@@ -428,13 +429,14 @@ def _check_finite(results, column) -> None:
                              "too large for the arithmetic (e.g. a 1e308 cell)", column=column)
 
 
-def _noise_terms(oad, log: LogData, *, kind, method: str):
+def _noise_terms(oad, log: LogData, *, kind, method: str, confidence: float):
     """The five noise terms fitted on the OADEV ``oad`` of ``log``; None (with a warning)
     when the curve is too short for them; a warning too when the record is not static."""
     why = not_static_reason(oad.taus_s, oad.dev)
     try:
         terms = fit_noise_terms(oad, unit=log.unit, kind=kind, method=method,
-                                rate_hz=log.rate_hz, g_local=log.g_local)
+                                rate_hz=log.rate_hz, g_local=log.g_local,
+                                confidence=confidence)
     except InputError as exc:
         if "taus" not in str(exc):
             raise
@@ -446,8 +448,39 @@ def _noise_terms(oad, log: LogData, *, kind, method: str):
     return terms
 
 
+def _statistic_fn(log: LogData, names, common: dict, bias_correction):
+    """``one(stat, **overrides)``: one statistic of ``log`` — gap-resistant where the record
+    has missing samples (with a warning; statistics with no gap-resistant form refused)."""
+    taus, confidence, alpha = common["taus"], common["confidence"], common["alpha"]
+    gappy = not isinstance(log.values, np.memmap) and bool(np.isnan(log.values).any())
+    if gappy:
+        from inertialab.noise.gaps import count_gaps, gap_deviation
+
+        g, miss = count_gaps(log.values)
+        warnings.warn(f"{log.path or 'data'}: {miss} missing sample(s) in {g} gap(s); "
+                      "gap-resistant statistics (no interpolation), the fraction of "
+                      "summands used per tau is reported", DataQualityWarning, stacklevel=3)
+        no_gap = [s for s in names if s not in GAP_STATISTICS]
+        if no_gap:
+            raise InputError(f"the record has missing samples (NaN or time-stamp gaps); "
+                             f"{', '.join(no_gap)} has no gap-resistant form (use "
+                             f"{', '.join(GAP_STATISTICS)}; argument 'stats')", path=log.path
+                             or None, column=log.column or None)
+
+        def one(stat, **kw):
+            return gap_deviation(stat, log.values, rate_hz=log.rate_hz, input=log.input,
+                                 confidence=confidence, alpha=alpha,
+                                 taus=kw.get("taus", taus))
+    else:
+        def one(stat, **kw):
+            return compute(stat, log.values, bias_correction=bias_correction,
+                           **{**common, **kw})
+    return one
+
+
 def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: str | None = None,
-            stats=("oadev",), taus="octave", confidence: float = 0.683, method: str = "wls",
+            stats=("oadev",), taus="octave", confidence: float | None = None,
+            method: str = "wls",
             input: str = "rate", kind: str | None = None, alpha=None,
             edf_method: str = "default", chunked="auto",
             fit_terms: bool | None = None, bias_correction: bool | None = None
@@ -459,7 +492,10 @@ def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: st
     log : LogData or ndarray
         A prepared log, or raw values (then ``rate_hz`` and ``unit`` are required).
     stats : str or sequence, default ("oadev",)
-    taus, confidence, alpha, edf_method : see :func:`inertialab.noise.allan.deviation`
+    taus, alpha, edf_method : see :func:`inertialab.noise.allan.deviation`
+    confidence : float, optional
+        Two-sided confidence of every interval, the curves' and the noise terms'; None:
+        the curves at 0.683 and the terms at 0.95.
     chunked : bool or "auto", default "auto"
         Out-of-core path; "auto" uses it for a memory-mapped input of more than
         :data:`CHUNKED_MIN` samples (the in-memory path needs one float64 copy).
@@ -496,33 +532,15 @@ def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: st
                          "(argument 'fit_terms')")
     if chunked == "auto":
         chunked = isinstance(log.values, np.memmap) and log.values.size > CHUNKED_MIN
+    # one confidence for the curves and the terms when given (the command's); else the
+    # curves at 0.683 (1 sigma, Stable32's) and the terms at their benchmarked 0.95
+    terms_conf = CONFIDENCE if confidence is None else confidence
+    confidence = 0.683 if confidence is None else confidence
     results = []
     common = dict(rate_hz=log.rate_hz, taus=taus, input=log.input, confidence=confidence,
                   alpha=alpha, edf_method=edf_method,
                   chunked=chunked and log.input == "rate")
-    gappy = not isinstance(log.values, np.memmap) and bool(np.isnan(log.values).any())
-    if gappy:
-        from inertialab.noise.gaps import count_gaps, gap_deviation
-
-        g, miss = count_gaps(log.values)
-        warnings.warn(f"{log.path or 'data'}: {miss} missing sample(s) in {g} gap(s); "
-                      "gap-resistant statistics (no interpolation), the fraction of "
-                      "summands used per tau is reported", DataQualityWarning, stacklevel=2)
-        no_gap = [s for s in names if s not in GAP_STATISTICS]
-        if no_gap:
-            raise InputError(f"the record has missing samples (NaN or time-stamp gaps); "
-                             f"{', '.join(no_gap)} has no gap-resistant form (use "
-                             f"{', '.join(GAP_STATISTICS)}; argument 'stats')", path=log.path
-                             or None, column=log.column or None)
-
-        def one(stat, **kw):
-            return gap_deviation(stat, log.values, rate_hz=log.rate_hz, input=log.input,
-                                 confidence=confidence, alpha=alpha,
-                                 taus=kw.get("taus", taus))
-    else:
-        def one(stat, **kw):
-            return compute(stat, log.values, bias_correction=bias_correction,
-                           **{**common, **kw})
+    one = _statistic_fn(log, names, common, bias_correction)
     _check_magnitude(log.values, log.column)
     for s in names:
         results.append(one(s))
@@ -532,7 +550,8 @@ def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: st
     if fit_terms:
         if oad is None:
             oad = one("oadev", taus="octave")
-        terms = _noise_terms(oad, log, kind=kind or log.kind, method=method)
+        terms = _noise_terms(oad, log, kind=kind or log.kind, method=method,
+                             confidence=terms_conf)
     if terms is not None:  # rate records: noise types follow the fitted model
         results = [model_intervals(r, terms) if r.statistic in _MODEL_EDF_STATS else r
                    for r in results]

@@ -232,7 +232,8 @@ class IMUNoise:
 
 
 def _axis(name: str, column: str, y, unit: str, *, rate_hz: float, taus, method: str,
-          g_local: float, tau_range_s, terms_on: bool = True, drift=None) -> AxisNoise:
+          g_local: float, tau_range_s, terms_on: bool = True, drift=None,
+          confidence: float = 0.95) -> AxisNoise:
     from inertialab.noise.terms import not_static_reason
 
     kind = AXES[name]
@@ -242,7 +243,7 @@ def _axis(name: str, column: str, y, unit: str, *, rate_hz: float, taus, method:
         raise InputError(f"unit '{unit}' is a {dim}, expected a {want}", column=column)
     y = np.asarray(y)
     fit_y = y if drift is None or drift.check_on != "half" else y[: y.size // 2]
-    dev = _deviation(fit_y, rate_hz, taus)
+    dev = _deviation(fit_y, rate_hz, taus, confidence)
     nan = float("nan")
     blank = dict(axis=name, column=column, kind=kind, unit=unit, deviation=dev, terms=None,
                  noise_density=nan, random_walk=nan, random_walk_bound=False,
@@ -259,7 +260,8 @@ def _axis(name: str, column: str, y, unit: str, *, rate_hz: float, taus, method:
         warnings.warn(f"column '{column}': {why}; its noise terms are not fitted",
                       DataQualityWarning, stacklevel=3)
         return AxisNoise(**blank, status="not static", reason=why)
-    terms = _fit_terms(fit_y, dev, unit, kind, method, rate_hz, tau_range_s, g_local, column)
+    terms = _fit_terms(fit_y, dev, unit, kind, method, rate_hz, tau_range_s, g_local, column,
+                       confidence)
     si = _SI[kind][0]
 
     def to_si(v):
@@ -310,17 +312,17 @@ def _report_factor(terms, name: str) -> float:
     return _Converter(terms.unit, terms.kind, terms.g_local).factor(name)
 
 
-def _deviation(y, rate_hz, taus):
+def _deviation(y, rate_hz, taus, confidence):
     from inertialab.noise.allan import oadev
 
     if np.isnan(y).any():  # lost samples on the sensor's grid (analyse_record)
         from inertialab.noise.gaps import gap_deviation
 
-        return gap_deviation("oadev", y, rate_hz=rate_hz, taus=taus)
-    return oadev(y, rate_hz=rate_hz, taus=taus)
+        return gap_deviation("oadev", y, rate_hz=rate_hz, taus=taus, confidence=confidence)
+    return oadev(y, rate_hz=rate_hz, taus=taus, confidence=confidence)
 
 
-def _fit_terms(y, dev, unit, kind, method, rate_hz, tau_range_s, g_local, column):
+def _fit_terms(y, dev, unit, kind, method, rate_hz, tau_range_s, g_local, column, confidence):
     """The noise terms of one axis, with the record's spectral lines in the model."""
     from inertialab.noise.lines import spectral_lines
     from inertialab.noise.terms import fit_noise_terms
@@ -329,14 +331,15 @@ def _fit_terms(y, dev, unit, kind, method, rate_hz, tau_range_s, g_local, column
     lines = spectral_lines(finite, rate_hz) if finite.size == y.size else ()
     try:
         return fit_noise_terms(dev, unit=unit, kind=kind, method=method, rate_hz=rate_hz,
-                               tau_range_s=tau_range_s, g_local=g_local, lines=lines)
+                               tau_range_s=tau_range_s, g_local=g_local, lines=lines,
+                               confidence=confidence)
     except InputError as exc:
         raise InputError(str(exc), column=column) from None
 
 
 def analyse_imu(columns: dict, *, rate_hz: float, taus="octave", method: str = "wls",
                 g_local: float = U.G_STANDARD, tau_range_s=None, progress=None,
-                terms: bool = True, drift=None) -> IMUNoise:
+                terms: bool = True, drift=None, confidence: float = 0.95) -> IMUNoise:
     """Noise of up to six axes.
 
     Parameters
@@ -352,6 +355,8 @@ def analyse_imu(columns: dict, *, rate_hz: float, taus="octave", method: str = "
         Local gravity for g-based accelerometer units, m/s^2.
     terms : bool, default True
         Fit the noise terms (False: the deviations only).
+    confidence : float, default 0.95
+        Two-sided confidence of every interval: the curves' and the terms'.
     drift : :class:`inertialab.workflows.imu_drift.DriftOptions`, optional
         Predict the integrated error per horizon, check it on another record or the
         second half, and plan the record length (:mod:`inertialab.workflows.imu_drift`).
@@ -370,14 +375,14 @@ def analyse_imu(columns: dict, *, rate_hz: float, taus="octave", method: str = "
         col, y, unit = columns[name]
         out.append(_axis(name, col, y, unit, rate_hz=float(rate_hz), taus=taus, method=method,
                          g_local=g_local, tau_range_s=tau_range_s, terms_on=terms,
-                         drift=drift))
+                         drift=drift, confidence=confidence))
         if progress is not None:
             progress.update(i + 1, len(names), name)
     n = int(np.asarray(columns[names[0]][1]).shape[0])
     settings = {"rate_hz": float(rate_hz), "taus": taus if isinstance(taus, (str, int)) else
                 list(taus), "method": method, "g_local_mps2": float(g_local),
                 "tau_range_s": None if tau_range_s is None else list(tau_range_s),
-                "terms": bool(terms)}
+                "terms": bool(terms), "confidence": float(confidence)}
     if drift is not None:
         settings["drift"] = drift.to_dict()
     return IMUNoise(axes=tuple(out), rate_hz=float(rate_hz), n_samples=n, settings=settings)
@@ -385,7 +390,7 @@ def analyse_imu(columns: dict, *, rate_hz: float, taus="octave", method: str = "
 
 def analyse_record(rec, *, rate_hz: float | None = None, taus="octave", method: str = "wls",
                    g_local: float | None = None, tau_range_s=None, progress=None,
-                   terms: bool = True, drift=None) -> IMUNoise:
+                   terms: bool = True, drift=None, confidence: float = 0.95) -> IMUNoise:
     """:func:`analyse_imu` on the ``gx gy gz ax ay az`` columns of a ``gyro_log`` record
     (rate from ``rate_hz``, else the record's time base)."""
     if rate_hz is None:
@@ -409,7 +414,7 @@ def analyse_record(rec, *, rate_hz: float | None = None, taus="octave", method: 
     try:
         return analyse_imu(cols, rate_hz=float(fs), taus=taus, method=method, g_local=g,
                            tau_range_s=tau_range_s, progress=progress, terms=terms,
-                           drift=drift)
+                           drift=drift, confidence=confidence)
     except InputError as exc:
         if exc.path is not None or rec.path is None:
             raise
@@ -418,7 +423,8 @@ def analyse_record(rec, *, rate_hz: float | None = None, taus="octave", method: 
 
 def analyse_file(file, *, read=None, unit=None, rate=None, gaps=None, g_local=None,
                  method="wls", terms=True, predict_drift=None, bias_window=10.0,
-                 check_on=None, plan=False, inflate=None, export=None, progress=None):
+                 check_on=None, plan=False, inflate=None, export=None, progress=None,
+                 confidence=None):
     """``(record, IMUNoise)`` of a log file: the settings checked, the record read (and
     the check log, :func:`inertialab.workflows.imu_drift.drift_options`), the axes
     analysed."""
@@ -445,7 +451,8 @@ def analyse_file(file, *, read=None, unit=None, rate=None, gaps=None, g_local=No
     drift = drift_options(predict_drift, bias_window, check_on, plan, rec, rate=rate,
                           unit=unit, g_local=g_local, gaps=gaps, ro=read)
     return rec, analyse_record(rec, rate_hz=rate, method=method, g_local=g_local,
-                               progress=progress, terms=terms, drift=drift)
+                               progress=progress, terms=terms, drift=drift,
+                               confidence=0.95 if confidence is None else confidence)
 
 
 def export_noise_file(res: IMUNoise, target: str, path, *, rostopic: str, inflate=None) -> str:
