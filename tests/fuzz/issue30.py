@@ -705,3 +705,19 @@ def fast_cases() -> list[Case]:
 
 def slow_cases() -> list[Case]:
     return [c for c in all_cases() if c.slow]
+
+
+def check_case(case, tmp_path, request) -> None:
+    """Run one case of this set in a test: xfail while its ``owner``'s change is pending,
+    skipped where the case cannot run here, failed with its findings."""
+    import pytest
+
+    from tests.fuzz import catalogue as cat
+
+    if case.owner:
+        request.applymarker(pytest.mark.xfail(reason=f"pending: {case.owner}", strict=False))
+    try:
+        _outcome, bad = cat.run_case(case, tmp_path / "case")
+    except cat._Skip as exc:
+        pytest.skip(str(exc))
+    assert not bad, f"{case.id}: {bad}"

@@ -26,13 +26,7 @@ def test_hostile_case(case, tmp_path, request):
 def test_second_fuzz_case(case, tmp_path, request):
     """The second fuzz's findings (tests/fuzz/issue30.py): FIFOs and other cases that
     could block run under the watchdog; a case owned by another change is xfail."""
-    if case.owner:
-        request.applymarker(pytest.mark.xfail(reason=f"pending: {case.owner}", strict=False))
-    try:
-        outcome, bad = cat.run_case(case, tmp_path / "case")
-    except cat._Skip as exc:
-        pytest.skip(str(exc))
-    assert not bad, f"{case.id}: {bad}"
+    issue30.check_case(case, tmp_path, request)
 
 
 ROLES_WITH_OUTPUT = [r for r, (_s, _b, kind, _src) in cat._recipes().items()

@@ -30,10 +30,4 @@ def test_hostile_slow_case(case, tmp_path, request):
 def test_second_fuzz_slow_case(case, tmp_path, request):
     """Memory bombs, endless searches and signals of the second fuzz, each in a
     subprocess under the watchdog (2 GB resident, 60 s), no address-space limit."""
-    if case.owner:
-        request.applymarker(pytest.mark.xfail(reason=f"pending: {case.owner}", strict=False))
-    try:
-        outcome, bad = cat.run_case(case, tmp_path / "case")
-    except cat._Skip as exc:
-        pytest.skip(str(exc))
-    assert not bad, f"{case.id}: {bad}"
+    issue30.check_case(case, tmp_path, request)

@@ -23,7 +23,7 @@ from inertialab.io.formats.npy import open_npy as _open_npy
 from inertialab.io.record import Record
 from inertialab.io.schema import Column, Schema
 from inertialab.io.schemas import SCHEMAS
-from inertialab.io.sidecar import check_rate_agrees, read_sidecar
+from inertialab.io.sidecar import read_sidecar
 from inertialab.units import SUFFIXES, split_suffix
 
 _MAX_ROWS_LISTED = 5
@@ -574,7 +574,6 @@ def validate_frame(df: pd.DataFrame, kind: str, *, path="<frame>", meta: dict | 
         from inertialab.io.timestamps import audit
 
         meta["timestamps"] = audit(df[schema.time_column].to_numpy(dtype=float)).to_dict()
-        check_rate_agrees(meta, meta["timestamps"]["nominal_dt_s"], path=path)
     if gaps is not None and schema.time_order == "strict" and schema.time_column in df.columns:
         from inertialab.io.gaps import apply_gap_policy
 

@@ -114,29 +114,6 @@ def read_sidecar(path: str | Path) -> dict:
     return check_numeric_keys(meta, path=sp)
 
 
-#: Largest relative disagreement between a stated rate and the time stamps' own.
-RATE_TOLERANCE = 0.05
-
-
-def check_rate_agrees(meta: dict, nominal_dt_s, *, path=None) -> None:
-    """Refuse a stated sample rate (``fs_hz`` of the sidecar, the header or the rate
-    argument) that disagrees with the record's own time stamps (their median step
-    ``nominal_dt_s``) by more than :data:`RATE_TOLERANCE`: every later figure (tau, N, the
-    noise terms) would be off by the ratio, silently."""
-    fs = meta.get("fs_hz")
-    try:
-        fs, dt = float(fs), float(nominal_dt_s)
-    except (TypeError, ValueError):
-        return
-    if not (math.isfinite(fs) and math.isfinite(dt) and fs > 0 and dt > 0):
-        return
-    ratio = fs * dt
-    if abs(ratio - 1.0) > RATE_TOLERANCE:
-        raise InputError(f"the stated rate fs_hz = {fs:g} Hz disagrees with the time stamps "
-                         f"(median step {dt:g} s, {1.0 / dt:g} Hz); correct or remove one "
-                         "(sidecar key 'fs_hz' or argument 'rate_hz')", path=path)
-
-
 def _coerce(value: str):
     v = value.strip()
     for conv in (int, float):
