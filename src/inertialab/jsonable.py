@@ -1,9 +1,9 @@
 """The one JSON sanitiser: numpy scalars/arrays, tuples, paths and objects with
-``to_dict`` to plain JSON values (issue 13 "one of each").
+``to_dict`` to plain JSON values ("one of each").
 
 JSON has no NaN or infinity: a non-finite float becomes ``None`` and, when a list is
 passed as ``nulls``, the key path of every such value is appended to it so that the
-CLI can flag it (``non_estimable``, DESIGN.md "Command line"). Used by model files,
+CLI can flag it (``non_estimable``, docs/cli.md). Used by model files,
 sidecars, the ``--json`` envelope, the report's ``results.json`` and every ``to_dict``.
 """
 

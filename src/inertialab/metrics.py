@@ -1,4 +1,4 @@
-"""Error metrics shared by every study, with one meaning per name (DESIGN.md glossary).
+"""Error metrics shared by every study, with one meaning per name (the glossary below).
 
 ME = maximum absolute error, AE = mean absolute error, MBE = mean signed error,
 MAXE / MARE = maximum / mean absolute relative error, RMSE = root mean square error,

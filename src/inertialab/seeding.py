@@ -2,7 +2,7 @@
 
 Every stochastic function takes ``rng: int | numpy.random.Generator | None``. An int
 becomes ``Generator(PCG64(SeedSequence(int)))``; ``None`` means seed 0 (inertialab
-is reproducible by default, DESIGN.md "Randomness"); a Generator is used as is.
+is reproducible by default); a Generator is used as is.
 Child streams are spawned with :func:`spawn` in the order the caller documents.
 """
 

@@ -429,7 +429,7 @@ def fit_two_orientation(red1: Reduced, red2: Reduced) -> MethodResult:
 
 # ------------------------------------------------------------------------------ design
 
-#: Bounds of :func:`design_dual` (issue 19 item 7: 1e8 positions ran out of memory). The
+#: Bounds of :func:`design_dual` (1e8 positions ran out of memory). The
 #: exchange algorithm costs positions x candidates 7x7 determinants per sweep; 360
 #: positions on a 0.1-deg grid take seconds. Spec S4 uses 8 to 36 positions.
 MAX_DESIGN_POSITIONS = 360

@@ -32,7 +32,7 @@ class BatchCalibration:
 
 
 CHUNK_UNITS = 2048
-"""Units solved at once by :func:`calibrate_batch` (issue 17 item 8): the solver's
+"""Units solved at once by :func:`calibrate_batch`: the solver's
 working memory (residuals, Jacobians, normal matrices: ~22 KB per unit for 18 poses) is
 bounded by the chunk, not by the fleet."""
 
@@ -95,7 +95,7 @@ def iter_calibrate_batch(chunks, *, rmse_limit: float = 0.04, max_iter: int = 10
     """Stream a fleet: ``chunks`` yields ``(unit_ids (k,), A (k, m, 3), Rf (k, m, 3))`` (record
     means and references in m/s^2, any k); yields one per-unit table (the columns of
     :class:`BatchCalibration`) per solved chunk of at most ``chunk_units`` units, so the
-    memory held is that of one input chunk and one solver chunk (issue 17 item 8)."""
+    memory held is that of one input chunk and one solver chunk."""
     for ids, A, Rf in chunks:
         A = np.asarray(A, dtype=float)
         Rf = np.asarray(Rf, dtype=float)

@@ -1,4 +1,4 @@
-"""Several calibration methods on one session, side by side (issue 18, spec 002 §5).
+"""Several calibration methods on one session, side by side (spec 002 §5).
 
 From the user's own data, what the paper shows for its simulation, turntable and six-face
 tests:

@@ -356,7 +356,7 @@ def residual_metrics(omega_c, run: VibrationRun, *, guard_s: float = 10.0,
 def phase_stats(x, run: VibrationRun, *, stability_s: float = 10.0) -> dict:
     """Bias (mean) and 10-s bias stability (std of consecutive 10-s means) of a rate per
     phase P1/P2/P3 (spec 001 §2.3 definitions), deg/h: the raw record's figures beside
-    the compensated ones of :func:`residual_metrics` (issue 18 item 5)."""
+    the compensated ones of :func:`residual_metrics`."""
     x = np.asarray(x, dtype=float)
     nb = max(1, int(round(stability_s * run.fs_hz)))
     out = {"bias": {}, "stability_10s": {}}
@@ -374,7 +374,7 @@ SPREAD_GRID = (0.3, 0.6, 1.2, 2.5, 5.0, 10.0, 20.0, 40.0)
 def select_spread(f_hz, e_dph, train, *, grid=SPREAD_GRID, goal: float = 1e-4,
                   centers: str = "max_error", max_neurons: int | None = None,
                   rng=0) -> dict:
-    """RBF spread chosen by held-out error (issue 18 item 6; spec 001 §8 "held-out tuning").
+    """RBF spread chosen by held-out error (spec 001 §8 "held-out tuning").
 
     The network is fitted on the targets where ``train`` is True (the odd 1-Hz bins in the
     workflow) and scored by the RMSE on the others; the spread with the least held-out

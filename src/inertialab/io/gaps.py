@@ -1,4 +1,4 @@
-"""Dropouts, repeated stamps and saturation in continuous logs (issue 10 item 2).
+"""Dropouts, repeated stamps and saturation in continuous logs.
 
 A real log loses packets (a time step much longer than the nominal one), repeats a
 stamp (a resent packet, a coarse clock) or jumps back (a counter reset); a sensor

@@ -3,7 +3,7 @@
 The network is MATLAB's default fitting/NAR net: inputs mapped to [-1, 1]
 (``mapminmax``), a ``tansig`` (= tanh) hidden layer of ``hidden`` neurons, a linear
 (``purelin``) output. It serves the ANN baseline of spec 000 and the NAR forecaster of
-spec 004 (DESIGN.md "Shared machinery").
+spec 004 (one learner shared by the studies).
 
 Training follows spec 004 §3.6 exactly: Nguyen-Widrow initialisation (§3.5), the
 Marquardt step ``delta = -(J'J + mu I)^-1 J'r`` with MATLAB's mu schedule, and

@@ -14,7 +14,7 @@ Everything here works on arrays with plain parameters; the thermal calibration
 (:mod:`inertialab.calib.thermal`) passes its configuration's values and the optimiser
 (:func:`inertialab.optim.fish_swarm.iafsa`, any optimiser of the shared signature of
 :mod:`inertialab.optim.base` fits): the method packages ``learn`` and ``optim`` do not
-import each other (DESIGN.md "Layers").
+import each other (docs/architecture.md).
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Compiled kernels of the Allan family (optional ``[fast]`` extra, numba; issue 15 item 5).
+"""Compiled kernels of the Allan family (optional ``[fast]`` extra, numba).
 
 The numpy paths (:mod:`inertialab.noise._octave`, :mod:`inertialab.noise.identify`,
 :mod:`inertialab.noise.edf`) stay the reference and the fallback; these kernels compute

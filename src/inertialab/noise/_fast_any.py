@@ -1,5 +1,5 @@
 """Compiled per-m kernels of the Allan family and the Greenhall EDF (optional ``[fast]``
-extra, numba; issue 15 item 5), re-exported by :mod:`inertialab.noise._fast` (see there
+extra, numba), re-exported by :mod:`inertialab.noise._fast` (see there
 for the switch, the equality tests and the cache). Any set of averaging factors: one
 loop per m over the in-memory angle; the EDF: the branches of
 :func:`inertialab.noise.edf.edf_greenhall` per m.

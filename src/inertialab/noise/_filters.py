@@ -1,7 +1,7 @@
 """Filters of the Allan family and the generalized autocovariance of power-law noise,
 shared by :mod:`inertialab.noise.edf` (the Gaussian EDF) and
 :mod:`inertialab.noise.identify` (the R(n) theory); kept apart so that neither imports
-the other (issue 15 item 5)."""
+the other."""
 
 from __future__ import annotations
 

@@ -1,5 +1,5 @@
 """Lag-doubling kernels of the Allan family at octave averaging factors m = 1, 2, 4, ...
-(issue 15 item 5).
+.
 
 Every statistic is computed from one float64 working array ``d`` of first differences of
 the angle (phase), ``d_i = x_{i+1} - x_i`` (for rate input ``y_i - mean``, the same up to
@@ -48,7 +48,7 @@ def fast_kernels():
     None when the environment variable ``INERTIALAB_FAST`` is ``0`` (read at every call,
     so it can be switched at run time) or numba does not import; then every statistic
     runs on the numpy kernels of this module, which give the same numbers to ~1e-12
-    (issue 15 item 5). The first use in a process imports numba (~0.3 s) and loads the
+   . The first use in a process imports numba (~0.3 s) and loads the
     kernels from numba's cache (compiled once per machine: a few seconds)."""
     global _FAST
     if os.environ.get("INERTIALAB_FAST", "1").strip() == "0":

@@ -127,7 +127,7 @@ SUB = 4096
 
 def angle_runs(u: np.ndarray, start: float) -> None:
     """In place: increments ``u`` (float64) -> ``start + cumsum(u)``, the one angle
-    recurrence of every path (issue 15 item 5).
+    recurrence of every path.
 
     The cumulative sums run within runs of ``SUB`` points; each run starts at ``start``
     plus the cumulative sum of the runs' pairwise sums. A plain running cumulative sum

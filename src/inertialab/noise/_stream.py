@@ -1,5 +1,5 @@
 """Out-of-core sums of the overlapping Allan and Hadamard variances (and the total variance)
-of a rate record read in chunks (issue 15 item 5: "the out-of-core path at most 2x the
+of a rate record read in chunks ("the out-of-core path at most 2x the
 in-memory CPU, with identical numbers to 1e-12").
 
 The angle is never held whole: :class:`inertialab.noise._phase._PhaseFromRate` (spilled to

@@ -118,33 +118,10 @@ def _subset_solutions(A, B, free, nonneg):
     return best_c, best_chi
 
 
-def _wnnls_many(Xs, B, w, active, cap=None):
+def _wnnls_many(Xs, B, w, active):
     """Weighted NNLS of every right-hand side ``B`` (n_b, k) on every design ``Xs``
-    (n_design, k, 5): ``c_k >= 0`` except the free ``c_-2``, and ``c_0 <= cap`` (n_b,)
-    where given. Returns ``(c, chi2)``: (n_design, n_b, 5) and (n_design, n_b),
-    ``chi2 = sum w (b - X c)^2``.
-
-    The cap is a box constraint on a convex problem: where the solution without it
-    exceeds the cap, the optimum with it has ``c_0`` at the cap, so those problems are
-    solved again with ``c_0`` fixed there."""
-    c, chi = _wnnls_plain(Xs, np.atleast_2d(B), w, active)
-    if cap is None or not active[2]:
-        return c, chi
-    cap = np.asarray(cap, dtype=float)
-    over = c[:, :, 2] > cap[None, :]
-    if np.any(over):
-        act2 = list(active)
-        act2[2] = False
-        B2 = np.atleast_2d(B)[None, :, :] - cap[None, :, None] * Xs[:, None, :, 2]
-        c2, chi2 = _wnnls_plain(Xs, B2, w, act2)
-        c2[:, :, 2] = cap[None, :]
-        c = np.where(over[:, :, None], c2, c)
-        chi = np.where(over, chi2, chi)
-    return c, chi
-
-
-def _wnnls_plain(Xs, B, w, active):
-    """:func:`_wnnls_many` without the cap; ``B`` (n_b, k) or (n_design, n_b, k)."""
+    (n_design, k, 5): ``c_k >= 0`` except the free ``c_-2``. Returns ``(c, chi2)``:
+    (n_design, n_b, 5) and (n_design, n_b), ``chi2 = sum w (b - X c)^2``."""
     cols = [j for j in range(5) if active[j]]
     sw = np.sqrt(w)
     A = Xs[:, :, cols] * sw[None, :, None]
@@ -152,14 +129,14 @@ def _wnnls_plain(Xs, B, w, active):
     scale[scale == 0] = 1.0
     free = [0] if 0 in cols else []
     nonneg = [i for i, j in enumerate(cols) if j != 0]
-    cs, chi = _subset_solutions(A / scale[:, None, :], B * sw, free, nonneg)
+    cs, chi = _subset_solutions(A / scale[:, None, :], np.atleast_2d(B) * sw, free, nonneg)
     c = np.zeros(cs.shape[:2] + (5,))
     c[:, :, cols] = cs / scale[:, None, :]
     return c, chi
 
 
 def _solve_many(X, B, edf_tab, active, weighted: bool, n_iter: int, shapes=None, model=None,
-                edf=None, b_cap=None):
+                edf=None):
     """Reweighted LS of every row of ``B`` (n_b, k) on ``X c`` with ``c_k >= 0`` except
     the signed ``c_-2``; with ``shapes`` (:func:`_band_table`) the B column is the
     band-limited shape and its corners are profiled: each pass solves every corner pair
@@ -190,8 +167,7 @@ def _solve_many(X, B, edf_tab, active, weighted: bool, n_iter: int, shapes=None,
     dom = np.ones((nb, k), dtype=np.int64)
     for _ in range(n_iter if weighted else 1):
         w = edf / (2.0 * model * model) if weighted else np.ones(k)
-        cc, chi = _wnnls_many(Xs, B, w, active,
-                              cap=None if b_cap is None else np.full(nb, b_cap))
+        cc, chi = _wnnls_many(Xs, B, w, active)
         if band:
             i_band = np.argmin(chi, axis=0)
         c = cc[i_band, np.arange(nb)] if band else cc[0]
@@ -207,10 +183,10 @@ def _solve_many(X, B, edf_tab, active, weighted: bool, n_iter: int, shapes=None,
 
 
 def _solve(X, avar, edf_tab, active, weighted: bool, n_iter: int, shapes=None, model=None,
-           edf=None, b_cap=None):
+           edf=None):
     """:func:`_solve_many` of one AVAR curve: ``(c, model, dom, i_band)``."""
     c, model, dom, i_band = _solve_many(X, avar, edf_tab, active, weighted, n_iter, shapes,
-                                        model, edf, b_cap)
+                                        model, edf)
     return c[0], model, dom[0], int(i_band[0])
 
 
@@ -227,11 +203,9 @@ def _observable(n_taus: int):
     return active, reasons
 
 
-def _fit_and_boot(X, avar, edf_tab, active, weighted, n_reweight, n_boot, seed, m, shapes,
-                  b_cap=None):
+def _fit_and_boot(X, avar, edf_tab, active, weighted, n_reweight, n_boot, seed, m, shapes):
     """Fit, misfit ratio and correlated Allan-domain bootstrap of one active-term set."""
-    c, model, dom, i_band = _solve(X, avar, edf_tab, active, weighted, n_reweight, shapes,
-                                   b_cap=b_cap)
+    c, model, dom, i_band = _solve(X, avar, edf_tab, active, weighted, n_reweight, shapes)
     edf_dom = edf_tab[dom, np.arange(avar.size)]
     fit_rmse = float(np.sqrt(np.mean((0.5 * np.log(avar / model)) ** 2)))
     # misfit (Birge) ratio: ln(avar_hat) has variance ~2/edf; a model that cannot follow
@@ -249,7 +223,7 @@ def _fit_and_boot(X, avar, edf_tab, active, weighted, n_reweight, n_boot, seed, 
         rng = np.random.default_rng(seed)
         draws = _draw_avar(model, edf_dom, dom, m, n_boot, rng)
         boot = _solve_many(X, draws, edf_tab, active, weighted, 1, shapes, model=model,
-                           edf=edf_dom, b_cap=b_cap)[0]
+                           edf=edf_dom)[0]
         boot = c[None, :] + misfit * (boot - c[None, :])
     return c, model, dom, boot, misfit, fit_rmse, i_band
 
@@ -278,8 +252,7 @@ def _discrepancy_s2(r2, edf, dof: int) -> float:
                         rtol=1e-10))
 
 
-def _with_discrepancy(X, avar, edf_tab, active, n_reweight, shapes, n_iter: int = 4,
-                      b_cap=None):
+def _with_discrepancy(X, avar, edf_tab, active, n_reweight, shapes, n_iter: int = 4):
     """EDF table with a model discrepancy folded in, and its variance ``s2``.
 
     On real sensors the Allan curve at short taus carries structure no five-term model
@@ -294,8 +267,7 @@ def _with_discrepancy(X, avar, edf_tab, active, n_reweight, shapes, n_iter: int 
     tab = edf_tab
     s2 = 0.0
     for _ in range(n_iter):
-        c, model, dom, i_band = _solve(X, avar, tab, active, True, n_reweight, shapes,
-                                       b_cap=b_cap)
+        c, model, dom, i_band = _solve(X, avar, tab, active, True, n_reweight, shapes)
         edf_dom = edf_tab[dom, np.arange(avar.size)]
         n_par = int(np.count_nonzero(c)) + (_n_corners(shapes, i_band) if c[2] > 0 else 0)
         r2 = np.log(avar / model) ** 2
@@ -328,34 +300,6 @@ def _shapes_for(taus, band: bool):
     return sh
 
 
-#: simultaneous confidence of the curve's upper limits that cap the B term (:func:`_b_cap`)
-B_CAP_CONFIDENCE = 0.95
-
-
-def _b_cap(result, idx) -> float | None:
-    """Largest AVAR the B term may reach: the least upper limit of the curve's AVAR over
-    the fitted taus, simultaneous at :data:`B_CAP_CONFIDENCE` (Bonferroni: each of the k
-    taus one-sided at ``(1 - 0.95)/k``; chi-square with the curve's EDF).
-
-    The B component 0.6643 B cannot exceed the curve it is read from. Capped at the
-    curve's lowest *point*, the textbook reading min(sigma)/0.6643, the fit took B 10-62 %
-    low on simulated flicker floors (spec 001's allan-bi gyro, 10 h at 10 Hz), whose true
-    B lies above that reading in 19 of 20 seeds: the least of ~15 noisy points is biased
-    low. The least of the per-tau 95 % upper limits still lies below the truth in 4 of 20
-    seeds (the same multiple comparison); the simultaneous limit is the curve's own bound
-    on every tau at once."""
-    from inertialab.noise.edf import chi2_interval
-
-    dev = np.asarray(result.dev, dtype=float)[idx]
-    edf = np.asarray(result.edf, dtype=float)[idx]
-    ok = np.isfinite(edf) & (edf > 0)
-    if not ok.any():
-        return None
-    alpha = (1.0 - B_CAP_CONFIDENCE) / int(ok.sum())
-    _, hi = chi2_interval(dev[ok], edf[ok], 1.0 - 2.0 * alpha)
-    return float(np.min(hi) ** 2)
-
-
 def fit_ls(result, sel, conv, rate_hz, method, n_reweight, confidence, n_boot, seed,
            band: bool = True):
     """The "wls"/"ols" fit of the selected taus (see :mod:`inertialab.noise.terms`);
@@ -376,14 +320,11 @@ def fit_ls(result, sel, conv, rate_hz, method, n_reweight, confidence, n_boot, s
         idx, taus, avar, X, edf_tab = idx[keep], taus[keep], avar[keep], X[keep], edf_tab[:, keep]
         active, reasons = _observable(taus.size)
         shapes = _shapes_for(taus, band)
-    b_cap = _b_cap(result, idx)
-    s2 = 0.0
     if weighted:
-        edf_tab, s2 = _with_discrepancy(X, avar, edf_tab, active, n_reweight, shapes,
-                                        b_cap=b_cap)
+        edf_tab, _ = _with_discrepancy(X, avar, edf_tab, active, n_reweight, shapes)
     c, model, dom, boot, misfit, fit_rmse, i_band = _fit_and_boot(
         X, avar, edf_tab, active, weighted, n_reweight, n_boot, seed,
-        np.asarray(result.m)[idx], shapes, b_cap=b_cap)
+        np.asarray(result.m)[idx], shapes)
     Xc = _design(X, shapes, i_band)
     terms = _terms_from_coefficients(c, boot, active, reasons, Xc, taus, conv, rate_hz, method,
                                      confidence)
@@ -396,7 +337,7 @@ def fit_ls(result, sel, conv, rate_hz, method, n_reweight, confidence, n_boot, s
         act2[4] = False
         c2, _, _, boot2, _, _, i_band2 = _fit_and_boot(
             X, avar, edf_tab, act2, weighted, n_reweight, n_boot, seed,
-            np.asarray(result.m)[idx], shapes, b_cap=b_cap)
+            np.asarray(result.m)[idx], shapes)
         t2 = _terms_from_coefficients(c2, boot2, act2, {"R": ""}, _design(X, shapes, i_band2),
                                       taus, conv, rate_hz, method, confidence)
         terms = _span_without_r(terms, t2)

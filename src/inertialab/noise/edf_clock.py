@@ -1,4 +1,4 @@
-"""Published EDFs and bias factors of the clock statistics (issue 15).
+"""Published EDFs and bias factors of the clock statistics.
 
 Equivalent degrees of freedom per tau of the total and Theo statistics, as NIST SP 1065
 (W. J. Riley, *Handbook of Frequency Stability Analysis*, 2008, §5.2.11-5.2.15 and its
@@ -129,7 +129,7 @@ def edf_htotdev(n_phase: int, m, alpha, *, method: str = "stable32") -> np.ndarr
       from its printed bounds (two records, 14 FM rows below m = 16 and 9 white-PM rows:
       agreement 3.6e-4 and 1.8e-4), not documented; see docs/allan.md.
     * ``method="greenhall"``: the overlapping-Hadamard Greenhall & Riley (2003) EDF
-      wherever the Howe formula does not apply (the rule before issue 15 item 4).
+      wherever the Howe formula does not apply (the earlier rule).
     """
     from inertialab.noise import edf as _edf
 

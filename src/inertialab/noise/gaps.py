@@ -1,4 +1,4 @@
-"""Gap-resistant Allan deviations for records with missing samples (issue 15 item 3).
+"""Gap-resistant Allan deviations for records with missing samples.
 
 A missing sample is NaN (a time-stamp gap becomes NaN samples on the nominal grid in the
 workflow; nothing is interpolated). Like allantools ``gradev`` and Stable32, every

@@ -12,7 +12,7 @@
    ends a run.
    With gyro channels (``gyro``), a sample is static only when the gyro is also at
    rest (:func:`gyro_rest`): a turn about the vertical keeps the accelerometer still
-   but not the gyro (issue 17; the same joint rule as the Ferraris detector).
+   but not the gyro (the same joint rule as the Ferraris detector).
 4. :func:`sweep_thresholds` tries ``k_thr`` in {2, ..., 10} and keeps the value whose
    score (e.g. a calibration residual supplied by the caller) is smallest among those
    giving the expected interval count, or at least ``min_count`` intervals when no
@@ -125,7 +125,7 @@ class GyroRest:
 
 
 def gyro_rest(gyro, still, fs: float, *, k_gyro: float = 8.0, smooth_s: float = 0.25) -> GyroRest:
-    """Samples where the gyro is at rest, given where the accelerometer is still (issue 17).
+    """Samples where the gyro is at rest, given where the accelerometer is still.
 
     The rest value is the median of the gyro over the accelerometer-still samples,
     refined twice on the samples within three median deviations of it; a sample is at

@@ -1,4 +1,4 @@
-"""Time interval error statistics: MTIE and TIE rms (ITU-T G.810; issue 15).
+"""Time interval error statistics: MTIE and TIE rms (ITU-T G.810).
 
 On the phase ``x`` (s for a clock; for rate input the integrated rate, mean removed,
 as the rest of the family), window ``m + 1`` points (``tau = m tau0``):

@@ -346,7 +346,7 @@ def model_avar(tau, params: GyroNoiseParams | str = "mid") -> np.ndarray:
 
 
 def native_terms(params: GyroNoiseParams | str) -> dict:
-    """The preset's Q N B K R in the report units of CONTRACTS.md (arcsec, deg/sqrt(h),
+    """The preset's Q N B K R in the report units of docs/noise-terms.md (arcsec, deg/sqrt(h),
     deg/h, deg/h/sqrt(h), deg/h^2); Q combines ``q/sqrt(12)`` and the white angle noise."""
     p = preset(params) if isinstance(params, str) else params
     return {"Q": math.sqrt(p.q_arcsec**2 / 12.0 + p.angle_white_arcsec**2),

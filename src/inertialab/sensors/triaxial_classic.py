@@ -215,7 +215,7 @@ class FaceFit:
 def face_fit(means, dirs=None, *, g: float = G_PAPER, placement_rad: float = PLACEMENT_RAD,
              norm_sigma: float | None = None, refine: bool = True) -> FaceFit:
     """Hand-placed faces: the 12-parameter six-position solution refined so that every
-    calibrated face has the magnitude of gravity (issue 17 item 3).
+    calibrated face has the magnitude of gravity.
 
     The closed form (column a of T = (m_a+ - m_a-)/(2g), b = mean; spec 002 §3.7, the
     Ferraris accelerometer step) treats the nominal face directions as exact; faces

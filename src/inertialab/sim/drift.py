@@ -302,7 +302,7 @@ def mackey_glass(n: int, *, tau: float = 17.0, dt: float = 0.1, t_start: int = 1
     Fourth-order Runge-Kutta with step ``dt`` (the delayed value at half steps is the
     mean of its neighbours), x(t) = 0 for t < 0 and x(0) = ``x0``; tau = 17 gives the
     chaotic regime. Jang (1993), IEEE Trans. SMC 23, §V example 3 uses this set-up
-    (t from 118); issue 18 item 9 takes it as the NAR's learner benchmark.
+    (t from 118); the NAR's learner benchmark takes it.
     """
     lag = int(round(tau / dt))
     per = int(round(1 / dt))

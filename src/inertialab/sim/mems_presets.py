@@ -1,4 +1,4 @@
-"""Virtual-lab MEMS IMU logs that look like real ones (issue 14 item 1).
+"""Virtual-lab MEMS IMU logs that look like real ones.
 
 A static MEMS gyro (or accelerometer) axis logged at its output data rate ``fs``
 (100–1000 Hz) for 2–20 h. Each sample is, in the preset's report rate unit (deg/h for

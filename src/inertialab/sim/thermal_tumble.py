@@ -7,7 +7,7 @@ wander, first-order element and sensor lag integrated with 1-s Euler steps, bias
 random walk, white noise, dividing-head angle errors, voltmeter resolution) and
 returns the spec 000 §2.3 record with its ``true_*`` columns.
 
-Random streams (fixed order, DESIGN.md "Randomness"):
+Random streams (fixed order, so the same seed gives the same numbers):
 ``SeedSequence(lot_seed)`` child 0 = the rig (dividing-head angle errors shared by
 every run of the lot's rig), child ``1 + i`` = unit ``i``; the run noise comes from
 ``seed`` (default ``lot_seed``), drawn in the order chamber offsets/amplitudes/phases,
@@ -255,7 +255,7 @@ def run_tumble(lot: Lot, unit: UnitParams | int, *, seed=None, schedule: Schedul
     unit : UnitParams or int
         The unit or its index in the lot.
     seed : int or None
-        Run-noise seed (default: the lot seed, CONTRACTS.md).
+        Run-noise seed (default: the lot seed).
     schedule : Schedule, optional
         Defaults: -40..70 °C every 5 °C, 30-min soak, 24 positions of 10 s settle +
         10 s record, ascending.

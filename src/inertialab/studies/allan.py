@@ -1,4 +1,4 @@
-"""Study ``allan`` (issue 3): the Allan family on the virtual lab with known noise.
+"""Study ``allan``: the Allan family on the virtual lab with known noise.
 
 The ``allan-test`` record with known Q N B K (:mod:`inertialab.sim.gyro_static`) analysed
 by :func:`inertialab.workflows.allan.analyze`, and the recovery of N, K and B over seeds
@@ -35,8 +35,8 @@ class QuickSettings:
 
 @dataclass(frozen=True)
 class FullSettings:
-    """Demo (full): 10 h allan-test record at 10 Hz; recovery on 20 seeds (issue 3's
-    acceptance count) of the 10-h identification presets."""
+    """Demo (full): 10 h allan-test record at 10 Hz; recovery on 20 seeds of the
+    10-h identification presets (the spec's acceptance count)."""
 
     seed: int = 0
     hours: float = 10.0

@@ -1,7 +1,7 @@
 """The demo: run the registered studies on the virtual lab with QUICK or FULL settings.
 
 Used by ``inertialab demo`` and by ``benchmarks/demo.py`` (which measures the time
-budgets of issue 9: full run <= 3 min, quick <= 60 s on 2 cores).
+budgets of: full run <= 3 min, quick <= 60 s on 2 cores).
 """
 
 from __future__ import annotations

@@ -45,7 +45,7 @@ class FullSettings(QuickSettings):
 def _eq21(fit: CalibrationFit, a, ref, phi=None):
     """Eq. 21 in the fit's own frame: S12 fits against the references turned by their own
     fitted mount rotation, the others against the unturned references (how the paper's
-    and, until issue 17 item 7, this project's turntable figure scored them)."""
+    and, until the sensor-frame scoring, this project's turntable figure scored them)."""
     target = ref if phi is None else ref @ tx.rotation(phi).T
     return vector_error(target, tx.correct(fit.x, a))
 
@@ -62,7 +62,7 @@ def sensor_frame_truth(rec) -> np.ndarray:
 
 
 def eq21_sensor_frame(fit: CalibrationFit, a, truth) -> object:
-    """Eq. 21 of every method against the same sensor-frame truth (issue 17 item 7)."""
+    """Eq. 21 of every method against the same sensor-frame truth."""
     return vector_error(truth, tx.correct(fit.x, a))
 
 

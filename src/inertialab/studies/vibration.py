@@ -1,4 +1,4 @@
-"""Study ``vibration`` (spec 001, issue 4): the FOG-under-vibration paper on the virtual lab.
+"""Study ``vibration`` (spec 001): the FOG-under-vibration paper on the virtual lab.
 
 Quick and full settings, the virtual-lab sweep and fixed runs
 (:mod:`inertialab.sim.fog_vibration`) and the module-level :data:`STUDY` the demo runs;
