@@ -183,6 +183,44 @@ def _line(r) -> str:
             f"R{'*' if r['R_sig'] else ''} {r['cpu_s']:.1f}s")
 
 
+def run(quick: bool = False) -> dict:
+    """``python -m benchmarks real_logs``: both shared logs, WLS and GMWM (quick: WLS on
+    one log); skipped with the reason where the logs or ``pyreadr`` are absent."""
+    if not SHARED.exists():
+        return {"skipped": f"no real logs at {SHARED}"}
+    try:
+        import pyreadr  # noqa: F401
+    except ImportError:
+        return {"skipped": "pyreadr is not installed (pip install pyreadr)"}
+    load0 = os.getloadavg()[0]
+    rows = run_logs(["imu3"] if quick else list(LOGS), ["wls"] if quick else ["wls", "gmwm"])
+    return {"rows": rows, "load_1min": [load0, os.getloadavg()[0]]}
+
+
+def markdown(result: dict) -> str:
+    """The per-axis check table of docs/results.md."""
+    out = ["## Noise terms on real static logs (ADIS16405, 2 x 2.8 h)", ""]
+    if "skipped" in result:
+        return "\n".join(out + [f"Not run: {result['skipped']}."])
+    out += ["Checks of docs/noise-terms.md §10 per axis: B over the textbook reading "
+            "(B within the curve's simultaneous 95 % limit: yes/no), N over the white-noise "
+            "reading at 16 samples, the share of fitted taus where the model lies inside the "
+            "curve's 95 % interval (target >= 90 %), a significant rise named, all checks.", "",
+            "| log | axis | method | B/textbook (within limit) | N/white | model inside | "
+            "rise named | all |", "|---|---|---|---|---|---|---|---|"]
+    for r in result["rows"]:
+        out.append(f"| {r['log']} | {r['axis']} | {r['method']} | "
+                   f"{r['B_over_textbook']:.2f} ({'yes' if r['ok_B'] else 'no'}) | "
+                   f"{r['N_over_white']:.3f} | {100 * r['inside_share']:.0f} % | "
+                   f"{'-' if not r['rise'] else ('yes' if r['rise_named'] else 'no')} | "
+                   f"{'pass' if r['ok'] else 'fail'} |")
+    n = sum(r["ok"] for r in result["rows"])
+    lo, hi = result.get("load_1min", [float("nan")] * 2)
+    out += ["", f"{n} of {len(result['rows'])} fits pass every check (machine load "
+                f"{lo:.1f}-{hi:.1f})."]
+    return "\n".join(out)
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--log", action="append", help="imu3, imu4 or a CSV path")
