@@ -82,7 +82,7 @@ def _subset_solutions(A, B, free, nonneg):
     ``nonneg`` columns, for a stack of designs at once.
 
     ``A``: (n_design, k, p) scaled weighted designs; ``B``: (n_b, k) weighted right-hand
-    sides, or (n_design, n_b, k) with one set per design. Returns ``(c, chi)`` with ``c``: (n_design, n_b, p) and ``chi``: (n_design, n_b),
+    sides. Returns ``(c, chi)`` with ``c``: (n_design, n_b, p) and ``chi``: (n_design, n_b),
     the least chi-square over the supports whose ``nonneg`` coefficients are all >= 0.
 
     This is the exact NNLS optimum (the constrained optimum is the unconstrained one on
@@ -92,20 +92,19 @@ def _subset_solutions(A, B, free, nonneg):
     one scipy ``nnls`` call per problem cost 8 of the quick demo's 9.3 s in per-call
     overhead (measured with cProfile)."""
     nd, k, p = A.shape
-    nb = B.shape[-2]
-    B = np.broadcast_to(B, (nd, nb, k))
+    nb = B.shape[0]
     best_c = np.zeros((nd, nb, p))
     best_chi = np.full((nd, nb), math.inf)
     for r in range(len(nonneg) + 1):
         for S in itertools.combinations(nonneg, r):
             cols = list(free) + list(S)
             if not cols:
-                chi = np.sum(B * B, axis=2)
+                chi = np.broadcast_to(np.sum(B * B, axis=1), (nd, nb))
                 c = np.zeros((nd, nb, 0))
             else:
                 As = A[:, :, cols]
-                c = np.einsum("dpk,dbk->dbp", np.linalg.pinv(As, rcond=1e-13), B)
-                res = B - np.einsum("dkp,dbp->dbk", As, c)
+                c = np.einsum("dpk,bk->dbp", np.linalg.pinv(As, rcond=1e-13), B)
+                res = B[None, :, :] - np.einsum("dkp,dbp->dbk", As, c)
                 chi = np.sum(res * res, axis=2)
                 if S:
                     chi = np.where(np.all(c[:, :, len(free):] >= 0.0, axis=2), chi, math.inf)
@@ -129,7 +128,8 @@ def _wnnls_many(Xs, B, w, active):
     scale[scale == 0] = 1.0
     free = [0] if 0 in cols else []
     nonneg = [i for i, j in enumerate(cols) if j != 0]
-    cs, chi = _subset_solutions(A / scale[:, None, :], np.atleast_2d(B) * sw, free, nonneg)
+    cs, chi = _subset_solutions(A / scale[:, None, :], np.atleast_2d(B) * sw[None, :],
+                                free, nonneg)
     c = np.zeros(cs.shape[:2] + (5,))
     c[:, :, cols] = cs / scale[:, None, :]
     return c, chi
