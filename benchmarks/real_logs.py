@@ -101,8 +101,6 @@ def check_terms(res, terms) -> dict:
     ``res`` (a 95 % DeviationResult)."""
     from inertialab.noise.edf import chi2_interval
 
-    conv_b = terms.B.value / (math.sqrt(max(terms.coefficients[2], 0)) / BI) \
-        if terms.coefficients[2] and terms.coefficients[2] > 0 else float("nan")
     taus = np.asarray(res.taus_s)
     dev = np.asarray(res.dev)
     lo_fit, hi_fit = terms.tau_range_s
@@ -140,7 +138,7 @@ def check_terms(res, terms) -> dict:
         "inside_share": float(inside.mean()), "ok_model": bool(inside.mean() >= 0.90),
         "rise": rise, "rise_named": named, "ok_rise": bool(not rise or named),
         "K": terms.K.value, "K_sig": "upper_bound" not in terms.K.flags,
-        "R_sig": "upper_bound" not in terms.R.flags, "conv": conv_b,
+        "R_sig": "upper_bound" not in terms.R.flags,
     }
     row["ok"] = row["ok_B"] and row["ok_N"] and row["ok_model"] and row["ok_rise"]
     return row
