@@ -1,4 +1,4 @@
-"""Noise-core benchmark (issue 3): correctness oracles, recovery, CI coverage, and speed
+"""Noise-core benchmark: correctness oracles, recovery, CI coverage, and speed
 and memory of octave OADEV beside allantools on the same data in the same run.
 
 Speed cases run in fresh child processes (one per library and size): ``extra_mb`` is
@@ -252,7 +252,7 @@ def recovery(seeds: int = 20) -> dict:
     return out
 
 
-# ----------------------------------------------------------------------------- issue 15 item 5
+# ----------------------------------------------------------------------------- speed and memory
 
 #: The core statistics compared per statistic (same name in allantools).
 CORE = ("adev", "oadev", "mdev", "tdev", "hdev", "ohdev", "totdev")
@@ -730,14 +730,14 @@ def main(argv=None) -> int:
 
 
 def _markdown_issue15(result: dict) -> list[str]:
-    """Sections of issue 15 item 5 (speed and memory of every statistic)."""
+    """Sections on the speed and memory of every statistic."""
     lines = []
     for key in ("stat_speed_1e7", "stat_speed_1e5", "all_speed_1e4"):
         blocks = result.get(key)
         if not blocks:
             continue
         for b in (blocks if isinstance(blocks, list) else [blocks]):
-            lines += ["", f"**Every core statistic beside allantools** (issue 15 item 5), n = "
+            lines += ["", f"**Every core statistic beside allantools**, n = "
                           f"{b['n']:.0e}, {b['taus']} taus, {b['data']}; least CPU of "
                           f"{b['repeats']} alternated runs in one process, our intervals "
                           f"included (load {b.get('load_before', float('nan')):.1f} on 2 "
@@ -814,7 +814,7 @@ def _f(v, spec=".3g"):
 
 
 def markdown(result: dict) -> str:
-    lines = ["## Noise core: Allan family, confidence intervals, noise terms (issue 3)", ""]
+    lines = ["## Noise core: Allan family, confidence intervals, noise terms", ""]
     orc = result["oracle"]
     ok = sum(sum(v["matches_7_digits"]) for v in orc.values())
     tot = sum(len(v["matches_7_digits"]) for v in orc.values())
@@ -831,7 +831,7 @@ def markdown(result: dict) -> str:
               f"m = {cv['m']}: " + ", ".join(f"{c:.1%}" for c in cv["coverage"])
               + " (spec 001 check 8 band: 64–73 %).", ""]
     s = result["recovery"]["summary"]
-    lines += ["**Noise-term recovery**, 10-h records at 10 Hz, WLS (issue 3: N and K within 5 %, "
+    lines += ["**Noise-term recovery**, 10-h records at 10 Hz, WLS (N and K within 5 %, "
               "B within 20 % in at least 18 of 20 seeds):", "",
               "| check | ours | target |", "|---|---|---|",
               f"| N within 5 % (both presets) | {s['N_within_5pct'][0]}/{s['N_within_5pct'][1]} "
@@ -869,7 +869,7 @@ def markdown(result: dict) -> str:
         if key not in result:
             continue
         cs = result[key]
-        lines += ["", f"**Every statistic beside allantools** (issue 15), n = {cs['n']:.0e}, "
+        lines += ["", f"**Every statistic beside allantools**, n = {cs['n']:.0e}, "
                       f"{cs['taus']} taus, least CPU of {cs['repeats']} alternated runs, our "
                       f"intervals included; {cs['data']}:", "",
                   "| statistic | taus | max m | inertialab CPU s | allantools CPU s | ratio | "
@@ -879,8 +879,8 @@ def markdown(result: dict) -> str:
                          f"{_f(r['inertialab_cpu_s'])} | {_f(r['allantools_cpu_s'])} | "
                          f"{_f(r['cpu_ratio'], '.1f')}x | {_f(r['max_rel_diff'], '.1e')} |")
     lines += _markdown_issue15(result)
-    lines += ["", "Targets: issue 3, at least 5x less CPU than allantools at 1e7 and extra memory "
-                  "at most one copy of the input; issue 15 item 5, every statistic >= 5x at 1e7 "
+    lines += ["", "Targets: at least 5x less CPU than allantools at 1e7 and extra memory "
+                  "at most one copy of the input, every statistic >= 5x at 1e7 "
                   "and >= 2x at 1e5 (octave), no slower at taus='all' 1e4, Theo1 >= 10x at 1e5, "
                   "out of core <= 2x the in-memory CPU with equal numbers (1e-12). EDF: Greenhall "
                   "& Riley (2003) for ADEV..OHDEV, SP 1065 Table 7 for TOTDEV; allantools computes "

@@ -1,4 +1,4 @@
-"""Fleet engine (issue 10): a lot of triaxial units serial vs a 2-worker Dask LocalCluster,
+"""Fleet engine: a lot of triaxial units serial vs a 2-worker Dask LocalCluster,
 and the chunked Allan deviation of a long .npy log serial vs Dask.
 
 ``run(quick)`` returns wall and CPU times with the seeds and sizes; ``markdown`` writes the
@@ -79,7 +79,7 @@ def run(quick: bool = False) -> dict:
 def markdown(result: dict) -> str:
     s, lot, al = result["settings"], result["lot"], result["allan"]
     return "\n".join([
-        "## Fleets on Dask (issue 10)",
+        "## Fleets on Dask",
         "",
         f"Lot of {s['n_units']} simulated triaxial units ({s['lot']}, seed {s['seed']}), "
         f"{s['method']}, on {s['cpus']} CPUs (1-minute load average at the start: "

@@ -1,8 +1,8 @@
-"""Demo time budgets (issue 9): the full demo within 3 minutes and ``--quick`` within 60 s
+"""Demo time budgets: the full demo within 3 minutes and ``--quick`` within 60 s
 on 2 cores, measured by running ``inertialab demo`` as a user does (a fresh process).
 
-The report stage (sections, figures drawn to PNG, ``index.html``, ``results.json``; issue 18
-item 11: "report figures render in under half of today's time") is measured on its own in
+The report stage (sections, figures drawn to PNG, ``index.html``, ``results.json``; target:
+the report figures render in under half of the earlier time) is measured on its own in
 a fresh process that runs the studies first: its CPU (this process and any drawing
 processes) and wall time, in one process and with the default number of drawing processes.
 With ``INERTIALAB_DEMO_BASELINE=<src dir of another checkout>`` the same stage of that
@@ -148,7 +148,7 @@ def run(quick: bool = False) -> dict:
 
 
 def markdown(result: dict) -> str:
-    lines = ["## Demo time budgets (issue 9)", "",
+    lines = ["## Demo time budgets", "",
              "| run | budget | wall time | exit | per study (s) |", "|---|---|---|---|---|"]
     for key, budget in (("quick", 60), ("full", 180)):
         r = result.get(key)
@@ -164,7 +164,7 @@ def markdown(result: dict) -> str:
                       f"on {result.get('report_stage_date_utc')}."]
     st = result.get("report_stage")
     if st:
-        lines += ["", "### Report stage (issue 18 item 11: figures in under half of the time)",
+        lines += ["", "### Report stage (figures in under half of the time)",
                   "", f"Sections, figures and `index.html`/`results.json` after the studies, "
                       f"in a fresh process; best of {st['repeats']} alternated runs; load "
                       f"average {st['load_before_after'][0][0]:.1f} before, "

@@ -57,7 +57,7 @@ def _nar_vs_linear(proc, n_seeds, split):
             "ratio_one_step_vs_ar": med(o_nar) / med(o_ar)}
 
 
-#: NAR settings compared on Mackey-Glass (issue 18 item 9): the spec 004 study's lag bound
+#: NAR settings compared on Mackey-Glass: the spec 004 study's lag bound
 #: H = 6 (§3.1 [R-2]) and the learner's generic default H = "auto" (largest bound the
 #: spec's m >= 10 H rule allows, :func:`inertialab.learn.nar.auto_lag_bound`); both with
 #: S = 10, R = 10, preset paper, order by kernel CV.
@@ -308,7 +308,7 @@ def markdown(r: dict) -> str:
     if "mackey_glass" in r:
         mg = r["mackey_glass"]
         L.append("")
-        L.append(f"**The NAR as a learner** (issue 18 item 9): {mg['series']}; "
+        L.append(f"**The NAR as a learner**: {mg['series']}; "
                  f"{mg['n_train']} training values before each of {len(mg['origins'])} origins "
                  f"(T = {mg['origins'][0]}, {mg['origins'][1]}, ...), refit at each, "
                  f"{mg['horizon']}-step closed-loop forecast; RMSE pooled over origins and "

@@ -1,4 +1,4 @@
-"""Noise-term coverage benchmark (issue 14 item 3): MEMS presets, 10-h records.
+"""Noise-term coverage benchmark: MEMS presets, 10-h records.
 
 For each preset of :mod:`inertialab.sim.mems_presets` and each seed: simulate a 10-h
 log, compute the octave overlapping Allan deviation, fit the terms by every method asked
@@ -6,7 +6,7 @@ for, and compare with the preset's truth. Reported per preset, method and term: 
 coverage of the 95 % interval (truth inside ``ci``; a non-significant term's interval is
 ``[0, upper]``), the median |relative error| and the median relative error (bias), the
 share of seeds where the term was reported significant, and the textbook B
-``min(sigma)/0.6643`` beside the IEEE B. Targets (issue 14): coverage of N, B, K within
+``min(sigma)/0.6643`` beside the IEEE B. Targets: coverage of N, B, K within
 90-98 %, median |error| N <= 2 %, B <= 10 %, K <= 15 %.
 
 Cost and resuming. Simulating a 10-h record and its Allan curve costs ~0.5 s (100 Hz) to
@@ -234,7 +234,7 @@ def _summary(rs):
 
 def _agreement(per: dict) -> dict:
     """Per method and term: share of the seeds fitted by both it and "wls" where each
-    method's value lies inside the other's interval (issue 14 item 2: the methods agree
+    method's value lies inside the other's interval (the methods agree
     within their intervals), with the count."""
     if "wls" not in per:
         return {}
@@ -335,7 +335,7 @@ def run(quick: bool = False, *, seeds: dict | None = None, hours: float = HOURS,
 
 def markdown(result: dict) -> str:
     seeds = result.get("seeds", {})
-    lines = ["## Noise terms on MEMS presets (issue 14)", "",
+    lines = ["## Noise terms on MEMS presets", "",
              f"{result['hours']:g}-h records of `sim.mems_presets`; 95 % intervals; seeds per "
              f"preset and method {seeds}. Targets: coverage of N, B, K 90-98 %, median "
              "|error| N <= 2 %, B <= 10 %, K <= 15 %. Computed with `python -m "

@@ -146,7 +146,7 @@ def _batch(n_units, check_every):
 
 
 def _stream(n_units: int, chunk: int = 10_000, solver_chunk: int = 2048) -> dict:
-    """Fleet streaming (issue 17 item 8): ``n_units`` made ``chunk`` at a time by the line
+    """Fleet streaming: ``n_units`` made ``chunk`` at a time by the line
     simulator and calibrated by :func:`iter_calibrate_batch`; peak traced memory (numpy
     allocations, tracemalloc) and CPU. The peak is set by the chunks, not by the fleet."""
     import tracemalloc
@@ -175,7 +175,7 @@ def _stream(n_units: int, chunk: int = 10_000, solver_chunk: int = 2048) -> dict
 
 
 def _turntable(seeds, max_generations):
-    """Eq.-21 RMSE/SD of every method against the same sensor-frame truth (issue 17 item 7),
+    """Eq.-21 RMSE/SD of every method against the same sensor-frame truth,
     and, for the record, in each fit's own frame (S12 against references turned by its own
     fitted phi, the others against unturned references: the unfair scoring of before)."""
     from inertialab.studies.triaxial import _eq21, eq21_sensor_frame, sensor_frame_truth
@@ -373,8 +373,8 @@ def markdown(r: dict) -> str:
     if lab.get("rmse_own_frame_mean") is not None:
         unfair = 100 * (1 - acs["rmse_own_frame_mean"] / lab["rmse_own_frame_mean"])
         line += (f" Scoring each fit in its own frame (S12 against references turned by its own "
-                 f"fitted φ̂, the others against unturned references), as this page did before "
-                 f"issue 17, gives {unfair:.0f} %: it charges the non-S12 methods with the mount "
+                 f"fitted φ̂, the others against unturned references), as this page did "
+                 f"before, gives {unfair:.0f} %: it charges the non-S12 methods with the mount "
                  "rotation itself.")
     L.append(line + " Our absolute errors are smaller than the paper's because the virtual "
              "rig's reference error (0.05°) and noise are those of spec §6.2, not of the "

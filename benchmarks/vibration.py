@@ -146,7 +146,7 @@ def run(quick: bool = False) -> dict:
                               for p in per],
             "K_A_over_raw": [p[f"t2_{rec}_A_over_raw"]["K"] for p in per],
             # the K ratio is read only where both fits report K as significant: the ratio
-            # of two upper bounds says nothing about K (issue 14: a term the data cannot
+            # of two upper bounds says nothing about K (a term the data cannot
             # support is flagged, not compared)
             "K_both_significant": [all(p[f"t2_{rec}_K_significant"].values()) for p in per],
             "K_ci": [p[f"t2_{rec}_K_ci"] for p in per],
