@@ -214,6 +214,93 @@ def _checked_size(cfg: DualLabConfig) -> tuple[int, int]:
     return N, S
 
 
+def _head_angles(cfg: DualLabConfig, g, theta: np.ndarray):
+    """The table angles of both passes with the head errors drawn (fixed draw order):
+    ``(psi1, psi2, delta0, delta_a, dtheta, phi)``, radians, ``phi`` of shape (2, P)."""
+    asec = units.ARCSEC
+    P = theta.size
+    psi1 = g.uniform(0, 2 * np.pi) if cfg.psi1 is None else float(cfg.psi1)
+    psi2 = g.uniform(0, 2 * np.pi)
+    delta0 = g.normal(0.0, cfg.head_zero_sd_arcsec) * asec
+    rand = g.standard_normal((2, P)) * cfg.head_random_sd_arcsec * asec
+    h = cfg.h
+    syst = cfg.head_a1_arcsec * asec * np.sin(theta + psi1)
+    if not cfg.systematic_only:
+        syst = syst + cfg.head_a2_arcsec * asec * np.sin(2 * theta + psi2)
+        rev = np.array([1.0, -1.0])[:, None] * cfg.head_reversal_arcsec * asec
+        dtheta = h * (syst[None, :] + rand + rev)
+    else:
+        dtheta = h * np.broadcast_to(syst, (2, P))
+    delta_a = cfg.delta_mount_rad + delta0
+    phi = theta[None, :] + delta_a + dtheta  # (2, P)
+    return psi1, psi2, delta0, delta_a, dtheta, phi
+
+
+def _sample_times(cfg: DualLabConfig, P: int):
+    """Sample times (s) of both passes, shape (2, P, samples per stop): stop j of a pass
+    arrives at j*(stop + move), the CW pass after the CCW pass. Also returns the offsets
+    within a stop, the run's length (s) and the settling mask of a stop."""
+    offs = np.concatenate([np.arange(cfg.n_settle_samples) * cfg.sample_dt_s,
+                           cfg.t_settle_s + np.arange(cfg.n_samples) * cfg.sample_dt_s])
+    stop_len = offs[-1] + cfg.move_s
+    arrive = np.empty((2, P))
+    arrive[0] = np.arange(P) * stop_len
+    arrive[1] = (P + np.arange(P)[::-1]) * stop_len  # CW visits P-1 .. 0
+    t = arrive[:, :, None] + offs[None, None, :]
+    return t, offs, 2 * P * stop_len, offs < cfg.t_settle_s
+
+
+def _temperatures(cfg: DualLabConfig, g, t: np.ndarray, t_run: float):
+    """Meter A, meter B and load-resistor temperatures (deg C) at the sample times, and
+    the reference temperature of the temperature coefficients."""
+    if cfg.noise_free:
+        ta = np.full(t.shape, cfg.t0_c)
+        tb = ta.copy()
+        tr = np.full(t.shape, cfg.r_t0_c)
+    else:
+        ramp = cfg.t0_c + cfg.temp_ramp_c * t / t_run
+        ta = ramp + g.normal(0, cfg.temp_noise_c, t.shape)
+        tb = ramp + g.normal(0, cfg.temp_noise_c, t.shape)
+        tr = cfg.r_t0_c + 0.02 + g.normal(0, cfg.temp_noise_c / 5, t.shape)
+    t_ref = cfg.t0_c + (0.0 if cfg.noise_free else cfg.temp_ramp_c / 2)
+    return ta, tb, tr, t_ref
+
+
+def _coef_at(coef: dict, cfg: DualLabConfig, t_ref: float, Ta, Tb) -> dict:
+    """The unit's coefficients with bias and scale factor moved by the meters'
+    temperatures ``Ta``, ``Tb`` (deg C) from ``t_ref``."""
+    bt, st = cfg.bias_tc_ug_per_c * 1e-6, cfg.sf_tc_ppm_per_c * 1e-6
+    c = dict(coef)
+    c["KA0"] = coef["KA0"] + bt * (Ta - t_ref)
+    c["kA1"] = coef["kA1"] + st * (Ta - t_ref)
+    c["KB0"] = coef["KB0"] + bt * (Tb - t_ref)
+    c["kB1"] = coef["kB1"] + st * (Tb - t_ref)
+    return c
+
+
+def _voltages(cfg: DualLabConfig, g, ua, ub, tr, shape) -> list:
+    """The DMM voltages (V) of both meters from their outputs (g): current through the
+    load resistor at temperature ``tr``, INL, noise and resolution; over range is an
+    :class:`InputError`."""
+    gfac = cfg.g_local_mps2 / units.G_STANDARD
+    volts = []
+    for j, u in enumerate((ua, ub)):
+        k1 = units.to_si(cfg.k1_nom_ma_per_g[j], "ma_per_g")
+        r = cfg.r_load_ohm[j] * (1.0 + cfg.r_alpha_per_c * (tr - cfg.r_t0_c))
+        v = u * k1 * r * gfac
+        if cfg.inl_kappa:
+            v = v + cfg.inl_kappa * v * np.abs(v) / cfg.dmm_range_v
+        if not cfg.noise_free:
+            v = v + g.standard_normal(shape) * cfg.dmm_noise_uv * 1e-6
+            q = cfg.dmm_resolution_uv * 1e-6
+            v = np.round(v / q) * q
+        if np.any(np.abs(v) > cfg.dmm_range_v):
+            raise InputError(f"simulated voltage exceeds the DMM range {cfg.dmm_range_v} V; "
+                             "lower r_load_ohm")
+        volts.append(v)
+    return volts
+
+
 def simulate_run(config: DualLabConfig | None = None, rng=None, *, coef: dict | None = None,
                  run_id: str = "run1") -> DualRun:
     """Simulate one CCW + CW tumble.
@@ -239,80 +326,18 @@ def simulate_run(config: DualLabConfig | None = None, rng=None, *, coef: dict | 
     N, S = _checked_size(cfg)
     P = N + 1
     theta_deg = np.arange(P) * 360.0 / N
-    theta = np.deg2rad(theta_deg)
-    asec = units.ARCSEC
-    # head error draws (fixed order)
-    psi1 = g.uniform(0, 2 * np.pi) if cfg.psi1 is None else float(cfg.psi1)
-    psi2 = g.uniform(0, 2 * np.pi)
-    delta0 = g.normal(0.0, cfg.head_zero_sd_arcsec) * asec
-    rand = g.standard_normal((2, P)) * cfg.head_random_sd_arcsec * asec
-    h = cfg.h
-    syst = cfg.head_a1_arcsec * asec * np.sin(theta + psi1)
-    if not cfg.systematic_only:
-        syst = syst + cfg.head_a2_arcsec * asec * np.sin(2 * theta + psi2)
-        rev = np.array([1.0, -1.0])[:, None] * cfg.head_reversal_arcsec * asec
-        dtheta = h * (syst[None, :] + rand + rev)
-    else:
-        dtheta = h * np.broadcast_to(syst, (2, P))
-    delta_a = cfg.delta_mount_rad + delta0
-    phi = theta[None, :] + delta_a + dtheta  # (2, P)
-    # timing: stop j of a pass arrives at j*(stop + move); CW pass after the CCW pass
-    offs = np.concatenate([np.arange(cfg.n_settle_samples) * cfg.sample_dt_s,
-                           cfg.t_settle_s + np.arange(cfg.n_samples) * cfg.sample_dt_s])
-    stop_len = offs[-1] + cfg.move_s
-    arrive = np.empty((2, P))
-    arrive[0] = np.arange(P) * stop_len
-    arrive[1] = (P + np.arange(P)[::-1]) * stop_len  # CW visits P-1 .. 0
-    t = arrive[:, :, None] + offs[None, None, :]
-    t_run = 2 * P * stop_len
-    settle = offs < cfg.t_settle_s
-    # temperatures
-    if cfg.noise_free:
-        ta = np.full(t.shape, cfg.t0_c)
-        tb = ta.copy()
-        tr = np.full(t.shape, cfg.r_t0_c)
-    else:
-        ramp = cfg.t0_c + cfg.temp_ramp_c * t / t_run
-        ta = ramp + g.normal(0, cfg.temp_noise_c, t.shape)
-        tb = ramp + g.normal(0, cfg.temp_noise_c, t.shape)
-        tr = cfg.r_t0_c + 0.02 + g.normal(0, cfg.temp_noise_c / 5, t.shape)
-    t_ref = cfg.t0_c + (0.0 if cfg.noise_free else cfg.temp_ramp_c / 2)
+    psi1, psi2, delta0, delta_a, dtheta, phi = _head_angles(cfg, g, np.deg2rad(theta_deg))
+    t, offs, t_run, settle = _sample_times(cfg, P)
+    ta, tb, tr, t_ref = _temperatures(cfg, g, t, t_run)
     used = ~settle[None, None, :] & np.ones(t.shape, bool)
-    bt, st = cfg.bias_tc_ug_per_c * 1e-6, cfg.sf_tc_ppm_per_c * 1e-6
-
-    def coef_at(Ta, Tb):
-        c = dict(coef)
-        c["KA0"] = coef["KA0"] + bt * (Ta - t_ref)
-        c["kA1"] = coef["kA1"] + st * (Ta - t_ref)
-        c["KB0"] = coef["KB0"] + bt * (Tb - t_ref)
-        c["kB1"] = coef["kB1"] + st * (Tb - t_ref)
-        return c
-
-    c_t = coef_at(ta, tb)
-    ua, ub = meter_outputs(phi[:, :, None], c_t, s_a=cfg.s_a, s_b=cfg.s_b, K3=cfg.K3)
+    ua, ub = meter_outputs(phi[:, :, None], _coef_at(coef, cfg, t_ref, ta, tb), s_a=cfg.s_a,
+                           s_b=cfg.s_b, K3=cfg.K3)
     if not cfg.noise_free:
         ua = ua + g.standard_normal(t.shape) * cfg.accel_noise_ug * 1e-6
         ub = ub + g.standard_normal(t.shape) * cfg.accel_noise_ug * 1e-6
     tr_amp = cfg.settle_transient_ug * 1e-6 * np.exp(-offs / 2.0) * settle
-    ua = ua + tr_amp
-    ub = ub - tr_amp
-    gfac = cfg.g_local_mps2 / units.G_STANDARD
-    volts = []
-    for j, u in enumerate((ua, ub)):
-        k1 = units.to_si(cfg.k1_nom_ma_per_g[j], "ma_per_g")
-        r = cfg.r_load_ohm[j] * (1.0 + cfg.r_alpha_per_c * (tr - cfg.r_t0_c))
-        v = u * k1 * r * gfac
-        if cfg.inl_kappa:
-            v = v + cfg.inl_kappa * v * np.abs(v) / cfg.dmm_range_v
-        if not cfg.noise_free:
-            v = v + g.standard_normal(t.shape) * cfg.dmm_noise_uv * 1e-6
-            q = cfg.dmm_resolution_uv * 1e-6
-            v = np.round(v / q) * q
-        if np.any(np.abs(v) > cfg.dmm_range_v):
-            raise InputError(f"simulated voltage exceeds the DMM range {cfg.dmm_range_v} V; "
-                             "lower r_load_ohm")
-        volts.append(v)
-    truth = coef_at(float(ta[used].mean()), float(tb[used].mean()))
+    volts = _voltages(cfg, g, ua + tr_amp, ub - tr_amp, tr, t.shape)
+    truth = _coef_at(coef, cfg, t_ref, float(ta[used].mean()), float(tb[used].mean()))
     truth = {k: float(v) for k, v in truth.items()}
     truth["delta_A"] = float(delta_a)
     truth["delta_B"] = float(delta_a + coef["eta"])
@@ -322,7 +347,7 @@ def simulate_run(config: DualLabConfig | None = None, rng=None, *, coef: dict | 
               "settle": settle}
     meta = _meta(cfg, seed if isinstance(seed, (int, np.integer)) else None)
     head = {"psi1": float(psi1), "psi2": float(psi2), "delta0_rad": float(delta0),
-            "a1_rad": float(h * cfg.head_a1_arcsec * asec), "h": float(h),
+            "a1_rad": float(cfg.h * cfg.head_a1_arcsec * units.ARCSEC), "h": float(cfg.h),
             "dtheta_rad": dtheta}
     run = DualRun(arrays=arrays, meta=meta, truth=truth, head=head, run_id=run_id)
     if history is not None:
