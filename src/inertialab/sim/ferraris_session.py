@@ -94,6 +94,115 @@ def _check_session(fs, g, placement_deg, angle_sigma_deg, rest_s, first_rest_s, 
                  f"{fs:g} Hz")
 
 
+def _hand(rng, placement_deg: float, angle_sigma_deg: float, senses):
+    """The hand's draws, in order: each face's tilt and heading, each turn's start tilt and
+    heading, the turn-angle errors and (when not given) the senses. Returns the
+    world-from-body attitudes of the faces and of the turns' starts, the senses and the
+    signed turn angles (rad)."""
+    sig = np.deg2rad(placement_deg)
+    atts = {}
+    for name in ("x_p", "x_a", "y_p", "y_a", "z_p", "z_a"):
+        tilt = rng.standard_normal(3) * sig
+        atts[name] = rotation(tilt) @ face_attitude(_UP[name], rng.uniform(0, 2 * np.pi))
+    turn_att = {}
+    for ax in "xyz":
+        tilt = rng.standard_normal(3) * sig
+        turn_att[ax] = rotation(tilt) @ face_attitude(_UP[f"{ax}_p"], rng.uniform(0, 2 * np.pi))
+    ang_err = rng.standard_normal(3) * np.deg2rad(angle_sigma_deg)
+    if senses is None:
+        senses = np.where(rng.uniform(size=3) < 0.5, -1.0, 1.0)
+    senses = np.asarray(senses, dtype=float)
+    return atts, turn_att, senses, senses * (2 * np.pi + ang_err)
+
+
+class _Timeline:
+    """World-from-body attitudes, body rates (rad/s) and a moving flag, sample by sample,
+    built from holds, smooth moves and turns about the vertical at rate ``fs`` (Hz)."""
+
+    def __init__(self, fs: float):
+        self.fs = fs
+        self.R, self.w, self.moving = [], [], []
+        self.cursor = 0
+
+    def _ramp(self, n: int):
+        """Raised-cosine progress 0 -> 1 over ``n`` samples and its time derivative (1/s)."""
+        tt = (np.arange(n) + 1) / n
+        return 0.5 * (1.0 - np.cos(np.pi * tt)), 0.5 * np.pi / (n / self.fs) * np.sin(np.pi * tt)
+
+    def _add(self, R, w, moving: bool, n: int):
+        self.R.append(R)
+        self.w.append(w)
+        self.moving.append(np.full(n, moving, dtype=bool))
+        self.cursor += n
+
+    def hold(self, R, n: int):
+        self._add(np.repeat(R[None], n, axis=0), np.zeros((n, 3)), False, n)
+
+    def move(self, R0, R1, n: int):
+        v = _log_so3(R0.T @ R1)  # body-frame axis: R(s) = R0 Exp(s v)
+        s, sdot = self._ramp(n)
+        self._add(np.einsum("ij,njk->nik", R0, rotation(s[:, None] * v[None, :])),
+                  sdot[:, None] * v[None, :], True, n)
+
+    def turn(self, R0, angle: float, n: int):
+        """Turn by ``angle`` (rad) about the world vertical; returns the final attitude."""
+        s, sdot = self._ramp(n)
+        psi = s * angle
+        c, sn = np.cos(psi), np.sin(psi)
+        Rz = np.zeros((n, 3, 3))
+        Rz[:, 0, 0], Rz[:, 0, 1], Rz[:, 1, 0], Rz[:, 1, 1], Rz[:, 2, 2] = c, -sn, sn, c, 1.0
+        up_body = R0.T @ np.array([0.0, 0.0, 1.0])
+        self._add(Rz @ R0, (sdot * angle)[:, None] * up_body[None, :], True, n)
+        return self.R[-1][-1]
+
+
+def _session_timeline(atts, turn_att, angles, fs: float, rest_s: float, first_rest_s: float,
+                      move_s: float, turn_s: float):
+    """The session: a first rest, the six faces (moves between rests), then for each axis
+    a move, a half rest, the turn and a half rest. Returns the attitudes (n, 3, 3), the
+    body rates (n, 3, rad/s), the moving flag (n,) and the sections
+    (``{name: {"start", "end"}}``, sample indices)."""
+    n_rest, n_first, n_move, n_turn = (int(round(v * fs)) for v in (rest_s, first_rest_s,
+                                                                     move_s, turn_s))
+    tl = _Timeline(fs)
+    sections: dict[str, dict] = {}
+    R_prev = atts["x_p"]
+    tl.hold(R_prev, n_first)
+    for name in ("x_p", "x_a", "y_p", "y_a", "z_p", "z_a"):
+        if name != "x_p":
+            tl.move(R_prev, atts[name], n_move)
+        start = tl.cursor
+        tl.hold(atts[name], n_rest)
+        sections[name] = {"start": start, "end": tl.cursor}
+        R_prev = atts[name]
+    for j, ax in enumerate("xyz"):
+        tl.move(R_prev, turn_att[ax], n_move)
+        tl.hold(turn_att[ax], n_rest // 2)
+        start = tl.cursor
+        R_end = tl.turn(turn_att[ax], angles[j], n_turn)
+        sections[f"{ax}_rot"] = {"start": start, "end": tl.cursor}
+        tl.hold(R_end, n_rest // 2)
+        R_prev = R_end
+    return (np.concatenate(tl.R), np.concatenate(tl.w), np.concatenate(tl.moving),
+            sections)
+
+
+def _columns(df: pd.DataFrame, acc, gyr, *, counts: bool, g: float) -> str:
+    """Add the accelerometer and gyro columns to ``df`` (16-bit counts, or m/s^2 and
+    deg/s); returns the ``units`` entry of the sidecar."""
+    if counts:
+        for j, c in enumerate("xyz"):
+            df[f"a{c}_lsb"] = np.round(acc[:, j] / g * LSB_PER_G)
+        for j, c in enumerate("xyz"):
+            df[f"g{c}_lsb"] = np.round(gyr[:, j] * GYRO_LSB_PER_DPS)
+        return "lsb"
+    for j, c in enumerate("xyz"):
+        df[f"a{c}_mps2"] = acc[:, j]
+    for j, c in enumerate("xyz"):
+        df[f"g{c}_dps"] = gyr[:, j]
+    return "mps2"
+
+
 def simulate_ferraris(*, seed=0, fs: float = FS_HZ, g: float = G_LOCAL,
                       placement_deg: float = 2.0, angle_sigma_deg: float = 1.0,
                       senses=None, rest_s: float = 6.0, first_rest_s: float = 5.0,
@@ -124,82 +233,9 @@ def simulate_ferraris(*, seed=0, fs: float = FS_HZ, g: float = G_LOCAL,
     T_g = GYRO_T.copy()  # raw rate per true rate (deg/s per deg/s)
     b_g = np.rad2deg(GYRO_BIAS)
     K_ga = K_GA_DPS_PER_MPS2 if k_ga_dps is None else np.asarray(k_ga_dps, dtype=float)
-    # ---- the hand: attitudes of the faces and the turns
-    sig = np.deg2rad(placement_deg)
-    atts = {}
-    for name in ("x_p", "x_a", "y_p", "y_a", "z_p", "z_a"):
-        tilt = rng.standard_normal(3) * sig
-        atts[name] = rotation(tilt) @ face_attitude(_UP[name], rng.uniform(0, 2 * np.pi))
-    turn_att = {}
-    for ax in "xyz":
-        tilt = rng.standard_normal(3) * sig
-        turn_att[ax] = rotation(tilt) @ face_attitude(_UP[f"{ax}_p"], rng.uniform(0, 2 * np.pi))
-    ang_err = rng.standard_normal(3) * np.deg2rad(angle_sigma_deg)
-    if senses is None:
-        senses = np.where(rng.uniform(size=3) < 0.5, -1.0, 1.0)
-    senses = np.asarray(senses, dtype=float)
-    angles = senses * (2 * np.pi + ang_err)
-    # ---- timeline of world-from-body attitudes and body rates
-    n_rest, n_first, n_move, n_turn = (int(round(v * fs)) for v in (rest_s, first_rest_s,
-                                                                     move_s, turn_s))
-    R_list, w_list, moving_list = [], [], []
-    sections: dict[str, dict] = {}
-    cursor = 0
-
-    def hold(R, n):
-        nonlocal cursor
-        R_list.append(np.repeat(R[None], n, axis=0))
-        w_list.append(np.zeros((n, 3)))
-        moving_list.append(np.zeros(n, dtype=bool))
-        cursor += n
-
-    def move(R0, R1, n):
-        nonlocal cursor
-        v = _log_so3(R0.T @ R1)  # body-frame axis: R(s) = R0 Exp(s v)
-        tt = (np.arange(n) + 1) / n
-        s = 0.5 * (1.0 - np.cos(np.pi * tt))
-        sdot = 0.5 * np.pi / (n / fs) * np.sin(np.pi * tt)
-        R_list.append(np.einsum("ij,njk->nik", R0, rotation(s[:, None] * v[None, :])))
-        w_list.append(sdot[:, None] * v[None, :])
-        moving_list.append(np.ones(n, dtype=bool))
-        cursor += n
-
-    def turn(R0, angle, n):
-        nonlocal cursor
-        tt = (np.arange(n) + 1) / n
-        s = 0.5 * (1.0 - np.cos(np.pi * tt))
-        sdot = 0.5 * np.pi / (n / fs) * np.sin(np.pi * tt)
-        psi = s * angle
-        c, sn = np.cos(psi), np.sin(psi)
-        Rz = np.zeros((n, 3, 3))
-        Rz[:, 0, 0], Rz[:, 0, 1], Rz[:, 1, 0], Rz[:, 1, 1], Rz[:, 2, 2] = c, -sn, sn, c, 1.0
-        R_list.append(Rz @ R0)
-        up_body = R0.T @ np.array([0.0, 0.0, 1.0])
-        w_list.append((sdot * angle)[:, None] * up_body[None, :])
-        moving_list.append(np.ones(n, dtype=bool))
-        cursor += n
-        return R_list[-1][-1]
-
-    R_prev = atts["x_p"]
-    hold(R_prev, n_first)
-    for name in ("x_p", "x_a", "y_p", "y_a", "z_p", "z_a"):
-        if name != "x_p":
-            move(R_prev, atts[name], n_move)
-        start = cursor
-        hold(atts[name], n_rest)
-        sections[name] = {"start": start, "end": cursor}
-        R_prev = atts[name]
-    for j, ax in enumerate("xyz"):
-        move(R_prev, turn_att[ax], n_move)
-        hold(turn_att[ax], n_rest // 2)
-        start = cursor
-        R_end = turn(turn_att[ax], angles[j], n_turn)
-        sections[f"{ax}_rot"] = {"start": start, "end": cursor}
-        hold(R_end, n_rest // 2)
-        R_prev = R_end
-    R_wb = np.concatenate(R_list)
-    w_body = np.concatenate(w_list)  # rad/s
-    moving = np.concatenate(moving_list)
+    atts, turn_att, senses, angles = _hand(rng, placement_deg, angle_sigma_deg, senses)
+    R_wb, w_body, moving, sections = _session_timeline(atts, turn_att, angles, fs, rest_s,
+                                                       first_rest_s, move_s, turn_s)
     n = R_wb.shape[0]
     t = np.arange(n) / fs
     f_body = g * R_wb[:, 2, :]  # specific force at rest: +g along the body's up
@@ -211,18 +247,7 @@ def simulate_ferraris(*, seed=0, fs: float = FS_HZ, g: float = G_LOCAL,
     meta = {"generator": GENERATOR, "generator_version": GENERATOR_VERSION, "rig": KIND,
             "seed": seed if isinstance(seed, (int, np.integer)) else None,
             "g_local_mps2": g, "fs_hz": fs}
-    if counts:
-        for j, c in enumerate("xyz"):
-            df[f"a{c}_lsb"] = np.round(acc[:, j] / g * LSB_PER_G)
-        for j, c in enumerate("xyz"):
-            df[f"g{c}_lsb"] = np.round(gyr[:, j] * GYRO_LSB_PER_DPS)
-        meta.update(units="lsb")
-    else:
-        for j, c in enumerate("xyz"):
-            df[f"a{c}_mps2"] = acc[:, j]
-        for j, c in enumerate("xyz"):
-            df[f"g{c}_dps"] = gyr[:, j]
-        meta.update(units="mps2")
+    meta.update(units=_columns(df, acc, gyr, counts=counts, g=g))
     truth = {"T_a": T_a, "b_a": b_a, "T_g_dps": T_g, "b_g_dps": b_g, "K_ga_dps": K_ga,
              "angles_rad": angles, "senses": senses, "sections": sections,
              "face_up_body": {k: v.T @ np.array([0.0, 0.0, 1.0]) for k, v in atts.items()},
