@@ -159,6 +159,66 @@ def _check_overrides(overrides: dict, s) -> None:
     bounded("acc_g", s.acc_g, 0, 1000)
 
 
+def _settings(preset: str, overrides: dict):
+    """The rig settings and the static FOG parameters of ``preset`` with ``overrides``
+    (fields of either), checked."""
+    if preset not in ("mid", "nav", "tactical"):
+        raise InputError(f"unknown preset {preset!r} (known: mid, nav, tactical)")
+    rig_keys = set(RigSettings.__dataclass_fields__)
+    fog_keys = set(GyroNoiseParams.__dataclass_fields__)
+    bad = set(overrides) - rig_keys - fog_keys
+    if bad:
+        raise InputError(f"unknown simulate option(s): {', '.join(sorted(bad))}")
+    s = replace(RigSettings(), **{k: v for k, v in overrides.items() if k in rig_keys})
+    p = gyro_preset(preset).with_(**{k: v for k, v in overrides.items() if k in fog_keys})
+    _check_overrides(overrides, s)
+    return s, p
+
+
+def _vibration_effects(t, f, on, s: RigSettings, e: VibrationEffects, fs: float,
+                       t_on: float, t_off: float):
+    """The vibration effects of spec 001 §6.3, deg/h: the lagged bias shift, the thermal
+    drift, the edge transients and the spectral lines."""
+    bv_in = np.where(on, bias_shift_dph(f, s.acc_g, e), 0.0)
+    bias_vib = first_order_lag(bv_in, e.bias_lag_s, fs)
+    thermal = thermal_drift_dph(t, t_on, t_off, e)
+    edge = edge_transient_dph(t, (t_on, t_off), e)
+    lines = vibration_lines_dph(drive_phase_rad(f, fs), f, fs, vib_on=on, effects=e)
+    return bias_vib, thermal, edge, lines
+
+
+def _meta(experiment: str, seed: int, preset: str, vibration: bool, s: RigSettings, p,
+          e: VibrationEffects, fs: float, t_on: float, t_off: float, p2_s: float) -> dict:
+    """The record's sidecar: the drive, the rig, the FOG grade and the effects."""
+    sweep = experiment == "sweep"
+    return {
+        "fs_hz": fs,
+        "experiment": experiment,
+        "sweep_law": "log" if sweep else None,
+        "sweep_rate_oct_per_min": s.sweep_oct_per_min if sweep else None,
+        "f_start_hz": s.f_start_hz if sweep else s.f_fixed_hz,
+        "f_end_hz": s.f_end_hz if sweep else s.f_fixed_hz,
+        "dwell_end_s": s.dwell_end_s if sweep else None,
+        "acc_g": s.acc_g,
+        "axis": "x",
+        "latitude_deg": s.latitude_deg,
+        "heading_deg": s.heading_deg,
+        "gyro_id": f"virtual-fog-{preset}",
+        "units": {"rate": "dph"},
+        "source": "virtual_lab",
+        "seed": int(seed),
+        "generator_version": GENERATOR_VERSION,
+        "preset": preset,
+        "vibration_effects": vibration,
+        "t_on_s": float(t_on),
+        "t_off_s": float(t_off),
+        "p2_s": float(p2_s),
+        "rig": asdict(s),
+        "fog": p.to_dict(),
+        "effects": e.to_dict(),
+    }
+
+
 def simulate(experiment: str = "fixed", seed: int = 0, preset: str = "mid", *,
              effects: VibrationEffects | None = None, vibration: bool = True,
              **overrides) -> FogVibrationRun:
@@ -185,16 +245,7 @@ def simulate(experiment: str = "fixed", seed: int = 0, preset: str = "mid", *,
     -------
     FogVibrationRun
     """
-    if preset not in ("mid", "nav", "tactical"):
-        raise InputError(f"unknown preset {preset!r} (known: mid, nav, tactical)")
-    rig_keys = set(RigSettings.__dataclass_fields__)
-    fog_keys = set(GyroNoiseParams.__dataclass_fields__)
-    bad = set(overrides) - rig_keys - fog_keys
-    if bad:
-        raise InputError(f"unknown simulate option(s): {', '.join(sorted(bad))}")
-    s = replace(RigSettings(), **{k: v for k, v in overrides.items() if k in rig_keys})
-    p = gyro_preset(preset).with_(**{k: v for k, v in overrides.items() if k in fog_keys})
-    _check_overrides(overrides, s)
+    s, p = _settings(preset, overrides)
     e = effects or VibrationEffects()
     fs = float(s.fs_hz)
     tau0 = 1.0 / fs
@@ -213,27 +264,19 @@ def simulate(experiment: str = "fixed", seed: int = 0, preset: str = "mid", *,
     # static output: Earth rate projection (b0 is added by the static model)
     earth = EARTH_RATE_DPH * math.cos(math.radians(s.latitude_deg)) * math.cos(
         math.radians(s.heading_deg))
-
-    # vibration effects (spec §6.3)
     if vibration:
-        bv_in = np.where(on, bias_shift_dph(f, s.acc_g, e), 0.0)
-        bias_vib = first_order_lag(bv_in, e.bias_lag_s, fs)
-        thermal = thermal_drift_dph(t, t_on, t_off, e)
-        edge = edge_transient_dph(t, (t_on, t_off), e)
-        lines = vibration_lines_dph(drive_phase_rad(f, fs), f, fs, vib_on=on, effects=e)
+        bias_vib, thermal, edge, lines = _vibration_effects(t, f, on, s, e, fs, t_on, t_off)
     else:
         bias_vib = thermal = edge = lines = np.zeros(n)
 
     effect = bias_vib + thermal + edge + lines
     comp = simulate_gyro_components(n, fs, p, int(seed), input_rate_dph=earth + effect,
                                     multipliers=mult)
-    rate = comp.rate_dph
     static = earth + p.b0_dph
     omega = static + comp.white + comp.bias_instability + comp.rrw + comp.ramp + effect
-
     record = pd.DataFrame({
         "t_s": t,
-        "rate_dph": rate,
+        "rate_dph": comp.rate_dph,
         "vib_on": on.astype(np.int8),
         "vib_freq_hz": f,
         "vib_acc_g": np.where(on, s.acc_g, 0.0),
@@ -251,30 +294,5 @@ def simulate(experiment: str = "fixed", seed: int = 0, preset: str = "mid", *,
         "true_static_dph": np.full(n, static),
         "true_rate_dph": omega,
     })
-    meta = {
-        "fs_hz": fs,
-        "experiment": experiment,
-        "sweep_law": "log" if experiment == "sweep" else None,
-        "sweep_rate_oct_per_min": s.sweep_oct_per_min if experiment == "sweep" else None,
-        "f_start_hz": s.f_start_hz if experiment == "sweep" else s.f_fixed_hz,
-        "f_end_hz": s.f_end_hz if experiment == "sweep" else s.f_fixed_hz,
-        "dwell_end_s": s.dwell_end_s if experiment == "sweep" else None,
-        "acc_g": s.acc_g,
-        "axis": "x",
-        "latitude_deg": s.latitude_deg,
-        "heading_deg": s.heading_deg,
-        "gyro_id": f"virtual-fog-{preset}",
-        "units": {"rate": "dph"},
-        "source": "virtual_lab",
-        "seed": int(seed),
-        "generator_version": GENERATOR_VERSION,
-        "preset": preset,
-        "vibration_effects": vibration,
-        "t_on_s": float(t_on),
-        "t_off_s": float(t_off),
-        "p2_s": float(p2_s),
-        "rig": asdict(s),
-        "fog": p.to_dict(),
-        "effects": e.to_dict(),
-    }
+    meta = _meta(experiment, seed, preset, vibration, s, p, e, fs, t_on, t_off, p2_s)
     return FogVibrationRun(record=record, meta=meta, truth=truth)
