@@ -220,7 +220,6 @@ CLI_FORBIDDEN = {"calib", "noise", "sensors", "learn", "optim", "regress"}
 LONG_FUNCTIONS = {
     "calib/triaxial.py:calibrate": 112, "noise/_octave.py:octave_sums": 158,
     "noise/allan.py:deviation": 164, "noise/allan_dask.py:oadev_dask": 109,
-    "sim/thermal_tumble.py:run_tumble": 106,
     "studies/triaxial.py:run_demo": 117, "workflows/vibration.py:run_from_frame": 108,
     "workflows/vibration.py:analyse": 125,
 }

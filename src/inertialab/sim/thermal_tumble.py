@@ -245,6 +245,79 @@ def _window_means(x: np.ndarray, starts: np.ndarray, length: int):
     return m, np.sqrt(var * length / max(length - 1, 1))
 
 
+def _plateaus(sch: Schedule):
+    """The plateaus' set points (deg C) and ramp directions (``up``, ``down``)."""
+    sp = sch.set_points()
+    plateaus = list(sp)
+    dirs = ["up"] * len(sp)
+    if sch.ramp == "up_down":
+        plateaus += list(sp[-2::-1])
+        dirs += ["down"] * (len(sp) - 1)
+    return np.asarray(plateaus), dirs
+
+
+def _temperatures(g, lot: Lot, sch: Schedule, tset: np.ndarray):
+    """Chamber, element and sensor temperatures (deg C) on a 1-s grid.
+
+    The chamber follows ``T_set + o_k + A_k sin(2 pi t/600 + phi_k)`` per plateau (the
+    draws, in this order: o, A, phi), the element and the sensor lag it (first order,
+    1-s Euler steps). Returns ``(t_el, t_s)``."""
+    n_pl = tset.size
+    pl_len = sch.soak_s + sch.n_positions * (sch.settle_s + sch.record_s)
+    t = np.arange(n_pl * pl_len + 1, dtype=float)
+    pl_idx = np.minimum((t // pl_len).astype(int), n_pl - 1)
+    o = g.uniform(-0.1, 0.1, n_pl)
+    A = g.uniform(0.05, 0.25, n_pl)
+    phi = g.uniform(0.0, 2 * np.pi, n_pl)
+    t_ch = tset[pl_idx] + o[pl_idx] + A[pl_idx] * np.sin(2 * np.pi * t / 600.0 + phi[pl_idx])
+
+    def lag(tau: float) -> np.ndarray:
+        a = 1.0 / tau  # 1-s Euler step: T[n+1] = T[n] + (T_ch[n] - T[n])/tau
+        y0 = tset[0] + o[0]
+        out = lfilter([a], [1.0, -(1.0 - a)], t_ch[:-1], zi=[(1.0 - a) * y0])[0]
+        return np.concatenate([[y0], out])
+
+    t_el = lag(lot.rig.tau_element_s)
+    return t_el, t_el if lot.preset.tau_sensor_s is None else lag(lot.preset.tau_sensor_s)
+
+
+def _windows(sch: Schedule, n_pl: int):
+    """The recording windows: plateau and position of each visit and its first sample
+    (s) on the 1-s grid."""
+    per_pos = sch.settle_s + sch.record_s
+    pl_len = sch.soak_s + sch.n_positions * per_pos
+    k_pl = np.repeat(np.arange(n_pl), sch.n_positions)
+    pos = np.tile(np.arange(sch.n_positions), n_pl)
+    starts = (k_pl * pl_len + sch.soak_s + pos * per_pos + sch.settle_s).astype(int)
+    return k_pl, pos, starts
+
+
+def _outputs(g, unit: UnitParams, rig: Rig, sch: Schedule, pos, hs, tel_mean, t_mid):
+    """The unit's recorded outputs (mV) at each visit. Draws, in order: the dividing
+    head's angle errors, white noise, random walk, the sample spread. Returns the nominal
+    and true inputs (g), the clean, recorded and true outputs and the outputs' sample
+    standard deviation (mV), with the samples per window."""
+    n_vis = pos.size
+    P = tumble_positions(sch.n_positions)
+    ang_nom = P.angle_deg[pos]
+    a_nom, p_nom = P.a_in_g[pos], P.a_pend_g[pos]
+    err = (rig.angle_error_arcsec[pos] + g.normal(0.0, rig.visit_angle_sd_arcsec, n_vis)) * ARCSEC
+    th = np.deg2rad(ang_nom) + err
+    a_true, p_true = np.sin(th), np.cos(th)
+    white = g.normal(0.0, rig.white_ug, n_vis)
+    dt_h = np.diff(np.concatenate([[0.0], t_mid])) / 3600.0
+    rw = np.cumsum(g.normal(0.0, 1.0, n_vis) * rig.random_walk_ug_per_rth * np.sqrt(dt_h))
+    k1 = unit.ref.k1
+    clean = unit.output_mv(tel_mean, a_true, p_true, hs)
+    noisy = clean + k1 * 1e-6 * (white + rw)
+    res = rig.resolution_mv
+    out = np.round(noisy / res) * res
+    true_out = unit.output_mv(tel_mean, a_nom, p_nom, hs)
+    n_samp = int(round(sch.rate_hz * sch.record_s))
+    out_std = k1 * 1e-6 * rig.sample_noise_ug * np.sqrt(g.chisquare(n_samp - 1, n_vis) / (n_samp - 1))
+    return ang_nom, a_nom, p_nom, a_true, clean, out, true_out, out_std, n_samp
+
+
 def run_tumble(lot: Lot, unit: UnitParams | int, *, seed=None, schedule: Schedule | None = None,
                run_id: str | None = None) -> TumbleRun:
     """Simulate one thermal tumble run of ``unit`` (spec 000 §7.4).
@@ -269,68 +342,19 @@ def run_tumble(lot: Lot, unit: UnitParams | int, *, seed=None, schedule: Schedul
         raise InputError("the schedule's number of positions differs from the rig's")
     seed = lot.lot_seed if seed is None else seed
     g = as_generator(seed)
-    rig = lot.rig
-    sp = sch.set_points()
-    plateaus = list(sp)
-    dirs = ["up"] * len(sp)
-    if sch.ramp == "up_down":
-        plateaus += list(sp[-2::-1])
-        dirs += ["down"] * (len(sp) - 1)
-    n_pl = len(plateaus)
-    per_pos = sch.settle_s + sch.record_s
-    pl_len = sch.soak_s + sch.n_positions * per_pos
-    n_t = n_pl * pl_len + 1
-    t = np.arange(n_t, dtype=float)
-    pl_idx = np.minimum((t // pl_len).astype(int), n_pl - 1)
-
-    # chamber: T_set + o_k + A_k sin(2 pi t/600 + phi_k)
-    o = g.uniform(-0.1, 0.1, n_pl)
-    A = g.uniform(0.05, 0.25, n_pl)
-    phi = g.uniform(0.0, 2 * np.pi, n_pl)
-    tset = np.asarray(plateaus)
-    t_ch = tset[pl_idx] + o[pl_idx] + A[pl_idx] * np.sin(2 * np.pi * t / 600.0 + phi[pl_idx])
-
-    def lag(tau: float) -> np.ndarray:
-        a = 1.0 / tau  # 1-s Euler step: T[n+1] = T[n] + (T_ch[n] - T[n])/tau
-        y0 = tset[0] + o[0]
-        out = lfilter([a], [1.0, -(1.0 - a)], t_ch[:-1], zi=[(1.0 - a) * y0])[0]
-        return np.concatenate([[y0], out])
-
-    t_el = lag(rig.tau_element_s)
-    t_s = t_el if lot.preset.tau_sensor_s is None else lag(lot.preset.tau_sensor_s)
-
-    # recording windows
-    k_pl = np.repeat(np.arange(n_pl), sch.n_positions)
-    pos = np.tile(np.arange(sch.n_positions), n_pl)
-    starts = (k_pl * pl_len + sch.soak_s + pos * per_pos + sch.settle_s).astype(int)
+    tset, dirs = _plateaus(sch)
+    t_el, t_s = _temperatures(g, lot, sch, tset)
+    k_pl, pos, starts = _windows(sch, tset.size)
     L = int(sch.record_s)
     tel_mean, _ = _window_means(t_el, starts, L)
     ts_mean, ts_std = _window_means(t_s, starts, L)
     n_vis = starts.size
     t_mid = starts + L / 2.0
     temp_meas = ts_mean + unit.temp_offset_c + g.normal(0.0, 0.01, n_vis)
-
-    # inputs: nominal and with dividing-head angle errors
-    P = tumble_positions(sch.n_positions)
-    ang_nom = P.angle_deg[pos]
-    a_nom, p_nom = P.a_in_g[pos], P.a_pend_g[pos]
-    err = (rig.angle_error_arcsec[pos] + g.normal(0.0, rig.visit_angle_sd_arcsec, n_vis)) * ARCSEC
-    th = np.deg2rad(ang_nom) + err
-    a_true, p_true = np.sin(th), np.cos(th)
     hs = np.where(np.asarray(dirs)[k_pl] == "up", 1.0, -1.0)
-
-    white = g.normal(0.0, rig.white_ug, n_vis)
-    dt_h = np.diff(np.concatenate([[0.0], t_mid])) / 3600.0
-    rw = np.cumsum(g.normal(0.0, 1.0, n_vis) * rig.random_walk_ug_per_rth * np.sqrt(dt_h))
+    ang_nom, a_nom, p_nom, a_true, clean, out, true_out, out_std, n_samp = _outputs(
+        g, unit, lot.rig, sch, pos, hs, tel_mean, t_mid)
     k1 = unit.ref.k1
-    clean = unit.output_mv(tel_mean, a_true, p_true, hs)
-    noisy = clean + k1 * 1e-6 * (white + rw)
-    res = rig.resolution_mv
-    out = np.round(noisy / res) * res
-    true_out = unit.output_mv(tel_mean, a_nom, p_nom, hs)
-    n_samp = int(round(sch.rate_hz * sch.record_s))
-    out_std = k1 * 1e-6 * rig.sample_noise_ug * np.sqrt(g.chisquare(n_samp - 1, n_vis) / (n_samp - 1))
-
     rid = run_id or f"{unit.unit_id}-run{seed}"
     frame = pd.DataFrame({
         "unit_id": unit.unit_id, "lot_id": unit.lot_id, "run_id": rid,
