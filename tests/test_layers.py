@@ -218,7 +218,7 @@ CLI_FORBIDDEN = {"calib", "noise", "sensors", "learn", "optim", "regress"}
 #: Functions still above 100 lines, with their current length as a ceiling (split them
 #: and shrink this list; nothing may join it). cli/ has none.
 LONG_FUNCTIONS = {
-    "calib/triaxial.py:calibrate": 112, "noise/_octave.py:octave_sums": 158,
+    "noise/_octave.py:octave_sums": 158,
     "noise/allan.py:deviation": 164, "noise/allan_dask.py:oadev_dask": 109,
     "studies/triaxial.py:run_demo": 117, "workflows/vibration.py:run_from_frame": 108,
     "workflows/vibration.py:analyse": 125,

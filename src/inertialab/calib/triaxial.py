@@ -337,6 +337,52 @@ def _six_faces(ref):
     return np.array(idx)
 
 
+def _checked_inputs(a, ref, method: str, objective: str):
+    """Records (n, 3), references (n, 3) or None and the objective's canonical name, or a
+    one-line error: a bad shape, an unknown method or objective, a scalar objective (or
+    the six-position method) without a reference for every record."""
+    a = np.asarray(a, dtype=float)
+    if a.ndim != 2 or a.shape[1] != 3:
+        raise InputError(f"records must have shape (n, 3), got {a.shape}")
+    if method not in METHODS:
+        raise InputError(f"unknown method '{method}' (use one of {', '.join(METHODS)})")
+    objective = OBJECTIVE_ALIASES.get(objective, objective)
+    if objective not in tx.OBJECTIVES:
+        raise InputError(f"unknown objective '{objective}' (use norm, norm2, scalar or scalar12)")
+    if ref is not None:
+        ref = np.asarray(ref, dtype=float)
+        if ref.shape != a.shape:
+            raise InputError(f"references must have shape {a.shape}, got {ref.shape}")
+        if not np.all(np.isfinite(ref)):
+            ref = None if np.all(~np.isfinite(ref)) else ref
+    needs_ref = objective in ("scalar", "scalar12") or method == "six-position"
+    if needs_ref and (ref is None or not np.all(np.isfinite(ref))):
+        what = "method 'six-position'" if method == "six-position" else f"objective '{objective}'"
+        raise MissingReferenceError(
+            f"{what} needs a reference direction for every record (ref_x/ref_y/ref_z, "
+            "pitch_deg/heading_deg or face); in field mode set argument 'objective' to 'norm'")
+    return a, ref, objective
+
+
+def _lm_fit(a, ref, objective, g, x_start, *, loss, f_scale, bounded, counts):
+    """The Levenberg-Marquardt fit from ``x_start`` (spec 002 §3.6): a robust loss
+    without ``f_scale`` takes 3 x the robust scale of a plain fit's residuals and starts
+    from it; ``bounded`` solves inside the search box of §3.2. Returns the solver's
+    result, the start it used and the wall time (s)."""
+    if loss != "linear" and f_scale is None:
+        plain = _lm(a, ref, objective, g, x_start)
+        f_scale = max(3.0 * 1.4826 * float(np.median(np.abs(plain.residuals))), 1e-12)
+        x_start = plain.x
+    lm_box = None
+    if bounded:
+        bx = tx.search_box(objective, center=x_start[:9] if counts else None)
+        lm_box = (bx[:, 0], bx[:, 1])
+    t0 = time.perf_counter()
+    res = _lm(a, ref, objective, g, x_start, loss=loss,
+              f_scale=1.0 if f_scale is None else f_scale, bounds=lm_box)
+    return res, x_start, time.perf_counter() - t0
+
+
 def calibrate(a, *, ref=None, method: str = "lm", objective: str = "norm", g: float = tx.G_PAPER,
               rng=0, counts: bool = False, pop_size: int = 25, max_generations: int = 1000,
               loss: str = "linear", f_scale: float | None = None,
@@ -385,26 +431,7 @@ def calibrate(a, *, ref=None, method: str = "lm", objective: str = "norm", g: fl
     UnderdeterminedError
         Too few records or a degenerate design (the message names the condition number).
     """
-    a = np.asarray(a, dtype=float)
-    if a.ndim != 2 or a.shape[1] != 3:
-        raise InputError(f"records must have shape (n, 3), got {a.shape}")
-    if method not in METHODS:
-        raise InputError(f"unknown method '{method}' (use one of {', '.join(METHODS)})")
-    objective = OBJECTIVE_ALIASES.get(objective, objective)
-    if objective not in tx.OBJECTIVES:
-        raise InputError(f"unknown objective '{objective}' (use norm, norm2, scalar or scalar12)")
-    if ref is not None:
-        ref = np.asarray(ref, dtype=float)
-        if ref.shape != a.shape:
-            raise InputError(f"references must have shape {a.shape}, got {ref.shape}")
-        if not np.all(np.isfinite(ref)):
-            ref = None if np.all(~np.isfinite(ref)) else ref
-    needs_ref = objective in ("scalar", "scalar12") or method == "six-position"
-    if needs_ref and (ref is None or not np.all(np.isfinite(ref))):
-        what = "method 'six-position'" if method == "six-position" else f"objective '{objective}'"
-        raise MissingReferenceError(
-            f"{what} needs a reference direction for every record (ref_x/ref_y/ref_z, "
-            "pitch_deg/heading_deg or face); in field mode set argument 'objective' to 'norm'")
+    a, ref, objective = _checked_inputs(a, ref, method, objective)
     if method == "six-position":
         return _fit_six(a, ref, g, refine=refine_faces, placement_rad=placement_rad)
     _check_design(a, ref, objective)
@@ -416,18 +443,8 @@ def calibrate(a, *, ref=None, method: str = "lm", objective: str = "norm", g: fl
         return _finish(a, ref, fit.x, None, "ellipsoid", "norm", g, None, 0, 1, True, wall,
                        fit.x, None)
     x_start, how = initial_estimate(a, objective=objective, g=g, ref=ref, counts=counts)
-    if loss != "linear" and f_scale is None:
-        plain = _lm(a, ref, objective, g, x_start)
-        f_scale = max(3.0 * 1.4826 * float(np.median(np.abs(plain.residuals))), 1e-12)
-        x_start = plain.x
-    lm_box = None
-    if bounded:
-        bx = tx.search_box(objective, center=x_start[:9] if counts else None)
-        lm_box = (bx[:, 0], bx[:, 1])
-    t0 = time.perf_counter()
-    res = _lm(a, ref, objective, g, x_start, loss=loss,
-              f_scale=1.0 if f_scale is None else f_scale, bounds=lm_box)
-    wall = time.perf_counter() - t0
+    res, x_start, wall = _lm_fit(a, ref, objective, g, x_start, loss=loss, f_scale=f_scale,
+                                 bounded=bounded, counts=counts)
     if method == "lm":
         x = res.x
         phi = x[9:12] if objective == "scalar12" else None
