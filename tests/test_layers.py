@@ -220,7 +220,7 @@ CLI_FORBIDDEN = {"calib", "noise", "sensors", "learn", "optim", "regress"}
 LONG_FUNCTIONS = {
     "noise/_octave.py:octave_sums": 158,
     "noise/allan.py:deviation": 164, "noise/allan_dask.py:oadev_dask": 109,
-    "studies/triaxial.py:run_demo": 117, "workflows/vibration.py:run_from_frame": 108,
+    "workflows/vibration.py:run_from_frame": 108,
     "workflows/vibration.py:analyse": 125,
 }
 MAX_FUNCTION_LINES = 100

@@ -66,15 +66,12 @@ def eq21_sensor_frame(fit: CalibrationFit, a, truth) -> object:
     return vector_error(truth, tx.correct(fit.x, a))
 
 
-def run_demo(settings=None, progress=None) -> StudyResult:
-    """The ``triaxial`` study of ``inertialab demo``: turntable comparison, CS vs ACS, raw log."""
-    from inertialab.sim.triaxial_poses import GYRO_LSB_PER_RPS, simulate
+def _turntable(settings):
+    """Turntable realism (spec 002 §7.2): the 62-position record fitted by each method and
+    scored by eq. 21 against the sensor-frame truth. Returns the table rows, the fits, the
+    static data and the truth."""
+    from inertialab.sim.triaxial_poses import simulate
 
-    settings = settings or QuickSettings()
-    progress = progress or NullProgress()
-    t_start = time.perf_counter()
-    total = 3.0
-    # --- 1. turntable realism (§7.2)
     rec = simulate("turntable62-realistic", seed=settings.turntable_seed)
     sd = static_data_from_frame(rec.data, rec.meta)
     fits = {
@@ -87,7 +84,6 @@ def run_demo(settings=None, progress=None) -> StudyResult:
     if settings.acs_on_turntable:
         fits["ACS-S12"] = calibrate(sd.a, ref=sd.ref, method="acs", objective="scalar12", g=sd.g,
                                     rng=settings.seed, max_generations=settings.max_generations)
-    progress.update(1, total, "turntable")
     x_true = rec.truth["x"]
     truth = sensor_frame_truth(rec)
     rows = []
@@ -98,7 +94,12 @@ def run_demo(settings=None, progress=None) -> StudyResult:
                      "rmse_own_frame_mps2": own.rmse, "sd_own_frame_mps2": own.sd,
                      "max_param_error": float(np.max(np.abs(f.x - x_true))),
                      "J": f.J, "iterations": f.iterations, "nfev": f.nfev})
-    # --- 2. CS vs ACS convergence (§3.9 protocol, few seeds)
+    return rows, fits, sd, truth
+
+
+def _cs_acs(settings):
+    """CS vs ACS vs PSO convergence (spec 002 §3.9 protocol, a few seeds): the
+    histories and the generation at which each run converged (None: not)."""
     from inertialab.sim.triaxial_poses import simulate_static
 
     name = "sphere100-clean" if settings.cs_points == 100 else "sphere1000-clean"
@@ -114,8 +115,15 @@ def run_demo(settings=None, progress=None) -> StudyResult:
                    max_generations=settings.max_generations)
             hist[m].append(r.history)
             gens[m].append(r.converged_at if r.success else None)
-    progress.update(2, total, "CS vs ACS")
-    # --- 3. raw log in counts with a gyro
+    return hist, gens
+
+
+def _raw_log(settings):
+    """A raw 100 Hz log in counts with a gyro (spec 002 §7.3): static intervals,
+    accelerometer LM-norm, gyro by integration. Returns the record, its data, the run and
+    the largest accelerometer and gyro errors against the truth."""
+    from inertialab.sim.triaxial_poses import GYRO_LSB_PER_RPS, simulate
+
     raw = simulate("rawlog62-counts", seed=settings.rawlog_seed)
     d = raw.data
     data = raw_log_data(d["t_s"].to_numpy(), d[["ax_lsb", "ay_lsb", "az_lsb"]].to_numpy(),
@@ -126,17 +134,18 @@ def run_demo(settings=None, progress=None) -> StudyResult:
     Mt = raw.truth["gyro_M"] / GYRO_LSB_PER_RPS
     g_err = float(np.max(np.abs(run.gyro_fit.matrix - Mt)) * GYRO_LSB_PER_RPS)
     acc_err = float(np.max(np.abs(run.fit.x - raw.truth["x"])))
-    progress.update(3, total, "raw log")
+    return raw, data, run, acc_err, g_err
 
-    def mean_or_none(v):
-        v = [x for x in v if x is not None]
-        return float(np.mean(v)) if v else None
 
-    cs_mean, acs_mean = mean_or_none(gens["cs"]), mean_or_none(gens["acs"])
-    red = None if not (cs_mean and acs_mean) else 100.0 * (1 - acs_mean / cs_mean)
+def _mean_or_none(v):
+    v = [x for x in v if x is not None]
+    return float(np.mean(v)) if v else None
+
+
+def _headline(settings, rows, red, acc_err, g_err) -> list:
     by = {r["method"]: r for r in rows}
     lab, s12 = by["lab six-position (12 par.)"], by.get("ACS-S12", by["LM-S12"])
-    headline = [
+    return [
         Headline("turntable RMSE lab -> ACS/LM-S12 (eq. 21, sensor-frame truth)",
                  f"{lab['rmse_mps2']:.4f} -> {s12['rmse_mps2']:.4f}", "0.1103 -> 0.0826", "m/s^2"),
         Headline("turntable SD lab -> ACS/LM-S12", f"{lab['sd_mps2']:.4f} -> {s12['sd_mps2']:.4f}",
@@ -148,11 +157,41 @@ def run_demo(settings=None, progress=None) -> StudyResult:
                  "max over b (m/s^2), k (1), theta (rad)"),
         Headline("raw log gyro max |M_g err|", g_err, None, "rad/s per rad/s"),
     ]
+
+
+_TEXT = [
+    "Spec 002 on the virtual lab: a simulated MPU6050 (true errors of spec §6.1) on the "
+    "62-position turntable with mount rotation, 16-bit quantisation and a quadratic "
+    "mismatch; the six-position 'laboratory' baseline uses the six face positions of the 62. "
+    "Every method's eq.-21 error is scored against the same truth, the true gravity vectors "
+    "in the sensor frame (scoring S12 fits against references turned by their own fitted "
+    "mount rotation and the others against unturned ones inflated the gain to ~74 %).",
+    "CS, ACS and PSO share each seed's initial population and stop at J <= 1e-10 (§3.9).",
+    "A raw 100 Hz log in counts with gyro channels goes through static-interval detection "
+    "(threshold sweep), accelerometer LM-norm and gyro calibration by integration (§7.3).",
+]
+
+
+def run_demo(settings=None, progress=None) -> StudyResult:
+    """The ``triaxial`` study of ``inertialab demo``: turntable comparison, CS vs ACS, raw log."""
+    settings = settings or QuickSettings()
+    progress = progress or NullProgress()
+    t_start = time.perf_counter()
+    total = 3.0
+    rows, fits, sd, truth = _turntable(settings)
+    progress.update(1, total, "turntable")
+    hist, gens = _cs_acs(settings)
+    progress.update(2, total, "CS vs ACS")
+    raw, data, run, acc_err, g_err = _raw_log(settings)
+    d = raw.data
+    progress.update(3, total, "raw log")
+    cs_mean, acs_mean = _mean_or_none(gens["cs"]), _mean_or_none(gens["acs"])
+    red = None if not (cs_mean and acs_mean) else 100.0 * (1 - acs_mean / cs_mean)
     tables = {
         "turntable62_realistic": rows,
         "cs_acs": {"points": settings.cs_points, "seeds": settings.cs_seeds,
                    "generations": gens, "mean_cs": cs_mean, "mean_acs": acs_mean,
-                   "mean_pso": mean_or_none(gens["pso"]), "reduction_pct": red},
+                   "mean_pso": _mean_or_none(gens["pso"]), "reduction_pct": red},
         "rawlog62_counts": {"static_intervals": data.intervals.count, "k_thr": data.k_thr,
                             "accel_params": run.fit.params, "accel_max_abs_error": acc_err,
                             "gyro_matrix_max_abs_error": g_err,
@@ -169,20 +208,10 @@ def run_demo(settings=None, progress=None) -> StudyResult:
         "rawlog_acc": d[["ax_lsb", "ay_lsb", "az_lsb"]].to_numpy(),
         "rawlog_intervals": (data.intervals.start, data.intervals.stop),
     }
-    text = [
-        "Spec 002 on the virtual lab: a simulated MPU6050 (true errors of spec §6.1) on the "
-        "62-position turntable with mount rotation, 16-bit quantisation and a quadratic "
-        "mismatch; the six-position 'laboratory' baseline uses the six face positions of the 62. "
-        "Every method's eq.-21 error is scored against the same truth, the true gravity vectors "
-        "in the sensor frame (scoring S12 fits against references turned by their own fitted "
-        "mount rotation and the others against unturned ones inflated the gain to ~74 %).",
-        "CS, ACS and PSO share each seed's initial population and stop at J <= 1e-10 (§3.9).",
-        "A raw 100 Hz log in counts with gyro channels goes through static-interval detection "
-        "(threshold sweep), accelerometer LM-norm and gyro calibration by integration (§7.3).",
-    ]
     return StudyResult(name="triaxial", title="Triaxial accelerometer calibration (spec 002)",
-                       settings=settings_dict(settings), headline=headline, tables=tables,
-                       data=data_out, text=text, wall_s=time.perf_counter() - t_start)
+                       settings=settings_dict(settings),
+                       headline=_headline(settings, rows, red, acc_err, g_err), tables=tables,
+                       data=data_out, text=list(_TEXT), wall_s=time.perf_counter() - t_start)
 
 
 STUDY = Study(name="triaxial", title="Triaxial accelerometer calibration (spec 002)",
