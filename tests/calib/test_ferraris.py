@@ -157,3 +157,62 @@ def test_model_fixture_ferraris_v1_still_loads_and_applies():
     want_w = np.array([[-0.0054506114, 0.007351117, -0.0015776419],
                        [0.4935467686, 0.0501567982, -0.0277670934]])
     assert np.allclose(m.apply_gyro(pg, acc=a), want_w, rtol=1e-8, atol=1e-10)
+
+
+def test_model_fixture_ferraris_calibration_v1_loads_typed_and_applies():
+    # tests/data/models/ferraris-calibration-v1.json: the payload of the fixture above under
+    # the tag of its own class; same numbers out, and it serves where a triaxial
+    # calibration is asked for
+    from pathlib import Path
+
+    from inertialab.calib.base import GyroBlock, gyro_block
+    from inertialab.calib.model_types import load_model
+    from inertialab.calib.triaxial import TriaxialCalibration
+
+    models = Path(__file__).resolve().parents[1] / "data" / "models"
+    m = load_model(models / "ferraris-calibration-v1.json", expected_type="triaxial-calibration")
+    old = load_model(models / "triaxial-calibration-ferraris-v1.json")
+    assert type(m) is fr.FerrarisCalibration and isinstance(m, TriaxialCalibration)
+    assert type(old) is TriaxialCalibration  # the tag decides the class
+    assert isinstance(m.gyro, GyroBlock) and gyro_block(m) is m.gyro
+    assert m.to_dict() == old.to_dict()
+    pa = np.array([[0.3, -0.2, 9.9], [9.7, 0.1, 0.5]])
+    pg = np.array([[1.0, -0.5, 0.4], [30.0, 2.0, -1.0]])
+    a = m.apply(pa)
+    want_w = np.array([[-0.0054506114, 0.007351117, -0.0015776419],
+                       [0.4935467686, 0.0501567982, -0.0277670934]])
+    assert np.array_equal(a, old.apply(pa))
+    assert np.allclose(m.apply_gyro(pg, acc=a), want_w, rtol=1e-8, atol=1e-10)
+    # the typed block computes the same rates as the stored layout's formula
+    assert np.array_equal(m.gyro.apply(pg, acc=a), old.apply_gyro(pg, acc=a))
+    with pytest.raises(InputError, match="expected 'thermal-compensation'"):
+        load_model(models / "ferraris-calibration-v1.json", expected_type="thermal-compensation")
+    # a triaxial calibration does not serve where a Ferraris one is asked for
+    with pytest.raises(InputError, match="expected 'ferraris-calibration'"):
+        load_model(models / "triaxial-calibration-v1.json", expected_type="ferraris-calibration")
+
+
+def test_to_model_is_a_ferraris_calibration_that_round_trips(tmp_path):
+    from inertialab.calib.model_types import load_model, save_model
+
+    rec = simulate_ferraris(seed=2, placement_deg=0.5)
+    acc, gyr = arrays(rec)
+    f = fr.fit_ferraris(acc, gyr, FS, fr.detect_sections(acc, gyr, FS).sections, g=9.81)
+    m = fr.to_model(f, acc_unit="mps2", gyro_unit="dps", g=9.81, n_samples=len(acc))
+    assert type(m) is fr.FerrarisCalibration
+    assert np.array_equal(m.gyro.correction_matrix, f.M_g)
+    assert np.array_equal(m.gyro.g_sensitivity, f.K_ga)
+    assert m.gyro["turns"]["x_rot"]["sense"] == int(f.senses[0])
+    path = save_model(m, tmp_path / "m.json")
+    assert json.loads(path.read_text())["type"] == "ferraris-calibration"
+    back = load_model(path)
+    assert type(back) is fr.FerrarisCalibration
+    assert json.dumps(back.to_dict(), sort_keys=True, default=list) == \
+        json.dumps(m.to_dict(), sort_keys=True, default=list)
+    w = back.apply_gyro(gyr[:50], acc=back.apply(acc[:50]))
+    assert np.array_equal(w, m.apply_gyro(gyr[:50], acc=m.apply(acc[:50])))
+    # no gyro block: not a Ferraris calibration
+    d = m.to_dict()
+    d["gyro"] = None
+    with pytest.raises(InputError, match="no gyro block"):
+        fr.FerrarisCalibration.from_dict(d)

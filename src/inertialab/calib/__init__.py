@@ -1,6 +1,6 @@
 """The product models, one module each: ``triaxial`` (accelerometer + gyro field and
 turntable calibration, spec 002), ``ferraris`` (six faces + rotations, a
-``triaxial-calibration`` with a typed gyro block), ``thermal`` (spec 000), ``dual``
+``ferraris-calibration``: a triaxial calibration with a typed gyro block), ``thermal`` (spec 000), ``dual``
 (spec 003), ``vibration`` (spec 001), ``drift`` (spec 004). Each holds the estimator on
 arrays (no files, no records), its fitted artefact following the model contract of
 :mod:`inertialab.calib.base` (``MODEL_TYPE``, ``FORMAT_VERSION``, ``to_dict`` /
@@ -12,14 +12,14 @@ The public face, imported on first use::
 
     load_model save_model MODEL_TYPES (model_types)  ModelContract GyroBlock (base)
     TriaxialCalibration (triaxial)  ThermalModel (thermal)  DualCalibration (dual)
-    VibrationModel (vibration)  DriftModel (drift)  fit_ferraris (ferraris)
+    VibrationModel (vibration)  DriftModel (drift)  FerrarisCalibration fit_ferraris (ferraris)
 """
 
 _TYPES = ("load_model", "save_model", "MODEL_TYPES")
 _BASE = ("ModelContract", "GyroBlock", "gyro_block")
 
 __all__ = [*_TYPES, *_BASE, "TriaxialCalibration", "ThermalModel", "DualCalibration",
-           "VibrationModel", "DriftModel", "fit_ferraris"]
+           "VibrationModel", "DriftModel", "FerrarisCalibration", "fit_ferraris"]
 
 
 def __getattr__(name):  # PEP 562: the public face, imported on first use
@@ -37,7 +37,7 @@ def __getattr__(name):  # PEP 562: the public face, imported on first use
         from inertialab.calib import vibration as mod
     elif name == "DriftModel":
         from inertialab.calib import drift as mod
-    elif name == "fit_ferraris":
+    elif name in ("fit_ferraris", "FerrarisCalibration"):
         from inertialab.calib import ferraris as mod
     else:
         raise AttributeError(f"module 'inertialab.calib' has no attribute {name!r}")

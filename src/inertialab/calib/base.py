@@ -19,6 +19,7 @@ types (:mod:`inertialab.calib.model_types`) lists every class that follows it an
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import ClassVar, Protocol, runtime_checkable
 
@@ -51,12 +52,16 @@ _CORE = ("method", "raw_unit", "correction_matrix", "offset", "g_sensitivity", "
 
 
 @dataclass
-class GyroBlock:
+class GyroBlock(Mapping):
     """The gyro part of a triaxial calibration (Ferraris protocol or turntable fit).
 
     ``rate = correction_matrix @ (raw - offset - g_sensitivity @ acc)`` with ``raw`` in
     ``raw_unit``, ``rate`` in rad/s and ``acc`` the calibrated specific force in m/s^2
     (``g_sensitivity`` in raw unit per m/s^2; None when not estimated).
+
+    It also reads as a read-only mapping of its stored layout (:meth:`to_dict`:
+    ``block["offset"]``, ``block.get("g_sensitivity")``), so that code written for a
+    triaxial calibration's gyro dict reads a typed block unchanged.
 
     Attributes
     ----------
@@ -122,6 +127,15 @@ class GyroBlock:
         except (KeyError, TypeError, ValueError) as exc:
             raise InputError(f"not a valid gyro block ({exc})") from None
 
+    def __getitem__(self, key):
+        return self.to_dict()[key]
+
+    def __iter__(self):
+        return iter(self.to_dict())
+
+    def __len__(self) -> int:
+        return len(self.to_dict())
+
     def apply(self, raw, acc=None) -> np.ndarray:
         """Calibrated rates (rad/s) of raw gyro samples ``(n, 3)``; ``acc`` (m/s^2) is
         needed when the block corrects the g-sensitivity."""
@@ -137,5 +151,7 @@ class GyroBlock:
 def gyro_block(model) -> GyroBlock | None:
     """The typed gyro block of a triaxial calibration (None when it has none)."""
     g = getattr(model, "gyro", None)
-    return None if g is None else GyroBlock.from_dict(g)
+    if g is None or isinstance(g, GyroBlock):
+        return g
+    return GyroBlock.from_dict(g)
 

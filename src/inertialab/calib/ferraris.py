@@ -48,6 +48,43 @@ SECTIONS = FACE_SECTIONS + ROT_SECTIONS
 """imucal's section names, in its order."""
 
 
+# =========================================================================== model
+
+@dataclass
+class FerrarisCalibration(TriaxialCalibration):
+    """A Ferraris calibration (model-file tag ``"ferraris-calibration"``): the
+    accelerometer block of a :class:`~inertialab.calib.triaxial.TriaxialCalibration`
+    (``a = correction_matrix @ (raw - offset)``, m/s^2; ``method = "ferraris"``,
+    ``objective = "faces"``) and a typed gyro block, a
+    :class:`~inertialab.calib.base.GyroBlock` with the g-sensitivity:
+    ``omega = M_g (u_g - b_g - K_ga a)`` in rad/s.
+
+    It is a triaxial calibration: applied, exported and accepted wherever one is (a
+    model file asked for as ``triaxial-calibration`` may hold it), with the same payload
+    keys. Files written before this type existed carry the ``triaxial-calibration`` tag
+    and load as a :class:`TriaxialCalibration` with the same numbers.
+    """
+
+    MODEL_TYPE = "ferraris-calibration"
+    FORMAT_VERSION = 1
+    """Version of the payload layout (the triaxial one; fixture
+    ``tests/data/models/ferraris-calibration-v1.json``)."""
+
+    gyro: GyroBlock | None = None
+
+    def __post_init__(self):
+        if self.gyro is None:
+            raise InputError("a Ferraris calibration needs its gyro block")
+        if not isinstance(self.gyro, GyroBlock):
+            self.gyro = GyroBlock.from_dict(self.gyro)
+
+    @classmethod
+    def from_dict(cls, d: dict) -> FerrarisCalibration:
+        if not isinstance(d, dict) or d.get("gyro") is None:
+            raise InputError("not a valid ferraris-calibration payload (no gyro block)")
+        return super().from_dict(d)
+
+
 # =========================================================================== sections
 
 def sections_from_dict(d: dict, n: int, *, where="sections") -> dict[str, tuple[int, int]]:
@@ -340,13 +377,12 @@ def fit_ferraris(acc, gyro, fs: float, sections: dict, *, g: float, rotation_deg
 
 
 def to_model(fit: FerrarisFit, *, acc_unit: str, gyro_unit: str, g: float,
-             n_samples: int | None = None) -> TriaxialCalibration:
-    """The Ferraris fit as a :class:`TriaxialCalibration` (``method = "ferraris"``, model
-    type ``triaxial-calibration``): ``correction_matrix = M_a``, ``offset = b_a``; the
-    gyro block is a typed :class:`~inertialab.calib.base.GyroBlock` (stored as its
-    ``to_dict``; :func:`inertialab.calib.base.gyro_block` reads it back) carrying ``M_g``,
-    ``b_g`` and ``g_sensitivity`` = K_ga, the turns' senses and axes, so that
-    ``apply_gyro(raw, acc)`` gives ``M_g (raw - b_g - K_ga acc)``."""
+             n_samples: int | None = None) -> FerrarisCalibration:
+    """The Ferraris fit as a :class:`FerrarisCalibration` (``method = "ferraris"``):
+    ``correction_matrix = M_a``, ``offset = b_a``; the gyro block, a typed
+    :class:`~inertialab.calib.base.GyroBlock`, carries ``M_g``, ``b_g`` and
+    ``g_sensitivity`` = K_ga, the turns' senses and axes, so that ``apply_gyro(raw, acc)``
+    gives ``M_g (raw - b_g - K_ga acc)``."""
     ff = fit.faces
     stderr = dict.fromkeys(tx.PARAM_NAMES)
     if ff.cov is not None:
@@ -378,12 +414,12 @@ def to_model(fit: FerrarisFit, *, acc_unit: str, gyro_unit: str, g: float,
         extra={"turns": {s: {"sense": int(fit.senses[j]), "axis": fit.turn_axes[j].tolist()}
                          for j, s in enumerate(ROT_SECTIONS)},
                "rotation_deg": fit.rotation_deg})
-    return TriaxialCalibration(
+    return FerrarisCalibration(
         method="ferraris", objective="faces", params=dict(zip(tx.PARAM_NAMES, ff.x.tolist())),
         correction_matrix=ff.M, offset=ff.b, raw_unit=acc_unit, g_local=float(g),
         stderr=stderr, phi=None,
         residual_rms=float(np.sqrt(np.mean(ff.norm_residual ** 2))), iterations=0, nfev=0,
-        n_records=6, static_intervals=None if n_samples is None else 6, gyro=gyro.to_dict())
+        n_records=6, static_intervals=None if n_samples is None else 6, gyro=gyro)
 
 
 # =========================================================================== checks

@@ -20,6 +20,7 @@ from inertialab.calib import thermal as _thermal
 from inertialab.calib.base import format_version
 from inertialab.calib.drift import DriftModel
 from inertialab.calib.dual import DualCalibration
+from inertialab.calib.ferraris import FerrarisCalibration
 from inertialab.calib.thermal import ThermalModel
 from inertialab.calib.triaxial import TriaxialCalibration
 from inertialab.calib.vibration import VibrationModel
@@ -32,7 +33,7 @@ from inertialab.learn.poly import PolynomialRegressor
 from inertialab.learn.rbf import RBFNetwork
 from inertialab.noise.terms import NoiseTerms
 
-__all__ = ["MODEL_TYPES", "ModelType", "TYPES", "load_model", "save_model"]
+__all__ = ["MODEL_TYPES", "ModelType", "TYPES", "load_model", "save_model", "serves"]
 
 
 @dataclass(frozen=True)
@@ -84,6 +85,7 @@ _ENTRIES = (
     ModelType(VibrationModel, "calibration", VibrationModel.compensate),
     ModelType(ThermalModel, "calibration", _thermal.compensate),
     ModelType(TriaxialCalibration, "calibration", TriaxialCalibration.apply),
+    ModelType(FerrarisCalibration, "calibration", FerrarisCalibration.apply),
     ModelType(DualCalibration, "calibration", DualCalibration.predict_outputs),
     ModelType(DriftModel, "calibration", DriftModel.forecast),
 )
@@ -94,9 +96,25 @@ MODEL_TYPES: dict[str, ModelType] = {e.tag: e for e in _ENTRIES}
 TYPES: dict[str, type] = {tag: e.cls for tag, e in MODEL_TYPES.items()}
 
 
+def serves(tag: str, expected_type: str) -> bool:
+    """Whether a model of type ``tag`` may be used where ``expected_type`` is asked for:
+    the same type, or a registered subclass of its class (a ``ferraris-calibration`` is a
+    ``triaxial-calibration``)."""
+    if tag == expected_type:
+        return True
+    cls, base = TYPES.get(tag), TYPES.get(expected_type)
+    return cls is not None and base is not None and issubclass(cls, base)
+
+
 def load_model(path, *, expected_type: str | None = None):
     """Load a model file of any registered type (:func:`inertialab.io.modelfile.load_model`
-    with this registry); ``expected_type`` refuses a model of another type."""
+    with this registry); ``expected_type`` refuses a model of another type (a subtype,
+    :func:`serves`, is accepted)."""
+    if expected_type is not None and any(serves(t, expected_type) for t in TYPES
+                                         if t != expected_type):
+        tag = modelfile.read_envelope(path, types=TYPES)["type"]
+        if serves(tag, expected_type):
+            expected_type = tag
     return modelfile.load_model(path, types=TYPES, expected_type=expected_type)
 
 

@@ -186,7 +186,7 @@ class TriaxialCalibration:
                 n_records=int(d.get("n_records", 0)), static_intervals=d.get("static_intervals"),
                 gyro=gy, flags=[str(f) for f in (d.get("flags") or [])])
         except (KeyError, TypeError, ValueError) as exc:
-            raise InputError(f"not a valid triaxial-calibration payload ({exc})") from None
+            raise InputError(f"not a valid {cls.MODEL_TYPE} payload ({exc})") from None
 
 # =========================================================================== core fit
 

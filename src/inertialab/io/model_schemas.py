@@ -232,14 +232,18 @@ THERMAL = obj({
 }, optional=("unit_id",))
 
 _SIX = ("bx", "by", "bz", "kx", "ky", "kz", "theta_yz", "theta_zy", "theta_zx")
-TRIAXIAL = obj({
+_TRIAXIAL = {
     "method": text(), "objective": text(),
     "params": obj({k: num() for k in _SIX}),
     "correction_matrix": array(3, 3), "offset": array(3), "raw_unit": text(),
     "g_local": num(0.1, 100), "residual_rms": num(0, nullable=True),
-    "gyro": obj({"correction_matrix": array(3, 3), "offset": array(3), "raw_unit": text()},
-                nullable=True),
-}, optional=("gyro", "residual_rms"))
+}
+_GYRO = {"correction_matrix": array(3, 3), "offset": array(3), "raw_unit": text()}
+TRIAXIAL = obj({**_TRIAXIAL, "gyro": obj(_GYRO, nullable=True)},
+               optional=("gyro", "residual_rms"))
+#: A Ferraris calibration: the triaxial payload with its gyro block and g-sensitivity.
+FERRARIS = obj({**_TRIAXIAL, "gyro": obj({**_GYRO, "g_sensitivity": array(3, 3)})},
+               optional=("residual_rms",))
 
 DUAL = obj({
     "method": text(), "coef": mapping(num(), min_len=1), "sd": mapping(num(0, nullable=True)),
@@ -267,6 +271,7 @@ SCHEMAS: dict[str, Check] = {
     "vibration-compensation": VIBRATION,
     "thermal-compensation": THERMAL,
     "triaxial-calibration": TRIAXIAL,
+    "ferraris-calibration": FERRARIS,
     "dual-calibration": DUAL,
     "storage-drift": DRIFT,
 }

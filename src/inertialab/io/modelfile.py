@@ -143,8 +143,8 @@ def _walk(obj) -> tuple[int, str | None, _NonFinite | None]:
 
 #: Type tag -> the name a user knows the model by (messages).
 MODEL_NAMES = {"thermal-compensation": "thermal", "triaxial-calibration": "triaxial",
-               "vibration-compensation": "vibration", "dual-calibration": "dual",
-               "storage-drift": "drift"}
+               "ferraris-calibration": "ferraris", "vibration-compensation": "vibration",
+               "dual-calibration": "dual", "storage-drift": "drift"}
 
 
 def _model_name(tag) -> str:

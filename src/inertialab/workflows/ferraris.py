@@ -7,7 +7,8 @@
   (:func:`inertialab.calib.ferraris.detect_sections`).
 - :func:`fit` (session, :class:`Config` -> :class:`FerrarisRun`): the estimator of
   :mod:`inertialab.calib.ferraris`, its plausibility checks (refused unless ``force``),
-  and the model, a ``triaxial-calibration`` (``method = "ferraris"``) that
+  and the model, a :class:`~inertialab.calib.ferraris.FerrarisCalibration` (model type
+  ``ferraris-calibration``, a triaxial calibration with a typed gyro block) that
   :func:`inertialab.workflows.triaxial.apply` applies.
 """
 
@@ -21,7 +22,6 @@ import numpy as np
 
 from inertialab import units
 from inertialab.calib import ferraris as fr
-from inertialab.calib.triaxial import TriaxialCalibration
 from inertialab.calib.triaxial_checks import ImplausibleCalibrationError, Limits, refusal
 from inertialab.errors import DataQualityWarning, InputError
 from inertialab.io.readers import Record
@@ -112,7 +112,7 @@ class Config:
 class FerrarisRun:
     """The model, the fit and the session it came from."""
 
-    model: TriaxialCalibration
+    model: fr.FerrarisCalibration
     fit: fr.FerrarisFit
     session: FerrarisSession
 
