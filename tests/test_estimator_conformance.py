@@ -1,7 +1,16 @@
-"""The scikit-learn contract, run over every estimator (issue 13, DESIGN.md "Conventions"):
-the constructor only stores its keyword parameters, ``get_params``/``set_params`` round
-trip, ``clone`` gives an unfitted copy with equal parameters, ``fit`` returns ``self``,
-and ``predict``/``forecast`` before ``fit`` raise the one ``NotFittedError``."""
+"""The two contracts of inertialab.calib.base, run over everything they cover.
+
+Estimators (scikit-learn's contract, inertialab.estimator): the constructor only stores
+its keyword parameters, ``get_params``/``set_params`` round trip, ``clone`` gives an
+unfitted copy with equal parameters, ``fit`` returns ``self``, and ``predict``/``forecast``
+before ``fit`` raise the one ``NotFittedError``.
+
+Results (every registered model type that is not an estimator): no ``fit``, made by the
+one function its registry entry names, used at once by its registered ``apply``,
+rebuilt with the same payload by ``from_dict(to_dict())``.
+
+Every registered model type is one or the other, and every estimator of the registry is
+in the estimator suite below."""
 
 import importlib
 import inspect
@@ -149,3 +158,133 @@ def test_not_fitted_then_fit_returns_self(path, kwargs, kind):
     if call is not None:
         with pytest.raises(NotFittedError):
             call()
+
+
+# ----------------------------------------------------------------- model types
+
+def test_every_registered_model_type_follows_one_contract():
+    from inertialab.calib.model_types import MODEL_TYPES
+
+    listed = {_cls(p) for p, _, _ in ESTIMATORS}
+    for tag, e in MODEL_TYPES.items():
+        if e.estimator:
+            assert e.made_by is None, f"{tag}: an estimator is made by its fit"
+            assert e.cls in listed, f"{tag}: estimator outside the estimator suite"
+        else:
+            assert callable(e.made_by), f"{tag}: a result names the function that makes it"
+            assert tag in RESULTS, f"{tag}: result outside the result suite"
+            assert not hasattr(e.cls, "fit"), f"{tag}: a result has no fit"
+            # named in the statement of inertialab.calib.base
+            from inertialab.calib import base
+
+            assert e.cls.__name__ in base.__doc__, tag
+
+
+def _triaxial(made_by):
+    from inertialab.calib.triaxial import calibrate
+    from inertialab.sim.triaxial_poses import simulate
+    from inertialab.workflows.triaxial import static_data_from_frame
+
+    rec = simulate("turntable62-realistic", seed=1)
+    sd = static_data_from_frame(rec.data, rec.meta)
+    fit = calibrate(sd.a, objective="norm", g=sd.g)
+    # apply: the raw means map to the fit's own corrected vectors (m/s^2 records)
+    return made_by(fit, sd), lambda m: m.apply(sd.a), fit.corrected, 1e-9
+
+
+def _ferraris(made_by):
+    from inertialab.calib import ferraris as fr
+    from inertialab.sim.ferraris_session import simulate_ferraris
+
+    rec = simulate_ferraris(seed=1, placement_deg=0.5)
+    x = rec.data[["ax_mps2", "ay_mps2", "az_mps2", "gx_dps", "gy_dps", "gz_dps"]].to_numpy()
+    acc, gyr = x[:, :3], x[:, 3:]
+    f = fr.fit_ferraris(acc, gyr, 102.4, fr.detect_sections(acc, gyr, 102.4).sections, g=9.81)
+    model = made_by(f, acc_unit="mps2", gyro_unit="dps", g=9.81, n_samples=len(acc))
+    i, j = rec.truth["sections"]["z_p"]["start"], rec.truth["sections"]["z_p"]["end"]
+    return model, lambda m: m.apply(acc[i:j]), (f.faces.M @ (acc[i:j] - f.faces.b).T).T, 1e-9
+
+
+def _thermal(made_by):
+    from inertialab.calib.thermal import ThermalConfig, compensate
+    from inertialab.sim.thermal_tumble import simulate
+    from inertialab.workflows.thermal import make_splits, prepare_samples
+
+    f = simulate("paper", 0, 0).frame
+    samples = prepare_samples(f)
+    cfg = ThermalConfig(methods=("poly-2d",))
+    split = make_splits(samples, cfg, rng=0)[0]
+    model = made_by(samples, split, "poly-2d", cfg)
+    # the compensated acceleration against the tumble's true input (g); measured max
+    # error 3.1e-4 g
+    return model, lambda m: compensate(m, f.temp_meas_c, f.output_mv, f.a_pend_g).a_g, \
+        f.true_a_in_g.to_numpy(), 1e-3
+
+
+def _dual(made_by):
+    from inertialab.sensors.dual_meter import meter_outputs
+    from inertialab.sim.dual import scenario_config, simulate_run
+    from inertialab.studies.dual import reduce_run
+
+    run = simulate_run(scenario_config("S1"), 4)
+    fit = made_by(reduce_run(run), methods=("ls",), cross_fit=False)
+    phi = np.linspace(0.0, 2 * np.pi, 9)
+    # the meters' outputs (g) against the unit's true coefficients; measured max error
+    # 1.5e-4 g (head errors of S1)
+    return fit, lambda m: np.asarray(m.predict_outputs(phi)), \
+        np.asarray(meter_outputs(phi, run.truth, s_a=fit.model.s_a, s_b=fit.model.s_b)), 5e-4
+
+
+def _drift(made_by):
+    import pandas as pd
+
+    from inertialab.calib.drift import DriftSettings, fit_series
+    from inertialab.workflows.drift import to_daily_grid
+
+    y = 5.0 + np.cumsum(np.random.default_rng(3).normal(0, 0.1, 120))
+    s = to_daily_grid(pd.DataFrame({"unit_id": "U1", "day": np.arange(120), "bias_ug": y}),
+                      quantity="bias")["U1"]
+    st = DriftSettings(restarts=2, n_paths=50, horizon=5, baselines=("persistence",))
+    r = fit_series(s, st, origin_day=119, rng=1)
+    model = made_by({"U1": {"bias": r}}, {"horizon": 5})
+    return model, lambda m: np.asarray(m.forecast()["U1"]["bias"]["forecast"]["value"]), \
+        np.asarray(r.forecast["value"][:5]), 1e-9
+
+
+def _noise(made_by):
+    from inertialab.noise.allan import oadev
+
+    x = np.random.default_rng(0).standard_normal(2 ** 14) * 0.01
+    return made_by(oadev(x, rate_hz=100.0), unit="rad/s"), None, None, None
+
+
+#: tag -> builder(made_by) -> (model or fit holding it, apply on arrays, what apply must
+#: give (the fit's own numbers or the simulation's truth), absolute tolerance); None:
+#: a model only reported
+RESULTS = {"triaxial-calibration": _triaxial, "ferraris-calibration": _ferraris,
+           "thermal-compensation": _thermal, "dual-calibration": _dual,
+           "storage-drift": _drift, "noise-terms": _noise}
+
+
+@pytest.mark.parametrize("tag", sorted(RESULTS))
+def test_every_result_is_made_used_at_once_and_rebuilt(tag):
+    import json
+
+    from inertialab.calib.model_types import MODEL_TYPES
+    from inertialab.jsonable import to_jsonable
+
+    e = MODEL_TYPES[tag]
+    out, use, want, atol = RESULTS[tag](e.made_by)
+    model = getattr(out, "model", out)
+    assert type(model) is e.cls
+    if use is not None:
+        got = np.asarray(use(model), dtype=float)
+        assert np.all(np.isfinite(got))
+        np.testing.assert_allclose(got, want, rtol=0, atol=atol)
+    payload = json.dumps(to_jsonable(model.to_dict()), sort_keys=True)
+    back = e.cls.from_dict(json.loads(payload))
+    assert type(back) is e.cls
+    assert json.dumps(to_jsonable(back.to_dict()), sort_keys=True) == payload
+    if use is not None:  # the rebuilt model is used at once, with the same numbers
+        np.testing.assert_allclose(np.asarray(use(back), dtype=float), got, rtol=1e-12,
+                                   atol=1e-15)

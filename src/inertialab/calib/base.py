@@ -14,6 +14,47 @@ A model type (a calibration of ``calib/``, a learner of ``learn/``, the noise te
 :class:`ModelContract` states it as a :class:`typing.Protocol`; the registry of model
 types (:mod:`inertialab.calib.model_types`) lists every class that follows it and
 ``tests/test_registries.py`` checks each one (round trip, schema, fixture).
+
+Estimators and results
+----------------------
+Beside that, every model type is one of two kinds, and the registry says which
+(:attr:`inertialab.calib.model_types.ModelType.estimator`):
+
+**An estimator** follows the estimator contract of :mod:`inertialab.estimator`
+(scikit-learn's): a keyword-only constructor that only stores its hyper-parameters,
+``fit`` that sets ``attr_`` attributes and returns ``self``,
+:class:`~inertialab.errors.NotFittedError` before it, ``get_params``/``set_params`` and
+:func:`~inertialab.estimator.clone`. These are the learners of ``learn/`` and
+:class:`~inertialab.calib.vibration.VibrationModel`, whose fit is a map from arrays to
+arrays (``fit(f_hz, e_dph)``).
+
+**A result** is the outcome of a study's fit, not an estimator: the calibrations
+:class:`~inertialab.calib.triaxial.TriaxialCalibration`,
+:class:`~inertialab.calib.ferraris.FerrarisCalibration`,
+:class:`~inertialab.calib.thermal.ThermalModel`,
+:class:`~inertialab.calib.dual.DualCalibration`,
+:class:`~inertialab.calib.drift.DriftModel` and the noise terms
+(:class:`~inertialab.noise.terms.NoiseTerms`). Their fit needs the study's whole session
+(static intervals with references, sections and turns, tumble samples with their splits,
+reduced tumbles with a prior, the daily grids of many units, an Allan curve) and gives
+diagnostics beside the model (fit statistics, checks, held-out scores) that a
+``fit(X, y)`` returning ``self`` has no place for; and their attributes are what the
+model file stores, read by name by the exporters and the workflows. A result follows
+instead:
+
+1. one function makes it, named in its registry entry
+   (:attr:`~inertialab.calib.model_types.ModelType.made_by`):
+   ``triaxial_session.to_model`` (of :func:`~inertialab.calib.triaxial.calibrate`'s fit),
+   ``ferraris.to_model`` (of ``fit_ferraris``), ``thermal.fit_model``, ``dual.calibrate``
+   (its ``model``), :meth:`DriftModel.from_results <inertialab.calib.drift.DriftModel.from_results>`
+   (of ``fit_series``) and ``noise.terms.fit_noise_terms``;
+2. it has no ``fit`` and no unfitted state: the constructor takes every fitted value by
+   keyword, so the registered ``apply`` works at once and ``NotFittedError`` never
+   arises;
+3. ``from_dict(to_dict())`` rebuilds it with the same payload.
+
+``tests/test_estimator_conformance.py`` runs the estimator contract over every estimator
+and this one over every result, each found from the registry.
 """
 
 from __future__ import annotations

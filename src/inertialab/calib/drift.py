@@ -15,7 +15,7 @@ re-calibration, on arrays; the fitted artefact :class:`DriftModel`.
 * :class:`DriftModel` — all units' NAR models of one record (model-file type
   ``storage-drift``), able to forecast again later.
 
-Bias is worked in µg, scale factor in ppm of the unit's reference K1 (CONTRACTS "drift").
+Bias is worked in µg, scale factor in ppm of the unit's reference K1 (docs/drift.md).
 """
 
 from __future__ import annotations
@@ -218,9 +218,9 @@ def _baseline(name: str, nar: NARForecaster, settings: DriftSettings, K: int):
 
 
 def error_metrics(actual, predicted) -> dict | None:
-    """Errors of ``predicted`` against ``actual`` (spec 004 §5, DESIGN glossary; same
-    units as the inputs): ``me`` = ``max_ae`` = max |e| (ME of the glossary, the forecast
-    MaxAE), ``mae`` = mean |e| (AE), ``mbe`` = mean e (signed, e = predicted - actual),
+    """Errors of ``predicted`` against ``actual`` (spec 004 §5, docs/drift.md; same
+    units as the inputs): ``me`` = ``max_ae`` = max |e| (ME, the maximum absolute error,
+    the forecast MaxAE), ``mae`` = mean |e| (AE), ``mbe`` = mean e (signed, e = predicted - actual),
     ``rmse``, ``mse`` and ``n``; None when there is no sample."""
     if np.size(actual) == 0:
         return None
@@ -444,6 +444,19 @@ class DriftModel:
     def __init__(self, entries: dict | None = None, settings: dict | None = None):
         self.entries = entries or {}
         self.settings = settings or {}
+
+    @classmethod
+    def from_results(cls, results: dict, settings: dict | None = None) -> DriftModel:
+        """The model of :func:`fit_series` results ``{unit_id: {quantity: SeriesResult}}``:
+        each entry keeps the fitted NAR, its origin day, grid step (days), working unit,
+        k_ref, calibrated value and tolerance; ``settings`` (horizon, recal_quantile, ...)
+        are stored as given."""
+        entries = {uid: {q: {"nar": r.model, "origin_day": r.origin_day,
+                             "step_days": r.step_days, "unit": r.unit, "k_ref": r.k_ref,
+                             "y_cal": r.y_cal, "tolerance": r.tolerance}
+                         for q, r in qs.items()}
+                   for uid, qs in results.items()}
+        return cls(entries, settings)
 
     def forecast(self, horizon: int | None = None) -> dict:
         """Forecast every unit and quantity ``horizon`` steps past its origin.

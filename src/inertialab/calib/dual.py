@@ -16,7 +16,7 @@ The K2/Kx coupling of the g^2 design (rank 7 for 9 coefficients) is never hidden
 non-estimable coefficients of LS carry ``sd = None`` and the ``non_estimable`` flag, and
 EBR warns that along the null directions it returns the prior centre.
 
-Coefficient names (spec §1.3, CONTRACTS "calibrate dual"): ``KA0 KB0 kA1 kB1 eta KA2 KB2
+Coefficient names (spec §1.3, docs/dual.md): ``KA0 KB0 kA1 kB1 eta KA2 KB2
 KAx KBx``. The paper calls the cross-coupling term "Kip"; for a tumble about the
 pendulous axis it is K_io (spec §1.3), named ``Kx`` here; tables that mirror the paper
 label ``KAx``/``KBx`` with the aliases ``KAip_paper``/``KBip_paper``

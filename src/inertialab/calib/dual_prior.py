@@ -1,4 +1,4 @@
-"""Priors of the dual-meter g^2 calibration (spec 003 §3.3, §6.5; CONTRACTS "calibrate dual").
+"""Priors of the dual-meter g^2 calibration (spec 003 §3.3, §6.5; docs/dual.md).
 
 A prior is a centre beta0 and scale w on the nine coefficients :data:`COEF_NAMES`:
 

@@ -16,7 +16,10 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 
+from inertialab.calib import dual as _dual
+from inertialab.calib import ferraris as _ferraris
 from inertialab.calib import thermal as _thermal
+from inertialab.calib import triaxial_session as _triaxial_session
 from inertialab.calib.base import format_version
 from inertialab.calib.drift import DriftModel
 from inertialab.calib.dual import DualCalibration
@@ -24,6 +27,7 @@ from inertialab.calib.ferraris import FerrarisCalibration
 from inertialab.calib.thermal import ThermalModel
 from inertialab.calib.triaxial import TriaxialCalibration
 from inertialab.calib.vibration import VibrationModel
+from inertialab.estimator import Estimator
 from inertialab.io import modelfile
 from inertialab.io.model_schemas import SCHEMAS
 from inertialab.learn.anfis import ANFIS
@@ -31,7 +35,7 @@ from inertialab.learn.mlp_lm import MLPRegressorLM
 from inertialab.learn.nar import NARForecaster
 from inertialab.learn.poly import PolynomialRegressor
 from inertialab.learn.rbf import RBFNetwork
-from inertialab.noise.terms import NoiseTerms
+from inertialab.noise.terms import NoiseTerms, fit_noise_terms
 
 __all__ = ["MODEL_TYPES", "ModelType", "TYPES", "load_model", "save_model", "serves"]
 
@@ -49,11 +53,22 @@ class ModelType:
     apply : callable or None
         How the model is used on arrays (a method of ``cls`` or a function taking the
         model first); None for a model that is only reported (the noise terms).
+    made_by : callable or None
+        For a result (not an estimator, :mod:`inertialab.calib.base`): the one function
+        that makes it (returning the model, or a fit whose ``model`` it is). None for an
+        estimator, which ``cls.fit`` makes.
     """
 
     cls: type
     kind: str
     apply: Callable | None
+    made_by: Callable | None = None
+
+    @property
+    def estimator(self) -> bool:
+        """Whether the class follows the estimator contract (:mod:`inertialab.estimator`);
+        otherwise it is a result (:mod:`inertialab.calib.base`)."""
+        return issubclass(self.cls, Estimator)
 
     @property
     def tag(self) -> str:
@@ -81,13 +96,14 @@ _ENTRIES = (
     ModelType(ANFIS, "learner", ANFIS.predict),
     ModelType(MLPRegressorLM, "learner", MLPRegressorLM.predict),
     ModelType(NARForecaster, "learner", NARForecaster.forecast),
-    ModelType(NoiseTerms, "noise", None),
+    ModelType(NoiseTerms, "noise", None, fit_noise_terms),
     ModelType(VibrationModel, "calibration", VibrationModel.compensate),
-    ModelType(ThermalModel, "calibration", _thermal.compensate),
-    ModelType(TriaxialCalibration, "calibration", TriaxialCalibration.apply),
-    ModelType(FerrarisCalibration, "calibration", FerrarisCalibration.apply),
-    ModelType(DualCalibration, "calibration", DualCalibration.predict_outputs),
-    ModelType(DriftModel, "calibration", DriftModel.forecast),
+    ModelType(ThermalModel, "calibration", _thermal.compensate, _thermal.fit_model),
+    ModelType(TriaxialCalibration, "calibration", TriaxialCalibration.apply,
+              _triaxial_session.to_model),
+    ModelType(FerrarisCalibration, "calibration", FerrarisCalibration.apply, _ferraris.to_model),
+    ModelType(DualCalibration, "calibration", DualCalibration.predict_outputs, _dual.calibrate),
+    ModelType(DriftModel, "calibration", DriftModel.forecast, DriftModel.from_results),
 )
 
 #: tag -> entry, in the order above.
