@@ -1,4 +1,4 @@
-"""The estimator contract shared by every learner and calibration model, after
+"""The estimator contract shared by every learner (and the vibration-bias model), after
 scikit-learn's (its developer guide, "Rolling your own estimator"): the keyword-only
 constructor only stores its hyper-parameters under their own names, ``fit`` validates,
 sets ``attr_`` attributes and returns ``self``, and anything that needs a fit raises
@@ -8,6 +8,9 @@ sets ``attr_`` attributes and returns ``self``, and anything that needs a fit ra
 signature, :func:`clone` an unfitted copy with the same parameters, and
 :func:`check_fitted` the one not-fitted check. Written here (not imported from
 scikit-learn) because scikit-learn is not a dependency and this is forty lines.
+
+The other calibration models are results of a study's fit, not estimators; what they
+follow instead, and why, is stated in :mod:`inertialab.calib.base`.
 """
 
 from __future__ import annotations
