@@ -35,14 +35,15 @@ _HINF = 2.0 * math.log(2.0)
 
 
 def _H(u) -> np.ndarray:
-    u = np.asarray(u, dtype=float)
+    u0 = np.asarray(u, dtype=float)
+    u = np.atleast_1d(u0)
     with np.errstate(divide="ignore"):
         lu = np.log(u)
     out = np.interp(lu, _LU, _HTAB)
     lo = lu < _LU[0]
     out[lo] = (2.0 / 3.0) * u[lo]
     out[lu > _LU[-1]] = _HINF
-    return out
+    return out.reshape(u0.shape)
 
 
 def band_shape(taus_s, t_lo: float, t_hi: float) -> np.ndarray:
@@ -80,4 +81,18 @@ def _band_peak(lo: float, hi: float) -> float:
     return float(np.max(_H(xf / lo) - _H(xf / hi)))
 
 
-__all__ = ["band_shape"]
+def rw_gm_shape(taus_s, t_c: float) -> np.ndarray:
+    """Allan-variance shape of a rate random walk that is a first-order Gauss–Markov
+    process of correlation time ``t_c`` (s): ``1.5 t_c h(tau / t_c)``, with ``h`` the
+    Gauss–Markov shape of :func:`_gm_shape`. It equals ``tau`` (the K column of the
+    five-term model, IEEE 952's ``K^2 tau / 3`` per unit ``K^2/3``) for ``tau << t_c``,
+    peaks near ``tau = 1.9 t_c`` and falls like white noise beyond: a random walk that is
+    held to a finite variance ``1.5 t_c c_1`` (a temperature-driven wander, a bias that
+    returns). ``t_c = inf`` is the random walk itself."""
+    t = np.asarray(taus_s, dtype=float)
+    if not math.isfinite(t_c):
+        return t.copy()
+    return 1.5 * t_c * _gm_shape(t / t_c)
+
+
+__all__ = ["band_shape", "rw_gm_shape"]

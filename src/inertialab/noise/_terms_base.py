@@ -16,7 +16,7 @@ import numpy as np
 
 from inertialab import units
 from inertialab.errors import InputError
-from inertialab.noise._band import band_shape
+from inertialab.noise._band import band_shape, rw_gm_shape
 from inertialab.noise.lines import Line, line_avar
 
 #: ``sqrt(2 ln2 / pi)``: the Allan floor of bias instability B.
@@ -203,6 +203,11 @@ class NoiseTerms:
         ``{"t_lo_s", "t_hi_s"}``, the shortest and longest Gauss–Markov correlation time
         of the band-limited flicker (None: no roll-off on that side). None for pure
         flicker (the IEEE five-term model; files written before the band existed).
+    k_gm : dict or None
+        ``{"t_s"}``: the K term is a rate random walk held by a first-order Gauss–Markov
+        correlation time ``t_s`` (:func:`rw_gm_shape`): K is its random-walk density below
+        ``t_s``, and its Allan variance falls like white noise past ``~1.9 t_s``. None: a
+        pure random walk (the IEEE five-term model).
     """
 
     MODEL_TYPE = "noise-terms"
@@ -229,6 +234,7 @@ class NoiseTerms:
     misfit: float = 1.0
     bias_gm: dict | None = None
     lines: tuple = ()
+    k_gm: dict | None = None
 
     def b_shape(self, taus_s) -> np.ndarray:
         """Shape of the B term's AVAR at ``taus_s`` (peak 1; ones for pure flicker)."""
@@ -244,6 +250,8 @@ class NoiseTerms:
         c = np.nan_to_num(np.asarray(self.coefficients, dtype=float))
         cols = [c[i] * t ** _POWERS[i] for i in range(5)]
         cols[2] = c[2] * self.b_shape(t)
+        if self.k_gm:
+            cols[3] = c[3] * rw_gm_shape(t, float(self.k_gm["t_s"]))
         return np.stack(cols, axis=-1)
 
     def terms(self) -> dict[str, NoiseTerm]:
@@ -301,6 +309,8 @@ class NoiseTerms:
             d["bias_gm"] = dict(self.bias_gm)
         if self.lines:
             d["lines"] = [ln.to_dict(self.unit) for ln in self.lines]
+        if self.k_gm is not None:
+            d["k_gm"] = dict(self.k_gm)
         return d
 
     @classmethod
@@ -316,7 +326,7 @@ class NoiseTerms:
                    alpha_model=tuple(int(a) for a in d.get("alpha_model", ())),
                    b_textbook=d.get("b_textbook"), interval=d.get("interval", ""),
                    gmwm=d.get("gmwm"), misfit=float(d.get("misfit", 1.0)),
-                   bias_gm=d.get("bias_gm"),
+                   bias_gm=d.get("bias_gm"), k_gm=d.get("k_gm"),
                    lines=tuple(Line.from_dict(x) for x in d.get("lines", ())))
 
 

@@ -15,6 +15,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from inertialab.noise._band import rw_gm_shape
 from inertialab.noise._terms_base import (
     _GAIN,
     _NAMES,
@@ -26,6 +27,7 @@ from inertialab.noise._terms_base import (
     EDF_MIN,
     OCTAVE_RHO,
     READ_SHARE,
+    STATIC_PEAK_MAX_S,
     NoiseTerm,
     NoiseTerms,
     band_shape,
@@ -75,6 +77,56 @@ def _corner_grid(taus):
 def _band_table(taus, grid):
     """B-term shape of every corner pair at ``taus``, shape (n_grid, k)."""
     return np.array([band_shape(taus, lo, hi) for lo, hi in grid])
+
+
+def _k_time_grid(taus, avar, edf_tab):
+    """Correlation times searched for the K term (:func:`rw_gm_shape`): infinite (the
+    random walk; first, so it wins every tie) and a quarter-decade grid from the longest
+    fitted tau down to :data:`K_TIME_MIN` of it, the curve's minimum and 16x the shortest
+    tau, searched only where the curve rises significantly after its minimum. A finite
+    time makes the K term rise like a random walk and fall like white noise past
+    ``~1.9 t_c``: the rise-then-fall of a real MEMS accelerometer's long taus (a
+    temperature-driven wander), which a pure random walk holds only by passing far above
+    the longest taus. A shorter time would make K a hump inside the curve, which is the B
+    band's (a mixture of Gauss–Markov processes) and would leave K a random-walk density
+    that holds over no tau a user integrates over."""
+    tmin, tmax = float(np.min(taus)), float(np.max(taus))
+    t_rise = _rise_start(taus, avar, edf_tab)
+    if t_rise is None:
+        return [math.inf]
+    low = max(K_TIME_MIN * tmax, 16.0 * tmin, t_rise)
+    n = max(int(math.floor(4 * math.log10(tmax / low) + 1e-9)) + 1, 0)
+    return [math.inf] + [tmax * 10 ** (-0.25 * i) for i in range(n)]
+
+
+def _rise_start(taus, avar, edf_tab):
+    """The tau of the curve's minimum when the curve rises significantly after it (some
+    later tau's 95 % lower limit above the minimum's upper limit, each with the least EDF
+    of the five noise types), else None: only a significant rise has a K to time."""
+    from scipy.stats import chi2
+
+    edf = np.min(edf_tab, axis=0)
+    i = int(np.argmin(avar))
+    if i >= avar.size - 1:
+        return None
+    hi_min = avar[i] * edf[i] / chi2.ppf(0.025, edf[i])
+    lo = avar[i + 1:] * edf[i + 1:] / chi2.ppf(0.975, edf[i + 1:])
+    return float(taus[i]) if np.any(lo > hi_min) else None
+
+
+#: shortest K correlation time searched, as a share of the longest fitted tau (its Allan
+#: variance then peaks at ~1.9 t_c, inside the last three octaves of the curve)
+K_TIME_MIN = 0.05
+
+
+#: chi-square a finite K correlation time must gain to be chosen over the random walk:
+#: the 99 % point of chi2 with one degree of freedom (a likelihood-ratio test of the one
+#: added parameter at 1 %: the time is the best of up to six on a grid and neighbouring
+#: octaves are correlated, so the nominal 5 % test (3.84) is passed more often under a
+#: pure random walk: measured gains on simulated random walks (MEMS presets, 26 seeds)
+#: 0-5.4, on the ADIS16405 accelerometers with a rise that turns over 5.3-21.8,
+#: docs/noise-terms.md §12)
+K_TIME_PENALTY = 6.635
 
 
 def _subset_solutions(A, B, free, nonneg):
@@ -138,9 +190,11 @@ def _wnnls_many(Xs, B, w, active):
 def _solve_many(X, B, edf_tab, active, weighted: bool, n_iter: int, shapes=None, model=None,
                 edf=None):
     """Reweighted LS of every row of ``B`` (n_b, k) on ``X c`` with ``c_k >= 0`` except
-    the signed ``c_-2``; with ``shapes`` (:func:`_band_table`) the B column is the
-    band-limited shape and its corners are profiled: each pass solves every corner pair
-    with the same weights and keeps the least chi-square (the first pair on a tie).
+    the signed ``c_-2``; with ``shapes`` (:func:`_shapes_for`) the B column is the
+    band-limited shape and the K column the Gauss–Markov-limited random walk, and their
+    corners and correlation time are profiled: each pass solves every grid point with the
+    same weights and keeps the least chi-square, a finite K time paying
+    :data:`K_TIME_PENALTY` (the first point on a tie).
     ``model``, ``edf``: the AVAR and EDF the first pass's weights come from (default the
     data and the white-noise EDF; with several rows the weights are shared, so pass
     ``model`` and use one pass).
@@ -156,10 +210,12 @@ def _solve_many(X, B, edf_tab, active, weighted: bool, n_iter: int, shapes=None,
         model = B[0].copy()
     model = np.asarray(model, dtype=float)
     edf = edf_tab[1] if edf is None else edf
-    band = shapes is not None and active[2]
+    band = shapes is not None and (active[2] or active[3])
     if band:
         Xs = np.repeat(X[None, :, :], shapes.shape[0], axis=0)
-        Xs[:, :, 2] = shapes
+        Xs[:, :, 2] = shapes[:, :, 0]
+        Xs[:, :, 3] = shapes[:, :, 1]
+        penalty = shapes.penalty if active[3] else np.where(shapes.penalty > 0, np.inf, 0.0)
     else:
         Xs = X[None, :, :]
     c = np.zeros((nb, 5))
@@ -169,7 +225,7 @@ def _solve_many(X, B, edf_tab, active, weighted: bool, n_iter: int, shapes=None,
         w = edf / (2.0 * model * model) if weighted else np.ones(k)
         cc, chi = _wnnls_many(Xs, B, w, active)
         if band:
-            i_band = np.argmin(chi, axis=0)
+            i_band = np.argmin(chi + penalty[:, None], axis=0)
         c = cc[i_band, np.arange(nb)] if band else cc[0]
         Xb = Xs[i_band] if band else np.broadcast_to(Xs[0], (nb, k, 5))
         contrib = Xb * c[:, None, :]
@@ -213,7 +269,7 @@ def _fit_and_boot(X, avar, edf_tab, active, weighted, n_reweight, n_boot, seed, 
     # sqrt(chi2/dof) when that exceeds 1 (the band's corners count as parameters)
     # (an absent B term has no corners: every pair then fits alike and the pair kept is
     # the first one, so its corners are not counted)
-    n_par = int(np.count_nonzero(c)) + (_n_corners(shapes, i_band) if c[2] > 0 else 0)
+    n_par = int(np.count_nonzero(c)) + _n_shape_params(shapes, i_band, c)
     chi2 = float(np.sum(0.5 * edf_dom * np.log(avar / model) ** 2))
     misfit = math.sqrt(max(1.0, chi2 / max(avar.size - n_par, 1)))
     # parametric bootstrap in the Allan domain; each replicate profiles the corners again
@@ -222,8 +278,8 @@ def _fit_and_boot(X, avar, edf_tab, active, weighted, n_reweight, n_boot, seed, 
     if n_boot > 0:
         rng = np.random.default_rng(seed)
         draws = _draw_avar(model, edf_dom, dom, m, n_boot, rng)
-        boot = _solve_many(X, draws, edf_tab, active, weighted, 1, shapes, model=model,
-                           edf=edf_dom)[0]
+        boot = _solve_many(X, draws, edf_tab, active, weighted, 1, _cross(shapes, i_band),
+                           model=model, edf=edf_dom)[0]
         boot = c[None, :] + misfit * (boot - c[None, :])
     return c, model, dom, boot, misfit, fit_rmse, i_band
 
@@ -269,7 +325,7 @@ def _with_discrepancy(X, avar, edf_tab, active, n_reweight, shapes, n_iter: int 
     for _ in range(n_iter):
         c, model, dom, i_band = _solve(X, avar, tab, active, True, n_reweight, shapes)
         edf_dom = edf_tab[dom, np.arange(avar.size)]
-        n_par = int(np.count_nonzero(c)) + (_n_corners(shapes, i_band) if c[2] > 0 else 0)
+        n_par = int(np.count_nonzero(c)) + _n_shape_params(shapes, i_band, c)
         r2 = np.log(avar / model) ** 2
         new = _discrepancy_s2(r2, edf_dom, avar.size - n_par)
         if abs(new - s2) <= 0.05 * max(s2, 1e-12):
@@ -280,23 +336,34 @@ def _with_discrepancy(X, avar, edf_tab, active, n_reweight, shapes, n_iter: int 
     return (1.0 / (1.0 / edf_tab + 0.5 * s2) if s2 > 0 else edf_tab), s2
 
 
-def _n_corners(shapes, i_band) -> int:
+def _n_shape_params(shapes, i_band, c) -> int:
+    """Profiled shape parameters of the chosen grid point that count: the B corners when
+    B is in the model, the K correlation time when K is."""
     if shapes is None or i_band == 0:
         return 0
-    lo, hi = shapes.grid[i_band]
-    return int(lo > 0) + int(math.isfinite(hi))
+    lo, hi, t_k = shapes.grid[i_band]
+    n = (int(lo > 0) + int(math.isfinite(hi))) if c[2] > 0 else 0
+    return n + (int(math.isfinite(t_k)) if c[3] > 0 else 0)
 
 
 class _Shapes(np.ndarray):
-    """:func:`_band_table` with its corner grid attached (``.grid``)."""
+    """B and K columns of every grid point, shape (n_grid, k, 2), with the grid
+    ``(t_lo, t_hi, t_k)`` (``.grid``) and each point's chi-square penalty (``.penalty``)."""
 
 
-def _shapes_for(taus, band: bool):
+def _shapes_for(taus, band: bool, avar=None, edf_tab=None):
+    """The profiled B and K columns (None without ``band``: IEEE 952's five-term model,
+    flat flicker and a pure random walk)."""
     if not band:
         return None
-    grid = _corner_grid(taus)
-    sh = _band_table(taus, grid).view(_Shapes)
-    sh.grid = grid
+    corners = _corner_grid(taus)
+    times = [math.inf] if avar is None else _k_time_grid(taus, avar, edf_tab)
+    b = _band_table(taus, corners)
+    k = np.array([rw_gm_shape(taus, t) for t in times])
+    sh = np.stack([np.repeat(b, len(times), axis=0), np.tile(k, (len(corners), 1))],
+                  axis=2).view(_Shapes)
+    sh.grid = [(lo, hi, t) for lo, hi in corners for t in times]
+    sh.penalty = np.array([K_TIME_PENALTY if math.isfinite(t) else 0.0 for _, _, t in sh.grid])
     return sh
 
 
@@ -311,7 +378,7 @@ def fit_ls(result, sel, conv, rate_hz, method, n_reweight, confidence, n_boot, s
     avar = np.asarray(result.dev, dtype=float)[idx] ** 2
     active, reasons = _observable(taus.size)
     X = np.stack([taus**k for k in _POWERS], axis=1)
-    shapes = _shapes_for(taus, band)
+    shapes = _shapes_for(taus, band, avar, edf_tab)
     c, model, dom, _ = _solve(X, avar, edf_tab, active, weighted, n_reweight, shapes)
     # long taus whose EDF (for the model's noise type) is below EDF_MIN do not drag the fit
     edf_dom = edf_tab[dom, np.arange(taus.size)]
@@ -319,9 +386,17 @@ def fit_ls(result, sel, conv, rate_hz, method, n_reweight, confidence, n_boot, s
     if keep.sum() >= 3 and not keep.all():
         idx, taus, avar, X, edf_tab = idx[keep], taus[keep], avar[keep], X[keep], edf_tab[:, keep]
         active, reasons = _observable(taus.size)
-        shapes = _shapes_for(taus, band)
+        shapes = _shapes_for(taus, band, avar, edf_tab)
     if weighted:
+        raw_tab = edf_tab
         edf_tab, _ = _with_discrepancy(X, avar, edf_tab, active, n_reweight, shapes)
+        n_cut = _short_end_cut(X, avar, raw_tab, edf_tab, active, n_reweight, shapes, taus)
+        if n_cut:
+            idx, taus, avar, X = idx[n_cut:], taus[n_cut:], avar[n_cut:], X[n_cut:]
+            active, reasons = _observable(taus.size)
+            shapes = _shapes_for(taus, band, avar, raw_tab[:, n_cut:])
+            edf_tab, _ = _with_discrepancy(X, avar, raw_tab[:, n_cut:], active, n_reweight,
+                                           shapes)
     c, model, dom, boot, misfit, fit_rmse, i_band = _fit_and_boot(
         X, avar, edf_tab, active, weighted, n_reweight, n_boot, seed,
         np.asarray(result.m)[idx], shapes)
@@ -341,11 +416,19 @@ def fit_ls(result, sel, conv, rate_hz, method, n_reweight, confidence, n_boot, s
         t2 = _terms_from_coefficients(c2, boot2, act2, {"R": ""}, _design(X, shapes, i_band2),
                                       taus, conv, rate_hz, method, confidence)
         terms = _span_without_r(terms, t2)
-    bias_gm = None
-    if shapes is not None and i_band != 0 and c[2] > 0:
-        lo, hi = shapes.grid[i_band]
-        bias_gm = {"t_lo_s": float(lo) if lo > 0 else None,
-                   "t_hi_s": float(hi) if math.isfinite(hi) else None}
+    bias_gm = k_gm = None
+    if shapes is not None and i_band != 0:
+        lo, hi, t_k = shapes.grid[i_band]
+        if c[2] > 0 and (lo > 0 or math.isfinite(hi)):
+            bias_gm = {"t_lo_s": float(lo) if lo > 0 else None,
+                       "t_hi_s": float(hi) if math.isfinite(hi) else None}
+        if c[3] > 0 and math.isfinite(t_k):
+            k_gm = {"t_s": float(t_k)}
+            note = (f"a random walk held by a Gauss-Markov correlation time of {t_k:.4g} s "
+                    f"(its Allan deviation turns over near {1.9 * t_k:.3g} s)")
+            kt = terms["K"]
+            terms["K"] = replace(kt, flags=kt.flags + ("gauss_markov",),
+                                 reason=f"{kt.reason}; {note}" if kt.reason else note)
     dev_sel = np.sqrt(avar)
     i_min = int(np.argmin(dev_sel))
     kB = conv.factor("B")
@@ -363,7 +446,56 @@ def fit_ls(result, sel, conv, rate_hz, method, n_reweight, confidence, n_boot, s
                       alpha_model=tuple(int(_TERM_ALPHA[j]) for j in dom),
                       b_textbook=b_text,
                       interval=f"bootstrap-allan/{n_boot}" if n_boot > 0 else "none",
-                      misfit=misfit, bias_gm=bias_gm)
+                      misfit=misfit, bias_gm=bias_gm, k_gm=k_gm)
+
+
+#: the short-end cut stops at this tau (s): the sensor's own filter and the disturbances
+#: above a few hertz act below it (the same limit as the static check's filter peak)
+SHORT_END_MAX_S = STATIC_PEAK_MAX_S
+#: z of the data's own interval a short tau must leave to be cut (two-sided 95 %)
+SHORT_END_Z = 1.96
+#: the cut looks at the first three fitted taus (two octaves) each time
+SHORT_END_SPAN = 3
+
+
+def _short_end_cut(X, avar, raw_tab, edf_tab, active, n_reweight, shapes, taus) -> int:
+    """How many of the shortest fitted taus to leave out because the model cannot hold
+    them: the sensor's filter and disturbances above a few hertz shape the first octaves
+    of a real MEMS curve at the 1 % level (the ADIS16405 accelerometers of
+    docs/noise-terms.md §10: -0.7 %, +2 %, -0.6 % at 4, 8 and 16 samples), where their
+    EDFs of 10^5 give intervals of +-0.3 %; no five-term model follows that, and kept in
+    the fit they bend N and B.
+
+    Starting from the discrepancy-weighted fit, the first two octaves of fitted taus are
+    looked at: those whose data lie outside their own 95 % interval around the model
+    (``|ln(avar/model)| > z sqrt(2/edf)`` with the raw EDF of its dominant term), below
+    :data:`SHORT_END_MAX_S` and dominated by white noise (or quantisation) are cut with
+    every shorter tau, as long as white noise still dominates at least three of the taus
+    left (two octaves to read N from); the fit is redone and looked at again after each
+    cut. A curve the
+    model holds from its first tau (every MEMS preset) loses nothing."""
+    n = 0
+    while True:
+        k = avar.size - n
+        if k < 6 or taus[n] >= SHORT_END_MAX_S:
+            return n
+        sl = slice(n, None)
+        sh = shapes if n == 0 else _shapes_for(taus[sl], shapes is not None, avar[sl],
+                                               raw_tab[:, sl])
+        tab = edf_tab[:, sl] if n == 0 else _with_discrepancy(
+            X[sl], avar[sl], raw_tab[:, sl], active, n_reweight, sh)[0]
+        c, model, dom, _ = _solve(X[sl], avar[sl], tab, active, True, n_reweight, sh)
+        white = (dom == 0) | (dom == 1)
+        z = (np.abs(np.log(avar[sl] / model))
+             / np.sqrt(2.0 / raw_tab[dom, np.arange(n, avar.size)]))
+        out = (z > SHORT_END_Z) & white & (taus[sl] < SHORT_END_MAX_S)
+        out[SHORT_END_SPAN:] = False
+        if not out.any():
+            return n
+        j = int(np.flatnonzero(out)[-1]) + 1
+        if int(white[j:].sum()) < 3:
+            return n
+        n += j
 
 
 def _span_without_r(full: dict, without_r: dict) -> dict:
@@ -392,11 +524,28 @@ def _span_without_r(full: dict, without_r: dict) -> dict:
     return out
 
 
+def _cross(shapes, i_band):
+    """The grid points that share the chosen point's B corners or its K time (and the
+    first point, pure flicker and random walk, which wins ties): what each bootstrap
+    replicate profiles, at the cost of the two one-dimensional profiles rather than
+    their product."""
+    if shapes is None:
+        return None
+    lo, hi, t_k = shapes.grid[i_band]
+    keep = [i for i, (a, b, t) in enumerate(shapes.grid)
+            if i == 0 or (a, b) == (lo, hi) or t == t_k]
+    sub = np.asarray(shapes)[keep].view(_Shapes)
+    sub.grid = [shapes.grid[i] for i in keep]
+    sub.penalty = shapes.penalty[keep]
+    return sub
+
+
 def _design(X, shapes, i_band):
     if shapes is None:
         return X
     Xc = X.copy()
-    Xc[:, 2] = shapes[i_band]
+    Xc[:, 2] = shapes[i_band, :, 0]
+    Xc[:, 3] = shapes[i_band, :, 1]
     return Xc
 
 

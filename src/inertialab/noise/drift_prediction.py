@@ -120,7 +120,10 @@ def components_of(terms) -> list[Component]:
             lo = bg.get("t_lo_s") or 0.0
             hi = bg.get("t_hi_s") or math.inf
             out.append(Component("band", "B", c[2] / _band_peak(lo, hi), lo, hi))
-        if c[3] > 0:
+        if c[3] > 0 and terms.k_gm:
+            t_k = float(terms.k_gm["t_s"])
+            out.append(Component("gm", "K", 1.5 * c[3] * t_k, t_k))
+        elif c[3] > 0:
             out.append(Component("rw", "K", 3.0 * c[3]))
         if c[4] > 0:
             out.append(Component("ramp", "R", math.sqrt(2.0 * c[4])))

@@ -161,7 +161,10 @@ def _processes(terms, tau0: float, n_samples: int):
         lo = bg.get("t_lo_s") or tau0
         hi = bg.get("t_hi_s") or 2.0 * n_samples * tau0
         out.append(Process("BL", {"c0": c[2], "t_lo_s": lo, "t_hi_s": hi}))
-    if c[3] > 0:
+    if c[3] > 0 and terms.k_gm:
+        t_k = float(terms.k_gm["t_s"])
+        out.append(Process("GM", {"s2": 1.5 * c[3] * t_k, "tc_s": t_k}))
+    elif c[3] > 0:
         out.append(Process("RW", {"gamma2": 3.0 * c[3] * tau0}))
     return out
 
