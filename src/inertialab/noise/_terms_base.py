@@ -45,6 +45,11 @@ CONFIDENCE = 0.95
 #: tau) it left N -0.08 % and K -17 % biased (80 seeds, no bootstrap), 64 -0.04 % and
 #: -2 %, the other presets unchanged (docs/noise-terms.md).
 BAND_LO_MAX = 64.0
+#: shortest correlation time of a Gauss–Markov wander read as K (a random walk held by
+#: that time), as a share of the longest fitted tau: its Allan variance then peaks at
+#: ~1.9 t_c, inside the last three octaves of the curve (shorter ones are bias
+#: instability); the five-term fit's K time and GMWM's slow Gauss–Markov processes
+K_TIME_MIN = 0.05
 
 _POWERS = (-2, -1, 0, 1, 2)
 _NAMES = ("Q", "N", "B", "K", "R")

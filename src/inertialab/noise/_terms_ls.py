@@ -25,6 +25,7 @@ from inertialab.noise._terms_base import (
     BAND_LO_MAX,
     BI_FACTOR,
     EDF_MIN,
+    K_TIME_MIN,
     OCTAVE_RHO,
     READ_SHARE,
     STATIC_PEAK_MAX_S,
@@ -113,10 +114,6 @@ def _rise_start(taus, avar, edf_tab):
     lo = avar[i + 1:] * edf[i + 1:] / chi2.ppf(0.975, edf[i + 1:])
     return float(taus[i]) if np.any(lo > hi_min) else None
 
-
-#: shortest K correlation time searched, as a share of the longest fitted tau (its Allan
-#: variance then peaks at ~1.9 t_c, inside the last three octaves of the curve)
-K_TIME_MIN = 0.05
 
 
 #: chi-square a finite K correlation time must gain to be chosen over the random walk:
@@ -367,11 +364,11 @@ def _shapes_for(taus, band: bool, avar=None, edf_tab=None):
     return sh
 
 
-def fit_ls(result, sel, conv, rate_hz, method, n_reweight, confidence, n_boot, seed,
-           band: bool = True):
-    """The "wls"/"ols" fit of the selected taus (see :mod:`inertialab.noise.terms`);
-    ``band``: B as band-limited flicker with profiled corners (:func:`band_shape`)."""
-    weighted = method == "wls"
+def _prepared(result, sel, weighted: bool, n_reweight: int, band: bool):
+    """The taus the fit uses and what it needs of them: the selected taus less the long
+    ones below :data:`EDF_MIN` and (weighted) the short ones :func:`_short_end_cut` leaves
+    out; returns ``(idx, taus, avar, X, edf_tab, active, reasons, shapes)``, ``edf_tab``
+    with the model discrepancy folded in (weighted)."""
     idx = np.nonzero(sel)[0]
     edf_tab = _edf_table(result, sel)
     taus = np.asarray(result.taus_s, dtype=float)[idx]
@@ -391,12 +388,32 @@ def fit_ls(result, sel, conv, rate_hz, method, n_reweight, confidence, n_boot, s
         raw_tab = edf_tab
         edf_tab, _ = _with_discrepancy(X, avar, edf_tab, active, n_reweight, shapes)
         n_cut = _short_end_cut(X, avar, raw_tab, edf_tab, active, n_reweight, shapes, taus)
+        idx_cut = idx[:n_cut]
         if n_cut:
             idx, taus, avar, X = idx[n_cut:], taus[n_cut:], avar[n_cut:], X[n_cut:]
             active, reasons = _observable(taus.size)
             shapes = _shapes_for(taus, band, avar, raw_tab[:, n_cut:])
             edf_tab, _ = _with_discrepancy(X, avar, raw_tab[:, n_cut:], active, n_reweight,
                                            shapes)
+    else:
+        idx_cut = idx[:0]
+    return idx, taus, avar, X, edf_tab, active, reasons, shapes, idx_cut
+
+
+def short_end_cut(result, sel, n_reweight: int = 5) -> np.ndarray:
+    """Curve indices of the short taus the weighted five-term fit leaves out
+    (:func:`_short_end_cut`; empty where the model holds from the first tau): GMWM leaves
+    them out too, so that both methods skip the same taus no noise model holds."""
+    return _prepared(result, sel, True, n_reweight, True)[-1]
+
+
+def fit_ls(result, sel, conv, rate_hz, method, n_reweight, confidence, n_boot, seed,
+           band: bool = True):
+    """The "wls"/"ols" fit of the selected taus (see :mod:`inertialab.noise.terms`);
+    ``band``: B as band-limited flicker with profiled corners (:func:`band_shape`)."""
+    weighted = method == "wls"
+    idx, taus, avar, X, edf_tab, active, reasons, shapes, _ = _prepared(
+        result, sel, weighted, n_reweight, band)
     c, model, dom, boot, misfit, fit_rmse, i_band = _fit_and_boot(
         X, avar, edf_tab, active, weighted, n_reweight, n_boot, seed,
         np.asarray(result.m)[idx], shapes)

@@ -106,7 +106,7 @@ from inertialab.noise._gmwm_model import (  # Process re-exported (public API)
     _name,
     _unpack,
 )
-from inertialab.noise._terms_base import span_intervals
+from inertialab.noise._terms_base import K_TIME_MIN, span_intervals
 
 #: sqrt(2 ln2 / pi) (IEEE 952 flicker floor), as in :mod:`inertialab.noise.terms`.
 BI_FACTOR = math.sqrt(2.0 * math.log(2.0) / math.pi)
@@ -213,7 +213,8 @@ class GmwmFit:
                 "n_boot": int(self.n_boot), "b_ci": [float(v) for v in self.b_ci],
                 "k_ci": [float(v) for v in self.k_ci], "k_upper": float(self.k_upper),
                 "r_upper": float(self.r_upper),
-                "b": float(b_of(self.processes, self.wv.tau0_s, self.tau_range_s)),
+                "b": float(b_of(self.processes, self.wv.tau0_s, self.tau_range_s,
+                                rise_start(self.wv))),
                 "wv": self.wv.to_dict()}
 
 
@@ -458,6 +459,7 @@ def _with_intervals(spec, theta, procs, wv, weights, n_boot, seed, confidence, a
     alts = [(spec, theta)] + [a for a in alts if a[0] != spec]
     reps, bs, ks = [], [], []
     rng_s = (float(taus[0]), float(taus[-1]))
+    t_rise = rise_start(wv)
     for b in range(n_boot):
         target = np.log(draws[b]) - bias
         best = None
@@ -471,8 +473,8 @@ def _with_intervals(spec, theta, procs, wv, weights, n_boot, seed, confidence, a
             if best is None or wic < best[0]:
                 best = (wic, _unpack(sp, r.x, tau0))
         if best is not None:
-            bs.append(b_of(best[1], tau0, rng_s))
-            ks.append(k_of(best[1], tau0, rng_s))
+            bs.append(b_of(best[1], tau0, rng_s, t_rise))
+            ks.append(k_of(best[1], tau0, rng_s, t_rise))
     reps = np.array(reps)
     q = (0.5 * (1 - confidence), 0.5 * (1 + confidence))
     b_ci = k_ci = nan2
@@ -491,14 +493,31 @@ def _with_intervals(spec, theta, procs, wv, weights, n_boot, seed, confidence, a
     return out, b_ci, k_ci
 
 
-def _slow(p, tau_range_s) -> bool:
-    """A GM whose Allan peak (1.89 tc) is not followed by an octave of fitted scales: in
-    the record it is indistinguishable from a random walk (its low-tau behaviour)."""
-    return (p.kind == "GM" and tau_range_s is not None
-            and 1.89 * p.params["tc_s"] > tau_range_s[1] / 2.0)
+def _slow(p, tau_range_s, t_rise=None) -> bool:
+    """A GM read as random walk (K), not bias instability: its Allan peak (1.89 tc) is not
+    followed by an octave of fitted scales (in the record it is indistinguishable from a
+    random walk, its low-tau behaviour), or, where the curve rises significantly after its
+    minimum at ``t_rise`` (:func:`rise_start`), it is a wander of that rise: tc at least
+    ``t_rise`` and :data:`K_TIME_MIN` of the longest scale (the five-term fit's K time, the
+    same rule)."""
+    if p.kind != "GM" or tau_range_s is None:
+        return False
+    tc = p.params["tc_s"]
+    if 1.89 * tc > tau_range_s[1] / 2.0:
+        return True
+    return t_rise is not None and tc >= max(t_rise, K_TIME_MIN * tau_range_s[1])
 
 
-def k_of(processes, tau0: float, tau_range_s=None) -> float:
+def rise_start(wv) -> float | None:
+    """The scale of the wavelet variance's minimum where a later scale's lower interval
+    limit lies above the minimum's upper limit (a significant rise), else None."""
+    i = int(np.argmin(wv.wv))
+    if i >= wv.wv.size - 1:
+        return None
+    return float(wv.taus_s[i]) if np.any(wv.ci_low[i + 1:] > wv.ci_high[i]) else None
+
+
+def k_of(processes, tau0: float, tau_range_s=None, t_rise=None) -> float:
     """Random-walk amplitude K (rate unit/sqrt(s)): ``gamma2/tau0`` of RW plus, for each
     slow GM (:func:`_slow`), the random walk it behaves as below its correlation time,
     ``2 s2/tc`` (its driving-noise density)."""
@@ -506,18 +525,19 @@ def k_of(processes, tau0: float, tau_range_s=None) -> float:
     for p in processes:
         if p.kind == "RW":
             k2 += p.params["gamma2"] / tau0
-        elif _slow(p, tau_range_s):
+        elif _slow(p, tau_range_s, t_rise):
             k2 += 2.0 * p.params["s2"] / p.params["tc_s"]
     return math.sqrt(k2)
 
 
-def b_of(processes, tau0: float, tau_range_s=None) -> float:
+def b_of(processes, tau0: float, tau_range_s=None, t_rise=None) -> float:
     """IEEE 952 flat-region B of the Gauss–Markov processes: ``max sigma_GM / 0.6643``
     over 1024 log-spaced taus of ``tau_range_s`` (the fitted scales: a flat region must
-    be seen in the data — a GM whose peak lies beyond the record is read as random walk,
-    not as bias instability), else over ``[tau0, 1e3 max tc]``. Rate unit; 0 without GM."""
+    be seen in the data — a GM whose peak lies beyond the record, or that is the wander
+    of a significant rise, is read as random walk, not as bias instability,
+    :func:`_slow`), else over ``[tau0, 1e3 max tc]``. Rate unit; 0 without GM."""
     gms = [p for p in processes
-           if (p.kind == "GM" and not _slow(p, tau_range_s)) or p.kind == "BL"]
+           if (p.kind == "GM" and not _slow(p, tau_range_s, t_rise)) or p.kind == "BL"]
     if not gms:
         return 0.0
     if tau_range_s is None:
@@ -537,6 +557,7 @@ def gmwm_noise_terms(fit: GmwmFit, conv, rate_hz: float, result=None):
     from inertialab.noise._terms_base import _REPORT, NoiseTerm, NoiseTerms
 
     tau0 = fit.wv.tau0_s
+    t_rise = rise_start(fit.wv)
     by = {}
     for p in fit.processes:
         by.setdefault(p.kind, []).append(p)
@@ -568,12 +589,12 @@ def gmwm_noise_terms(fit: GmwmFit, conv, rate_hz: float, result=None):
         extra = ()
         if name == "B":
             kind = "BL" if "BL" in by else "GM"
-            a = b_of(fit.processes, tau0, fit.tau_range_s)
+            a = b_of(fit.processes, tau0, fit.tau_range_s, t_rise)
             lo_hi = fit.b_ci
             coeffs[2] = (a * BI_FACTOR) ** 2
-        elif name == "K" and any(_slow(p, fit.tau_range_s) for p in fit.processes):
+        elif name == "K" and any(_slow(p, fit.tau_range_s, t_rise) for p in fit.processes):
             kind = "GM"
-            a = k_of(fit.processes, tau0, fit.tau_range_s)
+            a = k_of(fit.processes, tau0, fit.tau_range_s, t_rise)
             lo_hi = fit.k_ci
             extra = ("from_gm",)
         else:

@@ -99,7 +99,7 @@ from inertialab.noise._terms_base import (  # noqa: F401 - the public names live
     local_slopes,
     not_static_reason,
 )
-from inertialab.noise._terms_ls import fit_ls
+from inertialab.noise._terms_ls import fit_ls, short_end_cut
 from inertialab.noise._terms_slope import fit_slope
 from inertialab.noise.gmwm import fit_gmwm_curve, gmwm_noise_terms
 
@@ -205,6 +205,12 @@ def fit_noise_terms(result, *, unit: str, kind: str | None = "gyro", method: str
     if method == "slope":
         terms = fit_slope(result, sel, conv, rate_hz, n_boot=n_boot, seed=seed)
     elif method == "gmwm":
+        if auto_range and tau_range_s is None:
+            # the short taus the five-term fit leaves out (filter, quantiser: structure no
+            # noise model holds at their EDFs) are left out of GMWM's scales too
+            cut = short_end_cut(result, _select(result, None, True)[0], n_reweight)
+            if cut.size:
+                sel = sel & (np.arange(sel.size) > cut[-1])
         g = fit_gmwm_curve(result, sel, confidence=confidence, n_boot=n_boot, seed=seed)
         terms = gmwm_noise_terms(g, conv, rate_hz, result)
     else:
