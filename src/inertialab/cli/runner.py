@@ -106,7 +106,7 @@ class Run:
                        units=result.units, warnings_=warns, meta=meta)
         if out_dir is not None:
             self._write(out_dir, result, env, figures, after)
-        elif self.out_kind == "file":
+        elif self.out is not None and self.out_kind == "file":
             _write_records(result.artifacts())
             if after is not None:
                 after(result, None)
@@ -201,7 +201,7 @@ def config_command(config_cls, *, out: str | None = "dir", out_help: str | None 
             values = {f.name: kwargs.pop(f.name) for f, _ in fields}
             run = Run(out=kwargs.pop("out", None) if "out" in common else None,
                       as_json=kwargs.pop("as_json"), quiet=kwargs.pop("quiet"),
-                      out_kind="dir" if out == "dir" else "file")
+                      out_kind="file" if out in ("file", "file!") else "dir")
             return fn(*args, config=config_cls(**values).validate(), run=run, **kwargs)
 
         pos = [p for p in own if p.kind != inspect.Parameter.KEYWORD_ONLY]
