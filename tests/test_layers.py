@@ -216,16 +216,14 @@ def test_no_project_module_imported_by_string():
 # model floor.
 CLI_FORBIDDEN = {"calib", "noise", "sensors", "learn", "optim", "regress"}
 #: Functions still above 100 lines, with their current length as a ceiling (split them
-#: and shrink this list; nothing may join it). cli/ has none.
+#: and shrink this list; nothing may join it). cli/ and workflows/ have none.
 LONG_FUNCTIONS = {
     "noise/_octave.py:octave_sums": 158,
     "noise/allan.py:deviation": 164, "noise/allan_dask.py:oadev_dask": 109,
-    "workflows/vibration.py:run_from_frame": 108,
-    "workflows/vibration.py:analyse": 125,
 }
 MAX_FUNCTION_LINES = 100
-#: Lines of src/inertialab/cli/ (target 2,000; a ceiling that only goes down).
-CLI_MAX_LINES = 2_700
+#: Lines of src/inertialab/cli/ (a ceiling that only goes down).
+CLI_MAX_LINES = 2_000
 
 
 def test_cli_imports_no_method_or_model_floor():

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 from inertialab.errors import InputError
 
-__all__ = ["Config", "seed_setting", "setting"]
+__all__ = ["Config", "read_run_config", "seed_setting", "setting"]
 
 _KEY = "inertialab"
 
@@ -44,9 +44,10 @@ def setting(default=dataclasses.MISSING, *, help: str, flag: str | None = None,
     return dataclasses.field(default=default, metadata=meta)
 
 
-def seed_setting(help: str = "Random seed (same seed, same numbers)."):
-    """The ``seed`` setting every seeded workflow declares (a non-negative integer)."""
-    return setting(0, help=help, lo=0, hi=2**63 - 1)
+def seed_setting(help: str = "Random seed (same seed, same numbers).", default: int | None = 0):
+    """The ``seed`` setting every seeded workflow declares (a non-negative integer;
+    ``default=None`` where the workflow derives one)."""
+    return setting(default, help=help, lo=0, hi=2**63 - 1)
 
 
 def _describe(v) -> str:
@@ -99,3 +100,35 @@ def _check_number(name, x, lo, hi) -> None:
             f">= {lo:g}" if lo is not None else f"<= {hi:g}")
     if not math.isfinite(v) or (lo is not None and v < lo) or (hi is not None and v > hi):
         raise InputError(f"argument '{name}' must be {span}, got {_describe(x)}")
+
+
+#: Largest run-configuration file read (bytes); a run configuration is a few lines.
+MAX_CONFIG_BYTES = 1 << 20
+
+
+def read_run_config(path) -> dict:
+    """A run configuration (TOML, at most :data:`MAX_CONFIG_BYTES`) as a dict; a missing,
+    unreadable, non-UTF-8, too deeply nested or invalid file is one
+    :class:`~inertialab.errors.InputError` naming it."""
+    import tomllib
+
+    try:
+        with open(path, "rb") as fh:
+            raw = fh.read(MAX_CONFIG_BYTES + 1)
+    except FileNotFoundError:
+        raise InputError("no such configuration file", path=path) from None
+    except IsADirectoryError:
+        raise InputError("configuration is a directory, not a TOML file", path=path) from None
+    except OSError as exc:
+        raise InputError(f"cannot read configuration ({exc.strerror})", path=path) from None
+    if len(raw) > MAX_CONFIG_BYTES:
+        raise InputError(f"configuration is larger than {MAX_CONFIG_BYTES} bytes", path=path)
+    try:
+        return tomllib.loads(raw.decode("utf-8"))
+    except UnicodeDecodeError:
+        raise InputError("configuration is not UTF-8 text", path=path) from None
+    except RecursionError:
+        raise InputError("configuration is nested too deeply", path=path) from None
+    except ValueError as exc:  # TOMLDecodeError, or an integer of thousands of digits
+        raise InputError(f"configuration is not valid TOML ({' '.join(str(exc).split())})",
+                         path=path) from None

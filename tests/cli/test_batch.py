@@ -1,4 +1,4 @@
-"""``inertialab batch``: table, yield, per-unit failures, --strict, bad input (issue 10 items 5-6)."""
+"""``inertialab batch``: table, yield, per-unit failures, --strict, bad input."""
 
 import json
 

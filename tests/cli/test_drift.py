@@ -1,4 +1,4 @@
-"""CLI: drift fit, drift forecast, simulate storage-drift (spec 004, issue 8)."""
+"""CLI: drift fit, drift forecast, simulate storage-drift (spec 004)."""
 
 from __future__ import annotations
 
@@ -80,7 +80,7 @@ def test_bad_input_exits_2_with_one_line(record, capsys, tmp_path):
 
 @pytest.mark.filterwarnings("ignore")
 def test_unit_ids_become_safe_figure_names(record, capsys, tmp_path):
-    # issue 19 item 1: a unit_id with a path in it, or 300 characters long, never escapes
+    # a unit_id with a path in it, or 300 characters long, never escapes
     # --out and never collides: figure names are safe slugs with a collision-free suffix
     df = pd.read_csv(record / "rec.csv")
     evil, long_id = "x/../../../ESCAPED", "U" * 300
@@ -95,7 +95,7 @@ def test_unit_ids_become_safe_figure_names(record, capsys, tmp_path):
     outside = [p for p in tmp_path.rglob("*") if p.is_file() and out not in p.parents
                and p.name != "evil.csv"]
     assert outside == []
-    # (".inertialab" is the output transaction's own marker, issue 19 item 6)
+    # (".inertialab" is the output transaction's own marker)
     names = sorted(p.name for p in out.iterdir() if p.name != ".inertialab")
     assert all(len(n) < 100 and "/" not in n and not n.startswith(".") for n in names)
     pngs = [n for n in names if n.endswith(".png")]
@@ -106,7 +106,7 @@ def test_unit_ids_become_safe_figure_names(record, capsys, tmp_path):
 
 
 def test_horizon_is_bounded(capsys, record):
-    # issue 19 item 8: --horizon 100000000 ran past 120 s; now one line, exit 2, at once
+    # --horizon 100000000 ran past 120 s; now one line, exit 2, at once
     import time
     from pathlib import Path
 
@@ -127,7 +127,7 @@ def test_horizon_is_bounded(capsys, record):
 
 @pytest.mark.filterwarnings("ignore")
 def test_evaluate_rolling_origin_and_hidden_grid(record, capsys, tmp_path):
-    # issue 18 item 8: rolling-origin evaluation in the CLI with the per-step error curve,
+    # rolling-origin evaluation in the CLI with the per-step error curve,
     # the hidden size chosen by validation from a grid
     code, out, err = run(capsys, "drift", "evaluate", record / "rec.csv", "--quantity", "bias",
                          "--unit-id", "QA001", "--first", "40", "--step", "10", "--horizon", "10",

@@ -1,5 +1,5 @@
 """CLI: dual fit, dual design (and their hidden old spellings calibrate dual, design dual),
-simulate dual-tumble (spec 003, issue 7)."""
+simulate dual-tumble (spec 003)."""
 
 import json
 
@@ -104,7 +104,7 @@ def test_design_dual_json(capsys):
 
 
 def test_old_spellings_are_hidden_aliases(records, capsys):
-    # calibrate dual / design dual run the same commands, hidden from --help (issue 13)
+    # calibrate dual / design dual run the same commands, hidden from --help
     code, out, _ = run(capsys, "design", "dual", "--positions", "12", "--json")
     code2, out2, _ = run(capsys, "dual", "design", "--positions", "12", "--json")
     assert code == code2 == 0
@@ -123,7 +123,7 @@ def test_old_spellings_are_hidden_aliases(records, capsys):
     (["--positions", "300", "--range-deg", "0", "90"], "exceeds the 91 candidate angles"),
 ])
 def test_design_sizes_are_bounded(capsys, args, pattern):
-    # issue 19 item 7: --positions 1e8 was a MemoryError (exit 1)
+    # --positions 1e8 was a MemoryError (exit 1)
     code, out, err = run(capsys, "dual", "design", *args)
     assert code == 2 and out == "" and err.count("\n") == 1 and pattern in err, err
 
@@ -145,7 +145,7 @@ def _prior_cases(tmp_path):
 
 
 def test_hostile_prior_files_exit_2_one_line(records, capsys, tmp_path):
-    # issue 19 item 7: a non-UTF-8 prior JSON (and its kin) was exit 1
+    # a non-UTF-8 prior JSON (and its kin) was exit 1
     for name, (kind, content, pattern) in _prior_cases(tmp_path).items():
         p = tmp_path / name
         if kind == "bytes":

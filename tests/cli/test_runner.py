@@ -7,6 +7,7 @@ from __future__ import annotations
 import hashlib
 import json
 
+import pandas as pd
 import pytest
 
 from inertialab.cli.main import main
@@ -50,3 +51,38 @@ def test_out_of_bounds_settings_are_one_line_naming_the_flag(record, capsys, tmp
     code, out, err = run(capsys, "drift", "fit", record, flag, value, "--out", tmp_path / "x")
     assert code == 2 and err.count("\n") == 1 and flag in err, err
     assert not (tmp_path / "x").exists() and out == ""
+
+
+class _OneRecord:
+    """A result of a one-record command: a frame and a side file to write."""
+
+    settings, units, warnings = {"k": 1}, {}, ()
+
+    def __init__(self, out):
+        self.out = out
+        self.frame = pd.DataFrame({"t_s": [0.0, 0.1, 0.2], "x": [1.5, -2.25, 3.125]})
+
+    def to_json(self):
+        return {"rows": len(self.frame)}
+
+    def artifacts(self):
+        return {"records": [(self.out, self.frame, {"source": "test"})],
+                "files": {self.out.with_name("note.txt"): "beside\n"}}
+
+    def summary_rows(self):
+        return [f"written: {self.out}"]
+
+
+def test_one_record_mode_writes_the_records_and_refuses_a_directory(tmp_path, capsys):
+    from inertialab.cli.runner import Run
+    from inertialab.errors import InputError
+
+    out = tmp_path / "r.csv"
+    env = Run(out=out, as_json=True, out_kind="file").execute("t", lambda bar: _OneRecord(out))
+    printed = json.loads(capsys.readouterr().out)
+    assert printed == env and env["rows"] == 3 and env["settings"] == {"k": 1}
+    pd.testing.assert_frame_equal(pd.read_csv(out), _OneRecord(out).frame)
+    assert json.loads((tmp_path / "r.meta.json").read_text())["source"] == "test"
+    assert (tmp_path / "note.txt").read_text() == "beside\n"
+    with pytest.raises(InputError, match="--out must be a file"):
+        Run(out=tmp_path, out_kind="file").execute("t", lambda bar: _OneRecord(tmp_path))

@@ -1,5 +1,5 @@
 """CLI: thermal fit / apply / export (compensate: the old spelling of apply) and simulate
-thermal-tumble (spec 000, issue 5, issue 13)."""
+thermal-tumble (spec 000)."""
 
 from __future__ import annotations
 
@@ -249,7 +249,7 @@ def test_export_for_another_unit_carries_its_mapping(records, fitted, tmp_path, 
 
 def test_export_of_a_hostile_model_file(fitted, tmp_path, capsys):
     """Issue 19 item 2 through the CLI: an injected unit_id stays inside a comment; a
-    NaN coefficient (JSON NaN) is refused (on load since issue 19 item 5) with exit 2 and
+    NaN coefficient (JSON NaN) is refused (on load) with exit 2 and
     nothing written."""
     env = json.loads((fitted / "model.json").read_text())
     env["payload"]["unit_id"] = "U */ int evil(void){return 1;} /*"

@@ -1,5 +1,5 @@
 """CLI: triaxial fit / triaxial apply (old spellings calibrate triaxial / calibrate apply) and
-simulate triaxial-poses (issue 6 items 1, 5, 8; issue 13)."""
+simulate triaxial-poses."""
 
 import json
 
@@ -106,7 +106,7 @@ def test_lm_s12_recovers_mount(capsys, tmp_path):
     se = np.array([d["stderr"][k] for k in d["params"]])
     assert np.all(np.abs(x - tp.X_MPU6050_A) < 5 * se)  # 5 sigma: one seed, 9 parameters
     assert np.allclose(d["phi"], tp.PHI_MOUNT, atol=5e-4)
-    # issue 17 item 5: eq.-21 RMSE/SD in the sensor frame, per-pose residuals, intervals
+    # eq.-21 RMSE/SD in the sensor frame, per-pose residuals, intervals
     q = d["quality"]
     assert q["eq21"]["frame"] == "sensor" and 0 < q["eq21"]["rmse_mps2"] < 0.05
     assert len(q["per_pose"]) == 62 and set(q["ci95"]) >= {"bx", "kx", "theta_zx", "phi_z"}
@@ -210,7 +210,7 @@ def test_suffix_contradicting_header_units_and_apply_unit_mismatch(capsys, tmp_p
 
 
 def test_old_spellings_are_hidden_aliases_and_reading_options_apply(capsys, tmp_path):
-    # issue 13: 'calibrate triaxial|apply' still run (hidden) and give the same numbers as
+    # 'calibrate triaxial|apply' still run (hidden) and give the same numbers as
     # 'triaxial fit|apply'; the reading options of the front door (--map) work here too
     sph = tmp_path / "sph.csv"
     cli(capsys, "simulate", "triaxial-poses", "--scenario", "turntable62", "--seed", "3",
@@ -245,7 +245,7 @@ def test_old_spellings_are_hidden_aliases_and_reading_options_apply(capsys, tmp_
 
 
 def test_detector_messages_name_the_flags(capsys, tmp_path):
-    # issue 13: the library names arguments ('t_init_s'); the command line shows its flags
+    # the library names arguments ('t_init_s'); the command line shows its flags
     log = tmp_path / "r.raw.csv"
     cli(capsys, "simulate", "triaxial-poses", "--scenario", "rawlog62", "--out", log)
     one_line_error(*cli(capsys, "triaxial", "fit", log, "--t-init", "60")[::2], "--t-init")
@@ -254,7 +254,7 @@ def test_detector_messages_name_the_flags(capsys, tmp_path):
 
 
 def test_garbage_calibration_exits_2_and_force_writes_it_flagged(capsys, tmp_path):
-    # issue 17 item 1: records in g labelled m/s^2 -> refused, nothing written; --force writes
+    # records in g labelled m/s^2 -> refused, nothing written; --force writes
     # a flagged model that apply refuses unless --force again
     from inertialab.sensors import triaxial as tx
 
@@ -309,7 +309,7 @@ def _hand_placed_faces(path, deg=3.0, seed=0, g=9.81):
 
 
 def test_six_position_on_hand_placed_faces_gives_gravity_on_every_face(capsys, tmp_path):
-    # issue 17 item 3: |a| within 1e-4 g on every face after calibration (faces tilted ~3 deg)
+    # |a| within 1e-4 g on every face after calibration (faces tilted ~3 deg)
     path = tmp_path / "faces.csv"
     a = _hand_placed_faces(path)
     code, out, err = cli(capsys, "triaxial", "fit", path, "--method", "six-position",
@@ -334,7 +334,7 @@ def test_six_position_on_hand_placed_faces_gives_gravity_on_every_face(capsys, t
 
 
 def test_ferraris_command_detects_sections_writes_model_figure_and_sections(capsys, tmp_path):
-    # issue 17 item 2 end to end: simulate a hand-made session, calibrate, apply
+    # end to end: simulate a hand-made session, calibrate, apply
     path = tmp_path / "session.csv"
     assert cli(capsys, "simulate", "ferraris-session", "--seed", "3", "--out", path)[0] == 0
     truth_sections = json.loads((tmp_path / "session.sections.json").read_text())
@@ -368,7 +368,7 @@ def test_ferraris_command_detects_sections_writes_model_figure_and_sections(caps
 
 
 def test_apply_gives_physics_back_on_a_parquet_log(capsys, tmp_path):
-    # issue 17 item 4: a raw log of the same sensor, in another readable format (Parquet),
+    # a raw log of the same sensor, in another readable format (Parquet),
     # comes back as calibrated m/s^2 and rad/s: |a| = g at rest, the motion between two
     # poses integrates to the true rotation angle
     pytest.importorskip("pyarrow")
@@ -424,7 +424,7 @@ def test_export_to_imucal_imu_tk_and_kalibr(capsys, tmp_path):
 
 def test_gyro_fit_on_a_ferraris_log_does_not_take_turns_about_the_vertical_for_rests(capsys,
                                                                                      tmp_path):
-    # issue 17 leftover: 'triaxial fit --gyro' on a Ferraris-style log without shake; each turn
+    # 'triaxial fit --gyro' on a Ferraris-style log without shake; each turn
     # about the vertical keeps the accelerometer still. With an accelerometer-only detector the
     # turns were rests (9 intervals, the sweep found no 12 and the command refused); the joint
     # detector finds the 12 true rests and the turns as motions, so the gyro matrix is right.
@@ -448,7 +448,7 @@ def test_gyro_fit_on_a_ferraris_log_does_not_take_turns_about_the_vertical_for_r
 
 def test_method_all_writes_parameter_tables_and_six_face_figure_equal_to_each_fit(capsys,
                                                                                   tmp_path):
-    # issue 18 (spec 002 Tables 3-6/8-9/11-12, Fig. 8) from a user's six-face file
+    # (spec 002 Tables 3-6/8-9/11-12, Fig. 8) from a user's six-face file
     path = tmp_path / "six.csv"
     assert cli(capsys, "simulate", "triaxial-poses", "--scenario", "sixface", "--seed", "0",
                "--out", path)[0] == 0

@@ -1,5 +1,5 @@
 """CLI: inertialab vibration fit|apply (old spellings: bare vibration, vibration-compensate),
-simulate fog-vibration (issue 4, issue 13)."""
+simulate fog-vibration."""
 
 import json
 

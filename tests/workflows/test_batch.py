@@ -1,4 +1,4 @@
-"""Fleets on Dask: a 200-unit triaxial lot, parallel == serial (issue 10 item 5)."""
+"""Fleets on Dask: a 200-unit triaxial lot, parallel == serial."""
 
 import numpy as np
 import pytest

@@ -148,7 +148,7 @@ def test_short_record_reduces_h_and_constant_unit_warns():
 
 
 def test_sf_in_volts_per_g_uses_the_load_resistor():
-    # issue 18 item 7 / spec 004 §1: k[mA/g] = 1000 k[V/g] / R[ohm]; 6.5 V/g over 5000 ohm
+    # spec 004 §1: k[mA/g] = 1000 k[V/g] / R[ohm]; 6.5 V/g over 5000 ohm
     # is 1.3 mA/g (not 6.5 "mA/g")
     days = np.arange(30)
     ppm = 20.0 * np.sin(days / 5.0)
@@ -180,7 +180,7 @@ def test_sf_in_volts_per_g_uses_the_load_resistor():
 
 @pytest.mark.filterwarnings("ignore::inertialab.errors.DataQualityWarning")
 def test_apply_compensates_a_later_record_with_the_forecast():
-    # issue 18 item 8 / spec 004 §9: a = I / k_hat - b_hat on a later record; residuals
+    # spec 004 §9: a = I / k_hat - b_hat on a later record; residuals
     # with and without the forecast. Constant bias and scale factor make the forecast exact
     # (persistence), so the compensation must return the input acceleration exactly.
     from inertialab.io import validate_frame

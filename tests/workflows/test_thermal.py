@@ -152,7 +152,7 @@ def test_apply_reference_argument_is_checked(model, run_a, run_b, tmp_path):
     assert apply(model, rec).reference == "model"  # auto falls back to the model's unit
 
 
-# -- non-finite and out-of-range numbers (issue 19 item 5) ---------------------------------
+# -- non-finite and out-of-range numbers ---------------------------------
 @pytest.mark.parametrize("set_point", [10.0, 55.0])
 def test_a_1e308_cell_is_an_input_error_naming_the_row(run_a, set_point):
     f = run_a.frame.copy()

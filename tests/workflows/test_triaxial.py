@@ -1,5 +1,5 @@
 """workflows.triaxial: records -> static data (units, references, detection, saturation) and
-the accelerometer + gyro session fit (spec 002 §2.3-2.4, §7.3; issue 6 items 4, 7)."""
+the accelerometer + gyro session fit (spec 002 §2.3-2.4, §7.3)."""
 
 import warnings
 
@@ -31,7 +31,7 @@ def test_counts_with_lsb_per_g_folds_conversion_into_the_matrix():
 
 
 def test_raw_counts_log_with_gyro_end_to_end():
-    # issue 6 item 7: counts log -> detection -> accelerometer -> gyro
+    # counts log -> detection -> accelerometer -> gyro
     raw = tp.simulate("rawlog62-counts", seed=2)
     d = raw.data
     t = d["t_s"].to_numpy()
@@ -55,7 +55,7 @@ def test_raw_counts_log_with_gyro_end_to_end():
 
 
 def test_gyro_counts_start_from_the_data_without_a_sensitivity():
-    # issue 17 item 5: a counts log without gyro_lsb_per_rps starts M_g from the data (motion
+    # a counts log without gyro_lsb_per_rps starts M_g from the data (motion
     # angle between gravity directions / integrated raw rate) and reaches the same optimum
     raw = tp.simulate("rawlog62-counts", seed=2)
     d = raw.data
@@ -165,7 +165,7 @@ def test_wrong_gyro_sensitivity_is_refused():
 
 
 def test_quality_eq21_per_pose_intervals_and_coverage():
-    # issue 17 item 5 on a turntable record with references (LM-S9)
+    # eq.-21 quality, per-pose intervals and coverage on a turntable record with references (LM-S9)
     from scipy import stats
 
     from inertialab.metrics import vector_error

@@ -1,4 +1,4 @@
-"""Tests of the vibration workflow (spec 001 §3.7-3.11, §4; issue 4)."""
+"""Tests of the vibration workflow (spec 001 §3.7-3.11, §4)."""
 
 
 import numpy as np

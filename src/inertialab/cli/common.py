@@ -20,14 +20,12 @@ import warnings
 from pathlib import Path
 
 import numpy as np
-import typer
 
 from inertialab import __version__
-from inertialab.errors import InputError
 from inertialab.io import outputs
 from inertialab.io.modelfile import dependency_versions
 from inertialab.io.names import safe_slug
-from inertialab.io.writers import atomic_path, atomic_write_bytes, atomic_write_text
+from inertialab.io.writers import atomic_write_bytes, atomic_write_text
 from inertialab.jsonable import to_jsonable
 
 JSON_SCHEMA_VERSION = 1
@@ -41,7 +39,6 @@ __all__ = [
     "envelope",
     "file_sha256",
     "json_ready",
-    "output_file",
     "prepare_out_dir",
     "print_table",
     "progress_bar",
@@ -203,18 +200,6 @@ def _after_path(exc: Exception, path) -> str:
     return text[len(prefix):] if text.startswith(prefix) else text
 
 
-@contextlib.contextmanager
-def output_file(path):
-    """Yield a temporary path for a one-record output; renamed to ``path`` on success,
-    removed on error (outputs are replaced atomically, removed on error). Only a
-    regular file (or nothing) at ``path`` is replaced."""
-    p = Path(path)
-    if p.is_dir():
-        raise InputError("--out must be a file for this command", path=p)
-    with atomic_path(p) as tmp:
-        yield tmp
-
-
 def write_figures(figures, out_dir, *, dpi: int = 110) -> list[Path]:
     """Write ``report.section.Figure`` objects (or (name, matplotlib figure) pairs) as PNG
     files into ``out_dir``; return the paths. Names become file names only through
@@ -257,13 +242,3 @@ def _fmt(v) -> str:
     if isinstance(v, (float, np.floating)):
         return "nan" if not math.isfinite(v) else f"{v:.4g}"
     return str(v)
-
-
-def fail(message: str) -> None:
-    """Raise the usage error of a command (exit 2, one line)."""
-    raise InputError(message)
-
-
-def exit_with(message: str, code: int = 2) -> None:  # pragma: no cover - used by main
-    sys.stderr.write(f"error: {' '.join(message.split())}\n")
-    raise typer.Exit(code)

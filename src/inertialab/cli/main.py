@@ -31,6 +31,7 @@ import typer  # noqa: E402
 from inertialab import __version__  # noqa: E402
 from inertialab import signals as _signals  # noqa: E402
 from inertialab.cli.options import check_limits, check_out_targets  # noqa: E402
+from inertialab.config import read_run_config  # noqa: E402
 from inertialab.errors import InputError  # noqa: E402
 
 _GROUP_HELP = {
@@ -65,13 +66,14 @@ def command_modules() -> tuple:
         demo,
         drift,
         dual,
+        simulate,
         thermal,
         triaxial,
         validate,
         vibration,
     )
 
-    return (allan, batch, demo, drift, dual, thermal, triaxial, validate, vibration)
+    return (allan, batch, demo, drift, dual, simulate, thermal, triaxial, validate, vibration)
 
 
 def build_app() -> typer.Typer:
@@ -181,7 +183,7 @@ def expand_config(args: list[str]) -> list[str]:
     if i + 1 >= len(args):
         raise InputError("--config needs a TOML file")
     path = args[i + 1]
-    doc = _read_config(path)
+    doc = read_run_config(path)
     if "argv" in doc:
         expanded = [str(a) for a in doc["argv"]]
     elif "command" in doc:
@@ -267,36 +269,6 @@ def _one_line_warning(message, category, filename, lineno, file=None, line=None)
     stream = file if file is not None else sys.stderr
     with contextlib.suppress(OSError, ValueError):
         stream.write(f"warning: {category.__name__}: {_one_line(message)}\n")
-
-
-#: Largest configuration file read (bytes); a run configuration is a few lines.
-MAX_CONFIG_BYTES = 1 << 20
-
-
-def _read_config(path) -> dict:
-    """Parse a ``--config`` TOML file: bounded size, nesting and integers."""
-    import tomllib
-
-    try:
-        with open(path, "rb") as fh:
-            raw = fh.read(MAX_CONFIG_BYTES + 1)
-    except FileNotFoundError:
-        raise InputError("no such configuration file", path=path) from None
-    except IsADirectoryError:
-        raise InputError("configuration is a directory, not a TOML file", path=path) from None
-    except OSError as exc:
-        raise InputError(f"cannot read configuration ({exc.strerror})", path=path) from None
-    if len(raw) > MAX_CONFIG_BYTES:
-        raise InputError(f"configuration is larger than {MAX_CONFIG_BYTES} bytes", path=path)
-    try:
-        return tomllib.loads(raw.decode("utf-8"))
-    except UnicodeDecodeError:
-        raise InputError("configuration is not UTF-8 text", path=path) from None
-    except RecursionError:
-        raise InputError("configuration is nested too deeply", path=path) from None
-    except ValueError as exc:  # TOMLDecodeError, or an integer of thousands of digits
-        raise InputError(f"configuration is not valid TOML ({_one_line(exc)})",
-                         path=path) from None
 
 
 def _interrupted(signum: int) -> int:

@@ -159,64 +159,18 @@ def reading_options(fn):
     return wrapper
 
 
-#: Library argument name -> command-line flag, for messages raised below cli/.
+#: Library argument name -> command-line flag, for messages raised below cli/: the names
+#: that differ from a command's settings; every setting of a workflow ``Config`` adds its
+#: own name when its command is registered (:func:`inertialab.cli.runner.config_command`).
 FLAG_OF: dict[str, str] = {
-    "objective": "--objective",
-    "rate_hz": "--rate",
-    "column_map": "--map",
-    "skip_rows": "--skip-rows",
-    "time_column": "--time-col",
-    "time_unit": "--time-unit",
-    "topic": "--topic",
-    "instance": "--instance",
-    "dataset": "--dataset",
-    "resample_hz": "--resample",
-    "unit": "--unit",
-    "g_local": "--g-local",
-    "method": "--method",
-    "taus": "--taus",
-    "reference": "--reference",
-    "horizon": "--horizon",
-    "seed": "--seed",
-    "input": "--input",
-    "stats": "--stat",
-    "export": "--export",
-    "to": "--to",
-    "rostopic": "--rostopic",
-    "imu_topic": "--rostopic",
-    "gaps": "--gaps",
-    "model": "--model",
-    "workers": "--workers",
-    "scheduler": "--scheduler",
-    "nominal_hz": "--nominal",
-    "fit_terms": "--terms",
-    "column": "--column",
-    "gyro_lsb_per_rps": "--gyro-lsb-per-rps",
-    "k_thr": "--k-thr",
-    "threshold": "--threshold",
-    "t_init_s": "--t-init",
-    "min_duration_s": "--min-duration",
-    "window_s": "--window",
-    "force": "--force",
-    "bias_limit": "--bias-limit",
-    "norm_tol": "--norm-tol",
-    "max_generations": "--max-generations",
-    "robust": "--robust",
-    "placement_deg": "--placement-deg",
-    "drop_g_sensitivity": "--drop-g-sensitivity",
-    "fish_visual": "--visual",
-    "fish_step": "--step",
-    "fish_try_number": "--try-number",
-    "fish_crowd": "--crowd",
-    "n_positions": "--positions",
-    "step_deg": "--step-deg",
-    "range_deg": "--range-deg",
-    "prior": "--prior",
-    "order": "--order",
-    "tol_bias_ug": "--tol-bias-ug",
-    "acc_g": "--acc-g",
-    "rotation_deg": "--rotation-deg",
-    "inputs": "--inputs",
+    "rate_hz": "--rate", "column_map": "--map", "skip_rows": "--skip-rows",
+    "time_column": "--time-col", "time_unit": "--time-unit", "topic": "--topic",
+    "instance": "--instance", "dataset": "--dataset", "resample_hz": "--resample",
+    "stats": "--stat", "export": "--export", "to": "--to", "rostopic": "--rostopic",
+    "imu_topic": "--rostopic", "nominal_hz": "--nominal", "fit_terms": "--terms",
+    "t_init_s": "--t-init", "min_duration_s": "--min-duration", "window_s": "--window",
+    "fish_visual": "--visual", "fish_step": "--step", "fish_try_number": "--try-number",
+    "fish_crowd": "--crowd", "n_positions": "--positions", "inputs": "--inputs",
 }
 
 
@@ -232,7 +186,7 @@ def flagged(message: str) -> str:
 #: Bounds of the size arguments: flag -> (lowest, highest, what it is). A value
 #: outside is a usage error (exit 2) before any work starts, instead of a MemoryError or a
 #: run that does not end. :func:`check_limits` applies them to every command line (main
-#: calls it); a command may also declare ``callback=bounded("--rate")`` on its option.
+#: calls it).
 #: Flags a command bounds itself with a tighter, specific message (drift ``--horizon``
 #: 1..1000, dual design ``--positions`` 7..360) are left to the command.
 LIMITS: dict[str, tuple[float, float, str]] = {
@@ -357,16 +311,3 @@ def check_out_targets(args: list[str]) -> None:
                     "a FIFO" if stat.S_ISFIFO(mode) else "a socket")
             raise InputError(f"{flag} is {kind}; an output replaces only a regular file or "
                              "fills a directory", path=target)
-
-
-def bounded(flag: str):
-    """A typer callback enforcing :data:`LIMITS` for ``flag`` on one option."""
-    def callback(value):
-        if value is not None:
-            try:
-                check_value(flag, str(value))
-            except ValueError as exc:
-                raise typer.BadParameter(str(exc)) from None
-        return value
-
-    return callback

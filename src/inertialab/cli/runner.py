@@ -23,7 +23,10 @@ A result (from the workflow) provides ``to_json()`` (its keys), ``settings`` and
 {file name: text}}``) and ``summary_rows()`` (a list of ``(title, columns, rows)``
 tables and plain lines); ``sha256``, the training record's canonical hash, goes into the
 model files; ``warnings`` (optional) are the result's own warning lines, reported with
-the Python warnings raised while it ran.
+the Python warnings raised while it ran. A command whose ``--out`` is one record
+(``out="file"``) writes the result's ``artifacts()["records"]`` (``[(path, frame,
+meta)]``, the record and its sidecar) and ``["files"]`` (``{path: text}``, beside it),
+all after the result is complete.
 """
 
 from __future__ import annotations
@@ -51,20 +54,14 @@ from inertialab.cli.common import (
     progress_bar,
     write_figures,
 )
-from inertialab.cli.options import FLAG_OF, OutDirOpt, OutFileOpt
+from inertialab.cli.options import FLAG_OF, JsonOpt, OutDirOpt, OutFileOpt, QuietOpt
+from inertialab.errors import InputError
 
 __all__ = ["Run", "config_command"]
 
-_COMMON = {
-    "as_json": inspect.Parameter(
-        "as_json", inspect.Parameter.KEYWORD_ONLY, default=False,
-        annotation=Annotated[bool, typer.Option("--json", help="Print one JSON object alone "
-                                                               "on stdout.")]),
-    "quiet": inspect.Parameter(
-        "quiet", inspect.Parameter.KEYWORD_ONLY, default=False,
-        annotation=Annotated[bool, typer.Option("--quiet", help="No progress bar or warnings "
-                                                                "on stderr.")]),
-}
+_COMMON = {name: inspect.Parameter(name, inspect.Parameter.KEYWORD_ONLY, default=False,
+                                   annotation=ann)
+           for name, ann in (("as_json", JsonOpt), ("quiet", QuietOpt))}
 
 
 def _utc() -> str:
@@ -74,18 +71,22 @@ def _utc() -> str:
 @dataclass
 class Run:
     """The shared options of one invocation: ``out`` (a directory, or a file for commands
-    that write one record), ``as_json``, ``quiet``."""
+    that write one record: ``out_kind="file"``), ``as_json``, ``quiet``."""
 
     out: Path | None = None
     as_json: bool = False
     quiet: bool = False
+    out_kind: str = "dir"
 
     def execute(self, command: str, produce, *, inputs=(), figures=None, after=None) -> dict:
         """Run ``produce(progress) -> result``, then write, print or emit (module
         docstring). ``figures(result)`` gives the figures written to ``--out``;
         ``after(result, out_dir)`` writes anything else there; ``inputs`` may be a
         function of the result (to name a record's canonical hash). Returns the envelope."""
-        out_dir = prepare_out_dir(self.out) if self.out is not None else None
+        if self.out is not None and self.out_kind == "file" and Path(self.out).is_dir():
+            raise InputError("--out must be a file for this command", path=self.out)
+        out_dir = (prepare_out_dir(self.out) if self.out is not None and self.out_kind == "dir"
+                   else None)
         started, t0 = _utc(), time.perf_counter()
         with collect_warnings(quiet=self.quiet or self.as_json) as warns:
             with progress_bar(command, quiet=self.quiet or self.as_json) as bar:
@@ -105,6 +106,10 @@ class Run:
                        units=result.units, warnings_=warns, meta=meta)
         if out_dir is not None:
             self._write(out_dir, result, env, figures, after)
+        elif self.out is not None and self.out_kind == "file":
+            _write_records(result.artifacts())
+            if after is not None:
+                after(result, None)
         if self.as_json:
             import sys
 
@@ -141,6 +146,16 @@ class Run:
             after(result, out_dir)
 
 
+def _write_records(art: dict) -> None:
+    """The records (data and sidecar) and side files of a one-record command."""
+    from inertialab.io import write_record
+
+    for path, frame, meta in art.get("records", ()):
+        write_record(frame, path, meta)
+    for path, text in art.get("files", {}).items():
+        atomic_write_text(path, text)
+
+
 def _hints(cls) -> dict:
     import inertialab.config as _config_module  # the Config base's names, for get_type_hints
 
@@ -157,10 +172,11 @@ def _option(f: dataclasses.Field, meta: dict, hint) -> inspect.Parameter:
                              annotation=Annotated[hint, typer.Option(decl, help=text)])
 
 
-def config_command(config_cls, *, out: str | None = "dir"):
+def config_command(config_cls, *, out: str | None = "dir", out_help: str | None = None):
     """Decorator: add the options of ``config_cls``'s settings and the shared
-    ``--out`` (``out="dir"`` or ``"file"``; None: none), ``--json`` and ``--quiet`` to a
-    command, which receives ``config`` (validated) and ``run`` (:class:`Run`)."""
+    ``--out`` (``out="dir"`` or ``"file"``, ``"file!"`` when required; None: none),
+    ``--json`` and ``--quiet`` to a command, which receives ``config`` (validated) and
+    ``run`` (:class:`Run`). ``out_help`` replaces the help of ``--out``."""
     hints = _hints(config_cls)
     fields = [(f, m) for f, m in config_cls.fields() if m["cli"]]
     for f, m in fields:
@@ -168,8 +184,13 @@ def config_command(config_cls, *, out: str | None = "dir"):
     params = [_option(f, m, hints[f.name]) for f, m in fields]
     common = dict(_COMMON)
     if out is not None:
-        common["out"] = inspect.Parameter("out", inspect.Parameter.KEYWORD_ONLY, default=None,
-                                          annotation=OutDirOpt if out == "dir" else OutFileOpt)
+        ann = OutDirOpt if out == "dir" else OutFileOpt
+        if out_help is not None or out == "file!":
+            ann = Annotated[ann.__origin__, typer.Option(
+                "--out", help=out_help or ann.__metadata__[0].help)]
+        common["out"] = inspect.Parameter("out", inspect.Parameter.KEYWORD_ONLY,
+                                          default=... if out == "file!" else None,
+                                          annotation=ann)
 
     def deco(fn):
         sig = inspect.signature(fn, eval_str=True)
@@ -179,7 +200,8 @@ def config_command(config_cls, *, out: str | None = "dir"):
         def wrapper(*args, **kwargs):
             values = {f.name: kwargs.pop(f.name) for f, _ in fields}
             run = Run(out=kwargs.pop("out", None) if "out" in common else None,
-                      as_json=kwargs.pop("as_json"), quiet=kwargs.pop("quiet"))
+                      as_json=kwargs.pop("as_json"), quiet=kwargs.pop("quiet"),
+                      out_kind="file" if out in ("file", "file!") else "dir")
             return fn(*args, config=config_cls(**values).validate(), run=run, **kwargs)
 
         pos = [p for p in own if p.kind != inspect.Parameter.KEYWORD_ONLY]

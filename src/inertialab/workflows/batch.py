@@ -9,8 +9,8 @@ one-line reason when a unit failed to process (the batch goes on). The engine is
 ``scheduler="serial"`` runs the same per-unit function in this process, which is the
 reference the parallel path is tested against (same numbers, unit for unit).
 
-Checks are built by the command line (``--tolerance``, :mod:`inertialab.cli.batch`) or
-directly; :func:`~inertialab.noise.allan_dask.open_client` opens the Dask client and the
+Checks are parsed from the rule text (:func:`inertialab.workflows.batch_run.parse_tolerance`)
+or built directly; :func:`~inertialab.noise.allan_dask.open_client` opens the Dask client and the
 out-of-core Allan kernel of a single long log is
 :func:`inertialab.noise.allan_dask.oadev_dask`.
 """

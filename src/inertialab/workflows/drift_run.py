@@ -224,25 +224,32 @@ class ApplyResult:
     units = UNITS
 
     written: str | None = None
+    meta: dict | None = None
 
     def to_json(self) -> dict:
         return {"summary": self.summary, "rows": len(self.frame), "written": self.written}
 
     def artifacts(self) -> dict:
-        return {}
+        return {"records": [] if self.written is None else
+                [(self.written, self.frame, self.meta)]}
 
     def summary_rows(self) -> list:
         rows = [[u, q, v["unit"], v["n"], v["rmse_uncompensated"], v["rmse_compensated"]]
                 for u, d in self.summary.items() for q, v in d.items()]
         return [("drift apply (residual after compensation; bias µg, SF ppm)",
                  ["unit", "quantity", "unit of measure", "tests", "RMSE without forecast",
-                  "RMSE with forecast"], rows)]
+                  "RMSE with forecast"], rows)] + (
+            [] if self.written is None else [f"written: {self.written}"])
 
 
-def run_apply(model, record) -> ApplyResult:
-    """Compensate a later record with the forecast bias and scale factor (spec 004 §9)."""
+def run_apply(model, record, *, out=None, model_path=None) -> ApplyResult:
+    """Compensate a later record with the forecast bias and scale factor (spec 004 §9);
+    ``out``: where the compensated record is to be written (with its sidecar)."""
     frame, summary = wf.apply(model, record)
-    return ApplyResult(frame=frame, summary=summary, settings={})
+    return ApplyResult(frame=frame, summary=summary, settings={},
+                       written=None if out is None else str(out),
+                       meta={"source": "drift apply", "model": str(model_path),
+                             "record": str(record.path)})
 
 
 @dataclass

@@ -12,7 +12,7 @@ from inertialab.config import Config, setting
 from inertialab.errors import InputError
 from inertialab.workflows import dual as wf
 
-__all__ = ["FitConfig", "FitResult", "run_fit"]
+__all__ = ["DesignConfig", "DesignResult", "FitConfig", "FitResult", "run_design", "run_fit"]
 
 #: Display factor and unit of each coefficient in the summary table.
 _SCALE = {"KA0": (1e6, "ug"), "KB0": (1e6, "ug"), "kA1": (1e6, "ppm"),
@@ -104,3 +104,45 @@ def run_fit(records, config: FitConfig, *, sensitivity: bool = False) -> FitResu
                 "ebr_rule": c.ebr_rule.upper(), "lambda_combination": c.lambda_combination.lower(),
                 "second_order": c.second_order, "g_local": c.g_local, "seed": None}
     return FitResult(res=res, settings=settings, sha256=records[0].sha256)
+
+
+@dataclass(frozen=True)
+class DesignConfig(Config):
+    """Settings of ``dual design`` (bounds checked by the design itself, with the
+    candidate count)."""
+
+    positions: int = setting(20, help="Number of positions (7 to 360).")
+    range_deg: tuple[float, float] = setting((0.0, 360.0), help="Allowed angle range LO HI "
+                                                                "(deg).")
+    step_deg: float = setting(1.0, help="Candidate grid step (deg; at most 3601 candidates).")
+
+
+@dataclass
+class DesignResult:
+    """``dual design``: the D-optimal positions beside the equally spaced ones."""
+
+    res: dict
+    settings: dict
+    units = {"positions_deg": "deg"}
+
+    def to_json(self) -> dict:
+        return self.res
+
+    def artifacts(self) -> dict:
+        return {}
+
+    def summary_rows(self) -> list:
+        c, e = self.res["criteria"], self.res["equally_spaced"]["criteria"]
+        keys = ("log_det", "a_trace_inv", "e_min_eig", "cond")
+        return ["positions (deg): " + " ".join(f"{a:g}" for a in self.res["positions_deg"]),
+                (None, ["design", "log det (D)", "trace inv (A)", "min eig (E)", "cond"],
+                 [["D-optimal", *(c[k] for k in keys)],
+                  ["equally spaced", *(e[k] for k in keys)]]),
+                self.res["note"]]
+
+
+def run_design(config: DesignConfig) -> DesignResult:
+    """D-optimal dividing-head positions for the identifiable g^2 harmonic model."""
+    c = config.validate()
+    res = wf.design(c.positions, range_deg=c.range_deg, step_deg=c.step_deg)
+    return DesignResult(res=res, settings=c.to_dict())

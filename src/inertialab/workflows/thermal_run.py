@@ -8,13 +8,15 @@ and ``summary_rows()``.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from pathlib import Path
 
 from inertialab.config import Config, seed_setting, setting
 from inertialab.errors import InputError
 from inertialab.units import THERMAL_UNITS
 from inertialab.workflows import thermal as wf
 
-__all__ = ["FitConfig", "FitResult", "run_fit"]
+__all__ = ["ApplyConfig", "ApplyResult", "ExportConfig", "ExportResult", "FitConfig", "FitResult",
+           "run_apply", "run_export", "run_fit"]
 
 _CHOICES = ("iafsa-scm-anfis", "scm-anfis", "anfis", "fis", "ann", "poly-sep", "poly-2d",
             "all")
@@ -137,3 +139,106 @@ def run_fit(record, config: FitConfig, *, progress=None) -> FitResult:
     return FitResult(result=result, samples=samples, own=result.own_drift(),
                      bsf=wf.bias_scale_factor(samples), settings=settings,
                      sha256=record.sha256)
+
+
+# -------------------------------------------------------------------------- apply
+
+@dataclass(frozen=True)
+class ApplyConfig(Config):
+    """Settings of ``thermal apply``."""
+
+    reference: str = setting("auto", help="model | record | auto: Ua with the model unit's "
+                                          "55 °C coefficients, or with the record's own 55 °C "
+                                          "tumble (transfer to another unit, spec 000 §3.7); "
+                                          "auto = record when it has a full 55 °C tumble of "
+                                          "another unit.")
+
+
+@dataclass
+class ApplyResult:
+    """``thermal apply``: the compensated record (:class:`~inertialab.workflows.thermal.
+    ThermalApplied`) to write at ``out``."""
+
+    res: object
+    out: object
+    settings: dict
+    sha256: str | None = None
+    model: object = None
+    units = {}
+
+    def to_json(self) -> dict:
+        return self.res.summary() | {"out": str(self.out)}
+
+    def artifacts(self) -> dict:
+        return {"records": [(self.out, self.res.frame, self.res.meta)]}
+
+    def summary_rows(self) -> list:
+        s, d = self.res.summary(), self.res.drift
+        out = [f"compensated {s['n_rows']} rows ({s['n_clamped']} clamped) -> {self.out}"]
+        if d is not None:
+            out.append(f"drift vs 55 °C: raw max {d.raw_max_ug / 1e3:.3f} mg, compensated max "
+                       f"{d.comp_max_ug:.2f} µg")
+        return out
+
+
+def run_apply(model, record, config: ApplyConfig, *, out, source: str | None = None
+              ) -> ApplyResult:
+    """Compensate a thermal-tumble record with a thermal model; the record to write at
+    ``out`` has comp_output_mv (mV), comp_a_g (g) and status."""
+    c = config.validate()
+    res = wf.apply(model, record, reference=c.reference, source=source)
+    return ApplyResult(res=res, out=out, settings={"reference": c.reference.strip().lower()},
+                       sha256=record.sha256, model=model)
+
+
+# ------------------------------------------------------------------------- export
+
+@dataclass(frozen=True)
+class ExportConfig(Config):
+    """Settings of ``thermal export``."""
+
+    prefix: str = setting("qfa", help="C identifier prefix.")
+    unit_record: Path | None = setting(None, help="thermal_tumble record of the unit the code "
+                                                  "will run on, when it is another unit of the "
+                                                  "lot: its 55 °C tumble gives the transfer "
+                                                  "mapping of spec 000 §3.7.")
+
+
+@dataclass
+class ExportResult:
+    """``thermal export``: the C99 pair of a fuzzy thermal model (``files``: the paths
+    written by :meth:`write`)."""
+
+    ex: object
+    mapped: bool
+    settings: dict
+    files: list | None = None
+    units = {}
+
+    def write(self, directory) -> list:
+        from inertialab.io.exporters import get
+
+        self.files = get("thermal", "c99").write(self.ex, directory)
+        return self.files
+
+    def to_json(self) -> dict:
+        p = self.settings["prefix"]
+        return {"files": self.files, "n_rules": self.ex.n_rules,
+                "exp_calls": self.ex.exp_calls, "flops": self.ex.flops,
+                "functions": [f"{p}_comp_mV", f"{p}_comp_g"],
+                "mapped_unit": self.ex.unit_id if self.mapped else None}
+
+    def artifacts(self) -> dict:
+        return {}
+
+    def summary_rows(self) -> list:
+        return [f"written: {self.files[0]}, {self.files[1]} ({self.ex.n_rules} rules, "
+                f"{self.ex.exp_calls} exp calls per reading)"]
+
+
+def run_export(model, config: ExportConfig, *, unit_record=None) -> ExportResult:
+    """Dependency-free C99 of a fuzzy thermal model (inputs clamped, status flag);
+    ``unit_record``: the record read from ``config.unit_record``."""
+    c = config.validate()
+    ex = wf.export(model, prefix=c.prefix, unit_record=unit_record)
+    return ExportResult(ex=ex, mapped=unit_record is not None, settings=c.to_dict())

@@ -7,6 +7,7 @@ docs/ferraris.md): a :class:`~inertialab.config.Config` of settings and
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
@@ -16,7 +17,8 @@ from inertialab.errors import InputError
 from inertialab.workflows import ferraris as wfr
 from inertialab.workflows import triaxial as wf
 
-__all__ = ["FerrarisConfig", "FitConfig", "run_ferraris", "run_fit"]
+__all__ = ["ApplyConfig", "ExportConfig", "FerrarisConfig", "FitConfig", "run_apply", "run_export",
+           "run_ferraris", "run_fit", "run_fit_file"]
 
 def _matrix_lines(title: str, rows) -> list[str]:
     return [title] + ["  [" + "  ".join(f"{v:+.9g}" for v in row) + "]" for row in rows]
@@ -164,6 +166,10 @@ class FitResult:
 
         return correct(self.run.fit.x, self.run.data.a)
 
+    def norm_error(self) -> np.ndarray:
+        """|corrected record| - g per record (the working unit), for the figures."""
+        return np.linalg.norm(self.corrected(), axis=1) - self.run.data.g
+
     def summary_rows(self) -> list:
         fit, data, p = self.run.fit, self.run.data, self.to_json()
         rows = [[n, p["params"][n], (p["stderr"] or {}).get(n)] for n in p["params"]]
@@ -286,6 +292,25 @@ def run_fit(record, config: FitConfig, *, schedule=None, name: str = "", progres
                      skipped=skipped, gyro_unit=session.gyro_suffix, sha256=record.sha256)
 
 
+def run_fit_file(file, config: FitConfig, *, options=None, progress=None):
+    """:func:`run_fit` on the file at ``file`` (read with the reading ``options``); a raw
+    log takes its pose schedule from ``config.schedule`` or ``<stem>.schedule.csv`` when
+    present. The result's ``inputs`` name the file and the schedule read."""
+    from inertialab.io.sidecar import read_schedule, schedule_path
+
+    unit = None if config.unit is None else config.unit.lower()
+    rec = wf.read(file, options=options, unit=unit, g_local=config.g_local)
+    schedule, inputs = None, [file]
+    if wf.is_raw_log(rec):
+        sp = config.schedule if config.schedule is not None else schedule_path(file)
+        if config.schedule is not None or Path(sp).exists():
+            schedule = read_schedule(sp)  # the text front door: regular file, size, encoding
+            inputs.append(sp)
+    res = run_fit(rec, config, schedule=schedule, name=Path(file).name, progress=progress)
+    res.inputs = inputs
+    return res
+
+
 # ----------------------------------------------------------------------- ferraris
 
 @dataclass(frozen=True)
@@ -392,7 +417,8 @@ class ApplyResult:
         return dict(self.summary)
 
     def artifacts(self) -> dict:
-        return {}
+        out = self.summary["output"]
+        return {"records": [] if out is None else [(out, self.data, self.meta)]}
 
     def summary_rows(self) -> list:
         s = self.summary
@@ -413,3 +439,44 @@ def run_apply(model, path, config: ApplyConfig, *, options=None, model_path=None
                "gyro_calibrated": wf.gyro_applied(model, rec), "raw_unit": model.raw_unit}
     return ApplyResult(data=cal.data, meta=cal.meta, summary=summary,
                        settings={"unit": unit, "force": c.force})
+
+
+# ------------------------------------------------------------------------- export
+
+@dataclass(frozen=True)
+class ExportConfig(Config):
+    """Settings of ``triaxial export`` (the target is its own argument)."""
+
+    drop_g_sensitivity: bool = setting(False, help="imu_tk: export a gyro with a "
+                                                   "g-sensitivity without it.")
+    force: bool = setting(False, help="Export a flagged calibration anyway.")
+
+
+@dataclass
+class ExportResult:
+    """``triaxial export``: the files written for another tool."""
+
+    written: list
+    settings: dict
+    units = {}
+
+    def to_json(self) -> dict:
+        return {"written": self.written, "format": self.settings["to"]}
+
+    def artifacts(self) -> dict:
+        return {}
+
+    def summary_rows(self) -> list:
+        return ["written: " + ", ".join(self.written)]
+
+
+def run_export(model, to: str, out, config: ExportConfig) -> ExportResult:
+    """Write a triaxial calibration at ``out`` for the tool of target ``to`` (one of the
+    registered calibration exporters, :data:`inertialab.io.exporters.EXPORTERS`)."""
+    from inertialab.io.exporters import export_calibration, get
+
+    c = config.validate()
+    fmt = get("calibration", to).target
+    written = export_calibration(model, fmt, out, force=c.force,
+                                 drop_g_sensitivity=c.drop_g_sensitivity)
+    return ExportResult(written=written, settings={"to": fmt, **c.to_dict()})

@@ -34,7 +34,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from inertialab import metrics as _metrics
-from inertialab import units
 from inertialab.calib.vibration import (
     SPREAD_GRID,
     BiasTargets,
@@ -48,6 +47,7 @@ from inertialab.calib.vibration import (
 from inertialab.errors import DataQualityWarning, ExtrapolationWarning, InputError
 from inertialab.noise import wavelet as wv
 from inertialab.progress import NullProgress
+from inertialab.workflows.vibration_record import load_run, prepare, run_from_frame
 
 __all__ = [
     "BiasTargets",
@@ -70,128 +70,6 @@ TERMS = ("Q", "N", "B", "K", "R")
 #: Report units of the five terms (docs/vibration.md).
 TERM_UNITS = {"Q": "arcsec", "N": "deg/sqrt(h)", "B": "deg/h", "K": "deg/h/sqrt(h)",
               "R": "deg/h^2"}
-
-
-def _bad_rows(mask: np.ndarray) -> list[int]:
-    return (np.flatnonzero(mask)[:5] + 1).tolist()
-
-
-def run_from_frame(df, meta: dict | None = None, *, path="<frame>", sha256: str = "",
-                   units_map: dict | None = None, timebase=None) -> VibrationRun:
-    """Validate a record frame for the vibration pipeline (spec 001 §2.2 loader checks).
-
-    Checks: a rate column (``rate_*``, converted to deg/h) or angle increments
-    (``dtheta_*``, rate = dtheta/tau0); the time base (``timebase``, the record's; for a
-    bare frame decided from ``t_s`` and the sidecar ``fs_hz`` by
-    :func:`inertialab.io.timestamps.decide_timebase`) without lost samples; no NaN; ``vib_on`` present with one contiguous block of 1s after
-    a static phase; ``vib_freq_hz > 0`` exactly where ``vib_on = 1``; ``phase`` (if
-    given) 1 -> 2 -> 3 and consistent with ``vib_on``.
-
-    Raises
-    ------
-    InputError
-        Naming the file, column and rows.
-    """
-    meta = dict(meta or {})
-    path = str(path)
-    cols = {c.lower(): c for c in df.columns}
-    rate_col = next((c for c in cols if c.startswith("rate_") and units.split_suffix(c)[1]),
-                    None)
-    dth_col = next((c for c in cols if c.startswith("dtheta_") and units.split_suffix(c)[1]),
-                   None)
-    if rate_col is None and dth_col is None:
-        raise InputError("needs a rate column (e.g. rate_dph) or angle increments "
-                         "(dtheta_arcsec)", path=path)
-    # time base: the record's (decided once in io), or decided here for a bare frame
-    if timebase is None:
-        from inertialab.io.timestamps import decide_timebase
-
-        t = np.asarray(df[cols["t_s"]], dtype=float) if "t_s" in cols else None
-        timebase = decide_timebase(t, n=len(df), nominal_hz=meta.get("fs_hz"), path=path)
-    if timebase is None:
-        raise InputError("needs a t_s column or the sidecar key fs_hz", path=path)
-    if timebase.n_missing or timebase.back_rows:
-        raise InputError(f"{timebase.n_missing} sample(s) lost in gaps or stamps that go back: "
-                         "the vibration analysis needs a contiguous log", path=path,
-                         column="t_s")
-    fs, tau0 = timebase.rate_hz, timebase.tau0_s
-    if rate_col is not None:
-        suf = (units_map or {}).get(cols[rate_col]) or units.split_suffix(rate_col)[1]
-        x = units.convert(np.asarray(df[cols[rate_col]], dtype=float), suf, "dph")
-        xname = cols[rate_col]
-    else:
-        suf = (units_map or {}).get(cols[dth_col]) or units.split_suffix(dth_col)[1]
-        x = units.convert(np.asarray(df[cols[dth_col]], dtype=float), suf, "arcsec") / tau0
-        xname = cols[dth_col]
-    x = np.asarray(x, dtype=float)
-    if not np.all(np.isfinite(x)):
-        raise InputError("NaN or infinite rate values", path=path, column=xname,
-                         row=_bad_rows(~np.isfinite(x)))
-    if "vib_on" not in cols:
-        raise InputError("record has no vibration phases: column vib_on is missing "
-                         "(1 while the shaker drives, else 0)", path=path, column="vib_on")
-    on_raw = np.asarray(df[cols["vib_on"]], dtype=float)
-    if not np.all(np.isin(on_raw, (0.0, 1.0))):
-        raise InputError("vib_on must be 0 or 1", path=path, column="vib_on",
-                         row=_bad_rows(~np.isin(on_raw, (0.0, 1.0))))
-    on = on_raw == 1.0
-    if not on.any():
-        raise InputError("record has no vibration phase (vib_on is never 1)", path=path,
-                         column="vib_on")
-    idx = np.flatnonzero(on)
-    k_on, k_off = int(idx[0]), int(idx[-1])
-    if idx.size != k_off - k_on + 1:
-        gaps = np.flatnonzero(~on[k_on:k_off + 1]) + k_on
-        raise InputError("vibration must be one contiguous block (P1 static, P2 vibration, "
-                         "P3 static); vib_on drops to 0 inside it", path=path, column="vib_on",
-                         row=(gaps[:5] + 1).tolist())
-    if k_on == 0:
-        raise InputError("no static phase before vibration (P1 is empty): the reference bias "
-                         "needs one", path=path, column="vib_on")
-    if "vib_freq_hz" not in cols:
-        raise InputError("column vib_freq_hz (drive frequency, Hz) is missing", path=path,
-                         column="vib_freq_hz")
-    f = np.asarray(df[cols["vib_freq_hz"]], dtype=float)
-    badf = on & ~(np.isfinite(f) & (f > 0))
-    if badf.any():
-        raise InputError("drive frequency missing or <= 0 while vibrating", path=path,
-                         column="vib_freq_hz", row=_bad_rows(badf))
-    bad_off = ~on & ~(f == 0)
-    if bad_off.any():
-        raise InputError("drive frequency must be 0 while vib_on = 0", path=path,
-                         column="vib_freq_hz", row=_bad_rows(bad_off))
-    if "phase" in cols:
-        ph = np.asarray(df[cols["phase"]], dtype=float)
-        expect = np.where(np.arange(x.size) < k_on, 1, np.where(on, 2, 3))
-        badp = ph != expect
-        if badp.any():
-            raise InputError("phase must run 1 -> 2 -> 3 and equal 2 exactly where vib_on = 1",
-                             path=path, column="phase", row=_bad_rows(badp))
-    if k_off + 1 >= x.size:
-        warnings.warn(f"{path}: record ends while vibrating (no P3); P3 rows are omitted",
-                      DataQualityWarning, stacklevel=2)
-    return VibrationRun(rate_dph=x, vib_on=on, freq_hz=np.where(on, f, 0.0), fs_hz=float(fs),
-                        k_on=k_on, k_off=k_off, path=path, sha256=sha256,
-                        experiment=meta.get("experiment"), meta=meta)
-
-
-def prepare(record) -> VibrationRun:
-    """A ``gyro_log`` :class:`~inertialab.io.Record` validated and segmented for the
-    pipeline (:func:`run_from_frame`)."""
-    from inertialab.io.preflight import preflight
-
-    preflight(record, "vibration")  # the checks `validate --kind vibration` runs
-    return run_from_frame(record.data, record.meta, path=record.path, sha256=record.sha256,
-                          timebase=record.timebase,
-                          units_map=record.units)
-
-
-def load_run(path, *, options=None) -> VibrationRun:
-    """Read a ``gyro_log`` record (``options``: :class:`~inertialab.io.mapping.ReadOptions`)
-    and :func:`prepare` it."""
-    from inertialab.io import read_record
-
-    return prepare(read_record(path, "gyro_log", options=options))
 
 
 # ----------------------------------------------------------------------------- noise terms
@@ -514,17 +392,9 @@ def _compensate_fixed(fixed, a_fix, level: int, model, cfg, tmin_phys: float, ta
     return residual
 
 
-def analyse(sweep: VibrationRun, fixed: VibrationRun | None = None,
-            config: VibrationConfig | None = None, progress=None) -> VibrationResult:
-    """Run the spec 001 pipeline (§3.11) on a sweep record and an optional fixed one.
-
-    With the sweep alone, the phase tables, decomposition and level rule run on it and
-    the compensation rows are omitted (``residual_bias_dph`` is None).
-    """
-    cfg = config or VibrationConfig()
-    prog = progress or NullProgress()
-    total = 8.0
-    t_start = time.perf_counter()
+def _checked_runs(sweep: VibrationRun, fixed: VibrationRun | None,
+                  cfg: VibrationConfig) -> dict:
+    """Step 0 of :func:`analyse`: the settings and records checked; ``{"sweep", "fixed"}``."""
     if not (cfg.spread == "validate" or (isinstance(cfg.spread, (int, float, np.number))
                                          and np.isfinite(cfg.spread) and cfg.spread > 0)):
         raise InputError(f"spread must be a positive number (Hz) or 'validate', "
@@ -540,12 +410,12 @@ def analyse(sweep: VibrationRun, fixed: VibrationRun | None = None,
             raise InputError(f"{r.path}: record too short ({r.n} samples)")
     if fixed is not None and abs(fixed.fs_hz - sweep.fs_hz) > 1e-9 * sweep.fs_hz:
         warnings.warn(f"sample rates differ (sweep {sweep.fs_hz:g} Hz, fixed "
-                      f"{fixed.fs_hz:g} Hz)", DataQualityWarning, stacklevel=2)
-    metrics: dict = {"tau_ranges_s": {}, "ratios": {}}
-    tables: dict = {"phases": {}, "decomposition": {}, "compensation": {}}
+                      f"{fixed.fs_hz:g} Hz)", DataQualityWarning, stacklevel=3)
+    return runs
 
-    # 1-2: per-phase Allan tables
-    prog.update(0, total, "phase tables")
+
+def _phase_tables(runs: dict, tables: dict, metrics: dict) -> None:
+    """Steps 1-2: the noise terms of each phase of each record (seed Table 1)."""
     for rname, r in runs.items():
         ref = None
         for pname, sl in r.phase_slices().items():
@@ -556,23 +426,18 @@ def analyse(sweep: VibrationRun, fixed: VibrationRun | None = None,
                 ref = row
             metrics["ratios"][key + "/P1"] = _ratios(row, ref)
 
-    # 3: spectral views of the fixed run (or the sweep)
-    prog.update(1, total, "spectral views")
-    views: dict = {}
-    view_run = fixed if fixed is not None else sweep
-    if cfg.views:
-        views.update(_views(view_run, cfg))
 
-    # 4: decomposition and level
-    prog.update(2, total, "db4 decomposition")
+def _decompose(runs: dict, cfg: VibrationConfig, metrics: dict):
+    """Step 4: the db4 decomposition of each record and the level L (the fixed run's
+    §3.6 rule, or the sweep's); returns ``(decompositions, rule record, selection, L)``."""
     decs = {name: wv.decompose(r.rate_dph, level=cfg.wavelet_level) for name, r in runs.items()}
-    sel_run = "fixed" if fixed is not None else "sweep"
+    sel_run = "fixed" if "fixed" in runs else "sweep"
     sel = _level_selection(runs[sel_run], decs[sel_run], cfg)
     level = sel.level if cfg.level == "auto" else int(cfg.level)
     J = min(d.level for d in decs.values())
     if level > J:
         warnings.warn(f"level {level} exceeds the decomposition depth {J}; using {J}",
-                      DataQualityWarning, stacklevel=2)
+                      DataQualityWarning, stacklevel=3)
         level = J
     metrics["level_rule"] = {
         "record": sel_run, "chosen_by_rule": int(sel.level), "rule_met": bool(sel.rule_met),
@@ -581,10 +446,13 @@ def analyse(sweep: VibrationRun, fixed: VibrationRun | None = None,
         "detail_power_P1": {str(j): v for j, v in sel.detail_power_reference.items()},
         "wavelet_level": J,
     }
+    return decs, sel_run, sel, level
 
-    # 5: Table-2 analogue (paper: "ols" over the full range; physical: wls, tau >= 2^(L+1))
-    prog.update(3, total, "decomposition tables")
-    tmin_phys = 2 ** (level + 1) / sweep.fs_hz
+
+def _decomposition_tables(runs: dict, decs: dict, level: int, tmin_phys: float,
+                          tables: dict, metrics: dict) -> None:
+    """Step 5: the Table-2 analogue (paper: "ols" over the full range; physical: wls,
+    tau >= 2^(L+1) tau0) and the raw records' bias and 10-s stability per phase."""
     metrics["decomposition_physical"] = {}
     for rname, r in runs.items():
         a = decs[rname].approximation(level)
@@ -599,28 +467,54 @@ def analyse(sweep: VibrationRun, fixed: VibrationRun | None = None,
         metrics["decomposition_physical"][f"{rname}/A{level}"] = noise_terms_row(
             sigs[f"A{level}"], r.fs_hz, method="wls", tau_min_s=tmin_phys)
     metrics["tau_ranges_s"]["A_L_physical_min"] = tmin_phys
-    # bias and 10-s stability per phase of the raw records
     metrics["raw_phases"] = {rname: phase_stats(r.rate_dph, r) for rname, r in runs.items()}
 
-    # 6: targets and models
-    prog.update(4, total, "bias targets and models")
-    a_sweep = decs["sweep"].approximation(level)
+
+def _bias_model(sweep: VibrationRun, dec, level: int, cfg: VibrationConfig, views: dict):
+    """Step 6: the sweep's bias targets, the RBF model and the polynomial baseline (their
+    curves into ``views``); returns ``(model, fit block)``."""
+    a_sweep = dec.approximation(level)
     targets = bias_targets(sweep, a_sweep, guard_s=cfg.target_guard_s,
                            bin_width_hz=cfg.bin_width_hz, min_count=cfg.min_bin_count,
                            mode=cfg.targets, level=level)
-    model, fit, truth = _fit_block(targets, cfg, level, sweep)
+    model, fit, _ = _fit_block(targets, cfg, level, sweep)
     f_grid = np.linspace(targets.f_hz.min(), targets.f_hz.max(), 1000)
-    views["targets"] = targets
-    views["curve_f_hz"] = f_grid
-    views["curve_rbf"] = model.rbf_.predict(f_grid)
-    views["curve_poly"] = model.poly_.predict(f_grid)
-    views["curve_truth"] = _true_curve(sweep, f_grid)
+    views.update({"targets": targets, "curve_f_hz": f_grid,
+                  "curve_rbf": model.rbf_.predict(f_grid),
+                  "curve_poly": model.poly_.predict(f_grid),
+                  "curve_truth": _true_curve(sweep, f_grid)})
     views["sweep"] = {"rate": sweep.rate_dph, "approx": a_sweep, "fs_hz": sweep.fs_hz,
                       "k_on": sweep.k_on, "k_off": sweep.k_off, "freq": sweep.freq_hz,
-                      "dec": decs["sweep"]}
+                      "dec": dec}
+    return model, fit
 
-    # 7: compensation of the fixed run
-    prog.update(5, total, "compensation")
+
+def analyse(sweep: VibrationRun, fixed: VibrationRun | None = None,
+            config: VibrationConfig | None = None, progress=None) -> VibrationResult:
+    """Run the spec 001 pipeline (§3.11) on a sweep record and an optional fixed one.
+
+    With the sweep alone, the phase tables, decomposition and level rule run on it and
+    the compensation rows are omitted (``residual_bias_dph`` is None).
+    """
+    cfg = config or VibrationConfig()
+    prog = progress or NullProgress()
+    total = 8.0
+    t_start = time.perf_counter()
+    runs = _checked_runs(sweep, fixed, cfg)
+    metrics: dict = {"tau_ranges_s": {}, "ratios": {}}
+    tables: dict = {"phases": {}, "decomposition": {}, "compensation": {}}
+    prog.update(0, total, "phase tables")
+    _phase_tables(runs, tables, metrics)
+    prog.update(1, total, "spectral views")  # 3: of the fixed run (or the sweep)
+    views: dict = _views(fixed if fixed is not None else sweep, cfg) if cfg.views else {}
+    prog.update(2, total, "db4 decomposition")
+    decs, sel_run, sel, level = _decompose(runs, cfg, metrics)
+    prog.update(3, total, "decomposition tables")
+    tmin_phys = 2 ** (level + 1) / sweep.fs_hz
+    _decomposition_tables(runs, decs, level, tmin_phys, tables, metrics)
+    prog.update(4, total, "bias targets and models")
+    model, fit = _bias_model(sweep, decs["sweep"], level, cfg, views)
+    prog.update(5, total, "compensation")  # 7: of the fixed run
     residual = None
     if fixed is not None:
         residual = _compensate_fixed(fixed, decs["fixed"].approximation(level), level, model,
@@ -634,12 +528,10 @@ def analyse(sweep: VibrationRun, fixed: VibrationRun | None = None,
                               "fs_hz": runs[sel_run].fs_hz, "k_on": runs[sel_run].k_on,
                               "k_off": runs[sel_run].k_off}
     prog.update(total, total, "done")
-    settings = _settings(cfg)
     metrics["wall_s"] = time.perf_counter() - t_start
     return VibrationResult(level=int(level), level_selection=sel, tables=tables,
                            residual_bias_dph=residual, fit=fit, metrics=metrics, model=model,
-                           views=views, settings=settings)
-
+                           views=views, settings=_settings(cfg))
 
 
 def fit(sweep: VibrationRun, fixed: VibrationRun | None = None,

@@ -13,7 +13,7 @@ from inertialab.config import Config, seed_setting, setting
 from inertialab.errors import InputError
 from inertialab.workflows import vibration as wf
 
-__all__ = ["FitConfig", "FitResult", "run_fit"]
+__all__ = ["ApplyConfig", "ApplyResult", "FitConfig", "FitResult", "run_apply", "run_fit"]
 
 #: Units of the numeric keys of the ``vibration`` JSON.
 JSON_UNITS = {
@@ -121,3 +121,40 @@ def run_fit(sweep_record, fixed_record, config: FitConfig, *, views: bool = True
     sweep = wf.prepare(sweep_record)
     fixed = wf.prepare(fixed_record) if fixed_record is not None else None
     return FitResult(wf.fit(sweep, fixed, cfg, progress), sha256=sweep_record.sha256)
+
+
+@dataclass(frozen=True)
+class ApplyConfig(Config):
+    """Settings of ``vibration apply``."""
+
+    model: str = setting("rbf", help="rbf | poly")
+    apply_to: str = setting("denoised", help="denoised (A_L, seed) | raw")
+
+
+@dataclass
+class ApplyResult:
+    """``vibration apply``: the compensated record
+    (:class:`~inertialab.workflows.vibration.CompensatedRecord`) to write at ``out``."""
+
+    res: object
+    out: object
+    settings: dict
+    units = {"residual": "deg/h"}
+
+    def to_json(self) -> dict:
+        return {"output": str(self.out), "residual": self.res.residual}
+
+    def artifacts(self) -> dict:
+        return {"records": [(self.out, self.res.data, self.res.meta)]}
+
+    def summary_rows(self) -> list:
+        return [f"wrote {self.out}: residual bias {self.res.residual['delta_b']:.4g} deg/h"]
+
+
+def run_apply(model, record, config: ApplyConfig, *, out, model_path=None) -> ApplyResult:
+    """Apply a saved vibration-compensation model to a new record (spec 001 §3.10); the
+    record to write at ``out`` has rate_comp_dph (deg/h)."""
+    c = config.validate()
+    res = wf.apply(model, record, model_name=c.model, apply_to=c.apply_to,
+                   model_path=None if model_path is None else str(model_path))
+    return ApplyResult(res=res, out=out, settings=c.to_dict())
