@@ -353,13 +353,11 @@ def fit_drift(frame: pd.DataFrame, *, meta: dict | None = None,
     ss = np.random.SeedSequence(int(settings.seed))
     children = dict(zip(units, ss.spawn(len(units))))
     results: dict = {}
-    entries: dict = {}
     total = len(units) * len(present)
     done = 0
     for uid in units:
         qseeds = dict(zip(("bias", "sf"), children[uid].spawn(2)))
         results[uid] = {}
-        entries[uid] = {}
         for q in present:
             if uid not in grids[q]:
                 continue
@@ -368,17 +366,13 @@ def fit_drift(frame: pd.DataFrame, *, meta: dict | None = None,
             if finite.sum() and np.ptp(s.values[finite]) == 0:
                 warnings.warn(f"unit {uid}: {q} is constant; its forecast is persistence",
                               DataQualityWarning, stacklevel=2)
-            r = fit_series(s, settings, origin_day=origin_day, rng=qseeds[q])
-            results[uid][q] = r
-            entries[uid][q] = {"nar": r.model, "origin_day": r.origin_day,
-                               "step_days": r.step_days, "unit": r.unit, "k_ref": r.k_ref,
-                               "y_cal": r.y_cal, "tolerance": r.tolerance}
+            results[uid][q] = fit_series(s, settings, origin_day=origin_day, rng=qseeds[q])
             done += 1
             progress.update(done, total, f"{uid} {q}")
-    model = DriftModel(entries, {"horizon": settings.horizon,
-                                 "recal_quantile": settings.recal_quantile,
-                                 "seed": settings.seed, "preset": settings.preset,
-                                 "t0": _programme_t0(frame, meta)})
+    model = DriftModel.from_results(results, {"horizon": settings.horizon,
+                                              "recal_quantile": settings.recal_quantile,
+                                              "seed": settings.seed, "preset": settings.preset,
+                                              "t0": _programme_t0(frame, meta)})
     return DriftFit(results, model, settings, time.perf_counter() - t0)
 
 
