@@ -547,6 +547,12 @@ def b_of(processes, tau0: float, tau_range_s=None, t_rise=None) -> float:
         lo, hi = tau_range_s
     m = np.geomspace(max(lo / tau0, 1.0), max(hi / tau0, 2.0), 1024)
     av = sum(p.avar(m, tau0) for p in gms)
+    if t_rise is not None:
+        # up to the curve's minimum a wander's Gauss-Markov is part of the floor B is read
+        # from (it takes over as K only in the rise after it)
+        wander = [p for p in processes if p.kind == "GM" and _slow(p, tau_range_s, t_rise)]
+        if wander:
+            av = av + np.where(m * tau0 <= t_rise, sum(p.avar(m, tau0) for p in wander), 0.0)
     return float(math.sqrt(float(np.max(av))) / BI_FACTOR)
 
 
