@@ -152,7 +152,7 @@ def _subset_solutions(A, B, free, nonneg):
                 c = np.zeros((nd, nb, 0))
             else:
                 As = A[:, :, cols]
-                c = np.einsum("dpk,bk->dbp", np.linalg.pinv(As, rcond=1e-13), B)
+                c = np.einsum("dpk,bk->dbp", _pinv(As), B)
                 res = B[None, :, :] - np.einsum("dkp,dbp->dbk", As, c)
                 chi = np.sum(res * res, axis=2)
                 if S:
@@ -164,6 +164,18 @@ def _subset_solutions(A, B, free, nonneg):
                 best_c = np.where(better[:, :, None], full, best_c)
                 best_chi = np.where(better, chi, best_chi)
     return best_c, best_chi
+
+
+def _pinv(As) -> np.ndarray:
+    """Pseudo-inverses of a stack of full-column-rank designs ``As`` (n, k, p) by QR,
+    ``R^-1 Q^T`` (3-4x cheaper than numpy's SVD-based ``pinv``, which took 80 % of the
+    profiled fit with the K-time grid); a stack with a (near-)singular R, which QR does
+    not handle, goes through ``pinv`` with ``rcond=1e-13``."""
+    q, r = np.linalg.qr(As)
+    d = np.abs(np.diagonal(r, axis1=1, axis2=2))
+    if not np.all(d > 1e-11 * np.max(d, axis=1, keepdims=True)):
+        return np.linalg.pinv(As, rcond=1e-13)
+    return np.linalg.inv(r) @ np.swapaxes(q, 1, 2)
 
 
 def _wnnls_many(Xs, B, w, active):
