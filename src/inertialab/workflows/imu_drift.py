@@ -329,7 +329,7 @@ def drift_tables(res) -> list:
             p = a.plan
             note = [v for v in (p.get("reason"), p.get("b_reason")) if v]
             if p.get("k_t_s") is not None:
-                note.insert(0, f"K a Gauss-Markov random walk, T = {p['k_t_s']:.3g} s")
+                note.insert(0, f"K: Gauss-Markov random walk, T = {p['k_t_s']:.3g} s")
             rows.append([a.axis, hours(p["needed_h"]), hours(p.get("b_needed_h")),
                          f"{p['record_h']:.3g}", yes[p["long_enough"]],
                          yes[p.get("b_long_enough")], "; ".join(note)])
