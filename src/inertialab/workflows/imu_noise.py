@@ -81,7 +81,7 @@ class AxisNoise:
     drift : dict or None
         The predicted drift and its check (:mod:`inertialab.workflows.imu_drift`).
     plan : dict or None
-        Record length needed for K within +-20 % at 95 %.
+        Record lengths needed for K and for B, each within +-20 % at 95 %.
     """
 
     axis: str
