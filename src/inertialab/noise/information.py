@@ -19,8 +19,10 @@ Whittle's approximation treats the periodogram ordinates at the Fourier frequenc
     I_ab = sum_j d_a log S(w_j) d_b log S(w_j),
 
 and ``sqrt((I^-1)_aa)`` bounds the standard deviation of any unbiased estimator of
-``theta_a`` (asymptotically). For K: ``sd(log K) = sd(log sr2) / 2``. Two bounds are
-returned: every other parameter known (an oracle; the least any method can reach) and
+``theta_a`` (asymptotically). For K: ``sd(log K) = sd(log sr2) / 2``; for a term that
+is a function of several parameters (K of a Gauss–Markov random walk, B of a band or of
+Gauss–Markov processes) the delta method on its gradient (:func:`processes_bounds`).
+Two bounds are returned: every other parameter known (an oracle; the least any method can reach) and
 every parameter free (what a method that must also estimate the Gauss–Markov sum faces).
 A method with a more rigid model than the truth (the Allan fit's band-limited B) may
 beat the all-free bound at the cost of a bias; no method beats the oracle bound.
@@ -52,13 +54,15 @@ MEDIAN_ABS_NORMAL = 0.6744897501960817
 
 @dataclass(frozen=True)
 class KBound:
-    """Cramér–Rao bounds on ``log K`` (1-sigma) for one record: ``known`` (every other
-    parameter known), ``free`` (every parameter estimated); ``n`` samples. Their
-    ``*_median_err`` are the implied floors on the median |relative error| of K."""
+    """Cramér–Rao bounds on ``log`` of a term (1-sigma; ``term`` is ``"K"``, the default,
+    or ``"B"``) for one record: ``known`` (every parameter the term does not depend on
+    known), ``free`` (every parameter estimated); ``n`` samples. Their ``*_median_err``
+    are the implied floors on the median |relative error| of the term."""
 
     n: int
     known: float
     free: float
+    term: str = "K"
 
     @property
     def known_median_err(self) -> float:
@@ -69,7 +73,8 @@ class KBound:
         return MEDIAN_ABS_NORMAL * self.free
 
     def to_dict(self) -> dict:
-        return {"n": self.n, "sd_log_k_known": self.known, "sd_log_k_free": self.free,
+        t = self.term.lower()
+        return {"n": self.n, f"sd_log_{t}_known": self.known, f"sd_log_{t}_free": self.free,
                 "median_err_known": self.known_median_err,
                 "median_err_free": self.free_median_err}
 
@@ -222,53 +227,137 @@ def preset_k_bound(preset, hours: float, rate_hz: float | None = None, *,
     return k_bound(n, sw2, gm, preset.k_rw**2 / fs, exact=exact)
 
 
-def processes_k_bound(processes, tau0: float, n: int) -> KBound:
-    """:func:`k_bound` of a fitted latent model (the ``processes`` of a
-    :class:`inertialab.noise.gmwm.GmwmFit`: WN, GM, BL, RW; QN, DR and FL are left out,
-    module docstring) for a record of ``n`` samples at ``tau0`` s: how well a record of
-    that length can determine K if the fitted model is the truth (``n`` larger than the
-    record's: the length needed for a target).
+def processes_k_bound(processes, tau0: float, n: int, *, k_gm=()) -> KBound:
+    """The K bound of :func:`processes_bounds` (an :class:`InputError` where the model
+    has no random walk)."""
+    k = processes_bounds(processes, tau0, n, k_gm=k_gm)["K"]
+    if k is None:
+        raise InputError("the model has no random walk: K has no bound to give")
+    return k
 
-    A BL process enters as its sum of sampled Gauss–Markov processes with one free
-    parameter, their common amplitude (its corners held): with every sampled process's
-    variance and correlation time free, the information matrix of a band is singular."""
+
+def processes_bounds(processes, tau0: float, n: int, *, k_gm=(),
+                     tau_range_s=None) -> dict:
+    """Cramér–Rao bounds on ``log K`` and ``log B`` of a fitted latent model for a record
+    of ``n`` samples at ``tau0`` s: how well a record of that length determines K and B
+    if the fitted model is the truth (``n`` larger than the record's: the length needed
+    for a target). ``{"K": KBound or None, "B": KBound or None}`` (None: the model has
+    no such term).
+
+    ``processes``: the latent processes of a :class:`inertialab.noise.gmwm.GmwmFit` or
+    of the five-term fit (WN, GM, BL, RW; QN, DR and FL are left out, module docstring).
+    The fitted parameters are ``log sw2``, per GM ``log s2`` and ``log tc``, per BL its
+    common log amplitude ``log c0`` (its corners held: with every sampled member's
+    variance and correlation time free, the information matrix of a band is singular)
+    and ``log sr2``. A term that is a function ``f`` of them has the delta-method bound
+    ``sd(log f) = sqrt(g' I^-1 g)``, ``g`` the gradient of ``log f`` (``free``); with
+    every parameter that ``f`` does not depend on known, ``sqrt(g_s' (I_ss)^-1 g_s)``
+    over its support ``s`` (``known``).
+
+    * **K** (rate unit/sqrt(s)): ``K^2 = sr2/tau0 + sum 2 s2_i/tc_i`` over the random
+      walk and the GMs whose indices in ``processes`` are listed in ``k_gm`` (a random
+      walk held by a Gauss–Markov correlation time: below ``tc`` it is a random walk of
+      driving density ``2 s2/tc``), the same K as the Allan fit's ``K^2 = 3 c_1`` and
+      GMWM's (:func:`inertialab.noise.gmwm.k_of`).
+    * **B**: IEEE 952's flat-region value ``max_tau sigma(tau) / 0.6643`` of the other
+      GMs and the BL processes, the B of both fits. A lone BL process (the Allan fit's
+      band-limited flicker) has ``B`` proportional to ``sqrt(c0)``: ``g = 1/2`` on
+      ``log c0``, independent of where the band peaks. With GMs, the gradient is that
+      of ``log AVAR / 2`` at the maximising tau (envelope theorem: the maximiser's own
+      shift is second order), over ``tau_range_s`` when given (GMWM reads B on the
+      fitted scales), else ``[tau0, 1e3 max tc]``.
+    """
     from inertialab.noise._gmwm_cov import _bl_as_gm
 
-    sw2, sr2, gm, groups = 0.0, 0.0, [], []
-    for p in processes:
+    k_gm = {int(i) for i in k_gm}
+    sw2, sr2, gm = 0.0, 0.0, []
+    # reduced parameters: (name, columns of the expanded information matrix)
+    red_cols, b_procs, k_parts = [("log_sw2", [0])], [], []
+    for i, p in enumerate(processes):
         q = p.params
         if p.kind == "WN":
             sw2 += q["sigma2"]
         elif p.kind == "RW":
             sr2 += q["gamma2"]
         elif p.kind == "GM":
-            groups.append(("gm", len(gm)))
+            j = len(red_cols)
+            red_cols += [(f"log_s2_{i}", [1 + 2 * len(gm)]), (f"log_tc_{i}", [2 + 2 * len(gm)])]
             gm.append((q["s2"], q["tc_s"] / tau0))
+            if i in k_gm:
+                k_parts.append((2.0 * q["s2"] / q["tc_s"], j))
+            else:
+                b_procs.append((p, j))
         elif p.kind == "BL":
             members = [(s2, tc / tau0) for s2, tc in _bl_as_gm(q["c0"], q["t_lo_s"],
                                                               q["t_hi_s"], tau0)]
-            groups.append(("bl", list(range(len(gm), len(gm) + len(members)))))
+            b_procs.append((p, len(red_cols)))
+            red_cols.append((f"log_c0_{i}", [1 + 2 * (len(gm) + m)
+                                             for m in range(len(members))]))
             gm += members
-    if not sr2 > 0:
-        raise InputError("the model has no random walk: K has no bound to give")
+    if sr2 > 0:
+        red_cols.append(("log_sr2", [1 + 2 * len(gm)]))
     names, info = whittle_information(n, sw2, gm, sr2)
-    # reduce to the fitted parameters: log sw2, per GM (log s2, log tc), per BL its
-    # common log amplitude (the sum of its members' log s2 columns), log sr2
-    cols = [[0]]
-    for kind, idx in groups:
-        if kind == "gm":
-            cols += [[1 + 2 * idx], [2 + 2 * idx]]
-        else:
-            cols.append([1 + 2 * i for i in idx])
-    cols.append([len(names) - 1])
-    J = np.zeros((len(names), len(cols)))
-    for c, rows in enumerate(cols):
+    J = np.zeros((len(names), len(red_cols)))
+    for c, (_, rows) in enumerate(red_cols):
         J[rows, c] = 1.0
     red = J.T @ info @ J
-    known = 0.5 / math.sqrt(red[-1, -1])
-    free = 0.5 * math.sqrt(float(np.linalg.inv(red)[-1, -1]))
-    return KBound(n=int(n), known=known, free=free)
+    out = {"K": None, "B": None}
+    if sr2 > 0 or k_parts:
+        g = np.zeros(len(red_cols))
+        k2 = sr2 / tau0 + sum(v for v, _ in k_parts)
+        if sr2 > 0:
+            g[-1] = 0.5 * sr2 / tau0 / k2
+        for v, j in k_parts:
+            g[j] += 0.5 * v / k2
+            g[j + 1] -= 0.5 * v / k2
+        out["K"] = _delta_bound(red, g, n, "K")
+    if b_procs:
+        out["B"] = _delta_bound(red, _b_gradient(b_procs, len(red_cols), tau0, tau_range_s),
+                                n, "B")
+    return out
 
 
-__all__ = ["KBound", "exact_information", "k_bound", "preset_k_bound", "processes_k_bound",
-           "whittle_information"]
+def _b_gradient(b_procs, p: int, tau0: float, tau_range_s) -> np.ndarray:
+    """Gradient of ``log B`` in the reduced parameters (:func:`processes_bounds`)."""
+    g = np.zeros(p)
+    if len(b_procs) == 1 and b_procs[0][0].kind == "BL":
+        g[b_procs[0][1]] = 0.5
+        return g
+    if tau_range_s is None:
+        hi = 1e3 * max(q.params.get("tc_s", q.params.get("t_hi_s", tau0)) for q, _ in b_procs)
+        lo = tau0
+    else:
+        lo, hi = tau_range_s
+    m = np.geomspace(max(lo / tau0, 1.0), max(hi / tau0, 2.0), 1024)
+    parts = [q.avar(m, tau0) for q, _ in b_procs]
+    k = int(np.argmax(sum(parts)))
+    mk = m[k:k + 1]
+    tot = float(sum(v[k] for v in parts))
+    step = 1e-4
+    for (q, j), v in zip(b_procs, parts):
+        g[j] = 0.5 * float(v[k]) / tot  # AVAR is linear in s2 (GM) and c0 (BL)
+        if q.kind == "GM":
+            up, dn = (type(q)("GM", {"s2": q.params["s2"], "tc_s": q.params["tc_s"] * f})
+                      for f in (math.exp(step), math.exp(-step)))
+            g[j + 1] = 0.5 * float(up.avar(mk, tau0)[0] - dn.avar(mk, tau0)[0]) \
+                / (2.0 * step) / tot
+    return g
+
+
+def _delta_bound(red: np.ndarray, g: np.ndarray, n: int, term: str) -> KBound:
+    """Delta-method bounds on ``log f`` with gradient ``g`` (:func:`processes_bounds`);
+    ``inf`` where the information matrix is singular."""
+    s = np.flatnonzero(g)
+
+    def quad(mat, v):
+        try:
+            return math.sqrt(max(float(v @ np.linalg.solve(mat, v)), 0.0))
+        except np.linalg.LinAlgError:
+            return math.inf
+
+    return KBound(n=int(n), known=quad(red[np.ix_(s, s)], g[s]), free=quad(red, g),
+                  term=term)
+
+
+__all__ = ["KBound", "exact_information", "k_bound", "preset_k_bound", "processes_bounds",
+           "processes_k_bound", "whittle_information"]

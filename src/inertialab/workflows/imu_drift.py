@@ -12,8 +12,8 @@ For each axis of ``allan --imu`` (:mod:`inertialab.workflows.imu_noise`):
   windows, observed/predicted, the coverage of the 95 % band, and per term the inflation
   of its amplitude that would make prediction and observation agree;
 * **plan**: the record length at which the Cramer-Rao bound (Whittle, every parameter
-  free; :mod:`inertialab.noise.information`) puts K within +-20 % at 95 %, for the
-  fitted model, and whether this log is that long.
+  free; :mod:`inertialab.noise.information`) puts K, and B, within +-20 % at 95 %, for
+  the fitted model, and whether this log is that long.
 """
 
 from __future__ import annotations
@@ -112,48 +112,86 @@ def axis_drift(axis, rate_hz: float, opts: DriftOptions, y_check=None) -> dict:
 
 
 def axis_plan(axis, rate_hz: float, n_samples: int) -> dict:
-    """Record length for K within +-20 % at 95 % under the fitted model, and whether the
-    analysed record (``n_samples``) is that long. ``None`` values where the model has no
-    random walk (K is then not read, and no length is promised)."""
-    from inertialab.noise.information import processes_k_bound
+    """Record length for K and for B, each within +-20 % at 95 % under the fitted model,
+    and whether the analysed record (``n_samples``) is that long (``needed_h``,
+    ``long_enough``, ``k_rel_95_now`` for K; ``b_needed_h``, ``b_long_enough``,
+    ``b_rel_95_now`` for B). ``None`` values, with ``reason`` / ``b_reason``, where the
+    model has no such term (nothing is then read, and no length is promised).
+
+    K is the random walk's, or the Gauss–Markov random walk's of correlation time
+    ``k_t_s`` (:func:`_processes`). B is what each fit's B summarises: the default fit's
+    band-limited flicker (its amplitude free, its corners held), or the GMWM fit's
+    Gauss–Markov and band processes other than those it reads as K (a GM whose Allan
+    peak is not followed by an octave of fitted scales), read on the fitted scales as
+    GMWM reads B (:func:`inertialab.noise.information.processes_bounds`)."""
+    from inertialab.noise.information import processes_bounds
 
     tau0 = 1.0 / rate_hz
-    procs = _processes(axis.terms, tau0, n_samples)
+    procs, k_gm = _processes(axis.terms, tau0, n_samples)
+    rng = axis.terms.tau_range_s if axis.terms.gmwm else None
+
+    def sd_at(n):
+        b = processes_bounds(procs, tau0, int(n), k_gm=k_gm, tau_range_s=rng)
+        return {t: (None if v is None else v.free) for t, v in b.items()}
+
     have_h = n_samples * tau0 / 3600.0
-    base = {"target": f"K within +-{100 * PLAN_REL:g} % at 95 %", "record_h": have_h,
-            "bound": "Whittle Cramer-Rao, all parameters free"}
-    if not any(p.kind == "RW" for p in procs):
-        return base | {"needed_h": None, "long_enough": None,
-                       "reason": "the fitted model has no random walk"}
     target = math.log(1.0 + PLAN_REL) / PLAN_Z
-    sd_now = processes_k_bound(procs, tau0, n_samples).free
-    # sd(log K) falls like n^-p; p from two lengths, then one refinement
-    n = float(n_samples)
-    sd = sd_now
+    now = sd_at(n_samples)
+    t_k = next((procs[i].params["tc_s"] for i in k_gm), None)
+    out = {"target": f"K and B each within +-{100 * PLAN_REL:g} % at 95 %",
+           "record_h": have_h, "bound": "Whittle Cramer-Rao, all parameters free",
+           "k_process": ("random walk" if t_k is None
+                         else "Gauss-Markov random walk"),
+           "k_t_s": t_k,
+           "b_process": ("Gauss-Markov processes" if axis.terms.gmwm
+                         else "band-limited flicker")}
+    for term, pre, what in (("K", "", "random walk"), ("B", "b_", "bias instability")):
+        sd_now = now[term]
+        if sd_now is None:
+            out |= {f"{pre}needed_h": None, f"{pre}long_enough": None,
+                    f"{pre}reason": f"the fitted model has no {what}"}
+            continue
+        n = _needed_n(lambda m, t=term: sd_at(m)[t], n_samples, sd_now, target)
+        out |= {f"{pre}needed_h": n * tau0 / 3600.0,
+                f"{pre}long_enough": bool(sd_now <= target),
+                f"{'k_' if term == 'K' else pre}rel_95_now": PLAN_Z * sd_now}
+    return out
+
+
+def _needed_n(sd_of, n0: int, sd0: float, target: float) -> float:
+    """Samples at which the bound ``sd_of(n)`` reaches ``target``: it falls like
+    ``n^-p`` locally; ``p`` from the bound at four times the length, then a step, until
+    the step changes ``n`` by under 5 %."""
+    n, sd = float(n0), sd0
     for _ in range(6):
-        n2 = n * 4.0
-        sd2 = processes_k_bound(procs, tau0, int(n2)).free
+        sd2 = sd_of(n * 4.0)
+        if not (math.isfinite(sd) and math.isfinite(sd2)):
+            return math.inf
         p = max(math.log(sd / sd2) / math.log(4.0), 0.05)
         n_next = n * (sd / target) ** (1.0 / p)
         if abs(math.log(n_next / n)) < 0.05:
-            n = n_next
-            break
+            return n_next
         n = min(max(n_next, 16.0), 1e12)
-        sd = processes_k_bound(procs, tau0, int(n)).free
-    return base | {"needed_h": n * tau0 / 3600.0, "long_enough": bool(sd_now <= target),
-                   "k_rel_95_now": PLAN_Z * sd_now}
+        sd = sd_of(n)
+    return n
 
 
 def _processes(terms, tau0: float, n_samples: int):
-    """The fitted model as latent processes (GMWM's own, or the five-term fit's white
-    noise, band-limited B as a BL process and random walk)."""
+    """``(processes, k_gm)``: the fitted model as latent processes (GMWM's own, or the
+    five-term fit's white noise, band-limited B as a BL process, and K as a random walk
+    or, where the fit holds it by a correlation time ``terms.k_gm``, as that
+    Gauss–Markov process), and the indices of the Gauss–Markov processes that are K
+    (the five-term fit's K process; GMWM's slow GMs, :func:`inertialab.noise.gmwm.k_of`)."""
     from inertialab.noise._gmwm_model import Process
 
     gm = (terms.gmwm or {}).get("processes")
     if gm:
-        return [Process(d["process"], dict(d["params"])) for d in gm]
+        from inertialab.noise.gmwm import _slow
+
+        procs = [Process(d["process"], dict(d["params"])) for d in gm]
+        return procs, [i for i, p in enumerate(procs) if _slow(p, terms.tau_range_s)]
     c = [0.0 if not np.isfinite(v) else float(v) for v in terms.coefficients]
-    out = []
+    out, k_gm = [], []
     if c[1] > 0:
         out.append(Process("WN", {"sigma2": c[1] / tau0}))
     if c[2] > 0:
@@ -163,10 +201,11 @@ def _processes(terms, tau0: float, n_samples: int):
         out.append(Process("BL", {"c0": c[2], "t_lo_s": lo, "t_hi_s": hi}))
     if c[3] > 0 and terms.k_gm:
         t_k = float(terms.k_gm["t_s"])
+        k_gm.append(len(out))
         out.append(Process("GM", {"s2": 1.5 * c[3] * t_k, "tc_s": t_k}))
     elif c[3] > 0:
         out.append(Process("RW", {"gamma2": 3.0 * c[3] * tau0}))
-    return out
+    return out, k_gm
 
 
 def inflated(res):
@@ -280,13 +319,24 @@ def drift_tables(res) -> list:
                                                       else ""), cols, rows))
     plans = [a for a in res.axes if a.plan is not None]
     if plans:
-        rows = [[a.axis, "-" if a.plan["needed_h"] is None else f"{a.plan['needed_h']:.3g}",
-                 f"{a.plan['record_h']:.3g}",
-                 {True: "yes", False: "no", None: "-"}[a.plan["long_enough"]],
-                 a.plan.get("reason", "")] for a in plans]
-        out.append(("Record length for K within +-20 % at 95 % (Cramer-Rao bound of the "
-                    "fitted model)", ["axis", "needed (h)", "this log (h)", "long enough",
-                                      "note"], rows))
+        yes = {True: "yes", False: "no", None: "-"}
+
+        def hours(v):
+            return "-" if v is None else ("never" if not math.isfinite(v) else f"{v:.3g}")
+
+        rows = []
+        for a in plans:
+            p = a.plan
+            note = [v for v in (p.get("reason"), p.get("b_reason")) if v]
+            if p.get("k_t_s") is not None:
+                note.insert(0, f"K: Gauss-Markov random walk, T = {p['k_t_s']:.3g} s")
+            rows.append([a.axis, hours(p["needed_h"]), hours(p.get("b_needed_h")),
+                         f"{p['record_h']:.3g}", yes[p["long_enough"]],
+                         yes[p.get("b_long_enough")], "; ".join(note)])
+        out.append(("Record length for K and for B, each within +-20 % at 95 % (Cramer-Rao "
+                    "bound of the fitted model)",
+                    ["axis", "K needs (h)", "B needs (h)", "this log (h)", "K long enough",
+                     "B long enough", "note"], rows))
     return out
 
 

@@ -67,6 +67,9 @@ class AxisNoise:
         Continuous-time bias random walk, SI (rad/s^2/sqrt(Hz) or m/s^3/sqrt(Hz)).
     random_walk_bound : bool
         ``random_walk`` is an upper bound (K not significant, or no +1/2 slope).
+    random_walk_t_s : float or None
+        The Gauss–Markov correlation time (s) that holds the random walk (the fit's
+        ``terms.k_gm``): ``random_walk`` is its density below it. None: a pure random walk.
     bias_instability : float
         B of the noise-term fit, SI (rad/s or m/s^2).
     bias_instability_bound : bool
@@ -78,7 +81,7 @@ class AxisNoise:
     drift : dict or None
         The predicted drift and its check (:mod:`inertialab.workflows.imu_drift`).
     plan : dict or None
-        Record length needed for K within +-20 % at 95 %.
+        Record lengths needed for K and for B, each within +-20 % at 95 %.
     """
 
     axis: str
@@ -96,6 +99,7 @@ class AxisNoise:
     reason: str = ""
     drift: dict | None = None
     plan: dict | None = None
+    random_walk_t_s: float | None = None
 
     def to_dict(self) -> dict:
         si = _SI[self.kind]
@@ -112,6 +116,7 @@ class AxisNoise:
                 "random_walk": {"value": self.random_walk, "unit": si[2],
                                 "convention": "continuous",
                                 "bound": "upper" if self.random_walk_bound else None,
+                                "correlation_time_s": self.random_walk_t_s,
                                 "ci": _si_ci(t.K.ci, t.K.value, self.random_walk)},
                 "bias_instability": {"value": self.bias_instability,
                                      "unit": "rad/s" if self.kind == "gyro" else "m/s^2",
@@ -291,7 +296,8 @@ def _axis(name: str, column: str, y, unit: str, *, rate_hz: float, taus, method:
     axis = AxisNoise(axis=name, column=column, kind=kind, unit=unit, deviation=dev,
                      terms=terms, noise_density=float(density), random_walk=float(rw),
                      random_walk_bound=k_bound, bias_instability=float(b),
-                     bias_instability_bound=b_bound)
+                     bias_instability_bound=b_bound,
+                     random_walk_t_s=float(terms.k_gm["t_s"]) if terms.k_gm else None)
     if drift is not None:
         from inertialab.workflows.imu_drift import axis_drift, axis_plan
 

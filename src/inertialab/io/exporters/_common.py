@@ -118,9 +118,11 @@ _FIELDS = ("gyro_noise_density", "gyro_random_walk", "accel_noise_density",
 
 @dataclass(frozen=True)
 class NoiseParams:
-    """The four continuous-time noise numbers and the rate (module docstring), and
-    whether each random walk is an upper bound (the record too short to show the +1/2
-    slope of the bias random walk).
+    """The four continuous-time noise numbers and the rate (module docstring), whether
+    each random walk is an upper bound (the record too short to show the +1/2 slope of
+    the bias random walk), and ``*_random_walk_t_s``: ``((axis, t_s), ...)`` of the axes
+    whose bias random walk is held by a first-order Gauss–Markov correlation time
+    ``t_s`` (the random walk given is its density below ``t_s``).
 
     ``allow_missing`` admits NaN for the numbers of an absent sensor (a gyro-only log);
     the writers put ``null`` there.
@@ -134,6 +136,8 @@ class NoiseParams:
     gyro_random_walk_bound: bool = False
     accel_random_walk_bound: bool = False
     allow_missing: bool = False
+    gyro_random_walk_t_s: tuple = ()
+    accel_random_walk_t_s: tuple = ()
 
     def __post_init__(self):
         for name in _FIELDS:
@@ -163,15 +167,23 @@ class NoiseParams:
                              + ", ".join(gone))
 
     def bound_comments(self) -> list[str]:
-        """Comment lines saying which random walks are upper bounds."""
+        """Comment lines saying which random walks are upper bounds, and which are held
+        by a Gauss–Markov correlation time (with that time)."""
         out = []
-        for flag, key in ((self.gyro_random_walk_bound, "gyroscope"),
-                          (self.accel_random_walk_bound, "accelerometer")):
+        for flag, held, key in (
+                (self.gyro_random_walk_bound, self.gyro_random_walk_t_s, "gyroscope"),
+                (self.accel_random_walk_bound, self.accel_random_walk_t_s, "accelerometer")):
             if flag:
                 out.append(f"{key} random walk is an upper bound, not an estimate: the "
                            "record does not determine it (K not significant, or no +1/2 "
                            "slope); the value is K's upper limit (or the random-walk line "
                            "through the upper confidence limit of the longest tau).")
+            if held:
+                times = ", ".join(f"{ax} T = {t:.4g} s" for ax, t in held)
+                out.append(f"{key} bias random walk is held by a first-order Gauss-Markov "
+                           f"correlation time ({times}): the random walk given is its "
+                           "density below T, conservative past T, where the bias wanders "
+                           "less than this random walk.")
         return out
 
 

@@ -4,10 +4,12 @@ of kind ``noise``.
 
 The analysis (:class:`inertialab.workflows.imu_noise.IMUNoise`, a floor above) is read
 through its attributes only: ``rate_hz`` and ``axes``, each with ``axis``, ``kind``
-(``gyro``/``accel``), ``noise_density``, ``random_walk`` and ``random_walk_bound``
-(continuous time, SI). Each sensor's value is the largest of its three axes, the
-conservative choice for an estimator that takes one number; a random walk that is an
-upper bound on any axis is marked so in the file's comments.
+(``gyro``/``accel``), ``noise_density``, ``random_walk``, ``random_walk_bound`` and
+``random_walk_t_s`` (continuous time, SI). Each sensor's value is the largest of its
+three axes, the conservative choice for an estimator that takes one number; a random
+walk that is an upper bound on any axis is marked so in the file's comments, and so is
+one held by a Gauss–Markov correlation time (the value is then its random-walk density
+below that time, with the time in the comment).
 """
 
 from __future__ import annotations
@@ -40,7 +42,15 @@ def noise_params(noise) -> NoiseParams:
         float(noise.rate_hz),
         gyro_random_walk_bound=any(a.random_walk_bound for a in axes if a.kind == "gyro"),
         accel_random_walk_bound=any(a.random_walk_bound for a in axes if a.kind == "accel"),
+        gyro_random_walk_t_s=_held(axes, "gyro"), accel_random_walk_t_s=_held(axes, "accel"),
         allow_missing=True)
+
+
+def _held(axes, kind: str) -> tuple:
+    """``((axis, t_s), ...)`` of the sensor's axes whose random walk is held by a
+    Gauss–Markov correlation time ``t_s``."""
+    return tuple((a.axis, float(t)) for a in axes if a.kind == kind
+                 and (t := getattr(a, "random_walk_t_s", None)) is not None)
 
 
 def per_axis(noise) -> list[tuple]:
