@@ -201,6 +201,28 @@ def violations(o: Outcome, before: dict, after: dict, allowed: list[str],
     return bad
 
 
+def names_its_file(o: Outcome, argv: list[str], d: Path, before: dict) -> list[str]:
+    """A run that failed on its input files prints one error line naming a file: the
+    case directory's path, or the name of a file given on the command line. A line that
+    starts with an option (``error: --order must be ...``) is an argument error and names
+    the option instead. Runs without an input file on the command line are not judged."""
+    if o.code in (0, 130, 143):
+        return []
+    names = {" ".join(os.path.basename(a.rstrip(os.sep)).split()) for a in argv
+             if a and not a.startswith("-") and (os.sep in a or a in before or
+                                                 re.search(r"\.[A-Za-z]\w*$", a))}
+    names.discard("")
+    if not any(os.path.lexists(a) for a in argv if a and not a.startswith("-")):
+        return []
+    errors = [ln for ln in o.stderr.splitlines() if ln.startswith("error:")]
+    if not errors:
+        return []  # counted by violations()
+    line = errors[0]
+    if line.startswith("error: -") or str(d) in line or any(n in line for n in names):
+        return []
+    return [f"error line names no file: {line[:160]}"]
+
+
 # ------------------------------------------------------------------ cases
 
 @dataclass
@@ -243,6 +265,7 @@ def run_case(case: Case, d: Path, runner=run_inprocess) -> tuple[Outcome, list[s
         if case.teardown is not None:
             case.teardown(d)
     bad = violations(o, before, after, case.allowed, case.codes)
+    bad += names_its_file(o, [str(a) for a in argv], d, before)
     if case.expect_code is not None and o.code != case.expect_code:
         bad.append(f"expected exit {case.expect_code}, got {o.code}: {o.stderr.strip()[:200]}")
     if case.check is not None:
