@@ -351,8 +351,9 @@ def main(argv: list[str] | None = None) -> None:
         if code is None:  # an inertialab bug: say so in one line
             if os.environ.get("INERTIALAB_DEBUG"):
                 raise
-            sys.stderr.write(f"error: internal error ({type(exc).__name__}: {_one_line(exc)}); "
-                             "rerun with INERTIALAB_DEBUG=1 and report it\n")
+            where = _about(front_door.since(opened) or files)  # the input, for the report
+            sys.stderr.write(f"error: internal error{where} ({type(exc).__name__}: "
+                             f"{_one_line(exc)}); rerun with INERTIALAB_DEBUG=1 and report it\n")
             code = 1
     finally:
         warnings.showwarning = old_show
