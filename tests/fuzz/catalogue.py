@@ -1,16 +1,16 @@
-"""Hostile-input catalogue of issue 19: one :class:`Case` per (class, command, input).
+"""Hostile-input catalogue of the first fuzz (files, models, outputs, signals): one :class:`Case` per (class, command, input).
 
 Commands are found through ``inertialab --help`` (:func:`discover`), so the catalogue
 follows renamed commands: each recipe lists its spellings, newest first, and the first
 one the CLI knows is used. Every case runs in its own directory and is checked against
-the invariants of issue 19 (:func:`violations`):
+the invariants of docs/robustness.md (:func:`violations`):
 
 - exit 0 or 2 (130/143 for signals), never a traceback; a failure is one ``error:`` line
   and every other stderr line is a one-line ``warning:``;
 - nothing is created outside the case's output path; a failed or interrupted run leaves
   the case directory byte for byte as it was (no temporary, lock or partial file).
 
-The classes are the items of issue 19 (``CLASSES``). Cases whose fix belongs to another
+The classes are the items of the first fuzz's report (``CLASSES``). Cases whose fix belongs to another
 change carry ``owner`` (the helper/issue item that fixes it): they are reported, and
 now strict: every owner's fix is merged, so each case fails the suite again if it regresses.
 """
@@ -519,7 +519,7 @@ def _non_finite_cases() -> list[Case]:
             cases.append(_input_case(
                 "non-finite", role, f"cell-{value}", lambda raw, v=value, c=column: _cell(raw, v, c),
                 owner=None if role == "validate" else "the study's workflow: ensure_finite "
-                "on its result (issue 19 item 5)"))
+                "on its result"))
     return cases
 
 
@@ -556,7 +556,7 @@ def _codegen_cases() -> list[Case]:
         return bad
 
     return [Case("codegen", export, "comment-injection", setup, allowed=["out", "model.json"],
-                 check=no_symbol, owner="thermal helper (issue 19 item 2)")]
+                 check=no_symbol, owner="thermal helper")]
 
 
 def _traversal_cases() -> list[Case]:
@@ -589,10 +589,10 @@ def _hang_cases() -> list[Case]:
 def _smaller_cases() -> list[Case]:
     cases = [_input_case("smaller", "validate", "duplicated-header",
                          lambda raw: _dup_header(raw), expect=2,
-                         owner="io helper (issue 19 item 9)"),
+                         owner="io helper"),
              _input_case("smaller", "triaxial apply", "utf8-bom-raw-log",
                          lambda raw: b"\xef\xbb\xbf" + raw,
-                         owner="io helper (issue 19 item 9)")]
+                         owner="io helper")]
     imu = resolve("allan-imu", "allan")
     cases.append(Case("smaller", imu, "--rate 0", lambda d: [
         *imu.split(), str(_copy(EXAMPLES / "vendors" / "vectornav.csv", d)), "--rate", "0"]
@@ -602,7 +602,7 @@ def _smaller_cases() -> list[Case]:
         "batch", "thermal", "compensate", "--inputs", str(_copy(EXAMPLES / "thermal_tumble.csv",
                                                                  d)),
         "--model", str(d / "nonexist.json"), "--scheduler", "serial"], expect_code=2,
-        owner="io helper (issue 19 item 9)"))
+        owner="io helper"))
     return cases
 
 
@@ -730,7 +730,7 @@ def slow_cases() -> list[Case]:
             return argv_for(role, d, f)
 
         cases.append(Case("memory", resolve(*spellings), "2GB-sparse", setup, slow=True,
-                          expect_code=2, owner="io helper (issue 19 item 3)", max_wall_s=20,
+                          expect_code=2, owner="io helper", max_wall_s=20,
                           runner=_watchdog))
     tfit = resolve("thermal fit")
     tapply = resolve("thermal apply", "thermal compensate")
@@ -827,13 +827,13 @@ def slow_cases() -> list[Case]:
         return [f"escaped: {p}" for p in list(d.parent.rglob("ESCAPED*"))]
 
     cases.append(Case("traversal", dfit, "unit_id-traversal-and-300-chars", traversal,
-                      slow=True, check=escaped, owner="drift helper (issue 19 item 1)",
+                      slow=True, check=escaped, owner="drift helper",
                       allowed=["out", "drift.csv", "drift.meta.json"],
                       runner=lambda a, c: run_subprocess(a, c, timeout=300)))
     fc = resolve("drift forecast")
     cases.append(Case("hang", fc, "--horizon 36500", lambda d: [
         *fc.split(), str(_model("storage-drift", d)), "--horizon", "36500", "--json"],
-        slow=True, owner="drift helper (issue 19 item 8)", allowed=["model.json"],
+        slow=True, owner="drift helper", allowed=["model.json"],
         max_wall_s=30,
         runner=lambda a, c: run_subprocess(a, c, timeout=60)))
     return cases

@@ -27,7 +27,7 @@ from pathlib import Path
 from tests.fuzz import catalogue as cat
 from tests.fuzz import issue30
 
-#: Every class counted: issue 19's items, then the second fuzz's.
+#: Every class counted: the first fuzz's, then the second fuzz's.
 ALL_CLASSES = {**cat.CLASSES, **issue30.CLASSES}
 
 
