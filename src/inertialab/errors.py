@@ -40,6 +40,16 @@ class InputError(ValueError):
         text = " ".join(str(message).split())  # always one line
         super().__init__(f"{prefix}: {text}" if prefix else text)
 
+    def naming(self, path) -> InputError:
+        """This error with ``path`` in front (``"<path>: <message>"``) when it names no
+        file yet; unchanged when it does. The reading front door and the command line
+        call it once where an error leaves them, so every message names its file
+        without each raise site repeating it."""
+        if self.path is None and path is not None:
+            self.path = str(path)
+            self.args = (f"{self.path}: {self.args[0]}", *self.args[1:])
+        return self
+
 
 class OutputError(InputError):
     """An output cannot be written where it was asked for (exit 2, one line)."""

@@ -16,7 +16,9 @@ What else a signal may meet, handled here so that there is one line and no trace
   at once with ``error: interrupted by SIGTERM after the outputs were complete`` and
   ``128 + signal``, instead of dying silently with -15;
 - worker processes (:func:`ignore_in_worker`) ignore SIGINT: the parent is
-  interrupted, shuts its workers down and reports once.
+  interrupted, shuts its workers down and reports once;
+- a start that must not be cut in half (a Dask cluster's) runs under :func:`deferred`,
+  which holds the signal until the start is complete and then raises it.
 """
 
 from __future__ import annotations
@@ -26,7 +28,7 @@ import os
 import signal
 import sys
 
-__all__ = ["SIGNALS", "Terminated", "ignore_in_worker", "install", "interrupted_line",
+__all__ = ["SIGNALS", "Terminated", "deferred", "ignore_in_worker", "install", "interrupted_line",
            "mark_committed", "received", "restore"]
 
 SIGNALS = (signal.SIGINT, signal.SIGTERM)
@@ -103,6 +105,33 @@ def restore() -> None:
         sys.unraisablehook = _STATE["hook"]
         _STATE["hook"] = None
     _STATE["committed"] = False
+
+
+@contextlib.contextmanager
+def deferred():
+    """Hold SIGINT/SIGTERM for the block: a start that must not be cut in half (a Dask
+    cluster whose worker processes are being started) runs to its end, then the first
+    signal received in it is raised as :class:`Terminated`, so the caller's cleanup
+    (closing the cluster) runs on a whole object. An error of the block after a signal
+    is replaced by the signal. Outside the main thread a no-op."""
+    got: list[int] = []
+
+    def hold(signum, frame):  # pragma: no cover - exercised in subprocess tests
+        got.append(signum)
+        _STATE["received"].append(signum)
+
+    try:
+        old = {signum: signal.signal(signum, hold) for signum in SIGNALS}
+    except ValueError:  # not the main thread
+        yield
+        return
+    try:
+        yield
+    finally:
+        for signum, handler in old.items():
+            signal.signal(signum, handler)
+        if got:
+            raise Terminated(got[0])
 
 
 def ignore_in_worker() -> None:

@@ -1,16 +1,16 @@
-"""Hostile-input catalogue of issue 19: one :class:`Case` per (class, command, input).
+"""Hostile-input catalogue of the first fuzz (files, models, outputs, signals): one :class:`Case` per (class, command, input).
 
 Commands are found through ``inertialab --help`` (:func:`discover`), so the catalogue
 follows renamed commands: each recipe lists its spellings, newest first, and the first
 one the CLI knows is used. Every case runs in its own directory and is checked against
-the invariants of issue 19 (:func:`violations`):
+the invariants of docs/robustness.md (:func:`violations`):
 
 - exit 0 or 2 (130/143 for signals), never a traceback; a failure is one ``error:`` line
   and every other stderr line is a one-line ``warning:``;
 - nothing is created outside the case's output path; a failed or interrupted run leaves
   the case directory byte for byte as it was (no temporary, lock or partial file).
 
-The classes are the items of issue 19 (``CLASSES``). Cases whose fix belongs to another
+The classes are the items of the first fuzz's report (``CLASSES``). Cases whose fix belongs to another
 change carry ``owner`` (the helper/issue item that fixes it): they are reported, and
 now strict: every owner's fix is merged, so each case fails the suite again if it regresses.
 """
@@ -201,6 +201,28 @@ def violations(o: Outcome, before: dict, after: dict, allowed: list[str],
     return bad
 
 
+def names_its_file(o: Outcome, argv: list[str], d: Path, before: dict) -> list[str]:
+    """A run that failed on its input files prints one error line naming a file: the
+    case directory's path, or the name of a file given on the command line. A line that
+    starts with an option (``error: --order must be ...``) is an argument error and names
+    the option instead. Runs without an input file on the command line are not judged."""
+    if o.code in (0, 130, 143):
+        return []
+    names = {" ".join(os.path.basename(a.rstrip(os.sep)).split()) for a in argv
+             if a and not a.startswith("-") and (os.sep in a or a in before or
+                                                 re.search(r"\.[A-Za-z]\w*$", a))}
+    names.discard("")
+    if not any(os.path.lexists(a) for a in argv if a and not a.startswith("-")):
+        return []
+    errors = [ln for ln in o.stderr.splitlines() if ln.startswith("error:")]
+    if not errors:
+        return []  # counted by violations()
+    line = errors[0]
+    if line.startswith("error: -") or str(d) in line or any(n in line for n in names):
+        return []
+    return [f"error line names no file: {line[:160]}"]
+
+
 # ------------------------------------------------------------------ cases
 
 @dataclass
@@ -243,6 +265,7 @@ def run_case(case: Case, d: Path, runner=run_inprocess) -> tuple[Outcome, list[s
         if case.teardown is not None:
             case.teardown(d)
     bad = violations(o, before, after, case.allowed, case.codes)
+    bad += names_its_file(o, [str(a) for a in argv], d, before)
     if case.expect_code is not None and o.code != case.expect_code:
         bad.append(f"expected exit {case.expect_code}, got {o.code}: {o.stderr.strip()[:200]}")
     if case.check is not None:
@@ -496,7 +519,7 @@ def _non_finite_cases() -> list[Case]:
             cases.append(_input_case(
                 "non-finite", role, f"cell-{value}", lambda raw, v=value, c=column: _cell(raw, v, c),
                 owner=None if role == "validate" else "the study's workflow: ensure_finite "
-                "on its result (issue 19 item 5)"))
+                "on its result"))
     return cases
 
 
@@ -533,7 +556,7 @@ def _codegen_cases() -> list[Case]:
         return bad
 
     return [Case("codegen", export, "comment-injection", setup, allowed=["out", "model.json"],
-                 check=no_symbol, owner="thermal helper (issue 19 item 2)")]
+                 check=no_symbol, owner="thermal helper")]
 
 
 def _traversal_cases() -> list[Case]:
@@ -566,10 +589,10 @@ def _hang_cases() -> list[Case]:
 def _smaller_cases() -> list[Case]:
     cases = [_input_case("smaller", "validate", "duplicated-header",
                          lambda raw: _dup_header(raw), expect=2,
-                         owner="io helper (issue 19 item 9)"),
+                         owner="io helper"),
              _input_case("smaller", "triaxial apply", "utf8-bom-raw-log",
                          lambda raw: b"\xef\xbb\xbf" + raw,
-                         owner="io helper (issue 19 item 9)")]
+                         owner="io helper")]
     imu = resolve("allan-imu", "allan")
     cases.append(Case("smaller", imu, "--rate 0", lambda d: [
         *imu.split(), str(_copy(EXAMPLES / "vendors" / "vectornav.csv", d)), "--rate", "0"]
@@ -579,7 +602,7 @@ def _smaller_cases() -> list[Case]:
         "batch", "thermal", "compensate", "--inputs", str(_copy(EXAMPLES / "thermal_tumble.csv",
                                                                  d)),
         "--model", str(d / "nonexist.json"), "--scheduler", "serial"], expect_code=2,
-        owner="io helper (issue 19 item 9)"))
+        owner="io helper"))
     return cases
 
 
@@ -707,7 +730,7 @@ def slow_cases() -> list[Case]:
             return argv_for(role, d, f)
 
         cases.append(Case("memory", resolve(*spellings), "2GB-sparse", setup, slow=True,
-                          expect_code=2, owner="io helper (issue 19 item 3)", max_wall_s=20,
+                          expect_code=2, owner="io helper", max_wall_s=20,
                           runner=_watchdog))
     tfit = resolve("thermal fit")
     tapply = resolve("thermal apply", "thermal compensate")
@@ -804,13 +827,13 @@ def slow_cases() -> list[Case]:
         return [f"escaped: {p}" for p in list(d.parent.rglob("ESCAPED*"))]
 
     cases.append(Case("traversal", dfit, "unit_id-traversal-and-300-chars", traversal,
-                      slow=True, check=escaped, owner="drift helper (issue 19 item 1)",
+                      slow=True, check=escaped, owner="drift helper",
                       allowed=["out", "drift.csv", "drift.meta.json"],
                       runner=lambda a, c: run_subprocess(a, c, timeout=300)))
     fc = resolve("drift forecast")
     cases.append(Case("hang", fc, "--horizon 36500", lambda d: [
         *fc.split(), str(_model("storage-drift", d)), "--horizon", "36500", "--json"],
-        slow=True, owner="drift helper (issue 19 item 8)", allowed=["model.json"],
+        slow=True, owner="drift helper", allowed=["model.json"],
         max_wall_s=30,
         runner=lambda a, c: run_subprocess(a, c, timeout=60)))
     return cases

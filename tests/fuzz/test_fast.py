@@ -1,4 +1,4 @@
-"""Issue 19 fuzz suite, fast set (normal test run): the explicit hostile cases of
+"""The first fuzz's suite, fast set (normal test run): the explicit hostile cases of
 :mod:`tests.fuzz.catalogue` for every command that reads a file or writes an output, and
 hypothesis-drawn garbage inputs and cells. Every case is strict: ``owner`` only records which
 change fixed it; the slow set is ``tests/fuzz/test_slow.py``."""

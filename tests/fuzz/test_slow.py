@@ -1,4 +1,4 @@
-"""Issue 19 fuzz suite, slow set (``pytest -m hostile_slow tests/fuzz``; CI runs it):
+"""The first fuzz's suite, slow set (``pytest -m hostile_slow tests/fuzz``; CI runs it):
 2 GB sparse inputs under the watchdog (no address-space limit), disk full and read-only outputs on
 a small tmpfs (skipped with the reason where mounting is not permitted), SIGTERM/SIGINT
 mid-run, two concurrent writers, a re-used output folder, names from data, a long

@@ -1,4 +1,4 @@
-"""Noise-parameter exports (issue 16 item 4): what we write, an independent YAML parser
+"""Noise-parameter exports: what we write, an independent YAML parser
 (PyYAML and ruamel.yaml, both reading the documented grammar) reads back to the same
 numbers, exactly."""
 

@@ -1,4 +1,4 @@
-"""Hostile input to the readers (issue 19 items 3, 7, 9): size and NUL checks before
+"""Hostile input to the readers: size and NUL checks before
 parsing, bounded memory, one-line errors naming the file."""
 
 import os

@@ -73,7 +73,7 @@ def test_released_format_fixture_still_loads():
     np.testing.assert_allclose(m.predict([0.0, 1.0, 2.0]), [1.0, 2.5, 1.0], atol=1e-9)
 
 
-# ------------------------------------------------------------------ hostile files (issue 19)
+# ------------------------------------------------------------------ hostile files
 
 FIXTURES = sorted((Path(__file__).resolve().parents[1] / "data" / "models").glob("*.json"))
 

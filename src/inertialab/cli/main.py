@@ -232,15 +232,16 @@ _USER_ERRNOS = {errno.ENOSPC, errno.EDQUOT, errno.EROFS, errno.EACCES, errno.EPE
                 errno.ENXIO, errno.ENODEV}
 
 
-def user_error(exc: BaseException, files: list[str]) -> str | None:
-    """The one-line message of an exception that bad input or the environment caused
-    (exit 2, not an internal error), or None for a genuine bug."""
+def user_error(exc: BaseException, files: list[str], read=()) -> str | None:
+    """The one-line message of an exception that bad input or the environment caused (exit 2,
+    not an internal error; data errors name ``read``, the records opened), or None for a bug."""
+    files = list(read) or files
     if isinstance(exc, InputError):
         from inertialab.cli.options import flagged
 
         text = flagged(_one_line(exc))  # library messages name arguments; users see flags
-        if exc.path is None and files and not text.startswith("-"):
-            text += _about(files)  # a data error raised below the reader: name the inputs
+        if exc.path is None and files and not text.startswith("-"):  # name the inputs
+            text = f"{', '.join(files[:3])}: {text}" if read else text + _about(files)
         return text
     if isinstance(exc, MemoryError):
         return (f"not enough memory for this input{_about(files)}; use a smaller file or "
@@ -283,10 +284,10 @@ def main(argv: list[str] | None = None) -> None:
     The command runs inside an output transaction (:mod:`inertialab.io.outputs`): its
     outputs are committed when it returns and removed when it fails or is interrupted.
     """
-    from inertialab.io import outputs
+    from inertialab.io import front_door, outputs
 
     args = sys.argv[1:] if argv is None else list(argv)
-    files = _input_files(args)
+    files, opened = _input_files(args), front_door.mark()
     _signals.install()
     code = 1
     old_show = warnings.showwarning
@@ -307,7 +308,8 @@ def main(argv: list[str] | None = None) -> None:
     except BrokenPipeError:
         code = 1
     except Exception as exc:
-        message = None if _signals.received() else user_error(exc, files)
+        read = front_door.since(opened)
+        message = None if _signals.received() else user_error(exc, files, read)
         if _signals.received():  # the signal landed inside code that wrapped it (an import)
             code = _interrupted(_signals.received()[-1])
         elif message is not None:
@@ -318,8 +320,8 @@ def main(argv: list[str] | None = None) -> None:
         if code is None:  # an inertialab bug: say so in one line
             if os.environ.get("INERTIALAB_DEBUG"):
                 raise
-            sys.stderr.write(f"error: internal error ({type(exc).__name__}: {_one_line(exc)}); "
-                             "rerun with INERTIALAB_DEBUG=1 and report it\n")
+            sys.stderr.write(f"error: internal error{_about(read or files)} ({type(exc).__name__}"
+                             f": {_one_line(exc)}); rerun with INERTIALAB_DEBUG=1 and report it\n")
             code = 1
     finally:
         warnings.showwarning = old_show

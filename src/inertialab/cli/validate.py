@@ -21,7 +21,7 @@ def register(app: typer.Typer, groups: dict) -> None:
                                               "HDF5, ROS bag, PX4 ULog."),
         kind: str = typer.Option(..., "--kind", help="A record kind (gyro_log, thermal_tumble, "
                                  "triaxial_static, triaxial_raw, dual_tumble, storage_drift, "
-                                 "clock_log) or an analysis (allan, imu, vibration, ferraris): "
+                                 "clock_log) or an analysis (allan, imu, vibration, ferraris, triaxial): "
                                  "runs the checks its commands run before computing."),
         *, config, run, read: ReadOptions = None,
     ):

@@ -15,7 +15,10 @@ error the command gives, because the command calls it too:
 * ``imu``: one or more IMU axis columns (``gx gy gz ax ay az``), one segment;
 * ``vibration``: a rate or angle-increment column, ``vib_on``, and a contiguous log
   (no lost samples);
-* ``ferraris``: the gyro triad ``gx gy gz`` beside the accelerometer.
+* ``ferraris``: the gyro triad ``gx gy gz`` beside the accelerometer;
+* ``triaxial`` (a raw log for ``triaxial fit``): the accelerometer triad and an initial
+  rest (:func:`inertialab.io.rest.initial_rest`, the test the static-interval detector
+  runs with its default threshold sweep; with an absolute threshold the fit needs none).
 
 Columns, units and values (:mod:`inertialab.io.schemas`, :mod:`inertialab.io.unit_check`)
 are checked by :func:`inertialab.io.read_record` for every kind.
@@ -43,6 +46,7 @@ class Kind:
     needs: tuple = ()  # groups of column bases, at least one of each group present
     single_segment: bool = False
     missing: str = ""  # the message when a group of ``needs`` is absent (default: generic)
+    initial_rest: bool = False  # the log must start with the sensor at rest
 
 
 _IMU = ("gx", "gy", "gz", "ax", "ay", "az")
@@ -60,6 +64,9 @@ KINDS: dict[str, Kind] = {
                       time_base=True, contiguous=True, needs=(("rate", "dtheta"), ("vib_on",))),
     "ferraris": Kind("triaxial_raw", "a Ferraris session (six faces and three turns)",
                      time_base=True, ordered=True, needs=(("gx",), ("gy",), ("gz",))),
+    "triaxial": Kind("triaxial_raw", "a raw log of static poses for triaxial fit",
+                     time_base=True, ordered=True, needs=(("ax",), ("ay",), ("az",)),
+                     initial_rest=True),
 }
 
 
@@ -97,6 +104,11 @@ def preflight(record, kind: str) -> None:
             raise InputError(f"{k.description} needs the column{'s' if len(group) > 1 else ''} "
                              f"{shown if len(group) == 1 else 'one of ' + shown}", path=path,
                              column=group[0] if len(group) == 1 else None)
+    if k.initial_rest and "t_s" in record.data.columns:
+        from inertialab.io.rest import initial_rest
+
+        acc = record.data[[record.find(b) for b in ("ax", "ay", "az")]].to_numpy(dtype=float)
+        initial_rest(record.column("t_s"), acc, path=path)
     if k.single_segment and "segment" in record.data.columns \
             and record.data["segment"].nunique() > 1:
         raise InputError("the log has several segments (argument 'gaps' split); analyse one "

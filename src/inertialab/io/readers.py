@@ -18,6 +18,7 @@ import numpy as np
 import pandas as pd
 
 from inertialab.errors import DataQualityWarning, InputError
+from inertialab.io import front_door
 from inertialab.io.formats.npy import check_rate as _check_rate
 from inertialab.io.formats.npy import open_npy as _open_npy
 from inertialab.io.record import Record
@@ -100,10 +101,22 @@ def read_record(path, kind: str, *, unit=None, rate_hz: float | None = None,
         Missing or empty file, unreadable format, missing column, non-numeric or
         non-finite value, bad time order, too few rows, unknown unit suffix.
     """
-    from inertialab.io.mapping import ReadOptions, parse_map, parse_unit_option
-
     if kind not in SCHEMAS:
         raise InputError(f"unknown record kind '{kind}' (known: {', '.join(SCHEMAS)})")
+    front_door.note(path)
+    try:
+        return _read_record(path, kind, unit=unit, rate_hz=rate_hz, column=column,
+                            g_local=g_local, column_map=column_map, parse=parse, gaps=gaps,
+                            full_scale=full_scale, options=options)
+    except InputError as exc:  # every message leaving the front door names its file
+        exc.naming(path)
+        raise
+
+
+def _read_record(path, kind, *, unit, rate_hz, column, g_local, column_map, parse, gaps,
+                 full_scale, options) -> Record:
+    from inertialab.io.mapping import ReadOptions, parse_map, parse_unit_option
+
     opts = options if options is not None else ReadOptions()
     if column_map is None:
         column_map = opts.effective_map()
@@ -150,12 +163,19 @@ def peek_columns(path, options=None) -> list[str]:
     column given by the options as ``t_s``. Reads a few rows of a text file (after the
     size and content checks), so a CLI can choose a record kind (``t_s`` present: a raw
     log) without reading the file twice or sniffing headers itself."""
-    from inertialab.io.formats.dispatch import format_of, load_frame
-    from inertialab.io.formats.text import load_text
     from inertialab.io.mapping import ReadOptions
 
-    opts = options if options is not None else ReadOptions()
-    p = Path(path)
+    try:
+        return _peek_columns(Path(path), options if options is not None else ReadOptions())
+    except InputError as exc:
+        exc.naming(path)
+        raise
+
+
+def _peek_columns(p: Path, opts) -> list[str]:
+    from inertialab.io.formats.dispatch import format_of, load_frame
+    from inertialab.io.formats.text import load_text
+
     if not p.exists():
         raise InputError("no such file", path=p)
     if p.is_file() and p.stat().st_size == 0:

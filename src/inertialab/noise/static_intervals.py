@@ -19,8 +19,9 @@
    count is expected. When none qualifies the error lists the count found at each
    threshold and what to change.
 
-The moving variance uses pandas' rolling window (a numerically stable online
-algorithm: raw counts with a 32768 offset would lose digits in a naive sum of
+The moving variance and the initial-rest test live in :mod:`inertialab.io.rest`, which
+``validate --kind triaxial`` runs too (pandas' rolling window, a numerically stable
+online algorithm: raw counts with a 32768 offset would lose digits in a naive sum of
 squares). The run logic is a few lines of numpy; no library offers this procedure.
 
 References
@@ -35,9 +36,9 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
-import pandas as pd
 
 from inertialab.errors import InputError
+from inertialab.io.rest import initial_rest, moving_variance
 
 __all__ = ["GyroRest", "StaticIntervals", "ThresholdSweep", "detect_static_intervals",
            "gyro_rest", "moving_variance", "sweep_thresholds"]
@@ -87,19 +88,6 @@ class StaticIntervals:
         """Means of another channel array ``y`` (N, c) over the same intervals: (m, c)."""
         y = np.asarray(y, dtype=float)
         return np.array([y[a:b].mean(axis=0) for a, b in zip(self.start, self.stop)])
-
-
-def moving_variance(x, window: int) -> np.ndarray:
-    """Centred moving variance (ddof=0) of each column of ``x`` (N, c) over ``window`` samples.
-
-    Windows are truncated at the ends of the record.
-    """
-    x = np.asarray(x, dtype=float)
-    if x.ndim == 1:
-        x = x[:, None]
-    w = max(int(window), 1)
-    df = pd.DataFrame(x - np.median(x, axis=0))
-    return df.rolling(w, center=True, min_periods=1).var(ddof=0).to_numpy()
 
 
 @dataclass(frozen=True)
@@ -225,17 +213,9 @@ def detect_static_intervals(t, acc, *, window_s: float = 1.0, t_init_s: float = 
     if not np.all(np.isfinite(a)):
         row = int(np.flatnonzero(~np.all(np.isfinite(a), axis=1))[0]) + 1
         raise InputError("non-finite accelerometer sample", row=row)
-    w = max(int(round(window_s * fs)), 2)
-    s = moving_variance(a, w).sum(axis=1)
-    init = t < t[0] + t_init_s
-    s0 = float(np.median(s[init]))
+    rest = initial_rest(t, a, window_s=window_s, t_init_s=t_init_s, check=threshold is None)
+    s, s0 = rest.s, rest.s0
     if threshold is None:
-        if s0 <= 0:
-            s0 = float(np.finfo(float).tiny)
-        if np.mean(s[init] > 3.0 * s0) > 0.05:
-            raise InputError(
-                f"no initial rest: more than 5 % of the first {t_init_s:g} s move; the log must "
-                "start with the sensor at rest (or shorten argument 't_init_s')")
         tau = float(k_thr) * s0
         kused: float | None = float(k_thr)
     else:

@@ -437,31 +437,36 @@ def _scratch_dir():
 def _local_client(scheduler: str, workers: int):
     """:func:`open_client` with its workers' scratch space inside :func:`_scratch_dir`.
 
-    The LocalCluster starts with SIGINT ignored: its worker processes inherit the
-    ignored disposition (an ignored signal stays ignored across ``exec``, and Python
-    keeps it), so a Ctrl-C to the process group reaches only this process, which stops
-    the workers and reports once. A Ctrl-C during the second or two of the start is
-    ignored with them (press it again)."""
+    The workers are forked from multiprocessing's fork server, which is started with
+    SIGINT ignored for the few milliseconds of its launch: it and every worker forked
+    from it (restarted ones too) ignore SIGINT, so a Ctrl-C to the process group reaches
+    only this process, which stops the workers and reports once. A Ctrl-C during the
+    cluster's start is held until the start is complete (a second or two), then stops
+    the run, which closes the whole cluster (:func:`inertialab.signals.deferred`)."""
     import signal
+    from multiprocessing import forkserver
 
     import dask
 
     from inertialab import signals
 
-    with _scratch_dir() as scratch, dask.config.set({"temporary-directory": str(scratch)}):
-        try:
-            old = signal.signal(signal.SIGINT, signal.SIG_IGN)
-        except ValueError:  # not the main thread: leave signals alone
-            old = None
-        cm = open_client(scheduler, workers)
-        try:
-            cl = cm.__enter__()
-        finally:
-            if old is not None:
-                signal.signal(signal.SIGINT, old)
+    with _scratch_dir() as scratch, dask.config.set({
+            "temporary-directory": str(scratch),
+            "distributed.worker.multiprocessing-method": "forkserver"}):
+        if scheduler == "local":
+            try:
+                old = signal.signal(signal.SIGINT, signal.SIG_IGN)
+            except ValueError:  # not the main thread: leave signals alone
+                old = None
+            try:
+                forkserver.ensure_running()
+            finally:
+                if old is not None:
+                    signal.signal(signal.SIGINT, old)
         with contextlib.ExitStack() as stack:
-            stack.push(cm)
-            if scheduler == "local":  # a worker restarted later ignores it too
+            with signals.deferred():  # a Ctrl-C in the start stops the run right after it
+                cl = stack.enter_context(open_client(scheduler, workers))
+            if scheduler == "local":  # belt and braces: a worker ignores it in any case
                 with contextlib.suppress(Exception):
                     cl.run(signals.ignore_in_worker)
             yield cl
