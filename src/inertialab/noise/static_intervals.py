@@ -153,6 +153,7 @@ def gyro_rest(gyro, still, fs: float, *, k_gyro: float = 8.0, smooth_s: float = 
     sg = 1.4826 * np.median(np.abs(gyro[near] - b), axis=0)
     sig = float(np.sqrt(np.sum(sg * sg))) or float(np.finfo(float).tiny)
     wg = max(3, int(round(smooth_s * fs)) | 1)
+    wg = max(1, min(wg, dev.size if dev.size % 2 else dev.size - 1))  # a log shorter than it
     kern = np.ones(wg) / wg
     dev_s = np.convolve(dev, kern, mode="same")
     thr = float(k_gyro) * sig
