@@ -189,7 +189,8 @@ def _processes(terms, tau0: float, n_samples: int):
         from inertialab.noise.gmwm import _slow
 
         procs = [Process(d["process"], dict(d["params"])) for d in gm]
-        return procs, [i for i, p in enumerate(procs) if _slow(p, terms.tau_range_s)]
+        t_rise = terms.gmwm.get("t_rise_s")
+        return procs, [i for i, p in enumerate(procs) if _slow(p, terms.tau_range_s, t_rise)]
     c = [0.0 if not np.isfinite(v) else float(v) for v in terms.coefficients]
     out, k_gm = [], []
     if c[1] > 0:
