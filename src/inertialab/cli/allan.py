@@ -1,4 +1,4 @@
-"""``inertialab allan FILE`` and ``inertialab simulate gyro-static``.
+"""``inertialab allan FILE``.
 
 One ``allan`` command with every option: one series
 (:mod:`inertialab.workflows.allan`) or, with ``--imu``, six IMU axes
@@ -13,8 +13,7 @@ from pathlib import Path
 
 import typer
 
-from inertialab.cli.common import emit_json
-from inertialab.cli.options import JsonOpt, SeedOpt, reading_options
+from inertialab.cli.options import reading_options
 from inertialab.cli.runner import config_command
 from inertialab.errors import InputError
 from inertialab.io.mapping import ReadOptions
@@ -79,35 +78,3 @@ def register(app: typer.Typer, groups: dict) -> None:
     app.command("allan")(_allan_command(False))
     # old spelling, hidden for one release
     app.command("allan-imu", hidden=True)(_allan_command(True))
-
-    simulate = groups["simulate"]
-
-    @simulate.command("gyro-static")
-    def simulate_gyro_static(
-        preset: str = typer.Option("allan-test", "--preset", help="allan-test | allan-rrw | "
-                                                                  "allan-bi | mid | nav | "
-                                                                  "tactical."),
-        hours: float = typer.Option(1.0, "--hours", help="Record length in hours."),
-        rate: float = typer.Option(10.0, "--rate", help="Output rate in Hz."),
-        seed: SeedOpt = 0,
-        out: Path = typer.Option(..., "--out", help="Record file (.csv or .parquet); the "
-                                                    "sidecar is written beside it."),
-        as_json: JsonOpt = False,
-    ):
-        """A FOG at rest (spec 001 §6.2 noise model) with known Q N B K R."""
-        from inertialab.io import write_record
-        from inertialab.sim.gyro_static import simulate as sim
-
-        if Path(out).is_dir():
-            raise InputError("--out must be a file for this command", path=out)
-        r = sim(preset, hours=hours, rate_hz=rate, seed=seed)
-        write_record(r.record, out, r.meta)
-        if as_json:
-            emit_json("simulate gyro-static",
-                      {"output": str(out), "n_samples": len(r.record),
-                       "truth_terms": r.meta["truth_terms"]},
-                      inputs=[], settings={"preset": preset, "hours": hours, "rate_hz": rate,
-                                           "seed": seed},
-                      units={"n_samples": "1"})
-            return
-        print(f"wrote {out} ({len(r.record)} samples at {rate:g} Hz, preset {preset})")

@@ -104,5 +104,5 @@ RIGS = {
 def register(app: typer.Typer, groups: dict) -> None:
     taken = {c.name for c in groups["simulate"].registered_commands}
     for kind, (config_cls, simulate) in RIGS.items():
-        if kind not in taken:  # gyro-static: cli/allan.py's own until it drops it
+        if kind not in taken:
             groups["simulate"].command(kind)(_command(kind, config_cls, simulate))
