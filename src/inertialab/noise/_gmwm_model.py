@@ -191,10 +191,12 @@ def _log_model_jacobian(spec, theta, m, tau0) -> np.ndarray:
     return J
 
 
-def _fit_spec(spec, target, taus, W, tau0, T, theta0=None, max_nfev=200, fixed_last=None):
+def _fit_spec(spec, target, taus, W, tau0, T, theta0=None, max_nfev=200, fixed_last=None,
+              second_start: bool = True):
     """Least squares ``|W (target - ln nu(theta))|^2`` on log parameters (``W``: a vector
     of diagonal weights or a whitening matrix; ``fixed_last``: the last log parameter held
-    at this value)."""
+    at this value; ``second_start``: also start from the Gauss–Markov processes halved
+    with their times x3, keeping the better fit)."""
     m = taus / tau0
     W = np.asarray(W, dtype=float)
 
@@ -212,7 +214,7 @@ def _fit_spec(spec, target, taus, W, tau0, T, theta0=None, max_nfev=200, fixed_l
     if fixed_last is not None:
         lo[-1], hi[-1] = fixed_last - 1e-7, fixed_last + 1e-7
     starts = [theta0] if theta0 is not None else [_start(spec, np.exp(target), taus, tau0, T)]
-    if theta0 is None and spec.count("GM") >= 1:
+    if theta0 is None and second_start and spec.count("GM") >= 1:
         alt = starts[0].copy()
         k = 0
         for kind in spec:  # second start: GM amplitudes halved, correlation times x3

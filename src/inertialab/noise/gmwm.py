@@ -401,7 +401,8 @@ def _select(specs, target, taus, W, tau0, T, max_nfev: int = 200):
         p = _n_params(spec)
         if taus.size < p + 2:
             continue
-        r = _fit_spec(spec, target, taus, W, tau0, T, max_nfev=max_nfev)
+        r = _fit_spec(spec, target, taus, W, tau0, T, max_nfev=max_nfev,
+                      second_start=STEP1_TWO_STARTS or max_nfev > STEP1_NFEV)
         if r is None:
             continue
         obj = 2.0 * float(r.cost)
@@ -416,6 +417,10 @@ def _select(specs, target, taus, W, tau0, T, max_nfev: int = 200):
 #: its weights (step 2 refits the leaders with 200): the same selections and terms on the
 #: 12 ADIS16405 axes and the preset seeds checked, 16 % less CPU (docs/noise-terms.md §10)
 STEP1_NFEV = 60
+#: whether step 1 also tries each Gauss–Markov candidate's second start (step 2 always
+#: does): one start gave the same selections and terms on the 12 real axes and 9 preset
+#: seeds, 10 % less CPU
+STEP1_TWO_STARTS = False
 
 #: step 2 (EDF weights) refits at most STEP2_MAX of the step-1 candidates, those within
 #: STEP2_WIC of the best step-1 WIC: the rest are ruled out by tens to thousands of WIC
