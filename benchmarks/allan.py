@@ -592,9 +592,8 @@ def _write_npy(p: Path, n: int) -> None:
 
 
 _HUGE_CHILD = textwrap.dedent("""
-    import json, resource, sys, time
+    import io, json, contextlib, resource, sys, time
     import numpy as np
-    from inertialab.noise.allan import oadev_chunked
 
     def status():
         out = {}
@@ -604,43 +603,79 @@ _HUGE_CHILD = textwrap.dedent("""
                 out[k] = int(v.split()[0]) / 1024
         return out
 
-    y = np.load(sys.argv[1], mmap_mode="r")
-    oadev_chunked(np.asarray(y[:100000]), rate_hz=100.0)
+    path, mode = sys.argv[1], sys.argv[2]
+    from inertialab.noise.allan import oadev, oadev_chunked
+    from inertialab.noise._octave import fast_kernels
+    oadev_chunked(np.random.default_rng(0).standard_normal(100000), rate_hz=100.0)
     before = status()
+    y = np.load(path, mmap_mode="r")
     c0, w0 = time.process_time(), time.perf_counter()
-    r = oadev_chunked(y, rate_hz=100.0)
+    if mode == "cli":  # the allan command, in this process (JSON on stdout, captured)
+        from inertialab.cli.main import main
+        buf = io.StringIO()
+        with contextlib.redirect_stdout(buf):
+            try:
+                main(["allan", path, "--rate", "100", "--unit", "dph", "--json"])
+            except SystemExit as e:
+                code = e.code
+        doc = json.loads(buf.getvalue())
+        res = doc.get("result", doc)
+        oad = next(r for r in res["statistics"] if r["statistic"] == "oadev") \
+            if "statistics" in res else res
+        dev, n_taus = oad.get("dev", [float("nan")]), len(oad.get("dev", []))
+    elif mode == "chunked":
+        r = oadev_chunked(y, rate_hz=100.0)
+        dev, n_taus = r.dev.tolist(), int(r.m.size)
+    else:  # in memory: one float64 working copy
+        r = oadev(np.asarray(y), rate_hz=100.0)
+        dev, n_taus = r.dev.tolist(), int(r.m.size)
     cpu, wall = time.process_time() - c0, time.perf_counter() - w0
     after = status()
-    print(json.dumps({"cpu_s": cpu, "wall_s": wall, "before_mb": before, "after_mb": after,
-                      "peak_rss_mb": after["VmHWM"],
-                      # ru_maxrss also counts the parent's resident pages at fork (the
-                      # file it just wrote): not this process's own peak
-                      "ru_maxrss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
-                      "n_taus": int(r.m.size), "max_m": int(r.m.max()),
-                      "dev_first_last": [float(r.dev[0]), float(r.dev[-1])]}))
+    print(json.dumps({"mode": mode, "cpu_s": cpu, "wall_s": wall, "before_mb": before,
+                      "after_mb": after, "peak_rss_mb": after["VmHWM"], "n_taus": n_taus,
+                      "compiled": fast_kernels() is not None,
+                      "dev_first_last": [dev[0], dev[-1]]}))
 """)
 
 
-def huge(n: int = 10**9, directory: str = "/tmp") -> dict:
-    """A ``n``-sample float32 ``.npy`` (4 GB at 1e9) written to ``directory``, analysed
-    out of core (octave OADEV with intervals) in a fresh process: CPU, wall, peak RSS
-    (the child's VmHWM) and the resident anonymous / file-backed memory; the file is
-    deleted after."""
+def _huge_child(path: Path, mode: str) -> dict:
+    out = subprocess.run([sys.executable, "-c", _HUGE_CHILD, str(path), mode],
+                         capture_output=True, text=True, timeout=7200)
+    if out.returncode != 0:
+        return {"mode": mode, "error": (out.stderr.strip().splitlines() or ["failed"])[-1]}
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def huge(n: int = 10**9, n_ref: int = 10**8, directory: str = "/tmp") -> dict:
+    """Out of core for real: a ``n``-sample float32 ``.npy`` (4 GB at 1e9) written to
+    ``directory`` and run through the ``allan`` command (octave OADEV with intervals and
+    the noise terms; the record is memory-mapped and takes the out-of-core path) and
+    through ``oadev_chunked`` alone, each in a fresh process: CPU, wall, peak RSS (the
+    child's VmHWM). Beside it, the in-memory and the out-of-core OADEV of the first
+    ``n_ref`` samples, for the CPU per sample. The files are deleted after."""
     d = tempfile.mkdtemp(dir=directory)
-    p = Path(d) / "huge.npy"
+    p, pr = Path(d) / "huge.npy", Path(d) / "ref.npy"
+    load0 = os.getloadavg()
     try:
+        _write_npy(pr, n_ref)
+        ref = {m: _huge_child(pr, m) for m in ("in_memory", "chunked")}
+        pr.unlink()
         t0 = time.perf_counter()
         _write_npy(p, n)
         gen = time.perf_counter() - t0
-        out = subprocess.run([sys.executable, "-c", _HUGE_CHILD, str(p)],
-                             capture_output=True, text=True, timeout=7200)
-        r = (json.loads(out.stdout.strip().splitlines()[-1]) if out.returncode == 0
-             else {"error": (out.stderr.strip().splitlines() or ["failed"])[-1]})
+        runs = {m: _huge_child(p, m) for m in ("cli", "chunked")}
     finally:
-        p.unlink(missing_ok=True)
+        for f in (p, pr):
+            f.unlink(missing_ok=True)
         os.rmdir(d)
-    return {"n": n, "file_gb": n * 4 / 1e9, "write_s": gen, **r,
-            "load_before": os.getloadavg()[0]}
+    per = {k: v["cpu_s"] / (n_ref if k.startswith("ref") else n)
+           for k, v in [("ref_in_memory", ref["in_memory"]), ("ref_chunked", ref["chunked"]),
+                        ("cli", runs["cli"]), ("chunked", runs["chunked"])] if "cpu_s" in v}
+    base = per.get("ref_in_memory", float("nan"))
+    return {"n": n, "n_ref": n_ref, "file_gb": n * 4 / 1e9, "write_s": gen,
+            "ref": ref, "runs": runs, "cpu_ns_per_sample": {k: v * 1e9 for k, v in per.items()},
+            "ratio_to_in_memory_1e8": {k: v / base for k, v in per.items()},
+            "load_before": load0, "load_after": os.getloadavg()}
 
 
 #: Sections of :func:`run`, by name (``python -m benchmarks.allan --sections ...``).
@@ -796,16 +831,26 @@ def _markdown_issue15(result: dict) -> list[str]:
                       f"<= 2x), largest relative difference {_f(ooc['max_rel_diff'], '.1e')} "
                       f"(target 1e-12), noise types equal: {ooc['alpha_equal']}."]
     hg = result.get("huge")
-    if hg and "cpu_s" in hg:
-        a = hg.get("after_mb", {})
-        b = hg.get("before_mb", {})
-        lines += ["", f"**{hg['n']:.0e} float32 samples ({hg['file_gb']:.0f} GB file) out of core** "
-                      f"(octave OADEV with intervals, fresh process): {_f(hg['cpu_s'], '.0f')} s "
-                      f"CPU, {_f(hg['wall_s'], '.0f')} s wall (load "
-                      f"{_f(hg.get('load_before'), '.1f')}), peak RSS "
-                      f"{_f(hg.get('peak_rss_mb'), '.0f')} MB; anonymous memory "
-                      f"{_f(b.get('RssAnon'), '.0f')} -> {_f(a.get('RssAnon'), '.0f')} MB, "
-                      f"file-backed resident {_f(a.get('RssFile'), '.0f')} MB at the end."]
+    if hg and "runs" in hg:
+        c, ch = hg["runs"].get("cli", {}), hg["runs"].get("chunked", {})
+        ri, rc = hg["ref"].get("in_memory", {}), hg["ref"].get("chunked", {})
+        rat = hg["ratio_to_in_memory_1e8"]
+        lines += ["", f"**{hg['n']:.0e} float32 samples ({hg['file_gb']:.0f} GB file) out of "
+                      f"core** (fresh process each; load {_f(hg['load_before'][0], '.1f')} -> "
+                      f"{_f(hg['load_after'][0], '.1f')} on 2 cores):", "",
+                  "| run | CPU s | wall s | peak RSS MB | CPU per sample / in memory at 1e8 |",
+                  "|---|---|---|---|---|",
+                  f"| `allan` command, {hg['n']:.0e} (OADEV, intervals, noise terms) | "
+                  f"{_f(c.get('cpu_s'), '.1f')} | {_f(c.get('wall_s'), '.0f')} | "
+                  f"{_f(c.get('peak_rss_mb'), '.0f')} | {_f(rat.get('cli'), '.2f')}x |",
+                  f"| `oadev_chunked`, {hg['n']:.0e} | {_f(ch.get('cpu_s'), '.1f')} | "
+                  f"{_f(ch.get('wall_s'), '.0f')} | {_f(ch.get('peak_rss_mb'), '.0f')} | "
+                  f"{_f(rat.get('chunked'), '.2f')}x |",
+                  f"| `oadev_chunked`, {hg['n_ref']:.0e} | {_f(rc.get('cpu_s'), '.2f')} | "
+                  f"{_f(rc.get('wall_s'), '.1f')} | {_f(rc.get('peak_rss_mb'), '.0f')} | "
+                  f"{_f(rat.get('ref_chunked'), '.2f')}x |",
+                  f"| `oadev` in memory, {hg['n_ref']:.0e} | {_f(ri.get('cpu_s'), '.2f')} | "
+                  f"{_f(ri.get('wall_s'), '.1f')} | {_f(ri.get('peak_rss_mb'), '.0f')} | 1x |"]
     return lines
 
 

@@ -41,7 +41,7 @@ _jit = nb.njit(cache=True, nogil=True, fastmath={"reassoc", "contract"})
 
 
 @_jit
-def octave_d(d, nx, want, q, dec_use, dec_start, dec_off, dec, tmp, acf):
+def octave_d(d, nx, want, q, dec_use, dec_start, dec_off, dec, tmp, acf, lim):
     """Lag-doubling sums of OADEV/TOTDEV (``q = 2``) or OHDEV (``q = 3``) over the
     working array ``d`` of first differences (overwritten): level l (m = 2^l) sums the
     squared second (third) lag-m differences of ``D(m)``, then ``D(2m)_i = D(m)_i +
@@ -52,7 +52,8 @@ def octave_d(d, nx, want, q, dec_use, dec_start, dec_off, dec, tmp, acf):
     ``dec[dec_off[l]:]`` (the frequency averages the noise identification tests; no
     running sum, which is latency-bound: ~4 ns a point). Rows of at least ``acf.min``
     frequency averages are instead tested in place (:func:`_acf_level`) and not
-    gathered."""
+    gathered. At most ``lim[l]`` summands are taken at level l (the out-of-core path
+    runs the kernel on windows of the record, each contributing its own summands)."""
     L = want.size
     sums = np.zeros(L)
     nd = d.size
@@ -68,7 +69,7 @@ def octave_d(d, nx, want, q, dec_use, dec_start, dec_off, dec, tmp, acf):
             st = dec_start[lev]
             if not _acf_level(d, st, m, u - 1, lev, acf):
                 dec[o:o + u - 1] = d[st:st + (u - 1) * m:m]  # (a slice copy: vectorised)
-        c = cnt if (want[lev] and cnt >= 1) else 0
+        c = min(cnt, lim[lev]) if (want[lev] and cnt >= 1) else 0
         s = 0.0
         top = max(c, nxt if more else 0)
         if m >= 128:  # blocks of at most m: D(2m) written in place (no overlap, vectorised)
@@ -479,6 +480,28 @@ def octave_strided(x, want, order, w, id_use, id_start, idp, alphas, best, buf):
         v = w
         n = n2
     return sums
+
+
+@_jit
+def combine_taps(t0, t1, t2, t3, q, n):
+    """Sum over i < n of the squared second (``q = 2``: ``t2 - 2 t1 + t0``) or third
+    (``q = 3``: ``t3 - 3 t2 + 3 t1 - t0``) differences of the taps ``x_i, x_{i+m},
+    ...`` (equal-length windows; ``t3`` unused for q = 2), with the difference formulas
+    of the numpy path (:func:`inertialab.noise._stream._combine_sumsq`)."""
+    s = 0.0
+    if q == 2:
+        for i in range(n):
+            b = t1[i]
+            u = (t2[i] - b) - (b - t0[i])
+            s += u * u
+    else:
+        for i in range(n):
+            a1 = t1[i]
+            a2 = t2[i]
+            v = a2 - a1
+            u = ((t3[i] - a2) - v) - v + (a1 - t0[i])
+            s += u * u
+    return s
 
 
 # ----------------------------------------------------------------------------- noise type

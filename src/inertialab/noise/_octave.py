@@ -279,7 +279,7 @@ def _octave_sums_fast(K, d, statistic, ms, decimate, acf=None):
     else:
         q = 3 if statistic == "ohdev" else 2
         lev_sums = K.octave_d(d, nx, want, q, use, start, off, flat, np.empty(FAST_BLOCK),
-                              acf_args)
+                              acf_args, np.full(L, nx, dtype=np.int64))
     if test:
         done = ~np.isnan(out[levels])
         dec.acf = (done, np.rint(np.where(done, out[levels], 0.0)).astype(np.int64))

@@ -199,7 +199,7 @@ class _PhaseFromRate:
     """
 
     def __init__(self, y: np.ndarray, tau0: float, *, spill: bool = False,
-                 gather: dict | None = None):
+                 gather: dict | None = None, progress=None):
         self.y = y
         self.tau0 = tau0
         self.n = y.size + 1
@@ -240,6 +240,8 @@ class _PhaseFromRate:
             if self._f is not None:
                 w.tofile(self._f)
                 rel(e)
+            if progress is not None:  # (Progress protocol: update(done, total, note))
+                progress.update(e, y.size, "angle")
         if self._f is not None:
             self._f.flush()
         self.ck = ck

@@ -406,7 +406,7 @@ def _angle_source(x: np.ndarray) -> _PhaseArray:
 
 def deviation(statistic: str, data, *, rate_hz: float, taus="octave", input: str = "rate",
               confidence: float = 0.683, alpha=None, edf_method: str = "default",
-              chunked: bool = False) -> DeviationResult:
+              chunked: bool = False, progress=None) -> DeviationResult:
     """Compute one statistic of the Allan family with its confidence interval.
 
     Parameters
@@ -430,6 +430,9 @@ def deviation(statistic: str, data, *, rate_hz: float, taus="octave", input: str
     chunked : bool, default False
         Compute the angle on demand from chunks of ``data`` instead of holding it in
         memory (out-of-core path; equal results). Rate input only.
+    progress : object with ``update(done, total, note)``, optional
+        Hears the out-of-core path's passes advance (:class:`inertialab.progress.Progress`;
+        the command line's bar); ignored in memory.
 
     Raises
     ------
@@ -450,7 +453,7 @@ def deviation(statistic: str, data, *, rate_hz: float, taus="octave", input: str
     ms, defer = _grid(arr, statistic, taus, rate_hz, input, defer)
     tau0 = 1.0 / float(rate_hz)
     if chunked:
-        st = _chunked_variances(arr, statistic, ms, tau0, alpha is None)
+        st = _chunked_variances(arr, statistic, ms, tau0, alpha is None, progress)
     else:
         if input == "rate" and _all_equal(arr):
             raise InputError("data are constant (zero deviation at every tau); "
@@ -500,7 +503,7 @@ def _grid(arr, statistic, taus, rate_hz, input, defer):
     return ms, True
 
 
-def _chunked_variances(arr, statistic, ms, tau0, identify) -> _Sums:
+def _chunked_variances(arr, statistic, ms, tau0, identify, progress=None) -> _Sums:
     """Out-of-core path: the angle computed once and spilled to a temporary file
     (:mod:`inertialab.noise._stream`), the noise type from the points gathered by that
     pass."""
@@ -508,11 +511,12 @@ def _chunked_variances(arr, statistic, ms, tau0, identify) -> _Sums:
     from inertialab.noise import identify as _ident
 
     gather = _octave.gather_indices(arr.size + 1, ms, _ident.MAX_POINTS) if identify else None
-    src = _phase._PhaseFromRate(arr, tau0, spill=True, gather=gather)
+    src = _phase._PhaseFromRate(arr, tau0, spill=True, gather=gather,
+                                progress=_stream.Scaled(progress, 0.0, 0.3))
     try:
         _check_not_constant(src)
         if statistic in _stream.STREAM_STATS:
-            sums, nt = _stream.stream_sums(src, statistic, ms)
+            sums, nt = _stream.stream_sums(src, statistic, ms, progress=progress)
             var = _normalise(statistic, sums, ms, nt, tau0)
         else:
             var, nt = _variances(src, statistic, ms, tau0)
@@ -647,11 +651,14 @@ totdev = _doc("totdev", "Total deviation with reflected extension (NIST SP 1065 
 
 
 def oadev_chunked(data, *, rate_hz: float, taus="octave", confidence: float = 0.683,
-                  alpha=None, edf_method: str = "default") -> DeviationResult:
+                  alpha=None, edf_method: str = "default", progress=None) -> DeviationResult:
     """:func:`oadev` of a rate record read in chunks (e.g. a ``numpy.load(...,
-    mmap_mode="r")`` array larger than memory). Memory: one chunk plus O(n/CHUNK)."""
+    mmap_mode="r")`` array larger than memory). Memory: one window of
+    :data:`inertialab.noise._stream.WINDOW` samples (float64) plus a few chunks and
+    O(n/CHUNK); the angle is spilled to a temporary file (8 bytes per sample)."""
     return deviation("oadev", data, rate_hz=rate_hz, taus=taus, input="rate",
-                     confidence=confidence, alpha=alpha, edf_method=edf_method, chunked=True)
+                     confidence=confidence, alpha=alpha, edf_method=edf_method, chunked=True,
+                     progress=progress)
 
 
 __all__ = ["STATISTICS", "CorrectedResult", "DeviationResult", "adev", "deviation", "hdev", "mdev", "max_m",

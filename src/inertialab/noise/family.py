@@ -34,12 +34,15 @@ PHASE_UNIT = registry.phase_unit()
 
 def compute(statistic: str, data, *, rate_hz: float, taus="octave", input: str = "rate",
             confidence: float = 0.683, alpha=None, edf_method: str = "default",
-            chunked: bool = False, bias_correction: bool = False) -> DeviationResult:
-    """The statistic ``statistic`` of ``data`` (see the module docstring)."""
+            chunked: bool = False, bias_correction: bool = False,
+            progress=None) -> DeviationResult:
+    """The statistic ``statistic`` of ``data`` (see the module docstring); ``progress``
+    (``update(done, total, note)``) hears the out-of-core path of the core statistics."""
     s = str(statistic).strip().lower()
     common = dict(rate_hz=rate_hz, taus=taus, input=input, confidence=confidence)
     if s in CORE:
-        r = deviation(s, data, alpha=alpha, edf_method=edf_method, chunked=chunked, **common)
+        r = deviation(s, data, alpha=alpha, edf_method=edf_method, chunked=chunked,
+                      progress=progress, **common)
         if bias_correction and s == "totdev":
             T = (r.n_samples - (0 if r.input == "rate" else 1)) * r.tau0_s
             b = np.where(np.isin(r.alpha_source, CONFIDENT),

@@ -483,8 +483,8 @@ def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: st
             method: str = "wls",
             input: str = "rate", kind: str | None = None, alpha=None,
             edf_method: str = "default", chunked="auto",
-            fit_terms: bool | None = None, bias_correction: bool | None = None
-            ) -> AllanAnalysis:
+            fit_terms: bool | None = None, bias_correction: bool | None = None,
+            progress=None) -> AllanAnalysis:
     """Allan family with confidence intervals and the five noise terms.
 
     Parameters
@@ -540,6 +540,8 @@ def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: st
     common = dict(rate_hz=log.rate_hz, taus=taus, input=log.input, confidence=confidence,
                   alpha=alpha, edf_method=edf_method,
                   chunked=chunked and log.input == "rate")
+    if common["chunked"]:  # the out-of-core passes report to the bar (progress)
+        common["progress"] = progress
     one = _statistic_fn(log, names, common, bias_correction)
     _check_magnitude(log.values, log.column)
     for s in names:
