@@ -58,7 +58,7 @@ def _chunked_mean(y: np.ndarray) -> float:
     return total / y.size
 
 
-class _Releaser:
+class PageReleaser:
     """Drops the pages of a memory-mapped 1-D array from this process's mapping once they
     have been read (``madvise(MADV_DONTNEED)``; the data stay in the page cache and are
     read again on access), so an out-of-core pass over a file larger than memory does not
@@ -98,6 +98,9 @@ class _Releaser:
                 self.done = end
             except (OSError, ValueError):
                 self.mm = None
+
+
+_Releaser = PageReleaser  # (the name this package uses)
 
 
 class _PhaseArray:

@@ -20,6 +20,7 @@ import numpy as np
 from inertialab import units
 from inertialab.errors import DataQualityWarning, InputError
 from inertialab.noise import registry as stat_registry
+from inertialab.noise._phase import PageReleaser
 from inertialab.noise.allan import DeviationResult
 from inertialab.noise.family import compute
 from inertialab.noise.terms import (
@@ -42,8 +43,10 @@ def _check_magnitude(values, column) -> None:
     if not np.issubdtype(v.dtype, np.floating):
         return
     step = 1 << 20
+    release = PageReleaser(values)  # a memory map's pages are dropped once read
     for s in range(0, v.size, step):
         big = np.flatnonzero(np.abs(v[s:s + step]) > MAX_MAGNITUDE)
+        release(s + step)
         if big.size:
             raise InputError(f"value {float(v[s + big[0]]):.3g} is beyond {MAX_MAGNITUDE:g} in "
                              "magnitude (sums of squares would overflow)",
