@@ -116,16 +116,21 @@ def octave_d(d, nx, want, q, dec_use, dec_start, dec_off, dec, tmp, acf, lim):
 
 @_jit
 def _acf_level(v, st, step, count, lev, acf):
-    """The lag-1 test (frequency data, :func:`lag1_strided` with ``theta = 0`` on the
-    increments themselves) of the ``count`` values ``v[st + j step]`` into
-    ``acf.out[lev]`` where ``count >= acf.min`` (``acf.min`` 0: never); True if taken.
-    ``acf = (out, dmax, min, buf)`` (built by :func:`inertialab.noise._octave.octave_sums`)."""
-    out, dmax, mn, buf = acf
-    if mn <= 0 or count < mn:
+    """The lag-1 test of level ``lev`` into ``acf.out[lev]``; True if taken. ``acf =
+    (out, dmax, min, buf, x)`` (built by :func:`inertialab.noise._octave.octave_sums`;
+    ``min`` 0: never). Frequency data (``x`` empty): :func:`lag1_strided` with ``theta =
+    0`` on the ``count`` increments ``v[st + j step]`` themselves, where ``count >=
+    min``. Phase data: on the ``count + 1`` points ``x[st + j step]`` of the angle
+    ``x`` (``theta = 2``), where ``count + 1 >= min``."""
+    out, dmax, mn, buf, x = acf
+    phase = x.size > 1
+    n = count + 1 if phase else count
+    if mn <= 0 or n < mn:
         return False
     one = np.empty(1)
-    lag1_strided(v, np.full(1, st, dtype=np.int64), np.full(1, step, dtype=np.int64),
-                 np.full(1, count, dtype=np.int64), dmax, one, buf, 0, False)
+    lag1_strided(x if phase else v, np.full(1, st, dtype=np.int64),
+                 np.full(1, step, dtype=np.int64), np.full(1, n, dtype=np.int64), dmax, one,
+                 buf, 2 if phase else 0, False)
     out[lev] = one[0]
     return True
 

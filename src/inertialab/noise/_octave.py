@@ -211,7 +211,7 @@ MOD_RESTART = 4096
 
 
 def octave_sums(d: np.ndarray, statistic: str, ms: np.ndarray, *, decimate: int = 0,
-                acf: tuple | None = None):
+                acf: tuple | None = None, x: np.ndarray | None = None):
     """Sums of squares of ``statistic``'s filter outputs at each m of ``ms`` (powers of 2).
 
     Parameters
@@ -231,6 +231,10 @@ def octave_sums(d: np.ndarray, statistic: str, ms: np.ndarray, *, decimate: int 
         the lag-1 noise test (frequency data, at most ``dmax`` differencing rounds) in
         place instead of being gathered; ``dec.acf = (done, alpha)`` per m of ``ms``
         (rounded, unclipped alpha), and ``m in dec`` is False for those rows.
+    x : float64 ndarray, shape (nx,), optional
+        The angle itself (phase data): with ``acf`` the lag-1 test reads its central
+        decimated points at stride m (``theta = 2``) instead, and no row is gathered
+        (``m in dec`` is False for every m; the shorter rows are read from ``x``).
 
     Returns
     -------
@@ -240,11 +244,11 @@ def octave_sums(d: np.ndarray, statistic: str, ms: np.ndarray, *, decimate: int 
     """
     K = fast_kernels()
     if K is not None:
-        return _octave_sums_fast(K, d, statistic, ms, decimate, acf)
+        return _octave_sums_fast(K, d, statistic, ms, decimate, acf, x)
     return octave_sums_numpy(d, statistic, ms, decimate)
 
 
-def _octave_sums_fast(K, d, statistic, ms, decimate, acf=None):
+def _octave_sums_fast(K, d, statistic, ms, decimate, acf=None, x=None):
     """:func:`octave_sums` by the compiled kernels (one fused loop per octave)."""
     nx = d.size + 1
     ms = np.asarray(ms, dtype=np.int64)
@@ -266,7 +270,8 @@ def _octave_sums_fast(K, d, statistic, ms, decimate, acf=None):
     test = decimate and acf is not None and statistic not in B_STATS
     out = np.full(L, np.nan)
     acf_args = (out, int(acf[0]) if test else 0, int(acf[1]) if test else 0,
-                np.empty(int(use.max()) if test else 1))
+                np.empty(int(use.max()) if test else 1),
+                x if (test and x is not None) else np.empty(1))
     if statistic in E_STATS:
         ustart = start // (1 << np.arange(L))  # in units of E(m)
         lev_sums = K.octave_e(d, want, statistic == "hdev", use, ustart, off, flat, acf_args)
@@ -283,7 +288,8 @@ def _octave_sums_fast(K, d, statistic, ms, decimate, acf=None):
     if test:
         done = ~np.isnan(out[levels])
         dec.acf = (done, np.rint(np.where(done, out[levels], 0.0)).astype(np.int64))
-        dec.skip = {int(m) for m in ms[done]}
+        # (phase data: the rows left to B1 are read from the angle, none gathered)
+        dec.skip = {int(m) for m in (ms if x is not None else ms[done])}
     return lev_sums[levels], nt, dec
 
 

@@ -160,7 +160,7 @@ def _window_octave_sums(K, src, ms: np.ndarray, q: int, W: int, progress: Scaled
     buf = np.empty(min(W + reach, nx) - 1)
     tmp = np.empty(FAST_BLOCK)
     z = np.zeros(L, dtype=np.int64)
-    none = (np.empty(1), 0, 0, np.empty(1))  # no noise test in the kernel
+    none = (np.empty(1), 0, 0, np.empty(1), np.empty(1))  # no noise test in the kernel
     cnt = nx - q * (1 << np.arange(L, dtype=np.int64))  # summands per level
     tot = np.zeros(L)
     rel = _Releaser(y)

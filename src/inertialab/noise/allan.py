@@ -552,9 +552,14 @@ def _octave_variances(arr, statistic, ms, tau0, input, identify, total) -> _Sums
                              "nothing to analyse")
         scale = 1.0
         src = _angle_source(x)
-    want = _ident.MAX_POINTS if (identify and input == "rate") else 0
+    # the lag-1 test in the octave pass (compiled): on a rate record's frequency
+    # averages, or on an angle record's decimated points read at stride m
+    phase = (input == "angle" and statistic in _octave.D_STATS
+             and _octave.fast_kernels() is not None)
+    want = _ident.MAX_POINTS if identify and (input == "rate" or phase) else 0
     sums, nt, decimated = _octave.octave_sums(
-        d, statistic, ms, decimate=want, acf=_ident.acf_rules(statistic)[:2] if want else None)
+        d, statistic, ms, decimate=want, acf=_ident.acf_rules(statistic)[:2] if want else None,
+        x=src.x if phase else None)
     del d  # the working copy; totdev's reflected summands read the angle
     sums = sums * (scale * scale)
     if statistic == "totdev":
