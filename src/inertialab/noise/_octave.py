@@ -202,8 +202,8 @@ def octave_strided_sums(K, x: np.ndarray, statistic: str, ms: np.ndarray,
 FAST_BLOCK = 4096
 
 #: Stride of the coarse angle the compiled gather of decimated points reads (a 1/256
-#: copy: at 1/16 it made MDEV/TDEV of a rate record 1.07x the input, over the issue-15
-#: bound of one copy; m below it sum their increments, at most 8192 x 255 additions).
+#: copy: at 1/16 it made MDEV/TDEV of a rate record 1.07x the input, over the bound
+#: of one copy of extra memory; m below it sum their increments, at most 8192 x 255 additions).
 GATHER_STRIDE = 256
 
 #: Summands between recomputations of the running modified sum (compiled kernel).
