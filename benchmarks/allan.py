@@ -390,6 +390,41 @@ def stat_speed_seeds(n: int, seeds=range(5), repeats: int = 3, types=tuple(NOISE
             "load_before": load0, "load_after": os.getloadavg()}
 
 
+def identification_cost(n: int = 10**5, repeats: int = 200, seed: int = 0,
+                        stats=("adev", "oadev", "hdev", "ohdev")) -> dict:
+    """Where our CPU goes at ``n``: per noise type (seed ``seed``) and statistic, the
+    least CPU of ``repeats`` alternated calls of allantools, of ours, and of ours with
+    the noise type given (``alpha=``: no identification; the kernel, EDF, bounds and
+    per-call work remain), so that ours minus the latter is the identification."""
+    import allantools as at
+
+    from inertialab.noise.allan import deviation
+
+    _warm_heap()
+    load0 = os.getloadavg()
+    rows = []
+    for t, (kind, gen) in NOISE_TYPES.items():
+        x = gen(np.random.default_rng(seed), n)
+        inp = "rate" if kind == "freq" else "angle"
+        for s in stats:
+            r = deviation(s, x, rate_hz=1.0, input=inp)
+            calls = {"allantools": lambda s=s, x=x, k=kind, m=r.m * 1.0: getattr(at, s)(
+                         x, rate=1.0, data_type=k, taus=m),
+                     "ours": lambda s=s, x=x, i=inp: deviation(s, x, rate_hz=1.0, input=i),
+                     "ours_alpha_given": lambda s=s, x=x, i=inp, a=r.alpha: deviation(
+                         s, x, rate_hz=1.0, input=i, alpha=a)}
+            best = {k: math.inf for k in calls}
+            for _ in range(repeats):
+                for k, f in calls.items():
+                    best[k] = min(best[k], _least_cpu(f, 1))
+            rows.append({"noise": t, "statistic": s, **{f"{k}_us": v * 1e6 for k, v in
+                                                        best.items()},
+                         "identification_us": (best["ours"] - best["ours_alpha_given"]) * 1e6,
+                         "sources": sorted(set(r.alpha_source))})
+    return {"n": n, "seed": seed, "repeats": repeats, "rows": rows, "load_before": load0,
+            "load_after": os.getloadavg()}
+
+
 # ----------------------------------------------------------------------------- Stable32's tables
 
 #: Stable32 "Sigma Type" names -> our statistic names.
@@ -592,9 +627,8 @@ def _write_npy(p: Path, n: int) -> None:
 
 
 _HUGE_CHILD = textwrap.dedent("""
-    import json, resource, sys, time
+    import io, json, contextlib, resource, sys, time
     import numpy as np
-    from inertialab.noise.allan import oadev_chunked
 
     def status():
         out = {}
@@ -604,43 +638,94 @@ _HUGE_CHILD = textwrap.dedent("""
                 out[k] = int(v.split()[0]) / 1024
         return out
 
-    y = np.load(sys.argv[1], mmap_mode="r")
-    oadev_chunked(np.asarray(y[:100000]), rate_hz=100.0)
+    path, mode = sys.argv[1], sys.argv[2]
+    from inertialab.noise.allan import oadev, oadev_chunked
+    from inertialab.noise._octave import fast_kernels
+    oadev_chunked(np.random.default_rng(0).standard_normal(100000), rate_hz=100.0)
     before = status()
+    y = np.load(path, mmap_mode="r")
     c0, w0 = time.process_time(), time.perf_counter()
-    r = oadev_chunked(y, rate_hz=100.0)
+    if mode == "cli":  # the allan command, in this process (JSON on stdout, captured)
+        from inertialab.cli.main import main
+        buf = io.StringIO()
+        with contextlib.redirect_stdout(buf):
+            try:
+                main(["allan", path, "--rate", "100", "--unit", "dph", "--json"])
+            except SystemExit as e:
+                code = e.code
+        doc = json.loads(buf.getvalue())
+        res = doc.get("result", doc)
+        oad = next(r for r in res["statistics"] if r["statistic"] == "oadev") \
+            if "statistics" in res else res
+        dev, n_taus = oad.get("dev", [float("nan")]), len(oad.get("dev", []))
+    elif mode == "chunked":
+        r = oadev_chunked(y, rate_hz=100.0)
+        dev, n_taus = r.dev.tolist(), int(r.m.size)
+    else:  # in memory: one float64 working copy
+        r = oadev(np.asarray(y), rate_hz=100.0)
+        dev, n_taus = r.dev.tolist(), int(r.m.size)
     cpu, wall = time.process_time() - c0, time.perf_counter() - w0
     after = status()
-    print(json.dumps({"cpu_s": cpu, "wall_s": wall, "before_mb": before, "after_mb": after,
-                      "peak_rss_mb": after["VmHWM"],
-                      # ru_maxrss also counts the parent's resident pages at fork (the
-                      # file it just wrote): not this process's own peak
-                      "ru_maxrss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
-                      "n_taus": int(r.m.size), "max_m": int(r.m.max()),
-                      "dev_first_last": [float(r.dev[0]), float(r.dev[-1])]}))
+    print(json.dumps({"mode": mode, "cpu_s": cpu, "wall_s": wall, "before_mb": before,
+                      "after_mb": after, "peak_rss_mb": after["VmHWM"], "n_taus": n_taus,
+                      "compiled": fast_kernels() is not None,
+                      "dev_first_last": [dev[0], dev[-1]]}))
 """)
 
 
-def huge(n: int = 10**9, directory: str = "/tmp") -> dict:
-    """A ``n``-sample float32 ``.npy`` (4 GB at 1e9) written to ``directory``, analysed
-    out of core (octave OADEV with intervals) in a fresh process: CPU, wall, peak RSS
-    (the child's VmHWM) and the resident anonymous / file-backed memory; the file is
-    deleted after."""
+def _huge_child(path: Path, mode: str) -> dict:
+    out = subprocess.run([sys.executable, "-c", _HUGE_CHILD, str(path), mode],
+                         capture_output=True, text=True, timeout=7200)
+    if out.returncode != 0:
+        return {"mode": mode, "error": (out.stderr.strip().splitlines() or ["failed"])[-1]}
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def _least_of(runs: list) -> dict:
+    """Per mode, the run of least CPU (its ``cpu_runs_s``: every run's CPU)."""
+    out = {}
+    for r in runs:
+        m = r["mode"]
+        cpu = [*out.get(m, {}).get("cpu_runs_s", []), r.get("cpu_s", math.nan)]
+        if m not in out or r.get("cpu_s", math.inf) < out[m].get("cpu_s", math.inf):
+            out[m] = r
+        out[m]["cpu_runs_s"] = cpu
+    return out
+
+
+def huge(n: int = 10**9, n_ref: int = 10**8, directory: str = "/tmp") -> dict:
+    """Out of core for real: a ``n``-sample float32 ``.npy`` (4 GB at 1e9) written to
+    ``directory`` and run through the ``allan`` command (octave OADEV with intervals and
+    the noise terms; the record is memory-mapped and takes the out-of-core path) and
+    through ``oadev_chunked`` alone, each in a fresh process: CPU, wall, peak RSS (the
+    child's VmHWM; ``oadev_chunked`` twice, the least CPU kept). Beside it, the in-memory
+    and the out-of-core OADEV of a ``n_ref``-sample file, three of each alternated (the
+    least CPU kept: the shared machine's load moves a memory-bound pass by up to 2x), for
+    the CPU per sample. The files are deleted after."""
     d = tempfile.mkdtemp(dir=directory)
-    p = Path(d) / "huge.npy"
+    p, pr = Path(d) / "huge.npy", Path(d) / "ref.npy"
+    load0 = os.getloadavg()
     try:
+        _write_npy(pr, n_ref)
+        ref = _least_of([_huge_child(pr, m) for _ in range(3)
+                         for m in ("in_memory", "chunked")])  # alternated, 3 each
+        pr.unlink()
         t0 = time.perf_counter()
         _write_npy(p, n)
         gen = time.perf_counter() - t0
-        out = subprocess.run([sys.executable, "-c", _HUGE_CHILD, str(p)],
-                             capture_output=True, text=True, timeout=7200)
-        r = (json.loads(out.stdout.strip().splitlines()[-1]) if out.returncode == 0
-             else {"error": (out.stderr.strip().splitlines() or ["failed"])[-1]})
+        runs = _least_of([_huge_child(p, m) for m in ("chunked", "cli", "chunked")])
     finally:
-        p.unlink(missing_ok=True)
+        for f in (p, pr):
+            f.unlink(missing_ok=True)
         os.rmdir(d)
-    return {"n": n, "file_gb": n * 4 / 1e9, "write_s": gen, **r,
-            "load_before": os.getloadavg()[0]}
+    per = {k: v["cpu_s"] / (n_ref if k.startswith("ref") else n)
+           for k, v in [("ref_in_memory", ref["in_memory"]), ("ref_chunked", ref["chunked"]),
+                        ("cli", runs["cli"]), ("chunked", runs["chunked"])] if "cpu_s" in v}
+    base = per.get("ref_in_memory", float("nan"))
+    return {"n": n, "n_ref": n_ref, "file_gb": n * 4 / 1e9, "write_s": gen,
+            "ref": ref, "runs": runs, "cpu_ns_per_sample": {k: v * 1e9 for k, v in per.items()},
+            "ratio_to_in_memory_1e8": {k: v / base for k, v in per.items()},
+            "load_before": load0, "load_after": os.getloadavg()}
 
 
 #: Sections of :func:`run`, by name (``python -m benchmarks.allan --sections ...``).
@@ -665,6 +750,8 @@ def _sections(quick: bool) -> dict:
         "seeds_speed_1e7": lambda: stat_speed_seeds(10**5 if quick else 10**7,
                                                     repeats=1),
         "stable32_tables": stable32_tables,
+        "identification_cost": lambda: identification_cost(10**4 if quick else 10**5,
+                                                           20 if quick else 200),
         "theo1_speed": lambda: theo1_speed(10**4 if quick else 10**5, 1 if quick else 3),
         "memory": lambda: memory(10**5 if quick else 10**7),
         "out_of_core": lambda: out_of_core(10**6 if quick else 10**8, 1 if quick else 2),
@@ -773,6 +860,18 @@ def _markdown_issue15(result: dict) -> list[str]:
                 cells.append(f"{_f(r['median_ratio'], '.2f')}x [{_f(r['min_ratio'], '.2f')}, "
                              f"{_f(r['max_ratio'], '.2f')}]")
             lines.append(f"| {st} | " + " | ".join(cells) + " |")
+    ic = result.get("identification_cost")
+    if ic and "rows" in ic:
+        lines += ["", f"**Where the CPU goes**, n = {ic['n']:.0e}, seed {ic['seed']}, least "
+                      f"of {ic['repeats']} alternated calls (microseconds; load "
+                      f"{_f(ic['load_before'][0], '.1f')}):", "",
+                  "| noise | statistic | allantools | ours | ours, alpha given | "
+                  "identification |", "|---|---|---|---|---|---|"]
+        for r in ic["rows"]:
+            lines.append(f"| {r['noise'].replace('_', ' ')} | {r['statistic']} | "
+                         f"{_f(r['allantools_us'], '.0f')} | {_f(r['ours_us'], '.0f')} | "
+                         f"{_f(r['ours_alpha_given_us'], '.0f')} | "
+                         f"{_f(r['identification_us'], '.0f')} |")
     s32 = result.get("stable32_tables")
     if s32 and "total" in s32:
         t = s32["total"]
@@ -796,16 +895,26 @@ def _markdown_issue15(result: dict) -> list[str]:
                       f"<= 2x), largest relative difference {_f(ooc['max_rel_diff'], '.1e')} "
                       f"(target 1e-12), noise types equal: {ooc['alpha_equal']}."]
     hg = result.get("huge")
-    if hg and "cpu_s" in hg:
-        a = hg.get("after_mb", {})
-        b = hg.get("before_mb", {})
-        lines += ["", f"**{hg['n']:.0e} float32 samples ({hg['file_gb']:.0f} GB file) out of core** "
-                      f"(octave OADEV with intervals, fresh process): {_f(hg['cpu_s'], '.0f')} s "
-                      f"CPU, {_f(hg['wall_s'], '.0f')} s wall (load "
-                      f"{_f(hg.get('load_before'), '.1f')}), peak RSS "
-                      f"{_f(hg.get('peak_rss_mb'), '.0f')} MB; anonymous memory "
-                      f"{_f(b.get('RssAnon'), '.0f')} -> {_f(a.get('RssAnon'), '.0f')} MB, "
-                      f"file-backed resident {_f(a.get('RssFile'), '.0f')} MB at the end."]
+    if hg and "runs" in hg:
+        c, ch = hg["runs"].get("cli", {}), hg["runs"].get("chunked", {})
+        ri, rc = hg["ref"].get("in_memory", {}), hg["ref"].get("chunked", {})
+        rat = hg["ratio_to_in_memory_1e8"]
+        lines += ["", f"**{hg['n']:.0e} float32 samples ({hg['file_gb']:.0f} GB file) out of "
+                      f"core** (fresh process each; load {_f(hg['load_before'][0], '.1f')} -> "
+                      f"{_f(hg['load_after'][0], '.1f')} on 2 cores):", "",
+                  "| run | CPU s | wall s | peak RSS MB | CPU per sample / in memory at 1e8 |",
+                  "|---|---|---|---|---|",
+                  f"| `allan` command, {hg['n']:.0e} (OADEV, intervals, noise terms) | "
+                  f"{_f(c.get('cpu_s'), '.1f')} | {_f(c.get('wall_s'), '.0f')} | "
+                  f"{_f(c.get('peak_rss_mb'), '.0f')} | {_f(rat.get('cli'), '.2f')}x |",
+                  f"| `oadev_chunked`, {hg['n']:.0e} | {_f(ch.get('cpu_s'), '.1f')} | "
+                  f"{_f(ch.get('wall_s'), '.0f')} | {_f(ch.get('peak_rss_mb'), '.0f')} | "
+                  f"{_f(rat.get('chunked'), '.2f')}x |",
+                  f"| `oadev_chunked`, {hg['n_ref']:.0e} | {_f(rc.get('cpu_s'), '.2f')} | "
+                  f"{_f(rc.get('wall_s'), '.1f')} | {_f(rc.get('peak_rss_mb'), '.0f')} | "
+                  f"{_f(rat.get('ref_chunked'), '.2f')}x |",
+                  f"| `oadev` in memory, {hg['n_ref']:.0e} | {_f(ri.get('cpu_s'), '.2f')} | "
+                  f"{_f(ri.get('wall_s'), '.1f')} | {_f(ri.get('peak_rss_mb'), '.0f')} | 1x |"]
     return lines
 
 

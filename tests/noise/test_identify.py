@@ -174,3 +174,44 @@ def test_theo1_stable32_correction():
     assert r1.statistic == "theo1"
     br = compute("theobr", x, rate_hz=1.0, taus=taus, input="angle")
     assert br.statistic == "theobr"
+
+
+@pytest.mark.parametrize("n", [7, 100, 1023, 1024, 1025, 100_000])
+@pytest.mark.parametrize("block", [1, 2, 4, 256])
+def test_rn_block_phase_from_the_rate_equals_the_phase(n, block):
+    """R(n) of a rate record reads the phase at every block-th point and its block sums
+    from the rate in one pass; they equal those of the in-memory phase (up to rounding)."""
+    from inertialab.noise._phase import _LazyPhase, _rate_to_phase
+
+    if block > n:
+        pytest.skip("block longer than the record")
+    y = np.random.default_rng(n).standard_normal(n) + 3.0
+    mean = float(np.mean(y))
+    x = _rate_to_phase(y, 0.5, mean)
+    xb, C = _LazyPhase(y, 0.5, mean).block_phase(block)
+    nb = x.size // block
+    C0 = np.concatenate([[0.0], np.cumsum(x[:nb * block].reshape(nb, block).sum(axis=1))])
+    assert xb.shape == x[::block].shape and C.shape == C0.shape
+    scale = np.max(np.abs(x)) + 1e-300
+    assert np.max(np.abs(xb - x[::block])) / scale < 1e-13
+    assert np.max(np.abs(C - C0)) / (np.max(np.abs(C0)) + 1e-300) < 1e-13
+
+
+def test_rate_record_identified_as_its_phase_by_every_branch():
+    """A rate record and its phase (the same data as frequency averages) get the same
+    verdicts from the in-memory rate path (lag-1 in the octave kernel, R(n) from the rate)
+    as from the general identification on the phase."""
+    from inertialab.noise._phase import _rate_to_phase
+    from inertialab.noise.allan import deviation
+
+    branches = set()
+    for seed in range(6):  # seeds 2 and 3 take the B1 + R(n) branch at m = 4096
+        y = np.random.default_rng(seed).standard_normal(100_000)
+        r = deviation("adev", y, rate_hz=1.0)
+        x = _rate_to_phase(y, 1.0, float(np.mean(y)))
+        ref = I.identify_alpha(_PhaseArray(x), r.m, statistic="adev", data="freq",
+                               n_terms=r.n_terms)
+        np.testing.assert_array_equal(r.alpha, ref.alpha)
+        assert r.alpha_source == ref.source
+        branches |= set(r.alpha_source)
+    assert {"acf", "b1", "b1+rn", "carried"} <= branches

@@ -68,8 +68,8 @@ def _allan_command(imu_default: bool):
                 figs.append(allan_terms_figure(res.res.oadev, res.res.terms))
             return figs
 
-        run.execute("allan", lambda bar: wa.run(file, config, options=read), inputs=[file],
-                    figures=figures)
+        run.execute("allan", lambda bar: wa.run(file, config, options=read, progress=bar),
+                    inputs=[file], figures=figures)
 
     return allan
 

@@ -41,14 +41,19 @@ _jit = nb.njit(cache=True, nogil=True, fastmath={"reassoc", "contract"})
 
 
 @_jit
-def octave_d(d, nx, want, q, dec_use, dec_start, dec_off, dec, tmp):
+def octave_d(d, nx, want, q, dec_use, dec_start, dec_off, dec, tmp, acf, lim):
     """Lag-doubling sums of OADEV/TOTDEV (``q = 2``) or OHDEV (``q = 3``) over the
     working array ``d`` of first differences (overwritten): level l (m = 2^l) sums the
     squared second (third) lag-m differences of ``D(m)``, then ``D(2m)_i = D(m)_i +
     D(m)_{i+m}``, in the same loop over blocks of ``tmp.size`` entries (the block's new
     values go to ``tmp`` first: later blocks read only entries not yet updated).
-    ``dec_use[l] > 0`` gathers the central decimated points ``x_{s + k m} - x_s`` (``s =
-    dec_start[l]``) into ``dec[dec_off[l]:]``."""
+    ``dec_use[l] > 0`` gathers the increments ``x_{s + (k+1) m} - x_{s + k m}`` (``k <
+    dec_use[l] - 1``, ``s = dec_start[l]``) of the central decimated points into
+    ``dec[dec_off[l]:]`` (the frequency averages the noise identification tests; no
+    running sum, which is latency-bound: ~4 ns a point). Rows of at least ``acf.min``
+    frequency averages are instead tested in place (:func:`_acf_level`) and not
+    gathered. At most ``lim[l]`` summands are taken at level l (the out-of-core path
+    runs the kernel on windows of the record, each contributing its own summands)."""
     L = want.size
     sums = np.zeros(L)
     nd = d.size
@@ -62,15 +67,16 @@ def octave_d(d, nx, want, q, dec_use, dec_start, dec_off, dec, tmp):
         if u > 0:
             o = dec_off[lev]
             st = dec_start[lev]
-            acc = 0.0
-            dec[o] = 0.0
-            for k in range(1, u):
-                acc += d[st + (k - 1) * m]
-                dec[o + k] = acc
-        c = cnt if (want[lev] and cnt >= 1) else 0
+            if not _acf_level(d, st, m, u - 1, lev, acf):
+                dec[o:o + u - 1] = d[st:st + (u - 1) * m:m]  # (a slice copy: vectorised)
+        c = min(cnt, lim[lev]) if (want[lev] and cnt >= 1) else 0
         s = 0.0
-        for b0 in range(0, max(c, nxt if more else 0), B):
-            n = min(B, max(c, nxt if more else 0) - b0)
+        top = max(c, nxt if more else 0)
+        if m >= 128:  # blocks of at most m: D(2m) written in place (no overlap, vectorised)
+            s = _level_inplace(d, m, q, c, nxt if more else 0, min(m, B))
+            top = 0
+        for b0 in range(0, top, B):
+            n = min(B, top - b0)
             ns = max(0, min(n, c - b0))  # summands in this block
             nu = max(0, min(n, nxt - b0)) if more else 0  # updates in this block
             a = d[b0:b0 + n]
@@ -109,10 +115,74 @@ def octave_d(d, nx, want, q, dec_use, dec_start, dec_off, dec, tmp):
 
 
 @_jit
-def octave_e(e, want, hdev, dec_use, dec_start, dec_off, dec):
+def _acf_level(v, st, step, count, lev, acf):
+    """The lag-1 test of level ``lev`` into ``acf.out[lev]``; True if taken. ``acf =
+    (out, dmax, min, buf, x)`` (built by :func:`inertialab.noise._octave.octave_sums`;
+    ``min`` 0: never). Frequency data (``x`` empty): :func:`lag1_strided` with ``theta =
+    0`` on the ``count`` increments ``v[st + j step]`` themselves, where ``count >=
+    min``. Phase data: on the ``count + 1`` points ``x[st + j step]`` of the angle
+    ``x`` (``theta = 2``), where ``count + 1 >= min``."""
+    out, dmax, mn, buf, x = acf
+    phase = x.size > 1
+    n = count + 1 if phase else count
+    if mn <= 0 or n < mn:
+        return False
+    one = np.empty(1)
+    lag1_strided(x if phase else v, np.full(1, st, dtype=np.int64),
+                 np.full(1, step, dtype=np.int64), np.full(1, n, dtype=np.int64), dmax, one,
+                 buf, 2 if phase else 0, False)
+    out[lev] = one[0]
+    return True
+
+
+@_jit
+def _level_inplace(d, m, q, c, nu, blk):
+    """One level of :func:`octave_d` for m >= ``blk``: the sum of the squared second
+    (``q = 2``) or third (3) lag-m differences of the first ``c`` entries and ``D(2m)_i =
+    D(m)_i + D(m)_{i+m}`` written in place over the first ``nu``, in blocks of ``blk``
+    entries (a block and the entries it reads, m and 2m further, do not overlap)."""
+    s = 0.0
+    for b0 in range(0, max(c, nu), blk):
+        n = min(blk, max(c, nu) - b0)
+        ns = max(0, min(n, c - b0))
+        nw = max(0, min(n, nu - b0))
+        a = d[b0:b0 + n]
+        b = d[b0 + m:b0 + m + n]
+        if q == 2:
+            k = min(ns, nw)
+            for i in range(k):
+                ai = a[i]
+                bi = b[i]
+                t = bi - ai
+                s += t * t
+                a[i] = ai + bi
+            for i in range(k, ns):
+                t = b[i] - a[i]
+                s += t * t
+        else:
+            k = min(ns, nw)
+            if ns > 0:
+                cc = d[b0 + 2 * m:b0 + 2 * m + ns]
+                for i in range(k):
+                    ai = a[i]
+                    bi = b[i]
+                    t = (cc[i] - bi) - (bi - ai)
+                    s += t * t
+                    a[i] = ai + bi
+                for i in range(k, ns):
+                    bi = b[i]
+                    t = (cc[i] - bi) - (bi - a[i])
+                    s += t * t
+        for i in range(k, nw):
+            a[i] = a[i] + b[i]
+    return s
+
+
+@_jit
+def octave_e(e, want, hdev, dec_use, dec_start, dec_off, dec, acf):
     """Non-overlapping ADEV (``hdev`` False) / HDEV sums at m = 2^l from ``E(m)_k =
     x_{(k+1)m} - x_{km}`` (``e``, overwritten): the squared second (third) differences of
-    E(m), then ``E(2m)_k = E(m)_{2k} + E(m)_{2k+1}`` in place; decimated points as
+    E(m), then ``E(2m)_k = E(m)_{2k} + E(m)_{2k+1}`` in place; decimated increments as
     :func:`octave_d` (at stride 1 of E)."""
     L = want.size
     sums = np.zeros(L)
@@ -135,11 +205,8 @@ def octave_e(e, want, hdev, dec_use, dec_start, dec_off, dec):
         if u > 0:
             o = dec_off[lev]
             st = dec_start[lev]
-            acc = 0.0
-            dec[o] = 0.0
-            for k in range(1, u):
-                acc += e[st + k - 1]
-                dec[o + k] = acc
+            if not _acf_level(e, st, 1, u - 1, lev, acf):
+                dec[o:o + u - 1] = e[st:st + u - 1]
         h = ne // 2
         if lev + 1 >= L or h < 1:
             break
@@ -420,15 +487,38 @@ def octave_strided(x, want, order, w, id_use, id_start, idp, alphas, best, buf):
     return sums
 
 
+@_jit
+def combine_taps(t0, t1, t2, t3, q, n):
+    """Sum over i < n of the squared second (``q = 2``: ``t2 - 2 t1 + t0``) or third
+    (``q = 3``: ``t3 - 3 t2 + 3 t1 - t0``) differences of the taps ``x_i, x_{i+m},
+    ...`` (equal-length windows; ``t3`` unused for q = 2), with the difference formulas
+    of the numpy path (:func:`inertialab.noise._stream._combine_sumsq`)."""
+    s = 0.0
+    if q == 2:
+        for i in range(n):
+            b = t1[i]
+            u = (t2[i] - b) - (b - t0[i])
+            s += u * u
+    else:
+        for i in range(n):
+            a1 = t1[i]
+            a2 = t2[i]
+            v = a2 - a1
+            u = ((t3[i] - a2) - v) - v + (a1 - t0[i])
+            s += u * u
+    return s
+
+
 # ----------------------------------------------------------------------------- noise type
 
 
 @_jit
-def lag1_strided(x, starts, steps, counts, dmax, out, buf, theta=2):
+def lag1_strided(x, starts, steps, counts, dmax, out, buf, theta=2, diff=True):
     """Unrounded lag-1 ACF alpha (SP 1065 §5.6.6) of the rows ``x[s + j p]``, ``j <
     count``, the algorithm of :func:`inertialab.noise.identify.lag1_alpha` (``r1`` with
     Stable32's ``(n - 1)/n`` factor; ``buf``: scratch of the largest count): ``theta = 2``
-    phase rows; ``theta = 0`` the rows' first differences (frequency averages) are tested.
+    phase rows; ``theta = 0`` the rows' first differences (frequency averages) are tested,
+    or with ``diff=False`` the rows themselves (they hold the frequency averages).
     The row and its sum, then per round one pass for the lag-0 and lag-1 sums of the
     centred row, its differences (in place) and their sum (used if the round goes on)."""
     for r in range(starts.size):
@@ -447,7 +537,7 @@ def lag1_strided(x, starts, steps, counts, dmax, out, buf, theta=2):
                 v = x[st + j * sp]
                 buf[j] = v
                 tot += v
-        if theta == 0:  # frequency data: the m-averages (differences of the phase row)
+        if theta == 0 and diff:  # frequency data: the m-averages (phase row differences)
             tot = 0.0
             for j in range(n - 1):
                 v = buf[j + 1] - buf[j]

@@ -37,6 +37,15 @@ import os
 
 import numpy as np
 
+from inertialab.noise._octave_numpy import (  # noqa: F401 - this module's interface too
+    B_STATS,
+    D_STATS,
+    E_STATS,
+    OCT_BLOCK,
+    gather_indices,
+    n_terms,
+    octave_sums_numpy,
+)
 from inertialab.noise._phase import _sumsq
 
 _FAST = None  # the compiled-kernel module once imported; False: unavailable
@@ -67,21 +76,35 @@ class Decimated:
     """Decimated angle points per m, all in one flat array: the row of ``ms[r]`` is
     ``flat[offs[r]:offs[r] + uses[r]]`` (built by the compiled octave kernels, so that
     the compiled identification reads them without per-tau Python work). Offers the
-    mapping interface (``get``, ``in``, ``[m]``) the numpy identification uses."""
+    mapping interface (``get``, ``in``, ``[m]``) the numpy identification uses.
 
-    def __init__(self, ms, uses, offs, flat):
+    With ``increments=True`` a row holds the ``uses[r] - 1`` increments of its points
+    (the frequency averages at m, what the lag-1 test of a rate record reads); ``[m]``
+    then returns the points ``0, cumsum(increments)`` (the running sum the kernels
+    would have formed, in the same order: equal bit for bit)."""
+
+    def __init__(self, ms, uses, offs, flat, increments: bool = False):
         self.ms, self.uses, self.offs, self.flat = ms, uses, offs, flat
+        self.increments = increments
         self._row = {int(m): r for r, m in enumerate(ms)}
+        self.acf = None  # (done, alpha) per m where the kernel took the lag-1 test
+        self.skip = set()  # m whose rows were not gathered (tested in place)
 
     def __len__(self) -> int:
         return len(self._row)
 
     def __contains__(self, m) -> bool:
-        return int(m) in self._row
+        return int(m) in self._row and int(m) not in self.skip
 
     def __getitem__(self, m) -> np.ndarray:
         r = self._row[int(m)]
-        return self.flat[self.offs[r]:self.offs[r] + self.uses[r]]
+        row = self.flat[self.offs[r]:self.offs[r] + self.uses[r]]
+        if not self.increments:
+            return row
+        z = np.empty(row.size)
+        z[0] = 0.0
+        np.cumsum(row[:-1], out=z[1:])
+        return z
 
     def get(self, m, default=None):
         return self[m] if m in self else default
@@ -89,15 +112,16 @@ class Decimated:
     def rows(self, ms: np.ndarray):
         """``(offsets, uses)`` of the rows of ``ms`` (int64 arrays), or None where one of
         them is missing."""
-        if not all(int(m) in self._row for m in ms):
+        r = np.searchsorted(self.ms, ms)  # (ms ascending, as the kernels take them)
+        if np.any(r >= self.ms.size) or not np.array_equal(self.ms[np.minimum(
+                r, self.ms.size - 1)], ms) or any(int(m) in self.skip for m in ms):
             return None
-        r = np.array([self._row[int(m)] for m in ms], dtype=np.int64)
         return self.offs[r], self.uses[r]
 
 
 def _decimated_layout(nx: int, ms: np.ndarray, max_points: int):
     """``(uses, starts, offs, flat)`` of :class:`Decimated` rows for the m of ``ms``
-    (:func:`_central_span` of each, vectorised; starts in angle-point units)."""
+    (:func:`inertialab.noise._octave_numpy._central_span` of each, vectorised; starts in angle-point units)."""
     count = (nx - 1) // ms + 1
     uses = np.minimum(count, max_points)
     starts = ((count - uses) // 2) * ms
@@ -106,34 +130,10 @@ def _decimated_layout(nx: int, ms: np.ndarray, max_points: int):
     return uses, starts, offs, np.empty(max(int(uses.sum()), 1))
 
 
-#: Entries per block of the in-place updates (below L2 size; temporaries of this size).
-OCT_BLOCK = 1 << 16
-
-#: Statistics by the working array they use.
-D_STATS = ("oadev", "ohdev", "totdev")
-E_STATS = ("adev", "hdev")
-B_STATS = ("mdev", "tdev")
-
-
 def is_octave(ms: np.ndarray) -> bool:
     """True when every m is a power of two (the lag-doubling kernels apply)."""
     ms = np.asarray(ms)
     return bool(ms.size and np.all(ms >= 1) and np.all((ms & (ms - 1)) == 0))
-
-
-def n_terms(statistic: str, nx: int, m: int) -> int:
-    """Summands of ``statistic`` at m for ``nx`` angle points."""
-    if statistic == "oadev":
-        return nx - 2 * m
-    if statistic == "adev":
-        return (nx - 1) // m - 1
-    if statistic == "ohdev":
-        return nx - 3 * m
-    if statistic == "hdev":
-        return (nx - 1) // m - 2
-    if statistic in ("mdev", "tdev"):
-        return nx - 3 * m + 1
-    return nx - 2  # totdev
 
 
 def n_terms_many(statistic: str, nx: int, ms: np.ndarray) -> np.ndarray:
@@ -202,15 +202,16 @@ def octave_strided_sums(K, x: np.ndarray, statistic: str, ms: np.ndarray,
 FAST_BLOCK = 4096
 
 #: Stride of the coarse angle the compiled gather of decimated points reads (a 1/256
-#: copy: at 1/16 it made MDEV/TDEV of a rate record 1.07x the input, over the issue-15
-#: bound of one copy; m below it sum their increments, at most 8192 x 255 additions).
+#: copy: at 1/16 it made MDEV/TDEV of a rate record 1.07x the input, over the bound
+#: of one copy of extra memory; m below it sum their increments, at most 8192 x 255 additions).
 GATHER_STRIDE = 256
 
 #: Summands between recomputations of the running modified sum (compiled kernel).
 MOD_RESTART = 4096
 
 
-def octave_sums(d: np.ndarray, statistic: str, ms: np.ndarray, *, decimate: int = 0):
+def octave_sums(d: np.ndarray, statistic: str, ms: np.ndarray, *, decimate: int = 0,
+                acf: tuple | None = None, x: np.ndarray | None = None):
     """Sums of squares of ``statistic``'s filter outputs at each m of ``ms`` (powers of 2).
 
     Parameters
@@ -224,6 +225,16 @@ def octave_sums(d: np.ndarray, statistic: str, ms: np.ndarray, *, decimate: int 
         When > 0, also return per m the central ``decimate`` (at most) decimated angle
         points ``x_{start + k m}`` (up to a constant) for the noise identification,
         gathered from ``D(m)``/``E(m)`` (not for mdev/tdev: empty dict).
+    acf : (dmax, min_points) or None
+        With ``decimate`` and the compiled kernels (not mdev/tdev): rows of at least
+        ``min_points`` frequency averages (the increments of the decimated points) get
+        the lag-1 noise test (frequency data, at most ``dmax`` differencing rounds) in
+        place instead of being gathered; ``dec.acf = (done, alpha)`` per m of ``ms``
+        (rounded, unclipped alpha), and ``m in dec`` is False for those rows.
+    x : float64 ndarray, shape (nx,), optional
+        The angle itself (phase data): with ``acf`` the lag-1 test reads its central
+        decimated points at stride m (``theta = 2``) instead, and no row is gathered
+        (``m in dec`` is False for every m; the shorter rows are read from ``x``).
 
     Returns
     -------
@@ -233,144 +244,11 @@ def octave_sums(d: np.ndarray, statistic: str, ms: np.ndarray, *, decimate: int 
     """
     K = fast_kernels()
     if K is not None:
-        return _octave_sums_fast(K, d, statistic, ms, decimate)
-    nx = d.size + 1
-    want = {int(m) for m in ms}
-    top = int(max(ms))
-    sums = np.zeros(len(ms))
-    nt = np.array([n_terms(statistic, nx, int(m)) for m in ms], dtype=np.int64)
-    pos = {int(m): k for k, m in enumerate(ms)}
-    dec = {}
-    B = OCT_BLOCK
-    buf = np.empty(B)
-    tmp = np.empty(B)
-    m = 1
-    if statistic in E_STATS:
-        e = d  # E(m), valid length (nx - 1) // m
-        ne = d.size
-        while m <= top:
-            cnt = ne - (1 if statistic == "adev" else 2)
-            if m in want and cnt >= 1:
-                s = 0.0
-                for b0 in range(0, cnt, B):
-                    b1 = min(b0 + B, cnt)
-                    t = buf[:b1 - b0]
-                    np.subtract(e[b0 + 1:b1 + 1], e[b0:b1], out=t)
-                    if statistic == "hdev":
-                        u = tmp[:b1 - b0]
-                        np.subtract(e[b0 + 2:b1 + 2], e[b0 + 1:b1 + 1], out=u)
-                        np.subtract(u, t, out=t)
-                    s += _sumsq(t)
-                sums[pos[m]] = s
-                if decimate:
-                    dec[m] = _central_cumsum(e, ne, 1, decimate)
-            # E(2m)_k = E_{2k} + E_{2k+1}, written in place over ascending blocks
-            h = ne // 2
-            if 2 * m > top or h < 1:
-                break
-            for b0 in range(0, h, B):
-                b1 = min(b0 + B, h)
-                np.add(e[2 * b0:2 * b1:2], e[2 * b0 + 1:2 * b1:2], out=tmp[:b1 - b0])
-                e[b0:b1] = tmp[:b1 - b0]
-            ne = h
-            m *= 2
-        return sums, nt, dec
-    if statistic in B_STATS:
-        if decimate:  # B(m) holds no point samples: gather them before d is overwritten
-            dec = decimated_points(d, [int(v) for v in ms], decimate)
-        nb = d.size  # valid B(m) entries: nx - 2m + 1
-        while m <= top:
-            cnt = nx - 3 * m + 1
-            nxt = nb - 2 * m  # valid B(2m) entries
-            more = 2 * m <= top and nxt > 0
-            s = 0.0
-            cnt_s = cnt if m in want else 0
-            for b0 in range(0, max(cnt_s, nxt if more else 0), B):
-                if b0 < cnt_s:
-                    b1 = min(b0 + B, cnt)
-                    t = buf[:b1 - b0]
-                    np.subtract(d[b0 + m:b1 + m], d[b0:b1], out=t)
-                    s += _sumsq(t)
-                if more and b0 < nxt:
-                    b1 = min(b0 + B, nxt)
-                    u = tmp[:b1 - b0]
-                    np.add(d[b0 + m:b1 + m], d[b0 + m:b1 + m], out=u)
-                    u += d[b0:b1]
-                    u += d[b0 + 2 * m:b1 + 2 * m]
-                    d[b0:b1] = u
-            if m in want and cnt >= 1:
-                sums[pos[m]] = s
-            if not more:
-                break
-            nb = nxt
-            m *= 2
-        return sums, nt, dec
-    # D(m): oadev, ohdev, totdev
-    q = 3 if statistic == "ohdev" else 2
-    wbuf = np.empty(2 * B)
-    nd = d.size  # valid D(m) entries: nx - m
-    while m <= top:
-        if 2 * m in want and 4 * q * m <= B:
-            # two octaves per pass (half the memory traffic): the level-m sums from D(m),
-            # D(2m) of the block (plus its reach) into a buffer, the level-2m sums from it,
-            # then D(4m) written in place; same operations as two single passes
-            if decimate:
-                if m in want:
-                    dec[m] = _central_cumsum(d, nd, m, decimate)
-                dec[2 * m] = _central_cumsum2(d, nd, m, decimate)
-            cnt1, cnt2 = nx - q * m, nx - 2 * q * m
-            nd2 = nd - m
-            nd4 = nd2 - 2 * m
-            more = 4 * m <= top and nd4 > 0
-            c1 = cnt1 if m in want else 0
-            s1 = s2 = 0.0
-            for b0 in range(0, max(c1, cnt2, nd4 if more else 0), B):
-                if b0 < c1:
-                    b1 = min(b0 + B, cnt1)
-                    s1 += _sumsq(_diff_taps(d, b0, b1 - b0, m, q, buf, tmp))
-                L2 = min(B, cnt2 - b0)
-                L4 = min(B, nd4 - b0) if more else 0
-                Lw = min(max(L2 + 2 * q * m, L4 + 2 * m), nd2 - b0)
-                if Lw <= 0:
-                    continue
-                W = wbuf[:Lw]
-                np.add(d[b0:b0 + Lw], d[b0 + m:b0 + m + Lw], out=W)
-                if L2 > 0:
-                    s2 += _sumsq(_diff_taps(W, 0, L2, 2 * m, q, buf, tmp))
-                if L4 > 0:
-                    np.add(W[:L4], W[2 * m:2 * m + L4], out=d[b0:b0 + L4])
-            if m in want:
-                sums[pos[m]] = s1
-            sums[pos[2 * m]] = s2
-            if not more:
-                break
-            nd = nd4
-            m *= 4
-            continue
-        cnt = nx - q * m
-        nxt = nd - m  # valid D(2m) entries
-        more = 2 * m <= top and nxt > 0
-        if m in want and decimate and cnt >= 1:
-            dec[m] = _central_cumsum(d, nd, m, decimate)
-        s = 0.0
-        cnt_s = cnt if m in want else 0
-        for b0 in range(0, max(cnt_s, nxt if more else 0), B):
-            if b0 < cnt_s:
-                b1 = min(b0 + B, cnt)
-                s += _sumsq(_diff_taps(d, b0, b1 - b0, m, q, buf, tmp))
-            if more and b0 < nxt:
-                b1 = min(b0 + B, nxt)
-                np.add(d[b0:b1], d[b0 + m:b1 + m], out=d[b0:b1])
-        if m in want:
-            sums[pos[m]] = s
-        if not more:
-            break  # (totdev: the larger m have no interior summands)
-        nd = nxt
-        m *= 2
-    return sums, nt, dec
+        return _octave_sums_fast(K, d, statistic, ms, decimate, acf, x)
+    return octave_sums_numpy(d, statistic, ms, decimate)
 
 
-def _octave_sums_fast(K, d, statistic, ms, decimate):
+def _octave_sums_fast(K, d, statistic, ms, decimate, acf=None, x=None):
     """:func:`octave_sums` by the compiled kernels (one fused loop per octave)."""
     nx = d.size + 1
     ms = np.asarray(ms, dtype=np.int64)
@@ -387,10 +265,16 @@ def _octave_sums_fast(K, d, statistic, ms, decimate):
     if decimate:
         u, st, o, flat = _decimated_layout(nx, ms, decimate)
         use[levels], start[levels], off[levels] = u, st, o
-        dec = Decimated(ms, u, o, flat)
+        # the D/E kernels gather increments (no running sum); the B one points
+        dec = Decimated(ms, u, o, flat, increments=statistic not in B_STATS)
+    test = decimate and acf is not None and statistic not in B_STATS
+    out = np.full(L, np.nan)
+    acf_args = (out, int(acf[0]) if test else 0, int(acf[1]) if test else 0,
+                np.empty(int(use.max()) if test else 1),
+                x if (test and x is not None) else np.empty(1))
     if statistic in E_STATS:
         ustart = start // (1 << np.arange(L))  # in units of E(m)
-        lev_sums = K.octave_e(d, want, statistic == "hdev", use, ustart, off, flat)
+        lev_sums = K.octave_e(d, want, statistic == "hdev", use, ustart, off, flat, acf_args)
     elif statistic in B_STATS:
         if decimate:
             g = GATHER_STRIDE
@@ -399,89 +283,14 @@ def _octave_sums_fast(K, d, statistic, ms, decimate):
         lev_sums = K.octave_b(d, nx, want, np.empty(FAST_BLOCK))
     else:
         q = 3 if statistic == "ohdev" else 2
-        lev_sums = K.octave_d(d, nx, want, q, use, start, off, flat, np.empty(FAST_BLOCK))
+        lev_sums = K.octave_d(d, nx, want, q, use, start, off, flat, np.empty(FAST_BLOCK),
+                              acf_args, np.full(L, nx, dtype=np.int64))
+    if test:
+        done = ~np.isnan(out[levels])
+        dec.acf = (done, np.rint(np.where(done, out[levels], 0.0)).astype(np.int64))
+        # (phase data: the rows left to B1 are read from the angle, none gathered)
+        dec.skip = {int(m) for m in (ms if x is not None else ms[done])}
     return lev_sums[levels], nt, dec
-
-
-def _diff_taps(w: np.ndarray, b0: int, L: int, m: int, q: int, buf, tmp) -> np.ndarray:
-    """Second (q = 2: ``w_{i+m} - w_i``) or third (q = 3) lag-m differences of the
-    increments ``w`` for i in [b0, b0 + L), into ``buf``."""
-    t = buf[:L]
-    np.subtract(w[b0 + m:b0 + m + L], w[b0:b0 + L], out=t)
-    if q == 3:
-        u = tmp[:L]
-        np.subtract(w[b0 + 2 * m:b0 + 2 * m + L], w[b0 + m:b0 + m + L], out=u)
-        np.subtract(u, t, out=t)
-    return t
-
-
-def _central_span(nx: int, lag: int, max_points: int) -> tuple[int, int]:
-    """``(use, start)``: the central ``use`` (at most ``max_points``) of the angle points
-    ``x_0, x_lag, ...`` of ``nx`` angle points begin at index ``start``."""
-    count = (nx - 1) // lag + 1
-    use = min(count, max_points)
-    return use, ((count - use) // 2) * lag
-
-
-def gather_indices(nx: int, ms, max_points: int) -> dict:
-    """m -> indices of the central ``max_points`` (at most) decimated points at m (the
-    points :func:`inertialab.noise.identify.identify_alpha` takes)."""
-    out = {}
-    for m in (int(v) for v in ms):
-        use, start = _central_span(nx, m, max_points)
-        out[m] = start + m * np.arange(use, dtype=np.int64)
-    return out
-
-
-def _central_cumsum2(w: np.ndarray, nvalid: int, m: int, max_points: int) -> np.ndarray:
-    """:func:`_central_cumsum` at lag 2m from the lag-m increments ``w`` (``D(2m)_i =
-    D(m)_i + D(m)_{i+m}``), without forming D(2m)."""
-    lag = 2 * m
-    use, start = _central_span(nvalid + m, lag, max_points)
-    z = np.empty(use)
-    z[0] = 0.0
-    if use > 1:
-        a = w[start:start + (use - 1) * lag:lag]
-        b = w[start + m:start + m + (use - 1) * lag:lag]
-        np.add(a, b, out=z[1:])
-        np.cumsum(z[1:], out=z[1:])
-    return z
-
-
-def decimated_points(d: np.ndarray, ms, max_points: int, chunk: int = 1 << 16) -> dict:
-    """For each m, the central ``max_points`` (at most) decimated angle points
-    ``x_{start + k m} - x_start`` of the increments ``d`` (``x_0 = 0``, ``x_{i+1} = x_i +
-    d_i``), gathered in one pass of chunked cumulative sums (no angle array)."""
-    nx = d.size + 1
-    want = gather_indices(nx, ms, max_points)
-    got = {m: np.empty(idx.size) for m, idx in want.items()}
-    for m, idx in want.items():  # x_0 = 0 (not produced by the chunks below)
-        got[m][idx == 0] = 0.0
-    prev = 0.0
-    u = np.empty(min(chunk, max(d.size, 1)))
-    for s in range(0, d.size, chunk):
-        e = min(s + chunk, d.size)
-        w = u[:e - s]
-        w[:] = d[s:e]
-        w[0] += prev
-        np.cumsum(w, out=w)  # x_{s+1} .. x_e
-        prev = float(w[-1])
-        for m, idx in want.items():
-            lo, hi = np.searchsorted(idx, [s + 1, e + 1])
-            if hi > lo:
-                got[m][lo:hi] = w[idx[lo:hi] - s - 1]
-    return {m: got[m] - got[m][0] for m in ms}
-
-
-def _central_cumsum(w: np.ndarray, nvalid: int, m: int, max_points: int) -> np.ndarray:
-    """Central decimated angle points (up to a constant) from lag-m increments ``w``
-    (``w_i = x_{i+m} - x_i``, ``nvalid`` entries): ``x_{start + k m} - x_start``."""
-    use, start = _central_span(nvalid + m, m, max_points)
-    z = np.empty(use)
-    z[0] = 0.0
-    if use > 1:
-        np.cumsum(w[start:start + (use - 1) * m:m], out=z[1:])
-    return z
 
 
 def totdev_edge_sum(window, nx: int, m: int) -> float:

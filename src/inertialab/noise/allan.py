@@ -268,7 +268,10 @@ def _check_stat(statistic: str) -> None:
 # ----------------------------------------------------------------------------- validation
 
 
-def _validate(data, rate_hz, input, *, name="data", check_finite: bool = True) -> np.ndarray:
+def _validate(data, rate_hz, input, *, name="data", check_finite: bool = True,
+              sums: list | None = None) -> np.ndarray:
+    """The checked 1-D real array of ``data``; with ``sums`` (a list) the finiteness
+    check appends the record's float64 sum to it (:func:`_check_finite`)."""
     check_input_rate(input, rate_hz)
     arr = data if isinstance(data, np.ndarray) else np.asarray(data, dtype=float)
     if arr.ndim != 1:
@@ -278,24 +281,34 @@ def _validate(data, rate_hz, input, *, name="data", check_finite: bool = True) -
     if arr.size < 2:
         raise InputError(f"too few samples ({arr.size}) for any tau")
     if check_finite:
-        _check_finite(arr, name)
+        total = _check_finite(arr, name)
+        if sums is not None and total is not None:
+            sums.append(total)
     return arr
 
 
-def _check_finite(arr: np.ndarray, name: str, offset: int = 0) -> None:
+def _check_finite(arr: np.ndarray, name: str, offset: int = 0) -> float | None:
+    """Raise :class:`InputError` naming the first non-finite samples; return the
+    record's sum in float64 as the sum of per-``CHUNK`` sums (the order of
+    :func:`inertialab.noise._phase._chunked_mean`, so ``total / n`` is its mean bit for
+    bit; None for an integer array, which is not summed)."""
     if np.issubdtype(arr.dtype, np.integer):
-        return
+        return None
     release = _phase._Releaser(arr)  # a read-only memory map is not kept resident
+    total = 0.0
     for s in range(0, arr.size, CHUNK):
         blk = arr[s:s + CHUNK]
         release(s)
-        if math.isfinite(float(np.sum(blk, dtype=np.float64))):
+        part = float(np.sum(blk, dtype=np.float64))
+        total += part
+        if math.isfinite(part):
             continue  # NaN and infinity propagate into the sum (one pass, no mask)
         ok = np.isfinite(blk)
         if not ok.all():
             bad = np.flatnonzero(~ok)[:5] + s + offset
             raise InputError(f"{name} contains NaN or infinity at sample index "
                              f"{', '.join(str(int(b)) for b in bad)}")
+    return total
 
 
 def _check_not_constant(src) -> None:
@@ -393,7 +406,7 @@ def _angle_source(x: np.ndarray) -> _PhaseArray:
 
 def deviation(statistic: str, data, *, rate_hz: float, taus="octave", input: str = "rate",
               confidence: float = 0.683, alpha=None, edf_method: str = "default",
-              chunked: bool = False) -> DeviationResult:
+              chunked: bool = False, progress=None) -> DeviationResult:
     """Compute one statistic of the Allan family with its confidence interval.
 
     Parameters
@@ -417,136 +430,200 @@ def deviation(statistic: str, data, *, rate_hz: float, taus="octave", input: str
     chunked : bool, default False
         Compute the angle on demand from chunks of ``data`` instead of holding it in
         memory (out-of-core path; equal results). Rate input only.
+    progress : object with ``update(done, total, note)``, optional
+        Hears the out-of-core path's passes advance (:class:`inertialab.progress.Progress`;
+        the command line's bar); ignored in memory.
 
     Raises
     ------
     InputError
         Unknown statistic, non-finite or constant data, too few samples, bad rate.
     """
-    from inertialab.noise import edf as _edf
-    from inertialab.noise import identify as _ident
-
     _check_stat(statistic)
     # an angle record on the compiled kernels is checked for NaN/infinity after its sums
     # (every point enters the m = 1 sums, and non-finite values make them non-finite):
     # one pass less over the record; otherwise before anything else
     defer = input == "angle" and not chunked and _octave.fast_kernels() is not None
-    arr = _validate(data, rate_hz, input, check_finite=not defer)
+    total = []  # the record's sum, from the finiteness check (rate input: its mean)
+    arr = _validate(data, rate_hz, input, check_finite=not defer, sums=total)
     if not 0.0 < float(confidence) < 1.0:
         raise InputError(f"confidence must be in (0, 1), got {confidence}")
     if chunked and input != "rate":
         raise InputError("the chunked path takes rate samples (input='rate')")
-    if defer:
-        try:
-            ms = tau_grid(arr.size, taus, rate_hz=rate_hz, statistic=statistic, input=input)
-        except InputError:
-            _check_finite(arr, "data")  # the non-finite data error takes precedence
-            raise
-        if ms[0] != 1:
-            defer = False
-            _check_finite(arr, "data")
-    else:
-        ms = tau_grid(arr.size, taus, rate_hz=rate_hz, statistic=statistic, input=input)
+    ms, defer = _grid(arr, statistic, taus, rate_hz, input, defer)
     tau0 = 1.0 / float(rate_hz)
-    decimated = ident = None
     if chunked:
-        from inertialab.noise import _stream
-
-        gather = (_octave.gather_indices(arr.size + 1, ms, _ident.MAX_POINTS)
-                  if alpha is None else None)
-        src = _phase._PhaseFromRate(arr, tau0, spill=True, gather=gather)
-        try:
-            _check_not_constant(src)
-            if statistic in _stream.STREAM_STATS:
-                sums, nt = _stream.stream_sums(src, statistic, ms)
-                var = _normalise(statistic, sums, ms, nt, tau0)
-            else:
-                var, nt = _variances(src, statistic, ms, tau0)
-            if alpha is None:  # points gathered by the spilling pass (x_start subtracted)
-                decimated = {m: z - z[0] for m, z in src.gathered.items()}
-                ident = _ident.identify_alpha(src, ms, statistic=statistic, data="freq",
-                                              n_terms=nt, decimated=decimated)
-        finally:
-            src.close()
+        st = _chunked_variances(arr, statistic, ms, tau0, alpha is None, progress)
     else:
-        if input == "rate":
-            if _all_equal(arr):
-                raise InputError("data are constant (zero deviation at every tau); "
-                                 "nothing to analyse")
-        K = _octave.fast_kernels()
-        octave = is_octave(ms)
-        if K is not None and statistic == "totdev" and input == "angle":
-            # compiled: one pass over the angle per m, the reflected summands by index
-            x = np.asarray(arr, dtype=np.float64)
-            if _angle_constant(x):
-                raise InputError("data are constant (zero deviation at every tau); "
-                                 "nothing to analyse")
-            src = _angle_source(x)
-            sums = _octave.dense_sums_fast(K, x, statistic, ms)
-            nt = _octave.n_terms_many(statistic, x.size, ms)
-            var = _normalise(statistic, sums, ms, nt, tau0)
-        elif octave and not (input == "angle" and statistic in _octave.E_STATS):
-            # (non-overlapping statistics of an angle record: strided views are cheaper)
+        if input == "rate" and _all_equal(arr):
+            raise InputError("data are constant (zero deviation at every tau); "
+                             "nothing to analyse")
+        if is_octave(ms) and not (input == "angle" and statistic in _octave.E_STATS) and not (
+                statistic == "totdev" and input == "angle" and _octave.fast_kernels()):
             # lag-doubling kernels on one working array of first differences
-            if input == "rate":
-                mean = _chunked_mean(arr)
-                if not math.isfinite(mean):
-                    raise InputError("data too large to sum in float64")
-                d = np.subtract(arr, mean, dtype=np.float64)
-                scale = tau0  # angle increment per unit of d
-                src = _LazyPhase(arr, tau0)
-            else:
-                x = np.asarray(arr, dtype=np.float64)
-                d = np.diff(x)
-                if _all_equal(d):
-                    raise InputError("data are constant (zero deviation at every tau); "
-                                     "nothing to analyse")
-                scale = 1.0
-                src = _angle_source(x)
-            want = _ident.MAX_POINTS if (alpha is None and input == "rate") else 0
-            sums, nt, decimated = _octave.octave_sums(d, statistic, ms, decimate=want)
-            del d  # the working copy; totdev's reflected summands read the angle
-            sums = sums * (scale * scale)
-            if statistic == "totdev":
-                xf = x if input == "angle" else _rate_to_phase(arr, tau0, mean)
-                if K is not None:  # the reflected summands only (compiled)
-                    sums += K.dense_totdev(xf, ms, False)
-                else:
-                    sums += [_octave.totdev_edge_sum(lambda a, n: xf[a:a + n], xf.size,
-                                                     int(m)) for m in ms]
-                if input == "rate":
-                    src = _angle_source(xf)  # the identification reads the angle in place
-                del xf
+            # (non-overlapping statistics of an angle record: strided views are cheaper)
+            st = _octave_variances(arr, statistic, ms, tau0, input, alpha is None, total)
+        else:
+            st = _dense_variances(arr, statistic, ms, tau0, rate_hz, input, alpha is None)
+    if defer and not np.isfinite(st.var).all():
+        _check_finite(arr, "data")  # raises where the record holds NaN or infinity
+    return _with_intervals(statistic, arr, ms, tau0, np.sqrt(st.var), st, alpha, input,
+                           confidence, edf_method)
+
+
+@dataclass
+class _Sums:
+    """What a path of :func:`deviation` hands on: the variance and summand count per m,
+    the angle source (for the identification), points gathered for it, lag-1 verdicts a
+    kernel took in place, or the identification itself (chunked path)."""
+
+    var: np.ndarray
+    nt: np.ndarray
+    src: object
+    decimated: object = None
+    acf: tuple | None = None
+    ident: object = None
+
+
+def _grid(arr, statistic, taus, rate_hz, input, defer):
+    """``(ms, defer)``: the averaging factors; a deferred finiteness check is taken now
+    where the grid fails (the non-finite data error takes precedence) or m = 1 is not
+    in it (not every point enters the sums)."""
+    if not defer:
+        return tau_grid(arr.size, taus, rate_hz=rate_hz, statistic=statistic,
+                        input=input), False
+    try:
+        ms = tau_grid(arr.size, taus, rate_hz=rate_hz, statistic=statistic, input=input)
+    except InputError:
+        _check_finite(arr, "data")
+        raise
+    if ms[0] != 1:
+        _check_finite(arr, "data")
+        return ms, False
+    return ms, True
+
+
+def _chunked_variances(arr, statistic, ms, tau0, identify, progress=None) -> _Sums:
+    """Out-of-core path: the angle computed once and spilled to a temporary file
+    (:mod:`inertialab.noise._stream`), the noise type from the points gathered by that
+    pass."""
+    from inertialab.noise import _stream
+    from inertialab.noise import identify as _ident
+
+    gather = _octave.gather_indices(arr.size + 1, ms, _ident.MAX_POINTS) if identify else None
+    src = _phase._PhaseFromRate(arr, tau0, spill=True, gather=gather,
+                                progress=_stream.Scaled(progress, 0.0, 0.3))
+    try:
+        _check_not_constant(src)
+        if statistic in _stream.STREAM_STATS:
+            sums, nt = _stream.stream_sums(src, statistic, ms, progress=progress)
             var = _normalise(statistic, sums, ms, nt, tau0)
         else:
-            if input == "rate":
-                src = _make_source(arr, rate_hz, input, False)
-            else:
-                x = np.asarray(arr, dtype=np.float64)
-                if _angle_constant(x):
-                    raise InputError("data are constant (zero deviation at every tau); "
-                                     "nothing to analyse")
-                src = _angle_source(x)
-            if (K is not None and statistic in _octave.E_STATS and octave
-                    and ms.size > 1):  # noise types from the halved copy, in place
-                sums, nt, _ = _octave.octave_strided_sums(K, src.x, statistic, ms)
-            else:
-                sums, nt = _octave.dense_sums(src.x, statistic, ms)
-            var = _normalise(statistic, sums, ms, nt, tau0)
-    if defer and not np.isfinite(var).all():
-        _check_finite(arr, "data")  # raises where the record holds NaN or infinity
-    dev = np.sqrt(var)
-    n_phase = src.n
-    if alpha is None:
-        if not chunked and ident is None:
-            ident = _ident.identify_alpha(src, ms, statistic=statistic,
-                                          data="freq" if input == "rate" else "phase",
+            var, nt = _variances(src, statistic, ms, tau0)
+        ident = None
+        if identify:  # points gathered by the spilling pass (x_start subtracted)
+            decimated = {m: z - z[0] for m, z in src.gathered.items()}
+            ident = _ident.identify_alpha(src, ms, statistic=statistic, data="freq",
                                           n_terms=nt, decimated=decimated)
+    finally:
+        src.close()
+    return _Sums(var, nt, src, ident=ident)
+
+
+def _octave_variances(arr, statistic, ms, tau0, input, identify, total) -> _Sums:
+    """Octave m by the lag-doubling kernels (:func:`inertialab.noise._octave.octave_sums`)
+    on one working copy of the first differences; a rate record's decimated points (or
+    its lag-1 verdicts, compiled) come from the same pass; TOTDEV adds its reflected
+    summands from the angle."""
+    from inertialab.noise import identify as _ident
+
+    if input == "rate":
+        mean = total[0] / arr.size if total else _chunked_mean(arr)
+        if not math.isfinite(mean):
+            raise InputError("data too large to sum in float64")
+        d = np.subtract(arr, mean, dtype=np.float64)
+        scale = tau0  # angle increment per unit of d
+        src = _LazyPhase(arr, tau0, mean)
+    else:
+        x = np.asarray(arr, dtype=np.float64)
+        d = np.diff(x)
+        if _all_equal(d):
+            raise InputError("data are constant (zero deviation at every tau); "
+                             "nothing to analyse")
+        scale = 1.0
+        src = _angle_source(x)
+    # the lag-1 test in the octave pass (compiled): on a rate record's frequency
+    # averages, or on an angle record's decimated points read at stride m
+    phase = (input == "angle" and statistic in _octave.D_STATS
+             and _octave.fast_kernels() is not None)
+    want = _ident.MAX_POINTS if identify and (input == "rate" or phase) else 0
+    sums, nt, decimated = _octave.octave_sums(
+        d, statistic, ms, decimate=want, acf=_ident.acf_rules(statistic)[:2] if want else None,
+        x=src.x if phase else None)
+    del d  # the working copy; totdev's reflected summands read the angle
+    sums = sums * (scale * scale)
+    if statistic == "totdev":
+        K = _octave.fast_kernels()
+        xf = x if input == "angle" else _rate_to_phase(arr, tau0, mean)
+        if K is not None:  # the reflected summands only (compiled)
+            sums += K.dense_totdev(xf, ms, False)
+        else:
+            sums += [_octave.totdev_edge_sum(lambda a, n: xf[a:a + n], xf.size, int(m))
+                     for m in ms]
+        if input == "rate":
+            src = _angle_source(xf)  # the identification reads the angle in place
+        del xf
+    return _Sums(_normalise(statistic, sums, ms, nt, tau0), nt, src, decimated,
+                 getattr(decimated, "acf", None))
+
+
+def _dense_variances(arr, statistic, ms, tau0, rate_hz, input, identify) -> _Sums:
+    """Any m on the in-memory angle (per-m kernels, :func:`inertialab.noise._octave.
+    dense_sums`); octave ADEV/HDEV of an angle record on the compiled halving kernel,
+    which takes the lag-1 test of each m in place."""
+    from inertialab.noise import identify as _ident
+
+    if input == "rate":
+        src = _make_source(arr, rate_hz, input, False)
+    else:
+        x = np.asarray(arr, dtype=np.float64)
+        if _angle_constant(x):
+            raise InputError("data are constant (zero deviation at every tau); "
+                             "nothing to analyse")
+        src = _angle_source(x)
+    K = _octave.fast_kernels()
+    acf = None
+    if K is not None and statistic == "totdev" and input == "angle":
+        # compiled: one pass over the angle per m, the reflected summands by index
+        sums = _octave.dense_sums_fast(K, src.x, statistic, ms)
+        nt = _octave.n_terms_many(statistic, src.x.size, ms)
+    elif K is not None and statistic in _octave.E_STATS and is_octave(ms) and ms.size > 1:
+        rules = _ident.acf_rules(statistic) if identify else None
+        sums, nt, got = _octave.octave_strided_sums(K, src.x, statistic, ms, rules,
+                                                    _ident.MAX_POINTS)
+        acf = None if got is None else (got[1] == -2, got[0])
+    else:
+        sums, nt = _octave.dense_sums(src.x, statistic, ms)
+    return _Sums(_normalise(statistic, sums, ms, nt, tau0), nt, src, acf=acf)
+
+
+def _with_intervals(statistic, arr, ms, tau0, dev, st: _Sums, alpha, input, confidence,
+                    edf_method) -> DeviationResult:
+    """The result: noise type per m (identified as Stable32 does, or given), EDF and the
+    chi-square interval (:mod:`inertialab.noise.edf`)."""
+    from inertialab.noise import edf as _edf
+    from inertialab.noise import identify as _ident
+
+    if alpha is None:
+        ident = st.ident or _ident.identify_alpha(
+            st.src, ms, statistic=statistic, data="freq" if input == "rate" else "phase",
+            n_terms=st.nt, decimated=st.decimated, acf=st.acf)
         alphas, sources, amethod = ident.alpha, ident.source, "stable32"
     else:
         alphas = np.broadcast_to(np.asarray(alpha, dtype=np.int64), ms.shape).copy()
         sources, amethod = ("user",) * ms.size, "user"
-    edfs, emethod = _edf.edf(statistic, n_phase, ms, alphas, n_terms=nt, method=edf_method)
+    nt = st.nt
+    edfs, emethod = _edf.edf(statistic, st.src.n, ms, alphas, n_terms=nt, method=edf_method)
     lo, hi = _edf.chi2_interval(dev, edfs, confidence)
     return DeviationResult(
         statistic=statistic, tau0_s=tau0, taus_s=ms * tau0, m=ms, dev=dev, n_terms=nt,
@@ -579,11 +656,14 @@ totdev = _doc("totdev", "Total deviation with reflected extension (NIST SP 1065 
 
 
 def oadev_chunked(data, *, rate_hz: float, taus="octave", confidence: float = 0.683,
-                  alpha=None, edf_method: str = "default") -> DeviationResult:
+                  alpha=None, edf_method: str = "default", progress=None) -> DeviationResult:
     """:func:`oadev` of a rate record read in chunks (e.g. a ``numpy.load(...,
-    mmap_mode="r")`` array larger than memory). Memory: one chunk plus O(n/CHUNK)."""
+    mmap_mode="r")`` array larger than memory). Memory: one window of
+    :data:`inertialab.noise._stream.WINDOW` samples (float64) plus a few chunks and
+    O(n/CHUNK); the angle is spilled to a temporary file (8 bytes per sample)."""
     return deviation("oadev", data, rate_hz=rate_hz, taus=taus, input="rate",
-                     confidence=confidence, alpha=alpha, edf_method=edf_method, chunked=True)
+                     confidence=confidence, alpha=alpha, edf_method=edf_method, chunked=True,
+                     progress=progress)
 
 
 __all__ = ["STATISTICS", "CorrectedResult", "DeviationResult", "adev", "deviation", "hdev", "mdev", "max_m",

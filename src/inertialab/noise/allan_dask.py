@@ -200,10 +200,38 @@ def oadev_dask(path, *, rate_hz: float, taus="octave", client=None, scheduler: s
         additions (tested at 1e-12 relative).
     """
     from inertialab.noise import allan as _allan
-    from inertialab.noise import edf as _edf
-    from inertialab.noise import identify as _ident
 
     p = Path(path)
+    y = _open_npy(p)
+    n = int(y.size)
+    rate = float(rate_hz)
+    if not math.isfinite(rate) or rate <= 0:
+        raise InputError(f"rate_hz must be positive and finite, got {rate_hz}")
+    tau0 = 1.0 / rate
+    ms = _allan.tau_grid(n, taus, rate_hz=rate, statistic="oadev")
+    ctx = contextlib.nullcontext(client) if client is not None else open_client(scheduler,
+                                                                                  workers)
+    with ctx as cl:
+        src, partials = _dask_passes(cl, p, n, tau0, [int(m) for m in ms],
+                                     int(chunk or _allan.CHUNK), range_chunks)
+    var = np.empty(ms.size)
+    nt = np.empty(ms.size, dtype=np.int64)
+    for k, m in enumerate(int(v) for v in ms):
+        s = 0.0
+        for part in partials:  # in order, as the noise core adds them
+            s += part[k]
+        cnt = src.n - 2 * m
+        tau = m * tau0
+        var[k] = s / (2.0 * tau * tau * cnt)
+        nt[k] = cnt
+    return _allan._with_intervals("oadev", y, ms, tau0, np.sqrt(var),
+                                  _allan._Sums(var, nt, src), alpha, "rate", confidence,
+                                  edf_method)
+
+
+def _open_npy(p: Path) -> np.ndarray:
+    """The one numeric column of the ``.npy`` file ``p``, memory-mapped (at least 3
+    samples), or :class:`InputError` naming the file."""
     if p.suffix.lower() != ".npy" or not p.is_file():
         raise InputError("the chunked Allan path reads a one-column .npy file", path=p)
     try:
@@ -214,68 +242,37 @@ def oadev_dask(path, *, rate_hz: float, taus="octave", client=None, scheduler: s
         y = y[:, 0]
     if y.ndim != 1 or not np.issubdtype(y.dtype, np.number):
         raise InputError(f".npy log must be one numeric column, got shape {y.shape}", path=p)
-    n = int(y.size)
-    if n < 3:
-        raise InputError(f"too few samples ({n}) for any tau", path=p)
-    rate = float(rate_hz)
-    if not math.isfinite(rate) or rate <= 0:
-        raise InputError(f"rate_hz must be positive and finite, got {rate_hz}")
-    C = int(chunk or _allan.CHUNK)
-    tau0 = 1.0 / rate
-    ms = _allan.tau_grid(n, taus, rate_hz=rate, statistic="oadev")
-    ctx = contextlib.nullcontext(client) if client is not None else open_client(scheduler,
-                                                                                  workers)
+    if y.size < 3:
+        raise InputError(f"too few samples ({y.size}) for any tau", path=p)
+    return y
+
+
+def _dask_passes(cl, p: Path, n: int, tau0: float, mlist: list, C: int, range_chunks: int):
+    """The three passes on the cluster ``cl``: per-chunk sums (parallel) for the mean,
+    the angle at every chunk boundary (one task), then the partial OADEV sums per summand
+    range, all taus in one task each (parallel). Returns ``(angle source, partials)``."""
+    from inertialab.noise import allan as _allan
+
     spath = str(p.resolve())
     nchunks = -(-n // C)
-    with ctx as cl:
-        # pass 1 (parallel): per-chunk sums, added in order as the noise core does
-        groups = [(c0, min(c0 + range_chunks, nchunks)) for c0 in range(0, nchunks, range_chunks)]
-        parts = cl.gather(cl.map(_chunk_sums, [spath] * len(groups), [g[0] for g in groups],
-                                 [g[1] for g in groups], [C] * len(groups), pure=False))
-        total = 0.0
-        for part in parts:
-            for v in part:
-                total += v
-        mean = total / n
-        # pass 2 (one task): the angle at every chunk boundary
-        ck, constant = cl.submit(_checkpoints, spath, mean, tau0, C, pure=False).result()
-        if constant:
-            raise InputError("data are constant (zero deviation at every tau); nothing to "
-                             "analyse", path=p)
-        src = _NpyPhase(spath, tau0, mean, ck, C)
-        # pass 3 (parallel): partial sums per summand range, all taus in one task
-        span = C * range_chunks
-        starts = list(range(0, n + 1, span))
-        mlist = [int(m) for m in ms]
-        sfut = cl.scatter(src, broadcast=True)
-        blk = int(getattr(_allan, "BLOCK", 1 << 15))
-        if span % blk:
-            span = -(-span // blk) * blk
-            starts = list(range(0, n + 1, span))
-        futs = [cl.submit(_oadev_partial, sfut, mlist, a, a + span, blk, pure=False)
-                for a in starts]
-        partials = cl.gather(futs)
-    var = np.empty(len(mlist))
-    nt = np.empty(len(mlist), dtype=np.int64)
-    for k, m in enumerate(mlist):
-        s = 0.0
-        for part in partials:
-            s += part[k]
-        cnt = src.n - 2 * m
-        tau = m * tau0
-        var[k] = s / (2.0 * tau * tau * cnt)
-        nt[k] = cnt
-    dev = np.sqrt(var)
-    if alpha is None:
-        ident = _ident.identify_alpha(src, ms, statistic="oadev", data="freq", n_terms=nt)
-        alphas, sources, amethod = ident.alpha, ident.source, "stable32"
-    else:
-        alphas = np.broadcast_to(np.asarray(alpha, dtype=np.int64), ms.shape).copy()
-        sources, amethod = ("user",) * ms.size, "user"
-    edfs, emethod = _edf.edf("oadev", src.n, ms, alphas, n_terms=nt, method=edf_method)
-    lo, hi = _edf.chi2_interval(dev, edfs, confidence)
-    return _allan.DeviationResult(
-        statistic="oadev", tau0_s=tau0, taus_s=ms * tau0, m=ms, dev=dev, n_terms=nt,
-        alpha=alphas, edf=edfs, ci_low=lo, ci_high=hi, confidence=float(confidence),
-        n_samples=n, input="rate", alpha_method=amethod, edf_method=emethod,
-        alpha_source=tuple(sources))
+    groups = [(c0, min(c0 + range_chunks, nchunks)) for c0 in range(0, nchunks, range_chunks)]
+    parts = cl.gather(cl.map(_chunk_sums, [spath] * len(groups), [g[0] for g in groups],
+                             [g[1] for g in groups], [C] * len(groups), pure=False))
+    total = 0.0
+    for part in parts:
+        for v in part:
+            total += v
+    mean = total / n
+    ck, constant = cl.submit(_checkpoints, spath, mean, tau0, C, pure=False).result()
+    if constant:
+        raise InputError("data are constant (zero deviation at every tau); nothing to "
+                         "analyse", path=p)
+    src = _NpyPhase(spath, tau0, mean, ck, C)
+    span = C * range_chunks
+    sfut = cl.scatter(src, broadcast=True)
+    blk = int(getattr(_allan, "BLOCK", 1 << 15))
+    if span % blk:
+        span = -(-span // blk) * blk
+    futs = [cl.submit(_oadev_partial, sfut, mlist, a, a + span, blk, pure=False)
+            for a in range(0, n + 1, span)]
+    return src, cl.gather(futs)

@@ -1,7 +1,8 @@
 """One entry point for every statistic of the Allan family (docs/allan.md).
 
 :func:`compute` dispatches ``statistic`` to :func:`inertialab.noise.allan.deviation`
-(adev oadev mdev tdev hdev ohdev totdev), :mod:`~inertialab.noise.total` (mtotdev
+(adev oadev mdev tdev hdev ohdev totdev) or to the function its entry in
+:mod:`inertialab.noise.registry` declares: :mod:`~inertialab.noise.total` (mtotdev
 ttotdev htotdev), :mod:`~inertialab.noise.theo` (theo1 theobr theoh) or
 :mod:`~inertialab.noise.tie` (mtie tierms) with the common keywords. ``bias_correction``
 applies Stable32's bias corrections where the statistic has one: TOTDEV (``1 - a tau/T``,
@@ -19,24 +20,29 @@ from __future__ import annotations
 import numpy as np
 
 from inertialab.errors import InputError
+from inertialab.noise import registry
 from inertialab.noise.allan import STATISTICS as CORE
 from inertialab.noise.allan import CorrectedResult, DeviationResult, deviation
 from inertialab.noise.edf_clock import TOTDEV_BIAS_A, totdev_bias  # noqa: F401 - re-exported
 from inertialab.noise.identify import CONFIDENT
 
-#: Every statistic, in their canonical order.
-ALL_STATISTICS = CORE + ("mtotdev", "ttotdev", "htotdev", "theo1", "theobr", "theoh",
-                         "mtie", "tierms")
+#: Every statistic, in their canonical order (declared in :mod:`inertialab.noise.registry`).
+ALL_STATISTICS = registry.names()
 #: Statistics in the unit of the phase (rate unit x s; s for a clock), not of the rate.
-PHASE_UNIT = ("tdev", "ttotdev", "mtie", "tierms")
+PHASE_UNIT = registry.phase_unit()
+
+
 def compute(statistic: str, data, *, rate_hz: float, taus="octave", input: str = "rate",
             confidence: float = 0.683, alpha=None, edf_method: str = "default",
-            chunked: bool = False, bias_correction: bool = False) -> DeviationResult:
-    """The statistic ``statistic`` of ``data`` (see the module docstring)."""
+            chunked: bool = False, bias_correction: bool = False,
+            progress=None) -> DeviationResult:
+    """The statistic ``statistic`` of ``data`` (see the module docstring); ``progress``
+    (``update(done, total, note)``) hears the out-of-core path of the core statistics."""
     s = str(statistic).strip().lower()
     common = dict(rate_hz=rate_hz, taus=taus, input=input, confidence=confidence)
     if s in CORE:
-        r = deviation(s, data, alpha=alpha, edf_method=edf_method, chunked=chunked, **common)
+        r = deviation(s, data, alpha=alpha, edf_method=edf_method, chunked=chunked,
+                      progress=progress, **common)
         if bias_correction and s == "totdev":
             T = (r.n_samples - (0 if r.input == "rate" else 1)) * r.tau0_s
             b = np.where(np.isin(r.alpha_source, CONFIDENT),
@@ -45,18 +51,13 @@ def compute(statistic: str, data, *, rate_hz: float, taus="octave", input: str =
             r = CorrectedResult(**{**r.__dict__, "dev": r.dev * f, "ci_low": r.ci_low * f,
                                    "ci_high": r.ci_high * f, "bias": b})
         return r
-    if s in ("mtotdev", "ttotdev", "htotdev"):
-        from inertialab.noise import total
-
-        return getattr(total, s)(data, alpha=alpha, bias_correction=bias_correction, **common)
-    if s in ("theo1", "theobr", "theoh"):
-        from inertialab.noise import theo
-
-        if s == "theo1":
-            return theo.theo1(data, alpha=alpha, bias_correction=bias_correction, **common)
-        return getattr(theo, s)(data, alpha=alpha, **common)
-    if s in ("mtie", "tierms"):
-        from inertialab.noise import tie
-
-        return getattr(tie, s)(data, **common)
-    raise InputError(f"unknown statistic '{statistic}' (use {', '.join(ALL_STATISTICS)})")
+    try:
+        entry = registry.get(s)
+    except KeyError:
+        raise InputError(f"unknown statistic '{statistic}' (use "
+                         f"{', '.join(ALL_STATISTICS)})") from None
+    if entry.edf != "none":  # a noise type for the interval (and the bias correction)
+        common["alpha"] = alpha
+    if entry.bias_correction:
+        common["bias_correction"] = bias_correction
+    return entry.function(data, **common)

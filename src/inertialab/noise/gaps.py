@@ -26,13 +26,14 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from inertialab.errors import InputError
+from inertialab.noise import registry
 from inertialab.noise._clock import grid, interval, many_m  # noqa: F401 - many_m re-export
 from inertialab.noise.allan import DeviationResult
 
 __all__ = ["GAP_STATISTICS", "GapResult", "count_gaps", "gap_deviation"]
 
 #: Statistics with a gap-resistant form.
-GAP_STATISTICS = ("oadev", "adev", "mdev", "tdev", "hdev", "ohdev")
+GAP_STATISTICS = registry.with_gaps()  # declared in inertialab.noise.registry
 
 #: per statistic: (stride kind, order of the phase difference); "1" overlapping, "m"
 #: non-overlapping, "mod" modified (the difference averaged over m consecutive starts)

@@ -20,6 +20,7 @@ import numpy as np
 from inertialab import units
 from inertialab.errors import DataQualityWarning, InputError
 from inertialab.noise import registry as stat_registry
+from inertialab.noise._phase import PageReleaser
 from inertialab.noise.allan import DeviationResult
 from inertialab.noise.family import compute
 from inertialab.noise.terms import (
@@ -42,8 +43,10 @@ def _check_magnitude(values, column) -> None:
     if not np.issubdtype(v.dtype, np.floating):
         return
     step = 1 << 20
+    release = PageReleaser(values)  # a memory map's pages are dropped once read
     for s in range(0, v.size, step):
         big = np.flatnonzero(np.abs(v[s:s + step]) > MAX_MAGNITUDE)
+        release(s + step)
         if big.size:
             raise InputError(f"value {float(v[s + big[0]]):.3g} is beyond {MAX_MAGNITUDE:g} in "
                              "magnitude (sums of squares would overflow)",
@@ -483,8 +486,8 @@ def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: st
             method: str = "wls",
             input: str = "rate", kind: str | None = None, alpha=None,
             edf_method: str = "default", chunked="auto",
-            fit_terms: bool | None = None, bias_correction: bool | None = None
-            ) -> AllanAnalysis:
+            fit_terms: bool | None = None, bias_correction: bool | None = None,
+            progress=None) -> AllanAnalysis:
     """Allan family with confidence intervals and the five noise terms.
 
     Parameters
@@ -540,6 +543,8 @@ def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: st
     common = dict(rate_hz=log.rate_hz, taus=taus, input=log.input, confidence=confidence,
                   alpha=alpha, edf_method=edf_method,
                   chunked=chunked and log.input == "rate")
+    if common["chunked"]:  # the out-of-core passes report to the bar (progress)
+        common["progress"] = progress
     one = _statistic_fn(log, names, common, bias_correction)
     _check_magnitude(log.values, log.column)
     for s in names:

@@ -160,7 +160,7 @@ class AllanRun:
         return out
 
 
-def run(path, config: AllanConfig, *, options=None) -> AllanRun:
+def run(path, config: AllanConfig, *, options=None, progress=None) -> AllanRun:
     """Read ``path`` (a ``gyro_log``, or a ``clock_log`` for phase/frequency input) and
     compute the requested statistics and noise terms."""
     from inertialab.io import read_record
@@ -185,7 +185,8 @@ def run(path, config: AllanConfig, *, options=None) -> AllanRun:
     stats = wf.parse_stats(c.stat)
     conf = c.confidence if c.confidence is not None else (0.683 if clock else IMU_CONFIDENCE)
     res = wf.analyze(log, stats=stats, taus=wf.parse_taus(c.taus), confidence=conf,
-                     method=c.method, fit_terms=c.terms, bias_correction=c.bias_correction)
+                     method=c.method, fit_terms=c.terms, bias_correction=c.bias_correction,
+                     progress=progress)
     settings = {"column": log.column, "rate_hz": log.rate_hz, "input": log.input,
                 "stat": list(stats), "taus": c.taus, "confidence": conf,
                 "method": c.method, "unit": log.unit, "n_samples": res.n_samples}

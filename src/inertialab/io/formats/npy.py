@@ -72,13 +72,25 @@ def read_npy_column(p: Path, kind: str, meta: dict, arr, *, unit, rate_hz, colum
     h = hashlib.sha256()
     h.update(name.encode() + b"\0")
     chunk = 1 << 22
+    # a contiguous map is read through the file, not the mapping: a pass over a file
+    # larger than memory then leaves nothing of it resident in the process
+    fh = open(p, "rb") if isinstance(arr, np.memmap) and arr.flags.c_contiguous else None
     for start in range(0, arr.shape[0], chunk):
-        block = np.ascontiguousarray(arr[start:start + chunk], dtype=np.float64)
+        if fh is not None:
+            fh.seek(arr.offset + start * arr.itemsize)
+            block = np.fromfile(fh, dtype=arr.dtype, count=min(chunk, arr.shape[0] - start))
+            block = block.astype(np.float64, copy=False)
+        else:
+            block = np.ascontiguousarray(arr[start:start + chunk], dtype=np.float64)
         bad = ~np.isfinite(block)
         if bad.any():
+            if fh is not None:
+                fh.close()
             rows = (np.flatnonzero(bad)[:_MAX_ROWS_LISTED] + start + 1).tolist()
             raise InputError("NaN or infinite value", path=p, column=name, row=rows)
         h.update(block.tobytes())
+    if fh is not None:
+        fh.close()
     meta = dict(meta)
     meta["fs_hz"] = fs
     meta["column"] = name
