@@ -100,13 +100,14 @@ def _k_time_grid(taus, avar, edf_tab):
     return [math.inf] + [tmax * 10 ** (-0.25 * i) for i in range(n)]
 
 
-def _rise_start(taus, avar, edf_tab):
+def _rise_start(taus, avar, edf_tab, dom=None):
     """The tau of the curve's minimum when the curve rises significantly after it (some
     later tau's 95 % lower limit above the minimum's upper limit, each with the least EDF
-    of the five noise types), else None: only a significant rise has a K to time."""
+    of the five noise types, or with that of the fitted model's dominant term ``dom``),
+    else None: only a significant rise has a K to time."""
     from scipy.stats import chi2
 
-    edf = np.min(edf_tab, axis=0)
+    edf = np.min(edf_tab, axis=0) if dom is None else edf_tab[dom, np.arange(avar.size)]
     i = int(np.argmin(avar))
     if i >= avar.size - 1:
         return None
@@ -437,14 +438,17 @@ def fit_ls(result, sel, conv, rate_hz, method, n_reweight, confidence, n_boot, s
     # its share from K; a real ramp left out hands its rise to K). The values stay the
     # full fit's; the intervals of the other terms span both models (_span_without_r)
     if _SPAN_WITHOUT_R and active[4] and "upper_bound" in terms["R"].flags:
-        act2 = list(active)
-        act2[4] = False
-        c2, _, _, boot2, _, _, i_band2 = _fit_and_boot(
-            X, avar, edf_tab, act2, weighted, n_reweight, n_boot, seed,
-            np.asarray(result.m)[idx], shapes)
-        t2 = _terms_from_coefficients(c2, boot2, act2, {"R": ""}, _design(X, shapes, i_band2),
-                                      taus, conv, rate_hz, method, confidence)
-        terms = _span_without_r(terms, t2)
+        refit = _one_term_refit(X, avar, edf_tab, active, weighted, n_reweight, n_boot, seed,
+                                np.asarray(result.m)[idx], shapes, taus, conv, rate_hz,
+                                method, confidence)
+        named = (_name_the_rise(terms, dom, refit, X, avar, edf_tab, active, weighted,
+                                n_reweight, n_boot, seed, np.asarray(result.m)[idx], shapes,
+                                taus, conv, rate_hz, method, confidence)
+                 if "upper_bound" in terms["K"].flags else None)
+        if named is None:
+            terms = _span_without_r(terms, refit[-1])
+        else:
+            terms, (c, model, dom, boot, misfit, fit_rmse, i_band) = named
     bias_gm = k_gm = None
     if shapes is not None and i_band != 0:
         lo, hi, t_k = shapes.grid[i_band]
@@ -525,6 +529,58 @@ def _short_end_cut(X, avar, raw_tab, edf_tab, active, n_reweight, shapes, taus) 
         if int(white[j:].sum()) < 3:
             return n
         n += j
+
+
+def _one_term_refit(X, avar, edf_tab, active, weighted, n_reweight, n_boot, seed, m, shapes,
+                    taus, conv, rate_hz, method, confidence, drop: int = 4):
+    """The fit without term ``drop`` (4: R, 3: K): ``(c, model, dom, boot, misfit,
+    fit_rmse, i_band, terms)``."""
+    act = list(active)
+    act[drop] = False
+    fit = _fit_and_boot(X, avar, edf_tab, act, weighted, n_reweight, n_boot, seed, m, shapes)
+    c, boot, i_band = fit[0], fit[3], fit[6]
+    terms = _terms_from_coefficients(c, boot, act, {_NAMES[drop]: ""},
+                                     _design(X, shapes, i_band), taus, conv, rate_hz, method,
+                                     confidence)
+    return (*fit, terms)
+
+
+def _chi2(avar, model, dom, edf_tab) -> float:
+    edf = edf_tab[dom, np.arange(avar.size)]
+    return float(np.sum(0.5 * edf * np.log(avar / model) ** 2))
+
+
+def _name_the_rise(full, full_dom, without_r, X, avar, edf_tab, active, weighted, n_reweight,
+                   n_boot, seed, m, shapes, taus, conv, rate_hz, method, confidence):
+    """Model selection where the curve rises significantly after its minimum but K and R,
+    fitted together, are both not significant (they share the rise: collinear). The two
+    one-term models, K without R and R without K, have as many parameters; the one with
+    the smaller chi-square on the curve (its EDFs, the model discrepancy included) names
+    the rise (significant with the EDFs of the joint fit's dominant terms, ``full_dom``), and is reported when its term is significant there: ``(terms, fit)`` of
+    that model, the dropped term 0 with the full fit's upper limit as its bound. None
+    where the curve does not rise significantly or neither model makes its term
+    significant (the intervals then span both fits, :func:`_span_without_r`)."""
+    if _rise_start(taus, avar, edf_tab, full_dom) is None or not active[3]:
+        return None
+    without_k = _one_term_refit(X, avar, edf_tab, active, weighted, n_reweight, n_boot, seed,
+                                m, shapes, taus, conv, rate_hz, method, confidence, drop=3)
+    cands = [(without_r, "K", "R"), (without_k, "R", "K")]
+    chi = [_chi2(avar, f[1], f[2], edf_tab) for f, _, _ in cands]
+    order = np.argsort(chi)
+    (fit, keep, drop), other = cands[order[0]], chi[order[1]]
+    terms = dict(fit[-1])
+    if "upper_bound" in terms[keep].flags or not terms[keep].value > 0:
+        return None
+    ub = full[drop].upper_bound
+    ub = ub if np.isfinite(ub) else full[drop].ci[1]
+    terms[drop] = replace(
+        full[drop], value=0.0, ci=(0.0, float(ub)), upper_bound=float(ub),
+        flags=("zero", "upper_bound", "not_selected"),
+        reason=(f"the rise after the curve's minimum is named by {keep}: fitted together, "
+                f"{keep} and {drop} share it and neither is significant; of the two "
+                f"one-term models {keep}'s fits better (chi2 {chi[order[0]]:.3g} against "
+                f"{other:.3g}); {drop}'s bound is the joint fit's"))
+    return terms, fit[:-1]
 
 
 def _span_without_r(full: dict, without_r: dict) -> dict:
