@@ -87,3 +87,19 @@ def test_short_taus_the_model_cannot_hold_are_cut():
     assert t.tau_range_s[0] >= 0.04
     n_eq = math.sqrt(sig_w**2 / RATE + 2 * s2 * tc) * 60.0
     assert t.N.value == pytest.approx(n_eq, rel=0.02)
+
+
+def test_a_shared_rise_is_named_by_one_term():
+    # industrial-400hz seed 4 (10 h): the curve rises significantly after its minimum;
+    # fitted together, K and R share the rise and neither is significant. The one-term
+    # models are compared and K (the truth: a random walk of 2.0 deg/h/sqrt(h), no ramp
+    # beyond the temperature's) is named, with an interval that holds the truth
+    from inertialab.sim import mems_presets as MP
+
+    run = MP.simulate("industrial-400hz", hours=10.0, seed=4)
+    r = A.oadev(run.y, rate_hz=run.rate_hz, taus="octave", confidence=0.95)
+    t = fit_noise_terms(r, unit=run.unit, kind=None, seed=0)
+    truth = run.truth["K"]["value"]
+    assert "upper_bound" not in t.K.flags and t.K.ci[0] > 0
+    assert t.K.ci[0] <= truth <= t.K.ci[1]
+    assert t.R.value == 0 and "not_selected" in t.R.flags and t.R.upper_bound > 0
