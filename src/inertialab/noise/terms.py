@@ -24,7 +24,7 @@ Methods (every term reports which one and the tau range it was read on):
     ``not_observable`` with the reason. B is band-limited flicker
     (:func:`inertialab.noise._terms_base.band_shape`: the log-uniform mixture of
     Gauss–Markov processes between two corners, flat between them), the corners
-    profiled inside the least squares on a grid (``_terms_ls._corner_grid``; pure
+    profiled inside the least squares on a grid (``_terms_grid._corner_grid``; pure
     flicker is the grid's first point) and reported as :attr:`NoiseTerms.bias_gm`: a
     constant B extended to the long taus, where a real sum of Gauss–Markov processes
     falls, took K 15-60 % low on the MEMS presets.
