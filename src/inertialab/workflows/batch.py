@@ -454,15 +454,21 @@ def _local_client(scheduler: str, workers: int):
             "temporary-directory": str(scratch),
             "distributed.worker.multiprocessing-method": "forkserver"}):
         if scheduler == "local":
+            # SIGINT blocked and ignored while the fork server starts: it inherits both
+            # (and so every worker), while a Ctrl-C in that window stays pending here and
+            # is delivered to this process's handler when the mask is restored (ignored
+            # alone, it was lost: the run went on to exit 0)
             try:
+                mask = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
                 old = signal.signal(signal.SIGINT, signal.SIG_IGN)
             except ValueError:  # not the main thread: leave signals alone
-                old = None
+                old = mask = None
             try:
                 forkserver.ensure_running()
             finally:
                 if old is not None:
                     signal.signal(signal.SIGINT, old)
+                    signal.pthread_sigmask(signal.SIG_SETMASK, mask)
         with contextlib.ExitStack() as stack:
             with signals.deferred():  # a Ctrl-C in the start stops the run right after it
                 cl = stack.enter_context(open_client(scheduler, workers))
