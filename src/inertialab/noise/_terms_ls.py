@@ -407,10 +407,12 @@ def _short_end_cut(X, avar, raw_tab, edf_tab, active, n_reweight, shapes, taus) 
     Starting from the discrepancy-weighted fit, the first two octaves of fitted taus are
     looked at: those whose data lie outside their own 95 % interval around the model
     (``|ln(avar/model)| > z sqrt(2/edf)`` with the raw EDF of its dominant term), below
-    :data:`SHORT_END_MAX_S` and dominated by white noise (or quantisation) are cut with
+    :data:`SHORT_END_MAX_S` and dominated by white noise (not quantisation, whose taus
+    are where Q is read) are cut with
     every shorter tau, as long as white noise still dominates at least three of the taus
-    left (two octaves to read N from); the fit is redone and looked at again after each
-    cut. A curve the
+    left (two octaves to read N from) and every term stays observable (two taus per
+    term, :func:`_observable`: a short record keeps its taus); the fit is redone and
+    looked at again after each cut. A curve the
     model holds from its first tau (every MEMS preset) loses nothing."""
     n = 0
     while True:
@@ -423,7 +425,7 @@ def _short_end_cut(X, avar, raw_tab, edf_tab, active, n_reweight, shapes, taus) 
         tab = edf_tab[:, sl] if n == 0 else _with_discrepancy(
             X[sl], avar[sl], raw_tab[:, sl], active, n_reweight, sh)[0]
         c, model, dom, _ = _solve(X[sl], avar[sl], tab, active, True, n_reweight, sh)
-        white = (dom == 0) | (dom == 1)
+        white = dom == 1  # white noise's taus; quantisation's (Q) are measured, not cut
         z = (np.abs(np.log(avar[sl] / model))
              / np.sqrt(2.0 / raw_tab[dom, np.arange(n, avar.size)]))
         out = (z > SHORT_END_Z) & white & (taus[sl] < SHORT_END_MAX_S)
@@ -431,8 +433,8 @@ def _short_end_cut(X, avar, raw_tab, edf_tab, active, n_reweight, shapes, taus) 
         if not out.any():
             return n
         j = int(np.flatnonzero(out)[-1]) + 1
-        if int(white[j:].sum()) < 3:
-            return n
+        if int(white[j:].sum()) < 3 or avar.size - n - j < 2 * sum(active):
+            return n  # N keeps two octaves, and no term becomes unobservable
         n += j
 
 
