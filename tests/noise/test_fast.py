@@ -157,3 +157,45 @@ def test_fast_equals_numpy_tiny_records(monkeypatch, kind):
                     continue
                 np.testing.assert_array_equal(a.alpha, b.alpha, err_msg=f"{n} {stat} {taus}")
                 assert _rel(b.dev, a.dev) < 1e-12 and _rel(b.edf, a.edf) < 1e-12
+
+
+@pytest.mark.parametrize("order", [2, 3])
+def test_fused_level_pass_copies_the_level1_row(order):
+    # the fused level-0/1 pass copies the level-1 lag-1 row x_{2j}, j0 <= j < j0 + u,
+    # (odd and even starts, rows reaching past the pass's main loop); its compaction is
+    # unchanged and its sums change only in the order of summation
+    from inertialab.noise import _fast as F
+
+    rng = np.random.default_rng(11)
+    for n in (17, 40, 1001, 4099, 20000):
+        x = np.cumsum(rng.standard_normal(n))
+        n2 = (n - 1) // 2 + 1
+        ref_w = np.empty((n - 1) // 4 + 1)
+        ref = F._quads(x, n, order, ref_w, np.empty(2), 0)
+        for j0, u in ((0, n2), (1, n2 - 1), (3, 5), (n2 // 3, n2 // 3), (n2 - 7, 7),
+                      (n2 - 1, 1), (5, 0)):
+            row = np.full(u + 2, np.nan)
+            w = np.empty_like(ref_w)
+            got = F._quads(x, n, order, w, row, j0)
+            np.testing.assert_array_equal(row[1:u + 1], x[2 * j0:2 * (j0 + u):2])
+            np.testing.assert_array_equal(w, ref_w)
+            assert np.allclose(got, ref, rtol=1e-13, atol=0)  # (summation order)
+        # the sums against their definitions
+        d = np.diff(x, order)
+        x2 = x[::2]
+        d1 = np.diff(x2, order)
+        assert abs(ref[0] / np.dot(d, d) - 1) < 1e-12
+        assert abs(ref[1] / np.dot(d1, d1) - 1) < 1e-12
+
+
+@pytest.mark.parametrize("stat", ["adev", "hdev"])
+def test_fast_identification_long_angle_records(monkeypatch, stat):
+    # records whose level-1 row is the central 2^16 points (odd and even starts): the
+    # compiled fused pass and the numpy identification give the same types and sources
+    for n, noise in ((262147, "white"), (300001, "rw")):
+        x = _data(n, "angle", n, noise)
+        ref, got = _both(monkeypatch,
+                         lambda x=x: deviation(stat, x, rate_hz=1.0, input="angle"))
+        np.testing.assert_array_equal(got.alpha, ref.alpha)
+        assert got.alpha_source == ref.alpha_source
+        assert _rel(got.dev, ref.dev) < 1e-12

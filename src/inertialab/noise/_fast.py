@@ -15,13 +15,12 @@ the record's size (their work arrays come from the caller, so ``tracemalloc`` se
 Floating-point reductions are compiled with ``fastmath={"reassoc", "contract"}`` so that
 the compiler may vectorise them (re-association and fused multiply-adds only; NaN and
 infinity semantics are kept). The per-m kernels and the Greenhall EDF live in
-:mod:`inertialab.noise._fast_any` (re-exported here); no kernel calls one in the other
+:mod:`inertialab.noise._fast_any` and the B1/R(n) identification in
+:mod:`inertialab.noise._fast_ident` (both re-exported here); no kernel calls one in another
 module (numba's cache tracks only a kernel's own file).
 """
 
 from __future__ import annotations
-
-import math
 
 import numba as nb
 import numpy as np
@@ -32,6 +31,10 @@ from inertialab.noise._fast_any import (  # noqa: F401 - part of this module's i
     dense_strided,
     dense_totdev,
     greenhall_many,
+)
+from inertialab.noise._fast_ident import (  # noqa: F401 - part of this module's interface
+    b1_rn_rows,
+    finish_identification,
 )
 
 _jit = nb.njit(cache=True, nogil=True, fastmath={"reassoc", "contract"})
@@ -294,14 +297,9 @@ def gather_increments(d, ms, starts, uses, offs, dec, pre, g):
 
 
 @_jit
-def _quads(v, n, order, w):
-    """Level-0 and level-1 sums of :func:`octave_strided` and ``w_k = v_{4k}``, four
-    level-0 and two level-1 summands per step (one pass over the record)."""
-    c0 = max(n - order, 0)
-    n1 = (n - 1) // 2 + 1
-    c1 = max(n1 - order, 0)
-    n2 = (n1 - 1) // 2 + 1
-    K = min(c0 // 4, c1 // 2, n2)
+def _quads_run(v, K, order, w):
+    """The main loop of :func:`_quads` over ``k < K``: ``(s0, s1)`` (callers pass views
+    for a later start: a loop over ``range(k0, k1)`` compiles 2.5x slower here)."""
     s0 = 0.0
     s1 = 0.0
     if order == 2:
@@ -323,13 +321,6 @@ def _quads(v, n, order, w):
             u1 = (a6 - a4) - (a4 - a2)
             s1 += u0 * u0 + u1 * u1
             w[k] = a0
-        for i in range(4 * K, c0):
-            t = (v[i + 2] - v[i + 1]) - (v[i + 1] - v[i])
-            s0 += t * t
-        for j in range(2 * K, c1):
-            b = v[2 * j + 2]
-            t = (v[2 * j + 4] - b) - (b - v[2 * j])
-            s1 += t * t
     else:
         for k in range(K):
             i = 4 * k
@@ -350,6 +341,94 @@ def _quads(v, n, order, w):
             u1 = ((a8 - a6) - (a6 - a4)) - ((a6 - a4) - (a4 - a2))
             s1 += u0 * u0 + u1 * u1
             w[k] = a0
+    return s0, s1
+
+
+@_jit
+def _quads_keep(v, K, order, w, row):
+    """:func:`_quads_run` that also copies ``v_{2j}`` (``a0``, ``a2``: j = 2k, 2k + 1)
+    to ``row[j]``."""
+    s0 = 0.0
+    s1 = 0.0
+    if order == 2:
+        for k in range(K):
+            i = 4 * k
+            a0 = v[i]
+            a1 = v[i + 1]
+            a2 = v[i + 2]
+            a3 = v[i + 3]
+            a4 = v[i + 4]
+            a5 = v[i + 5]
+            a6 = v[i + 6]
+            t0 = (a2 - a1) - (a1 - a0)
+            t1 = (a3 - a2) - (a2 - a1)
+            t2 = (a4 - a3) - (a3 - a2)
+            t3 = (a5 - a4) - (a4 - a3)
+            s0 += (t0 * t0 + t1 * t1) + (t2 * t2 + t3 * t3)
+            u0 = (a4 - a2) - (a2 - a0)
+            u1 = (a6 - a4) - (a4 - a2)
+            s1 += u0 * u0 + u1 * u1
+            w[k] = a0
+            row[2 * k] = a0
+            row[2 * k + 1] = a2
+    else:
+        for k in range(K):
+            i = 4 * k
+            a0 = v[i]
+            a1 = v[i + 1]
+            a2 = v[i + 2]
+            a3 = v[i + 3]
+            a4 = v[i + 4]
+            a5 = v[i + 5]
+            a6 = v[i + 6]
+            a8 = v[i + 8]
+            t0 = ((a3 - a2) - (a2 - a1)) - ((a2 - a1) - (a1 - a0))
+            t1 = ((a4 - a3) - (a3 - a2)) - ((a3 - a2) - (a2 - a1))
+            t2 = ((a5 - a4) - (a4 - a3)) - ((a4 - a3) - (a3 - a2))
+            t3 = ((a6 - a5) - (a5 - a4)) - ((a5 - a4) - (a4 - a3))
+            s0 += (t0 * t0 + t1 * t1) + (t2 * t2 + t3 * t3)
+            u0 = ((a6 - a4) - (a4 - a2)) - ((a4 - a2) - (a2 - a0))
+            u1 = ((a8 - a6) - (a6 - a4)) - ((a6 - a4) - (a4 - a2))
+            s1 += u0 * u0 + u1 * u1
+            w[k] = a0
+            row[2 * k] = a0
+            row[2 * k + 1] = a2
+    return s0, s1
+
+
+@_jit
+def _quads(v, n, order, w, row, j0):
+    """Level-0 and level-1 sums of :func:`octave_strided` and ``w_k = v_{4k}``, four
+    level-0 and two level-1 summands per step (one pass over the record). The same pass
+    copies the level-1 points ``x_{2j}``, ``j0 <= j < j0 + row.size - 2``, to
+    ``row[1 + j - j0]`` (the lag-1 row of level 1, then read contiguous; ``row`` has one
+    spare entry at each end for the pass's pairs; size 2: none)."""
+    c0 = max(n - order, 0)
+    n1 = (n - 1) // 2 + 1
+    c1 = max(n1 - order, 0)
+    n2 = (n1 - 1) // 2 + 1
+    K = min(c0 // 4, c1 // 2, n2)
+    u = row.size - 2
+    klo = min(j0 // 2, K)
+    khi = min((j0 + u + 1) // 2, K) if u > 0 else klo
+    s0, s1 = _quads_run(v, klo, order, w)
+    a, b = _quads_keep(v[4 * klo:], khi - klo, order, w[klo:], row[2 * klo - j0 + 1:])
+    s0 += a
+    s1 += b
+    a, b = _quads_run(v[4 * khi:], K - khi, order, w[khi:])
+    s0 += a
+    s1 += b
+    for j in range(max(j0, 2 * khi), j0 + u):  # the row's points past the main loop
+        row[1 + j - j0] = v[2 * j]
+    if order == 2:
+        for i in range(4 * K, c0):
+            t = (v[i + 2] - v[i + 1]) - (v[i + 1] - v[i])
+            s0 += t * t
+        for j in range(2 * K, c1):
+            b = v[2 * j + 2]
+            t = (v[2 * j + 4] - b) - (b - v[2 * j])
+            s1 += t * t
+    else:
         for i in range(4 * K, c0):
             a1 = v[i + 1]
             a2 = v[i + 2]
@@ -416,16 +495,17 @@ def octave_strided(x, want, order, w, id_use, id_start, idp, alphas, best, buf):
     per level (``w_k <- w_{2k}``); every level reads contiguous memory. Where levels 0
     and 1 are both wanted (and L > 2) they are summed in one pass that writes
     ``x_{4k}`` (``w``: ``(x.size - 1) // 4 + 1`` entries), else ``x_{2k}`` (``(x.size -
-    1) // 2 + 1``); the caller sizes ``w`` by the same test (no bounds checks here). Where ``id_use[l] > 0`` the noise type of level l is identified
+    1) // 2 + 1``); the caller sizes ``w`` by the same test (no bounds checks here).
+    Where ``id_use[l] > 0`` the noise type of level l is identified by the lag-1 test
     (:func:`identify_rows`, ``idp = (dmax, min_points, lo, hi)``) from its central
-    ``id_use[l]`` decimated points, which start at ``x_{id_start[l] m}``, read in place:
-    ``alphas[l]``, ``best[l]``."""
+    ``id_use[l]`` decimated points, which start at ``x_{id_start[l] m}``: read in place
+    (level 0), copied by the fused pass (level 1: at most 2^16 + 2 points), or read from
+    the contiguous halved copy; ``alphas[l]``, ``best[l]``."""
     L = want.size
     sums = np.zeros(L)
     v = x
     n = x.size
     one = np.ones(1, dtype=np.int64)
-    two = np.full(1, 2, dtype=np.int64)
     fused = L > 2 and want[0] and want[1]
     for lev in range(L):
         if lev == 1 and fused:
@@ -435,12 +515,14 @@ def octave_strided(x, want, order, w, id_use, id_start, idp, alphas, best, buf):
             identify_rows(v, id_start[lev:lev + 1], one, id_use[lev:lev + 1], idp[0], idp[1],
                           idp[2], idp[3], alphas[lev:lev + 1], best[lev:lev + 1], buf)
         if lev == 0 and fused:
-            # levels 0 and 1 and the compaction to x_{4k} in one pass (level 1's noise
-            # type from x at stride 2 first)
-            if id_use[1] > 0:
-                identify_rows(x, 2 * id_start[1:2], two, id_use[1:2], idp[0], idp[1],
-                              idp[2], idp[3], alphas[1:2], best[1:2], buf)
-            s0, s1 = _quads(v, n, order, w)
+            # levels 0 and 1 and the compaction to x_{4k} in one pass, which also copies
+            # level 1's lag-1 row (x_{2j}, contiguous); that row's noise type after
+            u1 = id_use[1]
+            row = np.empty(u1 + 2)
+            s0, s1 = _quads(v, n, order, w, row, id_start[1])
+            if u1 > 0:
+                identify_rows(row, one, one, id_use[1:2], idp[0], idp[1], idp[2], idp[3],
+                              alphas[1:2], best[1:2], buf)
             sums[0] = s0
             sums[1] = s1
             n1 = (n - 1) // 2 + 1
@@ -513,126 +595,106 @@ def combine_taps(t0, t1, t2, t3, q, n):
 
 
 @_jit
+def _lag1_rounds(buf, n, tot, d, dmax, theta):
+    """The rounds of :func:`lag1_strided` from round ``d`` on the row ``buf[:n]`` (sum
+    ``tot``): per round one pass for the lag-0 and lag-1 sums of the centred row, its
+    differences (in place) and their sum (used if the round goes on); the alpha."""
+    while True:
+        mean = tot / n
+        den = 0.0
+        r1 = 0.0
+        tot = 0.0
+        for j in range(n - 1):
+            b0 = buf[j]
+            b1 = buf[j + 1]
+            c0 = b0 - mean
+            den += c0 * c0
+            r1 += c0 * (b1 - mean)
+            v = b1 - b0
+            buf[j] = v
+            tot += v
+        c0 = buf[n - 1] - mean
+        den += c0 * c0
+        r1 = r1 / den * ((n - 1) / n) if den > 0 else 0.0
+        delta = r1 / (1.0 + r1)
+        if delta < 0.25 or d >= dmax or n < 4:
+            return -2.0 * (delta + d) + theta
+        n -= 1
+        d += 1
+
+
+@_jit
 def lag1_strided(x, starts, steps, counts, dmax, out, buf, theta=2, diff=True):
     """Unrounded lag-1 ACF alpha (SP 1065 §5.6.6) of the rows ``x[s + j p]``, ``j <
     count``, the algorithm of :func:`inertialab.noise.identify.lag1_alpha` (``r1`` with
     Stable32's ``(n - 1)/n`` factor; ``buf``: scratch of the largest count): ``theta = 2``
     phase rows; ``theta = 0`` the rows' first differences (frequency averages) are tested,
     or with ``diff=False`` the rows themselves (they hold the frequency averages).
-    The row and its sum, then per round one pass for the lag-0 and lag-1 sums of the
-    centred row, its differences (in place) and their sum (used if the round goes on)."""
+    A contiguous row is tested in place (:func:`_lag1_contiguous`); a strided row is
+    copied to ``buf`` (a slice copy), frequency rows as their differences, then
+    :func:`_lag1_rounds`."""
     for r in range(starts.size):
         n = counts[r]
         st = starts[r]
         sp = steps[r]
-        tot = 0.0
-        if sp == 1:  # contiguous (vectorised copy)
-            row = x[st:st + n]
-            for j in range(n):
-                v = row[j]
-                buf[j] = v
-                tot += v
-        else:
-            for j in range(n):
-                v = x[st + j * sp]
-                buf[j] = v
-                tot += v
         if theta == 0 and diff:  # frequency data: the m-averages (phase row differences)
             tot = 0.0
             for j in range(n - 1):
-                v = buf[j + 1] - buf[j]
+                v = x[st + (j + 1) * sp] - x[st + j * sp]
                 buf[j] = v
                 tot += v
-            n -= 1
-        d = 0
-        while True:
-            mean = tot / n
-            den = 0.0
-            r1 = 0.0
+            out[r] = _lag1_rounds(buf, n - 1, tot, 0, dmax, theta)
+        elif sp == 1:
+            out[r] = _lag1_contiguous(x[st:st + n], buf, dmax, theta)
+        else:
+            buf[:n] = x[st:st + (n - 1) * sp + 1:sp]  # (a slice copy: vectorised)
             tot = 0.0
-            for j in range(n - 1):  # the sums and (for the next round) the differences
-                b0 = buf[j]
-                b1 = buf[j + 1]
-                c0 = b0 - mean
-                den += c0 * c0
-                r1 += c0 * (b1 - mean)
-                v = b1 - b0
-                buf[j] = v
-                tot += v
-            c0 = buf[n - 1] - mean
-            den += c0 * c0
-            r1 = r1 / den * ((n - 1) / n) if den > 0 else 0.0
-            delta = r1 / (1.0 + r1)
-            if delta < 0.25 or d >= dmax or n < 4:
-                out[r] = -2.0 * (delta + d) + theta
-                break
-            n -= 1
-            d += 1
+            for j in range(n):
+                tot += buf[j]
+            out[r] = _lag1_rounds(buf, n, tot, 0, dmax, theta)
 
 
 @_jit
-def _b1_theory(n, mu):
-    if mu == 0.0:
-        return n * math.log(n) / (2.0 * (n - 1) * math.log(2.0))
-    return n * (1.0 - n ** mu) / (2.0 * (n - 1) * (1.0 - 2.0 ** mu))
-
-
-@_jit
-def b1_strided(x, starts, steps, counts, out):
-    """B1 verdict per row (index into mu = -2, -1, 0, 1; -1: too few points or zero Allan
-    variance), the algorithm of :func:`inertialab.noise.identify._b1_mu_many`."""
-    mus = np.array([-2.0, -1.0, 0.0, 1.0])
-    for r in range(starts.size):
-        c = counts[r]
-        st = starts[r]
-        sp = steps[r]
-        n = c - 1
-        out[r] = -1
-        if n < 3:
-            continue
-        ysum = 0.0
-        for j in range(n):
-            ysum += x[st + (j + 1) * sp] - x[st + j * sp]
-        ymean = ysum / n
-        v = 0.0
-        for j in range(n):
-            t = (x[st + (j + 1) * sp] - x[st + j * sp]) - ymean
-            v += t * t
-        v /= n - 1
-        a = 0.0
-        for j in range(n - 1):
-            y0 = x[st + (j + 1) * sp] - x[st + j * sp]
-            y1 = x[st + (j + 2) * sp] - x[st + (j + 1) * sp]
-            t = y1 - y0
-            a += t * t
-        avar = 0.5 * (a / (n - 1))
-        if not avar > 0:
-            continue
-        b1 = v / avar
-        best = 0
-        prev = _b1_theory(float(n), mus[0])
-        for i in range(1, 4):
-            th = _b1_theory(float(n), mus[i])
-            if b1 > math.sqrt(prev * th):
-                best = i
-            prev = th
-        out[r] = best
+def _lag1_contiguous(v, buf, dmax, theta):
+    """:func:`lag1_strided` of one contiguous row ``v``: the first round read-only (its sum, then the lag-0 and lag-1 sums of the
+    centred row), the row's differences to ``buf`` only when it needs differencing."""
+    n = v.size
+    a = v[:n - 1]
+    b = v[1:]
+    tot = 0.0
+    for j in range(n - 1):
+        tot += a[j]
+    last = v[n - 1]
+    mean = (tot + last) / n
+    den = 0.0
+    r1 = 0.0
+    for j in range(n - 1):
+        c0 = a[j] - mean
+        den += c0 * c0
+        r1 += c0 * (b[j] - mean)
+    c0 = last - mean
+    den += c0 * c0
+    r1 = r1 / den * ((n - 1) / n) if den > 0 else 0.0
+    delta = r1 / (1.0 + r1)
+    if delta < 0.25 or dmax <= 0 or n < 4:
+        return -2.0 * delta + theta
+    tot = 0.0
+    for j in range(n - 1):
+        t = b[j] - a[j]
+        buf[j] = t
+        tot += t
+    return _lag1_rounds(buf, n - 1, tot, 1, dmax, theta)
 
 
 @_jit
 def identify_rows(x, starts, steps, counts, dmax, min_points, lo, hi, alphas, best, buf):
-    """Noise type per row (the rules of :func:`inertialab.noise.identify.identify_alpha`):
-    rows of at least ``min_points`` points by the lag-1 ACF (rounded, clipped to [lo,
-    hi]; ``best = -2``), shorter ones by B1 (``best`` its verdict; alpha 0 for -1, else
-    ``-mu - 1`` clipped; mu = -2, ``best = 0``, is left to R(n) by the caller)."""
+    """Noise type per row by the lag-1 ACF (the rule of :func:`inertialab.noise.identify.
+    identify_alpha` for rows of at least ``min_points`` points; rounded, clipped to [lo,
+    hi]; ``best = -2``); shorter rows are left to the caller (B1 and R(n) at the
+    statistic's summand count: :func:`inertialab.noise._fast_ident.finish_identification`)."""
     one = np.empty(1)
     for r in range(starts.size):
         if counts[r] >= min_points:
             lag1_strided(x, starts[r:r + 1], steps[r:r + 1], counts[r:r + 1], dmax, one, buf, 2)
-            a = int(np.rint(one[0]))
+            alphas[r] = min(max(int(np.rint(one[0])), lo), hi)
             best[r] = -2
-        else:
-            b1_strided(x, starts[r:r + 1], steps[r:r + 1], counts[r:r + 1], best[r:r + 1])
-            b = best[r]
-            a = 0 if b < 0 else 1 - b  # mu = -2, -1, 0, 1 -> (R(n)), 0, -1, -2
-        alphas[r] = min(max(a, lo), hi)

@@ -133,7 +133,9 @@ def _decimated_layout(nx: int, ms: np.ndarray, max_points: int):
 def is_octave(ms: np.ndarray) -> bool:
     """True when every m is a power of two (the lag-doubling kernels apply)."""
     ms = np.asarray(ms)
-    return bool(ms.size and np.all(ms >= 1) and np.all((ms & (ms - 1)) == 0))
+    if ms.size <= 64:  # a tau grid: a loop over Python ints is 5x cheaper than numpy here
+        return ms.size > 0 and all(v >= 1 and v & (v - 1) == 0 for v in ms.tolist())
+    return bool(np.all(ms >= 1) and np.all((ms & (ms - 1)) == 0))
 
 
 def n_terms_many(statistic: str, nx: int, ms: np.ndarray) -> np.ndarray:
@@ -174,7 +176,7 @@ def octave_strided_sums(K, x: np.ndarray, statistic: str, ms: np.ndarray,
     also each m's noise type from its central ``max_points`` decimated points, read in
     place from the contiguous halved copy (strided reads of a large record miss the
     cache at every point): ``(alphas, best)`` as :func:`inertialab.noise._fast.
-    identify_rows` gives them, else None."""
+    identify_rows` gives them (lag-1 rows only), else None."""
     ms = np.asarray(ms, dtype=np.int64)
     lev = np.log2(ms).astype(np.int64)
     L = int(lev.max()) + 1
@@ -184,9 +186,9 @@ def octave_strided_sums(K, x: np.ndarray, statistic: str, ms: np.ndarray,
     start = np.zeros(L, dtype=np.int64)
     alphas = np.zeros(L, dtype=np.int64)
     best = np.zeros(L, dtype=np.int64)
-    if rules is not None:
+    if rules is not None:  # the lag-1 rows (B1's are left to the identification)
         count = (x.size - 1) // ms + 1
-        u = np.minimum(count, max_points)
+        u = np.minimum(count, max_points) * (count >= rules[1])
         use[lev], start[lev] = u, (count - u) // 2  # starts in units of m
     fused = L > 2 and want[0] and want[1]  # the kernel's test: levels 0, 1 in one pass
     size = (x.size - 1) // 4 + 1 if fused else (x.size - 1) // 2 + 1  # x_{4k} or x_{2k}

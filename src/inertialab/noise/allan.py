@@ -216,8 +216,8 @@ def tau_grid(n_samples: int, taus="octave", *, rate_hz: float = 1.0, statistic: 
         if mmax < 1:
             raise InputError(f"too few samples ({n_samples}) for {statistic} at the smallest "
                              f"tau (m = 1 needs at least {_min_samples(statistic, input)})")
-        if kind == "octave":
-            m = 2 ** np.arange(int(math.floor(math.log2(mmax))) + 1, dtype=np.int64)
+        if kind == "octave":  # (1 <= m <= mmax by construction)
+            return 2 ** np.arange(int(math.floor(math.log2(mmax))) + 1, dtype=np.int64)
         elif kind == "decade":
             top = int(math.floor(math.log10(mmax))) + 1
             m = np.array([k * 10**e for e in range(top) for k in (1, 2, 4)], dtype=np.int64)
@@ -276,7 +276,7 @@ def _validate(data, rate_hz, input, *, name="data", check_finite: bool = True,
     arr = data if isinstance(data, np.ndarray) else np.asarray(data, dtype=float)
     if arr.ndim != 1:
         raise InputError(f"{name} must be one-dimensional, got shape {arr.shape}")
-    if not np.issubdtype(arr.dtype, np.number) or np.issubdtype(arr.dtype, np.complexfloating):
+    if arr.dtype.kind not in "iufm":  # (numpy real number kinds; not bool or complex)
         raise InputError(f"{name} must be real numbers, got dtype {arr.dtype}")
     if arr.size < 2:
         raise InputError(f"too few samples ({arr.size}) for any tau")
@@ -366,7 +366,7 @@ def _normalise(statistic: str, sums: np.ndarray, ms: np.ndarray, nt: np.ndarray,
                tau0: float) -> np.ndarray:
     """Variance from the sums of squared filter outputs (angle units) per m (SP 1065 §5.2)."""
     tau = ms * tau0
-    n = np.where(nt > 0, nt, 1).astype(float)
+    n = np.maximum(nt, 1).astype(float)
     if statistic in ("adev", "oadev", "totdev"):
         return sums / (2.0 * tau * tau * n)
     if statistic in ("hdev", "ohdev"):
@@ -390,6 +390,8 @@ def _all_equal(v: np.ndarray) -> bool:
 def _angle_constant(x: np.ndarray) -> bool:
     """True when every first difference of the angle ``x`` is equal (a constant rate):
     the first 64 differences decide for almost any record, then a block, then all."""
+    if x.size > 2 and x[2] - x[1] != x[1] - x[0]:  # (scalars: most records stop here)
+        return False
     return (_all_equal(np.diff(x[:65])) and _all_equal(np.diff(x[:_octave.OCT_BLOCK + 1]))
             and _all_equal(np.diff(x)))
 

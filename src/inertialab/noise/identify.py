@@ -275,11 +275,20 @@ def _rn_alpha_many(sh: _Shared, ms) -> tuple:
     return out, how
 
 
-def _acf_compiled(sh, ms, own, decimated, freq, dmax, max_points, min_points, alphas,
-                  sources) -> np.ndarray:
+def _compiled(sh: _Shared):
+    """The compiled kernels where the phase is in memory (B1 and R(n) read it in place),
+    else None (the numpy rules)."""
+    from inertialab.noise import _octave
+
+    return _octave.fast_kernels() if sh.x is not None else None
+
+
+def _acf_compiled(sh, ms, own, decimated, freq, dmax, max_points, min_points,
+                  alphas) -> np.ndarray:
     """The lag-1 rows by the compiled kernel (read in place, strided, from the in-memory
-    phase; alphas and sources set); which m it did (none without the kernels, without the
-    phase in memory, or where the caller gathered the points)."""
+    phase; alphas set); which m it did (none without the kernels, without the
+    phase in memory, or where the caller gathered the points); the caller sets the
+    sources."""
     from inertialab.noise import _octave
 
     done = np.zeros(ms.size, dtype=bool)
@@ -307,8 +316,6 @@ def _acf_compiled(sh, ms, own, decimated, freq, dmax, max_points, min_points, al
     K.lag1_strided(base, starts, steps, use - 1 if incr else use, dmax, out,
                    np.empty(int(use.max())), 0 if freq else 2, not incr)
     alphas[sel] = np.rint(out).astype(np.int64)
-    for i in sel:
-        sources[i] = "acf"
     done[sel] = True
     return done
 
@@ -340,45 +347,75 @@ def identify_alpha(src, ms, *, statistic: str = "oadev", data: str = "phase",
     ms = np.atleast_1d(np.asarray(ms, dtype=np.int64))
     sh = _Shared(src)
     N = sh.n
-    span = MIN_SPAN.get(statistic, 8)
     nt = (np.asarray(n_terms, dtype=np.int64) * np.ones(ms.size, dtype=np.int64)
           if n_terms is not None else N - 2 * ms)
     freq = data != "phase"
     alphas = np.zeros(ms.size, dtype=np.int64)
-    sources = ["carried"] * ms.size
-    own = ms * span <= N
-    kind = "freq" if freq else "phase"
-    lag_rows, lag_idx, rn_idx = [], [], []
+    codes = np.zeros(ms.size, dtype=np.int8)  # index into _SOURCES: "carried"
+    if acf is not None and decimated is None and (fast := _compiled(sh)) is not None:
+        # a kernel took the lag-1 rows: the rest in one compiled call where it can
+        if fast.finish_identification(sh.x, ms, nt, MIN_SPAN.get(statistic, 8), min_points,
+                                      int(freq), np.asarray(acf[0], dtype=np.bool_),
+                                      np.asarray(acf[1], dtype=np.int64), lo, hi, alphas,
+                                      codes):
+            return NoiseIdentification(ms, alphas, tuple(_SOURCES[c] for c in codes.tolist()))
+        alphas[:], codes[:] = 0, 0
+    own = ms * MIN_SPAN.get(statistic, 8) <= N
+    lagged = own & ((N - 1) // ms + 1 - freq >= min_points)  # rows of the lag-1 test
+    done = np.zeros(ms.size, dtype=bool)
     if acf is not None:  # the lag-1 verdicts the caller's kernel took
-        pre = own & np.asarray(acf[0], dtype=bool) & ((N - 1) // ms + 1 - freq >= min_points)
-        alphas[pre] = np.asarray(acf[1], dtype=np.int64)[pre]
-        for i in np.flatnonzero(pre):
-            sources[i] = "acf"
-        own_left = own & ~pre
-    else:
-        pre, own_left = np.zeros(ms.size, dtype=bool), own
-    done = _acf_compiled(sh, ms, own_left, decimated, freq, dmax, max_points, min_points,
-                         alphas, sources) | pre
-    for i in np.flatnonzero(own & ~done):
+        done = lagged & np.asarray(acf[0], dtype=bool)
+        alphas[done] = np.asarray(acf[1], dtype=np.int64)[done]
+    if (lagged & ~done).any():
+        done |= _acf_compiled(sh, ms, own & ~done, decimated, freq, dmax, max_points,
+                              min_points, alphas)
+    codes[done] = _ACF
+    left = own & ~done
+    if left.any():
+        _identify_left(sh, ms, np.flatnonzero(left), lagged, nt, freq, dmax, max_points,
+                       decimated, alphas, codes)
+    np.minimum(np.maximum(alphas, lo, out=alphas), hi, out=alphas)
+    if not own.all():
+        _carry(src, ms, own, alphas, codes, statistic, data, max_points, min_points)
+    return NoiseIdentification(ms, alphas, tuple(_SOURCES[c] for c in codes.tolist()))
+
+
+#: Source names by code (:func:`identify_alpha`'s bookkeeping).
+_SOURCES = ("carried", "acf", "b1", "b1+rn", "none")
+_ACF, _B1, _B1RN, _NONE = 1, 2, 3, 4
+
+
+def _identify_left(sh, ms, rows, lagged, nt, freq, dmax, max_points, decimated, alphas,
+                   codes) -> None:
+    """The rows no kernel took: lag-1 on numpy (``lagged``), else B1 and, where B1 says
+    phase noise, R(n) (compiled where the phase is in memory and nothing was gathered)."""
+    N = sh.n
+    kind = "freq" if freq else "phase"
+    fast = _compiled(sh)
+    lag_rows, lag_idx, rn_idx, b1_idx = [], [], [], []
+    for i in rows.tolist():
         m = int(ms[i])
         count = (N - 1) // m + 1  # decimated phase points
         z = decimated.get(m) if decimated is not None else None
-        if count - freq >= min_points:
+        if lagged[i]:
             use = min(count, max_points)
             if z is None or z.size != use:
                 z = sh.row(((count - use) // 2) * m, use, m)
             z = np.diff(z) if freq else z
-            sources[i] = "acf"
+            codes[i] = _ACF
             if z.size >= LONG_ROW:  # long rows at once (no list of copies)
                 alphas[i] = int(np.rint(lag1_alpha(z, dmax=dmax, data_type=kind)))
             else:
                 lag_rows.append(z)
                 lag_idx.append(i)
             continue
+        if z is None and fast is not None:  # B1 and R(n) of these rows in one call
+            b1_idx.append(i)
+            continue
         if z is None or z.size != count:
             z = sh.row(0, count, m)
         mu = b1_mu(_b1_ratio(np.asarray(z, dtype=np.float64)), float(nt[i]))
-        sources[i] = "b1"
+        codes[i] = _B1
         if mu > -2:
             alphas[i] = int(-mu - 1)
         else:
@@ -386,30 +423,38 @@ def identify_alpha(src, ms, *, statistic: str = "oadev", data: str = "phase",
     if lag_idx:
         a = lag1_alpha_many(lag_rows, dmax=dmax, data_type=kind)
         alphas[lag_idx] = np.rint(a).astype(np.int64)
+    if b1_idx:
+        got = np.zeros(len(b1_idx), dtype=np.int64)
+        how = np.zeros(len(b1_idx), dtype=np.int64)
+        fast.b1_rn_rows(sh.x, ms[b1_idx], nt[b1_idx], got, how)
+        alphas[b1_idx] = got
+        codes[b1_idx] = np.where(how == 2, _B1RN, _B1)
     if rn_idx:
         a, how = _rn_alpha_many(sh, ms[rn_idx])
         alphas[rn_idx] = a
-        for i, h in zip(rn_idx, how):
-            sources[i] = h
-    alphas = np.minimum(np.maximum(alphas, lo), hi)
-    if not own.all():
-        order = np.argsort(ms, kind="stable")
-        last = None
-        if not own.any():  # every m beyond: the type at the largest identifiable m
-            top = N // span
-            if top >= 1:
-                r = identify_alpha(src, [top], statistic=statistic, data=data,
-                                   n_terms=[max(N - 2 * top, 2)], max_points=max_points,
-                                   min_points=min_points)
-                last = int(r.alpha[0])
-        for i in order:
-            if own[i]:
-                last = int(alphas[i])
-            elif last is None:
-                alphas[i], sources[i] = 0, "none"
-            else:
-                alphas[i] = last
-    return NoiseIdentification(ms, alphas, tuple(sources))
+        codes[rn_idx] = [_B1RN if h == "b1+rn" else _B1 for h in how]
+
+
+def _carry(src, ms, own, alphas, codes, statistic, data, max_points, min_points) -> None:
+    """Beyond Stable32's range (``~own``): the type of the nearest shorter identified m
+    (rule 4); where every m is beyond, the type at the largest identifiable m; ``none``
+    (white FM) where the record is too short for any."""
+    order = np.argsort(ms, kind="stable")
+    last = None
+    if not own.any():
+        top = int(src.n) // MIN_SPAN.get(statistic, 8)
+        if top >= 1:
+            r = identify_alpha(src, [top], statistic=statistic, data=data,
+                               n_terms=[max(int(src.n) - 2 * top, 2)],
+                               max_points=max_points, min_points=min_points)
+            last = int(r.alpha[0])
+    for i in order.tolist():
+        if own[i]:
+            last = int(alphas[i])
+        elif last is None:
+            alphas[i], codes[i] = 0, _NONE
+        else:
+            alphas[i] = last
 
 
 __all__ = ["CONFIDENT", "MAX_POINTS", "MIN_POINTS", "MIN_SPAN", "NoiseIdentification",
