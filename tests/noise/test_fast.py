@@ -199,3 +199,50 @@ def test_fast_identification_long_angle_records(monkeypatch, stat):
         np.testing.assert_array_equal(got.alpha, ref.alpha)
         assert got.alpha_source == ref.alpha_source
         assert _rel(got.dev, ref.dev) < 1e-12
+
+
+@pytest.mark.parametrize("case", ["offset", "spike_first", "spike_middle", "two_spikes",
+                                  "trend"])
+def test_fast_lag1_one_pass_sums_hold_on_offsets_and_spikes(monkeypatch, case):
+    # the one-pass lag-1 sums (shifted by a median of three points) against the numpy
+    # two-pass rule where a shift could cancel: a large offset, a spike at a row's first
+    # or middle point, at both (the shift is a spike), a steep trend
+    rng = np.random.default_rng(21)
+    x = rng.standard_normal(40001)
+    if case == "offset":
+        x += 1e9
+    elif case == "spike_first":
+        x[0] += 1e12
+    elif case == "spike_middle":
+        x[20000] -= 1e12
+    elif case == "two_spikes":
+        x[0] += 1e12
+        x[20000] += 1e12
+    else:
+        x += 1e6 * np.arange(x.size)
+    for stat in ("adev", "hdev"):
+        ref, got = _both(monkeypatch,
+                         lambda s=stat: deviation(s, x, rate_hz=1.0, input="angle"))
+        np.testing.assert_array_equal(got.alpha, ref.alpha)
+        assert got.alpha_source == ref.alpha_source
+
+
+def test_fast_lag1_rows_equal_numpy_rule():
+    # the compiled lag-1 test of contiguous and strided rows (phase and frequency data)
+    # against identify.lag1_alpha, unrounded, on every noise type it tells apart
+    from inertialab.noise import _fast as F
+
+    rng = np.random.default_rng(5)
+    e = rng.standard_normal(9001)
+    for x in (e, np.cumsum(e), np.cumsum(np.cumsum(e)), e + 1e8, np.cumsum(e) - 3e7):
+        for start, step, count in ((0, 1, 9001), (17, 1, 4000), (3, 2, 4000), (5, 7, 1200)):
+            out = np.empty(1)
+            F.lag1_strided(x, np.array([start]), np.array([step]), np.array([count]), 2, out,
+                           np.empty(count), 2, True)
+            ref = I.lag1_alpha(x[start:start + (count - 1) * step + 1:step], dmax=2)
+            assert abs(out[0] - ref) < 1e-9, (start, step, out[0], ref)
+            F.lag1_strided(x, np.array([start]), np.array([step]), np.array([count]), 2, out,
+                           np.empty(count), 0, True)
+            ref = I.lag1_alpha(np.diff(x[start:start + (count - 1) * step + 1:step]), dmax=2,
+                               data_type="freq")
+            assert abs(out[0] - ref) < 1e-9, (start, step, out[0], ref)

@@ -14,7 +14,8 @@ the record's size (their work arrays come from the caller, so ``tracemalloc`` se
 
 Floating-point reductions are compiled with ``fastmath={"reassoc", "contract"}`` so that
 the compiler may vectorise them (re-association and fused multiply-adds only; NaN and
-infinity semantics are kept). The per-m kernels and the Greenhall EDF live in
+infinity semantics are kept). The per-m kernels, the Greenhall EDF and the kernels that
+call no other (``octave_b``, ``gather_increments``, ``combine_taps``) live in
 :mod:`inertialab.noise._fast_any` and the B1/R(n) identification in
 :mod:`inertialab.noise._fast_ident` (both re-exported here); no kernel calls one in another
 module (numba's cache tracks only a kernel's own file).
@@ -26,11 +27,14 @@ import numba as nb
 import numpy as np
 
 from inertialab.noise._fast_any import (  # noqa: F401 - part of this module's interface
+    combine_taps,
     dense_mod,
     dense_overlap,
     dense_strided,
     dense_totdev,
+    gather_increments,
     greenhall_many,
+    octave_b,
 )
 from inertialab.noise._fast_ident import (  # noqa: F401 - part of this module's interface
     b1_rn_rows,
@@ -62,15 +66,30 @@ def octave_d(d, nx, want, q, dec_use, dec_start, dec_off, dec, tmp, acf, lim):
     nd = d.size
     B = tmp.size
     m = 1
+    # the lag-1 rows as a chain: from the first level whose row is the whole decimated
+    # record, each next row is made from the last (phase: every other point; frequency
+    # averages: sums of neighbours, D(2m)_{2km} = D(m)_{2km} + D(m)_{2km+m}, the
+    # kernel's own addition) in a contiguous buffer, instead of strided reads of the
+    # record at every level (one cache line per point from m = 8)
+    phase = acf[4].size > 1
+    chain = np.empty(dec_use.max() if acf[2] > 0 and dec_use.size else 0)
+    cn = 0
     for lev in range(L):
         cnt = nx - q * m
         nxt = nd - m
         more = lev + 1 < L and nxt > 0
+        if cn > 0:  # this level's row from the last one
+            cn = _halve_row(chain, cn, phase)
         u = dec_use[lev]
         if u > 0:
             o = dec_off[lev]
             st = dec_start[lev]
-            if not _acf_level(d, st, m, u - 1, lev, acf):
+            if cn == 0 and st == 0 and u == (nx - 1) // m + 1 and chain.size >= u:
+                cn = _start_row(chain, acf[4] if phase else d, u if phase else u - 1, m)
+            if cn > 0 and cn == (u if phase else u - 1):
+                if not _acf_row(chain[:cn], lev, acf) and not phase:
+                    dec[o:o + u - 1] = chain[:u - 1]
+            elif not _acf_level(d, st, m, u - 1, lev, acf):
                 dec[o:o + u - 1] = d[st:st + (u - 1) * m:m]  # (a slice copy: vectorised)
         c = min(cnt, lim[lev]) if (want[lev] and cnt >= 1) else 0
         s = 0.0
@@ -115,6 +134,41 @@ def octave_d(d, nx, want, q, dec_use, dec_start, dec_off, dec, tmp, acf, lim):
         nd = nxt
         m *= 2
     return sums
+
+
+@_jit
+def _start_row(chain, v, n, m):
+    """Copy ``v[j m]``, ``j < n``, to ``chain`` (the first row of :func:`octave_d`'s
+    chain); its length."""
+    chain[:n] = v[0:(n - 1) * m + 1:m]
+    return n
+
+
+@_jit
+def _halve_row(chain, n, phase):
+    """The next level's row of :func:`octave_d`'s chain in place: phase points
+    ``chain[2j]`` (``(n - 1) // 2 + 1`` of them) or frequency averages ``chain[2j] +
+    chain[2j + 1]`` (``n // 2``); its length."""
+    if phase:
+        h = (n - 1) // 2 + 1
+        for j in range(1, h):
+            chain[j] = chain[2 * j]
+    else:
+        h = n // 2
+        for j in range(h):
+            chain[j] = chain[2 * j] + chain[2 * j + 1]
+    return h
+
+
+@_jit
+def _acf_row(row, lev, acf):
+    """:func:`_acf_level` of a contiguous row (the chain's): phase points or frequency
+    averages; True if taken."""
+    out, dmax, mn, buf, x = acf
+    if mn <= 0 or row.size < mn:
+        return False
+    out[lev] = _lag1_contiguous(row, buf, dmax, 2 if x.size > 1 else 0)
+    return True
 
 
 @_jit
@@ -217,83 +271,6 @@ def octave_e(e, want, hdev, dec_use, dec_start, dec_off, dec, acf):
             e[k] = e[2 * k] + e[2 * k + 1]
         ne = h
     return sums
-
-
-@_jit
-def octave_b(d, nx, want, tmp):
-    """MDEV/TDEV sums at m = 2^l from ``B(m)_i = sum_{j<m} D(m)_{i+j}`` (``d``, the first
-    differences at m = 1, overwritten): the squared ``B_{i+m} - B_i``, then ``B(2m)_i =
-    B_i + 2 B_{i+m} + B_{i+2m}``, in blocks as :func:`octave_d`."""
-    L = want.size
-    sums = np.zeros(L)
-    nb_ = d.size
-    B = tmp.size
-    m = 1
-    for lev in range(L):
-        cnt = nx - 3 * m + 1
-        nxt = nb_ - 2 * m
-        more = lev + 1 < L and nxt > 0
-        c = cnt if (want[lev] and cnt >= 1) else 0
-        s = 0.0
-        top = max(c, nxt if more else 0)
-        for b0 in range(0, top, B):
-            n = min(B, top - b0)
-            ns = max(0, min(n, c - b0))
-            nu = max(0, min(n, nxt - b0)) if more else 0
-            a = d[b0:b0 + n]
-            b = d[b0 + m:b0 + m + n]
-            for i in range(ns):
-                t = b[i] - a[i]
-                s += t * t
-            if nu > 0:
-                cc = d[b0 + 2 * m:b0 + 2 * m + nu]
-                for i in range(nu):
-                    bi = b[i]
-                    tmp[i] = ((bi + bi) + a[i]) + cc[i]
-                for i in range(nu):
-                    a[i] = tmp[i]
-        sums[lev] = s
-        if not more:
-            break
-        nb_ = nxt
-        m *= 2
-    return sums
-
-
-@_jit
-def gather_increments(d, ms, starts, uses, offs, dec, pre, g):
-    """Decimated points ``x_{s + k m} - x_s`` (k < use) of the increments ``d`` (``x_{i+1}
-    = x_i + d_i``) for each m, into ``dec[offs[r]:]``. ``pre`` (``(d.size) // g + 1``
-    entries) receives ``x_{g j}``; every m that is a multiple of ``g`` reads its points
-    from it, smaller m sum their increments directly."""
-    acc = 0.0
-    pre[0] = 0.0
-    for j in range(d.size // g):
-        p = 0.0
-        blk = d[g * j:g * j + g]
-        for i in range(g):
-            p += blk[i]
-        acc += p
-        pre[j + 1] = acc
-    for r in range(ms.size):
-        m = ms[r]
-        st = starts[r]
-        o = offs[r]
-        dec[o] = 0.0
-        if m % g == 0:
-            base = pre[st // g]
-            step = m // g
-            for k in range(1, uses[r]):
-                dec[o + k] = pre[st // g + k * step] - base
-            continue
-        acc = 0.0
-        for k in range(1, uses[r]):
-            p = 0.0
-            blk = d[st + (k - 1) * m:st + k * m]
-            for j in range(m):
-                p += blk[j]
-            acc += p
-            dec[o + k] = acc
 
 
 @_jit
@@ -569,28 +546,6 @@ def octave_strided(x, want, order, w, id_use, id_start, idp, alphas, best, buf):
     return sums
 
 
-@_jit
-def combine_taps(t0, t1, t2, t3, q, n):
-    """Sum over i < n of the squared second (``q = 2``: ``t2 - 2 t1 + t0``) or third
-    (``q = 3``: ``t3 - 3 t2 + 3 t1 - t0``) differences of the taps ``x_i, x_{i+m},
-    ...`` (equal-length windows; ``t3`` unused for q = 2), with the difference formulas
-    of the numpy path (:func:`inertialab.noise._stream._combine_sumsq`)."""
-    s = 0.0
-    if q == 2:
-        for i in range(n):
-            b = t1[i]
-            u = (t2[i] - b) - (b - t0[i])
-            s += u * u
-    else:
-        for i in range(n):
-            a1 = t1[i]
-            a2 = t2[i]
-            v = a2 - a1
-            u = ((t3[i] - a2) - v) - v + (a1 - t0[i])
-            s += u * u
-    return s
-
-
 # ----------------------------------------------------------------------------- noise type
 
 
@@ -654,26 +609,49 @@ def lag1_strided(x, starts, steps, counts, dmax, out, buf, theta=2, diff=True):
             out[r] = _lag1_rounds(buf, n, tot, 0, dmax, theta)
 
 
+#: Longest row whose first lag-1 round :func:`_lag1_contiguous` takes in one pass.
+ONE_PASS_MAX = 1 << 20
+
+
 @_jit
 def _lag1_contiguous(v, buf, dmax, theta):
-    """:func:`lag1_strided` of one contiguous row ``v``: the first round read-only (its sum, then the lag-0 and lag-1 sums of the
-    centred row), the row's differences to ``buf`` only when it needs differencing."""
+    """:func:`lag1_strided` of one contiguous row ``v``: the first round read-only, in one
+    pass for rows up to ``ONE_PASS_MAX`` points (the sums of ``y = v - c``, ``y^2`` and
+    ``y_j y_{j+1}``, ``c`` the median of the first, middle and last points, give the
+    centred lag-0 and lag-1 sums; ``c`` being a point of the row, ``n (mean - c)^2`` is at
+    most n times the centred sum, so their relative error stays below ~n 1e-16; two
+    passes beyond), the row's differences to ``buf`` only when it needs differencing."""
     n = v.size
     a = v[:n - 1]
     b = v[1:]
-    tot = 0.0
-    for j in range(n - 1):
-        tot += a[j]
     last = v[n - 1]
-    mean = (tot + last) / n
-    den = 0.0
-    r1 = 0.0
+    p, q = v[0], v[n // 2]
+    c = max(min(p, q), min(max(p, q), last))
+    s1 = 0.0
+    s2 = 0.0
+    s11 = 0.0
     for j in range(n - 1):
-        c0 = a[j] - mean
+        y0 = a[j] - c
+        s1 += y0
+        s2 += y0 * y0
+        s11 += y0 * (b[j] - c)
+    yl = last - c
+    s1 += yl
+    s2 += yl * yl
+    mean = s1 / n
+    den = s2 - s1 * mean
+    if n <= ONE_PASS_MAX:
+        r1 = s11 - mean * (2.0 * s1 - (v[0] - c) - yl) + (n - 1) * mean * mean
+    else:  # two passes: the mean, then the centred sums
+        mean = (s1 / n) + c
+        den = 0.0
+        r1 = 0.0
+        for j in range(n - 1):
+            c0 = a[j] - mean
+            den += c0 * c0
+            r1 += c0 * (b[j] - mean)
+        c0 = last - mean
         den += c0 * c0
-        r1 += c0 * (b[j] - mean)
-    c0 = last - mean
-    den += c0 * c0
     r1 = r1 / den * ((n - 1) / n) if den > 0 else 0.0
     delta = r1 / (1.0 + r1)
     if delta < 0.25 or dmax <= 0 or n < 4:

@@ -2,7 +2,10 @@
 extra, numba), re-exported by :mod:`inertialab.noise._fast` (see there
 for the switch, the equality tests and the cache). Any set of averaging factors: one
 loop per m over the in-memory angle; the EDF: the branches of
-:func:`inertialab.noise.edf.edf_greenhall` per m.
+:func:`inertialab.noise.edf.edf_greenhall` per m. Also the octave kernels that call no
+other kernel (the modified family's ``octave_b``, ``gather_increments``, the out-of-core
+``combine_taps``): numba's cache tracks a kernel's own file, so kernels that call each
+other share one.
 """
 
 from __future__ import annotations
@@ -404,3 +407,105 @@ def greenhall_many(N, ms, alphas, d, overlapping, modified, t1, t2, t3, c, jmax,
                 inv = (a0 - (d / 2.0) / r) / M
         if inv > 0:
             out[i] = 1.0 / inv
+
+
+# ----------------------------------------------------------------------------- octave (self-contained)
+
+
+@_jit
+def octave_b(d, nx, want, tmp):
+    """MDEV/TDEV sums at m = 2^l from ``B(m)_i = sum_{j<m} D(m)_{i+j}`` (``d``, the first
+    differences at m = 1, overwritten): the squared ``B_{i+m} - B_i``, then ``B(2m)_i =
+    B_i + 2 B_{i+m} + B_{i+2m}``, in blocks as :func:`octave_d`."""
+    L = want.size
+    sums = np.zeros(L)
+    nb_ = d.size
+    B = tmp.size
+    m = 1
+    for lev in range(L):
+        cnt = nx - 3 * m + 1
+        nxt = nb_ - 2 * m
+        more = lev + 1 < L and nxt > 0
+        c = cnt if (want[lev] and cnt >= 1) else 0
+        s = 0.0
+        top = max(c, nxt if more else 0)
+        for b0 in range(0, top, B):
+            n = min(B, top - b0)
+            ns = max(0, min(n, c - b0))
+            nu = max(0, min(n, nxt - b0)) if more else 0
+            a = d[b0:b0 + n]
+            b = d[b0 + m:b0 + m + n]
+            for i in range(ns):
+                t = b[i] - a[i]
+                s += t * t
+            if nu > 0:
+                cc = d[b0 + 2 * m:b0 + 2 * m + nu]
+                for i in range(nu):
+                    bi = b[i]
+                    tmp[i] = ((bi + bi) + a[i]) + cc[i]
+                for i in range(nu):
+                    a[i] = tmp[i]
+        sums[lev] = s
+        if not more:
+            break
+        nb_ = nxt
+        m *= 2
+    return sums
+
+
+@_jit
+def gather_increments(d, ms, starts, uses, offs, dec, pre, g):
+    """Decimated points ``x_{s + k m} - x_s`` (k < use) of the increments ``d`` (``x_{i+1}
+    = x_i + d_i``) for each m, into ``dec[offs[r]:]``. ``pre`` (``(d.size) // g + 1``
+    entries) receives ``x_{g j}``; every m that is a multiple of ``g`` reads its points
+    from it, smaller m sum their increments directly."""
+    acc = 0.0
+    pre[0] = 0.0
+    for j in range(d.size // g):
+        p = 0.0
+        blk = d[g * j:g * j + g]
+        for i in range(g):
+            p += blk[i]
+        acc += p
+        pre[j + 1] = acc
+    for r in range(ms.size):
+        m = ms[r]
+        st = starts[r]
+        o = offs[r]
+        dec[o] = 0.0
+        if m % g == 0:
+            base = pre[st // g]
+            step = m // g
+            for k in range(1, uses[r]):
+                dec[o + k] = pre[st // g + k * step] - base
+            continue
+        acc = 0.0
+        for k in range(1, uses[r]):
+            p = 0.0
+            blk = d[st + (k - 1) * m:st + k * m]
+            for j in range(m):
+                p += blk[j]
+            acc += p
+            dec[o + k] = acc
+
+
+@_jit
+def combine_taps(t0, t1, t2, t3, q, n):
+    """Sum over i < n of the squared second (``q = 2``: ``t2 - 2 t1 + t0``) or third
+    (``q = 3``: ``t3 - 3 t2 + 3 t1 - t0``) differences of the taps ``x_i, x_{i+m},
+    ...`` (equal-length windows; ``t3`` unused for q = 2), with the difference formulas
+    of the numpy path (:func:`inertialab.noise._stream._combine_sumsq`)."""
+    s = 0.0
+    if q == 2:
+        for i in range(n):
+            b = t1[i]
+            u = (t2[i] - b) - (b - t0[i])
+            s += u * u
+    else:
+        for i in range(n):
+            a1 = t1[i]
+            a2 = t2[i]
+            v = a2 - a1
+            u = ((t3[i] - a2) - v) - v + (a1 - t0[i])
+            s += u * u
+    return s

@@ -575,8 +575,9 @@ def _octave_variances(arr, statistic, ms, tau0, input, identify, total) -> _Sums
         if input == "rate":
             src = _angle_source(xf)  # the identification reads the angle in place
         del xf
-    return _Sums(_normalise(statistic, sums, ms, nt, tau0), nt, src, decimated,
-                 getattr(decimated, "acf", None))
+    # (an angle record's rows were tested or are read in place: none was gathered)
+    return _Sums(_normalise(statistic, sums, ms, nt, tau0), nt, src,
+                 None if phase else decimated, getattr(decimated, "acf", None))
 
 
 def _dense_variances(arr, statistic, ms, tau0, rate_hz, input, identify) -> _Sums:
