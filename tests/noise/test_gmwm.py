@@ -114,6 +114,27 @@ def test_slow_gm_counts_as_random_walk_not_bias_instability():
     assert float(slow.avar(m, tau0)[0]) == pytest.approx(k2 * 10.0 / 3, rel=0.01)
 
 
+def test_k_from_one_slow_gm_carries_its_correlation_time():
+    # K read from one slow GM alone is a random walk held by that GM's time (the terms'
+    # k_gm, as the five-term fit's): the K column's Allan shape is then the GM's own
+    from inertialab.noise._band import rw_gm_shape
+    from inertialab.noise._gmwm_terms import _k_time
+
+    rng_s = (0.3, 5000.0)
+    fast = G.Process("GM", {"s2": 4.0, "tc_s": 20.0})
+    slow = G.Process("GM", {"s2": 50.0, "tc_s": 4000.0})
+    assert _k_time([fast, slow], rng_s, None) == {"t_s": 4000.0}
+    assert _k_time([fast, slow, G.Process("RW", {"gamma2": 1e-6})], rng_s, None) is None
+    assert _k_time([slow, G.Process("GM", {"s2": 9.0, "tc_s": 9000.0})], rng_s, None) is None
+    assert _k_time([fast], rng_s, None) is None
+    # K^2/3 times the held shape is the slow GM's Allan variance (1 % over 0.1-5000 s)
+    tau0 = 0.01
+    taus = np.geomspace(0.1, 5000.0, 30)
+    k2 = 2 * 50.0 / 4000.0
+    np.testing.assert_allclose(k2 / 3 * rw_gm_shape(taus, 4000.0),
+                               slow.avar(taus / tau0, tau0), rtol=0.01)
+
+
 def test_gm_correlation_time_capped_and_low_eta_scales_dropped():
     # Issue 14 item 5: white + random walk + a GM (tc 20 s) at 10 Hz, 2^19 samples
     # (14.6 h). The scales with eta3 < 3 (the last two) are not fitted, no GM correlation

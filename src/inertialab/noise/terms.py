@@ -78,6 +78,7 @@ import numpy as np
 
 from inertialab import units
 from inertialab.errors import InputError
+from inertialab.noise._gmwm_terms import gmwm_noise_terms
 from inertialab.noise._terms_base import (  # noqa: F401 - the public names live on here too
     _GAIN,
     _NAMES,
@@ -101,7 +102,7 @@ from inertialab.noise._terms_base import (  # noqa: F401 - the public names live
 )
 from inertialab.noise._terms_ls import fit_ls, short_end_cut
 from inertialab.noise._terms_slope import fit_slope
-from inertialab.noise.gmwm import fit_gmwm_curve, gmwm_noise_terms
+from inertialab.noise.gmwm import fit_gmwm_curve
 
 
 def _select(result, tau_range, auto: bool):
