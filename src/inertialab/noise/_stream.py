@@ -69,8 +69,8 @@ def stream_sums(src, statistic: str, ms: np.ndarray, block: int = CHUNK, progres
         # of the rate record (no angle); the larger ones from the spilled angle below
         win = [k for k in range(ms.size) if 8 * q * int(ms[k]) <= WINDOW and cnts[k] > 0]
         if win:
-            sums[win] = _window_octave_sums(K, src, ms[win], q, WINDOW,
-                                            Scaled(progress, 0.3, 0.7))
+            sums[win] = _window_octave_sums(K, src.y, src.mean, ms[win], q, WINDOW,
+                                            Scaled(progress, 0.3, 0.7)) * (src.tau0 * src.tau0)
         small = []
         done = set(win)
     else:
@@ -108,6 +108,156 @@ def stream_sums(src, statistic: str, ms: np.ndarray, block: int = CHUNK, progres
     return sums, nt
 
 
+#: Samples per run of the compiled path's angle checkpoints (and per block of its
+#: sweep over the taus beyond the windows): the angle at every run start is kept
+#: (8 bytes per 4096 samples), a point is recomputed from its run's start.
+RUN = 1 << 12
+
+#: Classes of the sweep beyond the windows between two releases of the record's mapped
+#: pages (each class reads one block in ``Q``, scattered over the file).
+RELEASE_CLASSES = 8
+
+
+def octave_fast(statistic: str, ms, dtype) -> bool:
+    """True when the compiled out-of-core octave path (:func:`octave_out_of_core`) takes
+    ``statistic`` at ``ms`` on a record of ``dtype``: the compiled kernels are on, the
+    statistic has a streaming kernel, every m is a power of two and the samples are
+    native-order integers or float32/float64 (what the compiled kernels read)."""
+    from inertialab.noise._octave import fast_kernels, is_octave
+
+    dt = np.dtype(dtype)
+    return (statistic in STREAM_STATS and fast_kernels() is not None and is_octave(ms)
+            and dt.isnative and (dt.kind in "iu" or dt in (np.float32, np.float64)))
+
+
+def _stream_kernels():
+    from inertialab.noise import _fast_stream
+
+    return _fast_stream
+
+
+class CheckpointedAngle:
+    """Angle source of a rate record ``y`` (``tau0`` s per sample, minus ``mean``) from
+    the angle at every ``S``-th point (``ck``, in units of ``y`` times samples): any
+    window is recomputed from the run it starts in (compiled, one run at a time, the
+    order of :func:`inertialab.noise._fast_stream.angle_block`). Memory: ``ck``; the
+    record's mapped pages are released after every window longer than a ``CHUNK``."""
+
+    block = CHUNK
+    constant = False
+
+    def __init__(self, y, tau0: float, mean: float, ck: np.ndarray, S: int):
+        self.y, self._y = y, np.asarray(y)
+        self.tau0, self.mean, self.ck, self.S = tau0, mean, ck, S
+        self.n = y.size + 1
+        self._rel = _Releaser(y)
+
+    def window(self, start: int, length: int, step: int = 1, out=None) -> np.ndarray:
+        """Angle points ``x[start + step*i]``, ``i < length`` (angle units)."""
+        if step != 1:
+            res = np.empty(length)
+            per = max(1, CHUNK // step)
+            for a in range(0, length, per):
+                b = min(a + per, length)
+                res[a:b] = self.window(start + a * step, (b - a - 1) * step + 1)[::step]
+            return res
+        out = np.empty(length) if out is None else out[:length]
+        _stream_kernels().angle_block(self._y, self.ck, self.mean, self.S, start, length, out)
+        out *= self.tau0
+        if length > CHUNK:
+            self._rel.drop_all()
+        return out
+
+    def close(self) -> None:
+        pass
+
+
+def octave_out_of_core(y, tau0: float, mean: float, statistic: str, ms, max_points: int = 0,
+                       progress=None):
+    """The compiled out-of-core path of ``statistic`` (:data:`STREAM_STATS`) at the octave
+    ``ms`` of the rate record ``y`` (any length, read in order twice at most; its angle
+    is never stored).
+
+    1. The windows' pass: windows of :data:`WINDOW` summands are converted to ``y -
+       mean`` (float64; the in-memory working array's values) and run through the
+       lag-doubling kernel for every m up to ``WINDOW / (8 q)``; the same conversion sums
+       every run of :data:`RUN` samples, whose compensated running sum is the angle at
+       every run start.
+    2. The sweep beyond the windows: the larger m (``m_0 2^j``) in one sweep over the
+       record by residue classes of blocks modulo ``m_0 / RUN``, every block of the angle
+       recomputed once from its checkpoint, each tau's taps read from a ring of the
+       last ``q 2^j_max + 1`` blocks.
+
+    Returns ``(src, sums, nt, decimated)``: a :class:`CheckpointedAngle`, the sums of
+    squares (angle units) and summand counts per m, and with ``max_points`` the
+    :class:`inertialab.noise._octave.Decimated` rows of lag-m increments (the central
+    ``max_points`` frequency averages per m, the in-memory kernel's rows: from the
+    windows for m inside them, from the checkpoints beyond), else None. ``progress``:
+    0-0.85 the windows, 0.85-1 the sweep."""
+    from inertialab.noise._octave import (
+        Decimated,
+        _decimated_layout,
+        fast_kernels,
+        n_terms,
+        totdev_edge_sum,
+    )
+
+    K, F = fast_kernels(), _stream_kernels()
+    ms = np.asarray(ms, dtype=np.int64)
+    nx = y.size + 1
+    q = 3 if statistic == "ohdev" else 2
+    nt = np.array([n_terms(statistic, nx, int(m)) for m in ms], dtype=np.int64)
+    cnts = nx - q * ms
+    inwin = 8 * q * ms <= WINDOW
+    beyond = ms[~inwin]
+    S = RUN if beyond.size == 0 else min(RUN, int(beyond.min()))
+    runsum = np.empty((y.size + S - 1) // S)
+    gather = dec = None
+    if max_points:
+        uses, starts, offs, flat = _decimated_layout(nx, ms, max_points)
+        gather = (uses[inwin], starts[inwin], offs[inwin], flat)
+        dec = Decimated(ms, uses, offs, flat, increments=True)
+    sums = np.zeros(ms.size)
+    sums[inwin] = _window_octave_sums(K, y, mean, ms[inwin], q, WINDOW,
+                                      Scaled(progress, 0.0, 0.85), (F, S, runsum), gather)
+    ck = np.empty(runsum.size + 1)
+    F.checkpoints(runsum, ck)
+    src = CheckpointedAngle(y, tau0, mean, ck, S)
+    if beyond.size:
+        sums[~inwin] = _sweep_beyond(F, src, beyond, cnts[~inwin], q, Scaled(progress, 0.85, 1.0))
+        if dec is not None:  # the rows beyond the windows: increments of checkpoints
+            for r in np.flatnonzero(~inwin):
+                idx = (starts[r] + ms[r] * np.arange(uses[r])) // S  # (multiples of S)
+                flat[offs[r]:offs[r] + uses[r] - 1] = np.diff(ck[idx])
+    sums *= tau0 * tau0
+    if statistic == "totdev":
+        for k in range(ms.size):
+            sums[k] += totdev_edge_sum(src.window, nx, int(ms[k]))
+    if progress is not None:
+        progress.update(1.0, 1.0, "done")
+    return src, sums, nt, dec
+
+
+def _sweep_beyond(F, src: CheckpointedAngle, ms: np.ndarray, cnts: np.ndarray, q: int,
+                  progress: Scaled) -> np.ndarray:
+    """Sums (angle-point units) at the octave ``ms`` beyond the windows, by residue classes
+    (:func:`inertialab.noise._fast_stream.sweep_class`): blocks of ``S`` points, ``Q =
+    m_0 / S`` classes, a ring of ``q max(m) / m_0 + 1`` blocks."""
+    S = src.S
+    m0 = int(ms.min())
+    Q = m0 // S
+    steps = (ms // m0).astype(np.int64)
+    ring = np.empty((q * int(steps.max()) + 1, S))
+    out = np.zeros(ms.size)
+    for r in range(Q):
+        F.sweep_class(src._y, src.ck, src.mean, S, src.n, r, Q, q, steps,
+                      cnts.astype(np.int64), ring, out)
+        if (r + 1) % RELEASE_CLASSES == 0 or r + 1 == Q:
+            src._rel.drop_all()
+            progress.update(r + 1, Q, f"taus beyond the windows, class {r + 1}/{Q}")
+    return out
+
+
 def _combine_sumsq(taps, q: int, bufs) -> float:
     """Sum of squared second (q = 2) or third (q = 3) differences of the taps x_i,
     x_{i+m}, ... (equal-length arrays), in cache-sized blocks with reused buffers."""
@@ -143,37 +293,70 @@ class Scaled:
             self.sink.update(self.lo + (self.hi - self.lo) * f, 1.0, note)
 
 
-def _window_octave_sums(K, src, ms: np.ndarray, q: int, W: int, progress: Scaled) -> np.ndarray:
+def _window_octave_sums(K, y, mean: float, ms: np.ndarray, q: int, W: int, progress: Scaled,
+                        runs=None, gather=None) -> np.ndarray:
     """Sums at the octave ``ms`` (each ``8 q m <= W``) by the compiled lag-doubling
     kernel on windows of ``W`` summands (plus the reach ``q max(ms)``) of the rate
-    record ``src.y`` minus its mean: the first differences of the angle up to tau0, as
+    record ``y`` minus its ``mean``: the first differences of the angle up to tau0, as
     the in-memory path takes them, so every ``D(m)`` is the same sum of the same samples;
-    each window adds its own summands (``lim``). Returned in angle units."""
+    each window adds its own summands (``lim``). In units of ``y`` squared (times tau0^2:
+    angle units).
+
+    ``runs = (F, S, runsum)``: the windows are converted by ``F.convert_runs``, which also
+    sums every run of ``S`` samples into ``runsum`` (the angle's checkpoints), and every
+    sample is visited. ``gather = (uses, starts, offs, flat)`` (rows of
+    :class:`inertialab.noise._octave.Decimated`, one per m of ``ms``): each window
+    gathers the lag-m increments ``D(m)_{start + k m}`` it owns, as the in-memory kernel
+    gathers them from the whole record."""
     from inertialab.noise._octave import FAST_BLOCK
 
-    y, mean, nx = src.y, src.mean, src.n
-    lev = np.log2(ms).astype(np.int64)
-    L = int(lev.max()) + 1
+    nx = y.size + 1
+    lev = np.log2(ms).astype(np.int64) if ms.size else np.zeros(0, dtype=np.int64)
+    L = int(lev.max()) + 1 if ms.size else 0
     want = np.zeros(L, dtype=np.bool_)
     want[lev] = True
-    reach = q * int(ms.max())
-    buf = np.empty(min(W + reach, nx) - 1)
+    reach = q * int(ms.max()) if ms.size else 0
+    buf = np.empty(max(min(W + reach, nx) - 1, 1))
     tmp = np.empty(FAST_BLOCK)
     z = np.zeros(L, dtype=np.int64)
+    use, start, off = z.copy(), z.copy(), z.copy()
+    flat = np.empty(1) if gather is None else gather[3]
     none = (np.empty(1), 0, 0, np.empty(1), np.empty(1))  # no noise test in the kernel
     cnt = nx - q * (1 << np.arange(L, dtype=np.int64))  # summands per level
     tot = np.zeros(L)
     rel = _Releaser(y)
-    top = int(cnt[0])
+    yv = np.asarray(y) if runs is not None else y
+    top = nx - 1 if runs is not None else int(cnt[0])
     for b0 in range(0, top, W):
         P = min(W + reach, nx - b0)  # angle points of the window
         d = buf[:P - 1]
-        np.subtract(y[b0:b0 + P - 1], mean, out=d, dtype=np.float64)
+        if runs is None:
+            np.subtract(y[b0:b0 + P - 1], mean, out=d, dtype=np.float64)
+        else:
+            F, S, runsum = runs
+            F.convert_runs(yv[b0:b0 + P - 1], mean, d, min(W, nx - 1 - b0), S, runsum, b0 // S)
         rel(b0 + W)  # (the reach is read again by the next window)
-        lim = np.clip(cnt - b0, 0, W)
-        tot += K.octave_d(d, P, want, q, z, z, z, tmp, tmp, none, lim)
+        if L:
+            if gather is not None:
+                _window_rows(gather, lev, ms, b0, min(W, nx - 1 - b0), use, start, off)
+            lim = np.clip(cnt - b0, 0, W)
+            tot += K.octave_d(d, P, want, q, use, start, off, flat, tmp, none, lim)
         progress.update(min(b0 + W, top), top, "octave windows")
-    return tot[lev] * (src.tau0 * src.tau0)
+    return tot[lev]
+
+
+def _window_rows(gather, lev, ms, b0: int, own: int, use, start, off) -> None:
+    """Per level, the part of each gathered row (``gather``: uses, starts, offs of the
+    rows of ``ms``) whose increments ``D(m)_{s + k m}``, ``k < uses - 1``, lie in the
+    window's own summands ``b0 .. b0 + own - 1``: the kernel's ``(use, start, off)``
+    (``use`` = increments + 1, 0 for none; ``start`` relative to the window)."""
+    uses, starts, offs = gather[0], gather[1], gather[2]
+    lo = np.maximum(0, -((starts - b0) // ms))  # first k with s + k m >= b0
+    hi = np.minimum(uses - 1, -((starts - b0 - own) // ms))  # first k at or past the end
+    n = np.maximum(hi - lo, 0)
+    use[lev] = np.where(n > 0, n + 1, 0)
+    start[lev] = starts + lo * ms - b0
+    off[lev] = offs + lo
 
 
 def _residue_sweep(src, m: int, cnt: int, q: int, L: int, ring, bufs, K=None) -> float:

@@ -453,7 +453,7 @@ def deviation(statistic: str, data, *, rate_hz: float, taus="octave", input: str
     ms, defer = _grid(arr, statistic, taus, rate_hz, input, defer)
     tau0 = 1.0 / float(rate_hz)
     if chunked:
-        st = _chunked_variances(arr, statistic, ms, tau0, alpha is None, progress)
+        st = _chunked_variances(arr, statistic, ms, tau0, alpha is None, progress, total)
     else:
         if input == "rate" and _all_equal(arr):
             raise InputError("data are constant (zero deviation at every tau); "
@@ -503,13 +503,27 @@ def _grid(arr, statistic, taus, rate_hz, input, defer):
     return ms, True
 
 
-def _chunked_variances(arr, statistic, ms, tau0, identify, progress=None) -> _Sums:
-    """Out-of-core path: the angle computed once and spilled to a temporary file
-    (:mod:`inertialab.noise._stream`), the noise type from the points gathered by that
-    pass."""
+def _chunked_variances(arr, statistic, ms, tau0, identify, progress=None, total=None) -> _Sums:
+    """Out-of-core path (:mod:`inertialab.noise._stream`): compiled octave OADEV/OHDEV/
+    TOTDEV from windows of the record and the angle's checkpoints (never stored), the
+    noise type from the lag-m increments those passes gather; otherwise the angle
+    computed once and spilled to a temporary file, the noise type from the points
+    gathered by that pass. ``total``: the record's sum from the finiteness check."""
     from inertialab.noise import _stream
     from inertialab.noise import identify as _ident
 
+    if _stream.octave_fast(statistic, ms, arr.dtype):
+        if _all_equal(arr):
+            raise InputError("data are constant (zero deviation at every tau); "
+                             "nothing to analyse")
+        mean = total[0] / arr.size if total else _phase._chunked_mean(arr)
+        if not math.isfinite(mean):
+            raise InputError("data too large to sum in float64")
+        src, sums, nt, dec = _stream.octave_out_of_core(
+            arr, tau0, mean, statistic, ms, _ident.MAX_POINTS if identify else 0, progress)
+        ident = _ident.identify_alpha(src, ms, statistic=statistic, data="freq", n_terms=nt,
+                                      decimated=dec) if identify else None
+        return _Sums(_normalise(statistic, sums, ms, nt, tau0), nt, src, ident=ident)
     gather = _octave.gather_indices(arr.size + 1, ms, _ident.MAX_POINTS) if identify else None
     src = _phase._PhaseFromRate(arr, tau0, spill=True, gather=gather,
                                 progress=_stream.Scaled(progress, 0.0, 0.3))
