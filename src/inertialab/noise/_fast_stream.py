@@ -68,28 +68,52 @@ def checkpoints(runsum, ck):
 @_exact
 def angle_block(y, ck, mean, S, p0, n, out):
     """``out[j] = x_{p0 + j}`` for ``j < n``: the angle from the checkpoint of each run
-    (``ck[r] = x_{r S}``) plus the run's own running sum of ``y - mean`` (the same
-    order for every window, so a point has one value whichever window asks)."""
-    r = p0 // S
-    base = r * S
-    s = 0.0
-    for i in range(base, p0):  # into the run where the window starts
-        s += np.float64(y[i]) - mean
-    c = ck[r]
-    j = 0
-    i = p0
+    (``ck[r] = x_{r S}``) plus the run's own running sum of ``y - mean``, always from the
+    run's start in the same order, so a point has one value whichever window asks. Runs
+    wholly inside the window are taken four at a time, interleaved (four independent
+    running sums: the latency of one addition is spread over four points)."""
     ny = y.size
+    j = 0
+    p = p0
     while j < n:
-        if i - base == S:  # the next run starts at its own checkpoint
-            base = i
-            r += 1
-            c = ck[r]
-            s = 0.0
-        out[j] = c + s
-        if i < ny:
+        r = p // S
+        base = r * S
+        if p == base and j + 4 * S <= n:  # four whole runs
+            _four_runs(y, ck, mean, S, r, r + 1, r + 2, r + 3, out[j:], out[j + S:],
+                       out[j + 2 * S:], out[j + 3 * S:])
+            j += 4 * S
+            p += 4 * S
+            continue
+        s = 0.0
+        for i in range(base, p):  # into the run where the window starts
             s += np.float64(y[i]) - mean
-        i += 1
-        j += 1
+        c = ck[r]
+        e = min(n, j + base + S - p)  # to the end of this run or of the window
+        while j < e:
+            out[j] = c + s
+            if p < ny:
+                s += np.float64(y[p]) - mean
+            p += 1
+            j += 1
+
+
+@_exact
+def _four_runs(y, ck, mean, S, r0, r1, r2, r3, o0, o1, o2, o3):
+    """The whole runs ``r0 .. r3`` (each in the record) into ``o0[:S] .. o3[:S]``, the
+    additions of :func:`angle_block` in the same order per run, the four interleaved."""
+    a0, a1, a2, a3 = r0 * S, r1 * S, r2 * S, r3 * S
+    c0, c1, c2, c3 = ck[r0], ck[r1], ck[r2], ck[r3]
+    s0 = s1 = s2 = s3 = 0.0
+    for i in range(S):
+        o0[i] = c0 + s0
+        o1[i] = c1 + s1
+        o2[i] = c2 + s2
+        o3[i] = c3 + s3
+        if i + 1 < S:  # (a run's last increment belongs to the next checkpoint)
+            s0 += np.float64(y[a0 + i]) - mean
+            s1 += np.float64(y[a1 + i]) - mean
+            s2 += np.float64(y[a2 + i]) - mean
+            s3 += np.float64(y[a3 + i]) - mean
 
 
 @_jit
@@ -117,34 +141,48 @@ def _taps(t0, t1, t2, t3, q, n):
 def sweep_class(y, ck, mean, S, nx, r, Q, q, steps, cnts, ring, sums):
     """One residue class of the sweep over the taus beyond the windows.
 
-    Blocks of ``L = ring.shape[1]`` angle points (``L`` a multiple of ``S``) of class
-    ``r`` modulo ``Q`` (blocks ``r, r + Q, r + 2Q, ...``) are computed once each, in
-    order (:func:`angle_block`), into a ring of the last ``ring.shape[0]`` blocks. Tau
-    ``j`` has ``m_j = steps[j] Q L``: its summands in the block ``k`` sweep steps back
-    read the blocks ``k``, ``k + steps[j]``, ... ``k + q steps[j]``, all in the ring
-    when block ``k + q steps[j]`` arrives. Adds into ``sums[j]`` the squared
-    differences of the summands ``i < cnts[j]`` of this class (in angle-point units)."""
+    Blocks of ``S`` angle points (one run each) of class ``r`` modulo ``Q`` (blocks ``r,
+    r + Q, r + 2Q, ...``) are computed once each, in order (:func:`angle_block`, four
+    blocks at a time where whole), into a ring of the last ``ring.shape[0]`` blocks
+    (at least ``q max(steps) + 4``). Tau ``j`` has ``m_j = steps[j] Q S``: its summands
+    in the block ``k`` sweep steps back read the blocks ``k``, ``k + steps[j]``, ... ``k
+    + q steps[j]``, all in the ring when block ``k + q steps[j]`` arrives. Adds into
+    ``sums[j]`` the squared differences of the summands ``i < cnts[j]`` of this class
+    (in angle-point units)."""
     R = ring.shape[0]
-    L = ring.shape[1]
     k = 0
     while True:
-        p0 = (r + k * Q) * L
+        p0 = (r + k * Q) * S
         if p0 >= nx:
             break
-        n = min(L, nx - p0)
-        angle_block(y, ck, mean, S, p0, n, ring[k % R])
-        for j in range(steps.size):
-            st = steps[j]
-            k0 = k - q * st
-            if k0 < 0:
-                continue
-            b0 = (r + k0 * Q) * L
-            c = min(L, cnts[j] - b0)
-            if c <= 0:
-                continue
-            t0 = ring[k0 % R]
-            t1 = ring[(k0 + st) % R]
-            t2 = ring[(k0 + 2 * st) % R]
-            t3 = ring[(k0 + 3 * st) % R] if q == 3 else t2
-            sums[j] += _taps(t0, t1, t2, t3, q, c)
-        k += 1
+        if p0 + 3 * Q * S + S <= nx:  # four whole blocks
+            b = r + k * Q
+            _four_runs(y, ck, mean, S, b, b + Q, b + 2 * Q, b + 3 * Q, ring[k % R],
+                       ring[(k + 1) % R], ring[(k + 2) % R], ring[(k + 3) % R])
+            got = 4
+        else:
+            angle_block(y, ck, mean, S, p0, min(S, nx - p0), ring[k % R])
+            got = 1
+        for kk in range(k, k + got):
+            _combine_new(ring, kk, r, Q, S, q, steps, cnts, sums)
+        k += got
+
+
+@_jit
+def _combine_new(ring, k, r, Q, S, q, steps, cnts, sums):
+    """The summands of every tau whose last tap is the block ``k`` of the sweep."""
+    R = ring.shape[0]
+    for j in range(steps.size):
+        st = steps[j]
+        k0 = k - q * st
+        if k0 < 0:
+            continue
+        b0 = (r + k0 * Q) * S
+        c = min(S, cnts[j] - b0)
+        if c <= 0:
+            continue
+        t0 = ring[k0 % R]
+        t1 = ring[(k0 + st) % R]
+        t2 = ring[(k0 + 2 * st) % R]
+        t3 = ring[(k0 + 3 * st) % R] if q == 3 else t2
+        sums[j] += _taps(t0, t1, t2, t3, q, c)

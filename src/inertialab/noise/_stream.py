@@ -117,6 +117,21 @@ RUN = 1 << 12
 #: pages (each class reads one block in ``Q``, scattered over the file).
 RELEASE_CLASSES = 8
 
+#: Smallest m the compiled path takes by the sweep over the angle rather than in the
+#: windows. The sweep takes the top octaves that one ring of blocks holds (a factor
+#: :func:`_ring_span` from the largest m), but none below this (where ``8 q m`` exceeds
+#: :data:`WINDOW` it takes them anyway): a tau of the sweep reads three blocks of the
+#: angle held in the cache (0.26 ns per sample measured at 1e8), a level of the
+#: windows' kernel reads and writes the window (0.58 ns, and every level of a window
+#: also updates its reach, ``q`` times the largest m in it), but the sweep recomputes
+#: the angle once (0.9 ns per sample) and the angle's differences carry its rounding
+#: (~1e-16 of the angle's size), so m stays large against the record.
+SWEEP_MIN = 1 << 16
+
+#: Most bytes of the sweep's ring of blocks (taus further apart go to separate sweeps,
+#: each recomputing the angle once): a ring held in the cache.
+RING_BYTES = 16 << 20
+
 
 def octave_fast(statistic: str, ms, dtype) -> bool:
     """True when the compiled out-of-core octave path (:func:`octave_out_of_core`) takes
@@ -208,7 +223,10 @@ def octave_out_of_core(y, tau0: float, mean: float, statistic: str, ms, max_poin
     q = 3 if statistic == "ohdev" else 2
     nt = np.array([n_terms(statistic, nx, int(m)) for m in ms], dtype=np.int64)
     cnts = nx - q * ms
-    inwin = 8 * q * ms <= WINDOW
+    # the sweep takes the top octaves one ring holds (from SWEEP_MIN up), the windows
+    # the others (up to WINDOW / (8 q))
+    m0 = max(SWEEP_MIN, int(ms.max()) // _ring_span(q, RUN)) if ms.size else SWEEP_MIN
+    inwin = (8 * q * ms <= WINDOW) & (ms < m0)
     beyond = ms[~inwin]
     S = RUN if beyond.size == 0 else min(RUN, int(beyond.min()))
     runsum = np.empty((y.size + S - 1) // S)
@@ -238,23 +256,43 @@ def octave_out_of_core(y, tau0: float, mean: float, statistic: str, ms, max_poin
     return src, sums, nt, dec
 
 
+def _ring_span(q: int, S: int) -> int:
+    """The largest power of two ``p`` whose ring of ``q p + 4`` blocks of ``S`` points fits
+    :data:`RING_BYTES`: one sweep takes the taus ``m_0 .. p m_0``."""
+    cap = max(1, (RING_BYTES // (8 * S) - 4) // q)
+    return 1 << (cap.bit_length() - 1)
+
+
 def _sweep_beyond(F, src: CheckpointedAngle, ms: np.ndarray, cnts: np.ndarray, q: int,
                   progress: Scaled) -> np.ndarray:
     """Sums (angle-point units) at the octave ``ms`` beyond the windows, by residue classes
     (:func:`inertialab.noise._fast_stream.sweep_class`): blocks of ``S`` points, ``Q =
-    m_0 / S`` classes, a ring of ``q max(m) / m_0 + 1`` blocks."""
+    m_0 / S`` classes, a ring of ``q max(m) / m_0 + 4`` blocks."""
     S = src.S
-    m0 = int(ms.min())
-    Q = m0 // S
-    steps = (ms // m0).astype(np.int64)
-    ring = np.empty((q * int(steps.max()) + 1, S))
     out = np.zeros(ms.size)
-    for r in range(Q):
-        F.sweep_class(src._y, src.ck, src.mean, S, src.n, r, Q, q, steps,
-                      cnts.astype(np.int64), ring, out)
-        if (r + 1) % RELEASE_CLASSES == 0 or r + 1 == Q:
-            src._rel.drop_all()
-            progress.update(r + 1, Q, f"taus beyond the windows, class {r + 1}/{Q}")
+    cap = _ring_span(q, S)  # largest step of one sweep
+    groups, g0 = [], 0
+    for k in range(1, ms.size + 1):
+        if k == ms.size or ms[k] > cap * ms[g0]:
+            groups.append((g0, k))
+            g0 = k
+    total = sum(int(ms[a]) // S for a, _ in groups)  # classes
+    done = 0
+    for a, b in groups:
+        m0 = int(ms[a])
+        Q = m0 // S
+        steps = (ms[a:b] // m0).astype(np.int64)
+        ring = np.empty((q * int(steps.max()) + 4, S))  # (+ 3: blocks computed four at once)
+        part = np.zeros(b - a)
+        for r in range(Q):
+            F.sweep_class(src._y, src.ck, src.mean, S, src.n, r, Q, q, steps,
+                          cnts[a:b].astype(np.int64), ring, part)
+            if (r + 1) % RELEASE_CLASSES == 0 or r + 1 == Q:
+                src._rel.drop_all()
+                progress.update(done + r + 1, total, f"taus beyond the windows, "
+                                f"class {done + r + 1}/{total}")
+        out[a:b] = part
+        done += Q
     return out
 
 
