@@ -84,17 +84,16 @@ def angle_block(y, ck, mean, S, p0, n, out):
             j += 4 * S
             p += 4 * S
             continue
-        s = 0.0
-        for i in range(base, p):  # into the run where the window starts
-            s += np.float64(y[i]) - mean
         c = ck[r]
-        e = min(n, j + base + S - p)  # to the end of this run or of the window
-        while j < e:
-            out[j] = c + s
-            if p < ny:
-                s += np.float64(y[p]) - mean
-            p += 1
-            j += 1
+        s = 0.0
+        e = min(base + S, p + n - j)  # to the end of this run or of the window
+        for i in range(base, e):  # from the run's start (stored from p on)
+            if i >= p:
+                out[j + i - p] = c + s
+            if i < ny:
+                s += np.float64(y[i]) - mean
+        j += e - p
+        p = e
 
 
 @_exact
