@@ -119,6 +119,54 @@ def test_no_temporary_file_on_the_compiled_path(record, monkeypatch):
     assert np.all(np.isfinite(r.dev))
 
 
+def _checkpoints(y, mean, S):
+    """The windows' kernel with no level: ``(y - mean, checkpoints every S points)``."""
+    from inertialab.noise import _fast_stream as F
+
+    z = np.zeros(0, dtype=np.int64)
+    d, runsum = np.empty(y.size), np.empty((y.size + S - 1) // S)
+    F.window_octave(y, mean, d, y.size + 1, np.zeros(0, dtype=np.bool_), 2, z, y.size, S,
+                    runsum, 0, z, z, z, np.empty(1), np.empty((2, F.TILE + 1024)),
+                    np.empty(4096))
+    ck = np.empty(runsum.size + 1)
+    F.checkpoints(runsum, ck)
+    return d, ck
+
+
+@needs_fast
+@pytest.mark.parametrize("q", [2, 3])
+@pytest.mark.parametrize("levels", [3, 8, 13])
+def test_window_kernel_equals_octave_kernel(q, levels):
+    # the fused windows' kernel (conversion, the low levels over tiles, the others in
+    # place) against the in-memory lag-doubling kernel: the same sums to rounding, the
+    # same gathered increments bit for bit, at most lim[l] summands per level
+    from inertialab.noise import _fast_stream as F
+
+    K = fast_kernels()
+    n = 100_003
+    y = (np.random.default_rng(q + levels).standard_normal(n) + 7).astype(np.float32)
+    mean = float(np.mean(y, dtype=np.float64))
+    want = np.ones(levels, dtype=np.bool_)
+    want[1] = False
+    lim = np.full(levels, n, dtype=np.int64)
+    lim[0] = 5_000  # (a window's own summands)
+    m = 1 << np.arange(levels, dtype=np.int64)
+    use = np.minimum((n - 1000) // m - 2, 3000)  # rows across tiles (m >= 8)
+    start = (7 * m) % 1000
+    off = np.concatenate([[0], np.cumsum(use)[:-1]])
+    dec_a, dec_b = np.zeros(int(use.sum()) + 1), np.zeros(int(use.sum()) + 1)
+    d = np.subtract(y, mean, dtype=np.float64)
+    none = (np.empty(1), 0, 0, np.empty(1), np.empty(1))
+    ref = K.octave_d(d, n + 1, want, q, use, start, off, dec_a, np.empty(4096), none, lim)
+    S = 4096
+    got = F.window_octave(y, mean, np.empty(n), n + 1, want, q, lim, n, S,
+                          np.empty((n + S - 1) // S), 0, use, start, off, dec_b,
+                          np.empty((2, F.TILE + 1024)), np.empty(4096))
+    np.testing.assert_allclose(got, ref, rtol=1e-12, atol=0)
+    assert got[1] == 0.0 and np.all(got[want] > 0)
+    np.testing.assert_array_equal(dec_b, dec_a)
+
+
 @needs_fast
 @pytest.mark.parametrize("run", [4096, 512])
 def test_angle_blocks_are_the_angle(run):
@@ -134,12 +182,8 @@ def test_angle_blocks_are_the_angle(run):
     mean = float(np.mean(y, dtype=np.float64))
     d = np.subtract(y, mean, dtype=np.float64)
     ref = np.concatenate([[0], np.cumsum(d.astype(np.longdouble))]).astype(float)
-    runsum = np.empty((y.size + run - 1) // run)
-    dd = np.empty(y.size)
-    F.convert_runs(y, mean, dd, y.size, run, runsum, 0)
+    dd, ck = _checkpoints(y, mean, run)
     np.testing.assert_array_equal(dd, d)  # the in-memory working array, bit for bit
-    ck = np.empty(runsum.size + 1)
-    F.checkpoints(runsum, ck)
     whole = np.empty(y.size + 1)
     F.angle_block(y, ck, mean, run, 0, y.size + 1, whole)
     in_memory = float(np.abs(_rate_to_phase(y, 1.0, mean) - ref).max())
@@ -159,10 +203,7 @@ def test_sweep_equals_direct_sums(q):
 
     S, n = 256, 60_000
     y = np.random.default_rng(q).standard_normal(n)
-    runsum = np.empty((n + S - 1) // S)
-    F.convert_runs(y, 0.0, np.empty(n), n, S, runsum, 0)
-    ck = np.empty(runsum.size + 1)
-    F.checkpoints(runsum, ck)
+    _, ck = _checkpoints(y, 0.0, S)
     x = np.empty(n + 1)
     F.angle_block(y, ck, 0.0, S, 0, n + 1, x)
     ms = np.array([1024, 2048, 8192], dtype=np.int64)

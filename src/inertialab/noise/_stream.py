@@ -365,20 +365,24 @@ def _window_octave_sums(K, y, mean: float, ms: np.ndarray, q: int, W: int, progr
     rel = _Releaser(y)
     yv = np.asarray(y) if runs is not None else y
     top = nx - 1 if runs is not None else int(cnt[0])
+    if runs is not None:
+        F, S, runsum = runs
+        tiles = np.empty((2, F.TILE + (q + 1) * (1 << (F.FUSED - 1))))
     for b0 in range(0, top, W):
         P = min(W + reach, nx - b0)  # angle points of the window
         d = buf[:P - 1]
+        own = min(W, nx - 1 - b0)
+        if gather is not None and L:
+            _window_rows(gather, lev, ms, b0, own, use, start, off)
+        lim = np.clip(cnt - b0, 0, W)
         if runs is None:
             np.subtract(y[b0:b0 + P - 1], mean, out=d, dtype=np.float64)
-        else:
-            F, S, runsum = runs
-            F.convert_runs(yv[b0:b0 + P - 1], mean, d, min(W, nx - 1 - b0), S, runsum, b0 // S)
+            if L:
+                tot += K.octave_d(d, P, want, q, use, start, off, flat, tmp, none, lim)
+        else:  # converted, run-summed and the low levels in one pass over tiles
+            tot += F.window_octave(yv[b0:b0 + P - 1], mean, d, P, want, q, lim, own, S,
+                                   runsum, b0 // S, use, start, off, flat, tiles, tmp)
         rel(b0 + W)  # (the reach is read again by the next window)
-        if L:
-            if gather is not None:
-                _window_rows(gather, lev, ms, b0, min(W, nx - 1 - b0), use, start, off)
-            lim = np.clip(cnt - b0, 0, W)
-            tot += K.octave_d(d, P, want, q, use, start, off, flat, tmp, none, lim)
         progress.update(min(b0 + W, top), top, "octave windows")
     return tot[lev]
 
