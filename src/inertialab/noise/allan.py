@@ -22,8 +22,10 @@ array of first differences in place (:mod:`inertialab.noise._octave`; the only e
 memory is that copy), other taus on per-m kernels with reused buffers, and the noise
 identification, EDF and intervals are evaluated for all taus at once.
 A record too large for memory is read in chunks (:func:`oadev_chunked` and
-``chunked=True``): its angle is computed once and spilled to a temporary file
-(:mod:`inertialab.noise._stream`); the results equal the in-memory ones to ~1e-15.
+``chunked=True``, :mod:`inertialab.noise._stream`): octave OADEV/OHDEV/TOTDEV on the
+compiled kernels from windows of the record and the angle's checkpoints (no angle
+stored), otherwise from its angle spilled to a temporary file; the results equal the
+in-memory ones to ~1e-13.
 
 References
 ----------
@@ -673,8 +675,10 @@ def oadev_chunked(data, *, rate_hz: float, taus="octave", confidence: float = 0.
                   alpha=None, edf_method: str = "default", progress=None) -> DeviationResult:
     """:func:`oadev` of a rate record read in chunks (e.g. a ``numpy.load(...,
     mmap_mode="r")`` array larger than memory). Memory: one window of
-    :data:`inertialab.noise._stream.WINDOW` samples (float64) plus a few chunks and
-    O(n/CHUNK); the angle is spilled to a temporary file (8 bytes per sample)."""
+    :data:`inertialab.noise._stream.WINDOW` samples (float64), the sweep's ring of at
+    most :data:`inertialab.noise._stream.RING_BYTES` and the angle's checkpoints (8
+    bytes per 4096 samples); without the compiled kernels or at taus that are not
+    octaves the angle is spilled to a temporary file (8 bytes per sample)."""
     return deviation("oadev", data, rate_hz=rate_hz, taus=taus, input="rate",
                      confidence=confidence, alpha=alpha, edf_method=edf_method, chunked=True,
                      progress=progress)
