@@ -1,20 +1,26 @@
 """Out-of-core sums of the overlapping Allan and Hadamard variances (and the total variance)
-of a rate record read in chunks ("the out-of-core path at most 2x the
-in-memory CPU, with identical numbers to 1e-12").
+of a rate record read in chunks, equal to the in-memory path's to ~1e-13.
 
-The angle is never held whole: :class:`inertialab.noise._phase._PhaseFromRate` (spilled to
-a temporary file) returns any window. Two sweeps keep the number of windows read small:
+Two paths:
 
-* **small m** (the taps of a block of ``L`` summands fit one window of ``L + q m`` points,
-  q = 2 Allan, 3 Hadamard): one sweep over the record computes each window once and
-  evaluates every such m on it (the lag-m increments ``D`` shared by the taps, as the
-  in-memory kernel);
-* **large m, a multiple of L** (octave taus beyond the window): the blocks of one residue
-  class modulo ``m/L`` are visited in order, so the window of block k serves as tap 0 of
-  block k, tap 1 of block k-1, ... and each window is computed once per tau;
-* any other m: the taps' windows are computed per block.
+* **compiled, octave m** (:func:`octave_out_of_core`, kernels in
+  :mod:`inertialab.noise._fast_stream`): no angle is stored. Windows of :data:`WINDOW`
+  summands go through one kernel that converts them, sums runs of :data:`RUN` samples
+  (the angle's checkpoints) and takes the lag-doubling levels; the top octaves (from
+  :data:`SWEEP_MIN` up) come from one sweep over the record by residue classes, each
+  block of the angle recomputed once from its checkpoint into a cache-held ring.
+* **otherwise** (:func:`stream_sums`): the angle, spilled to a temporary file by
+  :class:`inertialab.noise._phase._PhaseFromRate`, returns any window. Two sweeps keep
+  the number of windows read small: **small m** (the taps of a block of ``L`` summands
+  fit one window of ``L + q m`` points, q = 2 Allan, 3 Hadamard): one sweep computes each
+  window once and evaluates every such m on it; **large m, a multiple of L**: the blocks
+  of one residue class modulo ``m/L`` are visited in order, so the window of block k
+  serves as tap 0 of block k, tap 1 of block k-1, ... and each window is computed once
+  per tau; any other m: the taps' windows are computed per block. Memory: a few windows
+  of ``L`` = :data:`inertialab.noise._phase.CHUNK` points.
 
-Memory: a few windows of ``L`` = :data:`inertialab.noise._phase.CHUNK` points.
+Definitions: NIST SP 1065 (Riley 2008) §5.2.4 (overlapping Allan), §5.2.8 (overlapping
+Hadamard), §5.2.11 (total variance).
 """
 
 from __future__ import annotations
