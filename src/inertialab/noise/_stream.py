@@ -123,6 +123,10 @@ RUN = 1 << 12
 #: pages (each class reads one block in ``Q``, scattered over the file).
 RELEASE_CLASSES = 8
 
+#: Points of the angle read by windows between two releases of the record's mapped pages
+#: (64 MiB of float32).
+RELEASE_POINTS = 1 << 24
+
 #: Smallest m the compiled path takes by the sweep over the angle rather than in the
 #: windows. The sweep takes the top octaves that one ring of blocks holds (a factor
 #: :func:`_ring_span` from the largest m), but none below this (where ``8 q m`` exceeds
@@ -162,7 +166,9 @@ class CheckpointedAngle:
     the angle at every ``S``-th point (``ck``, in units of ``y`` times samples): any
     window is recomputed from the run it starts in (compiled, one run at a time, the
     order of :func:`inertialab.noise._fast_stream.angle_block`). Memory: ``ck``; the
-    record's mapped pages are released after every window longer than a ``CHUNK``."""
+    record's mapped pages are released whenever the windows read since the last release
+    reach :data:`RELEASE_POINTS` (TOTDEV's reflected summands read up to 6 m points near
+    the record's ends)."""
 
     block = CHUNK
     constant = False
@@ -172,6 +178,7 @@ class CheckpointedAngle:
         self.tau0, self.mean, self.ck, self.S = tau0, mean, ck, S
         self.n = y.size + 1
         self._rel = _Releaser(y)
+        self._read = 0  # points read since the last release
 
     def window(self, start: int, length: int, step: int = 1, out=None) -> np.ndarray:
         """Angle points ``x[start + step*i]``, ``i < length`` (angle units)."""
@@ -185,8 +192,10 @@ class CheckpointedAngle:
         out = np.empty(length) if out is None else out[:length]
         _stream_kernels().angle_block(self._y, self.ck, self.mean, self.S, start, length, out)
         out *= self.tau0
-        if length > CHUNK:
+        self._read += length
+        if self._read >= RELEASE_POINTS:
             self._rel.drop_all()
+            self._read = 0
         return out
 
     def close(self) -> None:
