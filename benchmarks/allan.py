@@ -653,7 +653,10 @@ _HUGE_CHILD = textwrap.dedent("""
     oadev_chunked(np.random.default_rng(0).standard_normal(100000), rate_hz=100.0)
     before = status()
     y = np.load(path, mmap_mode="r")
-    if mode == "cli":  # the command's fixed costs (imports, compiled kernels) taken first
+    if mode == "cli_in_memory":  # the command on its in-memory path (one float64 copy)
+        import inertialab.workflows.allan as wa
+        wa.CHUNKED_MIN = 1 << 62
+    if mode.startswith("cli"):  # the command's fixed costs (imports, kernels) taken first
         import os, tempfile
         from inertialab.cli.main import main
         with tempfile.TemporaryDirectory() as d:
@@ -665,7 +668,7 @@ _HUGE_CHILD = textwrap.dedent("""
                 except SystemExit:
                     pass
     c0, w0 = time.process_time(), time.perf_counter()
-    if mode == "cli":  # the allan command, in this process (JSON on stdout, captured)
+    if mode.startswith("cli"):  # the allan command, in this process (JSON on stdout)
         buf = io.StringIO()
         with contextlib.redirect_stdout(buf):
             try:
@@ -728,15 +731,16 @@ def huge(n: int = 10**9, n_ref: int = 10**8, directory: str = "/tmp", ref_runs: 
     peak RSS (the child's VmHWM) and the load before it. Beside it, the in-memory and
     the out-of-core OADEV of a ``n_ref``-sample file, ``ref_runs`` of each alternated, for
     the CPU per sample: the ratios against the in-memory run of least CPU (the shared
-    machine's load moves a memory-bound pass by up to 2x) and of median CPU. The files are
-    deleted after."""
+    machine's load moves a memory-bound pass by up to 2x) and of median CPU; and the
+    command itself on the ``n_ref`` file held in memory (its in-memory path), for the
+    command's CPU per sample in and out of core. The files are deleted after."""
     d = tempfile.mkdtemp(dir=directory)
     p, pr = Path(d) / "huge.npy", Path(d) / "ref.npy"
     load0 = os.getloadavg()
     try:
         _write_npy(pr, n_ref)
         ref = _least_of([_huge_child(pr, m) for _ in range(ref_runs)
-                         for m in ("in_memory", "chunked")])  # alternated
+                         for m in ("in_memory", "chunked", "cli_in_memory")])  # alternated
         pr.unlink()
         t0 = time.perf_counter()
         _write_npy(p, n)
@@ -749,15 +753,18 @@ def huge(n: int = 10**9, n_ref: int = 10**8, directory: str = "/tmp", ref_runs: 
             f.unlink(missing_ok=True)
         os.rmdir(d)
     cases = [("ref_in_memory", ref["in_memory"], n_ref), ("ref_chunked", ref["chunked"], n_ref),
-             ("cli", big["cli"], n), ("chunked", big["chunked"], n)]
+             ("ref_cli_in_memory", ref["cli_in_memory"], n_ref), ("cli", big["cli"], n),
+             ("chunked", big["chunked"], n)]
     per = {k: v["cpu_s"] / size for k, v, size in cases if "cpu_s" in v}
     per_med = {k: v["cpu_median_s"] / size for k, v, size in cases if "cpu_s" in v}
     base = per.get("ref_in_memory", float("nan"))
     base_med = per_med.get("ref_in_memory", float("nan"))
+    cli_med = per_med.get("ref_cli_in_memory", float("nan"))
     return {"n": n, "n_ref": n_ref, "file_gb": n * 4 / 1e9, "write_s": gen,
             "ref": ref, "runs": big, "cpu_ns_per_sample": {k: v * 1e9 for k, v in per.items()},
             "ratio_to_in_memory_1e8": {k: v / base for k, v in per.items()},
             "median_ratio_to_in_memory_1e8": {k: v / base_med for k, v in per_med.items()},
+            "cli_median_ratio_to_cli_in_memory_1e8": per_med.get("cli", math.nan) / cli_med,
             "load_before": load0, "load_after": os.getloadavg()}
 
 
