@@ -25,6 +25,7 @@ Hadamard), §5.2.11 (total variance).
 
 from __future__ import annotations
 
+import math
 from collections import deque
 
 import numpy as np
@@ -244,6 +245,7 @@ def octave_out_of_core(y, tau0: float, mean: float, statistic: str, ms, max_poin
     inwin = (8 * q * ms <= WINDOW) & (ms < m0)
     beyond = ms[~inwin]
     S = RUN if beyond.size == 0 else min(RUN, int(beyond.min()))
+    S = math.gcd(S, WINDOW, F.TILE)  # (runs never straddle a window or a tile)
     runsum = np.empty((y.size + S - 1) // S)
     gather = dec = None
     if max_points:
