@@ -4,9 +4,10 @@ Used by :mod:`inertialab.noise._stream` when :func:`inertialab.noise._octave.fas
 is on; the out-of-core numpy path (:class:`inertialab.noise._phase._PhaseFromRate`, the
 angle spilled to a temporary file) stays the fallback. The angle of a rate record ``y``
 is never stored: the pass that converts ``y`` to the working array of the lag-doubling
-kernel (:func:`window_octave`) also sums it in runs of ``S`` samples, the running (compensated) sum of those run
-sums is the angle at every ``S``-th point, and any stretch of the angle is recomputed
-from the checkpoint at or below it, one run at a time (:func:`angle_block`).
+kernel (:func:`window_octave`) also sums it in runs of ``S`` samples, the running
+(compensated) sum of those run sums is the angle at every ``S``-th point, and any
+stretch of the angle is recomputed from the checkpoint at or below it, one run at a
+time (:func:`angle_block`).
 
 Units: the kernels work on the increments ``d_i = y_i - mean`` (rate units); the angle
 ``x_{k+1} = x_k + d_k`` is in rate units times samples (the caller multiplies by
@@ -306,7 +307,7 @@ def window_octave(y, mean, d, nx, want, q, lim, own, S, runsum, r0, use, start, 
       levels in the cache (two tiles in ``tiles``, ping-pong) and leaves ``D(2^FUSED)`` in
       ``d``; the conversion also sums runs of ``S`` samples of the first ``own`` entries
       into ``runsum[r0 + k]`` (the angle's checkpoints);
-    * the levels above on ``d`` in place, in blocks of at most m (and ``tmp.size``).
+    * the levels above on ``d`` in place, in blocks of at most m and ``tmp.size``.
 
     ``want``, ``lim`` (at most ``lim[l]`` summands at level l) and the gather rows
     ``(use, start, off, dec)`` as :func:`inertialab.noise._fast.octave_d`."""
