@@ -86,6 +86,14 @@ class PageReleaser:
         except (AttributeError, TypeError, ValueError, OSError, ImportError):
             self.mm = None
 
+    def drop_all(self) -> None:
+        """Release every page of ``y`` mapped so far (for passes that read the record out
+        of order; the next call of the releaser starts again from the beginning)."""
+        if self.mm is None:
+            return
+        self.done = 0
+        self(len(self.mm) // self.item)  # (clipped to the mapping)
+
     def __call__(self, upto: int) -> None:
         """Release the pages holding ``y[:upto]`` (whole pages only)."""
         if self.mm is None:

@@ -22,8 +22,10 @@ array of first differences in place (:mod:`inertialab.noise._octave`; the only e
 memory is that copy), other taus on per-m kernels with reused buffers, and the noise
 identification, EDF and intervals are evaluated for all taus at once.
 A record too large for memory is read in chunks (:func:`oadev_chunked` and
-``chunked=True``): its angle is computed once and spilled to a temporary file
-(:mod:`inertialab.noise._stream`); the results equal the in-memory ones to ~1e-15.
+``chunked=True``, :mod:`inertialab.noise._stream`): octave OADEV/OHDEV/TOTDEV on the
+compiled kernels from windows of the record and the angle's checkpoints (no angle
+stored), otherwise from its angle spilled to a temporary file; the results equal the
+in-memory ones to ~1e-13.
 
 References
 ----------
@@ -455,7 +457,7 @@ def deviation(statistic: str, data, *, rate_hz: float, taus="octave", input: str
     ms, defer = _grid(arr, statistic, taus, rate_hz, input, defer)
     tau0 = 1.0 / float(rate_hz)
     if chunked:
-        st = _chunked_variances(arr, statistic, ms, tau0, alpha is None, progress)
+        st = _chunked_variances(arr, statistic, ms, tau0, alpha is None, progress, total)
     else:
         if input == "rate" and _all_equal(arr):
             raise InputError("data are constant (zero deviation at every tau); "
@@ -505,13 +507,27 @@ def _grid(arr, statistic, taus, rate_hz, input, defer):
     return ms, True
 
 
-def _chunked_variances(arr, statistic, ms, tau0, identify, progress=None) -> _Sums:
-    """Out-of-core path: the angle computed once and spilled to a temporary file
-    (:mod:`inertialab.noise._stream`), the noise type from the points gathered by that
-    pass."""
+def _chunked_variances(arr, statistic, ms, tau0, identify, progress=None, total=None) -> _Sums:
+    """Out-of-core path (:mod:`inertialab.noise._stream`): compiled octave OADEV/OHDEV/
+    TOTDEV from windows of the record and the angle's checkpoints (never stored), the
+    noise type from the lag-m increments those passes gather; otherwise the angle
+    computed once and spilled to a temporary file, the noise type from the points
+    gathered by that pass. ``total``: the record's sum from the finiteness check."""
     from inertialab.noise import _stream
     from inertialab.noise import identify as _ident
 
+    if _stream.octave_fast(statistic, ms, arr.dtype):
+        if _all_equal(arr):
+            raise InputError("data are constant (zero deviation at every tau); "
+                             "nothing to analyse")
+        mean = total[0] / arr.size if total else _phase._chunked_mean(arr)
+        if not math.isfinite(mean):
+            raise InputError("data too large to sum in float64")
+        src, sums, nt, dec = _stream.octave_out_of_core(
+            arr, tau0, mean, statistic, ms, _ident.MAX_POINTS if identify else 0, progress)
+        ident = _ident.identify_alpha(src, ms, statistic=statistic, data="freq", n_terms=nt,
+                                      decimated=dec) if identify else None
+        return _Sums(_normalise(statistic, sums, ms, nt, tau0), nt, src, ident=ident)
     gather = _octave.gather_indices(arr.size + 1, ms, _ident.MAX_POINTS) if identify else None
     src = _phase._PhaseFromRate(arr, tau0, spill=True, gather=gather,
                                 progress=_stream.Scaled(progress, 0.0, 0.3))
@@ -662,8 +678,10 @@ def oadev_chunked(data, *, rate_hz: float, taus="octave", confidence: float = 0.
                   alpha=None, edf_method: str = "default", progress=None) -> DeviationResult:
     """:func:`oadev` of a rate record read in chunks (e.g. a ``numpy.load(...,
     mmap_mode="r")`` array larger than memory). Memory: one window of
-    :data:`inertialab.noise._stream.WINDOW` samples (float64) plus a few chunks and
-    O(n/CHUNK); the angle is spilled to a temporary file (8 bytes per sample)."""
+    :data:`inertialab.noise._stream.WINDOW` samples (float64), the sweep's ring of at
+    most :data:`inertialab.noise._stream.RING_BYTES` and the angle's checkpoints (8
+    bytes per 4096 samples); without the compiled kernels or at taus that are not
+    octaves the angle is spilled to a temporary file (8 bytes per sample)."""
     return deviation("oadev", data, rate_hz=rate_hz, taus=taus, input="rate",
                      confidence=confidence, alpha=alpha, edf_method=edf_method, chunked=True,
                      progress=progress)

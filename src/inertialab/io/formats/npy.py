@@ -88,7 +88,7 @@ def read_npy_column(p: Path, kind: str, meta: dict, arr, *, unit, rate_hz, colum
                 fh.close()
             rows = (np.flatnonzero(bad)[:_MAX_ROWS_LISTED] + start + 1).tolist()
             raise InputError("NaN or infinite value", path=p, column=name, row=rows)
-        h.update(block.tobytes())
+        h.update(block)  # (its buffer: the bytes tobytes() would copy)
     if fh is not None:
         fh.close()
     meta = dict(meta)
