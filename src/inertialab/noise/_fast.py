@@ -274,9 +274,10 @@ def octave_e(e, want, hdev, dec_use, dec_start, dec_off, dec, acf):
 
 
 @_jit
-def _quads_run(v, K, order, w):
-    """The main loop of :func:`_quads` over ``k < K``: ``(s0, s1)`` (callers pass views
-    for a later start: a loop over ``range(k0, k1)`` compiles 2.5x slower here)."""
+def _quads_run(v, K, order, w, row, keep):
+    """The main loop of :func:`_quads` over ``k < K``: ``(s0, s1)``; with ``keep`` also
+    ``v_{2j}`` (``a0``, ``a2``: j = 2k, 2k + 1) to ``row[j]`` (callers pass views for a
+    later start: a loop over ``range(k0, k1)`` compiles 2.5x slower here)."""
     s0 = 0.0
     s1 = 0.0
     if order == 2:
@@ -298,6 +299,9 @@ def _quads_run(v, K, order, w):
             u1 = (a6 - a4) - (a4 - a2)
             s1 += u0 * u0 + u1 * u1
             w[k] = a0
+            if keep:
+                row[2 * k] = a0
+                row[2 * k + 1] = a2
     else:
         for k in range(K):
             i = 4 * k
@@ -318,58 +322,9 @@ def _quads_run(v, K, order, w):
             u1 = ((a8 - a6) - (a6 - a4)) - ((a6 - a4) - (a4 - a2))
             s1 += u0 * u0 + u1 * u1
             w[k] = a0
-    return s0, s1
-
-
-@_jit
-def _quads_keep(v, K, order, w, row):
-    """:func:`_quads_run` that also copies ``v_{2j}`` (``a0``, ``a2``: j = 2k, 2k + 1)
-    to ``row[j]``."""
-    s0 = 0.0
-    s1 = 0.0
-    if order == 2:
-        for k in range(K):
-            i = 4 * k
-            a0 = v[i]
-            a1 = v[i + 1]
-            a2 = v[i + 2]
-            a3 = v[i + 3]
-            a4 = v[i + 4]
-            a5 = v[i + 5]
-            a6 = v[i + 6]
-            t0 = (a2 - a1) - (a1 - a0)
-            t1 = (a3 - a2) - (a2 - a1)
-            t2 = (a4 - a3) - (a3 - a2)
-            t3 = (a5 - a4) - (a4 - a3)
-            s0 += (t0 * t0 + t1 * t1) + (t2 * t2 + t3 * t3)
-            u0 = (a4 - a2) - (a2 - a0)
-            u1 = (a6 - a4) - (a4 - a2)
-            s1 += u0 * u0 + u1 * u1
-            w[k] = a0
-            row[2 * k] = a0
-            row[2 * k + 1] = a2
-    else:
-        for k in range(K):
-            i = 4 * k
-            a0 = v[i]
-            a1 = v[i + 1]
-            a2 = v[i + 2]
-            a3 = v[i + 3]
-            a4 = v[i + 4]
-            a5 = v[i + 5]
-            a6 = v[i + 6]
-            a8 = v[i + 8]
-            t0 = ((a3 - a2) - (a2 - a1)) - ((a2 - a1) - (a1 - a0))
-            t1 = ((a4 - a3) - (a3 - a2)) - ((a3 - a2) - (a2 - a1))
-            t2 = ((a5 - a4) - (a4 - a3)) - ((a4 - a3) - (a3 - a2))
-            t3 = ((a6 - a5) - (a5 - a4)) - ((a5 - a4) - (a4 - a3))
-            s0 += (t0 * t0 + t1 * t1) + (t2 * t2 + t3 * t3)
-            u0 = ((a6 - a4) - (a4 - a2)) - ((a4 - a2) - (a2 - a0))
-            u1 = ((a8 - a6) - (a6 - a4)) - ((a6 - a4) - (a4 - a2))
-            s1 += u0 * u0 + u1 * u1
-            w[k] = a0
-            row[2 * k] = a0
-            row[2 * k + 1] = a2
+            if keep:
+                row[2 * k] = a0
+                row[2 * k + 1] = a2
     return s0, s1
 
 
@@ -388,11 +343,11 @@ def _quads(v, n, order, w, row, j0):
     u = row.size - 2
     klo = min(j0 // 2, K)
     khi = min((j0 + u + 1) // 2, K) if u > 0 else klo
-    s0, s1 = _quads_run(v, klo, order, w)
-    a, b = _quads_keep(v[4 * klo:], khi - klo, order, w[klo:], row[2 * klo - j0 + 1:])
+    s0, s1 = _quads_run(v, klo, order, w, row, False)
+    a, b = _quads_run(v[4 * klo:], khi - klo, order, w[klo:], row[2 * klo - j0 + 1:], True)
     s0 += a
     s1 += b
-    a, b = _quads_run(v[4 * khi:], K - khi, order, w[khi:])
+    a, b = _quads_run(v[4 * khi:], K - khi, order, w[khi:], row, False)
     s0 += a
     s1 += b
     for j in range(max(j0, 2 * khi), j0 + u):  # the row's points past the main loop
