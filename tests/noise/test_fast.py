@@ -160,32 +160,21 @@ def test_fast_equals_numpy_tiny_records(monkeypatch, kind):
 
 
 @pytest.mark.parametrize("order", [2, 3])
-def test_fused_level_pass_copies_the_level1_row(order):
-    # the fused level-0/1 pass copies the level-1 lag-1 row x_{2j}, j0 <= j < j0 + u,
-    # (odd and even starts, rows reaching past the pass's main loop); its compaction is
-    # unchanged and its sums change only in the order of summation
+def test_level_pass_sums_and_compacts(order):
+    # one level of the ADEV/HDEV kernel: the squared second (third) differences of the
+    # level's points against their definition, and the next level's points x_{2j}
     from inertialab.noise import _fast as F
 
     rng = np.random.default_rng(11)
-    for n in (17, 40, 1001, 4099, 20000):
-        x = np.cumsum(rng.standard_normal(n))
-        n2 = (n - 1) // 2 + 1
-        ref_w = np.empty((n - 1) // 4 + 1)
-        ref = F._quads(x, n, order, ref_w, np.empty(2), 0)
-        for j0, u in ((0, n2), (1, n2 - 1), (3, 5), (n2 // 3, n2 // 3), (n2 - 7, 7),
-                      (n2 - 1, 1), (5, 0)):
-            row = np.full(u + 2, np.nan)
-            w = np.empty_like(ref_w)
-            got = F._quads(x, n, order, w, row, j0)
-            np.testing.assert_array_equal(row[1:u + 1], x[2 * j0:2 * (j0 + u):2])
-            np.testing.assert_array_equal(w, ref_w)
-            assert np.allclose(got, ref, rtol=1e-13, atol=0)  # (summation order)
-        # the sums against their definitions
-        d = np.diff(x, order)
-        x2 = x[::2]
-        d1 = np.diff(x2, order)
-        assert abs(ref[0] / np.dot(d, d) - 1) < 1e-12
-        assert abs(ref[1] / np.dot(d1, d1) - 1) < 1e-12
+    for n in (2, 3, 4, 5, 6, 7, 17, 40, 1001, 4099, 20000):
+        v = np.cumsum(rng.standard_normal(n)) + 1e3
+        out = np.full((n - 1) // 2 + 1, np.nan)
+        s = F._level_pairs(v, n, order, out)
+        np.testing.assert_array_equal(out, v[::2])
+        d = np.diff(v, order)
+        assert s == pytest.approx(float(np.dot(d, d)), rel=1e-12, abs=0.0)
+        assert F._level_sum(v, n, order) == pytest.approx(float(np.dot(d, d)), rel=1e-12,
+                                                           abs=0.0)
 
 
 @pytest.mark.parametrize("stat", ["adev", "hdev"])

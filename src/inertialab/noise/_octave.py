@@ -174,7 +174,7 @@ def octave_strided_sums(K, x: np.ndarray, statistic: str, ms: np.ndarray,
     """ADEV/HDEV sums at octave ``ms`` of the in-memory angle ``x`` by the compiled
     halving kernel and the summand counts; with ``rules = (dmax, min_points, lo, hi)``
     also each m's noise type from its central ``max_points`` decimated points, read in
-    place from the contiguous halved copy (strided reads of a large record miss the
+    place from the level's contiguous copy (strided reads of a large record miss the
     cache at every point): ``(alphas, best)`` as :func:`inertialab.noise._fast.
     identify_rows` gives them (lag-1 rows only), else None."""
     ms = np.asarray(ms, dtype=np.int64)
@@ -190,8 +190,7 @@ def octave_strided_sums(K, x: np.ndarray, statistic: str, ms: np.ndarray,
         count = (x.size - 1) // ms + 1
         u = np.minimum(count, max_points) * (count >= rules[1])
         use[lev], start[lev] = u, (count - u) // 2  # starts in units of m
-    fused = L > 2 and want[0] and want[1]  # the kernel's test: levels 0, 1 in one pass
-    size = (x.size - 1) // 4 + 1 if fused else (x.size - 1) // 2 + 1  # x_{4k} or x_{2k}
+    size = (x.size - 1) // 2 + 1 + (x.size - 1) // 4 + 1  # x_{2k}, x_{4k}, ... alternately
     sums = K.octave_strided(x, want, 2 if statistic == "adev" else 3, np.empty(size), use, start,
                             np.asarray(rules if rules is not None else (0, 0, 0, 0),
                                        dtype=np.int64),

@@ -347,8 +347,9 @@ def identify_alpha(src, ms, *, statistic: str = "oadev", data: str = "phase",
     ms = np.atleast_1d(np.asarray(ms, dtype=np.int64))
     sh = _Shared(src)
     N = sh.n
-    nt = (np.asarray(n_terms, dtype=np.int64) * np.ones(ms.size, dtype=np.int64)
-          if n_terms is not None else N - 2 * ms)
+    nt = np.asarray(n_terms, dtype=np.int64) if n_terms is not None else N - 2 * ms
+    if nt.shape != ms.shape:
+        nt = np.broadcast_to(nt, ms.shape).copy()
     freq = data != "phase"
     alphas = np.zeros(ms.size, dtype=np.int64)
     codes = np.zeros(ms.size, dtype=np.int8)  # index into _SOURCES: "carried"
