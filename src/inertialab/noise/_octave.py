@@ -119,15 +119,18 @@ class Decimated:
         return self.offs[r], self.uses[r]
 
 
-def _decimated_layout(nx: int, ms: np.ndarray, max_points: int):
+def _decimated_layout(nx: int, ms: np.ndarray, max_points: int, tested=None):
     """``(uses, starts, offs, flat)`` of :class:`Decimated` rows for the m of ``ms``
-    (:func:`inertialab.noise._octave_numpy._central_span` of each, vectorised; starts in angle-point units)."""
+    (:func:`inertialab.noise._octave_numpy._central_span` of each, vectorised; starts in
+    angle-point units); rows marked in ``tested`` (a kernel takes their lag-1 test in
+    place) get no room in ``flat``."""
     count = (nx - 1) // ms + 1
     uses = np.minimum(count, max_points)
     starts = ((count - uses) // 2) * ms
+    room = uses if tested is None else np.where(tested, 0, uses)
     offs = np.zeros(ms.size, dtype=np.int64)
-    offs[1:] = np.cumsum(uses)[:-1]
-    return uses, starts, offs, np.empty(max(int(uses.sum()), 1))
+    offs[1:] = np.cumsum(room)[:-1]
+    return uses, starts, offs, np.empty(max(int(room.sum()), 1))
 
 
 def is_octave(ms: np.ndarray) -> bool:
@@ -263,12 +266,16 @@ def _octave_sums_fast(K, d, statistic, ms, decimate, acf=None, x=None):
     off = np.zeros(L, dtype=np.int64)
     flat = np.empty(1)
     dec = {}
+    test = decimate and acf is not None and statistic not in B_STATS
     if decimate:
-        u, st, o, flat = _decimated_layout(nx, ms, decimate)
+        tested = None
+        if test and int(acf[1]) > 0:  # the kernels' own test (phase: points; else averages)
+            count = (nx - 1) // ms + 1
+            tested = np.minimum(count, decimate) - (0 if x is not None else 1) >= int(acf[1])
+        u, st, o, flat = _decimated_layout(nx, ms, decimate, tested)
         use[levels], start[levels], off[levels] = u, st, o
         # the D/E kernels gather increments (no running sum); the B one points
         dec = Decimated(ms, u, o, flat, increments=statistic not in B_STATS)
-    test = decimate and acf is not None and statistic not in B_STATS
     out = np.full(L, np.nan)
     acf_args = (out, int(acf[0]) if test else 0, int(acf[1]) if test else 0,
                 np.empty(int(use.max()) if test else 1),
