@@ -76,6 +76,17 @@ def test_bad_input_exits_2_with_one_line(record, capsys, tmp_path):
     assert code == 2 and "appears twice" in err and err.count("\n") == 1
     code, _, err = run(capsys, "drift", "forecast", tmp_path / "missing.json")
     assert code == 2
+    # a unit with too few usable values for the model is named (with its quantity)
+    short = tmp_path / "short.csv"
+    pd.DataFrame({"unit_id": ["A"] * 4 + ["B"] * 2,
+                  "date": ["2024-03-01", "2024-03-02", "2024-03-04", "2024-03-05",
+                           "2024-03-01", "2024-03-02"],
+                  "bias_mg": [0.15, 0.16, 0.15, 0.17, -0.08, -0.09],
+                  "valid": [True] * 5 + [False]}).to_csv(short, index=False)
+    code, _, err = run(capsys, "drift", "fit", short, "--quantity", "bias", "--order", "1",
+                       "--restarts", "1", "--out", tmp_path / "o")
+    assert code == 2 and err.count("\n") == 1
+    assert "unit B, bias: need at least 3 values to fit a NAR model, got 1 in-sample" in err
 
 
 @pytest.mark.filterwarnings("ignore")

@@ -143,3 +143,21 @@ def test_naming_puts_the_file_on_errors_that_name_none():
     with pytest.raises(InputError, match=r"^other.csv: x"):  # a named file is kept
         with naming("rig/log.csv"):
             raise InputError("x", path="other.csv")
+
+
+def test_a_table_of_ids_dates_and_flags_keeps_its_header(tmp_path):
+    # one number in four cells (unit id, ISO date, the value, a true/false flag): the data
+    # rows are still data and the first line the header (they were taken for header rows
+    # and the last line became the names)
+    p = tmp_path / "drift.csv"
+    p.write_text("unit_id,date,bias_mg,valid\n"
+                 "A,2024-03-01,0.15,true\nA,2024-03-02,0.16,True\nB,2024-03-01,-0.08,false\n")
+    rec = read_record(p, "storage_drift")
+    assert list(rec.data["unit_id"]) == ["A", "A", "B"]
+    np.testing.assert_allclose(rec.data["bias_mg"], [0.15, 0.16, -0.08])
+    # a line of names only stays a header: names are not dates or booleans
+    from inertialab.io.formats.text import _is_data_row
+
+    assert not _is_data_row(["unit_id", "date", "bias_mg", "valid"], ".")
+    assert _is_data_row(["A", "2025-01-01T08:00:00Z", "1.0"], ".")
+    assert not _is_data_row(["true", "false", "2024-03-01"], ".")  # no number: not data

@@ -295,7 +295,8 @@ class NARForecaster(Estimator):
         y = np.asarray(y, dtype=float).ravel()
         fin = np.isfinite(y)
         if y.size < 3 or fin.sum() < 3:
-            raise InputError(f"need at least 3 values to fit a NAR model, got {int(fin.sum())}")
+            raise InputError(f"need at least 3 values to fit a NAR model, got {int(fin.sum())} "
+                             "in-sample")
         if not fin[-1]:
             raise InputError("the last in-sample value (the forecast origin) is missing")
         ok = fin if usable is None else (np.asarray(usable, dtype=bool) & fin)

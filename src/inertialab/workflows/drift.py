@@ -366,7 +366,13 @@ def fit_drift(frame: pd.DataFrame, *, meta: dict | None = None,
             if finite.sum() and np.ptp(s.values[finite]) == 0:
                 warnings.warn(f"unit {uid}: {q} is constant; its forecast is persistence",
                               DataQualityWarning, stacklevel=2)
-            results[uid][q] = fit_series(s, settings, origin_day=origin_day, rng=qseeds[q])
+            try:
+                results[uid][q] = fit_series(s, settings, origin_day=origin_day,
+                                             rng=qseeds[q])
+            except InputError as exc:  # a series the model cannot take: name it
+                if exc.path is not None:
+                    raise
+                raise InputError(f"unit {uid}, {q}: {exc}", path=path) from exc
             done += 1
             progress.update(done, total, f"{uid} {q}")
     model = DriftModel.from_results(results, {"horizon": settings.horizon,

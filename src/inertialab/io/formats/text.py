@@ -171,12 +171,22 @@ def _is_number(cell: str, decimal: str) -> bool:
     return bool(_NUM.match(c))
 
 
+#: Cells that are values although not numbers: ISO dates and times, booleans (a header
+#: name is neither). A table of unit ids, dates, one number and a validity flag has data
+#: rows with one number in four cells.
+_VALUE = re.compile(r"^\d{4}-\d{2}-\d{2}(?:[T ]\d{2}:\d{2}(?::\d{2}(?:\.\d+)?)?"
+                    r"(?:Z|[+-]\d{2}:?\d{2})?)?$|^(?:true|false)$", re.I)
+
+
 def _is_data_row(cells: list[str], decimal: str) -> bool:
-    filled = [c for c in cells if c.strip()]
+    """A row of values: at least one number, and numbers, dates, times and booleans make
+    at least a third of its filled cells."""
+    filled = [c.strip() for c in cells if c.strip()]
     if not filled:
         return False
     num = sum(_is_number(c, decimal) for c in filled)
-    return num >= 1 and 3 * num >= len(filled)
+    values = num + sum(bool(_VALUE.match(c)) for c in filled)
+    return num >= 1 and 3 * values >= len(filled)
 
 
 _QUOTED = re.compile(r'"(?:[^"]|"")*"')
