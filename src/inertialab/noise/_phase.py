@@ -271,17 +271,23 @@ class _PhaseFromRate:
             self._f.seek(8 * start)
             self._f.readinto(memoryview(out).cast("B"))
             return out
-        res = np.empty(length)
-        per = max(1, CHUNK // step)
-        for a in range(0, length, per):
-            b = min(a + per, length)
-            res[a:b] = self.window(start + a * step, (b - a - 1) * step + 1)[::step]
-        return res
+        return strided_window(self.window, start, length, step)
 
     def close(self) -> None:
         if self._f is not None:
             self._f.close()
             self._f = None
+
+
+def strided_window(window, start: int, length: int, step: int) -> np.ndarray:
+    """``x[start + step*i]``, ``i < length``, from a source's contiguous ``window(start,
+    length)``, read a chunk of about :data:`CHUNK` points at a time."""
+    res = np.empty(length)
+    per = max(1, CHUNK // step)
+    for a in range(0, length, per):
+        b = min(a + per, length)
+        res[a:b] = window(start + a * step, (b - a - 1) * step + 1)[::step]
+    return res
 
 
 def phase_window(y: np.ndarray, ck: np.ndarray, mean: float, tau0: float, start: int,

@@ -30,7 +30,7 @@ from collections import deque
 
 import numpy as np
 
-from inertialab.noise._phase import CHUNK, _Releaser, _sumsq
+from inertialab.noise._phase import CHUNK, _Releaser, _sumsq, strided_window
 
 #: Summands per window of the small-m sweep, in units of ``block``.
 SWEEP = 4
@@ -184,12 +184,7 @@ class CheckpointedAngle:
     def window(self, start: int, length: int, step: int = 1, out=None) -> np.ndarray:
         """Angle points ``x[start + step*i]``, ``i < length`` (angle units)."""
         if step != 1:
-            res = np.empty(length)
-            per = max(1, CHUNK // step)
-            for a in range(0, length, per):
-                b = min(a + per, length)
-                res[a:b] = self.window(start + a * step, (b - a - 1) * step + 1)[::step]
-            return res
+            return strided_window(self.window, start, length, step)
         out = np.empty(length) if out is None else out[:length]
         _stream_kernels().angle_block(self._y, self.ck, self.mean, self.S, start, length, out)
         out *= self.tau0
