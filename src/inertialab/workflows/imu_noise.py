@@ -41,7 +41,8 @@ from inertialab import units as U
 from inertialab.errors import InputError
 from inertialab.workflows.imu_drift import AXES, axis_columns
 
-__all__ = ["AXES", "AxisNoise", "IMUNoise", "analyse_imu", "analyse_record", "export_yaml"]
+__all__ = ["AXES", "AxisNoise", "IMUNoise", "analyse_imu", "analyse_record", "export_refusal",
+           "export_yaml"]
 
 #: axis name -> (column base, kind)
 
@@ -128,7 +129,7 @@ class AxisNoise:
             d["drift_prediction"] = self.drift
         if self.plan is not None:
             d["plan"] = self.plan
-        d["allan"] = self.deviation.to_dict()
+        d["allan"] = self.deviation.to_dict() if self.deviation is not None else None
         return d
 
 
@@ -220,10 +221,23 @@ class IMUNoise:
             if t is None:
                 rows.append([a.axis, a.column, a.status] + [""] * 5)
                 continue
+            n_bound = bool({"upper_bound", "not_observable"} & set(t.N.flags))
             rows.append([a.axis, a.column, a.status, term_text(t.N), term_text(t.B),
-                         term_text(t.K), _num(a.noise_density),
+                         term_text(t.K), ("<= " if n_bound else "") + _num(a.noise_density),
                          ("<= " if a.random_walk_bound else "") + _num(a.random_walk)])
         return cols, rows
+
+    def notes(self) -> list[str]:
+        """Lines printed under the table: every symbol, and why each axis that is not
+        ``ok`` is so."""
+        out = ["N white noise (angle/velocity random walk), B bias instability (flicker "
+               "floor), K bias random walk; 'v [lo, hi]': value and its interval; '<= v': "
+               "an upper bound (the record does not resolve the term); 'n/o': not observable "
+               "(the curve holds no sign of the term, not even a bound); noise density = N "
+               "and random walk = K in SI, continuous time (what Kalibr/ROS take)."]
+        out += [f"{a.axis} ({a.column}) {a.status}: {a.reason}" for a in self.axes
+                if a.status != "ok" and a.reason]
+        return out
 
     def to_dict(self) -> dict:
         return {"rate_hz": self.rate_hz, "n_samples": self.n_samples,
@@ -238,7 +252,7 @@ class IMUNoise:
 
 def _axis(name: str, column: str, y, unit: str, *, rate_hz: float, taus, method: str,
           g_local: float, tau_range_s, terms_on: bool = True, drift=None,
-          confidence: float = 0.95) -> AxisNoise:
+          confidence: float = 0.95, motion: str | None = None) -> AxisNoise:
     from inertialab.noise.terms import not_static_reason
 
     kind = AXES[name]
@@ -248,25 +262,37 @@ def _axis(name: str, column: str, y, unit: str, *, rate_hz: float, taus, method:
         raise InputError(f"unit '{unit}' is a {dim}, expected a {want}", column=column)
     y = np.asarray(y)
     fit_y = y if drift is None or drift.check_on != "half" else y[: y.size // 2]
-    dev = _deviation(fit_y, rate_hz, taus, confidence)
     nan = float("nan")
-    blank = dict(axis=name, column=column, kind=kind, unit=unit, deviation=dev, terms=None,
+    blank = dict(axis=name, column=column, kind=kind, unit=unit, deviation=None, terms=None,
                  noise_density=nan, random_walk=nan, random_walk_bound=False,
                  bias_instability=nan)
+    finite = fit_y[np.isfinite(fit_y)]
+    if finite.size and not np.ptp(finite) > 0:
+        return AxisNoise(**blank, status="constant",
+                         reason="every sample is the same value: a stuck or absent sensor, "
+                                "nothing to analyse on this axis")
+    dev = _deviation(fit_y, rate_hz, taus, confidence)
+    blank["deviation"] = dev
     if not terms_on:
         return AxisNoise(**blank, status="no terms")
-    why = not_static_reason(dev.taus_s, dev.dev) if tau_range_s is None else None
+    why = motion or (not_static_reason(dev.taus_s, dev.dev) if tau_range_s is None else None)
     if why:
         # one axis that is not static does not stop the others: its deviation is kept
         import warnings
 
         from inertialab.errors import DataQualityWarning
 
-        warnings.warn(f"column '{column}': {why}; its noise terms are not fitted",
+        warnings.warn(f"column '{column}' is not static: {why}; its noise terms are not "
+                      "fitted",
                       DataQualityWarning, stacklevel=3)
         return AxisNoise(**blank, status="not static", reason=why)
-    terms = _fit_terms(fit_y, dev, unit, kind, method, rate_hz, tau_range_s, g_local, column,
-                       confidence)
+    try:
+        terms = _fit_terms(fit_y, dev, unit, kind, method, rate_hz, tau_range_s, g_local,
+                           column, confidence)
+    except InputError as exc:  # this axis's curve holds no terms; the others go on
+        if tau_range_s is not None:
+            raise
+        return AxisNoise(**blank, status="no terms", reason=str(exc))
     si = _SI[kind][0]
 
     def to_si(v):
@@ -367,8 +393,11 @@ def analyse_imu(columns: dict, *, rate_hz: float, taus="octave", method: str = "
         Predict the integrated error per horizon, check it on another record or the
         second half, and plan the record length (:mod:`inertialab.workflows.imu_drift`).
 
-    An axis whose curve is not that of a static sensor (it rises to 1 s or beyond) gets
-    status ``not static`` with the reason and its deviation; the other axes go on.
+    An axis that is not static (broadband excess over its white floor, gross
+    excursions, the gravity direction turning:
+    :mod:`inertialab.workflows.imu_noise_static`; or a curve that rises to 1 s or
+    beyond) gets status ``not static`` with the reason and its deviation; the other axes
+    go on.
     """
     if not columns:
         raise InputError("no IMU axis to analyse: need gx/gy/gz and/or ax/ay/az columns")
@@ -377,11 +406,12 @@ def analyse_imu(columns: dict, *, rate_hz: float, taus="octave", method: str = "
         raise InputError(f"unknown axes {sorted(unknown)} (known: {', '.join(AXES)})")
     out = []
     names = [a for a in AXES if a in columns]
+    moving = _motion(columns, names, float(rate_hz)) if terms else {}
     for i, name in enumerate(names):
         col, y, unit = columns[name]
         out.append(_axis(name, col, y, unit, rate_hz=float(rate_hz), taus=taus, method=method,
                          g_local=g_local, tau_range_s=tau_range_s, terms_on=terms,
-                         drift=drift, confidence=confidence))
+                         drift=drift, confidence=confidence, motion=moving.get(name)))
         if progress is not None:
             progress.update(i + 1, len(names), name)
     n = int(np.asarray(columns[names[0]][1]).shape[0])
@@ -392,6 +422,14 @@ def analyse_imu(columns: dict, *, rate_hz: float, taus="octave", method: str = "
     if drift is not None:
         settings["drift"] = drift.to_dict()
     return IMUNoise(axes=tuple(out), rate_hz=float(rate_hz), n_samples=n, settings=settings)
+
+
+def _motion(columns: dict, names, rate_hz: float) -> dict:
+    """``{axis: reason}`` of the axes that are not static
+    (:func:`inertialab.workflows.imu_noise_static.motion_reasons`)."""
+    from inertialab.workflows.imu_noise_static import motion_reasons
+
+    return motion_reasons({n: np.asarray(columns[n][1], dtype=float) for n in names}, rate_hz)
 
 
 def analyse_record(rec, *, rate_hz: float | None = None, taus="octave", method: str = "wls",
@@ -417,14 +455,36 @@ def analyse_record(rec, *, rate_hz: float | None = None, taus="octave", method: 
         fs = tb.rate_hz  # lost samples NaN on the grid (gap-resistant OADEV)
         cols = {name: (c, tb.place(y), u) for name, (c, y, u) in cols.items()}
     g = g_local if g_local is not None else float(rec.meta.get("g_local_mps2", U.G_STANDARD))
+    note = filtered_source_note(rec)
     try:
-        return analyse_imu(cols, rate_hz=float(fs), taus=taus, method=method, g_local=g,
+        res = analyse_imu(cols, rate_hz=float(fs), taus=taus, method=method, g_local=g,
                            tau_range_s=tau_range_s, progress=progress, terms=terms,
                            drift=drift, confidence=confidence)
     except InputError as exc:
         if exc.path is not None or rec.path is None:
             raise
         raise InputError(str(exc), path=rec.path) from None
+    if note:
+        res.settings["source_note"] = note
+    return res
+
+
+def filtered_source_note(rec) -> str | None:
+    """A warning (and the returned note) when the record is a filtered product rather
+    than the sensor's own samples: PX4's ``sensor_combined`` is the flight controller's
+    low-pass filtered, bias-corrected output, whose noise is not the sensor's."""
+    ulog = rec.meta.get("ulog")
+    if not (isinstance(ulog, dict) and ulog.get("topic") == "sensor_combined"):
+        return None
+    import warnings
+
+    from inertialab.errors import DataQualityWarning
+
+    note = ("read from PX4's sensor_combined, the flight controller's filtered output: its "
+            "noise is the filter's, not the sensor's; read the raw sensors with --topic "
+            "sensor_gyro and --topic sensor_accel")
+    warnings.warn(f"{rec.path}: {note}", DataQualityWarning, stacklevel=3)
+    return note
 
 
 def analyse_file(file, *, read=None, unit=None, rate=None, gaps=None, g_local=None,
@@ -440,7 +500,8 @@ def analyse_file(file, *, read=None, unit=None, rate=None, gaps=None, g_local=No
     if export:
         from inertialab.io.exporters import get
 
-        get("noise", export[0])  # an unknown target before anything is read
+        for target, _ in export_pairs(export):
+            get("noise", target)  # an unknown target before anything is read
     if inflate not in (None, "auto", "none"):
         raise InputError(f"argument 'inflate' must be 'auto' or 'none', got '{inflate}'")
     if inflate == "auto" and not (export and check_on and predict_drift):
@@ -461,16 +522,51 @@ def analyse_file(file, *, read=None, unit=None, rate=None, gaps=None, g_local=No
                                confidence=0.95 if confidence is None else confidence)
 
 
-def export_noise_file(res: IMUNoise, target: str, path, *, rostopic: str, inflate=None) -> str:
+def export_pairs(export) -> list[tuple[str, str]]:
+    """``[(target, file), ...]`` of one ``(target, file)`` pair or a list of them
+    (``--export`` given several times); two exports to one file are refused."""
+    if not export:
+        return []
+    pairs = [tuple(export)] if isinstance(export[0], str) else [tuple(e) for e in export]
+    files = [str(f) for _, f in pairs]
+    dup = next((f for f in files if files.count(f) > 1), None)
+    if dup is not None:
+        raise InputError(f"--export: two exports write the same file '{dup}'; give each its "
+                         "own file")
+    return pairs
+
+
+def export_refusal(res: IMUNoise, *, force: bool = False) -> tuple[str, ...]:
+    """Refuse to export noise parameters while an axis is not usable (not static,
+    constant, or without terms): one-line :class:`InputError` naming the axes, before
+    any file is written. With ``force`` the lines the file must carry are returned
+    instead (the axes left out and why)."""
+    bad = [a for a in res.axes if a.status != "ok"]
+    if not bad:
+        return ()
+    named = ", ".join(f"{a.axis} ({a.status})" for a in bad)
+    if not force:
+        raise InputError(f"--export: the axes {named} give no noise parameters a filter can "
+                         "take (a record that moves describes the motion, not the sensor); "
+                         "nothing written. Record the sensor at rest, or give --force to "
+                         "write the other axes' values with this stated in the file")
+    return (f"Written with --force although {named}: those axes are left out, and their "
+            "sensor's value comes from its other axes only.",)
+
+
+def export_noise_file(res: IMUNoise, target: str, path, *, rostopic: str, inflate=None,
+                      force: bool = False) -> str:
     """Write the noise parameters for ``target`` (an exporter of
     :data:`inertialab.io.exporters.EXPORTERS`), inflated where ``inflate`` is ``auto``
-    (:func:`inertialab.workflows.imu_drift.inflated`); returns the target's name."""
+    (:func:`inertialab.workflows.imu_drift.inflated`); returns the target's name.
+    Refused while an axis is not usable unless ``force`` (:func:`export_refusal`)."""
     from inertialab.io.exporters import export_noise, get
     from inertialab.workflows.imu_drift import inflated
 
     target = get("noise", target).target
+    forced = export_refusal(res, force=force)
     exported, note = inflated(res) if inflate == "auto" else (res, ())
-    export_noise(exported, target, path, rostopic=rostopic, note=note)
+    export_noise(exported, target, path, rostopic=rostopic, note=(*forced, *note))
     return target
 
 

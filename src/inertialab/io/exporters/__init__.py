@@ -62,29 +62,29 @@ class Exporter:
 # ------------------------------------------------------------------ noise texts
 
 def _kalibr(p, noise, o):
-    return kalibr.noise_text(p, rostopic=o["rostopic"], note=(*_noise.NOTE, *o["note"]))
+    return kalibr.noise_text(p, rostopic=o["rostopic"], note=(*_noise.span_notes(noise), *o["note"]))
 
 
 def _openvins(p, noise, o):
-    return openvins.noise_text(p, rostopic=o["rostopic"], note=(*_noise.NOTE, *o["note"]))
+    return openvins.noise_text(p, rostopic=o["rostopic"], note=(*_noise.span_notes(noise), *o["note"]))
 
 
 def _vins(p, noise, o):
-    return imu_utils.vins_text(p, g_norm=o["g_local"], imu_topic=o["rostopic"], note=(*_noise.NOTE, *o["note"]))
+    return imu_utils.vins_text(p, g_norm=o["g_local"], imu_topic=o["rostopic"], note=(*_noise.span_notes(noise), *o["note"]))
 
 
 def _imu_utils(p, noise, o):
     return imu_utils.imu_utils_text(p, name=o["name"], per_axis=_noise.imu_utils_axes(noise),
-                                    note=(*_noise.NOTE, *o["note"]))
+                                    note=(*_noise.span_notes(noise), *o["note"]))
 
 
 def _gtsam(p, noise, o):
-    return gtsam.gtsam_text(p, g=o["g_local"], note=(*_noise.NOTE, *o["note"]))
+    return gtsam.gtsam_text(p, g=o["g_local"], note=(*_noise.span_notes(noise), *o["note"]))
 
 
 def _ros(p, noise, o):
     return ros.ros_text(p, namespace=o["namespace"], per_axis=_noise.per_axis(noise),
-                        note=(*_noise.NOTE, *o["note"]))
+                        note=(*_noise.span_notes(noise), *o["note"]))
 
 
 # ------------------------------------------------------------ calibration writers

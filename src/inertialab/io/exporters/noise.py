@@ -19,7 +19,7 @@ import math
 from inertialab.errors import InputError
 from inertialab.io.exporters._common import NoiseParams
 
-__all__ = ["noise_params", "per_axis"]
+__all__ = ["noise_params", "per_axis", "span_notes"]
 
 _PER_SENSOR_NOTE = "Each value is the largest of the sensor's three axes."
 
@@ -73,3 +73,25 @@ def imu_utils_axes(noise) -> dict:
 
 
 NOTE = (_PER_SENSOR_NOTE,)
+
+_SENSOR = {"gyro": "gyroscope", "accel": "accelerometer"}
+
+
+def span_notes(noise) -> tuple[str, ...]:
+    """One line per sensor naming the axes its single value is the largest of, and the
+    axes left out with their status (an axis that is not static, constant or without
+    terms has no value)."""
+    out = []
+    for kind in ("gyro", "accel"):
+        axes = [a for a in noise.axes if a.kind == kind]
+        if not axes:
+            continue
+        used = [a.axis for a in axes if math.isfinite(float(a.noise_density))]
+        left = [f"{a.axis} ({getattr(a, 'status', 'no value')})" for a in axes
+                if a.axis not in used]
+        text = (f"{_SENSOR[kind]} values: the largest of {', '.join(used)}" if used
+                else f"{_SENSOR[kind]} values: none (no axis has noise terms)")
+        if left:
+            text += "; left out: " + ", ".join(left)
+        out.append(text + ".")
+    return tuple(out)

@@ -23,7 +23,7 @@ def imu_figure(result) -> Figure:
     fig, axes = plt.subplots(1, len(kinds), figsize=(5.2 * len(kinds), 4.0), squeeze=False)
     for ax, kind in zip(axes[0], kinds):
         si, label = _SI[kind]
-        for a in (x for x in result.axes if x.kind == kind):
+        for a in (x for x in result.axes if x.kind == kind and x.deviation is not None):
             d = a.deviation
             c = _COLORS[a.axis[1]]
             g = a.terms.g_local if a.terms is not None else U.G_STANDARD
@@ -37,9 +37,13 @@ def imu_figure(result) -> Figure:
         ax.set_ylabel(f"Allan deviation ({label})")
         ax.set_title("gyroscope" if kind == "gyro" else "accelerometer")
         ax.grid(True, which="both", alpha=0.3)
-        ax.legend()
+        # the line styles explained beside the axis colours
+        ax.plot([], [], "-", color="0.3", label="measured (band: interval)")
+        ax.plot([], [], "--", color="0.3", lw=1, label="fitted model")
+        ax.legend(fontsize="small")
+    conf = next((a.deviation.confidence for a in result.axes if a.deviation is not None), 0.95)
     return Figure(figure=fig, caption="Overlapping Allan deviation per axis (solid, band: "
-                  f"{100 * result.axes[0].deviation.confidence:.1f} % interval) and the fitted "
+                  f"{100 * conf:.1f} % interval) and the fitted "
                   "five-term model (dashed)", name="imu_allan")
 
 

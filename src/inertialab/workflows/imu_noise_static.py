@@ -1,0 +1,177 @@
+"""Is each axis of an IMU log static? Motion refused per axis, with the reason.
+
+Noise terms read from a record that moves describe the motion, not the sensor: a flight
+log's Allan curves peak at 0.3-0.5 s and a five-term fit then gives densities 100 times
+a real MEMS gyro's. Three tests, each independent of the noise-term fit:
+
+* **broadband excess** (:func:`band_excess`): a static sensor's spectrum is flat (white
+  noise) between the flicker corner (below ~0.05 Hz for MEMS) and its anti-alias
+  filter. The Welch periodogram (Hann, segments of at most :data:`SEGMENT_S` s, linear
+  detrend) is cut into octave bands from :data:`BAND_LO_HZ` up to ``rate/2``; the
+  median power of each band, narrow lines masked (bins :data:`LINE_RATIO` times above
+  the running median of their neighbours, and their skirts down to 2 times), is
+  compared with the lowest band median at or below ``rate/10`` (the white floor, under
+  the filter's roll-off). A band :data:`EXCESS` times above the floor is motion
+  (the two real 2.8-h ADIS16405 logs: at most 1.5; a static 11-s PX4 bench log: at most
+  1.94; white noise with a 0.5-Hz line: 1.1 once the line is masked).
+* **gross excursions** (:func:`excursion_fraction`): samples further than
+  :data:`EXCURSION_SIGMAS` white-noise sigmas (from the floor) from the 10-s block
+  median; more than :data:`EXCURSION_FRACTION` of the samples is motion (shocks,
+  handling).
+* **gravity turning** (:func:`gravity_turn_deg`): the accelerometer triad's 1-s block
+  means change direction by more than :data:`TURN_DEG` (and 6 times their own noise
+  angle): every accelerometer axis is not static.
+
+The curve-shape rule of :func:`inertialab.noise.terms.not_static_reason` (a rise that
+reaches 1 s) is kept beside these. A narrow line (a fan, a pump, a 0.5-Hz wobble) is
+masked here and reported with the terms as a line, not as motion.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = ["EXCESS", "band_excess", "excursion_fraction", "gravity_turn_deg",
+           "motion_reasons"]
+
+#: lowest band edge, Hz: below it flicker and random walk raise a static spectrum
+BAND_LO_HZ = 0.2
+#: Welch segment length, s (at most; a short record takes a quarter of itself)
+SEGMENT_S = 32.0
+#: a band median this many times the white floor is motion
+EXCESS = 4.0
+#: narrow-line masking: a bin this many times its local running median
+LINE_RATIO = 8.0
+#: samples this many white sigmas from the local level are excursions ...
+EXCURSION_SIGMAS = 12.0
+#: ... and more than this fraction of them is motion
+EXCURSION_FRACTION = 1e-3
+#: the gravity direction may wander this much (degrees) on a static bench
+TURN_DEG = 1.0
+#: least bins in a band for its median to count
+MIN_BINS = 5
+
+
+def _periodogram(y, rate_hz: float):
+    from scipy.signal import welch
+
+    nper = int(2 ** math.floor(math.log2(max(8.0, min(y.size / 4.0, rate_hz * SEGMENT_S)))))
+    return welch(y - y.mean(), fs=rate_hz, nperseg=nper, detrend="linear")
+
+
+def _line_mask(p) -> np.ndarray:
+    """Bins of narrow lines (and their skirts): True where a line sits."""
+    from scipy.ndimage import median_filter
+
+    floor = median_filter(p, 31, mode="nearest")
+    r = np.where(floor > 0, p / np.where(floor > 0, floor, 1.0), 0.0)
+    mask = r >= LINE_RATIO
+    for i in np.nonzero(mask)[0]:
+        a, b = i, i
+        while a > 0 and r[a - 1] >= 2.0:
+            a -= 1
+        while b < r.size - 1 and r[b + 1] >= 2.0:
+            b += 1
+        mask[a:b + 1] = True
+    return mask
+
+
+def band_excess(y, rate_hz: float):
+    """``(ratio, f_low, f_high, floor_psd)`` of the octave band most above the white
+    floor (lines masked), or None when the record is too short for two bands."""
+    y = np.asarray(y, dtype=float)
+    y = y[np.isfinite(y)]
+    if y.size < 64 or not np.ptp(y) > 0:
+        return None
+    f, p = _periodogram(y, rate_hz)
+    keep = ~_line_mask(p)
+    lo = max(BAND_LO_HZ, 6.0 * float(f[1]))
+    bands = []
+    while lo * 2.0 <= 0.45 * rate_hz:
+        sel = keep & (f >= lo) & (f < 2.0 * lo)
+        if sel.sum() >= MIN_BINS:
+            bands.append((lo, 2.0 * lo, float(np.median(p[sel]))))
+        lo *= 2.0
+    floors = [b[2] for b in bands if b[0] <= rate_hz / 10.0]
+    if len(bands) < 2 or not floors or not min(floors) > 0:
+        return None
+    floor = min(floors)
+    top = max(bands, key=lambda b: b[2])
+    return top[2] / floor, top[0], top[1], floor
+
+
+def excursion_fraction(y, rate_hz: float, floor_psd: float) -> float:
+    """Fraction of samples further than :data:`EXCURSION_SIGMAS` white sigmas
+    (``sqrt(floor_psd rate/2)``) from the median of their 10-s block."""
+    y = np.asarray(y, dtype=float)
+    y = y[np.isfinite(y)]
+    sigma = math.sqrt(floor_psd * rate_hz / 2.0)
+    m = max(1, int(round(10.0 * rate_hz)))
+    k = y.size // m
+    if k == 0 or not sigma > 0:
+        return 0.0
+    level = np.repeat(np.median(y[: k * m].reshape(k, m), axis=1), m)
+    level = np.concatenate([level, np.full(y.size - level.size, level[-1])])
+    return float(np.mean(np.abs(y - level) > EXCURSION_SIGMAS * sigma))
+
+
+def gravity_turn_deg(acc, rate_hz: float) -> tuple[float, float]:
+    """``(largest angle, noise angle)`` in degrees between the accelerometer triad's
+    1-s block means (at least 8 blocks) and their median direction."""
+    a = np.asarray(acc, dtype=float)
+    a = a[np.all(np.isfinite(a), axis=1)]
+    m = max(1, min(int(round(rate_hz)), a.shape[0] // 8))
+    k = a.shape[0] // m
+    if k < 2:
+        return 0.0, 0.0
+    blocks = a[: k * m].reshape(k, m, 3)
+    means = blocks.mean(axis=1)
+    norm = np.linalg.norm(means, axis=1)
+    if not np.all(norm > 0):
+        return 0.0, 0.0
+    ref = np.median(means, axis=0)
+    ref = ref / np.linalg.norm(ref)
+    cos = np.clip(means @ ref / norm, -1.0, 1.0)
+    ang = np.degrees(np.arccos(cos))
+    noise = float(np.degrees(np.median(np.linalg.norm(blocks.std(axis=1), axis=1))
+                             / math.sqrt(m) / np.median(norm)))
+    return float(ang.max()), noise
+
+
+def _axis_reason(y, rate_hz: float) -> str | None:
+    ex = band_excess(y, rate_hz)
+    if ex is None:
+        return None
+    ratio, f_lo, f_hi, floor = ex
+    if ratio > EXCESS:
+        return (f"its power between {f_lo:.3g} and {f_hi:.3g} Hz is {ratio:.3g} times the "
+                f"white-noise floor (more than {EXCESS:g}; narrow lines masked): broadband "
+                "motion or vibration, not sensor noise")
+    frac = excursion_fraction(y, rate_hz, floor)
+    if frac > EXCURSION_FRACTION:
+        return (f"{100 * frac:.2g} % of its samples lie more than {EXCURSION_SIGMAS:g} "
+                "noise sigmas from their 10-s level: shocks or handling, not sensor noise")
+    return None
+
+
+def motion_reasons(columns: dict, rate_hz: float) -> dict:
+    """``{axis: reason}`` for every axis of ``columns`` (axis -> samples, data unit)
+    that is not static; axes that pass are absent."""
+    out = {}
+    for name, y in columns.items():
+        why = _axis_reason(y, rate_hz)
+        if why:
+            out[name] = why
+    if all(a in columns for a in ("ax", "ay", "az")):
+        acc = np.column_stack([np.asarray(columns[a], dtype=float) for a in ("ax", "ay", "az")])
+        ang, noise = gravity_turn_deg(acc, rate_hz)
+        # a triad whose mean is lost in its noise (no gravity: a zero-mean record) has no
+        # direction to follow
+        if noise < 5.0 and ang > max(TURN_DEG, 6.0 * noise):
+            why = (f"the gravity direction turns by {ang:.3g} deg over the record (more than "
+                   f"{max(TURN_DEG, 6.0 * noise):.2g} deg): the sensor was tilted or moved")
+            for a in ("ax", "ay", "az"):
+                out.setdefault(a, why)
+    return out
