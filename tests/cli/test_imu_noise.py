@@ -87,8 +87,8 @@ def test_allan_imu_flag_gives_the_same_export_as_allan_imu(tmp_path):
     cols = {"t_s": np.arange(n) / fs}
     for ax in ("gx_rps", "gy_rps", "gz_rps"):
         cols[ax] = 1e-3 * rng.standard_normal(n)
-    for ax in ("ax_mps2", "ay_mps2", "az_mps2"):
-        cols[ax] = 2e-3 * rng.standard_normal(n)
+    for ax in ("ax_mps2", "ay_mps2", "az_mps2"):  # at rest: gravity on z
+        cols[ax] = 2e-3 * rng.standard_normal(n) + (9.80665 if ax == "az_mps2" else 0.0)
     f = tmp_path / "imu.csv"
     pd.DataFrame(cols).to_csv(f, index=False)
     a, b = tmp_path / "a.yaml", tmp_path / "b.yaml"

@@ -37,21 +37,37 @@ MAP = ("t_s=Time,gx_rps=Gyro. X,gy_rps=Gyro. Y,gz_rps=Gyro. Z,"
        "ax_mps2=Accel. X,ay_mps2=Accel. Y,az_mps2=Accel. Z")
 
 
-def test_deg_per_s_gyro_and_g_accel_are_inferred_converted_and_recorded(tmp_path):
+def test_gyro_step_of_two_units_asks_and_g_accel_is_inferred(tmp_path):
     t, gyro, acc = _static_imu()
     p = _csv(tmp_path, t, gyro, acc)
+    # a 0.05 step is an ADIS16405's in deg/s and a fibre-optic gyro's in deg/h: the data
+    # cannot tell which, so the error names both
+    with pytest.raises(InputError, match=r"column 'Gyro. X': .*quantisation step 0.05 is a "
+                                         r"gyro's step in deg/s and in deg/h alike"):
+        read_record(p, "gyro_log", column_map=MAP)
+    declared = MAP.replace("Gyro. X", "Gyro. X:dps").replace("Gyro. Y", "Gyro. Y:dps") \
+        .replace("Gyro. Z", "Gyro. Z:dps")
     with pytest.warns(DataQualityWarning) as w:
-        rec = read_record(p, "gyro_log", column_map=MAP)
-    text = " ".join(str(x.message) for x in w)
-    assert "'Gyro. X' mapped to 'gx_rps' without a unit" in text and "read in dps" in text
-    assert "read in g" in text
+        rec = read_record(p, "gyro_log", column_map=declared)
+    assert "read in g" in " ".join(str(x.message) for x in w)
     # the 57x error is gone: the deg/s values arrive in rad/s
     raw = pd.read_csv(p)
     np.testing.assert_allclose(rec.data["gx_rps"], raw["Gyro. X"] * math.pi / 180, rtol=1e-12)
     np.testing.assert_allclose(rec.data["az_mps2"], raw["Accel. Z"] * 9.80665, rtol=1e-12)
     inf = rec.meta["inferred_units"]
-    assert inf["gx_rps"]["unit"] == "dps" and "0.05" in inf["gx_rps"]["evidence"]
-    assert inf["ax_mps2"]["unit"] == "g"
+    assert "gx_rps" not in inf and inf["ax_mps2"]["unit"] == "g"
+
+
+def test_a_step_of_one_unit_alone_decides(tmp_path):
+    # 3e-5 rad/s (a navigation-grade MEMS) is a step in rad/s only; 2 deg/h in deg/h only
+    rng = np.random.default_rng(4)
+    for q, unit in ((3e-5, "rps"), (2.0, "dph")):
+        y = np.round(rng.normal(0, 40 * q, 3000) / q) * q
+        p = tmp_path / f"g{unit}.csv"
+        pd.DataFrame({"t_s": np.arange(3000) / 100.0, "G": y}).to_csv(p, index=False)
+        with pytest.warns(DataQualityWarning, match=f"read in {unit}"):
+            rec = read_record(p, "gyro_log", column_map="t_s=t_s,gx_rps=G")
+        assert rec.meta["inferred_units"]["gx_rps"]["unit"] == unit
 
 
 def test_undecidable_unit_is_an_error_naming_the_column_and_the_candidates(tmp_path):
@@ -96,11 +112,13 @@ def test_validate_json_records_the_inferred_unit(tmp_path, capsys):
     t, gyro, acc = _static_imu()
     p = _csv(tmp_path, t, gyro, acc)
     code, out, err = run_inprocess(capsys, "validate", p, "--kind", "gyro_log", "--json",
-                                   "--map", MAP)
+                                   "--map", MAP.replace("Gyro. X", "Gyro. X:dps")
+                                   .replace("Gyro. Y", "Gyro. Y:dps")
+                                   .replace("Gyro. Z", "Gyro. Z:dps"))
     assert code in (0, None), err
     obj = json.loads(out)
-    assert obj["meta"]["inferred_units"]["gz_rps"]["unit"] == "dps"
-    assert any("read in dps" in w for w in obj["warnings"])
+    assert obj["meta"]["inferred_units"]["az_mps2"]["unit"] == "g"
+    assert any("read in g" in w for w in obj["warnings"])
 
 
 def test_sidecar_units_declare_the_source_unit_of_a_mapped_column(tmp_path):

@@ -12,7 +12,9 @@ error the command gives, because the command calls it too:
   ``triaxial_raw``, ``ferraris``, ``clock_log``): a time base (time stamps, the sidecar's
   ``fs_hz`` or the rate option; :mod:`inertialab.io.timestamps`);
 * ``allan``, ``imu``, ``ferraris``: stamps that do not repeat or go back;
-* ``imu``: one or more IMU axis columns (``gx gy gz ax ay az``), one segment;
+* ``imu``: one or more IMU axis columns (``gx gy gz ax ay az``), one segment, and the
+  magnitudes of a sensor at rest in the declared units
+  (:func:`inertialab.io.unit_check.check_static_units`);
 * ``vibration``: a rate or angle-increment column, ``vib_on``, and a contiguous log
   (no lost samples);
 * ``ferraris``: the gyro triad ``gx gy gz`` beside the accelerometer;
@@ -31,7 +33,7 @@ from dataclasses import dataclass
 from inertialab.errors import InputError
 from inertialab.io.schemas import SCHEMAS
 
-__all__ = ["KINDS", "Kind", "preflight", "read_for"]
+__all__ = ["KINDS", "Kind", "check_length", "preflight", "read_for"]
 
 
 @dataclass(frozen=True)
@@ -47,6 +49,8 @@ class Kind:
     single_segment: bool = False
     missing: str = ""  # the message when a group of ``needs`` is absent (default: generic)
     initial_rest: bool = False  # the log must start with the sensor at rest
+    static: bool = False  # a log at rest: magnitudes within a static sensor's (units)
+    min_samples: int = 0  # fewest samples the analysis can read anything from
 
 
 _IMU = ("gx", "gy", "gz", "ax", "ay", "az")
@@ -58,6 +62,7 @@ KINDS: dict[str, Kind] = {
                   time_base=True, ordered=True),
     "imu": Kind("gyro_log", "an IMU log for the noise parameters of each axis",
                 time_base=True, ordered=True, needs=(_IMU,), single_segment=True,
+                static=True, min_samples=100,
                 missing="no IMU axis columns (gx_*, gy_*, gz_*, ax_*, ay_*, az_*); map them "
                         "with a column map (argument 'column_map')"),
     "vibration": Kind("gyro_log", "a vibration run (P1 static, P2 shaker on, P3 static)",
@@ -113,6 +118,21 @@ def preflight(record, kind: str) -> None:
             and record.data["segment"].nunique() > 1:
         raise InputError("the log has several segments (argument 'gaps' split); analyse one "
                          "segment", path=path)
+    check_length(record, kind)
+    if k.static:
+        from inertialab.io.unit_check import check_static_units
+
+        check_static_units(record)
+
+
+def check_length(record, kind: str) -> None:
+    """Refuse a record shorter than what ``kind``'s analysis can read anything from
+    (``imu``: 100 samples, a few octaves of tau for the noise terms)."""
+    need = KINDS[kind].min_samples
+    n = len(record.data)
+    if n < need:
+        raise InputError(f"too few samples for {KINDS[kind].description}: {n}, need at least "
+                         f"{need}", path=record.path)
 
 
 def read_for(path, kind: str, **read_args):

@@ -587,9 +587,10 @@ def validate_frame(df: pd.DataFrame, kind: str, *, path="<frame>", meta: dict | 
     if not (isinstance(ix, pd.RangeIndex) and ix.start == 0 and ix.step == 1):
         df = df.reset_index(drop=True)  # (a copy: only when the index is not 0..n-1)
     df = _coerce(df, schema, path=path).copy(deep=False)  # never alter the caller's frame
-    from inertialab.io.unit_check import check_accel_magnitude
+    from inertialab.io.unit_check import check_accel_magnitude, check_gyro_units
 
     check_accel_magnitude(df, units, path=path)
+    check_gyro_units(df, units, path=path)
     if schema.time_order == "strict" and schema.time_column in df.columns:
         from inertialab.io.timestamps import audit
 

@@ -139,7 +139,9 @@ class NoiseTerm:
         """The one JSON form of a term (docs/noise-terms.md): ``value, unit, ci, method,
         tau_range_s, sd, flags`` (+ ``density``, ``per_sample_std`` for N, ``reason`` and
         ``upper_bound`` where set, ``"bound": "upper"`` where the term is only a bound)."""
-        d = {"value": float(self.value), "unit": self.unit,
+        bound = "upper_bound" in self.flags and math.isfinite(self.upper_bound)
+        # a bound's value is the bound (what a user copies), the estimate beside it
+        d = {"value": float(self.upper_bound if bound else self.value), "unit": self.unit,
              "ci": [float(self.ci[0]), float(self.ci[1])], "method": self.method,
              "tau_range_s": [float(self.tau_range_s[0]), float(self.tau_range_s[1])],
              "sd": float(self.sd), "flags": list(self.flags)}
@@ -153,11 +155,14 @@ class NoiseTerm:
             d["upper_bound"] = float(self.upper_bound)
         if "upper_bound" in self.flags:
             d["bound"] = "upper"  # the value is not a confident number: use upper_bound
+            if bound:
+                d["estimate"] = float(self.value)
         return d
 
     @classmethod
     def from_dict(cls, d: dict) -> NoiseTerm:
-        return cls(value=_nan(d["value"]), unit=d["unit"], ci=tuple(_nan(v) for v in d["ci"]),
+        value = d["estimate"] if d.get("bound") == "upper" and "estimate" in d else d["value"]
+        return cls(value=_nan(value), unit=d["unit"], ci=tuple(_nan(v) for v in d["ci"]),
                    method=d["method"], tau_range_s=tuple(_nan(v) for v in d["tau_range_s"]),
                    flags=tuple(d.get("flags", ())), sd=_nan(d.get("sd")),
                    density=d.get("density"), per_sample_std=d.get("per_sample_std"),

@@ -217,6 +217,9 @@ def fit_noise_terms(result, *, unit: str, kind: str | None = "gyro", method: str
     else:
         terms = fit_ls(result, sel, conv, rate_hz, method, n_reweight, confidence, n_boot,
                        seed, band=b_shape == "band")
+    from inertialab.noise._terms_bounds import bounded_terms
+
+    terms = bounded_terms(terms, result, conv)  # B within the curve, unresolved -> bound
     return replace(terms, lines=lines) if lines else terms
 
 

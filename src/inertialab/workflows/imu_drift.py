@@ -274,10 +274,24 @@ def drift_options(predict_drift, bias_window, check_on, plan, rec, *, rate, unit
                 raise InputError(f"the check log is at {fs2:g} Hz, the analysed log at "
                                  f"{fs1:g} Hz: give logs of the same rate", path=check_on)
             place = tb2.place if (rate is None and tb2 is not None) else (lambda v: v)
-            other = {k: place(v[1]) for k, v in axis_columns(rec2).items()}
+            other = _in_units_of(axis_columns(rec2), axis_columns(rec), place, g_local)
             mode, name = "other", str(check_on)
     return DriftOptions(horizons_s=horizons or (1.0,), bias_window_s=float(bias_window),
                         check_on=mode, other=other, other_name=name, plan=bool(plan))
+
+
+def _in_units_of(check_cols: dict, main_cols: dict, place, g_local) -> dict:
+    """The check log's axes converted from their own units into the analysed log's
+    (a check log in deg/s and g against one in rad/s and m/s^2 compares like with
+    like)."""
+    g = U.G_STANDARD if g_local is None else float(g_local)
+    out = {}
+    for k, (_, y, unit) in check_cols.items():
+        if k in main_cols:
+            y = np.asarray(U.convert(np.asarray(y, dtype=float), unit, main_cols[k][2],
+                                     g_local=g), dtype=float)
+        out[k] = place(y)
+    return out
 
 
 def display_tables(res, file) -> list:

@@ -315,10 +315,9 @@ def _axis(name: str, column: str, y, unit: str, *, rate_hz: float, taus, method:
         rw = to_si(hi * math.sqrt(3.0 / tmax))
         k_bound = True
     b_bound = "upper_bound" in terms.B.flags or "not_observable" in terms.B.flags
-    b_native = math.sqrt(c[2]) / BI if np.isfinite(c[2]) and c[2] > 0 else nan
-    if b_bound and np.isfinite(terms.B.upper_bound) and terms.B.value > 0:
-        b_native *= terms.B.upper_bound / terms.B.value
-    b = to_si(b_native) if np.isfinite(b_native) else nan
+    # the table's B in SI: the bound itself where B is a bound (the JSON value alike)
+    b_rep = terms.B.upper_bound if b_bound else terms.B.value
+    b = to_si(b_rep / _report_factor(terms, "B")) if np.isfinite(b_rep) and b_rep > 0 else nan
     axis = AxisNoise(axis=name, column=column, kind=kind, unit=unit, deviation=dev,
                      terms=terms, noise_density=float(density), random_walk=float(rw),
                      random_walk_bound=k_bound, bias_instability=float(b),
@@ -441,6 +440,12 @@ def analyse_record(rec, *, rate_hz: float | None = None, taus="octave", method: 
         from inertialab.io.preflight import preflight
 
         preflight(rec, "imu")  # the checks `validate --kind imu` runs
+    else:
+        from inertialab.io.preflight import check_length
+        from inertialab.io.unit_check import check_static_units
+
+        check_length(rec, "imu")  # preflight's length and unit checks, with the rate given
+        check_static_units(rec)
     cols = axis_columns(rec)
     if not cols:
         raise InputError("no IMU axis columns (gx_*, gy_*, gz_*, ax_*, ay_*, az_*); map them "

@@ -108,12 +108,37 @@ def _acc_columns(df: pd.DataFrame):
     return cols, sufs.pop()
 
 
+def adc_zero(meta: dict, raw) -> float:
+    """The count a counts log reads at zero: the sidecar's ``lsb_offset`` when given;
+    else the zero of its ADC range (:func:`inertialab.calib.triaxial_checks.adc_range`:
+    the sidecar's ``adc`` when declared, mid-scale 2^(bits-1) for an unsigned one),
+    and for a detected unsigned range only when the counts sit about mid-scale (their
+    median within a quarter of the half range), else 0."""
+    if meta.get("lsb_offset") is not None:
+        return float(meta["lsb_offset"])
+    if raw is None:
+        return 0.0
+    from inertialab.calib.triaxial_checks import adc_range
+
+    declared = meta.get("adc") if isinstance(meta.get("adc"), dict) else None
+    adc = adc_range(raw, declared)
+    if adc.signed:
+        return 0.0
+    if declared is not None:
+        return adc.zero
+    v = np.asarray(raw, dtype=float)
+    med = float(np.nanmedian(v)) if v.size else 0.0
+    return adc.zero if abs(med - adc.zero) < 0.25 * adc.half else 0.0
+
+
 def unit_conversion(suffix: str, meta: dict, *, g: float, lsb_per_g: float | None = None,
-                    header_check: bool = True, path=None):
+                    header_check: bool = True, path=None, raw=None):
     """``(scale, offset, counts)`` from the raw unit to the working unit (spec 002 §2.3).
 
     With ``header_check`` a column suffix that contradicts the header's ``units`` key is
     an :class:`InputError` (spec 002 §2.3); pass False when the user overrode the unit.
+    Counts with a known sensitivity are taken from their ADC's zero (:func:`adc_zero`
+    of ``raw``, the counts: mid-scale of an unsigned ADC).
     """
     hu = meta.get("units")
     if header_check and isinstance(hu, str) and hu.strip().lower() in units.SUFFIXES \
@@ -122,9 +147,9 @@ def unit_conversion(suffix: str, meta: dict, *, g: float, lsb_per_g: float | Non
                          f"units={hu}; fix one of them or give argument 'unit'", path=path)
     if suffix == "lsb":
         lpg = lsb_per_g if lsb_per_g is not None else meta.get("lsb_per_g")
-        off = float(meta.get("lsb_offset", 0.0) or 0.0)
         if lpg is None:
             return 1.0, 0.0, True
+        off = adc_zero(meta, raw)
         lpg = float(lpg)
         if not np.isfinite(lpg) or lpg <= 0:
             raise InputError(f"lsb_per_g must be a positive number, got {lpg}")
@@ -205,9 +230,9 @@ def static_data_from_frame(df: pd.DataFrame, meta: dict | None = None, *, g: flo
     meta = dict(meta or {})
     g = _g_from(meta, g)
     cols, suf = _acc_columns(df)
-    scale, off, counts = unit_conversion(suf, meta, g=g, lsb_per_g=lsb_per_g,
-                                         header_check=header_check, path=path)
     raw = df[cols].to_numpy(dtype=float)
+    scale, off, counts = unit_conversion(suf, meta, g=g, lsb_per_g=lsb_per_g,
+                                         header_check=header_check, path=path, raw=raw)
     keep = np.ones(len(df), dtype=bool)
     dropped = []
     lim = _saturation_limits(suf, meta, units.to_si(1.0, suf, g_local=g) / g if suf != "lsb" else 1,
@@ -264,9 +289,9 @@ def raw_log_data(t, acc_raw, meta: dict | None = None, *, suffix: str = "mps2",
 
     meta = dict(meta or {})
     g = _g_from(meta, g)
-    scale, off, counts = unit_conversion(suffix, meta, g=g, lsb_per_g=lsb_per_g,
-                                         header_check=header_check, path=path)
     raw = np.asarray(acc_raw, dtype=float)
+    scale, off, counts = unit_conversion(suffix, meta, g=g, lsb_per_g=lsb_per_g,
+                                         header_check=header_check, path=path, raw=raw)
     a_all = (raw - off) * scale
     if schedule is not None and expected is None:
         expected = len(schedule)
