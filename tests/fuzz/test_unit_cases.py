@@ -12,6 +12,7 @@ import math
 import numpy as np
 import pandas as pd
 import pytest
+
 from tests.helpers import run_inprocess
 
 G = 9.80665

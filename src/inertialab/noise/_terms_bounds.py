@@ -101,7 +101,7 @@ def bounded_terms(terms, result, conv):
         from inertialab.noise.terms import model_intervals
 
         curve = model_intervals(result, terms)
-    except Exception:  # noqa: BLE001 - a curve without the fields keeps its own EDF
+    except Exception:
         curve = result
     new["B"] = _b_within(new["B"], b_ceiling(curve, conv.factor("B")))
     changed = {k: v for k, v in new.items() if v is not getattr(terms, k)}
