@@ -257,23 +257,21 @@ def observed_error(y, rate_hz: float, horizon_s: float, bias_window_s: float) ->
     return e[np.isfinite(e)]
 
 
-#: batches of the squared window errors whose spread gives the effective window count
-N_BATCHES = 8
-
-
 def effective_windows(e) -> float:
     """Independent windows the mean square of the window errors ``e`` is worth: ``n``
     times the variance of the mean of ``e^2`` were the windows independent over its
-    variance from ``N_BATCHES`` batch means (back-to-back windows share slow noise: a
-    Gauss-Markov process or a random walk correlates them); at most ``n``."""
+    variance from ``sqrt(n)`` batch means of ``sqrt(n)`` windows each (back-to-back
+    windows share slow noise: a Gauss-Markov process or a random walk correlates them);
+    at most ``n``."""
     x = np.asarray(e, dtype=float) ** 2
     n = x.size
-    k = n // N_BATCHES
-    if k < 2:
+    b = int(math.isqrt(n))
+    k = n // max(b, 1)
+    if b < 4 or k < 2:
         return float(n)
     v_ind = float(np.var(x, ddof=1)) / n
-    bm = x[: k * N_BATCHES].reshape(N_BATCHES, k).mean(axis=1)
-    v_b = float(np.var(bm, ddof=1)) / N_BATCHES
+    bm = x[: k * b].reshape(b, k).mean(axis=1)
+    v_b = float(np.var(bm, ddof=1)) / b
     if not (v_ind > 0 and v_b > 0):
         return float(n)
     return float(n) / max(v_b / v_ind, 1.0)
@@ -352,8 +350,8 @@ def _term_spread(term, z: float):
 
 def misfit_log_var(result, terms, horizons_s, *, span: float = 2.0) -> np.ndarray:
     """Per horizon ``t``, the mean squared log misfit ``(ln AVAR_data - ln AVAR_model)^2``
-    of the fitted model over the curve's taus in ``[t/span, t span]`` (the nearest tau
-    where none is inside): where the model's shape departs from the curve near a
+    beyond the curve's own sampling (less ``psi'(edf/2)``, at least 0) of the fitted model
+    over the curve's taus in ``[t/span, t span]`` (the nearest tau where none is inside): where the model's shape departs from the curve near a
     horizon (a band-limited flicker for several Gauss-Markov processes, say), the drift
     it predicts there departs alike, by more than the terms' intervals say. ``result``:
     the Allan deviation the terms were fitted on."""
@@ -366,7 +364,13 @@ def misfit_log_var(result, terms, horizons_s, *, span: float = 2.0) -> np.ndarra
     lo, hi = terms.tau_range_s if getattr(terms, "tau_range_s", None) else (0, np.inf)
     fitted = ok & (taus >= lo * (1 - 1e-9)) & (taus <= hi * (1 + 1e-9))
     ok = fitted if fitted.any() else ok
-    t, r2 = taus[ok], (2.0 * np.log(dev[ok] / model[ok])) ** 2
+    from scipy.special import polygamma
+
+    edf = np.asarray(getattr(result, "edf", np.full(taus.size, np.inf)), dtype=float)[ok]
+    samp = np.where(np.isfinite(edf) & (edf > 0), polygamma(1, np.maximum(edf, 1e-9) / 2.0),
+                    0.0)
+    t = taus[ok]
+    r2 = np.maximum((2.0 * np.log(dev[ok] / model[ok])) ** 2 - samp, 0.0)
     out = []
     for h in np.atleast_1d(np.asarray(horizons_s, dtype=float)):
         near = (t >= h / span) & (t <= h * span)

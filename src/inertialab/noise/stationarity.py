@@ -155,8 +155,10 @@ def excess_log_var(st: Stationarity) -> tuple[np.ndarray, np.ndarray]:
     out = np.zeros(taus.size)
     for k, la in st.log_avar.items():
         m = la.shape[1]
-        with np.errstate(all="ignore"):
-            s2 = np.nanvar(la, axis=0, ddof=1) if la.shape[0] > 1 else np.zeros(m)
+        n_ok = np.sum(np.isfinite(la), axis=0)
+        dev = np.where(np.isfinite(la), la - np.nanmean(np.where(n_ok > 0, la, 0.0), axis=0),
+                       0.0)
+        s2 = np.where(n_ok > 1, np.sum(dev * dev, axis=0) / np.maximum(n_ok - 1, 1), np.nan)
         ex = s2 - _trigamma(np.asarray(st.edf[k][:m]) / 2.0)
         ex = np.where(np.isfinite(ex), np.maximum(ex, 0.0), 0.0)
         out[:m] = np.maximum(out[:m], ex)
