@@ -50,7 +50,9 @@ def _fit(y, rate_hz, unit):
 
 def seed_row(preset: str, seed: int, hours: float) -> dict:
     from inertialab.noise.drift_prediction import (
+        effective_windows,
         kalibr_components,
+        misfit_log_var,
         observed_error,
         predict,
         predict_terms,
@@ -63,14 +65,42 @@ def seed_row(preset: str, seed: int, hours: float) -> dict:
     pred = predict_terms(terms, HORIZONS, WINDOW, a.rate_hz)
     kal = predict(kalibr_components(res), HORIZONS, WINDOW, a.rate_hz)
     row = {"seed": seed, "pred": pred.rms.tolist(), "kalibr": kal.rms.tolist(),
-           "obs_sq": [], "n": [], "in_band": [], "in_kalibr": []}
+           "obs_sq": [], "n": [], "n_eff": [], "in_band": [], "in_kalibr": []}
+    extra = _extra(a.y, a.rate_hz) + misfit_log_var(res, terms, HORIZONS)
     for i, h in enumerate(HORIZONS):
         e = observed_error(b.y, b.rate_hz, h, WINDOW)
         row["obs_sq"].append(float(np.sum(e * e)))
         row["n"].append(int(e.size))
+        row["n_eff"].append(effective_windows(e))
         row["in_band"].append(int(np.sum(np.abs(e) <= pred.band_95[i])))
         row["in_kalibr"].append(int(np.sum(np.abs(e) <= kal.band_95[i])))
+    obs = np.sqrt(np.asarray(row["obs_sq"]) / np.maximum(row["n"], 1))
+    row |= _ci_check(pred, terms, extra, row["n_eff"], obs)
     return row
+
+
+def _extra(y, rate_hz):
+    """The log-variance the fitted log's measured non-stationarity adds at each horizon
+    (as ``allan --imu``: :func:`inertialab.workflows.imu_drift.nonstationary_log_var`)."""
+    from inertialab.noise.stationarity import check_stationarity
+    from inertialab.workflows.imu_drift import nonstationary_log_var
+
+    return nonstationary_log_var(check_stationarity(y, rate_hz), HORIZONS)
+
+
+def _ci_check(pred, terms, extra, n, obs) -> dict:
+    """Whether each observed RMS lies inside the predicted RMS's 95 % interval widened by
+    its own sampling over ``n`` windows, and by how much beyond an edge (obs/high or
+    low/obs, 1 inside)."""
+    from inertialab.noise.drift_prediction import predicted_rms_ci
+
+    ci = predicted_rms_ci(pred, terms, extra_log_var=extra, n_windows=n)
+    lo, hi = ci["low"], ci["high"]
+    inside = (obs >= lo) & (obs <= hi)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        edge = np.where(obs > hi, obs / hi, np.where(obs < lo, lo / obs, 1.0))
+    return {"ci_inside": inside.astype(int).tolist(), "ci_edge": edge.tolist(),
+            "ci_high_over_low": (hi / np.where(lo > 0, lo, np.nan)).tolist()}
 
 
 def summarise(rows) -> dict:
@@ -88,6 +118,12 @@ def summarise(rows) -> dict:
                      "ratio_p10": np.quantile(ratio, 0.1, axis=0).tolist(),
                      "ratio_p90": np.quantile(ratio, 0.9, axis=0).tolist(),
                      "ratio_pooled": pooled.tolist(), "coverage_95": cover.tolist()}
+    ins = np.array([r["ci_inside"] for r in rows])
+    hl = np.array([r["ci_high_over_low"] for r in rows], dtype=float)
+    out["rms_ci"] = {"coverage": ins.mean(axis=0).tolist(),
+                     "high_over_low_median": np.nanmedian(hl, axis=0).tolist(),
+                     "high_over_low_p10": np.nanquantile(hl, 0.1, axis=0).tolist(),
+                     "high_over_low_p90": np.nanquantile(hl, 0.9, axis=0).tolist()}
     out["seeds"] = len(rows)
     out["windows_per_seed"] = n[0].tolist()
     return out
@@ -149,6 +185,8 @@ def _fmt(s) -> str:
     m = s["model"]
     return (f"ratio median {np.round(m['ratio_median'], 3)} pooled "
             f"{np.round(m['ratio_pooled'], 3)} coverage {np.round(m['coverage_95'], 3)}; "
+            f"RMS interval coverage {np.round(s['rms_ci']['coverage'], 3)} high/low "
+            f"{np.round(s['rms_ci']['high_over_low_median'], 2)}; "
             f"kalibr pooled {np.round(s['kalibr']['ratio_pooled'], 3)}")
 
 

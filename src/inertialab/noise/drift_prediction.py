@@ -257,18 +257,40 @@ def observed_error(y, rate_hz: float, horizon_s: float, bias_window_s: float) ->
     return e[np.isfinite(e)]
 
 
+def effective_windows(e) -> float:
+    """Independent windows the mean square of the window errors ``e`` is worth: ``n``
+    times the variance of the mean of ``e^2`` were the windows independent over its
+    variance from ``sqrt(n)`` batch means of ``sqrt(n)`` windows each (back-to-back
+    windows share slow noise: a Gauss-Markov process or a random walk correlates them);
+    at most ``n``."""
+    x = np.asarray(e, dtype=float) ** 2
+    n = x.size
+    b = int(math.isqrt(n))
+    k = n // max(b, 1)
+    if b < 4 or k < 2:
+        return float(n)
+    v_ind = float(np.var(x, ddof=1)) / n
+    bm = x[: k * b].reshape(b, k).mean(axis=1)
+    v_b = float(np.var(bm, ddof=1)) / b
+    if not (v_ind > 0 and v_b > 0):
+        return float(n)
+    return float(n) / max(v_b / v_ind, 1.0)
+
+
 def check_prediction(pred: DriftPrediction, y, rate_hz: float) -> dict:
     """Prediction against the record ``y`` (the other half, or another log): per horizon
     the observed RMS (u s), the number of windows, observed/predicted, the coverage of
-    the 95 % band, and per term the inflation of its amplitude that would make the
+    the 95 % band, the effective number of independent windows
+    (:func:`effective_windows`), and per term the inflation of its amplitude that would make the
     predicted RMS equal the observed one (NaN where that term alone cannot)."""
-    obs, n_win, cover = [], [], []
+    obs, n_win, cover, n_eff = [], [], [], []
     infl: dict[str, list] = {k: [] for k in pred.by_term}
     for i, t in enumerate(pred.horizons_s):
         e = observed_error(y, rate_hz, t, pred.bias_window_s)
         o = float(np.sqrt(np.mean(e * e))) if e.size else float("nan")
         obs.append(o)
         n_win.append(int(e.size))
+        n_eff.append(effective_windows(e))
         cover.append(float(np.mean(np.abs(e) <= pred.band_95[i])) if e.size else float("nan"))
         tot = float(pred.rms[i]) ** 2
         for k, v in pred.by_term.items():
@@ -276,7 +298,7 @@ def check_prediction(pred: DriftPrediction, y, rate_hz: float) -> dict:
             need = o * o - (tot - vk)
             infl[k].append(math.sqrt(need / vk) if vk > 0 and need > 0 else float("nan"))
     obs_a = np.asarray(obs)
-    return {"observed_rms": obs_a, "n_windows": n_win,
+    return {"observed_rms": obs_a, "n_windows": n_win, "n_effective": n_eff,
             "ratio": obs_a / np.asarray(pred.rms), "coverage_95": cover, "inflation": infl}
 
 
@@ -308,6 +330,102 @@ def kalibr_components(result) -> list[Component]:
     return [Component("white", "N", n * n), Component("rw", "K", k * k)]
 
 
+#: the IEEE terms whose intervals carry a prediction's parameter uncertainty
+_TERM_NAMES = ("Q", "N", "B", "K", "R")
+
+
+def _term_spread(term, z: float):
+    """``(sd of ln amplitude, upper/value)`` of a fitted term: a significant term's
+    interval read as lognormal (``ln(hi/lo) / 2z``), an upper bound as ``(0, ub/value)``
+    (its part of the drift anywhere between none and the bound's)."""
+    lo, hi = (float(v) for v in term.ci)
+    val = float(term.value)
+    if "upper_bound" in term.flags or "not_observable" in term.flags:
+        ub = float(term.upper_bound) if math.isfinite(term.upper_bound) else hi
+        return 0.0, (ub / val if val > 0 and math.isfinite(ub) else 1.0)
+    if val > 0 and lo > 0 and math.isfinite(hi) and hi >= lo:
+        return math.log(hi / lo) / (2.0 * z), None
+    return 0.0, None
+
+
+def misfit_log_var(result, terms, horizons_s, *, span: float = 2.0) -> np.ndarray:
+    """Per horizon ``t``, the mean squared log misfit ``(ln AVAR_data - ln AVAR_model)^2``
+    beyond the curve's own sampling (less ``psi'(edf/2)``, at least 0) of the fitted model
+    over the curve's taus in ``[t/span, t span]`` (the nearest tau where none is inside): where the model's shape departs from the curve near a
+    horizon (a band-limited flicker for several Gauss-Markov processes, say), the drift
+    it predicts there departs alike, by more than the terms' intervals say. ``result``:
+    the Allan deviation the terms were fitted on."""
+    taus = np.asarray(result.taus_s, dtype=float)
+    dev = np.asarray(result.dev, dtype=float)
+    model = np.asarray(terms.model_dev(taus), dtype=float)
+    ok = np.isfinite(dev) & (dev > 0) & np.isfinite(model) & (model > 0)
+    if not ok.any():
+        return np.zeros(len(np.atleast_1d(horizons_s)))
+    lo, hi = terms.tau_range_s if getattr(terms, "tau_range_s", None) else (0, np.inf)
+    fitted = ok & (taus >= lo * (1 - 1e-9)) & (taus <= hi * (1 + 1e-9))
+    ok = fitted if fitted.any() else ok
+    from scipy.special import polygamma
+
+    edf = np.asarray(getattr(result, "edf", np.full(taus.size, np.inf)), dtype=float)[ok]
+    samp = np.where(np.isfinite(edf) & (edf > 0), polygamma(1, np.maximum(edf, 1e-9) / 2.0),
+                    0.0)
+    t = taus[ok]
+    r2 = np.maximum((2.0 * np.log(dev[ok] / model[ok])) ** 2 - samp, 0.0)
+    out = []
+    for h in np.atleast_1d(np.asarray(horizons_s, dtype=float)):
+        near = (t >= h / span) & (t <= h * span)
+        out.append(float(np.mean(r2[near])) if near.any()
+                   else float(r2[int(np.argmin(np.abs(np.log(t / h))))]))
+    return np.asarray(out)
+
+
+def predicted_rms_ci(pred: DriftPrediction, terms=None, *, extra_log_var=None,
+                     n_windows=None, confidence: float = 0.95) -> dict:
+    """Interval of the drift RMS per horizon (u s), from three sources in the log of the
+    drift variance ``V``:
+
+    * the fitted terms' uncertainty (``terms``: a :class:`~inertialab.noise.terms.NoiseTerms`):
+      each significant term's interval as a lognormal spread of its amplitude, so of its
+      part ``v_k`` of ``V`` with log-sd ``2 s_k``, summed as ``sum (v_k/V)^2 (2 s_k)^2``
+      (the terms' correlation left out: wider, not narrower); a term that is an upper
+      bound moves ``V`` between ``V - v_k`` and ``V + v_k ((ub/value)^2 - 1)``;
+    * ``extra_log_var`` per horizon: variance of ``ln V`` the data's non-stationarity
+      (:func:`inertialab.noise.stationarity.excess_at`) and, pooled over logs, the
+      between-log spread add;
+    * ``n_windows`` per horizon (optional): the observed RMS's own chi-square sampling
+      over that many windows, ``psi'(n/2)`` (for the check of an observed RMS).
+
+    Returns ``{"confidence", "low", "high", "log_sd": {"terms", "extra", "sampling"}}``."""
+    from scipy.special import ndtri, polygamma
+
+    z = float(ndtri(0.5 + confidence / 2.0))
+    nh = len(pred.horizons_s)
+    extra = np.zeros(nh) if extra_log_var is None else np.asarray(extra_log_var, float)
+    samp = np.zeros(nh) if n_windows is None else np.where(
+        np.asarray(n_windows, float) > 0, polygamma(1, np.maximum(
+            np.asarray(n_windows, float), 1.0) / 2.0), np.inf)
+    s_terms, lo_b, hi_b = np.zeros(nh), np.zeros(nh), np.zeros(nh)
+    var = pred.rms ** 2
+    for name, vk in pred.by_term.items():
+        vk = np.asarray(vk, dtype=float)
+        if terms is None or name not in _TERM_NAMES:
+            continue
+        sd, ub = _term_spread(getattr(terms, name), z)
+        if ub is not None:
+            lo_b += vk
+            hi_b += vk * max(ub * ub - 1.0, 0.0)
+        else:
+            with np.errstate(divide="ignore", invalid="ignore"):
+                f = np.where(var > 0, vk / var, 0.0)
+            s_terms += (f * 2.0 * sd) ** 2
+    s = np.sqrt(s_terms + extra + samp)
+    low = np.sqrt(np.maximum(var * np.exp(-z * s) - lo_b, 0.0))
+    high = np.sqrt(var * np.exp(z * s) + hi_b)
+    return {"confidence": float(confidence), "low": low, "high": high,
+            "log_sd": {"terms": np.sqrt(s_terms), "extra": np.sqrt(extra),
+                       "sampling": np.sqrt(samp)}}
+
+
 __all__ = ["Component", "DriftPrediction", "Z95", "check_prediction", "component_variance",
            "components_of", "kalibr_components", "kalibr_reading", "observed_error",
-           "predict", "predict_terms"]
+           "effective_windows", "misfit_log_var", "predict", "predict_terms", "predicted_rms_ci"]

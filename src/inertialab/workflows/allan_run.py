@@ -71,6 +71,16 @@ class AllanConfig(Config):
                                              "exported densities and random walks inflated so "
                                              "the prediction covers the observed drift.",
                                   choices=("auto", "none"))
+    warmup: str = setting("auto", help="Six-axis mode: auto (a start-of-log transient found "
+                                       "per axis against the rest of the log; one span "
+                                       "per log, the latest end, left out of every fit), "
+                                       "seconds to leave out, or 0 (none).")
+    pool: bool = setting(False, help="Six-axis mode, several logs: one noise model per axis "
+                                     "over them, with each log's own terms beside it.",
+                         flag="pool/no-pool")
+    pool_kind: str = setting("runs", help="With --pool: runs (several runs of one unit) or "
+                                          "units (units of one model): what the between-log "
+                                          "spread means.", choices=("runs", "units"))
     gaps: str | None = setting(None, help="error | split: refuse time-stamp dropouts and "
                                           "repeats, or split the log at them (default: jitter "
                                           "and dropouts analysed on the sensor's grid, lost "

@@ -75,19 +75,51 @@ def _integral_unit(axis) -> tuple[float, str]:
     return U.convert(1.0, axis.unit, "mps2", g_local=axis.terms.g_local), "m/s"
 
 
-def axis_drift(axis, rate_hz: float, opts: DriftOptions, y_check=None) -> dict:
-    """``drift_prediction`` of one fitted axis (module docstring), JSON-ready."""
+#: the new stretch's own deviation (the excess) plus that of the level fitted on the mean of
+#: two halves (half the excess): the non-stationarity's part of a prediction's log-variance
+NONSTATIONARY_FACTOR = 1.5
+
+
+def nonstationary_log_var(stationarity, horizons_s) -> np.ndarray:
+    """Variance of the log drift variance the measured between-segment spread adds at
+    each horizon (:func:`inertialab.noise.stationarity.excess_at` at tau = horizon, times
+    ``NONSTATIONARY_FACTOR``); zeros without a test."""
+    from inertialab.noise.stationarity import excess_at
+
+    return NONSTATIONARY_FACTOR * excess_at(stationarity, horizons_s)
+
+
+def _ci_dict(ci, f) -> dict:
+    return {"confidence": ci["confidence"], "low": [float(v) * f for v in ci["low"]],
+            "high": [float(v) * f for v in ci["high"]],
+            "log_sd": {k: [float(x) for x in v] for k, v in ci["log_sd"].items()}}
+
+
+def axis_drift(axis, rate_hz: float, opts: DriftOptions, y_check=None, *,
+               stationarity=None, extra_log_var=None) -> dict:
+    """``drift_prediction`` of one fitted axis (module docstring), JSON-ready, with the
+    RMS's 95 % interval (``predicted_rms_ci``: the terms' uncertainty, the
+    ``stationarity`` test's measured spread and ``extra_log_var``, e.g. a pool's
+    between-log spread) and, on a check, whether the observed RMS lies inside it."""
     from inertialab.noise.drift_prediction import (
         check_prediction,
         kalibr_components,
         kalibr_reading,
+        misfit_log_var,
         predict,
         predict_terms,
+        predicted_rms_ci,
     )
 
     f, unit = _integral_unit(axis)
     pred = predict_terms(axis.terms, opts.horizons_s, opts.bias_window_s, rate_hz)
     out = pred.to_dict(f, unit)
+    extra = nonstationary_log_var(stationarity, opts.horizons_s)
+    extra = extra + misfit_log_var(axis.deviation, axis.terms, opts.horizons_s)
+    if extra_log_var is not None:
+        extra = extra + np.asarray(extra_log_var, dtype=float)
+    out["predicted_rms_ci"] = _ci_dict(predicted_rms_ci(pred, axis.terms,
+                                                        extra_log_var=extra), f)
     n_k, k_k = kalibr_reading(axis.deviation)
     kal = predict(kalibr_components(axis.deviation), opts.horizons_s, opts.bias_window_s,
                   rate_hz)
@@ -101,13 +133,19 @@ def axis_drift(axis, rate_hz: float, opts: DriftOptions, y_check=None) -> dict:
         out["check"] = {
             "on": opts.other_name if opts.check_on == "other" else "second half",
             "observed_rms": [float(v) * f for v in chk["observed_rms"]],
-            "n_windows": chk["n_windows"],
+            "n_windows": chk["n_windows"], "n_effective": chk["n_effective"],
             "observed_over_predicted": [float(v) for v in chk["ratio"]],
             "coverage_95": chk["coverage_95"],
             "inflation": {k: [None if not math.isfinite(x) else float(x) for x in v]
                           for k, v in chk["inflation"].items()},
             "kalibr_observed_over_predicted": [float(v) for v in chk_k["ratio"]],
             "kalibr_coverage_95": chk_k["coverage_95"]}
+        ci = predicted_rms_ci(pred, axis.terms, extra_log_var=extra,
+                              n_windows=chk["n_effective"])
+        obs = np.asarray(chk["observed_rms"], dtype=float)
+        out["check"] |= {"rms_ci_with_sampling": _ci_dict(ci, f),
+                         "inside_rms_ci": [bool(lo <= o <= hi) for o, lo, hi
+                                           in zip(obs, ci["low"], ci["high"])]}
     return out
 
 
@@ -247,7 +285,7 @@ def axis_columns(rec) -> dict:
 
 
 def drift_options(predict_drift, bias_window, check_on, plan, rec, *, rate, unit, g_local,
-                   gaps, ro):
+                   gaps, ro, warmup="auto"):
     """The :class:`DriftOptions` of the command's settings (``check_on``: ``half`` or
     another log, read like the main one), or None without a prediction or plan."""
     if not predict_drift and not plan:
@@ -275,6 +313,7 @@ def drift_options(predict_drift, bias_window, check_on, plan, rec, *, rate, unit
                                  f"{fs1:g} Hz: give logs of the same rate", path=check_on)
             place = tb2.place if (rate is None and tb2 is not None) else (lambda v: v)
             other = _in_units_of(axis_columns(rec2), axis_columns(rec), place, g_local)
+            other = _other_after_warmup(other, float(fs2 or fs1 or 0.0), warmup)
             mode, name = "other", str(check_on)
     return DriftOptions(horizons_s=horizons or (1.0,), bias_window_s=float(bias_window),
                         check_on=mode, other=other, other_name=name, plan=bool(plan))
@@ -292,6 +331,16 @@ def _in_units_of(check_cols: dict, main_cols: dict, place, g_local) -> dict:
                                      g_local=g), dtype=float)
         out[k] = place(y)
     return out
+
+
+def _other_after_warmup(other: dict, rate_hz: float, warmup) -> dict:
+    """The check log's axes with its own warm-up span cut (as the analysed log's)."""
+    from inertialab.workflows.imu_segments import apply_warmup
+
+    if not other or not rate_hz:
+        return other
+    cols, _ = apply_warmup({k: (k, v, "") for k, v in other.items()}, rate_hz, warmup)
+    return {k: v[1] for k, v in cols.items()}
 
 
 def display_tables(res, file) -> list:
@@ -316,6 +365,10 @@ def drift_tables(res) -> list:
         for a in axes:
             d, u = a.drift, a.drift["unit"]
             rows.append([a.axis, f"model RMS ({u})"] + [f"{v:.3g}" for v in d["predicted_rms"]])
+            ci = d.get("predicted_rms_ci")
+            if ci:
+                rows.append([a.axis, "model RMS 95 % interval"]
+                            + [f"{lo:.3g}-{hi:.3g}" for lo, hi in zip(ci["low"], ci["high"])])
             rows.append([a.axis, f"Kalibr RMS ({u})"]
                         + [f"{v:.3g}" for v in d["kalibr"]["predicted_rms"]])
             c = d.get("check")
@@ -328,6 +381,9 @@ def drift_tables(res) -> list:
                             + [f"{v:.2f}" for v in c["kalibr_observed_over_predicted"]])
                 rows.append([a.axis, "in model 95 % band"]
                             + [f"{100 * v:.0f} %" for v in c["coverage_95"]])
+                if "inside_rms_ci" in c:
+                    rows.append([a.axis, "observed inside RMS interval"]
+                                + ["yes" if v else "NO" for v in c["inside_rms_ci"]])
         check = axes[0].drift.get("check", {}).get("on")
         out.append((f"Integrated error after a {w:g}-s bias window (angle for gyros, "
                     "velocity for accelerometers)" + (f"; checked on {check}" if check
@@ -355,5 +411,6 @@ def drift_tables(res) -> list:
     return out
 
 
-__all__ = ["AXES", "BIAS_WINDOW_S", "DriftOptions", "axis_columns", "axis_drift", "axis_plan",
-           "display_tables", "drift_options", "drift_tables", "inflated"]
+__all__ = ["AXES", "BIAS_WINDOW_S", "DriftOptions", "NONSTATIONARY_FACTOR", "axis_columns",
+           "axis_drift", "axis_plan", "display_tables", "drift_options", "drift_tables",
+           "inflated", "nonstationary_log_var"]

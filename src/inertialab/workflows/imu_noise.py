@@ -101,6 +101,8 @@ class AxisNoise:
     drift: dict | None = None
     plan: dict | None = None
     random_walk_t_s: float | None = None
+    warmup: dict | None = None  # the axis's warm-up evidence (workflows.imu_segments)
+    stationarity: dict | None = None  # the segments test (noise.stationarity)
 
     def to_dict(self) -> dict:
         si = _SI[self.kind]
@@ -129,6 +131,10 @@ class AxisNoise:
             d["drift_prediction"] = self.drift
         if self.plan is not None:
             d["plan"] = self.plan
+        if self.warmup is not None:
+            d |= {"warmup_s": self.warmup["warmup_s"], "warmup": self.warmup}
+        if self.stationarity is not None:
+            d["stationarity"] = self.stationarity
         d["allan"] = self.deviation.to_dict() if self.deviation is not None else None
         return d
 
@@ -213,18 +219,23 @@ class IMUNoise:
                  for name in ("N", "B", "K")}
         dens = " / ".join(si[k][1] for k in kinds)
         rw = " / ".join(si[k][2] for k in kinds)
+        from inertialab.workflows.imu_segments import stationarity_text
+
         cols = ["axis", "column", "status", f"N ({units['N']})", f"B ({units['B']})",
-                f"K ({units['K']})", f"noise density ({dens})", f"random walk ({rw})"]
+                f"K ({units['K']})", f"noise density ({dens})", f"random walk ({rw})",
+                "stationary"]
         rows = []
         for a in self.axes:
             t = a.terms
             if t is None:
-                rows.append([a.axis, a.column, a.status] + [""] * 5)
+                rows.append([a.axis, a.column, a.status] + [""] * 5
+                            + [stationarity_text(a.stationarity)])
                 continue
             n_bound = bool({"upper_bound", "not_observable"} & set(t.N.flags))
             rows.append([a.axis, a.column, a.status, term_text(t.N), term_text(t.B),
                          term_text(t.K), ("<= " if n_bound else "") + _num(a.noise_density),
-                         ("<= " if a.random_walk_bound else "") + _num(a.random_walk)])
+                         ("<= " if a.random_walk_bound else "") + _num(a.random_walk),
+                         stationarity_text(a.stationarity)])
         return cols, rows
 
     def notes(self) -> list[str]:
@@ -323,11 +334,15 @@ def _axis(name: str, column: str, y, unit: str, *, rate_hz: float, taus, method:
                      random_walk_bound=k_bound, bias_instability=float(b),
                      bias_instability_bound=b_bound,
                      random_walk_t_s=float(terms.k_gm["t_s"]) if terms.k_gm else None)
+    from inertialab.workflows.imu_segments import axis_stationarity
+
+    st = axis_stationarity(fit_y, rate_hz, column)
+    axis = replace(axis, stationarity=None if st is None else st.to_dict())
     if drift is not None:
         from inertialab.workflows.imu_drift import axis_drift, axis_plan
 
         y_check = y[y.size // 2:] if drift.check_on == "half" else drift.other.get(name)
-        axis = replace(axis, drift=axis_drift(axis, rate_hz, drift, y_check),
+        axis = replace(axis, drift=axis_drift(axis, rate_hz, drift, y_check, stationarity=st),
                        plan=axis_plan(axis, rate_hz, fit_y.size) if drift.plan else None)
     return axis
 
@@ -370,7 +385,8 @@ def _fit_terms(y, dev, unit, kind, method, rate_hz, tau_range_s, g_local, column
 
 def analyse_imu(columns: dict, *, rate_hz: float, taus="octave", method: str = "wls",
                 g_local: float = U.G_STANDARD, tau_range_s=None, progress=None,
-                terms: bool = True, drift=None, confidence: float = 0.95) -> IMUNoise:
+                terms: bool = True, drift=None, confidence: float = 0.95,
+                warmup="auto", temperature=None) -> IMUNoise:
     """Noise of up to six axes.
 
     Parameters
@@ -391,6 +407,11 @@ def analyse_imu(columns: dict, *, rate_hz: float, taus="octave", method: str = "
     drift : :class:`inertialab.workflows.imu_drift.DriftOptions`, optional
         Predict the integrated error per horizon, check it on another record or the
         second half, and plan the record length (:mod:`inertialab.workflows.imu_drift`).
+    warmup : "auto", seconds or 0, default "auto"
+        The log's warm-up span left out of every axis before fitting (and before the
+        halves of a check on the second half): found in the data, given, or none
+        (:func:`inertialab.workflows.imu_segments.apply_warmup`; ``temperature``: the
+        log's temperature samples, judged with the axes).
 
     An axis that is not static (broadband excess over its white floor, gross
     excursions, the gravity direction turning:
@@ -403,6 +424,9 @@ def analyse_imu(columns: dict, *, rate_hz: float, taus="octave", method: str = "
     unknown = set(columns) - set(AXES)
     if unknown:
         raise InputError(f"unknown axes {sorted(unknown)} (known: {', '.join(AXES)})")
+    from inertialab.workflows.imu_segments import apply_warmup, axis_warmup
+
+    columns, wu = apply_warmup(columns, float(rate_hz), warmup, temperature)
     out = []
     names = [a for a in AXES if a in columns]
     moving = _motion(columns, names, float(rate_hz)) if terms else {}
@@ -411,6 +435,7 @@ def analyse_imu(columns: dict, *, rate_hz: float, taus="octave", method: str = "
         out.append(_axis(name, col, y, unit, rate_hz=float(rate_hz), taus=taus, method=method,
                          g_local=g_local, tau_range_s=tau_range_s, terms_on=terms,
                          drift=drift, confidence=confidence, motion=moving.get(name)))
+        out[-1] = replace(out[-1], warmup=axis_warmup(wu, name))
         if progress is not None:
             progress.update(i + 1, len(names), name)
     n = int(np.asarray(columns[names[0]][1]).shape[0])
@@ -420,6 +445,7 @@ def analyse_imu(columns: dict, *, rate_hz: float, taus="octave", method: str = "
                 "terms": bool(terms), "confidence": float(confidence)}
     if drift is not None:
         settings["drift"] = drift.to_dict()
+    settings["warmup"] = {k: wu[k] for k in ("setting", "span_s", "from")}
     return IMUNoise(axes=tuple(out), rate_hz=float(rate_hz), n_samples=n, settings=settings)
 
 
@@ -433,7 +459,8 @@ def _motion(columns: dict, names, rate_hz: float) -> dict:
 
 def analyse_record(rec, *, rate_hz: float | None = None, taus="octave", method: str = "wls",
                    g_local: float | None = None, tau_range_s=None, progress=None,
-                   terms: bool = True, drift=None, confidence: float = 0.95) -> IMUNoise:
+                   terms: bool = True, drift=None, confidence: float = 0.95,
+                   warmup="auto") -> IMUNoise:
     """:func:`analyse_imu` on the ``gx gy gz ax ay az`` columns of a ``gyro_log`` record
     (rate from ``rate_hz``, else the record's time base)."""
     if rate_hz is None:
@@ -459,12 +486,17 @@ def analyse_record(rec, *, rate_hz: float | None = None, taus="octave", method: 
             raise InputError("needs a t_s column or argument 'rate_hz'", path=rec.path)
         fs = tb.rate_hz  # lost samples NaN on the grid (gap-resistant OADEV)
         cols = {name: (c, tb.place(y), u) for name, (c, y, u) in cols.items()}
+    tc = rec.find("temp")  # a temperature column is judged for the warm-up with the axes
+    temp = None if tc is None else np.asarray(rec.column(tc), dtype=float)
+    if temp is not None and rate_hz is None and tb is not None:
+        temp = tb.place(temp)
     g = g_local if g_local is not None else float(rec.meta.get("g_local_mps2", U.G_STANDARD))
     note = filtered_source_note(rec)
     try:
         res = analyse_imu(cols, rate_hz=float(fs), taus=taus, method=method, g_local=g,
                            tau_range_s=tau_range_s, progress=progress, terms=terms,
-                           drift=drift, confidence=confidence)
+                           drift=drift, confidence=confidence, warmup=warmup,
+                           temperature=temp)
     except InputError as exc:
         if exc.path is not None or rec.path is None:
             raise
@@ -495,7 +527,7 @@ def filtered_source_note(rec) -> str | None:
 def analyse_file(file, *, read=None, unit=None, rate=None, gaps=None, g_local=None,
                  method="wls", terms=True, predict_drift=None, bias_window=10.0,
                  check_on=None, plan=False, inflate=None, export=None, progress=None,
-                 confidence=None):
+                 confidence=None, warmup="auto"):
     """``(record, IMUNoise)`` of a log file: the settings checked, the record read (and
     the check log, :func:`inertialab.workflows.imu_drift.drift_options`), the axes
     analysed."""
@@ -521,10 +553,11 @@ def analyse_file(file, *, read=None, unit=None, rate=None, gaps=None, g_local=No
     rec = read_record(file, "gyro_log", unit=unit, rate_hz=rate, g_local=g_local, gaps=gaps,
                       options=read)
     drift = drift_options(predict_drift, bias_window, check_on, plan, rec, rate=rate,
-                          unit=unit, g_local=g_local, gaps=gaps, ro=read)
+                          unit=unit, g_local=g_local, gaps=gaps, ro=read, warmup=warmup)
     return rec, analyse_record(rec, rate_hz=rate, method=method, g_local=g_local,
                                progress=progress, terms=terms, drift=drift,
-                               confidence=0.95 if confidence is None else confidence)
+                               confidence=0.95 if confidence is None else confidence,
+                               warmup=warmup)
 
 
 def export_pairs(export) -> list[tuple[str, str]]:

@@ -1,0 +1,423 @@
+"""``allan --imu LOG1 LOG2 ... --pool``: several static logs as one noise model per axis.
+
+Each log is read with its own units, column names and time base (the reader's), its
+axes converted to the first log's units, its warm-up cut
+(:func:`inertialab.workflows.imu_segments.apply_warmup`), and its octave overlapping
+Allan deviation computed. A log that cannot join (no IMU axis, axes the first log has
+missing, a column of another quantity, an axis that is not static) is refused in one
+line naming it before anything is fitted. Per axis then (:mod:`inertialab.noise.pooled`):
+
+* the pooled curve on the first log's taus (logs of another rate only from
+  ``QN_SPLIT_S``: Q and N pooled only across logs of one rate);
+* the model chosen among ``candidates`` (WLS, GMWM) by leave-one-log-out: each fitted on
+  the other logs' pooled curve and scored on the left-out log's curve
+  (:func:`inertialab.noise.pooled.cv_score`); the pooled terms are the chosen method's;
+* each log's own terms beside them (``logs[]``), and the near-stationarity test between
+  the logs' curves;
+* the N, B and K intervals widened by the between-log spread of the logs' own terms
+  (random effects, shrunk toward the logs' within-log segment spread); ``pool_kind``
+  says what that spread is: run to run of one unit, or unit to unit of one model;
+* with a drift prediction, its RMS interval carries the between-log spread of each log's
+  own predicted drift the same way, and ``check_on`` another log checks it there.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from inertialab import units as U
+from inertialab.errors import InputError
+from inertialab.workflows.imu_drift import AXES, axis_columns
+
+#: what the between-log spread means, per pool kind
+POOL_KINDS = {"runs": "run-to-run spread of one unit (turn-on to turn-on)",
+              "units": "unit-to-unit spread of one sensor model"}
+_SI = {"gyro": "rps", "accel": "mps2"}
+
+
+@dataclass
+class PoolLog:
+    """One log of a pool: ``file``, ``rate_hz``, ``columns`` (``{axis: (column, samples
+    in the pool's unit, unit)}``), ``units`` (its own unit per axis), ``warmup`` (the span
+    and its evidence), ``sha256``."""
+
+    file: str
+    rate_hz: float
+    columns: dict
+    units: dict
+    warmup: dict
+    sha256: str | None = None
+    curves: dict = field(default_factory=dict)
+
+    def summary(self) -> dict:
+        n = min(len(v[1]) for v in self.columns.values())
+        return {"file": self.file, "rate_hz": self.rate_hz, "n_samples": int(n),
+                "duration_s": n / self.rate_hz, "units": self.units,
+                "columns": {k: v[0] for k, v in self.columns.items()},
+                "warmup": {k: self.warmup[k] for k in ("setting", "span_s", "from")}}
+
+
+def read_log(file, *, read=None, unit=None, rate=None, gaps=None, g_local=None):
+    """``(record, rate_hz, columns, temperature)`` of one log, as ``allan --imu`` reads
+    it (the rate from ``rate`` or the record's time base)."""
+    from inertialab.io import read_record
+
+    rec = read_record(file, "gyro_log", unit=unit, rate_hz=rate, g_local=g_local, gaps=gaps,
+                      options=read)
+    cols = axis_columns(rec)
+    if not cols:
+        raise InputError("cannot join the pool: no IMU axis columns (gx_*, gy_*, gz_*, ax_*, "
+                         "ay_*, az_*)", path=file)
+    tb, fs = rec.timebase, rate
+    tc = rec.find("temp")
+    temp = None if tc is None else np.asarray(rec.column(tc), dtype=float)
+    if fs is None:
+        if tb is None:
+            raise InputError("cannot join the pool: needs a t_s column or argument 'rate'",
+                             path=file)
+        fs = tb.rate_hz
+        cols = {k: (c, tb.place(y), u) for k, (c, y, u) in cols.items()}
+        temp = None if temp is None else tb.place(temp)
+    return rec, float(fs), cols, temp
+
+
+def _to_pool_units(cols: dict, ref_units: dict, g: float, file) -> tuple[dict, dict]:
+    """The axes in the first log's units (each axis read with its own)."""
+    out, own = {}, {}
+    for k, (c, y, u) in cols.items():
+        want = "angular_rate" if AXES[k] == "gyro" else "acceleration"
+        dim = U.lookup(u).dimension
+        if dim != want:
+            raise InputError(f"cannot join the pool: column '{c}' is a {dim}, expected a "
+                             f"{want}", path=file)
+        f = U.convert(1.0, u, ref_units.get(k, u), g_local=g)
+        out[k] = (c, np.asarray(y, dtype=float) * f, ref_units.get(k, u))
+        own[k] = u
+    return out, own
+
+
+def read_pool(files, *, read=None, unit=None, rate=None, gaps=None, g_local=None,
+              warmup="auto") -> list[PoolLog]:
+    """Every log of a pool read, checked to join (module docstring), its warm-up cut."""
+    from inertialab.workflows.imu_segments import apply_warmup
+
+    logs, ref_units, ref_axes = [], {}, None
+    for f in files:
+        rec, fs, cols, temp = read_log(f, read=read, unit=unit, rate=rate, gaps=gaps,
+                                       g_local=g_local)
+        if ref_axes is None:
+            ref_axes = tuple(a for a in AXES if a in cols)
+            ref_units = {k: v[2] for k, v in cols.items()}
+        missing = [a for a in ref_axes if a not in cols]
+        if missing:
+            raise InputError(f"cannot join the pool: axes {' '.join(missing)} missing (the "
+                             f"first log has {' '.join(ref_axes)})", path=f)
+        cols = {k: v for k, v in cols.items() if k in ref_axes}
+        g = g_local if g_local is not None else float(rec.meta.get("g_local_mps2",
+                                                                   U.G_STANDARD))
+        cols, own = _to_pool_units(cols, ref_units, g, f)
+        cols, wu = apply_warmup(cols, fs, warmup, temp)
+        logs.append(PoolLog(str(f), fs, cols, own, wu, rec.sha256))
+    return logs
+
+
+def _curves(logs, confidence: float) -> None:
+    """Each log's octave OADEV per axis, refusing an axis that is not static."""
+    from inertialab.noise.terms import not_static_reason
+    from inertialab.workflows.imu_noise import _deviation
+
+    for lg in logs:
+        for k, (c, y, _u) in lg.columns.items():
+            dev = _deviation(np.asarray(y), lg.rate_hz, "octave", confidence)
+            why = not_static_reason(dev.taus_s, dev.dev)
+            if why:
+                raise InputError(f"cannot join the pool: column '{c}' {why}", path=lg.file)
+            lg.curves[k] = dev
+
+
+def _fit(dev, unit: str, kind: str, method: str, rate_hz: float, g: float, confidence: float):
+    from inertialab.noise.terms import fit_noise_terms
+
+    return fit_noise_terms(dev, unit=unit, kind=kind, method=method, rate_hz=rate_hz,
+                           g_local=g, confidence=confidence)
+
+
+def choose_model(curves, rates, unit, kind, candidates, g, confidence) -> dict:
+    """Leave-one-log-out choice among ``candidates`` (module docstring):
+    ``{"criterion", "scores": {method: mean score}, "chosen"}``; with one log (nothing to
+    leave out) the first candidate."""
+    from inertialab.noise.pooled import cv_score, pool_curves
+
+    if len(curves) < 2 or len(candidates) < 2:
+        return {"criterion": None, "scores": {}, "chosen": candidates[0],
+                "reason": "one log or one candidate: nothing to choose by leave-one-out"}
+    scores = {}
+    for m in candidates:
+        per = []
+        for j in range(len(curves)):
+            rest = [c for i, c in enumerate(curves) if i != j]
+            r_rates = [r for i, r in enumerate(rates) if i != j]
+            try:
+                t = _fit(pool_curves(rest, r_rates, confidence), unit, kind, m, r_rates[0], g,
+                         confidence)
+            except InputError:
+                per.append(math.inf)
+                continue
+            per.append(cv_score(curves[j], t.model_dev(np.asarray(curves[j].taus_s))))
+        scores[m] = float(np.mean(per))
+    chosen = min(scores, key=lambda k: (scores[k], candidates.index(k)))
+    return {"criterion": "leave-one-log-out: mean over the left-out log's taus of "
+                         "(ln AVAR - ln model)^2 / psi'(edf/2)",
+            "scores": scores, "chosen": chosen}
+
+
+def _term_prior(stats, term) -> float:
+    """Prior of a term's between-log log-variance: the logs' within-log segment spread
+    of ln AVAR over the term's read range, over 4 (a term's amplitude is a square root)."""
+    from inertialab.noise.stationarity import excess_at
+
+    lo, hi = term.tau_range_s if term.tau_range_s else (1.0, 1.0)
+    t = math.sqrt(max(lo, 1e-9) * max(hi, 1e-9))
+    v = [float(excess_at(st, [t])[0]) for st in stats if st is not None]
+    return float(np.mean(v)) / 4.0 if v else 0.0
+
+
+def widen_terms(pooled, own_terms, stats, same_rate, z) -> tuple[object, dict]:
+    """The pooled terms with N, B and K intervals carrying the between-log spread of the
+    logs' own terms (N and Q only over the logs of the reference rate), and the spreads
+    ``{term: between-log variance of ln term}``."""
+    from inertialab.noise.pooled import between_var, widen_term
+
+    spread, new = {}, {}
+    for name in ("N", "B", "K"):
+        vals, samp = [], []
+        for i, t in enumerate(own_terms):
+            term = getattr(t, name)
+            if name == "N" and not same_rate[i]:
+                continue
+            lo, hi = (float(v) for v in term.ci)
+            if term.significant and term.value > 0 and lo > 0 and math.isfinite(hi):
+                vals.append(math.log(term.value))
+                samp.append((math.log(hi / lo) / (2 * z)) ** 2)
+        prior = _term_prior(stats, getattr(pooled, name))
+        spread[name] = between_var(vals, samp, prior) * (1.0 + 1.0 / max(len(vals), 1))
+        new[name] = widen_term(getattr(pooled, name), spread[name], z)
+    return replace(pooled, **new), spread
+
+
+def pooled_axis(name, column, unit, dev, terms, g):
+    """An :class:`~inertialab.workflows.imu_noise.AxisNoise` of pooled terms: the SI
+    densities as ``allan --imu`` reports them (a K or B that is a bound as its upper
+    end)."""
+    from inertialab.workflows.imu_noise import BI, AxisNoise, _report_factor
+
+    kind = AXES[name]
+
+    def si(v):
+        return U.convert(v, unit, _SI[kind], g_local=g)
+
+    c = [float(v) if np.isfinite(v) else math.nan for v in terms.coefficients]
+    nan = math.nan
+    dens = si(math.sqrt(c[1])) if c[1] > 0 else nan
+    k_bound = not terms.K.significant
+    if not k_bound and c[3] > 0:
+        rw = si(math.sqrt(3.0 * c[3]))
+    elif math.isfinite(terms.K.upper_bound) and terms.K.upper_bound > 0:
+        rw, k_bound = si(terms.K.upper_bound / _report_factor(terms, "K")), True
+    else:
+        rw, k_bound = nan, True
+    b_bound = not terms.B.significant
+    b = si(math.sqrt(c[2]) / BI) if c[2] > 0 else nan
+    if b_bound and math.isfinite(terms.B.upper_bound) and terms.B.value > 0:
+        b *= terms.B.upper_bound / terms.B.value
+    return AxisNoise(axis=name, column=column, kind=kind, unit=unit, deviation=dev,
+                     terms=terms, noise_density=float(dens), random_walk=float(rw),
+                     random_walk_bound=k_bound, bias_instability=float(b),
+                     bias_instability_bound=b_bound,
+                     random_walk_t_s=float(terms.k_gm["t_s"]) if terms.k_gm else None)
+
+
+def drift_between(own_terms, rates, stats, opts) -> np.ndarray:
+    """Between-log variance of the log drift variance per horizon (each log's own model's
+    prediction; its terms' uncertainty as sampling; the logs' within-log spread as the
+    prior), times ``1 + 1/n`` (the next log, not the mean)."""
+    from inertialab.noise.drift_prediction import predict_terms, predicted_rms_ci
+    from inertialab.noise.pooled import between_var
+    from inertialab.workflows.imu_drift import nonstationary_log_var
+
+    vals, samp, prior = [], [], []
+    for t, fs, st in zip(own_terms, rates, stats):
+        p = predict_terms(t, opts.horizons_s, opts.bias_window_s, fs)
+        ci = predicted_rms_ci(p, t)
+        vals.append(np.log(np.maximum(p.rms, 1e-300) ** 2))
+        samp.append(ci["log_sd"]["terms"] ** 2)
+        prior.append(nonstationary_log_var(st, opts.horizons_s))
+    vals, samp, prior = np.array(vals), np.array(samp), np.mean(prior, axis=0)
+    n = len(own_terms)
+    return np.array([between_var(vals[:, i], samp[:, i], prior[i])
+                     for i in range(vals.shape[1])]) * (1.0 + 1.0 / n)
+
+
+def pool_axis(name, logs, *, candidates, confidence, drift=None, y_check=None,
+              g=U.G_STANDARD) -> tuple:
+    """``(AxisNoise, extras)`` of one axis pooled over ``logs`` (module docstring)."""
+    from scipy.special import ndtri
+
+    from inertialab.noise.pooled import homogeneity, joins_at, pool_curves
+    from inertialab.workflows.imu_segments import axis_stationarity, stationarity_text
+
+    kind = AXES[name]
+    curves = [lg.curves[name] for lg in logs]
+    rates = [lg.rate_hz for lg in logs]
+    col, _, unit = logs[0].columns[name]
+    choice = choose_model(curves, rates, unit, kind, list(candidates), g, confidence)
+    m = choice["chosen"]
+    pooled = _fit(pool_curves(curves, rates, confidence), unit, kind, m, rates[0], g,
+                  confidence)
+    own = [_fit(c, unit, kind, m, fs, g, confidence) for c, fs in zip(curves, rates)]
+    stats = [axis_stationarity(lg.columns[name][1], lg.rate_hz, lg.columns[name][0])
+             for lg in logs]
+    same = joins_at(rates, rates[0], [0.0])[:, 0]
+    z = float(-ndtri((1 - confidence) / 2))
+    widened, spread = widen_terms(pooled, own, stats, same, z)
+    shortest = min(len(lg.columns[name][1]) / lg.rate_hz for lg in logs)
+    between = homogeneity(curves, rates, max_tau_s=shortest / 16.0)
+    axis = pooled_axis(name, col, unit, pool_curves(curves, rates, confidence), widened, g)
+    if drift is not None:
+        from inertialab.workflows.imu_drift import axis_drift
+
+        extra = drift_between(own, rates, stats, drift)
+        axis = replace(axis, drift=axis_drift(axis, rates[0], drift, y_check,
+                                              extra_log_var=extra))
+        axis.drift["between_log_var"] = [float(v) for v in extra]
+    per_log = []
+    for lg, t, st, ok in zip(logs, own, stats, same):
+        a = pooled_axis(name, lg.columns[name][0], unit, lg.curves[name], t, g)
+        per_log.append({"file": lg.file, "rate_hz": lg.rate_hz, "column": a.column,
+                        "N": t.N.to_dict(), "B": t.B.to_dict(), "K": t.K.to_dict(),
+                        "noise_density": a.noise_density, "random_walk": a.random_walk,
+                        "random_walk_bound": a.random_walk_bound, "qn_pooled": bool(ok),
+                        "stationarity": None if st is None else st.to_dict(),
+                        "stationary": stationarity_text(None if st is None else st.to_dict())})
+    extras = {"logs": per_log, "between_logs": between, "model_choice": choice,
+              "between_log_var": spread,
+              "ci_fit": {k: list(getattr(pooled, k).ci) for k in ("N", "B", "K")}}
+    return axis, extras
+
+
+@dataclass(frozen=True)
+class PoolResult:
+    """The pooled analysis: ``imu`` (an :class:`~inertialab.workflows.imu_noise.IMUNoise`
+    of the pooled axes, for the usual table and figure), ``logs``, ``extras`` per axis
+    (``logs[]``, ``between_logs``, ``model_choice``, ``between_log_var``, ``ci_fit``),
+    ``pool_kind``."""
+
+    imu: object
+    logs: tuple
+    extras: dict
+    pool_kind: str
+
+    def to_dict(self) -> dict:
+        d = self.imu.to_dict()
+        for a in d["axes"]:
+            a.update(self.extras.get(a["axis"], {}))
+        return d | {"pooled": True, "pool_kind": self.pool_kind,
+                    "spread_means": POOL_KINDS[self.pool_kind],
+                    "logs": [lg.summary() for lg in self.logs]}
+
+    def tables(self) -> list:
+        """``(title, columns, rows)``: the pooled table, the drift tables, and each log's
+        own terms with the between-log test and the model choice."""
+        from inertialab.workflows.imu_drift import display_tables
+        from inertialab.workflows.imu_noise import term_text
+
+        names = ", ".join(lg.file for lg in self.logs)
+        out = display_tables(self.imu, f"pooled over {len(self.logs)} logs ({names})")
+        rows = []
+        for a in self.imu.axes:
+            ex = self.extras[a.axis]
+            b = ex["between_logs"]
+            rows.append([a.axis, "pooled", term_text(a.terms.N), term_text(a.terms.B),
+                         term_text(a.terms.K), ex["model_choice"]["chosen"],
+                         f"{b['verdict']}" + (f" (p={b['p_value']:.2g})"
+                                              if b.get("p_value") is not None else "")])
+            for lg in ex["logs"]:
+                rows.append([a.axis, lg["file"], _term_cell(lg["N"]), _term_cell(lg["B"]),
+                             _term_cell(lg["K"]), "", lg["stationary"]])
+        out.append((f"Each log's own terms ({self.pool_kind}: {POOL_KINDS[self.pool_kind]}); "
+                    "pooled intervals carry the between-log spread",
+                    ["axis", "log", "N", "B", "K", "model (leave-one-log-out)",
+                     "between logs / stationary"], rows))
+        return out
+
+
+def _term_cell(d: dict) -> str:
+    flags = d.get("flags") or []
+    if "not_observable" in flags:
+        return "n/o"
+    lo, hi = d.get("ci") or (None, None)
+    if "upper_bound" in flags:
+        return f"<= {hi:.4g}" if hi is not None else "-"
+    v = d.get("value")
+    return "-" if v is None else f"{v:.4g}"
+
+
+def analyse_pool(files, *, read=None, unit=None, rate=None, gaps=None, g_local=None,
+                 warmup="auto", pool_kind="runs", candidates=("wls", "gmwm"),
+                 predict_drift=None, bias_window=10.0, check_on=None,
+                 confidence=0.95, progress=None) -> PoolResult:
+    """Several logs as one noise model per axis (module docstring). ``check_on``: another
+    log (not one of ``files``) on which the predicted drift is checked."""
+    from inertialab.workflows.imu_drift import DriftOptions
+    from inertialab.workflows.imu_noise import IMUNoise
+
+    if pool_kind not in POOL_KINDS:
+        raise InputError(f"argument 'pool_kind' must be runs or units, got '{pool_kind}'")
+    if len(files) < 2:
+        raise InputError("argument 'pool' needs at least two logs")
+    if check_on and str(check_on).strip().lower() == "half":
+        raise InputError("argument 'check_on' with a pool must be a log not in the pool")
+    if check_on and not predict_drift:
+        raise InputError("argument 'check_on' needs argument 'predict_drift'")
+    kw = dict(read=read, unit=unit, rate=rate, gaps=gaps, g_local=g_local, warmup=warmup)
+    logs = read_pool(files, **kw)
+    check = read_pool([files[0], check_on], **kw)[1] if check_on else None
+    if check is not None and abs(check.rate_hz / logs[0].rate_hz - 1) > 1e-3:
+        raise InputError(f"the check log is at {check.rate_hz:g} Hz, the pool's first log at "
+                         f"{logs[0].rate_hz:g} Hz: give a check log of that rate",
+                         path=check_on)
+    _curves(logs, confidence)  # refuses a log that is not static, before any fit
+    drift = None
+    if predict_drift:
+        h = tuple(float(v) for v in str(predict_drift).split(",") if v.strip())
+        drift = DriftOptions(horizons_s=h, bias_window_s=float(bias_window),
+                             check_on="other" if check else None,
+                             other_name=str(check_on) if check else None)
+    g = g_local if g_local is not None else U.G_STANDARD
+    axes, extras = [], {}
+    names = [a for a in AXES if a in logs[0].columns]
+    for i, name in enumerate(names):
+        y_check = check.columns[name][1] if check is not None else None
+        ax, ex = pool_axis(name, logs, candidates=candidates, confidence=confidence,
+                           drift=drift, y_check=y_check, g=g)
+        axes.append(ax)
+        extras[name] = ex
+        if progress is not None:
+            progress.update(i + 1, len(names), name)
+    settings = {"rate_hz": logs[0].rate_hz, "taus": "octave", "method": "pooled",
+                "candidates": list(candidates), "confidence": confidence,
+                "pool_kind": pool_kind, "warmup": warmup}
+    if drift is not None:
+        settings["drift"] = drift.to_dict()
+    imu = IMUNoise(axes=tuple(axes), rate_hz=logs[0].rate_hz,
+                   n_samples=int(sum(lg.summary()["n_samples"] for lg in logs)),
+                   settings=settings)
+    return PoolResult(imu, tuple(logs), extras, pool_kind)
+
+
+__all__ = ["POOL_KINDS", "PoolLog", "PoolResult", "analyse_pool", "choose_model",
+           "drift_between", "pool_axis", "pooled_axis", "read_log", "read_pool",
+           "widen_terms"]

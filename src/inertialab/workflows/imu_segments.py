@@ -1,0 +1,95 @@
+"""The parts of one IMU log that ``allan --imu`` fits: its warm-up left out, and whether
+what remains is the same noise throughout.
+
+* :func:`apply_warmup`: one warm-up span per log (:func:`inertialab.noise.warmup.log_warmup`:
+  the latest end over its axes and its temperature column where it has one; or the
+  seconds given; or none), cut from the start of every axis before anything is fitted.
+* :func:`axis_stationarity`: the segments test of one axis
+  (:func:`inertialab.noise.stationarity.check_stationarity`), on the samples the terms are
+  fitted on; its measured between-segment spread widens the drift interval
+  (:func:`inertialab.workflows.imu_drift.axis_drift`); a warning names an axis that is
+  not stationary.
+* :func:`stationarity_text`: the table's column.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+
+#: the settings' default: the warm-up found in the data
+WARMUP_DEFAULT = "auto"
+
+
+def apply_warmup(columns: dict, rate_hz: float, setting=WARMUP_DEFAULT, temperature=None):
+    """``(columns, info)``: the axis columns (``{axis: (name, samples, unit)}``) with the
+    log's warm-up span cut from their start, and the span with its evidence
+    (:func:`inertialab.noise.warmup.log_warmup`; ``temperature``: the log's temperature
+    samples, judged like an axis)."""
+    from inertialab.noise.warmup import log_warmup
+
+    series = {k: v[1] for k, v in columns.items()}
+    if temperature is not None:
+        series["temperature"] = np.asarray(temperature, dtype=float)
+    setting = WARMUP_DEFAULT if setting is None else setting
+    if not _is_zero(setting):
+        info = log_warmup(series, rate_hz, setting=setting)
+    else:
+        info = {"setting": 0.0, "span_s": 0.0, "n_samples": 0, "by": {}, "from": []}
+    n0 = info["n_samples"]
+    if n0 > 0:
+        columns = {k: (c, np.asarray(y)[n0:], u) for k, (c, y, u) in columns.items()}
+    return columns, info
+
+
+def _is_zero(setting) -> bool:
+    try:
+        return float(setting) == 0.0
+    except (TypeError, ValueError):
+        return False
+
+
+def axis_warmup(info: dict | None, axis: str) -> dict | None:
+    """The axis's own evidence from a log's warm-up ``info`` with the span the log cut
+    (``excluded_s``), or None where no warm-up was judged."""
+    if not info:
+        return None
+    own = dict(info["by"].get(axis) or {"detected": False, "warmup_s": 0.0})
+    return own | {"excluded_s": info["span_s"]}
+
+
+def axis_stationarity(y, rate_hz: float, column: str | None = None):
+    """The segments test of one axis's fitted samples (None where they hold NaN: lost
+    samples, no equal segments), with a warning naming the column when the verdict is
+    "not stationary"."""
+    from inertialab.noise.stationarity import check_stationarity
+
+    y = np.asarray(y, dtype=float)
+    if not np.isfinite(y).all():
+        return None
+    st = check_stationarity(y, rate_hz)
+    if st.verdict == "not stationary":
+        from inertialab.errors import DataQualityWarning
+
+        warnings.warn(f"column '{column}': not stationary (segments' Allan variances differ "
+                      f"beyond their intervals at tau = {st.worst_tau_s:g} s, p = "
+                      f"{st.p_value:.2g}); its drift interval is widened by the measured "
+                      f"spread", DataQualityWarning, stacklevel=3)
+    return st
+
+
+def stationarity_text(d: dict | None) -> str:
+    """The table's stationarity cell: ``yes``, ``NO (p, tau)`` or ``-``."""
+    if not d or d.get("p_value") is None:
+        return "-"
+    if d["verdict"] == "stationary":
+        return "yes"
+    tau = d.get("worst_tau_s")
+    at = f", {tau:g} s" if tau is not None and math.isfinite(tau) else ""
+    return f"NO (p={d['p_value']:.2g}{at})"
+
+
+__all__ = ["WARMUP_DEFAULT", "apply_warmup", "axis_stationarity", "axis_warmup",
+           "stationarity_text"]

@@ -1,0 +1,87 @@
+"""The drift RMS's interval (predicted_rms_ci) against analytic truth: a white-noise
+model's interval is its N interval scaled; an upper-bound K widens the high side only;
+measured non-stationarity and the observed RMS's window sampling add in the log of the
+variance. Its coverage over seeds is measured by benchmarks/drift_check.py."""
+
+import math
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+from scipy.special import polygamma
+
+from inertialab.noise.drift_prediction import (
+    Component,
+    effective_windows,
+    misfit_log_var,
+    predict,
+    predicted_rms_ci,
+)
+
+H = (1.0, 10.0, 60.0)
+
+
+def _term(value, lo, hi, flags=(), ub=float("nan")):
+    return SimpleNamespace(value=value, ci=(lo, hi), flags=flags, upper_bound=ub)
+
+
+def _terms(**kw):
+    nan = _term(0.0, 0.0, 0.0, ("not_observable",))
+    return SimpleNamespace(**{k: kw.get(k, nan) for k in "QNBKR"})
+
+
+def test_a_white_model_interval_is_its_n_interval_scaled():
+    n = 0.2
+    pred = predict([Component("white", "N", n * n)], H, 10.0, 100.0)
+    terms = _terms(N=_term(n, n / 1.1, n * 1.1))
+    ci = predicted_rms_ci(pred, terms)
+    np.testing.assert_allclose(ci["low"], pred.rms / 1.1, rtol=1e-12)
+    np.testing.assert_allclose(ci["high"], pred.rms * 1.1, rtol=1e-12)
+
+
+def test_an_upper_bound_k_widens_only_the_high_side():
+    n, k, ub = 0.2, 0.01, 0.03
+    comps = [Component("white", "N", n * n), Component("rw", "K", k * k)]
+    pred = predict(comps, H, 10.0, 100.0)
+    terms = _terms(N=_term(n, n, n), K=_term(k, 0.0, ub, ("upper_bound",), ub))
+    ci = predicted_rms_ci(pred, terms)
+    v_k = pred.by_term["K"]
+    np.testing.assert_allclose(ci["low"] ** 2, pred.rms ** 2 - v_k, rtol=1e-12)
+    np.testing.assert_allclose(ci["high"] ** 2, pred.rms ** 2 + v_k * ((ub / k) ** 2 - 1),
+                               rtol=1e-12)
+
+
+def test_extra_spread_and_window_sampling_add_in_the_log_variance():
+    n = 0.2
+    pred = predict([Component("white", "N", n * n)], H, 10.0, 100.0)
+    terms = _terms(N=_term(n, n, n))
+    extra = np.array([0.0, 0.01, 0.04])
+    nw = np.array([1000, 100, 20])
+    ci = predicted_rms_ci(pred, terms, extra_log_var=extra, n_windows=nw)
+    s = np.sqrt(extra + polygamma(1, nw / 2.0))
+    np.testing.assert_allclose(ci["high"], pred.rms * np.exp(1.959963984540054 * s / 2),
+                               rtol=1e-9)
+    np.testing.assert_allclose(ci["low"] * ci["high"], pred.rms ** 2, rtol=1e-9)
+
+
+def test_independent_windows_count_whole_and_shared_slow_noise_counts_less():
+    rng = np.random.default_rng(0)
+    e = rng.standard_normal(4000)
+    assert effective_windows(e) > 0.7 * 4000
+    slow = np.repeat(rng.standard_normal(40), 100) * 3.0  # 100 windows share one level
+    assert effective_windows(e + slow) < 1000
+
+
+def test_misfit_is_the_local_log_gap_between_model_and_curve():
+    taus = np.array([1.0, 2.0, 4.0, 8.0, 16.0])
+    res = SimpleNamespace(taus_s=taus, dev=np.array([1.0, 1.0, 1.2, 1.0, 1.0]),
+                          edf=np.full(5, np.inf))
+    terms = SimpleNamespace(model_dev=lambda t: np.ones_like(t), tau_range_s=(1.0, 16.0))
+    v = misfit_log_var(res, terms, [1.0, 4.0])
+    assert v[0] == pytest.approx((2 * math.log(1.0)) ** 2 / 2 + 0.0)
+    # [2, 8]: 2, 4, 8 -> (2 ln 1.2)^2 / 3
+    assert v[1] == pytest.approx((2 * math.log(1.2)) ** 2 / 3)
+    # the curve's own sampling is not a misfit: with edf 50 the gap is less psi'(25)
+    res.edf = np.full(5, 50.0)
+    v = misfit_log_var(res, terms, [4.0])
+    assert v[0] == pytest.approx(max((2 * math.log(1.2)) ** 2 - polygamma(1, 25.0), 0) / 3)

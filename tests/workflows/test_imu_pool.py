@@ -1,0 +1,76 @@
+"""allan --imu --pool's reading: logs of different units, column names and rates each
+read with their own and pooled; a log that cannot join is refused naming it before any
+fit; a pooled axis carries each log's own terms, the between-log test and the model
+choice, and predicts a log not in the fit."""
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from inertialab.errors import InputError
+from inertialab.sim.mems_presets import simulate
+from inertialab.units import convert
+from inertialab.workflows.imu_pool import analyse_pool
+
+
+def _write(path, seed, *, unit="dph", rate=None, axes=("gx", "gy"), hours=0.3, rename=None,
+           moving=False):
+    cols = {}
+    for j, ax in enumerate(axes):
+        r = simulate("consumer-100hz", hours=hours, seed=seed + j, rate_hz=rate)
+        y = convert(r.y, r.unit, unit)
+        if moving and j == 0:
+            t = np.arange(y.size) / r.rate_hz
+            y = y + convert(30.0, "dps", unit) * np.sin(2 * np.pi * t / 20.0)
+        cols[(rename or {}).get(ax, f"{ax}_{unit}")] = y
+    t = np.arange(y.size) / r.rate_hz
+    pd.DataFrame({"t_s": t, **cols}).to_csv(path, index=False)
+    return str(path)
+
+
+def test_logs_of_other_units_and_rates_pool_with_each_own_terms(tmp_path):
+    one = dict(axes=("gx",), hours=0.2)
+    a = _write(tmp_path / "a.csv", 0, **one)
+    b = _write(tmp_path / "b.csv", 10, unit="rps", **one)
+    c = _write(tmp_path / "c.csv", 20, rate=200.0, **one)
+    chk = _write(tmp_path / "chk.csv", 30, **one)
+    res = analyse_pool([a, b, c], candidates=("wls",), predict_drift="1,10",
+                       check_on=chk, warmup="0")
+    d = res.to_dict()
+    assert d["pooled"] and d["pool_kind"] == "runs" and len(d["logs"]) == 3
+    assert d["logs"][1]["units"] == {"gx": "rps"}
+    assert d["logs"][2]["rate_hz"] == pytest.approx(200.0)
+    for ax in d["axes"]:
+        logs = ax["logs"]
+        assert [lg["qn_pooled"] for lg in logs] == [True, True, False]
+        # the rps log's N, read in the pool's unit, is of the truth's size (0.30 deg/sqrt h)
+        assert 0.27 < logs[1]["N"]["value"] < 0.33
+        assert ax["between_logs"]["verdict"] in ("near-stationary", "differ beyond sampling")
+        assert ax["model_choice"]["chosen"] == "wls"
+        n = ax["terms"]["N"]
+        assert n["ci"][0] <= ax["ci_fit"]["N"][0] and n["ci"][1] >= ax["ci_fit"]["N"][1]
+        assert len(ax["drift_prediction"]["check"]["inside_rms_ci"]) == 2
+
+
+def test_a_log_missing_axes_is_refused_naming_it(tmp_path):
+    a = _write(tmp_path / "a.csv", 0, hours=0.05)
+    b = _write(tmp_path / "b.csv", 10, hours=0.05, axes=("gx",))
+    with pytest.raises(InputError, match="axes gy missing") as e:
+        analyse_pool([a, b], candidates=("wls",))
+    assert str(e.value.path).endswith("b.csv")
+
+
+def test_a_column_of_another_quantity_is_refused_naming_it(tmp_path):
+    a = _write(tmp_path / "a.csv", 0, hours=0.05)
+    b = _write(tmp_path / "b.csv", 10, hours=0.05, rename={"gy": "gy_mps2"})
+    with pytest.raises(InputError, match="gy_mps2.*expected a angular_rate") as e:
+        analyse_pool([a, b], candidates=("wls",))
+    assert str(e.value.path).endswith("b.csv")
+
+
+def test_a_log_that_is_not_static_is_refused_before_any_fit(tmp_path):
+    a = _write(tmp_path / "a.csv", 0, hours=0.1)
+    b = _write(tmp_path / "b.csv", 10, hours=0.1, moving=True)
+    with pytest.raises(InputError, match="cannot join the pool: column 'gx_dph'") as e:
+        analyse_pool([a, b], candidates=("wls",), warmup="0")
+    assert str(e.value.path).endswith("b.csv")
