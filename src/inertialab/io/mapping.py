@@ -467,6 +467,9 @@ def parse_unit_option(value):
     text = str(value).strip()
     if not text:
         return None
+    if any(not part.strip() for part in text.split(",")):
+        raise InputError(f"argument 'unit' has an empty entry in {text[:60]!r}: give one "
+                         "suffix (dps), one per dimension (g,dps) or column=unit pairs")
     if "=" not in text:
         return ",".join(_suffix_or_error(u, unit_suffix) for u in text.split(",") if u.strip())
     out = {}
