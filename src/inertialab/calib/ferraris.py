@@ -38,6 +38,7 @@ import numpy as np
 from inertialab.calib.base import GyroBlock
 from inertialab.calib.triaxial import TriaxialCalibration
 from inertialab.errors import InputError, UnderdeterminedError
+from inertialab.io.modelfile import unique_keys
 from inertialab.noise.static_intervals import gyro_rest
 from inertialab.sensors import triaxial as tx
 from inertialab.sensors.triaxial_classic import PLACEMENT_RAD, FaceFit, face_fit
@@ -118,10 +119,10 @@ def load_sections(path, n: int) -> dict[str, tuple[int, int]]:
     """Read an imucal section-list JSON file (see :func:`sections_from_dict`)."""
     try:
         with open(path, encoding="utf-8") as fh:
-            d = json.load(fh)
+            d = json.load(fh, object_pairs_hook=unique_keys)
     except FileNotFoundError:
         raise InputError("no such section list", path=path) from None
-    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
+    except (ValueError, UnicodeDecodeError) as exc:
         raise InputError(f"not a JSON section list ({exc})", path=path) from None
     return sections_from_dict(d, n, where=path)
 

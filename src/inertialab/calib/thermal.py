@@ -298,6 +298,8 @@ class ThermalModel:
     search : IAFSA search log (F*, nfev, nit, history) or None
     metrics : test metrics at fit time (JSON-ready)
     unit_id : the training unit
+    raw_drift_max_mv : the largest |N - Nc| of the training samples, mV (its span with
+        t_range_c, n_range_mv; re-checked on apply, :mod:`inertialab.calib.model_checks`)
     """
 
     MODEL_TYPE = "thermal-compensation"
@@ -317,6 +319,7 @@ class ThermalModel:
     search: dict | None = None
     metrics: dict = field(default_factory=dict)
     unit_id: str = ""
+    raw_drift_max_mv: float | None = None
 
     @property
     def n_rules(self) -> int | None:
@@ -339,6 +342,8 @@ class ThermalModel:
             "reference_temp_c": float(self.reference_temp_c),
             "regressor_type": tag, "regressor": reg, "scm": self.scm, "search": self.search,
             "metrics": self.metrics, "unit_id": self.unit_id,
+            **({} if self.raw_drift_max_mv is None else
+               {"raw_drift_max_mv": float(self.raw_drift_max_mv)}),
         }
 
     @classmethod
@@ -384,7 +389,7 @@ class ThermalModel:
                 learn_drift=bool(d["learn_drift"]), t_range_c=tuple(d["t_range_c"]),
                 n_range_mv=tuple(d["n_range_mv"]), reference_temp_c=float(d["reference_temp_c"]),
                 scm=d.get("scm"), search=d.get("search"), metrics=d.get("metrics", {}),
-                unit_id=d.get("unit_id", ""))
+                unit_id=d.get("unit_id", ""), raw_drift_max_mv=d.get("raw_drift_max_mv"))
         except KeyError as exc:
             raise InputError(f"thermal model: missing key {exc}") from exc
 
@@ -455,7 +460,8 @@ def fit_model(samples: ThermalSamples, split: Split, method: str, config: Therma
         n_range_mv=(float(bx[0, 1] - cfg.range_margin_frac * (bx[1, 1] - bx[0, 1])),
                     float(bx[1, 1] + cfg.range_margin_frac * (bx[1, 1] - bx[0, 1]))),
         reference_temp_c=cfg.reference_temp_c,
-        scm=scm, search=search, unit_id=samples.unit_id)
+        scm=scm, search=search, unit_id=samples.unit_id,
+        raw_drift_max_mv=float(np.max(np.abs(samples.n_mv[tr] - samples.y_mv[tr]))))
 
 
 # ---------------------------------------------------------------------------------------

@@ -104,6 +104,9 @@ class TriaxialCalibration:
     static_intervals: int | None = None
     gyro: dict | None = None
     flags: list = field(default_factory=list)
+    #: the static means the fit used, (n, 3) in ``raw_unit``: its training span, on which
+    #: apply re-checks |a| against gravity (:mod:`inertialab.calib.model_checks`)
+    rest_raw: np.ndarray | None = None
 
     def apply(self, raw) -> np.ndarray:
         """Calibrated accelerations (m/s^2) for raw samples of shape (n, 3)."""
@@ -148,6 +151,8 @@ class TriaxialCalibration:
             "static_intervals": self.static_intervals,
             "gyro": None if self.gyro is None else to_jsonable(self.gyro),
             "flags": [str(f) for f in self.flags],
+            **({} if self.rest_raw is None else
+               {"rest_raw": np.asarray(self.rest_raw, dtype=float).tolist()}),
         }
 
     @classmethod
@@ -184,7 +189,9 @@ class TriaxialCalibration:
                                    else float("nan")),
                 iterations=int(d.get("iterations", 0)), nfev=int(d.get("nfev", 0)),
                 n_records=int(d.get("n_records", 0)), static_intervals=d.get("static_intervals"),
-                gyro=gy, flags=[str(f) for f in (d.get("flags") or [])])
+                gyro=gy, flags=[str(f) for f in (d.get("flags") or [])],
+                rest_raw=None if d.get("rest_raw") is None else
+                np.asarray(d["rest_raw"], dtype=float).reshape(-1, 3))
         except (KeyError, TypeError, ValueError) as exc:
             raise InputError(f"not a valid {cls.MODEL_TYPE} payload ({exc})") from None
 

@@ -86,15 +86,10 @@ def adc_range(raw, declared=None) -> AdcRange:
     if isinstance(declared, AdcRange):
         return declared
     if declared is not None:
-        try:
-            bits, signed = int(declared["bits"]), bool(declared["signed"])
-        except (KeyError, TypeError, ValueError):
-            raise InputError(f"ADC range must be {{'bits': int, 'signed': bool}}, got "
-                             f"{declared!r}") from None
-        if bits not in _ADC_BITS:
-            raise InputError(f"ADC bits must be one of {', '.join(map(str, _ADC_BITS))}, "
-                             f"got {bits}")
-        return AdcRange(bits, signed, "declared")
+        from inertialab.io.sidecar import check_adc
+
+        d = check_adc(declared)  # "16" or "no" refused: bool("no") is True
+        return AdcRange(d["bits"], d["signed"], "declared")
     v = np.asarray(raw, dtype=float)
     v = v[np.isfinite(v)]
     if v.size == 0:

@@ -72,7 +72,8 @@ def to_model(fit: CalibrationFit, data: StaticData, *, gyro: dict | None = None)
         offset=np.asarray(offset, dtype=float), raw_unit=data.raw_unit, g_local=data.g,
         stderr=stderr, phi=fit.phi, residual_rms=fit.residual_rms, iterations=fit.iterations,
         nfev=fit.nfev, n_records=fit.n_records,
-        static_intervals=None if data.intervals is None else int(data.intervals.count), gyro=gyro)
+        static_intervals=None if data.intervals is None else int(data.intervals.count), gyro=gyro,
+        rest_raw=np.asarray(data.a, dtype=float) / data.raw_scale + data.raw_offset)
 
 
 def calibrate_record_data(data: StaticData, *, method="lm", objective="norm", rng=0,

@@ -18,6 +18,7 @@ from inertialab.cli.runner import config_command
 from inertialab.errors import InputError
 from inertialab.io.mapping import ReadOptions
 from inertialab.workflows import allan_run as wa
+from inertialab.workflows.imu_options import check_options
 from inertialab.workflows.registries import export_targets
 
 _EXPORT_HELP = ("TARGET FILE (six-axis mode, repeatable): write the noise densities and "
@@ -66,13 +67,15 @@ def _allan_command(imu_default: bool):
             if not imu:
                 raise InputError("--export needs --imu (six-axis noise parameters)")
             c = config
+            check_options(file, predict_drift=c.predict_drift, check_on=c.check_on,
+                          method=c.method, rostopic=rostopic, export=export)
             return run_six_axes(file=file, export=export, rostopic=rostopic, read=read,
                                 unit=c.unit, rate=c.rate, gaps=c.gaps, g_local=c.g_local,
                                 method=c.method, out=run.out, as_json=run.as_json,
                                 quiet=run.quiet, command=command, terms=c.terms is not False,
                                 drift=c.drift_settings() | {"warmup": c.warmup},
                                 confidence=c.confidence, force=force)
-        if any(config.drift_settings().values()):
+        if any(v not in (None, False) for v in config.drift_settings().values()):
             raise InputError("--predict-drift, --check-on, --plan and --inflate need --imu")
         config.check()  # refuse bad settings before reading
 

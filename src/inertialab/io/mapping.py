@@ -41,6 +41,7 @@ import pandas as pd
 from inertialab import units as U
 from inertialab.errors import InputError
 from inertialab.io.formats.text import ParseOptions
+from inertialab.io.modelfile import unique_keys
 
 __all__ = [
     "ColumnMap",
@@ -184,8 +185,8 @@ def load_map_file(path) -> tuple[ColumnMap, ParseOptions]:
             with open(p, "rb") as fh:
                 doc = tomllib.load(fh)
         else:
-            doc = json.loads(p.read_text(encoding="utf-8"))
-    except (tomllib.TOMLDecodeError, json.JSONDecodeError, UnicodeDecodeError) as exc:
+            doc = json.loads(p.read_text(encoding="utf-8"), object_pairs_hook=unique_keys)
+    except (tomllib.TOMLDecodeError, ValueError, UnicodeDecodeError) as exc:
         raise InputError(f"mapping file is not valid {p.suffix.lstrip('.').upper() or 'JSON'} "
                          f"({' '.join(str(exc).split())})", path=p) from None
     if not isinstance(doc, dict):
@@ -466,6 +467,9 @@ def parse_unit_option(value):
     text = str(value).strip()
     if not text:
         return None
+    if any(not part.strip() for part in text.split(",")):
+        raise InputError(f"argument 'unit' has an empty entry in {text[:60]!r}: give one "
+                         "suffix (dps), one per dimension (g,dps) or column=unit pairs")
     if "=" not in text:
         return ",".join(_suffix_or_error(u, unit_suffix) for u in text.split(",") if u.strip())
     out = {}

@@ -186,11 +186,46 @@ _FIS = all_of(obj({
     "consequents": array(None, None),
 }), same_length("mf_input", "mf_center", "mf_sigma"), same_length("rule_mf", "consequents"))
 
+def either(*checks: Check) -> Check:
+    """The first of ``checks`` that passes; else the first one's error."""
+    def check(v, where):
+        first = None
+        for c in checks:
+            try:
+                c(v, where)
+                return
+            except SchemaError as exc:
+                first = first or exc
+        raise first
+    return check
+
+
+def tagged(tag_key: str, value_key: str, table: dict[str, Check]) -> Check:
+    """An object whose ``value_key`` is checked by ``table[obj[tag_key]]`` (a payload
+    that names its own layout, e.g. a thermal model's ``regressor_type``)."""
+    def check(v, where):
+        tag = v.get(tag_key) if isinstance(v, dict) else None
+        if tag not in table:
+            raise SchemaError(f"{where}.{tag_key}", f"must be one of {', '.join(table)}, "
+                              f"got {str(tag)[:40]!r}")
+        if value_key in v:
+            table[tag](v[value_key], f"{where}.{value_key}")
+    return check
+
+
+_NUMS = either(num(), array(None))  # a setting given per input or once
 ANFIS = obj({
-    "params": obj({"epochs": integer(0, 10**7)}, optional=("epochs",)),
+    "params": obj({"epochs": integer(0, 10**7), "partition": text(),
+                   "n_mfs": either(integer(1, 100), array(None, item=integer(1, 100))),
+                   "radius": _NUMS, "squash": num(), "accept": num(), "reject": num(),
+                   "step_size": num(), "step_inc": num(), "step_dec": num(),
+                   "sigma_min": num(0), "error_goal": num(0), "scale": boolean},
+                  optional=("epochs", "partition", "n_mfs", "radius", "squash", "accept",
+                            "reject", "step_size", "step_inc", "step_dec", "sigma_min",
+                            "error_goal", "scale")),
     "x_lo": array(None), "x_span": array(None, item=_SPAN),
-    "y_lo": num(), "y_span": _SPAN, "fis": _FIS,
-})
+    "y_lo": num(), "y_span": _SPAN, "fis": _FIS, "best_epoch": integer(0, 10**7),
+}, optional=("best_epoch",))
 
 MLP = obj({  # a constant column or target has span 0 (spec 004 §3.3; handled on use)
     "params": obj({"hidden": integer(1, 10**5)}, optional=("hidden",)),
@@ -223,27 +258,55 @@ VIBRATION = obj({
     "f_range_hz": array(2, item=num(0)), "rbf": RBF, "poly": maybe(POLYNOMIAL),
 }, optional=("poly", "f_range_hz"))
 
-THERMAL = obj({
+TENSOR_POLY = all_of(obj({
+    "degrees": array(None, item=integer(0, 50), min_len=1), "lo": array(None),
+    "span": array(None, item=_SPAN), "coef": array(None, min_len=1),
+}), same_length("degrees", "lo", "span"))
+
+POLY_SEP = obj({"degree": integer(0, 50), "k0": POLYNOMIAL, "k1": POLYNOMIAL,
+                "ref": mapping(num(), min_len=2)})
+
+#: a thermal model's regressor, by its ``regressor_type``
+REGRESSORS = {"anfis": ANFIS, "mlp-lm": MLP, "tensor-poly": TENSOR_POLY, "poly-sep": POLY_SEP}
+
+THERMAL = all_of(obj({
     "method": text(), "ref": obj({k: num() for k in ("k0", "k1", "k2", "kip", "kp")}),
     "input": text("ua", "raw"), "target": text("linear55", "measured55"),
     "learn_drift": boolean, "t_range_c": array(2, item=num(-273.15, 1e4)),
     "n_range_mv": array(2), "reference_temp_c": num(-273.15, 1e4),
-    "regressor_type": text(), "regressor": obj({}), "unit_id": text(nullable=True),
-}, optional=("unit_id",))
+    "regressor_type": text(*REGRESSORS), "regressor": obj({}), "unit_id": text(nullable=True),
+    "scm": maybe(mapping(_NUMS)), "search": maybe(obj({})), "metrics": obj({}),
+    "raw_drift_max_mv": num(0),
+}, optional=("unit_id", "scm", "search", "metrics", "raw_drift_max_mv")),
+    lambda v, where: tagged("regressor_type", "regressor", REGRESSORS)(v, where))
 
 _SIX = ("bx", "by", "bz", "kx", "ky", "kz", "theta_yz", "theta_zy", "theta_zx")
+_COUNT = integer(0, 10**9, nullable=True)
+_FIT = {"residual_rms": num(0, nullable=True), "iterations": _COUNT, "nfev": _COUNT,
+        "n_records": _COUNT, "static_intervals": _COUNT}
 _TRIAXIAL = {
     "method": text(), "objective": text(),
     "params": obj({k: num() for k in _SIX}),
     "correction_matrix": array(3, 3), "offset": array(3), "raw_unit": text(),
-    "g_local": num(0.1, 100), "residual_rms": num(0, nullable=True),
+    "g_local": num(0.1, 100), **_FIT,
+    "stderr": maybe(mapping(num(0, nullable=True))), "phi": maybe(array(3)),
+    "flags": array(None, item=text()), "rest_raw": array(None, 3),
 }
-_GYRO = {"correction_matrix": array(3, 3), "offset": array(3), "raw_unit": text()}
-TRIAXIAL = obj({**_TRIAXIAL, "gyro": obj(_GYRO, nullable=True)},
-               optional=("gyro", "residual_rms"))
-#: A Ferraris calibration: the triaxial payload with its gyro block and g-sensitivity.
-FERRARIS = obj({**_TRIAXIAL, "gyro": obj({**_GYRO, "g_sensitivity": array(3, 3)})},
-               optional=("residual_rms",))
+_OPTIONAL = ("gyro", *_FIT, "stderr", "phi", "flags", "rest_raw")
+_GYRO = {"correction_matrix": array(3, 3), "offset": array(3), "raw_unit": text(),
+         "method": text(), "params": mapping(num()),
+         "stderr": maybe(mapping(num(0, nullable=True))), "cond": num(0, nullable=True),
+         **_FIT}
+_GYRO_OPTIONAL = ("method", "params", "stderr", "cond", *_FIT)
+TRIAXIAL = obj({**_TRIAXIAL, "gyro": obj(_GYRO, nullable=True, optional=_GYRO_OPTIONAL)},
+               optional=_OPTIONAL)
+_TURN = obj({"sense": integer(-1, 1), "axis": array(3)})
+#: A Ferraris calibration: the triaxial payload with its gyro block and g-sensitivity,
+#: the turns' senses and axes, and the turn angle.
+FERRARIS = obj({**_TRIAXIAL, "gyro": obj({
+    **_GYRO, "g_sensitivity": array(3, 3), "turns": mapping(_TURN),
+    "rotation_deg": num(1, 1e5)}, optional=(*_GYRO_OPTIONAL, "turns", "rotation_deg"))},
+    optional=tuple(k for k in _OPTIONAL if k != "gyro"))
 
 DUAL = obj({
     "method": text(), "coef": mapping(num(), min_len=1), "sd": mapping(num(0, nullable=True)),

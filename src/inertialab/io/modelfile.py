@@ -151,6 +151,22 @@ def _model_name(tag) -> str:
     return f"{MODEL_NAMES.get(tag, tag)} model" if isinstance(tag, str) else "model"
 
 
+class DuplicateKeyError(ValueError):
+    """A JSON object naming one key twice (which value wins differs between parsers)."""
+
+
+def unique_keys(pairs: list) -> dict:
+    """``object_pairs_hook`` of :func:`json.loads` refusing an object that names a key
+    twice: a hand-edited file with two ``"fs_hz"`` or two ``"correction_matrix"`` is
+    ambiguous, and the last one silently winning is not a reading."""
+    out = {}
+    for k, v in pairs:
+        if k in out:
+            raise DuplicateKeyError(f"key '{str(k)[:40]}' appears twice in one object")
+        out[k] = v
+    return out
+
+
 def parse_json_strict(raw: bytes, *, what: str, path) -> object:
     """Parse untrusted JSON bytes: UTF-8 only, no NaN/Infinity tokens, no number that
     overflows a double, integers of at most :data:`MAX_INT_DIGITS` digits, nesting of at
@@ -173,7 +189,7 @@ def _parse(raw: bytes, *, what: str, path) -> object:
         txt = txt[1:]
     try:
         obj = json.loads(txt, parse_constant=_NonFinite, parse_float=_nonfinite_float,
-                         parse_int=_bounded_int)
+                         parse_int=_bounded_int, object_pairs_hook=unique_keys)
     except json.JSONDecodeError as exc:
         raise InputError(f"{what} is not valid JSON (line {exc.lineno})", path=path) from None
     except RecursionError:

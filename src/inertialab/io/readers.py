@@ -297,6 +297,29 @@ def _meta_unit(col: Column, meta: dict) -> str | None:
     return None
 
 
+def _suffix_against_sidecar(col: Column, orig: str, suf: str, meta: dict, path) -> None:
+    """A column whose suffix names its unit while the sidecar's ``units`` gives it
+    another is refused (neither silently wins); the same unit is fine."""
+    units = meta.get("units")
+    if meta.get("column_map"):  # a mapped column's sidecar unit is its source's
+        from inertialab.io.mapping import parse_map
+
+        if orig in {e.target for e in parse_map(str(meta["column_map"])).entries}:
+            return
+    said = None
+    if isinstance(units, dict):
+        said = units.get(orig, units.get(col.name))
+        said = None if said is None else str(said).strip().lower()
+    elif isinstance(units, str) and SUFFIXES.get(units.strip().lower()) is not None and \
+            SUFFIXES[units.strip().lower()].dimension in col.dimensions:
+        said = units.strip().lower()
+    if said is None or said == suf or SUFFIXES.get(said) is SUFFIXES.get(suf):
+        return
+    raise InputError(f"the column suffix says '{suf}' but the header says units={said} "
+                     "(sidecar or '# units=' line); fix one of them or give argument 'unit'",
+                     path=path, column=orig)
+
+
 def _resolve_columns(df: pd.DataFrame, schema: Schema, *, path, meta, unit):
     """Rename df columns to canonical names; return (df, units, present_bases)."""
     norm = [_normalise(c) for c in df.columns]
@@ -344,6 +367,8 @@ def _resolve_columns(df: pd.DataFrame, schema: Schema, *, path, meta, unit):
             suf = override
         elif suf is None:
             suf = _meta_unit(col, meta)
+        else:
+            _suffix_against_sidecar(col, orig, suf, meta, path)
         if suf is None:
             raise InputError(f"no unit: add a suffix (e.g. {col.name}_{_example_suffix(col)}) "
                              "or give argument 'unit'", path=path, column=orig)

@@ -8,6 +8,7 @@ import math
 from pathlib import Path
 
 from inertialab.errors import InputError
+from inertialab.io.modelfile import unique_keys
 
 _DATA_SUFFIXES = (".csv", ".txt", ".tsv", ".dat", ".parquet", ".pq", ".npy", ".mat", ".h5", ".hdf5",
                   ".bag", ".db3", ".mcap", ".ulg")
@@ -67,7 +68,36 @@ def check_numeric_keys(meta: dict, *, path) -> dict:
             shown = repr(v) if len(repr(v)) <= 40 else repr(v)[:37] + "..."
             raise InputError(f"key '{key}' must be a number between {lo:g} and {hi:g}, got "
                              f"{shown}", path=path)
+    if "adc" in meta:
+        check_adc(meta["adc"], path=path)
     return meta
+
+
+#: Word sizes an ``adc`` declaration may give (bits).
+ADC_BITS = (8, 10, 12, 14, 16, 18, 20, 22, 24, 32)
+
+
+def check_adc(adc, *, path=None) -> dict:
+    """A counts log's declared ADC range, ``{"bits": <int>, "signed": <true|false>}``:
+    ``bits`` a JSON integer of :data:`ADC_BITS`, ``signed`` a JSON boolean. A string
+    (``"16"``, ``"no"``), a number as ``signed`` or a non-object is refused naming the
+    key: ``bool("no")`` is True, so a lenient reading would take an unsigned ADC for a
+    signed one."""
+    if not isinstance(adc, dict):
+        raise InputError(f"key 'adc' must be an object {{\"bits\": 16, \"signed\": false}}, "
+                         f"got {type(adc).__name__} {str(adc)[:40]!r}", path=path)
+    bits, signed = adc.get("bits"), adc.get("signed")
+    if isinstance(bits, bool) or not isinstance(bits, int) or bits not in ADC_BITS:
+        raise InputError(f"key 'adc.bits' must be an integer of {', '.join(map(str, ADC_BITS))}"
+                         f" (no quotes), got {bits!r:.40}", path=path)
+    if not isinstance(signed, bool):
+        raise InputError(f"key 'adc.signed' must be true or false (no quotes), got "
+                         f"{signed!r:.40}", path=path)
+    extra = sorted(set(adc) - {"bits", "signed"})
+    if extra:
+        raise InputError(f"key 'adc' has unknown entries {', '.join(map(str, extra))} (it "
+                         "takes bits and signed)", path=path)
+    return adc
 
 
 def _reject_constant(name: str):
@@ -98,7 +128,8 @@ def read_sidecar(path: str | Path) -> dict:
     if nul >= 0:
         raise InputError(f"sidecar has binary content (NUL byte at byte {nul})", path=sp)
     try:
-        meta = json.loads(raw.decode("utf-8-sig"), parse_constant=_reject_constant)
+        meta = json.loads(raw.decode("utf-8-sig"), parse_constant=_reject_constant,
+                          object_pairs_hook=unique_keys)
     except UnicodeDecodeError as exc:
         raise InputError(f"sidecar is not UTF-8 (byte {exc.start})", path=sp) from None
     except json.JSONDecodeError as exc:
@@ -106,7 +137,7 @@ def read_sidecar(path: str | Path) -> dict:
                          f"{exc.colno})", path=sp) from None
     except RecursionError:
         raise InputError("sidecar JSON is nested too deep", path=sp) from None
-    except ValueError as exc:  # NaN/Infinity, or an integer above Python's digit limit
+    except ValueError as exc:  # NaN/Infinity, a key twice, or a too-long integer
         raise InputError(f"sidecar is not valid JSON ({' '.join(str(exc).split())[:100]})",
                          path=sp) from None
     if not isinstance(meta, dict):

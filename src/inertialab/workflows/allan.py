@@ -271,7 +271,8 @@ def prepare_clock(frame, meta: dict | None = None, *, input: str, column: str | 
 
     ``column`` names the series (any name, case-insensitive); default the first column
     called phase/x/tie (phase) or freq/frequency/y (frequency), with or without a unit
-    suffix (``phase_ns``, ``freq_hz``). The unit comes from ``unit``, else the column's
+    suffix (``phase_ns``, ``freq_hz``), or the one column of a file holding one series
+    (a Stable32 ``.DAT``). The unit comes from ``unit``, else the column's
     suffix, else s / dimensionless. The rate from ``rate_hz``, the sidecar ``fs_hz`` or a
     uniform ``t_s``.
     """
@@ -290,6 +291,9 @@ def prepare_clock(frame, meta: dict | None = None, *, input: str, column: str | 
                        None)
             if col is not None:
                 break
+        data = [c for c in frame.columns if str(c).strip().lower() != "t_s"]
+        if col is None and len(data) == 1:  # one series (Stable32's .DAT): the one asked for
+            col = data[0]
         if col is None:
             raise InputError(f"no {input} column (name it with argument 'column')",
                              path=path or None)
@@ -407,6 +411,54 @@ def parse_stats(stats) -> tuple:
     return tuple(out)
 
 
+#: Stable32's power-law noise names -> alpha (frequency PSD ~ f^alpha).
+NOISE_TYPES = {"wpm": 2, "fpm": 1, "wfm": 0, "ffm": -1, "rwfm": -2}
+_LONG_NAMES = {"whitepm": 2, "flickerpm": 1, "whitefm": 0, "flickerfm": -1, "randomwalkfm": -2}
+
+
+def _alpha(text: str, where: str) -> int:
+    t = text.strip().lower().replace(" ", "").replace("_", "")
+    if t in NOISE_TYPES or t in _LONG_NAMES:
+        return NOISE_TYPES.get(t, _LONG_NAMES.get(t))
+    try:
+        a = int(t)
+    except ValueError:
+        a = None
+    if a not in NOISE_TYPES.values():
+        raise InputError(f"argument 'noise_type' {where}must be an alpha of 2, 1, 0, -1, -2 or "
+                         f"one of {', '.join(k.upper() for k in NOISE_TYPES)}, got "
+                         f"'{text.strip()[:20]}'")
+    return a
+
+
+def parse_noise_type(text, stats) -> int | dict | None:
+    """The noise type fixed for the bias corrections and EDF (Stable32's choice instead
+    of the identification per tau): one alpha or name (``-1``, ``FFM``) for every
+    statistic of ``stats``, or ``stat=type`` pairs (``totdev=FFM,theo1=-2``) for some;
+    None when unset."""
+    if text is None or not str(text).strip():
+        return None
+    parts = [p for p in str(text).split(",")]
+    if any(not p.strip() for p in parts):
+        raise InputError(f"argument 'noise_type' has an empty entry in '{str(text)[:40]}'")
+    if not any("=" in p for p in parts):
+        if len(parts) != 1:
+            raise InputError("argument 'noise_type' takes one type for every statistic or "
+                             "stat=type pairs")
+        return _alpha(parts[0], "")
+    out = {}
+    for p in parts:
+        stat, sep, typ = p.partition("=")
+        stat = stat.strip().lower()
+        if not sep or stat not in stats:
+            raise InputError(f"argument 'noise_type' entry '{p.strip()[:30]}' must be stat=type "
+                             f"for a statistic asked for ({', '.join(stats)})")
+        if stat in out:
+            raise InputError(f"argument 'noise_type' gives {stat} twice")
+        out[stat] = _alpha(typ, f"for {stat} ")
+    return out
+
+
 def parse_taus(taus: str):
     """``"octave" | "decade" | "many" | "all" | "<int>" | "0.1,1,10"`` (seconds)."""
     t = str(taus).strip().lower()
@@ -472,7 +524,7 @@ def _statistic_fn(log: LogData, names, common: dict, bias_correction):
 
         def one(stat, **kw):
             return gap_deviation(stat, log.values, rate_hz=log.rate_hz, input=log.input,
-                                 confidence=confidence, alpha=alpha,
+                                 confidence=confidence, alpha=kw.get("alpha", alpha),
                                  taus=kw.get("taus", taus))
     else:
         def one(stat, **kw):
@@ -495,7 +547,10 @@ def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: st
     log : LogData or ndarray
         A prepared log, or raw values (then ``rate_hz`` and ``unit`` are required).
     stats : str or sequence, default ("oadev",)
-    taus, alpha, edf_method : see :func:`inertialab.noise.allan.deviation`
+    taus, alpha, edf_method : see :func:`inertialab.noise.allan.deviation`; ``alpha`` may
+        also be ``{statistic: alpha}`` (the noise type fixed for some statistics,
+        :func:`parse_noise_type`); a fixed type also replaces the noise-term model's
+        intervals of that statistic
     confidence : float, optional
         Two-sided confidence of every interval, the curves' and the noise terms'; None:
         the curves at 0.683 and the terms at 0.95.
@@ -545,10 +600,13 @@ def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: st
                   chunked=chunked and log.input == "rate")
     if common["chunked"]:  # the out-of-core passes report to the bar (progress)
         common["progress"] = progress
+    per_stat = alpha if isinstance(alpha, dict) else {}
+    if per_stat:
+        common["alpha"] = None
     one = _statistic_fn(log, names, common, bias_correction)
     _check_magnitude(log.values, log.column)
     for s in names:
-        results.append(one(s))
+        results.append(one(s, **({"alpha": per_stat[s]} if s in per_stat else {})))
     _check_finite(results, log.column)
     oad = next((r for r in results if r.statistic == "oadev"), None)
     terms = None
@@ -558,8 +616,9 @@ def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: st
         terms = _noise_terms(oad, log, kind=kind or log.kind, method=method,
                              confidence=terms_conf)
     if terms is not None:  # rate records: noise types follow the fitted model
-        results = [model_intervals(r, terms) if r.statistic in _MODEL_EDF_STATS else r
-                   for r in results]
+        fixed = set(per_stat) if per_stat else (set(names) if alpha is not None else set())
+        results = [model_intervals(r, terms) if r.statistic in _MODEL_EDF_STATS and
+                   r.statistic not in fixed else r for r in results]
     n = results[0].n_samples
     return AllanAnalysis(results=tuple(results), terms=terms, unit=log.unit, column=log.column,
                          rate_hz=log.rate_hz, n_samples=n, input=log.input, kind=log.kind,
@@ -567,6 +626,7 @@ def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: st
                          settings={"stats": list(names), "taus": taus, "confidence": confidence,
                                    "method": method, "input": log.input,
                                    "edf_method": edf_method, "rate_hz": log.rate_hz,
+                                   "noise_type": alpha,
                                    **({"bias_correction": bool(bias_correction),
                                        "fit_terms": bool(fit_terms)} if clock else {})})
 

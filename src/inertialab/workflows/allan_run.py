@@ -81,6 +81,12 @@ class AllanConfig(Config):
     pool_kind: str = setting("runs", help="With --pool: runs (several runs of one unit) or "
                                           "units (units of one model): what the between-log "
                                           "spread means.", choices=("runs", "units"))
+    noise_type: str | None = setting(None, help="Noise type for the bias corrections and "
+                                                "EDF instead of the identification per tau, "
+                                                "as Stable32 fixes it: one alpha (2 1 0 -1 "
+                                                "-2) or name (WPM FPM WFM FFM RWFM) for every "
+                                                "statistic, or stat=type pairs "
+                                                "(totdev=FFM,theo1=-2).")
     gaps: str | None = setting(None, help="error | split: refuse time-stamp dropouts and "
                                           "repeats, or split the log at them (default: jitter "
                                           "and dropouts analysed on the sensor's grid, lost "
@@ -96,7 +102,7 @@ class AllanConfig(Config):
     def check(self) -> AllanConfig:
         """Bounds and the rules between settings (before any reading)."""
         self.validate()
-        wf.parse_stats(self.stat)
+        wf.parse_noise_type(self.noise_type, wf.parse_stats(self.stat))
         wf.parse_taus(self.taus)
         if self.input not in ("phase", "frequency") and self.unit is not None:
             u = self.unit.strip().lower()
@@ -170,6 +176,29 @@ class AllanRun:
         return out
 
 
+def lone_series(path, input: str, options=None):
+    """The reading options of a headerless text file holding one series (a Stable32
+    ``.DAT``: one number a line, read as ``col1``): its column mapped to the series
+    ``input`` names (``rate`` or ``theta``), so it needs no ``--column``; the unit still
+    comes from ``--unit``. Any other file: ``options`` unchanged."""
+    import dataclasses
+    import re
+
+    from inertialab.io import peek_columns
+    from inertialab.io.mapping import ReadOptions, parse_map
+
+    if Path(path).suffix.lower() == ".npy" or input not in ("rate", "angle"):
+        return options
+    ro = options if options is not None else ReadOptions()
+    if ro.column_map:
+        return options
+    data = [c for c in peek_columns(path, ro) if c != "t_s"]
+    if len(data) != 1 or not re.fullmatch(r"col\d+", data[0]):
+        return options
+    target = "rate" if input == "rate" else "theta"
+    return dataclasses.replace(ro, column_map=parse_map(f"{target}={data[0]}"))
+
+
 def run(path, config: AllanConfig, *, options=None, progress=None) -> AllanRun:
     """Read ``path`` (a ``gyro_log``, or a ``clock_log`` for phase/frequency input) and
     compute the requested statistics and noise terms."""
@@ -186,6 +215,8 @@ def run(path, config: AllanConfig, *, options=None, progress=None) -> AllanRun:
         if Path(path).suffix.lower() == ".npy" and c.unit is not None and c.column is None \
                 and c.input == "angle":
             npy_col = f"theta_{c.unit.strip().lower()}"
+        if npy_col is None and c.column is None:
+            options = lone_series(path, c.input, options)
         rec = read_record(path, "gyro_log", unit=c.unit, rate_hz=c.rate,
                           column=c.column or npy_col, g_local=c.g_local, gaps=c.gaps,
                           options=options)
@@ -194,12 +225,14 @@ def run(path, config: AllanConfig, *, options=None, progress=None) -> AllanRun:
         sha = rec.sha256
     stats = wf.parse_stats(c.stat)
     conf = c.confidence if c.confidence is not None else (0.683 if clock else IMU_CONFIDENCE)
+    alpha = wf.parse_noise_type(c.noise_type, stats)
     res = wf.analyze(log, stats=stats, taus=wf.parse_taus(c.taus), confidence=conf,
                      method=c.method, fit_terms=c.terms, bias_correction=c.bias_correction,
-                     progress=progress)
+                     alpha=alpha, progress=progress)
     settings = {"column": log.column, "rate_hz": log.rate_hz, "input": log.input,
                 "stat": list(stats), "taus": c.taus, "confidence": conf,
-                "method": c.method, "unit": log.unit, "n_samples": res.n_samples}
+                "method": c.method, "unit": log.unit, "n_samples": res.n_samples,
+                "noise_type": alpha}
     if clock:
         settings.update({"input": c.input, "nominal_hz": c.nominal,
                          "bias_correction": res.settings.get("bias_correction"),

@@ -8,6 +8,7 @@
 from __future__ import annotations
 
 import json
+import math
 import re
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -41,16 +42,25 @@ def _check(raw: str) -> wb.Check:
     key, op, val = m.groups()
     try:
         if op == "=":
-            lo, hi = (float(v) for v in val.split(".."))
+            lo, hi = (_finite(v) for v in val.split(".."))
             if lo > hi:
                 raise ValueError
             return wb.Check(key, lo, hi, is_abs)
         if op in ("<=", "<"):
-            return wb.Check(key, hi=float(val), abs=is_abs)
-        return wb.Check(key, lo=float(val), abs=is_abs)
+            return wb.Check(key, hi=_finite(val), abs=is_abs)
+        return wb.Check(key, lo=_finite(val), abs=is_abs)
     except ValueError:
         raise InputError(f"argument 'tolerance': bad number or range in "
-                         f"{raw.strip()!r}") from None
+                         f"{raw.strip()!r} (bounds are finite numbers)") from None
+
+
+def _finite(text: str) -> float:
+    """A rule's bound: a finite number (``nan`` or ``inf`` would make the rule always
+    fail or always pass)."""
+    v = float(text)
+    if not math.isfinite(v):
+        raise ValueError(text)
+    return v
 
 
 def parse_tolerance(text: str | Sequence[str] | None) -> tuple:
@@ -104,6 +114,10 @@ def prepare(command: Sequence[str], inputs, config: BatchConfig, read) -> BatchJ
                          "thermal apply)")
     paths = wb.expand_inputs(inputs)
     checks = parse_tolerance(c.tolerance)
+    if c.unit is not None:
+        from inertialab.io.mapping import parse_unit_option
+
+        parse_unit_option(c.unit)  # ',,' or an unknown unit: one line, before any unit
     options = {k: v for k, v in {
         "map": read.column_map.to_text() or None, "sep": read.parse.sep,
         "decimal": read.parse.decimal, "skip_rows": read.parse.skip_rows, "unit": c.unit,

@@ -91,7 +91,9 @@ def load_prior(spec) -> DualPrior | None:
             raise InputError("the calibration history must hold numbers only in the "
                              "coefficient columns", path=p) from None
     try:
-        d = json.loads(p.read_text(encoding="utf-8"))
+        from inertialab.io.modelfile import unique_keys
+
+        d = json.loads(p.read_text(encoding="utf-8"), object_pairs_hook=unique_keys)
     except UnicodeDecodeError:
         raise InputError("prior file is not UTF-8 JSON", path=p) from None
     except json.JSONDecodeError as exc:

@@ -259,6 +259,9 @@ def inflated(res):
         ratios = [r for a in res.axes if a.kind == kind and a.drift and "check" in a.drift
                   for r in a.drift["check"]["observed_over_predicted"] if math.isfinite(r)]
         f = max([1.0, *ratios])
+        checked = [a for a in res.axes if a.kind == kind and a.drift and "check" in a.drift]
+        if checked and not ratios:
+            _uninflated(label, checked[0].drift["check"]["on"], note)
         if ratios:
             check = next(a.drift["check"]["on"] for a in res.axes
                          if a.kind == kind and a.drift and "check" in a.drift)
@@ -271,6 +274,20 @@ def inflated(res):
     axes = tuple(replace(a, noise_density=a.noise_density * scale[a.axis],
                          random_walk=a.random_walk * scale[a.axis]) for a in res.axes)
     return replace(res, axes=axes), tuple(note)
+
+
+def _uninflated(label: str, check: str, note: list) -> None:
+    """Say (a note in the exported file and a warning) that a sensor's values are
+    exported as fitted: its check observed no window at any horizon."""
+    import warnings
+
+    from inertialab.errors import DataQualityWarning
+
+    text = (f"{label} noise density and random walk NOT inflated: the drift check on "
+            f"{check} has no usable window at any horizon, so the exported values are "
+            "the fitted ones")
+    note.append(text)
+    warnings.warn(text, DataQualityWarning, stacklevel=3)
 
 
 def axis_columns(rec) -> dict:
@@ -290,13 +307,9 @@ def drift_options(predict_drift, bias_window, check_on, plan, rec, *, rate, unit
     another log, read like the main one), or None without a prediction or plan."""
     if not predict_drift and not plan:
         return None
-    horizons = ()
-    if predict_drift:
-        try:
-            horizons = tuple(float(v) for v in str(predict_drift).split(",") if v.strip())
-        except ValueError:
-            raise InputError(f"argument 'predict_drift' must be comma-separated seconds, got "
-                             f"'{predict_drift}'") from None
+    from inertialab.workflows.imu_options import parse_horizons
+
+    horizons = parse_horizons(predict_drift) if predict_drift else ()
     other, name, mode = {}, None, None
     if check_on:
         if str(check_on).strip().lower() == "half":
@@ -315,8 +328,30 @@ def drift_options(predict_drift, bias_window, check_on, plan, rec, *, rate, unit
             other = _in_units_of(axis_columns(rec2), axis_columns(rec), place, g_local)
             other = _other_after_warmup(other, float(fs2 or fs1 or 0.0), warmup)
             mode, name = "other", str(check_on)
-    return DriftOptions(horizons_s=horizons or (1.0,), bias_window_s=float(bias_window),
+    opts = DriftOptions(horizons_s=horizons or (1.0,), bias_window_s=float(bias_window),
                         check_on=mode, other=other, other_name=name, plan=bool(plan))
+    if horizons:
+        _check_lengths(opts, rec, rate)
+    return opts
+
+
+def _check_lengths(opts: DriftOptions, rec, rate) -> None:
+    """:func:`inertialab.workflows.imu_options.check_horizons` on the record's length
+    (its first half where the check is on the second) and the check data's."""
+    from inertialab.workflows.imu_options import check_horizons
+
+    tb = rec.timebase
+    fs = float(rate or (tb.rate_hz if tb is not None else 0.0) or 0.0)
+    if fs <= 0:
+        return
+    n = rec.n // 2 if opts.check_on == "half" else rec.n
+    check = None
+    if opts.check_on == "half":
+        check, what = (rec.n - n) / fs, "the second half"
+    elif opts.check_on == "other" and opts.other:
+        check, what = min(len(v) for v in opts.other.values()) / fs, opts.other_name
+    check_horizons(opts.horizons_s, opts.bias_window_s, n / fs, check_s=check,
+                   check_name=what if check is not None else None)
 
 
 def _in_units_of(check_cols: dict, main_cols: dict, place, g_local) -> dict:

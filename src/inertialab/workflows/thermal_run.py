@@ -152,6 +152,9 @@ class ApplyConfig(Config):
                                           "tumble (transfer to another unit, spec 000 §3.7); "
                                           "auto = record when it has a full 55 °C tumble of "
                                           "another unit.")
+    force: bool = setting(False, help="Apply a model that fails its re-check at its training "
+                                      "conditions (compensated drift beyond the raw) anyway; "
+                                      "the output is flagged.")
 
 
 @dataclass
@@ -185,9 +188,15 @@ def run_apply(model, record, config: ApplyConfig, *, out, source: str | None = N
               ) -> ApplyResult:
     """Compensate a thermal-tumble record with a thermal model; the record to write at
     ``out`` has comp_output_mv (mV), comp_a_g (g) and status."""
+    from inertialab.calib.model_checks import refuse_or_flag, thermal_findings
+
     c = config.validate()
+    flags = refuse_or_flag(thermal_findings(model), "thermal", force=c.force, path=source)
     res = wf.apply(model, record, reference=c.reference, source=source)
-    return ApplyResult(res=res, out=out, settings={"reference": c.reference.strip().lower()},
+    if flags:
+        res.meta["flags"] = flags
+    return ApplyResult(res=res, out=out, settings={"reference": c.reference.strip().lower(),
+                                                   "force": c.force},
                        sha256=record.sha256, model=model)
 
 

@@ -636,6 +636,9 @@ def apply(model: TriaxialCalibration, record: Record, *, model_path=None,
         raise InputError("the calibration is flagged as not identifiable or implausible ("
                          + " | ".join(model.flags) + "); set argument 'force' to apply it anyway",
                          path=model_path)
+    from inertialab.calib.model_checks import refuse_or_flag, triaxial_findings
+
+    forced = refuse_or_flag(triaxial_findings(model), "triaxial", force=force, path=model_path)
     cols = _acc_cols(record)
     suffix = units.split_suffix(cols[0])[1]
     if suffix != model.raw_unit:
@@ -664,6 +667,8 @@ def apply(model: TriaxialCalibration, record: Record, *, model_path=None,
         out_units.update(dict.fromkeys(("gx_rps", "gy_rps", "gz_rps"), "rps"))
     meta = dict(record.meta)
     meta.update(units="mps2", calibrated_with=str(model_path), source_record=str(record.path))
+    if forced:
+        meta["flags"] = forced
     for k in ("lsb_per_g", "lsb_offset", "gyro_lsb_per_rps"):
         meta.pop(k, None)
     return Record(kind=record.kind, data=df, meta=meta, path=record.path, units=out_units,

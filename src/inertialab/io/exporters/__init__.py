@@ -33,10 +33,10 @@ from inertialab.io.exporters import (
     thermal_c,
 )
 from inertialab.io.exporters import noise as _noise
-from inertialab.io.exporters._common import NoiseParams, yaml_number
+from inertialab.io.exporters._common import NoiseParams, check_topic, yaml_number
 
-__all__ = ["EXPORTERS", "Exporter", "NoiseParams", "export_calibration", "export_noise",
-           "get", "noise_text", "targets", "yaml_number"]
+__all__ = ["EXPORTERS", "Exporter", "NoiseParams", "check_topic", "export_calibration",
+           "export_noise", "get", "noise_text", "targets", "yaml_number"]
 
 
 @dataclass(frozen=True)
