@@ -133,6 +133,47 @@ class ThermalImuModel:
         t_eff = np.clip(temp + ax["tau_s"] * dtdt, s["t_min"], s["t_max"])
         return tf.vander(t_eff, s["center"], s["half"], ax["order"]) @ np.asarray(ax["coef"])
 
+    def px4_sensors(self) -> list:
+        """The sensors as :func:`inertialab.io.exporters.thermal_params.px4_text` takes
+        them (TC slot = the instance; PX4 matches the device id)."""
+        return [{"kind": s["kind"], "slot": s["instance"], "device_id": s["device_id"],
+                 "t_ref": s["t_ref"], "t_min": s["t_min"], "t_max": s["t_max"],
+                 "x": np.asarray(s["px4"]["x"])} for s in self.sensors]
+
+    def ardupilot_sensors(self, *, caltemp_c: float | None = None) -> list:
+        """One dict per IMU for :func:`~inertialab.io.exporters.thermal_params.
+        ardupilot_text`: the PX4 cubic re-expanded about ArduPilot's fixed 35 °C, its
+        constant dropped (the firmware's correction is relative to the calibration
+        temperature); the range is the union of the IMU's accel and gyro ranges."""
+        from numpy.polynomial import Polynomial
+
+        out = {}
+        for s in self.sensors:
+            d = out.setdefault(s["instance"], {"imu": s["instance"] + 1, "t_min": s["t_min"],
+                                               "t_max": s["t_max"], "accel": np.zeros((3, 3)),
+                                               "gyro": np.zeros((3, 3)),
+                                               "accel_caltemp": caltemp_c,
+                                               "gyro_caltemp": caltemp_c})
+            d["t_min"], d["t_max"] = min(d["t_min"], s["t_min"]), max(d["t_max"], s["t_max"])
+            x = np.asarray(s["px4"]["x"])
+            shift = Polynomial([35.0 - s["t_ref"], 1.0])
+            for a in range(3):
+                c = Polynomial(x[:, a])(shift).coef
+                d[s["kind"]][:, a] = np.pad(c, (0, 4 - c.size))[1:4]
+        return [out[k] for k in sorted(out)]
+
+    def residual_notes(self) -> list:
+        """One comment line per sensor: the held-out RMS of the model and of the order-3
+        form the files carry, per axis (reading units)."""
+        lines = []
+        for s in self.sensors:
+            parts = [f"{ax['axis']} model {ax['rms_cv']:.3g}, order-3 "
+                     f"{ax['form_rms'][f]:.3g} ({f})"
+                     for ax, f in zip(s["axes"], s["px4"]["forms"])]
+            lines.append(f"{s['kind']} {s['instance']} (device {s['device_id']}), held-out RMS "
+                         f"in {UNITS[s['kind']]}: " + "; ".join(parts))
+        return lines
+
     def correct(self, s: dict, t_s, temp_c, values):
         """The readings ``values`` (n, 3) of sensor ``s`` corrected; returns ``(corrected,
         n_outside)`` with ``n_outside`` the samples whose smoothed temperature lies outside

@@ -21,7 +21,7 @@ Steps for one sensor stream (:func:`bin_stream`, :func:`select_axis`):
    and ``tau`` on a grid 0..300 s; one ``tau`` per sensor (its three axes share the
    die's temperature sensor) minimising the axes' summed held-out mean square, each
    relative to the axis's own minimum; then per axis the smallest order whose held-out
-   RMS is within 2 % of the axis's minimum at that ``tau`` (over-fit guard).
+   RMS is within :data:`ORDER_TOLERANCE` of the axis's minimum at that ``tau``.
 """
 
 from __future__ import annotations
@@ -36,6 +36,10 @@ __all__ = ["Binned", "bin_stream", "folds", "hysteresis", "px4_script_fit", "sel
 
 #: Least temperature change per direction (°C) for the heating/cooling folds.
 MIN_DIRECTION_SPAN_C = 10.0
+#: Relative held-out RMS within which a lower order is preferred (0.1 %: the held-out RMS
+#: of a drone log is mostly white noise, so a model error of a tenth of the noise moves it
+#: by only 0.5 %; a coarser guard picks too low an order).
+ORDER_TOLERANCE = 0.001
 #: Slope below which a bin counts as neither heating nor cooling (°C/s; 0.05 °C/min).
 STILL_C_PER_S = 0.05 / 60.0
 
@@ -186,7 +190,7 @@ def select_axes(b: Binned, fold_list, *, center: float, half: float, max_order: 
     for a in range(n_ax):
         g = grid[:, :, a]
         best = float(np.min(g[i]))
-        j = next(j for j in range(len(orders)) if g[i, j] <= 1.02 * best)
+        j = next(j for j in range(len(orders)) if g[i, j] <= (1.0 + ORDER_TOLERANCE) * best)
         order, tau = orders[j], float(taus[i])
         V = vander(b.temp + tau * b.dtdt, center, half, order)
         coef = np.linalg.lstsq(V, b.y[:, a], rcond=None)[0]

@@ -25,7 +25,7 @@ import numpy as np
 from inertialab.errors import InputError
 
 __all__ = ["AP_SCALE", "AP_TREF_C", "ardupilot_correct", "ardupilot_text", "px4_offset",
-           "px4_text", "read_ardupilot", "read_px4"]
+           "px4_text", "read_ardupilot", "read_px4", "write_ardupilot", "write_px4"]
 
 #: ArduPilot's fixed reference temperature (°C) and parameter scale.
 AP_TREF_C = 35.0
@@ -141,3 +141,28 @@ def ardupilot_correct(params: dict, kind: str, imu: int, temp_c, values, cal_tem
         return (c[0] + (c[1] + c[2] * e) * e) * e * f32(1.0 / AP_SCALE)
 
     return (v - poly(t - f32(AP_TREF_C)) + poly(tc - f32(AP_TREF_C))).astype(np.float64)
+
+
+def write_px4(model, path, o=None) -> list:
+    """Write a ``thermal-imu`` model's PX4 file (its ``px4_sensors`` and residual
+    notes) atomically; returns ``[path]``."""
+    from inertialab.io.writers import atomic_write_text
+
+    atomic_write_text(path, px4_text(model.px4_sensors(), comments=model.residual_notes()))
+    return [str(path)]
+
+
+def write_ardupilot(model, path, o=None) -> list:
+    """Write a ``thermal-imu`` model's ArduPilot file; option ``caltemp_c`` writes
+    ``INS_ACCn_CALTEMP``/``INS_GYRn_CALTEMP`` (else the board keeps its own)."""
+    from inertialab.io.writers import atomic_write_text
+
+    cal = (o or {}).get("caltemp_c")
+    notes = model.residual_notes() + [
+        "the correction is relative to INS_ACCn_CALTEMP / INS_GYRn_CALTEMP, the temperature "
+        "of the last accelerometer calibration and gyro calibration" +
+        (f" (set here to {cal:g} C)" if cal is not None else
+         " (kept as the board has them: calibrate the accelerometers after loading)")]
+    atomic_write_text(path, ardupilot_text(model.ardupilot_sensors(caltemp_c=cal),
+                                           comments=notes))
+    return [str(path)]

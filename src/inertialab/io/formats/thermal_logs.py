@@ -31,7 +31,8 @@ import pandas as pd
 from inertialab.errors import InputError
 from inertialab.io.formats.base import need
 
-__all__ = ["IMU_TABLE_COLUMNS", "ImuThermalLog", "SensorStream", "read_imu_thermal_log"]
+__all__ = ["IMU_TABLE_COLUMNS", "ImuThermalLog", "SensorStream", "read_imu_thermal_log",
+           "streams_from_frame"]
 
 IMU_TABLE_COLUMNS = ("t_s", "temp_c", "ax_mps2", "ay_mps2", "az_mps2", "gx_rps", "gy_rps",
                      "gz_rps")
@@ -156,6 +157,11 @@ def _table(path: Path) -> list:
     except (OSError, ValueError, ImportError) as exc:
         raise InputError(f"cannot read the table ({' '.join(str(exc).split())[:120]})",
                          path=path) from None
+    return _frame_streams(f, path=path)
+
+
+def _frame_streams(f: pd.DataFrame, *, path="<frame>") -> list:
+    f = f.copy()
     f.columns = [str(c).strip().lower() for c in f.columns]
     for c in IMU_TABLE_COLUMNS:
         if c not in f.columns:
@@ -177,6 +183,11 @@ def _table(path: Path) -> list:
             out.append(SensorStream(kind, int(i), dev, g["t_s"].to_numpy(float),
                                     g["temp_c"].to_numpy(float), g[cols].to_numpy(float)))
     return out
+
+
+def streams_from_frame(frame: pd.DataFrame, *, path="<frame>") -> ImuThermalLog:
+    """A table already in memory (the columns of :data:`IMU_TABLE_COLUMNS`) as a log."""
+    return ImuThermalLog(str(path), "table", [_check(s, path) for s in _frame_streams(frame)])
 
 
 def read_imu_thermal_log(path) -> ImuThermalLog:
