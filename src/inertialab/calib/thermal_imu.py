@@ -124,11 +124,13 @@ class ThermalImuModel:
 
     def axis_offset(self, s: dict, a: int, temp, dtdt) -> np.ndarray:
         """Offset of axis ``a`` of sensor ``s`` at smoothed temperature ``temp`` (°C) and
-        slope ``dtdt`` (°C/s), both clamped to the calibrated range."""
+        slope ``dtdt`` (°C/s): the temperature, and ``T + tau dT/dt``, clamped to the
+        calibrated range (an ANFIS's slope input to its training range too)."""
         ax = s["axes"][a]
         temp = np.clip(np.asarray(temp, float), s["t_min"], s["t_max"])
-        dtdt = np.clip(np.asarray(dtdt, float), *s["dtdt_range"])
-        if ax.get("anfis") is not None:
+        dtdt = np.asarray(dtdt, float)
+        if ax.get("anfis") is not None:  # inputs kept inside the ANFIS's training box
+            dtdt = np.clip(dtdt, *s["dtdt_range"])
             return self._regressor(s, a).predict(np.column_stack([temp, dtdt]))
         t_eff = np.clip(temp + ax["tau_s"] * dtdt, s["t_min"], s["t_max"])
         return tf.vander(t_eff, s["center"], s["half"], ax["order"]) @ np.asarray(ax["coef"])
@@ -176,14 +178,16 @@ class ThermalImuModel:
 
     def correct(self, s: dict, t_s, temp_c, values):
         """The readings ``values`` (n, 3) of sensor ``s`` corrected; returns ``(corrected,
-        n_outside)`` with ``n_outside`` the samples whose smoothed temperature lies outside
-        the calibrated range (clamped there, as the firmware clamps)."""
+        n_outside)`` with ``n_outside`` the samples whose reported temperature lies outside
+        the calibrated range (the model's temperature is clamped there, as the firmware
+        clamps)."""
         t_s = np.asarray(t_s, float)
         b = tf.bin_stream(t_s, temp_c, np.asarray(values, float), bin_s=s["bin_s"],
                           sigma_s=s["sigma_s"])
         temp = np.interp(t_s, b.t, b.temp)
         dtdt = np.interp(t_s, b.t, b.dtdt)
-        outside = int(np.sum((temp < s["t_min"]) | (temp > s["t_max"])))
+        reported = np.asarray(temp_c, float)
+        outside = int(np.sum((reported < s["t_min"]) | (reported > s["t_max"])))
         out = np.array(values, float, copy=True)
         for a in range(3):
             out[:, a] -= self.axis_offset(s, a, temp, dtdt) - s["axes"][a]["offset_ref"]
@@ -257,7 +261,8 @@ def _firmware(x, temp, s: dict, t_ref: float) -> np.ndarray:
 def _sensor_axes(b, choices, settings: FitSettings, rng, base: dict) -> dict:
     """A sensor dict fitted on the bins ``b`` with the chosen orders and lags (poly) or
     the configured ANFIS; ``base`` gives kind, instance and device id."""
-    t_min, t_max = float(b.temp_raw.min()), float(b.temp_raw.max())
+    t_min, t_max = base.get("t_min", float(b.temp_raw.min())), base.get("t_max",
+                                                                        float(b.temp_raw.max()))
     s = dict(base, t_min=t_min, t_max=t_max, t_ref=0.5 * (t_min + t_max),
              center=0.5 * (t_min + t_max), half=max(0.5 * (t_max - t_min), 1e-6),
              dtdt_range=[float(b.dtdt.min()), float(b.dtdt.max())],
@@ -312,7 +317,9 @@ def _fit_sensor(stream, settings: FitSettings, rng):
                              half=0.5 * (t_max - t_min), max_order=settings.max_order)
     base = {"kind": stream.kind, "instance": stream.instance, "device_id": stream.device_id,
             "relative": stream.kind == "accel"}
-    s = _sensor_axes(b, choices, settings, rng, base)
+    # the calibrated range: the reported extremes, as PX4's script takes TMIN/TMAX
+    s = _sensor_axes(b, choices, settings, rng, dict(base, t_min=float(np.min(stream.temp_c)),
+                                                     t_max=float(np.max(stream.temp_c))))
     m = ThermalImuModel(method=settings.method, sensors=[s])
     cv_model, cv_forms = _held_out(b, fl, choices, settings, rng, base)
     resid = np.column_stack([b.y[:, a] - m.axis_offset(s, a, b.temp, b.dtdt) for a in range(3)])

@@ -175,8 +175,8 @@ def simulate(unit_seed: int = 0, *, ramp: str = "calibration", rate_hz: float = 
              seed: int | None = None, n_instances: int = 2) -> ImuRampLog:
     """One ramp log of unit ``unit_seed``; ``seed`` draws the run noise (default the unit
     seed). The same seeds give the same frame."""
-    if not 0.1 <= float(rate_hz) <= 1000.0:
-        raise InputError(f"argument 'rate' must be in [0.1, 1000] Hz, got {rate_hz}")
+    if not 0.01 <= float(rate_hz) <= 1000.0:
+        raise InputError(f"argument 'rate' must be in [0.01, 1000] Hz, got {rate_hz}")
     unit = make_unit(unit_seed, n_instances)
     run_seed = int(unit_seed if seed is None else seed)
     t, t_ch = chamber(ramp, float(rate_hz))

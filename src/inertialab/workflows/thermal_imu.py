@@ -232,7 +232,7 @@ class ThermalImuSimConfig(Config):
                              lo=0, hi=2**63 - 1)
     ramp: str = setting("calibration", help="calibration | holdout | heat",
                         choices=("calibration", "holdout", "heat"))
-    rate: float = setting(10.0, help="Logged samples per second per sensor.", lo=0.1, hi=1000)
+    rate: float = setting(10.0, help="Logged samples per second per sensor.", lo=0.01, hi=1000)
     instances: int = setting(2, help="IMU instances (1 or 2).", lo=1, hi=2)
     seed: int | None = seed_setting("Run-noise seed (default: the unit seed).", default=None)
 
