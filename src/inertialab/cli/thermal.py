@@ -87,9 +87,9 @@ def thermal_fit(
         given = {k for k in ("method", "epochs", "fish", "generations")
                  if ctx.get_parameter_source(k).name != "DEFAULT"}
         st = wi.fit_settings(config, given)
-        return run.execute("thermal fit --imu", lambda bar: wi.run_imu_fit(_read_imu(file), st),
-                           inputs=lambda res: [{"path": str(file), "sha256": res.sha256}],
-                           figures=imu_figures, after=lambda res, _: wi.add_exports(res, pairs))
+        return run.execute("thermal fit --imu", lambda bar: wi.run_imu_fit(
+            _read_imu(file), st, exports=pairs), figures=imu_figures,
+            inputs=lambda res: [{"path": str(file), "sha256": res.sha256}])
     config.thermal_config()  # refuse bad settings before reading the record
 
     run.execute("thermal fit", lambda bar: wt.run_fit(_read(file, read), config, progress=bar),

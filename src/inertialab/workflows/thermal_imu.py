@@ -28,7 +28,7 @@ from inertialab.config import Config, seed_setting, setting
 from inertialab.errors import InputError
 
 __all__ = ["EXPORT_TARGETS", "ImuApplyResult", "ImuFitResult", "ThermalImuSimConfig",
-           "add_exports", "fit_settings", "pair_exports", "report_table", "run_imu_apply",
+           "fit_settings", "pair_exports", "report_table", "run_imu_apply",
            "run_imu_fit", "simulated", "write_exports"]
 
 EXPORT_TARGETS = ("px4", "ardupilot")
@@ -123,8 +123,10 @@ class ImuFitResult:
                   "samples/°C", "hysteresis", "order-3 form (held-out RMS)"], rows)]
 
 
-def run_imu_fit(log, settings: FitSettings) -> ImuFitResult:
-    """Fit every sensor instance of a read log (module docstring)."""
+def run_imu_fit(log, settings: FitSettings, *, exports=(), caltemp_c: float | None = None
+                ) -> ImuFitResult:
+    """Fit every sensor instance of a read log (module docstring) and write the
+    ``exports`` ``(target, path)`` pairs (:func:`pair_exports`)."""
     fit = fit_imu_model(log, settings)
     for s in fit.model.sensors:
         if s["span_c"] < 30.0:
@@ -135,7 +137,9 @@ def run_imu_fit(log, settings: FitSettings) -> ImuFitResult:
           "n_blocks": settings.n_blocks, "seed": settings.seed}
     if settings.method != "poly":
         st.update(epochs=settings.epochs, fish=settings.fish, generations=settings.generations)
-    return ImuFitResult(fit=fit, table=report_table(fit.model), settings=st, sha256=log.sha256)
+    res = ImuFitResult(fit=fit, table=report_table(fit.model), settings=st, sha256=log.sha256)
+    res.exports = write_exports(fit.model, exports, caltemp_c=caltemp_c)
+    return res
 
 
 def write_exports(model, pairs, *, caltemp_c: float | None = None) -> list:
@@ -217,11 +221,6 @@ def fit_settings(config, given) -> FitSettings:
     kw = {k: getattr(config, k) for k in ("epochs", "fish", "generations") if k in given}
     return FitSettings(method=config.method if "method" in given else "poly",
                        seed=config.seed, **kw).validate()
-
-
-def add_exports(res: ImuFitResult, pairs, caltemp_c: float | None = None) -> None:
-    """Write the ``(target, path)`` exports of a fit and list them in its result."""
-    res.exports = write_exports(res.fit.model, pairs, caltemp_c=caltemp_c)
 
 
 @dataclass(frozen=True)
