@@ -46,10 +46,10 @@ def _thermal_tumble(c, out):
 
 def _thermal_imu(c, out):
     """A drone IMU temperature-ramp log (table) and its PX4 ULog <stem>.ulg."""
-    from inertialab.sim.thermal_imu import simulate, ulog_bytes
+    from inertialab.sim import thermal_imu as si
 
-    log = simulate(c.unit_seed, ramp=c.ramp, rate_hz=c.rate, seed=c.seed, n_instances=c.instances)
-    return wi.simulated(log, ulog_bytes(log), c, out)
+    return wi.simulated(si.simulate(c.unit_seed, ramp=c.ramp, rate_hz=c.rate, seed=c.seed,
+                                    n_instances=c.instances), si.ulog_bytes, c, out)
 
 
 def _fog_vibration(c, out):

@@ -71,25 +71,19 @@ def _apply_command(name: str):
 def thermal_fit(
     ctx: typer.Context,
     file: Annotated[Path, typer.Argument(help="thermal_tumble record (CSV or Parquet).")],
-    imu: Annotated[bool, typer.Option("--imu", help="FILE is a drone IMU temperature ramp (PX4 "
-                                      ".ulg, ArduPilot .bin or table); docs/thermal-imu.md.")] = False,
-    export: Annotated[list[str] | None, typer.Option("--export", help="--imu: px4 | ardupilot, "
-                                                     "its FILE after the log (repeatable).")] = None,
+    imu: Annotated[bool, typer.Option("--imu", help=wi.IMU_HELP)] = False,
+    export: Annotated[list[str] | None, typer.Option("--export", help=wi.EXPORT_HELP)] = None,
     *, config, run, read: ReadOptions | None = None,
 ):
     """Fit integrated temperature-compensation models on a thermal tumble record.
 
     --out writes model.json (IAFSA-SCM-ANFIS when fitted, else the first method),
     models/ (every method), result.json and figures of the saved model."""
-    pairs = wi.pair_exports(export, ctx.args)
-    if imu or export:
-        from inertialab.report.figures.thermal_imu import imu_figures
-        given = {k for k in ("method", "epochs", "fish", "generations")
-                 if ctx.get_parameter_source(k).name != "DEFAULT"}
-        st = wi.fit_settings(config, given)
-        return run.execute("thermal fit --imu", lambda bar: wi.run_imu_fit(
-            _read_imu(file), st, exports=pairs), figures=imu_figures,
-            inputs=lambda res: [{"path": str(file), "sha256": res.sha256}])
+    pairs, given = wi.pair_exports(export, ctx.args), wi.given(ctx.get_parameter_source)
+    if imu or export:  # a drone IMU temperature ramp (docs/thermal-imu.md)
+        return run.execute("thermal fit --imu", lambda bar: wi.run_imu_fit(_read_imu(file), wi.fit_settings(
+            config, given), exports=pairs), inputs=lambda res: [{"path": str(file), "sha256": res.sha256}],
+            figures=commands.thermal_imu_fit)
     config.thermal_config()  # refuse bad settings before reading the record
 
     run.execute("thermal fit", lambda bar: wt.run_fit(_read(file, read), config, progress=bar),

@@ -27,11 +27,23 @@ from inertialab.calib.thermal_imu import AXES, UNITS, FitSettings, fit_imu_model
 from inertialab.config import Config, seed_setting, setting
 from inertialab.errors import InputError
 
-__all__ = ["EXPORT_TARGETS", "ImuApplyResult", "ImuFitResult", "ThermalImuSimConfig",
+__all__ = ["EXPORT_HELP", "EXPORT_TARGETS", "FIT_SETTINGS_TAKEN", "IMU_HELP", "given", "ImuApplyResult", "ImuFitResult", "ThermalImuSimConfig",
            "fit_settings", "pair_exports", "report_table", "run_imu_apply",
            "run_imu_fit", "simulated", "write_exports"]
 
 EXPORT_TARGETS = ("px4", "ardupilot")
+#: Help of the IMU switch of ``thermal fit`` and of its export option.
+IMU_HELP = ("FILE is a drone IMU temperature ramp (PX4 .ulg, ArduPilot .bin or table); "
+            "docs/thermal-imu.md.")
+EXPORT_HELP = "With the IMU switch: px4 | ardupilot, its FILE after the log (repeatable)."
+#: The fit settings of ``thermal fit`` the IMU fit takes when given (else its defaults).
+FIT_SETTINGS_TAKEN = ("method", "epochs", "fish", "generations")
+
+
+def given(source_of) -> set:
+    """The names of :data:`FIT_SETTINGS_TAKEN` the user gave; ``source_of(name)`` is the
+    command line's parameter source (its ``name`` is ``DEFAULT`` when not given)."""
+    return {k for k in FIT_SETTINGS_TAKEN if getattr(source_of(k), "name", "DEFAULT") != "DEFAULT"}
 
 
 def pair_exports(targets, files) -> list:
@@ -40,7 +52,7 @@ def pair_exports(targets, files) -> list:
     targets, files = list(targets or ()), list(files or ())
     if len(targets) != len(files):
         raise InputError("argument 'export' takes a target and a file each time "
-                         f"(--export px4 FILE), got targets {targets} and files {files}")
+                         f"(px4 FILE), got targets {targets} and files {files}")
     out = []
     for t, f in zip(targets, files):
         t = str(t).strip().lower()
@@ -118,7 +130,7 @@ class ImuFitResult:
                  f"{r.samples_per_c:.0f}",
                  "–" if r.hysteresis is None or np.isnan(r.hysteresis) else f"{r.hysteresis:.2g}",
                  f"{r.firmware_form} {r.firmware_rms_cv:.3g}"] for r in t.itertuples()]
-        return [(f"thermal fit --imu ({self.fit.model.method}; SI units: m/s^2, rad/s)",
+        return [(f"drone IMU thermal fit ({self.fit.model.method}; SI units: m/s^2, rad/s)",
                  ["sensor", "axis", "order", "tau s", "RMS in", "RMS held-out", "span °C",
                   "samples/°C", "hysteresis", "order-3 form (held-out RMS)"], rows)]
 
@@ -236,16 +248,16 @@ class ThermalImuSimConfig(Config):
     seed: int | None = seed_setting("Run-noise seed (default: the unit seed).", default=None)
 
 
-def simulated(log, ulog: bytes, c: ThermalImuSimConfig, out):
+def simulated(log, ulog_bytes, c: ThermalImuSimConfig, out):
     """``simulate thermal-imu``: the table record at ``out`` and the same log as a PX4
-    ULog at ``<stem>.ulg`` (written here, beside the record)."""
+    ULog at ``<stem>.ulg`` (``ulog_bytes(log)``, written here, beside the record)."""
     from pathlib import Path
 
     from inertialab.io.writers import atomic_write_bytes
     from inertialab.workflows.simulate import Written
 
     ulg = Path(out).with_suffix(".ulg")
-    atomic_write_bytes(ulg, ulog)
+    atomic_write_bytes(ulg, ulog_bytes(log))
     return Written(payload={"out": str(out), "ulog": str(ulg), "n_rows": int(len(log.frame))},
                    settings=c.to_dict(), records=[(out, log.frame, log.meta)],
                    line=f"written: {out} and {ulg} ({len(log.frame)} rows, ramp {c.ramp})")

@@ -42,7 +42,7 @@ def px4_text(sensors, *, comments=()) -> str:
     """QGroundControl ``.params`` text. ``sensors``: dicts with ``kind``, ``slot`` (the
     TC instance 0..3), ``device_id``, ``t_ref``, ``t_min``, ``t_max`` and ``x`` (4, 3):
     rows X0..X3, columns axes."""
-    lines = ["# Sensor thermal compensation parameters (inertialab thermal fit --imu)"]
+    lines = ["# Sensor thermal compensation parameters (inertialab, drone IMU thermal fit)"]
     lines += [f"# {c}" for c in comments]
     lines += ["#", "# Vehicle-Id Component-Id Name Value Type"]
     for kind in ("accel", "gyro"):
@@ -92,7 +92,7 @@ def ardupilot_text(sensors, *, comments=()) -> str:
     """Mission Planner ``.param`` text. ``sensors``: one dict per IMU with ``imu`` (1-based),
     ``t_min``, ``t_max``, ``accel`` and ``gyro`` ((3, 3): rows c1..c3 in SI units per
     °C^k about 35 °C, columns axes), optional ``accel_caltemp``/``gyro_caltemp`` (°C)."""
-    lines = ["# ArduPilot IMU temperature calibration (inertialab thermal fit --imu)"]
+    lines = ["# ArduPilot IMU temperature calibration (inertialab, drone IMU thermal fit)"]
     lines += [f"# {c}" for c in comments]
     for s in sensors:
         p = f"INS_TCAL{int(s['imu'])}_"
