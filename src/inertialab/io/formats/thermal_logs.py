@@ -5,7 +5,7 @@
 * ``.ulg`` (PX4 ULog, pyulog of the ``[formats]`` extra): every multi-instance of
   ``sensor_accel`` and ``sensor_gyro`` with ``x y z`` (m/s^2, rad/s), ``temperature``
   (°C) and ``device_id``, at ``timestamp_sample`` (µs) when logged, else ``timestamp``;
-* ``.bin`` (ArduPilot DataFlash, pymavlink of the ``[drone]`` extra): every ``IMU``
+* ``.bin`` (ArduPilot DataFlash, pymavlink of the ``[formats]`` extra): every ``IMU``
   message (``I`` = instance, ``GyrX..Z`` rad/s, ``AccX..Z`` m/s^2, ``T`` °C) at
   ``TimeUS``; device ids from the ``INS_ACC*_ID``/``INS_GYR*_ID`` parameters when the log
   has them, else 0;
