@@ -176,6 +176,24 @@ class ThermalImuModel:
                          f"in {UNITS[s['kind']]}: " + "; ".join(parts))
         return lines
 
+    def axis_scale(self, s: dict, a: int, temp, dtdt) -> np.ndarray:
+        """Scale-factor error of axis ``a`` (dimensionless; 0 where none was fitted) at
+        ``T + tau dT/dt`` clamped to the calibrated range."""
+        ax = s["axes"][a]
+        temp = np.asarray(temp, float)
+        if ax.get("scale") is None:
+            return np.zeros(temp.shape)
+        t_eff = np.clip(np.clip(temp, s["t_min"], s["t_max"]) + ax["tau_s"] * np.asarray(
+            dtdt, float), s["t_min"], s["t_max"])
+        return tf.vander(t_eff, s["center"], s["half"], len(ax["scale"]) - 1) @ \
+            np.asarray(ax["scale"])
+
+    def axis_reading(self, s: dict, a: int, temp, dtdt, grav=None) -> np.ndarray:
+        """The model's reading of axis ``a`` less the nominal gravity ``grav`` (0: none):
+        offset plus scale error times ``grav``."""
+        out = self.axis_offset(s, a, temp, dtdt)
+        return out if grav is None else out + self.axis_scale(s, a, temp, dtdt) * grav
+
     def correct(self, s: dict, t_s, temp_c, values):
         """The readings ``values`` (n, 3) of sensor ``s`` corrected; returns ``(corrected,
         n_outside)`` with ``n_outside`` the samples whose reported temperature lies outside
@@ -191,6 +209,7 @@ class ThermalImuModel:
         out = np.array(values, float, copy=True)
         for a in range(3):
             out[:, a] -= self.axis_offset(s, a, temp, dtdt) - s["axes"][a]["offset_ref"]
+            out[:, a] /= 1.0 + self.axis_scale(s, a, temp, dtdt)
         return out, outside
 
 
@@ -269,17 +288,22 @@ def _sensor_axes(b, choices, settings: FitSettings, rng, base: dict) -> dict:
              sigma_s=b.sigma_s, bin_s=b.bin_s, axes=[])
     X = np.column_stack([b.temp, b.dtdt])
     for a, ch in enumerate(choices):
-        V = tf.vander(b.temp + ch.tau_s * b.dtdt, s["center"], s["half"], ch.order)
+        t_eff = b.temp + ch.tau_s * b.dtdt
+        V = tf.vander(t_eff, s["center"], s["half"], ch.order)
+        if ch.scale_coef is not None:
+            V = np.hstack([V, tf.scale_columns(b, a, t_eff, s["center"], s["half"])])
+        c = np.linalg.lstsq(V, b.y[:, a], rcond=None)[0]
         ax = {"axis": AXES[s["kind"]][a], "order": ch.order, "tau_s": ch.tau_s,
-              "coef": np.linalg.lstsq(V, b.y[:, a], rcond=None)[0].tolist(), "anfis": None,
-              "offset_ref": 0.0}
-        if settings.method != "poly":
+              "coef": c[:ch.order + 1].tolist(), "anfis": None, "offset_ref": 0.0,
+              "scale": None if ch.scale_coef is None else c[ch.order + 1:].tolist()}
+        if settings.method != "poly" and ch.scale_coef is None:
             ax["anfis"] = _anfis_axis(X, b.y[:, a], settings, rng).to_dict()
         s["axes"].append(ax)
     m = ThermalImuModel(method=settings.method, sensors=[s])
-    if s["relative"]:
+    if s["relative"]:  # a scaled axis's offset is absolute (opposite faces tell it)
         for a in range(3):
-            s["axes"][a]["offset_ref"] = float(m.axis_offset(s, a, [s["t_ref"]], [0.0])[0])
+            if s["axes"][a]["scale"] is None:
+                s["axes"][a]["offset_ref"] = float(m.axis_offset(s, a, [s["t_ref"]], [0.0])[0])
     return s
 
 
@@ -294,7 +318,8 @@ def _held_out(b, fl, choices, settings, rng, base) -> tuple:
         for a in range(3):
             ref = s["axes"][a]["offset_ref"]
             y = b.y[te, a] - ref
-            r = y - (m.axis_offset(s, a, b.temp[te], b.dtdt[te]) - ref)
+            grav = None if b.grav is None else b.grav[te, a]
+            r = y - (m.axis_reading(s, a, b.temp[te], b.dtdt[te], grav) - ref)
             sse_m[a] += float(r @ r)
             forms = _forms(m, s, a, sub, s["t_ref"])
             for k, name in enumerate(FORMS):
@@ -311,10 +336,13 @@ def _fit_sensor(stream, settings: FitSettings, rng):
                          f"({np.min(stream.temp_c):.1f} to {np.max(stream.temp_c):.1f} °C); "
                          f"a thermal fit needs at least {settings.min_span_c:g} °C")
     b = tf.bin_stream(stream.t_s, stream.temp_c, stream.values, bin_s=settings.bin_s)
+    scaled = np.zeros(3, bool)
+    if stream.kind == "accel":
+        b, scaled = tf.with_orientations(b)
     fl = tf.folds(b, settings.n_blocks)
     t_min, t_max = float(b.temp_raw.min()), float(b.temp_raw.max())
-    choices = tf.select_axes(b, fl, center=0.5 * (t_min + t_max),
-                             half=0.5 * (t_max - t_min), max_order=settings.max_order)
+    choices = tf.select_axes(b, fl, center=0.5 * (t_min + t_max), half=0.5 * (t_max - t_min),
+                             max_order=settings.max_order, scaled=scaled)
     base = {"kind": stream.kind, "instance": stream.instance, "device_id": stream.device_id,
             "relative": stream.kind == "accel"}
     # the calibrated range: the reported extremes, as PX4's script takes TMIN/TMAX
@@ -322,7 +350,8 @@ def _fit_sensor(stream, settings: FitSettings, rng):
                                                      t_max=float(np.max(stream.temp_c))))
     m = ThermalImuModel(method=settings.method, sensors=[s])
     cv_model, cv_forms = _held_out(b, fl, choices, settings, rng, base)
-    resid = np.column_stack([b.y[:, a] - m.axis_offset(s, a, b.temp, b.dtdt) for a in range(3)])
+    resid = np.column_stack([b.y[:, a] - m.axis_reading(
+        s, a, b.temp, b.dtdt, None if b.grav is None else b.grav[:, a]) for a in range(3)])
     x = np.zeros((4, 3))
     chosen = []
     for a, ax in enumerate(s["axes"]):
@@ -331,6 +360,8 @@ def _fit_sensor(stream, settings: FitSettings, rng):
         chosen.append(FORMS[k])
         x[:, a] = forms[FORMS[k]]
         V0 = tf.vander(b.temp, s["center"], s["half"], ax["order"])
+        if ax["scale"] is not None:
+            V0 = np.hstack([V0, tf.scale_columns(b, a, b.temp, s["center"], s["half"])])
         r0 = b.y[:, a] - V0 @ np.linalg.lstsq(V0, b.y[:, a], rcond=None)[0]
         h = tf.hysteresis(b, resid[:, a])
         h0 = tf.hysteresis(b, r0)

@@ -31,7 +31,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.ndimage import gaussian_filter1d
 
-__all__ = ["Binned", "bin_stream", "folds", "hysteresis", "px4_script_fit", "select_axes", "subset",
+__all__ = ["Binned", "bin_stream", "folds", "hysteresis", "px4_script_fit", "scale_columns", "select_axes", "subset",
+           "with_orientations",
            "vander"]
 
 #: Least temperature change per direction (°C) for the heating/cooling folds.
@@ -40,6 +41,9 @@ MIN_DIRECTION_SPAN_C = 10.0
 #: of a drone log is mostly white noise, so a model error of a tenth of the noise moves it
 #: by only 0.5 %; a coarser guard picks too low an order).
 ORDER_TOLERANCE = 0.001
+#: Order of the scale factor's temperature model (a linear and a quadratic term, as
+#: MEMS data sheets give a sensitivity tempco and its curvature).
+SCALE_ORDER = 2
 #: Slope below which a bin counts as neither heating nor cooling (°C/s; 0.05 °C/min).
 STILL_C_PER_S = 0.05 / 60.0
 
@@ -47,8 +51,10 @@ STILL_C_PER_S = 0.05 / 60.0
 @dataclass
 class Binned:
     """One stream in bins: ``t`` (s), ``temp_raw`` (mean reported °C), ``temp`` (smoothed
-    °C), ``dtdt`` (°C/s), ``y`` (nb, 3), ``n`` samples per bin, ``sigma_s`` and
-    ``direction`` (+1 heating, -1 cooling, 0 still)."""
+    °C), ``dtdt`` (°C/s), ``y`` (nb, 3), ``n`` samples per bin, ``sigma_s``,
+    ``direction`` (+1 heating, -1 cooling, 0 still) and, for an accelerometer logged in
+    several orientations (:func:`with_orientations`), ``grav`` (nb, 3): the nominal
+    gravity per bin and axis, already removed from ``y``."""
 
     t: np.ndarray
     temp_raw: np.ndarray
@@ -58,6 +64,7 @@ class Binned:
     n: np.ndarray
     sigma_s: float
     bin_s: float
+    grav: np.ndarray | None = None
 
     @property
     def direction(self) -> np.ndarray:
@@ -109,7 +116,32 @@ def subset(b: Binned, mask) -> Binned:
     from dataclasses import replace
 
     return replace(b, t=b.t[mask], temp_raw=b.temp_raw[mask], temp=b.temp[mask],
-                   dtdt=b.dtdt[mask], y=b.y[mask], n=b.n[mask])
+                   dtdt=b.dtdt[mask], y=b.y[mask], n=b.n[mask],
+                   grav=None if b.grav is None else b.grav[mask])
+
+
+def with_orientations(b: Binned, *, min_share: float = 0.1):
+    """An accelerometer's bins with their orientation: ``(bins, scaled)``. When at least
+    one axis sees two or more gravity levels (-g, 0, +g; each in ``min_share`` of the
+    clean bins), the bins are kept where the board rested (reading within 5 % of g, one
+    axis within 5 % of the whole) and the nominal gravity ``grav`` is removed from ``y``;
+    ``scaled`` says per axis whether its scale factor can be fitted. Otherwise ``b``
+    unchanged and no axis scaled."""
+    norm = np.linalg.norm(b.y, axis=1)
+    g = float(np.median(norm))
+    level = np.round(b.y / g)
+    clean = (np.abs(norm - g) < 0.05 * g) & (np.max(np.abs(b.y), axis=1) > 0.95 * norm) & \
+        (np.sum(np.abs(level), axis=1) == 1)
+    if clean.sum() < 20:
+        return b, np.zeros(b.y.shape[1], bool)
+    scaled = np.array([sum(np.mean(level[clean, a] == v) >= min_share for v in (-1, 0, 1)) >= 2
+                       and np.any(level[clean, a] != 0) for a in range(b.y.shape[1])])
+    if not scaled.any():
+        return b, scaled
+    out = subset(b, clean)
+    out.grav = g * level[clean]
+    out.y = out.y - out.grav
+    return out, scaled
 
 
 def vander(temp_eff, center: float, half: float, order: int) -> np.ndarray:
@@ -131,9 +163,16 @@ def folds(b: Binned, n_blocks: int = 6) -> list:
     return out
 
 
-def _cv_rms_orders(V: np.ndarray, Y: np.ndarray, fold_list, orders) -> np.ndarray:
+def _cv_rms_orders(V: np.ndarray, Y: np.ndarray, fold_list, orders, W=None) -> np.ndarray:
     """Held-out RMS per order (len(orders), n_axes) from Gram matrices: the training
-    Gram of a fold is the whole Gram minus the left-out part, so one pass per fold."""
+    Gram of a fold is the whole Gram minus the left-out part, so one pass per fold.
+    ``W``: columns every order keeps (the scale-factor terms of one axis)."""
+    if W is not None:
+        top, m = V.shape[1], W.shape[1]
+        V = np.hstack([V, W])
+        cols = [np.r_[0:p + 1, top:top + m] for p in orders]
+    else:
+        cols = [np.arange(p + 1) for p in orders]
     G, B = V.T @ V, V.T @ Y
     sse = np.zeros((len(orders), Y.shape[1]))
     cnt = 0
@@ -143,13 +182,13 @@ def _cv_rms_orders(V: np.ndarray, Y: np.ndarray, fold_list, orders) -> np.ndarra
         Vt, Yt = V[te], Y[te]
         Gtr = G - Vt.T @ Vt
         Btr = B - Vt.T @ Yt
-        for j, p in enumerate(orders):
-            k = p + 1
+        for j, k in enumerate(cols):
+            Gk = Gtr[np.ix_(k, k)]
             try:
-                c = np.linalg.solve(Gtr[:k, :k], Btr[:k])
+                c = np.linalg.solve(Gk, Btr[k])
             except np.linalg.LinAlgError:
-                c = np.linalg.lstsq(Gtr[:k, :k], Btr[:k], rcond=None)[0]
-            r = Yt - Vt[:, :k] @ c
+                c = np.linalg.lstsq(Gk, Btr[k], rcond=None)[0]
+            r = Yt - Vt[:, k] @ c
             sse[j] += np.sum(r * r, axis=0)
         cnt += int(te.sum())
     return np.sqrt(sse / cnt) if cnt else np.full_like(sse, np.inf)
@@ -158,7 +197,8 @@ def _cv_rms_orders(V: np.ndarray, Y: np.ndarray, fold_list, orders) -> np.ndarra
 @dataclass
 class AxisChoice:
     """Selection of one axis: ``order``, ``tau_s``, ``coef`` (powers of u, lowest first),
-    ``rms_in``/``rms_cv`` (reading units) and the CV table ``grid`` [tau][order-1]."""
+    ``rms_in``/``rms_cv`` (reading units), the CV table ``grid`` [tau][order-1] and, for a
+    scaled axis, ``scale_coef`` (powers 0..:data:`SCALE_ORDER` of u of the scale error)."""
 
     order: int
     tau_s: float
@@ -167,10 +207,16 @@ class AxisChoice:
     rms_cv: float
     grid: np.ndarray
     taus: np.ndarray
+    scale_coef: np.ndarray | None = None
+
+
+def scale_columns(b: Binned, a: int, t_eff, center: float, half: float):
+    """The scale-factor columns of axis ``a`` (powers of u times the nominal gravity)."""
+    return vander(t_eff, center, half, SCALE_ORDER) * b.grav[:, a:a + 1]
 
 
 def select_axes(b: Binned, fold_list, *, center: float, half: float, max_order: int = 7,
-                taus=None, orders=None) -> list:
+                taus=None, orders=None, scaled=None) -> list:
     """Order and lag of each axis of ``b.y`` by held-out RMS (step 5), one
     :class:`AxisChoice` per axis. ``orders``: restrict the orders tried (e.g. ``(3,)``);
     ``taus``: the lag grid (s; default 0..300 s every 5 s)."""
@@ -179,9 +225,14 @@ def select_axes(b: Binned, fold_list, *, center: float, half: float, max_order: 
     top = max(orders)
     n_ax = b.y.shape[1]
     grid = np.full((taus.size, len(orders), n_ax), np.inf)
+    scaled = np.zeros(n_ax, bool) if scaled is None or b.grav is None else np.asarray(scaled)
     for i, tau in enumerate(taus):
-        V = vander(b.temp + tau * b.dtdt, center, half, top)
+        t_eff = b.temp + tau * b.dtdt
+        V = vander(t_eff, center, half, top)
         grid[i] = _cv_rms_orders(V, b.y, fold_list, orders)
+        for a in np.flatnonzero(scaled):
+            grid[i, :, a] = _cv_rms_orders(V, b.y[:, a:a + 1], fold_list, orders,
+                                           scale_columns(b, a, t_eff, center, half))[:, 0]
     # one lag per sensor (its axes share the die's temperature sensor): the tau that
     # minimises the sum over axes of each axis's best held-out MS relative to its minimum
     rel = np.min(grid, axis=1) ** 2 / np.min(grid, axis=(0, 1)) ** 2
@@ -192,10 +243,14 @@ def select_axes(b: Binned, fold_list, *, center: float, half: float, max_order: 
         best = float(np.min(g[i]))
         j = next(j for j in range(len(orders)) if g[i, j] <= (1.0 + ORDER_TOLERANCE) * best)
         order, tau = orders[j], float(taus[i])
-        V = vander(b.temp + tau * b.dtdt, center, half, order)
+        t_eff = b.temp + tau * b.dtdt
+        V = vander(t_eff, center, half, order)
+        if scaled[a]:
+            V = np.hstack([V, scale_columns(b, a, t_eff, center, half)])
         coef = np.linalg.lstsq(V, b.y[:, a], rcond=None)[0]
         rms_in = float(np.sqrt(np.mean((b.y[:, a] - V @ coef) ** 2)))
-        out.append(AxisChoice(order, tau, coef, rms_in, float(g[i, j]), g, taus))
+        out.append(AxisChoice(order, tau, coef[:order + 1], rms_in, float(g[i, j]), g, taus,
+                              coef[order + 1:] if scaled[a] else None))
     return out
 
 

@@ -49,7 +49,7 @@ def _thermal_imu(c, out):
     from inertialab.sim import thermal_imu as si
 
     return wi.simulated(si.simulate(c.unit_seed, ramp=c.ramp, rate_hz=c.rate, seed=c.seed,
-                                    n_instances=c.instances), si.ulog_bytes, c, out)
+                                    n_instances=c.instances, faces=c.faces), si.ulog_bytes, c, out)
 
 
 def _fog_vibration(c, out):

@@ -262,7 +262,8 @@ DRIFT = obj({
 #: A drone-IMU thermal model (``inertialab.calib.thermal_imu``): sensors with three axes.
 _IMU_AXIS = obj({"axis": text("ax", "ay", "az", "gx", "gy", "gz"), "order": integer(0, 9),
                  "tau_s": num(0, 3600), "coef": array(None, min_len=1),
-                 "anfis": maybe(ANFIS), "offset_ref": num()})
+                 "anfis": maybe(ANFIS), "offset_ref": num(),
+                 "scale": maybe(array(None, min_len=1))}, optional=("scale",))
 THERMAL_IMU = obj({"method": text("poly", "scm-anfis", "iafsa-scm-anfis"), "source": text(),
                    "sensors": array(None, min_len=1, item=obj({
                        "kind": text("accel", "gyro"), "instance": integer(0, 255),

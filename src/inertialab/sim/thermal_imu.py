@@ -75,7 +75,10 @@ RAMPS = {
 @dataclass(frozen=True)
 class ImuInstance:
     """One IMU: ``coef[axis]`` power coefficients of the offset in ``u = (T_el - 20.5) /
-    35.5`` (lowest power first, constant 0), ``order[axis]``, sensor lag (s), device ids."""
+    35.5`` (lowest power first, constant 0), ``order[axis]``, sensor lag (s), device ids
+    and ``scale[axis]``: the accelerometer's scale-factor error in u (a tempco of
+    20-50 ppm/°C and a small curvature: ICM-42688 and BMI088 data sheets give ±0.005 %/°C
+    and ±0.002 %/K)."""
 
     index: int
     coef: dict
@@ -83,6 +86,13 @@ class ImuInstance:
     tau_sensor_s: float
     accel_device_id: int
     gyro_device_id: int
+    scale: dict | None = None
+
+    def scale_errors(self, t_el: np.ndarray) -> dict:
+        """True accelerometer scale-factor error per axis (dimensionless) at element
+        temperatures (0 at 20.5 °C)."""
+        u = (np.asarray(t_el, float) - 20.5) / 35.5
+        return {a: np.polynomial.polynomial.polyval(u, self.scale[a]) for a in AXES[:3]}
 
     def offsets(self, t_el: np.ndarray) -> dict:
         """True temperature offset per axis (m/s^2 or rad/s) at element temperatures."""
@@ -116,12 +126,15 @@ def make_unit(unit_seed: int = 0, n_instances: int = 2) -> ImuUnit:
     if not 1 <= int(n_instances) <= len(ORDERS):
         raise InputError(f"argument 'instances' must be 1..{len(ORDERS)}, got {n_instances}")
     rng = as_generator(np.random.SeedSequence([int(unit_seed), 7]))
+    rng_scale = as_generator(np.random.SeedSequence([int(unit_seed), 13]))  # own stream
     out = []
     for i in range(int(n_instances)):
         coef = {a: _axis_coef(rng, ORDERS[i][a], "accel" if a[0] == "a" else "gyro")
                 for a in AXES}
+        scale = {a: np.array([0.0, rng_scale.choice([-1.0, 1.0]) * rng_scale.uniform(20, 50),
+                              rng_scale.normal(0.0, 5.0)]) * 35.5e-6 for a in AXES[:3]}
         out.append(ImuInstance(i, coef, dict(ORDERS[i]), float(rng.uniform(20.0, 45.0)),
-                               *DEVICE_IDS[i]))
+                               *DEVICE_IDS[i], scale=scale))
     return ImuUnit(int(unit_seed), tuple(out))
 
 
@@ -143,21 +156,33 @@ def chamber(ramp: str, rate_hz: float):
     return t, np.interp(t, corners[:, 0], corners[:, 1])
 
 
-def _instance_frame(inst: ImuInstance, t, t_ch, rate_hz, rng) -> pd.DataFrame:
+#: The six rest faces of a several-orientation log (specific force / g per axis, FRD):
+#: level first, then upside down, nose down/up, right/left wing down; ``FACE_S`` each.
+FACES = ((0, 0, -1), (0, 0, 1), (1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0))
+FACE_S = 120.0
+
+
+def _instance_frame(inst: ImuInstance, t, t_ch, rate_hz, rng, faces: int) -> pd.DataFrame:
     dt = 1.0 / rate_hz
     t_el = _lag(t_ch, dt, TAU_BOARD_S, t_ch[0])
     t_sens = _lag(t_el, dt, inst.tau_sensor_s, t_el[0])
     reported = np.round(t_sens + rng.normal(0.0, 0.05, t.size))
     off = inst.offsets(t_el)
     cols = {"instance": np.full(t.size, inst.index), "t_s": t, "temp_c": reported}
-    for a, name in zip(AXES, COLUMNS):
+    face = np.asarray(FACES, float)[(np.floor(t / FACE_S).astype(int) % faces)]
+    scale = inst.scale_errors(t_el) if faces > 1 else {a: 0.0 for a in AXES[:3]}
+    for k, (a, name) in enumerate(zip(AXES, COLUMNS)):
         kind = "accel" if a[0] == "a" else "gyro"
         walk = np.cumsum(rng.normal(0.0, RANDOM_WALK_1H[kind] * np.sqrt(dt / 3600.0), t.size))
-        grav = -G if a == "az" else 0.0
+        grav = G * face[:, k] * (1.0 + scale[a]) if kind == "accel" else 0.0
         cols[name] = grav + off[a] + walk + rng.normal(0.0, NOISE[kind], t.size)
     cols["true_temp_c"] = t_el
     for a in AXES:
         cols[f"true_off_{a}"] = off[a]
+    if faces > 1:
+        for k, a in enumerate(AXES[:3]):
+            cols[f"true_scale_{a}"] = scale[a]
+            cols[f"true_g_{a}"] = G * face[:, k]
     return pd.DataFrame(cols)
 
 
@@ -172,9 +197,14 @@ class ImuRampLog:
 
 
 def simulate(unit_seed: int = 0, *, ramp: str = "calibration", rate_hz: float = 10.0,
-             seed: int | None = None, n_instances: int = 2) -> ImuRampLog:
+             seed: int | None = None, n_instances: int = 2, faces: int = 1) -> ImuRampLog:
     """One ramp log of unit ``unit_seed``; ``seed`` draws the run noise (default the unit
-    seed). The same seeds give the same frame."""
+    seed). ``faces`` 1: the board rests level (a level log sees a scale-factor drift only
+    as an offset, so none is simulated); 6: it is turned through :data:`FACES` every
+    ``FACE_S`` seconds and the accelerometers' scale factors drift too (columns
+    ``true_scale_*``, ``true_g_*``). The same seeds give the same frame."""
+    if faces not in (1, 6):
+        raise InputError(f"argument 'faces' must be 1 or 6, got {faces}")
     if not 0.01 <= float(rate_hz) <= 1000.0:
         raise InputError(f"argument 'rate' must be in [0.01, 1000] Hz, got {rate_hz}")
     unit = make_unit(unit_seed, n_instances)
@@ -183,9 +213,9 @@ def simulate(unit_seed: int = 0, *, ramp: str = "calibration", rate_hz: float = 
     frames = []
     for inst in unit.instances:
         rng = as_generator(np.random.SeedSequence([run_seed, 11, inst.index]))
-        frames.append(_instance_frame(inst, t, t_ch, float(rate_hz), rng))
+        frames.append(_instance_frame(inst, t, t_ch, float(rate_hz), rng, faces))
     meta = {"generator": GENERATOR, "generator_version": GENERATOR_VERSION,
-            "unit_seed": int(unit_seed), "seed": run_seed, "ramp": ramp,
+            "unit_seed": int(unit_seed), "seed": run_seed, "ramp": ramp, "faces": faces,
             "rate_hz": float(rate_hz),
             "device_ids": {str(i.index): {"accel": i.accel_device_id, "gyro": i.gyro_device_id}
                            for i in unit.instances},

@@ -66,7 +66,9 @@ def pair_exports(targets, files) -> list:
 def report_table(model) -> pd.DataFrame:
     """One row per sensor axis: order, tau (s), residual RMS in-sample and held-out
     (reading units), span (°C), samples per °C, hysteresis before and after the lag
-    term, the order-3 form kept for the firmware and its held-out RMS."""
+    term, the order-3 form kept for the firmware and its held-out RMS, and the scale
+    factor's tempco at mid-range (ppm/°C; an accelerometer logged in several
+    orientations only)."""
     rows = []
     for s in model.sensors:
         for ax, form in zip(s["axes"], s["px4"]["forms"]):
@@ -79,7 +81,9 @@ def report_table(model) -> pd.DataFrame:
                          "samples_per_c": s["samples_per_c"],
                          "hysteresis": ax["hysteresis"],
                          "hysteresis_without_lag": ax["hysteresis_tau0"],
-                         "firmware_form": form, "firmware_rms_cv": ax["form_rms"][form]})
+                         "firmware_form": form, "firmware_rms_cv": ax["form_rms"][form],
+                         "scale_ppm_per_c": None if ax.get("scale") is None else
+                         1e6 * ax["scale"][1] / s["half"]})
     return pd.DataFrame(rows)
 
 
@@ -245,6 +249,8 @@ class ThermalImuSimConfig(Config):
                         choices=("calibration", "holdout", "heat"))
     rate: float = setting(10.0, help="Logged samples per second per sensor.", lo=0.01, hi=1000)
     instances: int = setting(2, help="IMU instances (1 or 2).", lo=1, hi=2)
+    faces: int = setting(1, help="1: level; 6: turned through six faces every 120 s "
+                                 "(accelerometer scale factors drift too).", choices=(1, 6))
     seed: int | None = seed_setting("Run-noise seed (default: the unit seed).", default=None)
 
 

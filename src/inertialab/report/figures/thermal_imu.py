@@ -24,10 +24,13 @@ def _sensor_figure(model, s: dict, b) -> Figure:
     grid = np.linspace(s["t_min"], s["t_max"], 200)
     for a, ax in enumerate(axs):
         ref = s["axes"][a]["offset_ref"]
+        y = b.y[:, a] - ref
+        if b.grav is not None:  # several orientations: the fitted scale part taken out
+            y = y - model.axis_scale(s, a, b.temp, b.dtdt) * b.grav[:, a]
         for mask, col, lab in ((d == 1, "tab:red", "heating"), (d == -1, "tab:blue", "cooling"),
                                (d == 0, "0.6", "still")):
             if mask.any():
-                ax.plot(b.temp[mask], b.y[mask, a] - ref, ".", ms=2, color=col, alpha=0.5,
+                ax.plot(b.temp[mask], y[mask], ".", ms=2, color=col, alpha=0.5,
                         label=f"data, {lab}")
         ax.plot(grid, model.axis_offset(s, a, grid, np.zeros_like(grid)) - ref, "k-", lw=1.2,
                 label="model (dT/dt = 0)")
