@@ -32,6 +32,7 @@ arrays (``fit(f_hz, e_dph)``).
 :class:`~inertialab.calib.triaxial.TriaxialCalibration`,
 :class:`~inertialab.calib.ferraris.FerrarisCalibration`,
 :class:`~inertialab.calib.thermal.ThermalModel`,
+:class:`~inertialab.calib.thermal_imu.ThermalImuModel`,
 :class:`~inertialab.calib.dual.DualCalibration`,
 :class:`~inertialab.calib.drift.DriftModel` and the noise terms
 (:class:`~inertialab.noise.terms.NoiseTerms`). Their fit needs the study's whole session
@@ -45,7 +46,8 @@ instead:
 1. one function makes it, named in its registry entry
    (:attr:`~inertialab.calib.model_types.ModelType.made_by`):
    ``triaxial_session.to_model`` (of :func:`~inertialab.calib.triaxial.calibrate`'s fit),
-   ``ferraris.to_model`` (of ``fit_ferraris``), ``thermal.fit_model``, ``dual.calibrate``
+   ``ferraris.to_model`` (of ``fit_ferraris``), ``thermal.fit_model``,
+   ``thermal_imu.fit_imu_model`` (its ``model``), ``dual.calibrate``
    (its ``model``), :meth:`DriftModel.from_results <inertialab.calib.drift.DriftModel.from_results>`
    (of ``fit_series``) and ``noise.terms.fit_noise_terms``;
 2. it has no ``fit`` and no unfitted state: the constructor takes every fitted value by

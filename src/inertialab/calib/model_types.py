@@ -19,6 +19,7 @@ from dataclasses import dataclass
 from inertialab.calib import dual as _dual
 from inertialab.calib import ferraris as _ferraris
 from inertialab.calib import thermal as _thermal
+from inertialab.calib import thermal_imu as _thermal_imu
 from inertialab.calib import triaxial_session as _triaxial_session
 from inertialab.calib.base import format_version
 from inertialab.calib.drift import DriftModel
@@ -99,6 +100,8 @@ _ENTRIES = (
     ModelType(NoiseTerms, "noise", None, fit_noise_terms),
     ModelType(VibrationModel, "calibration", VibrationModel.compensate),
     ModelType(ThermalModel, "calibration", _thermal.compensate, _thermal.fit_model),
+    ModelType(_thermal_imu.ThermalImuModel, "calibration", _thermal_imu.ThermalImuModel.correct,
+              _thermal_imu.fit_imu_model),
     ModelType(TriaxialCalibration, "calibration", TriaxialCalibration.apply,
               _triaxial_session.to_model),
     ModelType(FerrarisCalibration, "calibration", FerrarisCalibration.apply, _ferraris.to_model),

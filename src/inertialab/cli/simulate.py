@@ -12,6 +12,7 @@ import typer
 from inertialab.cli.runner import config_command
 from inertialab.errors import InputError
 from inertialab.workflows import simulate as ws
+from inertialab.workflows import thermal_imu as wi
 
 _OUT_HELP = ("Record file (.csv or .parquet); the sidecar .meta.json is written beside it "
              "(a regular file there is replaced; a directory, device or FIFO is refused).")
@@ -41,6 +42,14 @@ def _thermal_tumble(c, out):
 
     return ws.thermal_tumble(simulate(c.preset, c.lot_seed, c.unit, seed=c.seed, ramp=c.ramp),
                              c, out)
+
+
+def _thermal_imu(c, out):
+    """A drone IMU temperature-ramp log (table) and its PX4 ULog <stem>.ulg."""
+    from inertialab.sim import thermal_imu as si
+
+    return wi.simulated(si.simulate(c.unit_seed, ramp=c.ramp, rate_hz=c.rate, seed=c.seed,
+                                    n_instances=c.instances, faces=c.faces), si.ulog_bytes, c, out)
 
 
 def _fog_vibration(c, out):
@@ -94,6 +103,7 @@ RIGS = {
     "gyro-static": (ws.GyroStaticConfig, _gyro_static),
     "fog-vibration": (ws.FogVibrationConfig, _fog_vibration),
     "thermal-tumble": (ws.ThermalTumbleConfig, _thermal_tumble),
+    "thermal-imu": (wi.ThermalImuSimConfig, _thermal_imu),
     "triaxial-poses": (ws.TriaxialPosesConfig, _triaxial_poses),
     "ferraris-session": (ws.FerrarisSessionConfig, _ferraris_session),
     "dual-tumble": (ws.DualTumbleConfig, _dual_tumble),

@@ -12,8 +12,10 @@ from inertialab.cli.options import reading_options
 from inertialab.cli.runner import config_command
 from inertialab.errors import InputError
 from inertialab.io import read_record
+from inertialab.io.formats.thermal_logs import read_imu_thermal_log as _read_imu
 from inertialab.io.mapping import ReadOptions
 from inertialab.report import commands
+from inertialab.workflows import thermal_imu as wi
 from inertialab.workflows import thermal_run as wt
 from inertialab.workflows.registries import load_model
 
@@ -43,6 +45,9 @@ def _apply_command(name: str):
         *, config, run, read: ReadOptions | None = None,
     ):
         """Compensate a record with a thermal model; writes comp_output_mv, comp_a_g, status."""
+        if (m := load_model(model)).MODEL_TYPE == "thermal-imu":  # six corrected columns
+            return run.execute(name, lambda bar: wi.run_imu_apply(m, _read_imu(file), out=run.out),
+                               inputs=lambda res: [model, {"path": str(file), "sha256": res.sha256}])
         if figure is not None and (figure.suffix.lower() != ".png" or figure.is_dir()):
             raise InputError("--figure must name a .png file", path=figure)
 
@@ -64,13 +69,21 @@ def _apply_command(name: str):
 
 @config_command(wt.FitConfig)
 def thermal_fit(
+    ctx: typer.Context,
     file: Annotated[Path, typer.Argument(help="thermal_tumble record (CSV or Parquet).")],
+    imu: Annotated[bool, typer.Option("--imu", help=wi.IMU_HELP)] = False,
+    export: Annotated[list[str] | None, typer.Option("--export", help=wi.EXPORT_HELP)] = None,
     *, config, run, read: ReadOptions | None = None,
 ):
     """Fit integrated temperature-compensation models on a thermal tumble record.
 
     --out writes model.json (IAFSA-SCM-ANFIS when fitted, else the first method),
     models/ (every method), result.json and figures of the saved model."""
+    pairs, given = wi.pair_exports(export, ctx.args), wi.given(ctx.get_parameter_source)
+    if imu or export:  # a drone IMU temperature ramp (docs/thermal-imu.md)
+        return run.execute("thermal fit --imu", lambda bar: wi.run_imu_fit(_read_imu(file), wi.fit_settings(
+            config, given), exports=pairs), inputs=lambda res: [{"path": str(file), "sha256": res.sha256}],
+            figures=commands.thermal_imu_fit)
     config.thermal_config()  # refuse bad settings before reading the record
 
     run.execute("thermal fit", lambda bar: wt.run_fit(_read(file, read), config, progress=bar),
@@ -99,7 +112,8 @@ def thermal_export(
 
 def register(app: typer.Typer, groups: dict) -> None:
     thermal = groups["thermal"]
-    thermal.command("fit")(reading_options(thermal_fit))
+    thermal.command("fit", context_settings={"allow_extra_args": True})(
+        reading_options(thermal_fit))
     thermal.command("apply")(_apply_command("thermal apply"))
     thermal.command("compensate", hidden=True)(_apply_command("thermal compensate"))
     thermal.command("export")(thermal_export)

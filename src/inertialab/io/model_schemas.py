@@ -322,6 +322,23 @@ DRIFT = obj({
     }), min_len=1), min_len=1),
 })
 
+#: A drone-IMU thermal model (``inertialab.calib.thermal_imu``): sensors with three axes.
+_IMU_AXIS = obj({"axis": text("ax", "ay", "az", "gx", "gy", "gz"), "order": integer(0, 9),
+                 "tau_s": num(0, 3600), "coef": array(None, min_len=1),
+                 "anfis": maybe(ANFIS), "offset_ref": num(),
+                 "scale": maybe(array(None, min_len=1))}, optional=("scale",))
+THERMAL_IMU = obj({"method": text("poly", "scm-anfis", "iafsa-scm-anfis"), "source": text(),
+                   "sensors": array(None, min_len=1, item=obj({
+                       "kind": text("accel", "gyro"), "instance": integer(0, 255),
+                       "device_id": integer(0, 2**32), "t_min": num(-100, 200),
+                       "t_max": num(-100, 200), "t_ref": num(-100, 200),
+                       "center": num(-100, 200), "half": _SPAN, "sigma_s": _SPAN,
+                       "bin_s": _SPAN, "dtdt_range": array(2), "relative": boolean,
+                       "axes": array(3, item=_IMU_AXIS),
+                       "px4": obj({"x": array(4, 3),
+                                   "forms": array(3, item=text("static", "as-logged",
+                                                               "direct"))})}))})
+
 #: type tag -> payload schema (the tags of :data:`inertialab.calib.model_types.MODEL_TYPES`;
 #: every registered type has one, tested).
 SCHEMAS: dict[str, Check] = {
@@ -333,6 +350,7 @@ SCHEMAS: dict[str, Check] = {
     "noise-terms": NOISE_TERMS,
     "vibration-compensation": VIBRATION,
     "thermal-compensation": THERMAL,
+    "thermal-imu": THERMAL_IMU,
     "triaxial-calibration": TRIAXIAL,
     "ferraris-calibration": FERRARIS,
     "dual-calibration": DUAL,

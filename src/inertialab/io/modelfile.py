@@ -142,7 +142,7 @@ def _walk(obj) -> tuple[int, str | None, _NonFinite | None]:
 
 
 #: Type tag -> the name a user knows the model by (messages).
-MODEL_NAMES = {"thermal-compensation": "thermal", "triaxial-calibration": "triaxial",
+MODEL_NAMES = {"thermal-compensation": "thermal", "thermal-imu": "drone IMU thermal", "triaxial-calibration": "triaxial",
                "ferraris-calibration": "ferraris", "vibration-compensation": "vibration",
                "dual-calibration": "dual", "storage-drift": "drift"}
 

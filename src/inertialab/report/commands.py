@@ -31,6 +31,13 @@ def thermal_fit(res) -> list:
             residual_figure(res.result), bias_figure(res.bsf), scale_factor_figure(res.bsf)]
 
 
+def thermal_imu_fit(res) -> list:
+    """``thermal fit --imu``: one figure per sensor instance (offset against temperature)."""
+    from inertialab.report.figures.thermal_imu import imu_figures
+
+    return imu_figures(res)
+
+
 def thermal_transfer(res, name: str):
     """``thermal apply --figure``: the drift before and after compensation per input level
     (seed Fig. 9); needs ``res.res.drift`` (a full tumble with a reference set point)."""

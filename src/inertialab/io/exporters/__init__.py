@@ -31,6 +31,7 @@ from inertialab.io.exporters import (
     openvins,
     ros,
     thermal_c,
+    thermal_params,
 )
 from inertialab.io.exporters import noise as _noise
 from inertialab.io.exporters._common import NoiseParams, check_topic, yaml_number
@@ -127,6 +128,10 @@ EXPORTERS: tuple[Exporter, ...] = (
              write=_kalibr_intrinsics),
     Exporter("c99", "thermal", "C99 .h/.c pair of a fuzzy thermal-compensation model",
              ".c", write=thermal_c.write_c),
+    Exporter("px4", "thermal-imu", "QGroundControl .params with PX4's TC_* thermal "
+             "compensation", ".params", write=thermal_params.write_px4),
+    Exporter("ardupilot", "thermal-imu", "Mission Planner .param with ArduPilot's INS_TCALn_*",
+             ".param", write=thermal_params.write_ardupilot),
 )
 
 
