@@ -120,3 +120,9 @@ def test_scale_factor_fitted_where_the_log_has_several_orientations():
     # a level log: no scale factor
     level = fit_imu_model(streams_from_frame(simulate(6, rate_hz=0.2, n_instances=1).frame))
     assert all(ax["scale"] is None for ax in level.model.sensor("accel", 0)["axes"])
+
+
+def test_a_heating_only_log_gets_no_lag_term_and_no_hysteresis():
+    log, _, _ = _noise_free_log(ramp="heat", rate=0.2)
+    s = fit_imu_model(log).model.sensors[0]
+    assert all(ax["tau_s"] == 0.0 and ax["hysteresis"] is None for ax in s["axes"])

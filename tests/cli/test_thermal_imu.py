@@ -85,3 +85,9 @@ def test_refusals_are_one_line_naming_the_instance(fitted, capsys, tmp_path):
     code, _, err = run(capsys, "thermal", "fit", fitted / "cal.csv", "--imu", "--out",
                        tmp_path / "o3", "--export", "betaflight", tmp_path / "x")
     assert code == 2 and "px4, ardupilot" in err
+
+
+def test_a_stray_argument_is_refused(fitted, capsys, tmp_path):
+    code, _, err = run(capsys, "thermal", "fit", fitted / "cal.csv", "extra.txt", "--imu",
+                       "--out", tmp_path / "o")
+    assert code == 2 and "unexpected argument 'extra.txt'" in err

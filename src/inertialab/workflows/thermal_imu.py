@@ -50,6 +50,8 @@ def pair_exports(targets, files) -> list:
     """``--export TARGET FILE`` pairs from the targets and the files given after them;
     one-line error for an unknown target or a missing file."""
     targets, files = list(targets or ()), list(files or ())
+    if files and not targets:
+        raise InputError(f"unexpected argument {str(files[0])[:60]!r}")
     if len(targets) != len(files):
         raise InputError("argument 'export' takes a target and a file each time "
                          f"(px4 FILE), got targets {targets} and files {files}")

@@ -7,7 +7,8 @@
 * kind ``calibration`` (a triaxial calibration, :func:`export_calibration`): ``imucal``
   (:mod:`.imucal`), ``imu_tk`` (:mod:`.imu_tk`), ``kalibr`` (:mod:`.kalibr`, the
   scale-misalignment intrinsics);
-* kind ``thermal`` (a fuzzy thermal-compensation model): ``c99`` (:mod:`.thermal_c`).
+* kind ``thermal`` (a fuzzy thermal-compensation model): ``c99`` (:mod:`.thermal_c`);
+* kind ``thermal-imu`` (a drone IMU thermal model): ``px4``, ``ardupilot`` (:mod:`.thermal_params`).
 
 YAML is written through PyYAML's safe dumper (:func:`._common.dump_yaml`), never by
 joining strings, so no value can add a key. Each format is tested by reading back with

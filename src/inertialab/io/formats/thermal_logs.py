@@ -6,8 +6,8 @@
   ``sensor_accel`` and ``sensor_gyro`` with ``x y z`` (m/s^2, rad/s), ``temperature``
   (°C) and ``device_id``, at ``timestamp_sample`` (µs) when logged, else ``timestamp``;
 * ``.bin`` (ArduPilot DataFlash, pymavlink of the ``[formats]`` extra): every ``IMU``
-  message (``I`` = instance, ``GyrX..Z`` rad/s, ``AccX..Z`` m/s^2, ``T`` °C) at
-  ``TimeUS``; device ids from the ``INS_ACC*_ID``/``INS_GYR*_ID`` parameters when the log
+  message (``I`` = instance; older logs: ``IMU``, ``IMU2``, ``IMU3``; ``GyrX..Z`` rad/s,
+  ``AccX..Z`` m/s^2, ``T`` °C) at ``TimeUS``; device ids from the ``INS_ACC*_ID``/``INS_GYR*_ID`` parameters when the log
   has them, else 0;
 * anything else as a table (CSV/whitespace text or Parquet) with the columns
   ``t_s, temp_c, ax_mps2, ay_mps2, az_mps2, gx_rps, gy_rps, gz_rps`` and optionally
@@ -126,14 +126,16 @@ def _dataflash(path: Path) -> list:
         raise InputError(f"not a readable DataFlash log ({text})", path=path) from None
     rows, params = [], {}
     while True:
-        m = reader.recv_match(type=["IMU", "PARM"])
+        m = reader.recv_match(type=["IMU", "IMU2", "IMU3", "PARM"])
         if m is None:
             break
-        if m.get_type() == "PARM":
+        kind = m.get_type()
+        if kind == "PARM":
             params[m.Name] = m.Value
             continue
-        rows.append((m.TimeUS, getattr(m, "I", 0), m.T, m.AccX, m.AccY, m.AccZ, m.GyrX, m.GyrY,
-                     m.GyrZ))
+        # newer ArduPilot logs IMU with an instance field I; older ones IMU, IMU2, IMU3
+        inst = getattr(m, "I", None) if kind == "IMU" else int(kind[-1]) - 1
+        rows.append((m.TimeUS, inst or 0, m.T, m.AccX, m.AccY, m.AccZ, m.GyrX, m.GyrY, m.GyrZ))
     if not rows:
         raise InputError("no IMU messages in the DataFlash log", path=path)
     a = np.asarray(rows, np.float64)
