@@ -314,29 +314,4 @@ def check_out_targets(args: list[str]) -> None:
                     "a FIFO" if stat.S_ISFIFO(mode) else "a socket")
             raise InputError(f"{flag} is {kind}; an output replaces only a regular file or "
                              "fills a directory", path=target)
-    check_overlap(named)
-    outputs.plan(t for _f, t in named)
-
-
-def check_overlap(named: list[tuple[str, str]]) -> None:
-    """Refuse two outputs of one run naming the same path (``--export X --out X``: one
-    would overwrite the other) or one inside the other (``--out D --export kalibr
-    D/k.yaml``: D is built in a staging directory and replaced whole, so a file written
-    into D beside it would be lost or leave D without its marker)."""
-    import os
-
-    from inertialab.errors import InputError
-
-    real = [(f, t, os.path.realpath(os.path.abspath(t))) for f, t in named]
-    for i, (f1, t1, r1) in enumerate(real):
-        for f2, t2, r2 in real[i + 1:]:
-            if r1 == r2:
-                raise InputError(f"{f1} and {f2} name the same output; give each its own "
-                                 "path", path=t1)
-            inner = next(((fa, ta, fb, tb) for fa, ta, ra, fb, tb, rb in
-                          ((f1, t1, r1, f2, t2, r2), (f2, t2, r2, f1, t1, r1))
-                          if rb.startswith(ra.rstrip(os.sep) + os.sep)), None)
-            if inner:
-                fa, ta, fb, tb = inner
-                raise InputError(f"{fb} {tb} lies inside {fa} {ta}, which this run writes "
-                                 f"as a whole; put {fb} elsewhere", path=tb)
+    outputs.plan(named)

@@ -494,13 +494,34 @@ _PLANNED: list[str] = []
 _RESERVED: dict[Path, _Lock] = {}
 
 
-def plan(paths) -> None:
-    """Name the outputs of the coming run (the command line's ``--out``, ``--export``
-    ...): its transaction locks each of them (``.NAME.inertialab-lock`` beside it) before
+def check_overlap(named: list[tuple[str, str]]) -> None:
+    """Refuse two outputs of one run, ``(label, path)`` each, naming the same path
+    (``--export X --out X``: one would overwrite the other) or one inside the other
+    (``--out D --export kalibr D/k.yaml``: D is built in a staging directory and
+    replaced whole, so a file written into D beside it would be lost or leave D without
+    its marker)."""
+    real = [(f, t, os.path.realpath(os.path.abspath(t))) for f, t in named]
+    for i, (f1, t1, r1) in enumerate(real):
+        for f2, t2, r2 in real[i + 1:]:
+            if r1 == r2:
+                raise OutputError(f"{f1} and {f2} name the same output; give each its own "
+                                  "path", path=t1)
+            for fa, ta, ra, fb, tb, rb in ((f1, t1, r1, f2, t2, r2), (f2, t2, r2, f1, t1, r1)):
+                if rb.startswith(ra.rstrip(os.sep) + os.sep):
+                    raise OutputError(f"{fb} {tb} lies inside {fa} {ta}, which this run "
+                                      f"writes as a whole; put {fb} elsewhere", path=tb)
+
+
+def plan(named) -> None:
+    """Name the outputs of the coming run, ``(label, path)`` each (the command line's
+    ``--out``, ``--export`` ...), refused where they overlap (:func:`check_overlap`):
+    its transaction locks each of them (``.NAME.inertialab-lock`` beside it) before
     the command does any work, so that a second run to the same output is refused at
     once (exit 2) while the first completes, instead of both finishing and the last
     writer winning. A path whose parent does not exist yet is locked when it is built."""
-    _PLANNED[:] = [str(p) for p in paths]
+    named = list(named)
+    check_overlap(named)
+    _PLANNED[:] = [str(p) for _label, p in named]
 
 
 def _reserve() -> None:
@@ -645,6 +666,6 @@ def ensure_finite(values, what: str, *, path=None, allow_nan_in=None):
     return values
 
 
-__all__ = ["MARKER", "OutputError", "StagedDir", "Transaction", "current", "dir_target",
-           "ensure_finite", "file_target", "output_dir", "output_error", "signals_blocked",
-           "stage_dir", "transaction"]
+__all__ = ["MARKER", "OutputError", "StagedDir", "Transaction", "check_overlap", "current",
+           "dir_target", "ensure_finite", "file_target", "output_dir", "output_error", "plan",
+           "signals_blocked", "stage_dir", "transaction"]
