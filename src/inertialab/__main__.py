@@ -29,6 +29,10 @@ def main() -> None:
         from inertialab.cli.main import main as run
 
         run()
+    except SystemExit as exc:
+        if exc.code == 0 and signals.committed():  # a late signal: its line, not -15
+            signals.exit_committed(0)
+        raise
     except (signals.Terminated, KeyboardInterrupt) as exc:  # a signal before the run's own
         _interrupted(getattr(exc, "signum", 2))
     except Exception:  # an import that wrapped the signal's exception in its own

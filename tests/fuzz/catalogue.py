@@ -619,7 +619,7 @@ def fast_cases() -> list[Case]:
     """The cases of the normal test run (seconds each, in-process)."""
     return (_traversal_cases() + _codegen_cases() + _out_target_cases() +
             _non_finite_cases() + _half_written_cases() + _exit_code_cases() +
-            _hang_cases() + _smaller_cases())
+            _hang_cases() + _smaller_cases() + _fourth_fast())
 
 
 # ------------------------------------------------------------------ the slow set
@@ -836,7 +836,7 @@ def slow_cases() -> list[Case]:
         slow=True, owner="drift helper", allowed=["model.json"],
         max_wall_s=30,
         runner=lambda a, c: run_subprocess(a, c, timeout=60)))
-    return cases
+    return cases + _fourth_slow()
 
 
 def _watchdog(argv, cwd) -> Outcome:
@@ -849,3 +849,356 @@ def _watchdog(argv, cwd) -> Outcome:
 
 class _Skip(Exception):
     """A case this machine cannot run (e.g. no tmpfs mount): skipped, with the reason."""
+
+
+# ------------------------------------------------------------------ options, models, sidecars,
+# outputs, big bad files and clock seams (the fourth fuzz, generated data)
+
+CLASSES.update({
+    "options": "10 options bounded and checked before any work, naming the option",
+    "models": "11 models re-checked on apply; every payload field typed; keys once",
+    "sidecars": "12 sidecars typed and agreeing with the columns and the time stamps",
+    "outputs": "13 outputs: no overlap, one writer at a time, a late signal gets its line",
+    "bad-cell": "14 a bad cell at the end of a big file costs no more memory than none",
+    "clock": "15 clock seams: one-series files, a fixed noise type",
+})
+
+
+def _says(*needles):
+    """A check: stderr holds every one of ``needles``."""
+    def check(d, o):
+        return [] if all(n in o.stderr for n in needles) else \
+            [f"stderr lacks {needles!r}: {o.stderr.strip()[-200:]}"]
+    return check
+
+
+def _imu_log(d: Path, name: str = "imu.csv", seconds: float = 60.0, fs: float = 100.0,
+             seed: int = 0) -> Path:
+    """A six-axis IMU log at rest (white noise, gravity on z), seeded."""
+    import numpy as np
+
+    rng = np.random.default_rng(seed)
+    n = int(seconds * fs)
+    g = rng.normal(0.0, 0.01, (n, 3))
+    a = rng.normal(0.0, 0.002, (n, 3))
+    a[:, 2] += 9.81
+    f = d / name
+    with open(f, "w") as fh:
+        fh.write("t_s,gx_rps,gy_rps,gz_rps,ax_mps2,ay_mps2,az_mps2\n")
+        np.savetxt(fh, np.column_stack([np.arange(n) / fs, g, a]), delimiter=",",
+                   fmt="%.6f")
+    return f
+
+
+def _imu_case(cls, label, extra, *, expect=2, needles=(), check=None, allowed=(),
+              max_wall_s=None) -> Case:
+    """``allan FILE --imu EXTRA`` on a generated 60-s log (``{f}``, ``{d}`` and
+    ``{check}``, a 15-s log of the same sensor, are filled in)."""
+    def setup(d, extra=extra):
+        f = _imu_log(d)
+        chk = _imu_log(d, "check.csv", seconds=15.0, seed=1)
+        return ["allan", str(f), "--imu", "--quiet",
+                *[a.format(f=f, d=d, check=chk) for a in extra]]
+
+    checks = [c for c in (_says(*needles) if needles else None, check) if c is not None]
+    return Case(cls, "allan --imu", label, setup, expect_code=expect,
+                allowed=["imu.csv", "check.csv", *allowed], max_wall_s=max_wall_s,
+                check=(lambda d, o: [b for c in checks for b in c(d, o)]) if checks else None)
+
+
+def _not_inflated(d, o):
+    y = d / "imu.yaml"
+    if o.code != 0 or not y.exists():
+        return ["no imu.yaml written"]
+    text = y.read_text()
+    return [] if "NOT inflated" in text else ["imu.yaml does not say it is uninflated"]
+
+
+def _option_cases() -> list[Case]:
+    many = ",".join(str(i + 1) for i in range(10_000))
+    cases = [
+        _imu_case("options", "--predict-drift 10000 horizons", ["--predict-drift", many],
+                  needles=("--predict-drift", "10000 horizons"), max_wall_s=30),
+        _imu_case("options", "--predict-drift 1e308", ["--predict-drift", "1e308"],
+                  needles=("--predict-drift",)),
+        _imu_case("options", "--predict-drift 3300x the record", ["--predict-drift", "198000"],
+                  needles=("--predict-drift", "longer than the 60 s")),
+        _imu_case("options", "--predict-drift duplicated", ["--predict-drift", "10,1,10"],
+                  needles=("twice",)),
+        _imu_case("options", "--predict-drift empty horizon", ["--predict-drift", "1,,10"],
+                  needles=("empty horizon",)),
+        _imu_case("options", "--check-on ''", ["--predict-drift", "1", "--check-on", ""],
+                  needles=("--check-on is empty",)),
+        _imu_case("options", "--check-on the fitted file", ["--predict-drift", "1",
+                                                            "--check-on", "{f}"],
+                  needles=("analysed log itself",)),
+        _imu_case("options", "--rostopic checked before the analysis",
+                  ["--export", "kalibr", "{d}/imu.yaml", "--rostopic", "/imu0 x"],
+                  needles=("--rostopic",), max_wall_s=20),
+        _imu_case("options", "--method checked before the analysis", ["--method", "lsq"],
+                  needles=("--method",), max_wall_s=20),
+        _imu_case("options", "check without a usable window: warned, export says uninflated",
+                  ["--predict-drift", "20", "--check-on", "{check}", "--inflate", "auto",
+                   "--export", "kalibr", "{d}/imu.yaml"], expect=0,
+                  needles=("NOT inflated",), check=_not_inflated,
+                  allowed=("imu.yaml",)),
+    ]
+    for label, extra, needle in (("--tolerance adev_1s<=nan", ["--tolerance", "adev_1s<=nan"],
+                                  "--tolerance"),
+                                 ("--unit ',,'", ["--unit", ",,"], "--unit")):
+        def setup(d, extra=extra):
+            return ["batch", "allan", "--inputs", str(_copy(EXAMPLES / "gyro_log.csv", d)),
+                    "--scheduler", "serial", "--out", str(d / "out"), *extra]
+        cases.append(Case("options", "batch", label, setup, expect_code=2,
+                          check=_says(needle)))
+    return cases
+
+
+def _model_cases() -> list[Case]:
+    th = EXAMPLES / "thermal_tumble.csv"
+
+    def shifted(p):
+        p["regressor"]["y_lo"] += 7000.0  # every output 7000 mV (about 7 g) off
+
+    def thermal(edit, force=False):
+        def setup(d):
+            f = _copy(th, d)
+            m = _model("thermal-compensation", d, edit=edit)
+            return ["thermal", "apply", str(m), str(f), "--out", str(d / "out.csv"),
+                    *(["--force"] if force else [])]
+        return setup
+
+    def flagged(d, o):
+        meta = d / "out.meta.json"
+        if o.code != 0 or not meta.exists():
+            return ["forced output not written"]
+        return [] if json.loads(meta.read_text()).get("flags") else ["output not flagged"]
+
+    def triaxial(kind, edit=None, text_edit=None):
+        def setup(d):
+            f = _copy(EXAMPLES / "triaxial.raw.csv", d)
+            m = _model(kind, d, edit=edit, text_edit=text_edit)
+            return ["triaxial", "apply", str(m), str(f), "--out", str(d / "out.csv")]
+        return setup
+
+    def export_x_span(d):
+        m = _model("thermal-compensation", d,
+                   edit=lambda p: p["regressor"]["x_span"].__setitem__(0, "1.5"))
+        return ["thermal", "export", str(m), "--c", str(d / "out")]
+
+    keep = ["model.json", "thermal_tumble.csv", "triaxial.raw.csv"]
+    return [
+        Case("models", "thermal export", "x_span '1.5'", export_x_span, expect_code=2,
+             allowed=keep, check=_says("x_span[0]: must be a number")),
+        Case("models", "thermal apply", "outputs shifted 7 g", thermal(shifted),
+             expect_code=2, allowed=keep, check=_says("implausible at its training")),
+        Case("models", "thermal apply", "outputs shifted 7 g --force", thermal(shifted, True),
+             expect_code=0, allowed=[*keep, "out.csv", "out.meta.json"],
+             check=lambda d, o: flagged(d, o) + _says("applied anyway")(d, o)),
+        Case("models", "triaxial apply", "correction matrix x 1e6", triaxial(
+            "triaxial-calibration", edit=lambda p: p.__setitem__(
+                "correction_matrix", [[v * 1e6 for v in r] for r in p["correction_matrix"]])),
+            expect_code=2, allowed=keep, check=_says("implausible at its training")),
+        Case("models", "triaxial apply", "a key given twice", triaxial(
+            "triaxial-calibration", text_edit=lambda t: t.replace(
+                '"method": "lm",', '"method": "lm", "method": "acs",', 1)),
+            expect_code=2, allowed=keep, check=_says("appears twice")),
+        Case("models", "triaxial apply", "true as a number", triaxial(
+            "triaxial-calibration", edit=lambda p: p.__setitem__("iterations", True)),
+            expect_code=2, allowed=keep, check=_says("iterations: must be an integer")),
+        Case("models", "triaxial apply", "Ferraris turn axis of 600000", triaxial(
+            "ferraris-calibration", edit=lambda p: p["gyro"]["turns"]["x_rot"].__setitem__(
+                "axis", [0.0] * 600_000)),
+            expect_code=2, allowed=keep, check=_says("must have 3 entries")),
+    ]
+
+
+def _gyro_with_sidecar(side: str, *, stamps_hz: float | None = None, extra=()):
+    def setup(d):
+        if stamps_hz is None:
+            f = _copy(EXAMPLES / "gyro_log.csv", d)
+        else:
+            f = d / "gyro_log.csv"
+            f.write_text("t_s,rate_dph\n" + "".join(
+                f"{i / stamps_hz:.9e},{(i * 7919) % 13 / 10:.3f}\n" for i in range(3000)))
+        (d / "gyro_log.meta.json").write_text(side)
+        return ["validate", str(f), "--kind", "gyro_log", *extra]
+    return setup
+
+
+def _sidecar_cases() -> list[Case]:
+    keep = ["gyro_log.csv", "gyro_log.meta.json"]
+    rows = [("adc as strings", '{"adc": {"bits": "16", "signed": "no"}}', "adc.bits"),
+            ("adc not an object", '{"adc": 16}', "key 'adc' must be an object"),
+            ("units over a suffixed column", '{"units": {"rate": "dps"}}',
+             "the header says units=dps"),
+            ("a key given twice", '{"fs_hz": 200, "fs_hz": 100}', "appears twice"),
+            ("true as a number", '{"fs_hz": true}', "key 'fs_hz' must be a number")]
+    cases = [Case("sidecars", "validate", label, _gyro_with_sidecar(side), expect_code=2,
+                  allowed=keep, check=_says(needle)) for label, side, needle in rows]
+    cases.append(Case("sidecars", "validate", "fs_hz 10 vs 1e7-Hz stamps: both named",
+                      _gyro_with_sidecar('{"fs_hz": 10}', stamps_hz=1e7), expect_code=2,
+                      allowed=keep, check=_says("fs_hz = 10 Hz", "1e+07 Hz")))
+    cases.append(Case("sidecars", "validate", "fs_hz 10 vs 1e7-Hz stamps, --rate decides",
+                      _gyro_with_sidecar('{"fs_hz": 10}', stamps_hz=1e7,
+                                         extra=["--rate", "1e7"]),
+                      expect_code=0, allowed=keep))
+    return cases
+
+
+def _output_cases() -> list[Case]:
+    def vn(d, export, out):
+        for name in ("vectornav.csv", "vectornav.map.json"):
+            _copy(EXAMPLES / "vendors" / name, d)
+        return ["allan", str(d / "vectornav.csv"), "--imu", "--map-file",
+                str(d / "vectornav.map.json"), "--export", "kalibr", str(export), "--out",
+                str(out)]
+
+    def stale(d):
+        (d / ".out.csv.inertialab-lock").write_text("")  # left by a killed run
+        (d / ".out.csv.x1y2z3.tmp").write_text("partial")
+        return ["simulate", "gyro-static", "--preset", "allan-test", "--hours", "0.01",
+                "--rate", "100", "--out", str(d / "out.csv"), "--quiet"]
+
+    return [
+        Case("outputs", "allan --imu", "--export X --out X",
+             lambda d: vn(d, d / "X", d / "X"), expect_code=2,
+             check=_says("name the same output")),
+        Case("outputs", "allan --imu", "--out D --export kalibr D/k.yaml",
+             lambda d: vn(d, d / "D" / "k.yaml", d / "D"), expect_code=2,
+             check=_says("lies inside --out")),
+        Case("outputs", "simulate gyro-static", "a killed run's lock and temporary", stale,
+             expect_code=0),
+    ]
+
+
+def _second_writer(argv, cwd) -> Outcome:
+    """Two identical runs started together into one output: the one that takes the lock
+    first must complete (exit 0) and the other be refused at once (exit 2, "being written
+    by another inertialab run"); both exiting 0 (the last writer silently winning) fails.
+    Started together, their imports take the same time, so the refusal does not depend
+    on how loaded the machine is."""
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join([str(ROOT / "src"), env.get("PYTHONPATH", "")])
+    procs = [subprocess.Popen([sys.executable, "-m", "inertialab", *map(str, argv)],
+                              cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                              text=True, env=env) for _ in range(2)]
+    res = [p.communicate(timeout=300) for p in procs]
+    codes = sorted(p.returncode for p in procs)
+    if codes != [0, 2]:
+        return Outcome(1, res[0][0], f"exits {codes}: " + " | ".join(
+            r[1].strip()[-120:] for r in res))
+    loser = next(r for r, p in zip(res, procs) if p.returncode == 2)
+    return Outcome(0, res[0][0], "" if "being written by another" in loser[1] else
+                   f"refused run's line: {loser[1].strip()[-200:]}")
+
+
+def _late_signal(after_s: float):
+    """A runner: SIGTERM ``after_s`` after the output file appears: exit 0 (done before)
+    or 143 with the documented line, never a silent death (-15)."""
+    import signal as _signal
+
+    def runner(argv, cwd):
+        env = dict(os.environ)
+        env["PYTHONPATH"] = os.pathsep.join([str(ROOT / "src"), env.get("PYTHONPATH", "")])
+        p = subprocess.Popen([sys.executable, "-m", "inertialab", *map(str, argv)], cwd=cwd,
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                             env=env)
+        out = Path(cwd) / "out.csv"
+        while p.poll() is None and not out.exists():
+            time.sleep(0.001)
+        time.sleep(after_s)
+        if p.poll() is None:
+            p.send_signal(_signal.SIGTERM)
+        o, e = p.communicate(timeout=60)
+        return Outcome(p.returncode, o, e)
+    return runner
+
+
+def _late_line(d, o):
+    if o.code == 143 and "after the outputs were complete" not in o.stderr:
+        return ["143 without the documented line"]
+    return []
+
+
+def _fourth_fast() -> list[Case]:
+    return _option_cases() + _model_cases() + _sidecar_cases() + _output_cases() + \
+        _clock_cases()
+
+
+def _clock_cases() -> list[Case]:
+    def dat(d):
+        import numpy as np
+
+        f = d / "clock.dat"  # Stable32's .DAT: one phase value a line, no header
+        np.savetxt(f, np.cumsum(np.random.default_rng(5).normal(size=1500)) * 1e-9,
+                   fmt="%.12e")
+        return f
+
+    def records_type(d, o):
+        try:
+            s = json.loads(o.stdout)["settings"]
+        except (ValueError, KeyError):
+            return ["no JSON settings"]
+        return [] if s.get("noise_type") == {"totdev": -1} else [f"noise_type {s.get('noise_type')}"]
+
+    base = ["--input", "phase", "--rate", "1", "--unit", "s"]
+    return [
+        Case("clock", "allan", "one-series .DAT without --column",
+             lambda d: ["allan", str(dat(d)), *base, "--quiet"], expect_code=0,
+             allowed=["clock.dat"]),
+        Case("clock", "allan", "--noise-type totdev=FFM recorded",
+             lambda d: ["allan", str(dat(d)), *base, "--stat", "oadev,totdev",
+                        "--noise-type", "totdev=FFM", "--json"], expect_code=0,
+             allowed=["clock.dat"], check=records_type),
+        Case("clock", "allan", "--noise-type 7",
+             lambda d: ["allan", str(dat(d)), *base, "--noise-type", "7"], expect_code=2,
+             allowed=["clock.dat"], check=_says("--noise-type")),
+    ]
+
+
+def _fourth_slow() -> list[Case]:
+    def big_bad(d):
+        import numpy as np
+
+        f = d / "big.csv"  # 1.4e7 rows, `abc` as the last rate
+        rng = np.random.default_rng(0)
+        with open(f, "w") as fh:
+            fh.write("t_s,rate_dph\n")
+            n, block = 14_000_000, 1_000_000
+            for start in range(0, n, block):
+                y = rng.normal(0.0, 0.5, block).round(4).tolist()
+                lines = [f"{(start + i) / 100:.2f},{v}" for i, v in enumerate(y)]
+                if start + block == n:
+                    lines[-1] = lines[-1].split(",")[0] + ",abc"
+                fh.write("\n".join(lines) + "\n")
+        return ["validate", str(f), "--kind", "gyro_log"]
+
+    def tfit(d):  # several seconds of fitting: the second run starts meanwhile
+        return ["thermal", "fit", str(_copy(EXAMPLES / "thermal_tumble.csv", d)),
+                "--method", "ann,anfis,scm-anfis", "--out", str(d / "out"), "--quiet"]
+
+    def long_sim(d):
+        return ["simulate", "gyro-static", "--preset", "allan-test", "--hours", "3",
+                "--rate", "100", "--out", str(d / "out.csv"), "--quiet"]
+
+    def sim(d):
+        return ["simulate", "gyro-static", "--preset", "allan-test", "--hours", "0.2",
+                "--rate", "100", "--out", str(d / "out.csv"), "--quiet"]
+
+    return [
+        Case("bad-cell", "validate", "1.4e7 rows, abc last (watched: 2 GB)", big_bad,
+             slow=True, expect_code=2, allowed=["big.csv"], runner=_watchdog,
+             check=_says("row 14000000", "non-numeric value 'abc'")),
+        Case("outputs", "thermal fit", "a second run to the same --out is refused", tfit,
+             slow=True, expect_code=0, allowed=["out", "thermal_tumble.csv"],
+             runner=_second_writer, check=lambda d, o: [] if {"model.json", "result.json",
+                                                              "_inertialab"} <= {
+                 p.name for p in (d / "out").glob("*")} else ["the first run's output "
+                                                              "is incomplete"]),
+        Case("outputs", "simulate gyro-static", "a second run to the same file is refused",
+             long_sim, slow=True, expect_code=0, runner=_second_writer),
+        *[Case("outputs", "simulate gyro-static", f"SIGTERM {t:g} s after the output",
+               sim, slow=True, codes=(0, 143), runner=_late_signal(t), check=_late_line)
+          for t in (0.0, 0.2, 0.5)],
+    ]

@@ -110,3 +110,15 @@ def test_mapping_file_with_a_key_twice_is_refused(tmp_path):
     m.write_text('{"columns": {"t_s": "a"}, "columns": {"t_s": "b"}}')
     with pytest.raises(InputError, match="appears twice"):
         load_map_file(m)
+
+
+@pytest.mark.parametrize("kind, key, value, needle", [
+    ("vibration-compensation", "poly_degree", "4", "poly_degree: must be an integer"),
+    ("vibration-compensation", "rng", 1.5, "rng: must be an integer"),
+    ("noise-terms", "alpha_model", [0] * 3 + ["x"], "alpha_model[3]: must be an integer"),
+    ("dual-calibration", "units", {"KA0": 1}, "units.KA0: must be a string"),
+    ("rbf", "centers", True, "centers"),
+])
+def test_fields_models_only_carry_are_typed_too(tmp_path, kind, key, value, needle):
+    with pytest.raises(InputError, match=needle.replace("[", r"\[").replace("]", r"\]")):
+        load_model(_model(tmp_path, kind, lambda p: p.__setitem__(key, value)))

@@ -73,3 +73,12 @@ def test_noise_type_forms(text, expect):
 def test_bad_noise_types_name_the_argument(text, needle):
     with pytest.raises(InputError, match=needle):
         parse_noise_type(text, ("oadev", "totdev"))
+
+
+def test_one_named_column_of_unknown_name_is_the_series(capsys, tmp_path):
+    y = np.random.default_rng(4).normal(size=2000)
+    f = tmp_path / "gyro.csv"
+    f.write_text("value\n" + "".join(f"{v:.8f}\n" for v in y))
+    r = _json(capsys, f, "--rate", "100", "--unit", "dps", "--no-terms")["result"]
+    ref = compute("oadev", np.loadtxt(f, skiprows=1), rate_hz=100.0)
+    np.testing.assert_allclose(r["dev"], ref.dev, rtol=1e-12)

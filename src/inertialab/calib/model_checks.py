@@ -108,15 +108,18 @@ def triaxial_findings(model) -> list[str]:
             f"gravity by a factor of up to {off:.3g}"]
 
 
-def refuse_or_flag(findings: list[str], what: str, *, force: bool, path=None) -> list[str]:
+def refuse_or_flag(findings: list[str], what: str, *, force: bool, path=None,
+                   forceable: bool = True) -> list[str]:
     """Raise one :class:`InputError` naming the model file for ``findings`` unless
-    ``force``; with ``force`` warn and return the flags the output carries."""
+    ``force``; with ``force`` warn and return the flags the output carries.
+    ``forceable``: whether the caller offers ``force`` (the message says so)."""
     if not findings:
         return []
     text = f"the {what} model is implausible at its training conditions: " + \
         " | ".join(findings)
     if not force:
-        raise InputError(text + "; set argument 'force' to apply it anyway", path=path)
+        raise InputError(text + ("; set argument 'force' to apply it anyway" if forceable
+                                 else ""), path=path)
     warnings.warn(text + " (applied anyway, flagged)", DataQualityWarning, stacklevel=2)
     return [f"forced: {f}" for f in findings]
 

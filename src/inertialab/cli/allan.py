@@ -67,8 +67,7 @@ def _allan_command(imu_default: bool):
             if not imu:
                 raise InputError("--export needs --imu (six-axis noise parameters)")
             c = config
-            check_options(file, predict_drift=c.predict_drift, check_on=c.check_on,
-                          method=c.method, rostopic=rostopic, export=export)
+            check_options(file, c.method, export and rostopic, **c.drift_settings())
             return run_six_axes(file=file, export=export, rostopic=rostopic, read=read,
                                 unit=c.unit, rate=c.rate, gaps=c.gaps, g_local=c.g_local,
                                 method=c.method, out=run.out, as_json=run.as_json,

@@ -291,7 +291,9 @@ def check_out_targets(args: list[str]) -> None:
     import stat
 
     from inertialab.errors import InputError
+    from inertialab.io import outputs
 
+    named = []
     for i, a in enumerate(args):
         flag, eq, value = a.partition("=")
         if flag not in OUTPUT_FLAGS:
@@ -302,6 +304,7 @@ def check_out_targets(args: list[str]) -> None:
             raise InputError(f"{flag} is empty; name a file or directory")
         if not target:
             continue
+        named.append((flag, target))
         try:
             mode = os.stat(target).st_mode
         except (OSError, ValueError):
@@ -311,3 +314,4 @@ def check_out_targets(args: list[str]) -> None:
                     "a FIFO" if stat.S_ISFIFO(mode) else "a socket")
             raise InputError(f"{flag} is {kind}; an output replaces only a regular file or "
                              "fills a directory", path=target)
+    outputs.plan(named)

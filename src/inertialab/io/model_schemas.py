@@ -161,31 +161,6 @@ def all_of(*checks: Check) -> Check:
     return check
 
 
-# ------------------------------------------------------------------ the types
-
-_SPAN = num(positive=True)  # a scaling span divides: never 0
-
-POLYNOMIAL = all_of(obj({
-    "degree": integer(0, 50), "interaction": boolean,
-    "powers": array(None, None, item=integer(0, 50), min_len=1),
-    "x_min": array(None), "x_span": array(None, item=_SPAN),
-    "coef": array(None, min_len=1), "rank": integer(0, 10**6),
-}), same_length("powers", "coef"), same_length("x_min", "x_span"))
-
-RBF = all_of(obj({
-    "spread": num(positive=True), "goal": num(0),
-    "max_neurons": integer(0, 10**6, nullable=True),
-    "b": num(), "center_values": array(None, None), "weights": array(None), "bias": num(),
-    "mse": num(0, nullable=True), "mse_history": array(None, item=num(0)),
-}, optional=("mse", "mse_history")), same_length("center_values", "weights"))
-
-_FIS = all_of(obj({
-    "mf_input": array(None, item=integer(0, 10**4)), "mf_center": array(None),
-    "mf_sigma": array(None, item=num(positive=True)),
-    "rule_mf": array(None, None, item=integer(0, 10**6)),
-    "consequents": array(None, None),
-}), same_length("mf_input", "mf_center", "mf_sigma"), same_length("rule_mf", "consequents"))
-
 def either(*checks: Check) -> Check:
     """The first of ``checks`` that passes; else the first one's error."""
     def check(v, where):
@@ -212,6 +187,32 @@ def tagged(tag_key: str, value_key: str, table: dict[str, Check]) -> Check:
             table[tag](v[value_key], f"{where}.{value_key}")
     return check
 
+
+# ------------------------------------------------------------------ the types
+
+_SPAN = num(positive=True)  # a scaling span divides: never 0
+
+POLYNOMIAL = all_of(obj({
+    "degree": integer(0, 50), "interaction": boolean,
+    "powers": array(None, None, item=integer(0, 50), min_len=1),
+    "x_min": array(None), "x_span": array(None, item=_SPAN),
+    "coef": array(None, min_len=1), "rank": integer(0, 10**6),
+}), same_length("powers", "coef"), same_length("x_min", "x_span"))
+
+RBF = all_of(obj({
+    "spread": num(positive=True), "goal": num(0),
+    "max_neurons": integer(0, 10**6, nullable=True),
+    "b": num(), "center_values": array(None, None), "weights": array(None), "bias": num(),
+    "mse": num(0, nullable=True), "mse_history": array(None, item=num(0)),
+    "centers": either(text(), integer(0, 10**6)),
+}, optional=("mse", "mse_history", "centers")), same_length("center_values", "weights"))
+
+_FIS = all_of(obj({
+    "mf_input": array(None, item=integer(0, 10**4)), "mf_center": array(None),
+    "mf_sigma": array(None, item=num(positive=True)),
+    "rule_mf": array(None, None, item=integer(0, 10**6)),
+    "consequents": array(None, None),
+}), same_length("mf_input", "mf_center", "mf_sigma"), same_length("rule_mf", "consequents"))
 
 _NUMS = either(num(), array(None))  # a setting given per input or once
 ANFIS = obj({
@@ -251,12 +252,20 @@ NOISE_TERMS = obj({
     "Q": _TERM, "N": _TERM, "B": _TERM, "K": _TERM, "R": _TERM,
     "kind": text(), "unit": text(), "coefficients": array(5, item=num(nullable=True)),
     "rate_hz": num(positive=True), "confidence": num(0, 1),
-}, optional=("coefficients", "confidence"))
+    "alpha_model": array(None, item=integer(-4, 2)), "fit_rmse_log": num(0, nullable=True),
+    "g_local": num(0.1, 100), "method": text(), "statistic": text(),
+    "tau_range_s": array(2, item=num(0, nullable=True)),
+}, optional=("coefficients", "confidence", "alpha_model", "fit_rmse_log", "g_local",
+             "method", "statistic", "tau_range_s"))
 
 VIBRATION = obj({
     "level": integer(0, 64), "wavelet": text(), "wavelet_level": integer(0, 64),
     "f_range_hz": array(2, item=num(0)), "rbf": RBF, "poly": maybe(POLYNOMIAL),
-}, optional=("poly", "f_range_hz"))
+    "centers": either(text(), integer(0, 10**6)), "goal": num(0),
+    "max_neurons": integer(0, 10**6, nullable=True), "poly_degree": integer(0, 50),
+    "rng": integer(0, 2**64, nullable=True), "spread": num(positive=True),
+}, optional=("poly", "f_range_hz", "centers", "goal", "max_neurons", "poly_degree", "rng",
+             "spread"))
 
 TENSOR_POLY = all_of(obj({
     "degrees": array(None, item=integer(0, 50), min_len=1), "lo": array(None),
@@ -312,7 +321,11 @@ DUAL = obj({
     "method": text(), "coef": mapping(num(), min_len=1), "sd": mapping(num(0, nullable=True)),
     "s_a": integer(-1, 1), "s_b": integer(-1, 1), "g_local_mps2": num(0.1, 100),
     "residual": num(0, nullable=True),
-}, optional=("residual",))
+    "estimable": array(None, item=obj({"name": text(), "value": num(nullable=True),
+                                       "sd": num(0, nullable=True)},
+                                      optional=("sd",))),
+    "units": mapping(text()),
+}, optional=("residual", "estimable", "units"))
 
 DRIFT = obj({
     "settings": obj({}),

@@ -36,6 +36,7 @@ from __future__ import annotations
 
 import contextlib
 import errno
+import glob
 import json
 import os
 import secrets
@@ -268,7 +269,7 @@ class _DirOutput:
         if self.staging is not None:
             return self.staging
         _makedirs(self.target.parent, self.created)
-        self.lock = _Lock(self.target)
+        self.lock = _RESERVED.pop(self.target, None) or _Lock(self.target)
         # any other staging directory of this target belongs to a run that died (we hold
         # the lock): remove it
         for stale in self.target.parent.glob(f".{self.target.name}{_TMP_TAG}*"):
@@ -487,6 +488,68 @@ class Transaction:
 
 
 _CURRENT: list[Transaction] = []
+#: The run's output paths named on the command line (:func:`plan`), locked when its
+#: transaction starts; and those locks (target -> lock) until the transaction ends.
+_PLANNED: list[str] = []
+_RESERVED: dict[Path, _Lock] = {}
+
+
+def check_overlap(named: list[tuple[str, str]]) -> None:
+    """Refuse two outputs of one run, ``(label, path)`` each, naming the same path
+    (``--export X --out X``: one would overwrite the other) or one inside the other
+    (``--out D --export kalibr D/k.yaml``: D is built in a staging directory and
+    replaced whole, so a file written into D beside it would be lost or leave D without
+    its marker)."""
+    real = [(f, t, os.path.realpath(os.path.abspath(t))) for f, t in named]
+    for i, (f1, t1, r1) in enumerate(real):
+        for f2, t2, r2 in real[i + 1:]:
+            if r1 == r2:
+                raise OutputError(f"{f1} and {f2} name the same output; give each its own "
+                                  "path", path=t1)
+            for fa, ta, ra, fb, tb, rb in ((f1, t1, r1, f2, t2, r2), (f2, t2, r2, f1, t1, r1)):
+                if rb.startswith(ra.rstrip(os.sep) + os.sep):
+                    raise OutputError(f"{fb} {tb} lies inside {fa} {ta}, which this run "
+                                      f"writes as a whole; put {fb} elsewhere", path=tb)
+
+
+def plan(named) -> None:
+    """Name the outputs of the coming run, ``(label, path)`` each (the command line's
+    ``--out``, ``--export`` ...), refused where they overlap (:func:`check_overlap`):
+    its transaction locks each of them (``.NAME.inertialab-lock`` beside it) before
+    the command does any work, so that a second run to the same output is refused at
+    once (exit 2) while the first completes, instead of both finishing and the last
+    writer winning. A path whose parent does not exist yet is locked when it is built."""
+    named = list(named)
+    check_overlap(named)
+    _PLANNED[:] = [str(p) for _label, p in named]
+
+
+def _reserve() -> None:
+    try:
+        for given in _PLANNED:
+            target = Path(os.path.realpath(os.path.abspath(given)))
+            if target in _RESERVED or not target.parent.is_dir():
+                continue
+            _RESERVED[target] = _Lock(target)
+            # a file's temporaries left by a run that was killed (we hold the lock)
+            from inertialab.io.sidecar import sidecar_path
+
+            names = {target.name, sidecar_path(target).name}
+            for stale in (p for n in names
+                          for p in target.parent.glob(f".{glob.escape(n)}.*.tmp")):
+                with contextlib.suppress(OSError):
+                    if stale.is_file() and not stale.is_symlink():
+                        stale.unlink()
+    except BaseException:
+        _release()
+        raise
+
+
+def _release() -> None:
+    _PLANNED.clear()
+    for lock in _RESERVED.values():
+        lock.release()
+    _RESERVED.clear()
 
 
 def current() -> Transaction | None:
@@ -502,16 +565,20 @@ def transaction(protect=()):
     if _CURRENT:  # nested: the outer transaction commits
         yield _CURRENT[-1]
         return
+    _reserve()
     tx = Transaction(protect)
     _CURRENT.append(tx)
     try:
-        yield tx
-    except BaseException:
+        try:
+            yield tx
+        except BaseException:
+            _CURRENT.remove(tx)
+            tx.rollback()
+            raise
         _CURRENT.remove(tx)
-        tx.rollback()
-        raise
-    _CURRENT.remove(tx)
-    tx.commit()
+        tx.commit()
+    finally:
+        _release()
 
 
 @contextlib.contextmanager
@@ -599,6 +666,6 @@ def ensure_finite(values, what: str, *, path=None, allow_nan_in=None):
     return values
 
 
-__all__ = ["MARKER", "OutputError", "StagedDir", "Transaction", "current", "dir_target",
-           "ensure_finite", "file_target", "output_dir", "output_error", "signals_blocked",
-           "stage_dir", "transaction"]
+__all__ = ["MARKER", "OutputError", "StagedDir", "Transaction", "check_overlap", "current",
+           "dir_target", "ensure_finite", "file_target", "output_dir", "output_error", "plan",
+           "signals_blocked", "stage_dir", "transaction"]

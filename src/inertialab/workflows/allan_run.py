@@ -177,15 +177,18 @@ class AllanRun:
 
 
 def lone_series(path, input: str, options=None):
-    """The reading options of a headerless text file holding one series (a Stable32
-    ``.DAT``: one number a line, read as ``col1``): its column mapped to the series
-    ``input`` names (``rate`` or ``theta``), so it needs no ``--column``; the unit still
-    comes from ``--unit``. Any other file: ``options`` unchanged."""
+    """The reading options of a text file holding one series (a Stable32 ``.DAT``: one
+    number a line, read as ``col1``; or one column of a name the reader does not know):
+    its column mapped to the series ``input`` names (``rate`` or ``theta``), so it needs
+    no ``--column``; the unit still comes from ``--unit``. Any other file: ``options``
+    unchanged."""
     import dataclasses
     import re
 
+    from inertialab import units
     from inertialab.io import peek_columns
     from inertialab.io.mapping import ReadOptions, parse_map
+    from inertialab.io.schemas import SCHEMAS
 
     if Path(path).suffix.lower() == ".npy" or input not in ("rate", "angle"):
         return options
@@ -193,8 +196,12 @@ def lone_series(path, input: str, options=None):
     if ro.column_map:
         return options
     data = [c for c in peek_columns(path, ro) if c != "t_s"]
-    if len(data) != 1 or not re.fullmatch(r"col\d+", data[0]):
+    if len(data) != 1:
         return options
+    known = {c.name for c in SCHEMAS["gyro_log"].columns}
+    if units.split_suffix(data[0])[0] in known or not re.fullmatch(r"[a-z_][a-z0-9_]*|col\d+",
+                                                                   data[0]):
+        return options  # a named series the reader knows, or a name a map cannot take
     target = "rate" if input == "rate" else "theta"
     return dataclasses.replace(ro, column_map=parse_map(f"{target}={data[0]}"))
 

@@ -125,6 +125,13 @@ def prepare(command: Sequence[str], inputs, config: BatchConfig, read) -> BatchJ
         "model": str(c.model) if c.model else None}.items() if v is not None}
     if c.model is not None and not Path(c.model).is_file():
         raise InputError("no such model file", path=c.model)
+    if c.model is not None and name == "thermal-compensate":  # once, before any unit
+        from inertialab.calib.model_checks import refuse_or_flag, thermal_findings
+        from inertialab.workflows.registries import load_model
+
+        model = load_model(c.model, expected_type="thermal-compensation")
+        refuse_or_flag(thermal_findings(model), "thermal", force=False, path=c.model,
+                       forceable=False)
     return BatchJob(name=name, paths=paths, checks=checks, options=options, config=c)
 
 

@@ -58,10 +58,11 @@ def parse_horizons(predict_drift) -> tuple[float, ...]:
     return tuple(out)
 
 
-def check_options(file, *, predict_drift=None, check_on=None, method=None, rostopic=None,
-                  export=None) -> tuple[float, ...]:
+def check_options(file, method=None, rostopic=None, *, predict_drift=None, check_on=None,
+                  export=True, **_other) -> tuple[float, ...]:
     """Refuse bad six-axis options before ``file`` is read (module docstring); returns
-    the horizons (s)."""
+    the horizons (s). ``rostopic`` is checked when given with ``export`` (a false
+    ``rostopic``: no export, nothing to check); other drift settings are ignored."""
     horizons = parse_horizons(predict_drift)
     if check_on is not None:
         c = str(check_on)

@@ -35,6 +35,7 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 
 from inertialab import units as U
@@ -433,13 +434,12 @@ def load_text(path, parse=None, *, nrows: int | None = None) -> TextTable:
               comment=None, index_col=False)
     if lay.sep != r"\s+":
         kw["skipinitialspace"] = True
+    chunks = None
     try:
         if nrows is not None:
             df = pd.read_csv(p, nrows=nrows, **kw)
         else:
             chunks = list(pd.read_csv(p, chunksize=_CHUNK_ROWS, **kw))
-            df = (pd.concat(chunks, ignore_index=True) if len(chunks) > 1 else chunks[0]) \
-                if chunks else pd.DataFrame(columns=lay.names)
     except UnicodeDecodeError as exc:
         raise InputError(f"not UTF-8 text (byte {exc.start}); save the file as UTF-8 CSV",
                          path=p) from None
@@ -449,7 +449,52 @@ def load_text(path, parse=None, *, nrows: int | None = None) -> TextTable:
         msg = " ".join(str(exc).split()) or type(exc).__name__
         raise InputError(f"not a readable text table ({msg[:160]}); expected {ncol} "
                          "fields per line", path=p) from None
+    if chunks is not None:
+        _refuse_stray_text(chunks, path=p)
+        df = (pd.concat(chunks, ignore_index=True) if len(chunks) > 1 else chunks[0]) \
+            if chunks else pd.DataFrame(columns=lay.names)
     return TextTable(df, lay)
+
+
+#: A column read as numbers in some chunks and text in others is a numeric column with
+#: bad cells when at most this share of its cells are text (else a text column).
+STRAY_TEXT_SHARE = 0.01
+_EMPTY_WORDS = ("", "nan", "NaN", "inf", "-inf", "Inf", "-Inf")
+
+
+def _refuse_stray_text(chunks: list, *, path) -> None:
+    """Refuse a numeric column holding a stray text cell before the chunks are joined.
+
+    ``pd.concat`` of float chunks with one chunk that read as text (``abc`` in the last
+    row of 10^7) makes the whole column Python objects, about five times the numbers'
+    memory, only for the reader to refuse the cell afterwards: the error path used to
+    peak at twice the good path. A column that reads as numbers in some chunks and as
+    text in others, with text in at most :data:`STRAY_TEXT_SHARE` of its cells, is
+    refused here (one line naming the column, the data row and the value); a real text
+    column (unit ids, dates) has far more text and is joined as before."""
+    if len(chunks) < 2:
+        return
+    for name in chunks[0].columns:
+        kinds = [pd.api.types.is_numeric_dtype(c[name]) for c in chunks]
+        if all(kinds) or not any(kinds):
+            continue
+        first, n_text, n_rows, row0 = None, 0, 0, 0
+        for c, numeric in zip(chunks, kinds):
+            col = c[name]
+            n_rows += len(col)
+            if not numeric:
+                conv = pd.to_numeric(col, errors="coerce")
+                raw = col.astype("string").str.strip()
+                text = (conv.isna() & col.notna() & ~raw.isin(_EMPTY_WORDS).fillna(True)
+                        ).to_numpy()
+                n_text += int(text.sum())
+                if first is None and text.any():
+                    i = int(np.flatnonzero(text)[0])
+                    first = (row0 + i + 1, col.iloc[i])
+            row0 += len(col)
+        if first is not None and n_text <= STRAY_TEXT_SHARE * n_rows:
+            raise InputError(f"non-numeric value '{str(first[1])[:40]}' in a column of numbers",
+                             path=path, column=str(name), row=first[0])
 
 
 def peek_names(path, parse=None) -> list[str]:
