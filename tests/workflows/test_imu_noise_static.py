@@ -8,11 +8,11 @@ import math
 import numpy as np
 import pandas as pd
 import pytest
-from tests.helpers import run_inprocess
 
 from inertialab.io import validate_frame
 from inertialab.workflows.imu_noise import analyse_record
 from inertialab.workflows.imu_noise_static import motion_reasons
+from tests.helpers import run_inprocess
 
 G = 9.80665
 FS = 250.0
