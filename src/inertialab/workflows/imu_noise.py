@@ -237,10 +237,27 @@ class IMUNoise:
                "and random walk = K in SI, continuous time (what Kalibr/ROS take)."]
         out += [f"{a.axis} ({a.column}) {a.status}: {a.reason}" for a in self.axes
                 if a.status != "ok" and a.reason]
+        f = self.fitted_on
+        if f["n_samples"] != self.n_samples:
+            out.append(f"The terms are fitted on samples {f['first_sample']} to "
+                       f"{f['first_sample'] + f['n_samples'] - 1} ({f['n_samples']} of "
+                       f"{self.n_samples}, --check-on half); the rest of the log checks "
+                       "them. Without --check-on the whole log is fitted, and the numbers "
+                       "differ.")
+        if self.settings.get("source_note"):
+            out.append("Source: " + self.settings["source_note"] + ".")
         return out
+
+    @property
+    def fitted_on(self) -> dict:
+        """``{"first_sample", "n_samples"}``: the samples the terms were fitted on (the
+        first half with ``--check-on half``, else the whole log)."""
+        return dict(self.settings.get("fitted_on")
+                    or {"first_sample": 0, "n_samples": int(self.n_samples)})
 
     def to_dict(self) -> dict:
         return {"rate_hz": self.rate_hz, "n_samples": self.n_samples,
+                "fitted_on": self.fitted_on,
                 "axes": [a.to_dict() for a in self.axes],
                 "kalibr": {
                     "gyroscope_noise_density": self.sensor_value("gyro", "noise_density"),
@@ -324,11 +341,13 @@ def _axis(name: str, column: str, y, unit: str, *, rate_hz: float, taus, method:
                      bias_instability_bound=b_bound,
                      random_walk_t_s=float(terms.k_gm["t_s"]) if terms.k_gm else None)
     if drift is not None:
-        from inertialab.workflows.imu_drift import axis_drift, axis_plan
+        from inertialab.workflows.imu_drift import axis_drift
+        from inertialab.workflows.imu_noise_plan import axis_plan_with_interval
 
         y_check = y[y.size // 2:] if drift.check_on == "half" else drift.other.get(name)
         axis = replace(axis, drift=axis_drift(axis, rate_hz, drift, y_check),
-                       plan=axis_plan(axis, rate_hz, fit_y.size) if drift.plan else None)
+                       plan=axis_plan_with_interval(axis, rate_hz, fit_y.size) if drift.plan
+                       else None)
     return axis
 
 
@@ -420,6 +439,8 @@ def analyse_imu(columns: dict, *, rate_hz: float, taus="octave", method: str = "
                 "terms": bool(terms), "confidence": float(confidence)}
     if drift is not None:
         settings["drift"] = drift.to_dict()
+    half = drift is not None and drift.check_on == "half"
+    settings["fitted_on"] = {"first_sample": 0, "n_samples": n // 2 if half else n}
     return IMUNoise(axes=tuple(out), rate_hz=float(rate_hz), n_samples=n, settings=settings)
 
 
