@@ -462,10 +462,11 @@ def analyse_record(rec, *, rate_hz: float | None = None, taus="octave", method: 
 
         preflight(rec, "imu")  # the checks `validate --kind imu` runs
     else:
-        from inertialab.io.preflight import check_length
+        from inertialab.io.preflight import check_length, check_varying
         from inertialab.io.unit_check import check_static_units
 
         check_length(rec, "imu")  # preflight's length and unit checks, with the rate given
+        check_varying(rec)
         check_static_units(rec)
     cols = axis_columns(rec)
     if not cols:
