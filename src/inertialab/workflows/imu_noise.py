@@ -113,16 +113,17 @@ class AxisNoise:
             d.update({
                 "noise_density": {"value": self.noise_density, "unit": si[1],
                                   "convention": "continuous",
-                                  "ci": _si_ci(t.N.ci, t.N.value, self.noise_density)},
+                                  "bound": "upper" if "upper_bound" in t.N.flags else None,
+                                  "ci": _si_ci(t.N.ci, _shown(t.N), self.noise_density)},
                 "random_walk": {"value": self.random_walk, "unit": si[2],
                                 "convention": "continuous",
                                 "bound": "upper" if self.random_walk_bound else None,
                                 "correlation_time_s": self.random_walk_t_s,
-                                "ci": _si_ci(t.K.ci, t.K.value, self.random_walk)},
+                                "ci": _si_ci(t.K.ci, _shown(t.K), self.random_walk)},
                 "bias_instability": {"value": self.bias_instability,
                                      "unit": "rad/s" if self.kind == "gyro" else "m/s^2",
                                      "bound": "upper" if self.bias_instability_bound else None,
-                                     "ci": _si_ci(t.B.ci, t.B.value, self.bias_instability)},
+                                     "ci": _si_ci(t.B.ci, _shown(t.B), self.bias_instability)},
                 "terms": t.to_dict(),
                 "model_dev": [float(v) for v in t.model_dev(self.deviation.taus_s)]})
         if self.drift is not None:
@@ -156,6 +157,13 @@ def _unit_of(axes, kind: str, name: str) -> str:
         if a.kind == kind and a.terms is not None:
             return getattr(a.terms, name).unit
     return "-"
+
+
+def _shown(term) -> float:
+    """The number a term shows: its bound where it is one, else its value."""
+    if "upper_bound" in term.flags and np.isfinite(term.upper_bound):
+        return float(term.upper_bound)
+    return float(term.value)
 
 
 def _si_ci(ci, value, si_value):
@@ -318,6 +326,9 @@ def _axis(name: str, column: str, y, unit: str, *, rate_hz: float, taus, method:
     c = np.asarray(terms.coefficients, dtype=float)
     # N^2 = c_-1 (unit^2 s): N in unit/sqrt(Hz); K^2 = 3 c_1 (unit^2 / s): K in unit*sqrt(Hz)/s
     density = to_si(math.sqrt(c[1])) if np.isfinite(c[1]) and c[1] > 0 else nan
+    if "upper_bound" in terms.N.flags and np.isfinite(terms.N.upper_bound):
+        # N only a bound: the density written is the bound (the JSON and table alike)
+        density = to_si(terms.N.upper_bound / _report_factor(terms, "N"))
     k_bound = "upper_bound" in terms.K.flags or "not_observable" in terms.K.flags
     if np.isfinite(c[3]) and c[3] > 0 and not k_bound:
         rw = to_si(math.sqrt(3.0 * c[3]))
