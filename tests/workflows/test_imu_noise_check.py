@@ -37,7 +37,7 @@ def test_check_on_half_reports_the_fitted_samples(tmp_path, capsys):
         half.axes[0].noise_density, rel=1e-12)
     code, out, _ = run_inprocess(capsys, "allan", str(f), "--imu", "--predict-drift", "10",
                                  "--check-on", "half")
-    assert "fitted on samples 0 to 9999 (10000 of 20000, --check-on half)" in out
+    assert "fitted on samples 0 to 9999 (10000 of 20000: checked on the second half)" in out
 
 
 def test_plan_gives_k_at_its_bound_and_an_interval():

@@ -112,7 +112,7 @@ def test_every_export_written_and_the_span_named(tmp_path, capsys):
     text = k.read_text()
     assert "gyroscope values: the largest of gx, gy; left out: gz (constant)" in text
     assert "accelerometer values: the largest of ax, ay, az." in text
-    assert "Written with --force" in text
+    assert "Written (forced) although gz (constant)" in text
     settings = json.loads(out)["settings"]
     assert [e["target"] for e in settings["exports"]] == ["kalibr", "ros"]
     # the density written is the largest of the two static gyro axes (truth 0.005/sqrt(250))

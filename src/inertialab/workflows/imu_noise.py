@@ -249,8 +249,8 @@ class IMUNoise:
         if f["n_samples"] != self.n_samples:
             out.append(f"The terms are fitted on samples {f['first_sample']} to "
                        f"{f['first_sample'] + f['n_samples'] - 1} ({f['n_samples']} of "
-                       f"{self.n_samples}, --check-on half); the rest of the log checks "
-                       "them. Without --check-on the whole log is fitted, and the numbers "
+                       f"{self.n_samples}: checked on the second half); the rest of the log "
+                       "checks them. Without that check the whole log is fitted, and the numbers "
                        "differ.")
         if self.settings.get("source_note"):
             out.append("Source: " + self.settings["source_note"] + ".")
@@ -519,8 +519,8 @@ def filtered_source_note(rec) -> str | None:
     from inertialab.errors import DataQualityWarning
 
     note = ("read from PX4's sensor_combined, the flight controller's filtered output: its "
-            "noise is the filter's, not the sensor's; read the raw sensors with --topic "
-            "sensor_gyro and --topic sensor_accel")
+            "noise is the filter's, not the sensor's; read the raw sensors: argument 'topic' "
+            "sensor_gyro, then sensor_accel")
     warnings.warn(f"{rec.path}: {note}", DataQualityWarning, stacklevel=3)
     return note
 
@@ -560,17 +560,24 @@ def analyse_file(file, *, read=None, unit=None, rate=None, gaps=None, g_local=No
                                confidence=0.95 if confidence is None else confidence)
 
 
-def export_pairs(export) -> list[tuple[str, str]]:
-    """``[(target, file), ...]`` of one ``(target, file)`` pair or a list of them
-    (``--export`` given several times); two exports to one file are refused."""
+def export_pairs(export, *, seen=()) -> list[tuple[str, str]]:
+    """``[(target, file), ...]`` of one ``(target, file)`` pair or a list of them;
+    ``seen``: every pair of a command line where the option was repeated (taken when its
+    last pair is ``export``). Two exports to one file are refused."""
+    from inertialab.io.exporters import get
+
+    if export and seen and tuple(seen[-1]) == tuple(export):
+        export = list(seen)
     if not export:
         return []
     pairs = [tuple(export)] if isinstance(export[0], str) else [tuple(e) for e in export]
+    for target, _ in pairs:
+        get("noise", target)  # an unknown target before anything is read
     files = [str(f) for _, f in pairs]
     dup = next((f for f in files if files.count(f) > 1), None)
     if dup is not None:
-        raise InputError(f"--export: two exports write the same file '{dup}'; give each its "
-                         "own file")
+        raise InputError(f"argument 'export': two exports write the same file '{dup}'; give "
+                         "each its own file")
     return pairs
 
 
@@ -584,12 +591,29 @@ def export_refusal(res: IMUNoise, *, force: bool = False) -> tuple[str, ...]:
         return ()
     named = ", ".join(f"{a.axis} ({a.status})" for a in bad)
     if not force:
-        raise InputError(f"--export: the axes {named} give no noise parameters a filter can "
+        raise InputError(f"argument 'export': the axes {named} give no noise parameters a "
+                         "filter can "
                          "take (a record that moves describes the motion, not the sensor); "
-                         "nothing written. Record the sensor at rest, or give --force to "
+                         "nothing written. Record the sensor at rest, or give argument 'force' to "
                          "write the other axes' values with this stated in the file")
-    return (f"Written with --force although {named}: those axes are left out, and their "
+    return (f"Written (forced) although {named}: those axes are left out, and their "
             "sensor's value comes from its other axes only.",)
+
+
+def write_exports(res: IMUNoise, pairs, *, rostopic, drift=None, force=False) -> dict:
+    """Write every ``(target, file)`` of ``pairs`` (:func:`export_pairs`; inflated where
+    the drift settings ``drift`` say ``inflate: auto``), refused before any is written
+    while an axis is not usable unless ``force`` (:func:`export_refusal`); returns the
+    JSON settings that name them (``export``, ``export_file``: the last; ``exports``:
+    all; ``force``)."""
+    inflate = (drift or {}).get("inflate")
+    if pairs:
+        export_refusal(res, force=force)
+    done = [(export_noise_file(res, t, f, rostopic=rostopic, inflate=inflate, force=force),
+             str(f)) for t, f in pairs]
+    return {"export": done[-1][0] if done else None,
+            "export_file": done[-1][1] if done else None,
+            "exports": [{"target": t, "file": f} for t, f in done], "force": bool(force)}
 
 
 def export_noise_file(res: IMUNoise, target: str, path, *, rostopic: str, inflate=None,
