@@ -368,9 +368,9 @@ BI = math.sqrt(2.0 * math.log(2.0) / math.pi)
 
 def _report_factor(terms, name: str) -> float:
     """Report unit of a term per its native unit (data unit based) for a fit."""
-    from inertialab.noise._terms_base import _Converter
+    from inertialab.workflows.imu_noise_plan import report_factor
 
-    return _Converter(terms.unit, terms.kind, terms.g_local).factor(name)
+    return report_factor(terms, name)
 
 
 def _deviation(y, rate_hz, taus, confidence):

@@ -23,17 +23,22 @@ from dataclasses import replace
 
 import numpy as np
 
-__all__ = ["axis_plan_with_interval"]
+__all__ = ["axis_plan_with_interval", "report_factor"]
+
+
+def report_factor(terms, name: str) -> float:
+    """Report unit of a term per its native unit (data unit based) for a fit."""
+    from inertialab.noise._terms_base import _Converter
+
+    return _Converter(terms.unit, terms.kind, terms.g_local).factor(name)
 
 
 def _with_k(axis, k_report: float, tau0: float):
     """The axis with its terms' K set to ``k_report`` (the K report unit): the five-term
     coefficient ``c_1 = K^2 / 3``, and for a GMWM fit its random-walk process."""
-    from inertialab.workflows.imu_noise import _report_factor
-
     terms = axis.terms
     c = list(terms.coefficients)
-    c[3] = (k_report / _report_factor(terms, "K")) ** 2 / 3.0
+    c[3] = (k_report / report_factor(terms, "K")) ** 2 / 3.0
     gm = terms.gmwm
     if gm and gm.get("processes"):
         procs = [d for d in gm["processes"] if d["process"] != "RW"]
