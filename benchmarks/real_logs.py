@@ -129,7 +129,14 @@ def check_terms(res, terms) -> dict:
     named = any("upper_bound" not in getattr(terms, k).flags
                 and "not_observable" not in getattr(terms, k).flags
                 and getattr(terms, k).value > 0 for k in ("K", "R"))
+    # the B the user is shown (its bound where it is one), against the textbook reading
+    # over every point of the curve (noise._terms_bounds: at most 1.05 x for a bound)
+    from inertialab.workflows.imu_noise_plan import report_factor
+
+    shown = terms.B.upper_bound if "upper_bound" in terms.B.flags else terms.B.value
+    b_text_all = float(np.min(dev[dev > 0])) / BI * report_factor(terms, "B")
     row = {
+        "B_shown_over_textbook_all": float(shown) / b_text_all if b_text_all > 0 else math.nan,
         "B": terms.B.value, "B_unit": terms.B.unit, "B_sig": b_sig,
         "B_over_textbook": ratio_b,
         "B_over_bound": b_data / b_bound,
@@ -186,6 +193,7 @@ def _line(r) -> str:
                     (("B", "B"), ("N", "N"), ("M", "model"), ("R", "rise")))
     return (f"{r['log']:>16} {r['axis']:>3} {r['method']:>5} [{flags}] "
             f"B/text {r['B_over_textbook']:.2f}{'*' if r['B_sig'] else ' '} "
+            f"shown/text {r['B_shown_over_textbook_all']:.2f} "
             f"N/white {r['N_over_white']:.3f} inside {r['inside_share']:.2f} "
             f"rise {int(r['rise'])} K {r['K']:.4g}{'*' if r['K_sig'] else ''} "
             f"R{'*' if r['R_sig'] else ''} {r['cpu_s']:.1f}s")
