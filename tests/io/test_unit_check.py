@@ -141,3 +141,30 @@ def test_an_angle_column_must_declare_its_unit(tmp_path):
                                          r"the unit of an angle cannot be told .*"
                                          r"arcsec\|deg\|rad"):
         read_record(p, "gyro_log", column_map="t_s=t,dtheta_arcsec=dth")
+
+
+def test_declared_gyro_unit_contradicted_by_its_step_is_refused(tmp_path):
+    # an ADIS16405's 0.05 deg/s codes declared in rad/s (57x): the step is no rad/s
+    # gyro's, and the error names the column and the units it looks like
+    t, gyro, acc = _static_imu()
+    p = tmp_path / "adis_rps.csv"
+    pd.DataFrame({"t_s": t, "gx_rps": gyro[:, 0], "ax_g": acc[:, 0], "ay_g": acc[:, 1],
+                  "az_g": acc[:, 2]}).to_csv(p, index=False, float_format="%.6f")
+    with pytest.raises(InputError, match=r"column 'gx_rps': its values step by 0.05 rad/s, "
+                                         r"no gyro's quantisation step in rad/s .* looks like "
+                                         r"deg/s or deg/h"):
+        read_record(p, "gyro_log")
+
+
+def test_raw_counts_declared_as_si_are_refused(tmp_path):
+    # imu_tk-style unsigned counts about 33,000 declared m/s^2: |a| of 6,000 g
+    rng = np.random.default_rng(2)
+    n = 500
+    acc = np.round(32768 + np.array([0, 0, 6000]) + rng.normal(0, 20, (n, 3)))
+    p = tmp_path / "counts.csv"
+    pd.DataFrame({"t_s": np.arange(n) / 100.0, "ax_mps2": acc[:, 0], "ay_mps2": acc[:, 1],
+                  "az_mps2": acc[:, 2]}).to_csv(p, index=False)
+    with pytest.raises(InputError, match=r"ax_mps2, ay_mps2, az_mps2.*no accelerometer reads "
+                                         r"that; the values are whole numbers, like raw ADC "
+                                         r"counts \(declare them lsb"):
+        read_record(p, "gyro_log")

@@ -22,8 +22,7 @@ from inertialab.workflows.imu_options import check_options
 from inertialab.workflows.registries import export_targets
 
 _EXPORT_HELP = ("TARGET FILE (six-axis mode, repeatable): write the noise densities and "
-                "random walks (continuous time, SI) for "
-                + " | ".join(export_targets("noise")) + ".")
+                "random walks (continuous time, SI) for " + " | ".join(export_targets("noise")))
 _IMU_HELP = ("Analyse gyro x/y/z and accelerometer x/y/z together (one table, one figure, "
              "noise densities and random walks).")
 
@@ -42,8 +41,7 @@ def _allan_command(imu_default: bool):
         export: tuple[str, str] = typer.Option(None, "--export", help=_EXPORT_HELP),
         rostopic: str = typer.Option("/imu0", "--rostopic", help="IMU topic in the Kalibr, "
                                      "OpenVINS and VINS files (six-axis mode)."),
-        force: bool = typer.Option(False, "--force", help="Export although an axis is not "
-                                   "static (its value left out; the file says so)."),
+        force: bool = typer.Option(False, "--force", help="Export despite axes not static."),
         *, config, run, read: ReadOptions = None,
     ):
         """Allan family with confidence intervals and the Q N B K R noise terms; --imu:
@@ -94,8 +92,7 @@ def _allan_command(imu_default: bool):
 
 
 def register(app: typer.Typer, groups: dict) -> None:
-    from inertialab.cli.imu_noise import RepeatedExport
-
-    app.command("allan", cls=RepeatedExport)(_allan_command(False))
+    from inertialab.cli.imu_noise import RepeatedExport as Cls
+    app.command("allan", cls=Cls)(_allan_command(False))
     # old spelling, hidden for one release
-    app.command("allan-imu", hidden=True, cls=RepeatedExport)(_allan_command(True))
+    app.command("allan-imu", hidden=True, cls=Cls)(_allan_command(True))

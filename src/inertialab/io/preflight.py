@@ -33,7 +33,7 @@ from dataclasses import dataclass
 from inertialab.errors import InputError
 from inertialab.io.schemas import SCHEMAS
 
-__all__ = ["KINDS", "Kind", "check_length", "preflight", "read_for"]
+__all__ = ["KINDS", "Kind", "check_length", "check_varying", "preflight", "read_for"]
 
 
 @dataclass(frozen=True)
@@ -51,6 +51,7 @@ class Kind:
     initial_rest: bool = False  # the log must start with the sensor at rest
     static: bool = False  # a log at rest: magnitudes within a static sensor's (units)
     min_samples: int = 0  # fewest samples the analysis can read anything from
+    varying: bool = False  # some measurement column must vary (constant data: nothing)
 
 
 _IMU = ("gx", "gy", "gz", "ax", "ay", "az")
@@ -59,10 +60,10 @@ KINDS: dict[str, Kind] = {
     **{k: Kind(k, s.description, time_base=s.time_order == "strict" and s.time_column == "t_s")
        for k, s in SCHEMAS.items()},
     "allan": Kind("gyro_log", "a rate, angle or acceleration log for the Allan family",
-                  time_base=True, ordered=True),
+                  time_base=True, ordered=True, varying=True),
     "imu": Kind("gyro_log", "an IMU log for the noise parameters of each axis",
                 time_base=True, ordered=True, needs=(_IMU,), single_segment=True,
-                static=True, min_samples=100,
+                static=True, min_samples=100, varying=True,
                 missing="no IMU axis columns (gx_*, gy_*, gz_*, ax_*, ay_*, az_*); map them "
                         "with a column map (argument 'column_map')"),
     "vibration": Kind("gyro_log", "a vibration run (P1 static, P2 shaker on, P3 static)",
@@ -119,10 +120,30 @@ def preflight(record, kind: str) -> None:
         raise InputError("the log has several segments (argument 'gaps' split); analyse one "
                          "segment", path=path)
     check_length(record, kind)
+    if k.varying:
+        check_varying(record)
     if k.static:
         from inertialab.io.unit_check import check_static_units
 
         check_static_units(record)
+
+
+def check_varying(record) -> None:
+    """Refuse a log whose every measurement column is constant (a stuck or absent
+    sensor: nothing to analyse), as the analyses do; one constant column among varying
+    ones is the analysis's to flag."""
+    import numpy as np
+
+    cols = [c for c in (record.units or {}) if c in record.data.columns and c != "t_s"]
+    if not cols:
+        return
+    for c in cols:
+        v = np.asarray(record.data[c], dtype=float)
+        v = v[np.isfinite(v)]
+        if v.size and np.ptp(v) > 0:
+            return
+    raise InputError("data are constant in every column (" + ", ".join(cols) + "); nothing "
+                     "to analyse", path=record.path)
 
 
 def check_length(record, kind: str) -> None:

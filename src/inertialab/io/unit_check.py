@@ -186,13 +186,13 @@ def check_accel_magnitude(df, units: dict, *, path) -> None:
         raise InputError(f"the accelerometer reads a median |a| of {m:.4g} {shown}, "
                          f"which is gravity in {_SHOWN[looks]}: the columns look like "
                          f"{looks}, not {declared} (declare {looks}: a suffix _{looks}, "
-                         f"':{looks}' in the map or --unit)", path=path,
+                         f"':{looks}' in the map or argument 'unit')", path=path,
                          column=", ".join(cols))
     if in_g > MAX_ACCEL_G:
         raise InputError(f"the accelerometer reads a median |a| of {m:.4g} {shown} "
                          f"({in_g:.4g} g): no accelerometer reads that"
                          + ("; the values are whole numbers, like raw ADC counts (declare "
-                            "them lsb: --unit lsb, with the sensitivity in the sidecar)"
+                            "them lsb: argument 'unit' lsb, with the sensitivity in the sidecar)"
                             if _integral(df[cols[0]]) else "; check the declared unit"),
                          path=path, column=", ".join(cols))
 
@@ -211,7 +211,7 @@ def check_gyro_units(df, units: dict, *, path) -> None:
             raise InputError(f"the gyro reads a median |w| of {med:.4g} {shown}, beyond "
                              f"{MAX_RATE_RPS:g} rad/s (no gyro's range)"
                              + ("; the values are whole numbers, like raw ADC counts "
-                                "(declare them lsb: --unit lsb)" if _integral(v) else
+                                "(declare them lsb: argument 'unit' lsb)" if _integral(v) else
                                 "; check the declared unit"), path=path, column=col)
         q = quantisation_step(v)
         hits = step_units(q) if q is not None else []
@@ -221,7 +221,7 @@ def check_gyro_units(df, units: dict, *, path) -> None:
             raise InputError(f"its values step by {q:.4g} {shown}, no gyro's quantisation "
                              f"step in {shown} ({lo:g} to {hi:g}): it looks like {alt} "
                              f"(declare it: a suffix _{hits[0]}, ':{hits[0]}' in the map or "
-                             "--unit)", path=path, column=col)
+                             "argument 'unit')", path=path, column=col)
 
 
 def check_static_units(record) -> None:

@@ -8,6 +8,7 @@ candidates, bootstraps the intervals and turns the processes into IEEE terms.
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -229,8 +230,12 @@ def _fit_spec(spec, target, taus, W, tau0, T, theta0=None, max_nfev=200, fixed_l
     for th0 in starts:
         th0 = np.clip(th0, lo + 1e-9, hi - 1e-9)
         try:
-            r = least_squares(resid, th0, jac=jac, bounds=(lo, hi), method="trf",
-                              x_scale=1.0, max_nfev=max_nfev)
+            # scipy's trust-region step divides by a zero norm at an exact optimum; the
+            # step it takes then is fine, its RuntimeWarning is no news for the user
+            with np.errstate(divide="ignore", invalid="ignore"), warnings.catch_warnings():
+                warnings.simplefilter("ignore", RuntimeWarning)
+                r = least_squares(resid, th0, jac=jac, bounds=(lo, hi), method="trf",
+                                  x_scale=1.0, max_nfev=max_nfev)
         except ValueError:
             continue
         if best is None or r.cost < best.cost:

@@ -3,12 +3,14 @@
 * **B within the curve**: a flicker floor of bias instability ``B`` holds the Allan
   deviation at ``0.664 B`` where it is flat (IEEE 952 C.1: sqrt(2 ln2 / pi) B), and the
   other terms only add to it, so the textbook reading is ``B <= min(ADEV) / 0.664``
-  (the minimum over the points with at least :data:`EDF_MIN` degrees of freedom). A B
-  that is only a bound is held to :data:`B_SCATTER` times that (1.05 for the scatter of
-  the minimum). A significant estimate above it is kept and flagged
-  ``above_curve_minimum``: a band-limited flicker's realisations dip below 0.664 B at
-  long tau, and held to the ceiling the simulated ``allan-bi`` preset's B fell outside
-  20 % of its truth in 9 of 20 seeds (tests/noise/test_terms.py's recovery).
+  (the minimum over the curve's points). A B that is only a bound is held to
+  :data:`B_SCATTER` times that (1.05 for the scatter of the minimum). A significant
+  estimate is held to the same reading of the curve's upper confidence limits (above
+  it, the estimate contradicts the curve at its confidence); above min(ADEV) it is
+  flagged ``above_curve_minimum`` with both readings in its reason: a band-limited
+  flicker's realisations dip below 0.664 B at long tau, and held to min(ADEV) the
+  simulated ``allan-bi`` preset's B fell outside 20 % of its truth in 9 of 20 seeds
+  (19 of 20 within 20 % held to the upper limits; tests/noise/test_terms.py).
 * **A term whose lower limit is below** :data:`RESOLVED` **of its value is a bound**:
   ``239 [0, 545]`` says nothing beyond ``<= 545``.
 
@@ -29,22 +31,17 @@ BI = math.sqrt(2.0 * math.log(2.0) / math.pi)
 B_SCATTER = 1.05
 #: a lower limit below this fraction of the value leaves the term unresolved
 RESOLVED = 1e-3
-#: points of the curve with fewer degrees of freedom scatter by more than a factor 2
-#: (chi-square, 95 %): their minimum is no reading of the curve
-EDF_MIN = 3.0
 
 __all__ = ["B_SCATTER", "RESOLVED", "b_ceiling", "bounded_terms"]
 
 
-def b_ceiling(result, factor: float) -> float:
-    """``B_SCATTER * min(ADEV) / 0.664`` of the curve ``result`` (its points with at
-    least :data:`EDF_MIN` degrees of freedom), in the B report unit (``factor``: report
-    value per data-unit amplitude); NaN for an empty curve."""
-    d = np.asarray(result.dev, dtype=float)
-    e = np.asarray(getattr(result, "edf", np.full(d.shape, np.inf)), dtype=float)
-    if e.shape != d.shape:
-        e = np.full(d.shape, np.inf)
-    d = d[np.isfinite(d) & (d > 0) & ~(e < EDF_MIN)]
+def b_ceiling(result, factor: float, *, upper: bool = False) -> float:
+    """``B_SCATTER * min(ADEV) / 0.664`` of the curve ``result`` (over every point with a
+    positive deviation; ``upper``: over the points' upper confidence limits), in the B
+    report unit (``factor``: report value per data-unit amplitude); NaN for an empty
+    curve."""
+    d = np.asarray(result.ci_high if upper else result.dev, dtype=float)
+    d = d[np.isfinite(d) & (d > 0)]
     if d.size == 0:
         return float("nan")
     return B_SCATTER * float(d.min()) / BI * factor
@@ -71,7 +68,10 @@ def _unresolved(term):
     return term
 
 
-def _b_within(term, cap: float):
+def _b_within(term, cap: float, cap_upper: float):
+    """B held to the curve: a bound to ``cap`` (min(ADEV)); a significant estimate to
+    ``cap_upper`` (min of the upper limits: beyond it the estimate contradicts the curve
+    at the curve's confidence), flagged when above ``cap``."""
     if not math.isfinite(cap) or "not_observable" in term.flags:
         return term
     why = (f"held to {B_SCATTER:g} x min(ADEV)/0.664 = {cap:.4g} {term.unit}, the most "
@@ -81,14 +81,19 @@ def _b_within(term, cap: float):
         if not math.isfinite(ub) or ub > cap:
             return _as_bound(term, cap, why)
         return term
+    if math.isfinite(cap_upper) and math.isfinite(term.value) and term.value > cap_upper:
+        lo, _ = term.ci
+        return replace(term, value=float(cap_upper), ci=(min(lo, cap_upper), cap_upper),
+                       flags=(*term.flags, "above_curve_minimum"),
+                       reason=(f"{term.reason}; " if term.reason else "")
+                       + f"held to {B_SCATTER:g} x the curve's lowest upper limit/0.664 = "
+                         f"{cap_upper:.4g} {term.unit}; above {B_SCATTER:g} x "
+                         f"min(ADEV)/0.664 = {cap:.4g}")
     if math.isfinite(term.value) and term.value > cap:
-        # a significant estimate above the textbook reading is kept (a band-limited
-        # flicker's realisations dip below 0.664 B at long tau: held to the ceiling, the
-        # simulated allan-bi preset's B came out within 20 % in 11 of 20 seeds instead of
-        # 20), and flagged
         return replace(term, flags=(*term.flags, "above_curve_minimum"),
                        reason=(f"{term.reason}; " if term.reason else "")
-                       + f"above {B_SCATTER:g} x min(ADEV)/0.664 = {cap:.4g} {term.unit}")
+                       + f"above {B_SCATTER:g} x min(ADEV)/0.664 = {cap:.4g} {term.unit}, "
+                         "within the curve's upper limits")
     return term
 
 
@@ -97,12 +102,7 @@ def bounded_terms(terms, result, conv):
     the module text applied against the curve ``result`` they were read from; ``conv``
     the fit's unit converter."""
     new = {name: _unresolved(getattr(terms, name)) for name in ("Q", "N", "B", "K", "R")}
-    try:  # the curve's degrees of freedom for the fitted model's noise types
-        from inertialab.noise.terms import model_intervals
-
-        curve = model_intervals(result, terms)
-    except Exception:
-        curve = result
-    new["B"] = _b_within(new["B"], b_ceiling(curve, conv.factor("B")))
+    f = conv.factor("B")
+    new["B"] = _b_within(new["B"], b_ceiling(result, f), b_ceiling(result, f, upper=True))
     changed = {k: v for k, v in new.items() if v is not getattr(terms, k)}
     return replace(terms, **changed) if changed else terms

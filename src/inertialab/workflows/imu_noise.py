@@ -115,16 +115,17 @@ class AxisNoise:
             d.update({
                 "noise_density": {"value": self.noise_density, "unit": si[1],
                                   "convention": "continuous",
-                                  "ci": _si_ci(t.N.ci, t.N.value, self.noise_density)},
+                                  "bound": "upper" if "upper_bound" in t.N.flags else None,
+                                  "ci": _si_ci(t.N.ci, _shown(t.N), self.noise_density)},
                 "random_walk": {"value": self.random_walk, "unit": si[2],
                                 "convention": "continuous",
                                 "bound": "upper" if self.random_walk_bound else None,
                                 "correlation_time_s": self.random_walk_t_s,
-                                "ci": _si_ci(t.K.ci, t.K.value, self.random_walk)},
+                                "ci": _si_ci(t.K.ci, _shown(t.K), self.random_walk)},
                 "bias_instability": {"value": self.bias_instability,
                                      "unit": "rad/s" if self.kind == "gyro" else "m/s^2",
                                      "bound": "upper" if self.bias_instability_bound else None,
-                                     "ci": _si_ci(t.B.ci, t.B.value, self.bias_instability)},
+                                     "ci": _si_ci(t.B.ci, _shown(t.B), self.bias_instability)},
                 "terms": t.to_dict(),
                 "model_dev": [float(v) for v in t.model_dev(self.deviation.taus_s)]})
         if self.drift is not None:
@@ -162,6 +163,13 @@ def _unit_of(axes, kind: str, name: str) -> str:
         if a.kind == kind and a.terms is not None:
             return getattr(a.terms, name).unit
     return "-"
+
+
+def _shown(term) -> float:
+    """The number a term shows: its bound where it is one, else its value."""
+    if "upper_bound" in term.flags and np.isfinite(term.upper_bound):
+        return float(term.upper_bound)
+    return float(term.value)
 
 
 def _si_ci(ci, value, si_value):
@@ -248,10 +256,27 @@ class IMUNoise:
                "and random walk = K in SI, continuous time (what Kalibr/ROS take)."]
         out += [f"{a.axis} ({a.column}) {a.status}: {a.reason}" for a in self.axes
                 if a.status != "ok" and a.reason]
+        f = self.fitted_on
+        if f["n_samples"] != self.n_samples:
+            out.append(f"The terms are fitted on samples {f['first_sample']} to "
+                       f"{f['first_sample'] + f['n_samples'] - 1} ({f['n_samples']} of "
+                       f"{self.n_samples}: checked on the second half); the rest of the log "
+                       "checks them. Without that check the whole log is fitted, and the numbers "
+                       "differ.")
+        if self.settings.get("source_note"):
+            out.append("Source: " + self.settings["source_note"] + ".")
         return out
+
+    @property
+    def fitted_on(self) -> dict:
+        """``{"first_sample", "n_samples"}``: the samples the terms were fitted on (the
+        first half with ``--check-on half``, else the whole log)."""
+        return dict(self.settings.get("fitted_on")
+                    or {"first_sample": 0, "n_samples": int(self.n_samples)})
 
     def to_dict(self) -> dict:
         return {"rate_hz": self.rate_hz, "n_samples": self.n_samples,
+                "fitted_on": self.fitted_on,
                 "axes": [a.to_dict() for a in self.axes],
                 "kalibr": {
                     "gyroscope_noise_density": self.sensor_value("gyro", "noise_density"),
@@ -312,6 +337,9 @@ def _axis(name: str, column: str, y, unit: str, *, rate_hz: float, taus, method:
     c = np.asarray(terms.coefficients, dtype=float)
     # N^2 = c_-1 (unit^2 s): N in unit/sqrt(Hz); K^2 = 3 c_1 (unit^2 / s): K in unit*sqrt(Hz)/s
     density = to_si(math.sqrt(c[1])) if np.isfinite(c[1]) and c[1] > 0 else nan
+    if "upper_bound" in terms.N.flags and np.isfinite(terms.N.upper_bound):
+        # N only a bound: the density written is the bound (the JSON and table alike)
+        density = to_si(terms.N.upper_bound / _report_factor(terms, "N"))
     k_bound = "upper_bound" in terms.K.flags or "not_observable" in terms.K.flags
     if np.isfinite(c[3]) and c[3] > 0 and not k_bound:
         rw = to_si(math.sqrt(3.0 * c[3]))
@@ -339,11 +367,13 @@ def _axis(name: str, column: str, y, unit: str, *, rate_hz: float, taus, method:
     st = axis_stationarity(fit_y, rate_hz, column)
     axis = replace(axis, stationarity=None if st is None else st.to_dict())
     if drift is not None:
-        from inertialab.workflows.imu_drift import axis_drift, axis_plan
+        from inertialab.workflows.imu_drift import axis_drift
+        from inertialab.workflows.imu_noise_plan import axis_plan_with_interval
 
         y_check = y[y.size // 2:] if drift.check_on == "half" else drift.other.get(name)
         axis = replace(axis, drift=axis_drift(axis, rate_hz, drift, y_check, stationarity=st),
-                       plan=axis_plan(axis, rate_hz, fit_y.size) if drift.plan else None)
+                       plan=axis_plan_with_interval(axis, rate_hz, fit_y.size) if drift.plan
+                       else None)
     return axis
 
 
@@ -353,9 +383,9 @@ BI = math.sqrt(2.0 * math.log(2.0) / math.pi)
 
 def _report_factor(terms, name: str) -> float:
     """Report unit of a term per its native unit (data unit based) for a fit."""
-    from inertialab.noise._terms_base import _Converter
+    from inertialab.workflows.imu_noise_plan import report_factor
 
-    return _Converter(terms.unit, terms.kind, terms.g_local).factor(name)
+    return report_factor(terms, name)
 
 
 def _deviation(y, rate_hz, taus, confidence):
@@ -446,6 +476,9 @@ def analyse_imu(columns: dict, *, rate_hz: float, taus="octave", method: str = "
     if drift is not None:
         settings["drift"] = drift.to_dict()
     settings["warmup"] = {k: wu[k] for k in ("setting", "span_s", "from")}
+    half = drift is not None and drift.check_on == "half"
+    settings["fitted_on"] = {"first_sample": int(wu["n_samples"]),
+                             "n_samples": n // 2 if half else n}
     return IMUNoise(axes=tuple(out), rate_hz=float(rate_hz), n_samples=n, settings=settings)
 
 
@@ -468,10 +501,11 @@ def analyse_record(rec, *, rate_hz: float | None = None, taus="octave", method: 
 
         preflight(rec, "imu")  # the checks `validate --kind imu` runs
     else:
-        from inertialab.io.preflight import check_length
+        from inertialab.io.preflight import check_length, check_varying
         from inertialab.io.unit_check import check_static_units
 
         check_length(rec, "imu")  # preflight's length and unit checks, with the rate given
+        check_varying(rec)
         check_static_units(rec)
     cols = axis_columns(rec)
     if not cols:
@@ -518,8 +552,8 @@ def filtered_source_note(rec) -> str | None:
     from inertialab.errors import DataQualityWarning
 
     note = ("read from PX4's sensor_combined, the flight controller's filtered output: its "
-            "noise is the filter's, not the sensor's; read the raw sensors with --topic "
-            "sensor_gyro and --topic sensor_accel")
+            "noise is the filter's, not the sensor's; read the raw sensors: argument 'topic' "
+            "sensor_gyro, then sensor_accel")
     warnings.warn(f"{rec.path}: {note}", DataQualityWarning, stacklevel=3)
     return note
 
@@ -560,17 +594,24 @@ def analyse_file(file, *, read=None, unit=None, rate=None, gaps=None, g_local=No
                                warmup=warmup)
 
 
-def export_pairs(export) -> list[tuple[str, str]]:
-    """``[(target, file), ...]`` of one ``(target, file)`` pair or a list of them
-    (``--export`` given several times); two exports to one file are refused."""
+def export_pairs(export, *, seen=()) -> list[tuple[str, str]]:
+    """``[(target, file), ...]`` of one ``(target, file)`` pair or a list of them;
+    ``seen``: every pair of a command line where the option was repeated (taken when its
+    last pair is ``export``). Two exports to one file are refused."""
+    from inertialab.io.exporters import get
+
+    if export and seen and tuple(seen[-1]) == tuple(export):
+        export = list(seen)
     if not export:
         return []
     pairs = [tuple(export)] if isinstance(export[0], str) else [tuple(e) for e in export]
+    for target, _ in pairs:
+        get("noise", target)  # an unknown target before anything is read
     files = [str(f) for _, f in pairs]
     dup = next((f for f in files if files.count(f) > 1), None)
     if dup is not None:
-        raise InputError(f"--export: two exports write the same file '{dup}'; give each its "
-                         "own file")
+        raise InputError(f"argument 'export': two exports write the same file '{dup}'; give "
+                         "each its own file")
     return pairs
 
 
@@ -584,12 +625,29 @@ def export_refusal(res: IMUNoise, *, force: bool = False) -> tuple[str, ...]:
         return ()
     named = ", ".join(f"{a.axis} ({a.status})" for a in bad)
     if not force:
-        raise InputError(f"--export: the axes {named} give no noise parameters a filter can "
+        raise InputError(f"argument 'export': the axes {named} give no noise parameters a "
+                         "filter can "
                          "take (a record that moves describes the motion, not the sensor); "
-                         "nothing written. Record the sensor at rest, or give --force to "
+                         "nothing written. Record the sensor at rest, or give argument 'force' to "
                          "write the other axes' values with this stated in the file")
-    return (f"Written with --force although {named}: those axes are left out, and their "
+    return (f"Written (forced) although {named}: those axes are left out, and their "
             "sensor's value comes from its other axes only.",)
+
+
+def write_exports(res: IMUNoise, pairs, *, rostopic, drift=None, force=False) -> dict:
+    """Write every ``(target, file)`` of ``pairs`` (:func:`export_pairs`; inflated where
+    the drift settings ``drift`` say ``inflate: auto``), refused before any is written
+    while an axis is not usable unless ``force`` (:func:`export_refusal`); returns the
+    JSON settings that name them (``export``, ``export_file``: the last; ``exports``:
+    all; ``force``)."""
+    inflate = (drift or {}).get("inflate")
+    if pairs:
+        export_refusal(res, force=force)
+    done = [(export_noise_file(res, t, f, rostopic=rostopic, inflate=inflate, force=force),
+             str(f)) for t, f in pairs]
+    return {"export": done[-1][0] if done else None,
+            "export_file": done[-1][1] if done else None,
+            "exports": [{"target": t, "file": f} for t, f in done], "force": bool(force)}
 
 
 def export_noise_file(res: IMUNoise, target: str, path, *, rostopic: str, inflate=None,

@@ -15,7 +15,8 @@ a real MEMS gyro's. Three tests, each independent of the noise-term fit:
   (the two real 2.8-h ADIS16405 logs: at most 1.5; a static 11-s PX4 bench log: at most
   1.94; white noise with a 0.5-Hz line: 1.1 once the line is masked).
 * **gross excursions** (:func:`excursion_fraction`): samples further than
-  :data:`EXCURSION_SIGMAS` white-noise sigmas (from the floor) from the 10-s block
+  :data:`EXCURSION_SIGMAS` sigmas (the white floor's, or the robust spread of the
+  samples about their level when larger: lines are no excursions) from the 10-s block
   median; more than :data:`EXCURSION_FRACTION` of the samples is motion (shocks,
   handling).
 * **gravity turning** (:func:`gravity_turn_deg`): the accelerometer triad's 1-s block
@@ -114,7 +115,11 @@ def excursion_fraction(y, rate_hz: float, floor_psd: float) -> float:
         return 0.0
     level = np.repeat(np.median(y[: k * m].reshape(k, m), axis=1), m)
     level = np.concatenate([level, np.full(y.size - level.size, level[-1])])
-    return float(np.mean(np.abs(y - level) > EXCURSION_SIGMAS * sigma))
+    dev = np.abs(y - level)
+    # the robust spread holds what sits in most samples (noise, and lines: a 0.5-Hz
+    # wobble is not an excursion); sparse shocks do not move it
+    sigma = max(sigma, 1.4826 * float(np.median(dev)))
+    return float(np.mean(dev > EXCURSION_SIGMAS * sigma))
 
 
 def gravity_turn_deg(acc, rate_hz: float) -> tuple[float, float]:

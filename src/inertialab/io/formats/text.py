@@ -18,6 +18,9 @@ What a vendor CSV throws at a reader, handled before pandas sees the file:
   the name's suffix (``gx_dps``);
 * a file **without a header** gets the positional names ``col1 .. colN`` (1-based, as a
   spreadsheet counts), so ``gx_rps=col7`` maps its seventh column;
+* a row of **group names** above the names (``Gyro,,,Accel,,`` over
+  ``X,Y,Z,X,Y,Z``: a spreadsheet's merged cells) is carried over its empty cells and
+  joined to the names below (``Gyro X``, ``Accel X``);
 * an exactly **duplicated header name** is refused (pandas would silently rename it
   ``x.1``);
 * the data are read in chunks (bounded memory: about twice the parsed numbers).
@@ -261,11 +264,37 @@ def _guess_decimal(lines: list[str], sep: str) -> str:
     return "."
 
 
+def _is_group_row(row: list[str], ncol: int) -> bool:
+    """A row of group names with gaps (``Gyro,,,Accel,,``: merged cells above the
+    names), as wide as the table."""
+    cells = [c.strip() for c in row]
+    filled = [c for c in cells if c]
+    return (len(cells) == ncol and 2 <= len(filled) < ncol and bool(cells[0])
+            and not any(unit_suffix(c) is not None for c in filled))
+
+
+def _merged_groups(row: list[str]) -> list[str]:
+    """A group row above the names (``Gyro,,,Accel,,`` over ``X,Y,Z,X,Y,Z``: a
+    spreadsheet's merged cells) with each group carried over the empty cells to its
+    right, so that the names below read ``Gyro X, Gyro Y ...``; a row with a unit cell
+    or fewer than two groups is kept as it is."""
+    cells = [c.strip() for c in row]
+    filled = [c for c in cells if c]
+    if len(filled) < 2 or not cells[0] or any(unit_suffix(c) is not None for c in filled):
+        return row
+    out, last = [], ""
+    for c in cells:
+        last = c or last
+        out.append(last)
+    return out
+
+
 def _header_names(rows: list[list[str]], ncol: int, *, path) -> tuple[list[str], dict[str, str]]:
     """Names (one per column) and units from one or more header rows."""
     from inertialab.io.schemas import flexible_bases
 
     rows = [r + [""] * (ncol - len(r)) for r in rows]
+    rows = [_merged_groups(r) if k < len(rows) - 1 else r for k, r in enumerate(rows)]
     names, units = [], {}
     bases = flexible_bases()
     for j in range(ncol):
@@ -375,6 +404,8 @@ def layout_of(lines: list[str], parse=None, *, path=None) -> TextLayout:
             head.pop(0)
         # name row = the last row that is not all units; rows above it are preamble
         name_at = max((k for k, i in enumerate(head) if not _is_unit_row(rows[i])), default=0)
+        if name_at > 0 and _is_group_row(rows[head[name_at - 1]], ncol):
+            name_at -= 1  # group names over the names (merged cells): joined to them
         head = head[name_at:]
     start = head[0] if head else first
     head_rows = [rows[i] for i in head]
