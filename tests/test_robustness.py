@@ -195,11 +195,9 @@ def run_cli(args: list[str]) -> tuple[int, str, str]:
 
 
 def _registered_commands() -> set[str]:
-    import typer
+    from inertialab.cli.main import full_command
 
-    from inertialab.cli.main import build_app
-
-    root = typer.main.get_command(build_app())
+    root = full_command()
     names = set()
     for name, cmd in root.commands.items():
         if cmd.hidden:  # old spellings: aliases of swept commands

@@ -2,8 +2,7 @@
 
 One ``allan`` command with every option: one series
 (:mod:`inertialab.workflows.allan`) or, with ``--imu``, six IMU axes
-(:mod:`inertialab.workflows.imu_noise`, Kalibr/ROS export); ``allan-imu`` is its hidden
-old spelling (``--imu`` on by default). Thin: parse the options, read the record, call
+(:mod:`inertialab.workflows.imu_noise`, Kalibr/ROS export). Thin: parse the options, read the record, call
 the workflow, print the table and the noise terms (or its JSON object), write
 the figure, ``result.json`` and ``model.json`` with ``--out``.
 """
@@ -26,16 +25,15 @@ _IMU_HELP = ("Analyse gyro x/y/z and accelerometer x/y/z together (one table, on
              "noise densities and random walks).")
 
 
-def _allan_command(imu_default: bool):
-    """The ``allan`` command (``imu_default=False``) and its hidden old spelling
-    ``allan-imu`` (``True``): one function, every option."""
+def _allan_command():
+    """The ``allan`` command: one function, every option."""
 
     @reading_options
     @config_command(wa.AllanConfig)
     def allan(
         file: Path = typer.Argument(..., help="Log file: CSV/Parquet (gyro_log) or a .npy "
                                               "column (needs --rate and --unit)."),
-        imu: bool = typer.Option(imu_default, "--imu", help=_IMU_HELP),
+        imu: bool = typer.Option(False, "--imu", help=_IMU_HELP),
         export: tuple[str, str] = typer.Option(None, "--export", help=_EXPORT_HELP),
         rostopic: str = typer.Option("/imu0", "--rostopic", help="IMU topic in the Kalibr, "
                                      "OpenVINS and VINS files (six-axis mode)."),
@@ -43,7 +41,6 @@ def _allan_command(imu_default: bool):
     ):
         """Allan family with confidence intervals and the Q N B K R noise terms; --imu:
         six IMU axes in one table and figure, with Kalibr/ROS export."""
-        command = "allan-imu" if imu_default else "allan"
         if imu or export:
             from inertialab.cli.imu_noise import run_six_axes
 
@@ -53,7 +50,7 @@ def _allan_command(imu_default: bool):
             return run_six_axes(file=file, export=export, rostopic=rostopic, read=read,
                                 unit=c.unit, rate=c.rate, gaps=c.gaps, g_local=c.g_local,
                                 method=c.method, out=run.out, as_json=run.as_json,
-                                quiet=run.quiet, command=command, terms=c.terms is not False,
+                                quiet=run.quiet, command="allan", terms=c.terms is not False,
                                 drift=c.drift_settings(), confidence=c.confidence)
         if any(config.drift_settings().values()):
             raise InputError("--predict-drift, --check-on, --plan and --inflate need --imu")
@@ -75,6 +72,4 @@ def _allan_command(imu_default: bool):
 
 
 def register(app: typer.Typer, groups: dict) -> None:
-    app.command("allan")(_allan_command(False))
-    # old spelling, hidden for one release
-    app.command("allan-imu", hidden=True)(_allan_command(True))
+    app.command("allan")(_allan_command())

@@ -19,11 +19,8 @@ import sys
 import warnings
 from pathlib import Path
 
-import numpy as np
-
 from inertialab import __version__
 from inertialab.io import outputs
-from inertialab.io.modelfile import dependency_versions
 from inertialab.io.names import safe_slug
 from inertialab.io.writers import atomic_write_bytes, atomic_write_text
 from inertialab.jsonable import to_jsonable
@@ -69,6 +66,8 @@ def envelope(command: str, payload: dict, *, inputs=(), settings: dict | None = 
     ``{"path", "sha256"}`` dicts pass through), ``settings``, ``units``, ``warnings``,
     ``meta`` (when given: ``timestamps``), then the payload's keys, and
     ``non_estimable`` listing the keys whose non-finite numbers became null."""
+    from inertialab.io import modelfile  # pydantic: loaded when a result is written
+
     ins = []
     for item in inputs:
         if isinstance(item, dict):
@@ -82,7 +81,7 @@ def envelope(command: str, payload: dict, *, inputs=(), settings: dict | None = 
         "command": command,
         "schema_version": JSON_SCHEMA_VERSION,
         "inertialab_version": __version__,
-        "dependencies": dependency_versions(),
+        "dependencies": modelfile.dependency_versions(),
         "inputs": ins,
         "settings": json_ready(settings or {}),
         "units": dict(units or {}),
@@ -239,6 +238,8 @@ def print_table(columns: list[str], rows: list[list], *, title: str | None = Non
 def _fmt(v) -> str:
     if v is None:
         return "-"
+    import numpy as np  # loaded by then: a result is being printed
+
     if isinstance(v, (float, np.floating)):
         return "nan" if not math.isfinite(v) else f"{v:.4g}"
     return str(v)

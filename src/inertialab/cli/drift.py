@@ -11,8 +11,7 @@ from pathlib import Path
 import typer
 
 from inertialab.cli.options import reading_options
-from inertialab.cli.runner import config_command
-from inertialab.io import read_record
+from inertialab.cli.runner import config_command, read_record
 from inertialab.io.mapping import ReadOptions
 from inertialab.report import commands
 from inertialab.workflows import drift_run as wf

@@ -22,12 +22,14 @@ import inspect
 import math
 import re
 from pathlib import Path
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
 from inertialab.io.formats.registry import formats_with_option
-from inertialab.io.mapping import ReadOptions
+
+if TYPE_CHECKING:
+    from inertialab.io.mapping import ReadOptions
 
 JsonOpt = Annotated[bool, typer.Option("--json", help="Print one JSON object alone on stdout.")]
 QuietOpt = Annotated[bool, typer.Option("--quiet", help="No progress bar or warnings on stderr.")]
@@ -94,6 +96,8 @@ READING_PARAMS: list[inspect.Parameter] = [
 
 
 def _build_read(values: dict[str, Any]) -> ReadOptions:
+    from inertialab.io.mapping import ReadOptions  # pandas: loaded when a command runs
+
     return ReadOptions.from_cli(values.pop("map_text"), values.pop("map_file"), **values)
 
 

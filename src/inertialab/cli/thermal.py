@@ -1,6 +1,5 @@
 """``inertialab thermal fit / apply / export`` (spec 000): each one call to
-:mod:`inertialab.workflows.thermal_run` through the runner (:mod:`inertialab.cli.runner`).
-``thermal compensate`` is the old spelling of ``thermal apply`` (hidden, one release)."""
+:mod:`inertialab.workflows.thermal_run` through the runner (:mod:`inertialab.cli.runner`)."""
 
 from pathlib import Path
 from typing import Annotated
@@ -9,9 +8,8 @@ import typer
 
 from inertialab.cli.common import prepare_out_dir, write_figures
 from inertialab.cli.options import reading_options
-from inertialab.cli.runner import config_command
+from inertialab.cli.runner import config_command, read_record
 from inertialab.errors import InputError
-from inertialab.io import read_record
 from inertialab.io.mapping import ReadOptions
 from inertialab.report import commands
 from inertialab.workflows import thermal_run as wt
@@ -27,7 +25,7 @@ def _load(model: Path):
 
 
 def _apply_command(name: str):
-    """The body of ``thermal apply`` (and of its old spelling ``thermal compensate``)."""
+    """The body of ``thermal apply``."""
 
     @reading_options
     @config_command(wt.ApplyConfig, out="file!", out_help="Output record (.csv or .parquet); "
@@ -90,9 +88,8 @@ def thermal_export(
         rec = _read(config.unit_record, read) if config.unit_record is not None else None
         res = wt.run_export(_load(model), config, unit_record=rec)
         res.write(prepare_out_dir(c))
-        res.inputs = [model] + ([] if rec is None else
-                                [{"path": str(config.unit_record), "sha256": rec.sha256}])
-        return res
+        return res.with_inputs([model] + ([] if rec is None else [
+            {"path": str(config.unit_record), "sha256": rec.sha256}]))
 
     run.execute("thermal export", produce, inputs=lambda res: res.inputs)
 
@@ -101,7 +98,6 @@ def register(app: typer.Typer, groups: dict) -> None:
     thermal = groups["thermal"]
     thermal.command("fit")(reading_options(thermal_fit))
     thermal.command("apply")(_apply_command("thermal apply"))
-    thermal.command("compensate", hidden=True)(_apply_command("thermal compensate"))
     thermal.command("export")(thermal_export)
 
 

@@ -34,13 +34,16 @@ import re
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pandas as pd
 
 from inertialab import units as U
 from inertialab.errors import InputError
 from inertialab.io.formats.text import ParseOptions
+
+if TYPE_CHECKING:  # pandas loads when a table is mapped, not when a command starts
+    import pandas as pd
 
 __all__ = [
     "ColumnMap",
@@ -263,6 +266,8 @@ def _find_source(df: pd.DataFrame, name: str, *, path, header_units=None) -> str
 
 
 def _numeric(s: pd.Series, *, path, column: str) -> pd.Series:
+    import pandas as pd
+
     if pd.api.types.is_numeric_dtype(s) and not pd.api.types.is_bool_dtype(s):
         return s
     conv = pd.to_numeric(s, errors="coerce")
@@ -319,6 +324,8 @@ def apply_map(df: pd.DataFrame, cmap: ColumnMap, *, path=None, g_local: float | 
     values relabelled) declares it; a column whose unit nothing declares or decides is an
     :class:`InputError` naming it and the units it could be.
     """
+    import pandas as pd
+
     from inertialab.io.formats.text import unit_suffix
 
     if not cmap:

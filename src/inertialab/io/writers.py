@@ -14,13 +14,15 @@ import json
 import os
 import tempfile
 from pathlib import Path
-
-import pandas as pd
+from typing import TYPE_CHECKING
 
 from inertialab.errors import InputError
 from inertialab.io import outputs
 from inertialab.io.sidecar import sidecar_path
 from inertialab.jsonable import to_jsonable
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 
 @contextlib.contextmanager

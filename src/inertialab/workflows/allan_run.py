@@ -12,8 +12,8 @@ from pathlib import Path
 
 from inertialab.config import Config, setting
 from inertialab.errors import InputError
+from inertialab.result import ResultBase
 from inertialab.units import CLOCK_RATIO, CLOCK_TIME
-from inertialab.workflows import allan as wf
 from inertialab.workflows.registries import stat_help
 
 __all__ = ["AllanConfig", "AllanRun", "run"]
@@ -85,6 +85,8 @@ class AllanConfig(Config):
 
     def check(self) -> AllanConfig:
         """Bounds and the rules between settings (before any reading)."""
+        from inertialab.workflows import allan as wf
+
         self.validate()
         wf.parse_stats(self.stat)
         wf.parse_taus(self.taus)
@@ -106,7 +108,7 @@ IMU_CONFIDENCE = 0.95
 
 
 @dataclass
-class AllanRun:
+class AllanRun(ResultBase):
     """One series' analysis (:class:`~inertialab.workflows.allan.AllanAnalysis`) and the
     series it came from."""
 
@@ -164,6 +166,7 @@ def run(path, config: AllanConfig, *, options=None, progress=None) -> AllanRun:
     """Read ``path`` (a ``gyro_log``, or a ``clock_log`` for phase/frequency input) and
     compute the requested statistics and noise terms."""
     from inertialab.io import read_record
+    from inertialab.workflows import allan as wf
 
     c = config.check()
     clock = c.input in ("phase", "frequency")

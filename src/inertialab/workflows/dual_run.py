@@ -7,10 +7,14 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from inertialab.config import Config, setting
 from inertialab.errors import InputError
-from inertialab.workflows import dual as wf
+from inertialab.result import ResultBase
+
+if TYPE_CHECKING:  # the study's floors load when a command runs, not for --help
+    from inertialab.workflows import dual as wf
 
 __all__ = ["DesignConfig", "DesignResult", "FitConfig", "FitResult", "run_design", "run_fit"]
 
@@ -35,6 +39,8 @@ class FitConfig(Config):
     g_local: float | None = setting(None, help="Local gravity, m/s^2.", lo=1.0, hi=100.0)
 
     def dual_config(self, *, sensitivity: bool) -> wf.DualConfig:
+        from inertialab.workflows import dual as wf
+
         return wf.DualConfig(methods=wf.parse_methods(self.method), prior=self.prior,
                              second_order=self.second_order, ebr_rule=self.ebr_rule,
                              lambda_combination=self.lambda_combination,
@@ -49,13 +55,19 @@ def _cell(v, sd, f) -> str:
 
 
 @dataclass
-class FitResult:
+class FitResult(ResultBase):
     """The dual fit (:class:`~inertialab.workflows.dual.DualResult`)."""
 
     res: object
     settings: dict
     sha256: str | None = None
-    units = wf.UNITS
+
+    @property
+    def units(self) -> dict:
+        from inertialab.workflows import dual as wf
+
+
+        return wf.UNITS
 
     @property
     def warnings(self) -> list:
@@ -65,9 +77,13 @@ class FitResult:
         return self.res.payload()
 
     def artifacts(self) -> dict:
+        from inertialab.workflows import dual as wf
+
         return {"models": [("model.json", self.res.model, wf.UNITS)]}
 
     def summary_rows(self) -> list:
+        from inertialab.workflows import dual as wf
+
         fit = self.res.fit
         cols = list(fit.methods)
         rows = []
@@ -94,6 +110,8 @@ class FitResult:
 def run_fit(records, config: FitConfig, *, sensitivity: bool = False) -> FitResult:
     """Calibrate two accelerometers tumbled on a dividing head (one record, or two with
     opposite OA signs for the two-orientation fit)."""
+    from inertialab.workflows import dual as wf
+
     c = config.validate()
     if not 1 <= len(records) <= 2:
         raise InputError("give one record, or two for the two-orientation fit")
@@ -118,7 +136,7 @@ class DesignConfig(Config):
 
 
 @dataclass
-class DesignResult:
+class DesignResult(ResultBase):
     """``dual design``: the D-optimal positions beside the equally spaced ones."""
 
     res: dict
@@ -143,6 +161,8 @@ class DesignResult:
 
 def run_design(config: DesignConfig) -> DesignResult:
     """D-optimal dividing-head positions for the identifiable g^2 harmonic model."""
+    from inertialab.workflows import dual as wf
+
     c = config.validate()
     res = wf.design(c.positions, range_deg=c.range_deg, step_deg=c.step_deg)
     return DesignResult(res=res, settings=c.to_dict())

@@ -4,20 +4,20 @@ and the model types (:mod:`inertialab.calib.model_types`, imported when a model 
 loaded: it imports every model class).
 
 The command line imports no method or model floor; it asks here for its choices and
-help texts, so a new statistic or exporter appears there with no CLI change.
+help texts, so a new statistic or exporter appears there with no CLI change. Each
+registry is imported when asked for, so a command's ``--help`` loads only its own.
 """
 
 from __future__ import annotations
-
-from inertialab.io import exporters
-from inertialab.noise import registry as _stats
 
 __all__ = ["export_help", "export_targets", "load_model", "stat_help", "stat_names"]
 
 
 def stat_names() -> tuple[str, ...]:
     """The statistic names ``--stat`` takes, canonical order."""
-    return _stats.names()
+    from inertialab.noise import registry
+
+    return registry.names()
 
 
 def stat_help() -> str:
@@ -27,11 +27,15 @@ def stat_help() -> str:
 
 def export_targets(kind: str) -> tuple[str, ...]:
     """The export targets of ``kind`` (``noise``, ``calibration`` or ``thermal``)."""
+    from inertialab.io import exporters
+
     return exporters.targets(kind)
 
 
 def export_help(kind: str) -> str:
     """Help text listing the export targets of ``kind`` and their tools."""
+    from inertialab.io import exporters
+
     return " | ".join(f"{e.target} ({e.tool})" for e in exporters.EXPORTERS if e.kind == kind)
 
 

@@ -34,12 +34,14 @@ import os
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
-
-import pandas as pd
+from typing import TYPE_CHECKING
 
 from inertialab import units as U
 from inertialab.errors import InputError
 from inertialab.limits import MAX_COLUMNS, regular_input
+
+if TYPE_CHECKING:  # pandas loads when a table is read, not when a command starts
+    import pandas as pd
 
 __all__ = ["MAX_TEXT_BYTES", "TextLayout", "TextTable", "layout_of", "load_text", "unit_suffix"]
 
@@ -433,6 +435,8 @@ def load_text(path, parse=None, *, nrows: int | None = None) -> TextTable:
               comment=None, index_col=False)
     if lay.sep != r"\s+":
         kw["skipinitialspace"] = True
+    import pandas as pd
+
     try:
         if nrows is not None:
             df = pd.read_csv(p, nrows=nrows, **kw)
