@@ -22,7 +22,7 @@ from inertialab.errors import ExtrapolationWarning, InputError, NotFittedError
 from inertialab.estimator import Estimator
 
 
-def _monomials(n_features: int, degree: int, *, interaction: bool,
+def monomials(n_features: int, degree: int, *, interaction: bool,
                degrees=None) -> list[tuple[int, ...]]:
     """Exponent tuples of every monomial up to ``degree``.
 
@@ -116,7 +116,7 @@ class PolynomialRegressor(Estimator):
             raise InputError(f"X has {X.shape[0]} rows but y has {y.size}")
         if not (np.all(np.isfinite(X)) and np.all(np.isfinite(y))):
             raise InputError("X and y must be finite")
-        self.powers_ = _monomials(X.shape[1], int(self.degree), interaction=self.interaction,
+        self.powers_ = monomials(X.shape[1], int(self.degree), interaction=self.interaction,
                                   degrees=self.degrees)
         if y.size < len(self.powers_):
             raise InputError(

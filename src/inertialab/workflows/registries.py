@@ -14,7 +14,13 @@ __all__ = ["export_help", "export_targets", "load_model", "stat_help", "stat_nam
 
 
 def stat_names() -> tuple[str, ...]:
-    """The statistic names ``--stat`` takes, canonical order."""
+    """The statistic names ``--stat`` takes, canonical order.
+
+    Examples
+    --------
+    >>> stat_names()[:3]
+    ('adev', 'oadev', 'mdev')
+    """
     from inertialab.noise import registry
 
     return registry.names()
@@ -26,7 +32,13 @@ def stat_help() -> str:
 
 
 def export_targets(kind: str) -> tuple[str, ...]:
-    """The export targets of ``kind`` (``noise``, ``calibration`` or ``thermal``)."""
+    """The export targets of ``kind`` (``noise``, ``calibration`` or ``thermal``).
+
+    Examples
+    --------
+    >>> "kalibr" in export_targets("noise")
+    True
+    """
     from inertialab.io import exporters
 
     return exporters.targets(kind)

@@ -33,8 +33,8 @@ from inertialab.calib.triaxial import (  # noqa: F401 - re-exported for callers 
     METHODS,
     CalibrationFit,
     TriaxialCalibration,
-    _lm,
     calibrate,
+    fit_lm,
     initial_estimate,
 )
 from inertialab.calib.triaxial_batch import BatchCalibration, calibrate_batch  # noqa: F401
@@ -276,7 +276,7 @@ def raw_log_data(t, acc_raw, meta: dict | None = None, *, suffix: str = "mps2",
     def score(iv: StaticIntervals) -> float:
         try:
             x0, _ = initial_estimate(iv.mean, objective="norm", g=g, counts=counts)
-            res = _lm(iv.mean, None, "norm", g, x0)
+            res = fit_lm(iv.mean, None, "norm", g, x0)
             return float(np.sqrt(np.mean(res.residuals**2)))
         except (InputError, np.linalg.LinAlgError):
             return float("inf")
