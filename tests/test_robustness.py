@@ -392,9 +392,12 @@ def test_user_errors_from_the_environment_are_exit_2_lines():
 
 
 @pytest.mark.parametrize("argv, what", [
-    (["allan", "x.csv", "--rate", "1e308"], "--rate is a sample rate"),
-    (["allan", "x.csv", "--rate=1e-308"], "--rate is a sample rate"),
-    (["allan", "x.csv", "--rate", "nan"], "--rate is a sample rate"),
+    (["allan", "x.csv", "--rate", "1e308"], "--rate must be"),
+    (["allan", "x.csv", "--rate=1e-308"], "--rate must be"),
+    (["allan", "x.csv", "--rate", "nan"], "--rate must be"),
+    (["vibration", "fit", "x.csv", "--rate", "1e308"], "--rate must be a rate between"),
+    (["thermal", "fit", "x.csv", "--try-number", "20000"], "--try-number must be from 1 to"),
+    (["drift", "fit", "x.csv", "--tol-bias-ug", "0"], "--tol-bias-ug must be from 1e-09"),
     (["allan", "x.csv", "--taus", "1e11"], "--taus in seconds"),
     (["allan", "x.csv", "--taus", "99999999999999"], "--taus count"),
     (["dual", "design", "--positions", "100000000"], "--positions"),

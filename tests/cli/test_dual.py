@@ -118,7 +118,7 @@ def test_old_spellings_are_gone(records, capsys):
     (["--positions", "100000000"], "--positions"),  # main's size bound or ours
     (["--positions", "1000"], "--positions must be an integer from 7 to 360"),
     (["--positions", "20", "--step-deg", "1e-9"], "--step-deg = 1e-09 gives"),
-    (["--range-deg", "0", "inf"], "must be finite"),
+    (["--range-deg", "0", "inf"], "--range-deg must be from -720 to 720, got inf"),
     (["--positions", "300", "--range-deg", "0", "90"], "exceeds the 91 candidate angles"),
 ])
 def test_design_sizes_are_bounded(capsys, args, pattern):

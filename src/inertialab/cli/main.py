@@ -30,7 +30,7 @@ import typer  # noqa: E402
 
 from inertialab import __version__  # noqa: E402
 from inertialab import signals as _signals  # noqa: E402
-from inertialab.cli.options import check_limits, check_out_targets  # noqa: E402
+from inertialab.cli.options import check_out_targets  # noqa: E402
 from inertialab.config import read_run_config  # noqa: E402
 from inertialab.errors import InputError  # noqa: E402
 
@@ -348,7 +348,6 @@ def main(argv: list[str] | None = None) -> None:
     try:
         args = expand_config(args)
         files = _input_files(args)
-        check_limits(args)
         check_out_targets(args)
         cmd = typer.main.get_command(build_app())
         with outputs.transaction(protect=files) as tx:

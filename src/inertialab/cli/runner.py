@@ -216,6 +216,7 @@ def config_command(config_cls, *, out: str | None = "dir", out_help: str | None 
 
         pos = [p for p in own if p.kind != inspect.Parameter.KEYWORD_ONLY]
         kw = [p for p in own if p.kind == inspect.Parameter.KEYWORD_ONLY]
+        wrapper.__config__ = config_cls  # the settings this command offers (tests walk them)
         wrapper.__signature__ = sig.replace(parameters=pos + params + list(common.values()) + kw)
         wrapper.__annotations__ = {p.name: p.annotation for p in
                                    pos + params + list(common.values()) + kw}

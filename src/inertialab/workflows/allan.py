@@ -407,12 +407,32 @@ def parse_stats(stats) -> tuple:
     return tuple(out)
 
 
+#: ``taus``: at most this many log-spaced taus, and taus in seconds up to this (a larger
+#: request is refused before any work instead of allocating or looping without end).
+MAX_TAU_COUNT = 100_000
+MAX_TAU_S = 1e10
+
+
 def parse_taus(taus: str):
-    """``"octave" | "decade" | "many" | "all" | "<int>" | "0.1,1,10"`` (seconds)."""
+    """The one grammar of the ``taus`` setting: ``"octave" | "decade" | "many" | "all" |
+    "<count>" | "0.1,1,10"`` (seconds), with its bounds (:data:`MAX_TAU_COUNT`,
+    :data:`MAX_TAU_S`); the value :func:`inertialab.noise.allan.tau_grid` takes.
+
+    Examples
+    --------
+    >>> parse_taus("Octave"), parse_taus("20"), parse_taus("0.1, 1,10")
+    ('octave', 20, [0.1, 1.0, 10.0])
+    >>> parse_taus("0")
+    Traceback (most recent call last):
+    ...
+    inertialab.errors.InputError: argument 'taus' count must be 1 .. 100000, got 0
+    """
     t = str(taus).strip().lower()
     if t in ("octave", "decade", "many", "all"):
         return t
     if t.isdigit():
+        if len(t) > 12 or not 1 <= int(t) <= MAX_TAU_COUNT:
+            raise InputError(f"argument 'taus' count must be 1 .. {MAX_TAU_COUNT}, got {t[:20]}")
         return int(t)
     try:
         vals = [float(v) for v in t.split(",") if v.strip()]
@@ -421,6 +441,9 @@ def parse_taus(taus: str):
                          f"'{taus}'") from None
     if not vals:
         raise InputError("argument 'taus' is empty")
+    if not all(math.isfinite(v) and 0 < v <= MAX_TAU_S for v in vals):
+        raise InputError(f"argument 'taus' in seconds must be finite, > 0 and <= {MAX_TAU_S:g}, "
+                         f"got {t[:40]}")
     return vals
 
 

@@ -80,9 +80,9 @@ class BatchConfig(Config):
                                                      "or repeated).")
     strict: bool = setting(False, help="Exit 2 when any unit could not be processed.")
     unit: str | None = setting(None, help="Unit suffix for columns without one.")
-    rate: float | None = setting(None, help="Sample rate in Hz (allan).")
+    rate: float | None = setting(None, help="Sample rate in Hz (allan).", lo=1e-9, hi=1e9)
     gaps: str = setting("error", help="error | split (allan logs).", choices=("error", "split"))
-    g_local: float | None = setting(None, help="Local gravity, m/s^2.")
+    g_local: float | None = setting(None, help="Local gravity, m/s^2.", lo=1.0, hi=100.0)
     model: Path | None = setting(None, help="Model file (thermal compensate).")
 
 

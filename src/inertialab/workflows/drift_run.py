@@ -74,9 +74,9 @@ class FitConfig(_Common):
                                                 "last test); later days are scored as holdout.",
                                      lo=-10**7, hi=10**7)
     tol_bias_ug: float | None = setting(None, help="Bias tolerance (default: sidecar, else 50).",
-                                        unit="ug", lo=0.0, hi=1e9)
+                                        unit="ug", lo=1e-9, hi=1e9)
     tol_sf_ppm: float | None = setting(None, help="Scale-factor tolerance (default: sidecar, "
-                                                  "else 50).", unit="ppm", lo=0.0, hi=1e9)
+                                                  "else 50).", unit="ppm", lo=1e-9, hi=1e9)
     max_gap: int = setting(3, help="Longest gap (steps) interpolated.", lo=0, hi=36_500)
     hampel: bool = setting(False, help="Hampel outlier screen (spec 004 §2.2).")
     arima: bool = setting(False, help="Add the ARIMA-by-AIC baseline (slow).")

@@ -131,7 +131,7 @@ class DesignConfig(Config):
 
     positions: int = setting(20, help="Number of positions (7 to 360).")
     range_deg: tuple[float, float] = setting((0.0, 360.0), help="Allowed angle range LO HI "
-                                                                "(deg).")
+                                                                "(deg).", lo=-720.0, hi=720.0)
     step_deg: float = setting(1.0, help="Candidate grid step (deg; at most 3601 candidates).")
 
 

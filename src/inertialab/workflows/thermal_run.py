@@ -63,7 +63,7 @@ class FitConfig(Config):
     # visual, step and crowd lie in (0, 1]: checked with that message by ThermalConfig
     visual: float = setting(0.30, help="IAFSA initial visual range, unit-cube units (0.30).")
     step: float = setting(0.10, help="IAFSA initial step, unit-cube units (0.10).")
-    try_number: int = setting(5, help="IAFSA prey attempts (5).", lo=1, hi=10_000)
+    try_number: int = setting(5, help="IAFSA prey attempts (5).", lo=1, hi=1000)
     crowd: float = setting(0.618, help="IAFSA crowd factor (0.618).")
     seed: int = seed_setting("Random seed (same seed, same numbers).")
 
