@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from inertialab import units
+from inertialab.config import DEFAULT_CONFIDENCE
 from inertialab.errors import DataQualityWarning, InputError
 from inertialab.noise import registry as stat_registry
 from inertialab.noise._phase import PageReleaser
@@ -561,7 +562,7 @@ def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: st
     # one confidence for the curves and the terms when given (the command's); else the
     # curves at 0.683 (1 sigma, Stable32's) and the terms at their benchmarked 0.95
     terms_conf = CONFIDENCE if confidence is None else confidence
-    confidence = 0.683 if confidence is None else confidence
+    confidence = DEFAULT_CONFIDENCE["clock"] if confidence is None else confidence
     results = []
     common = dict(rate_hz=log.rate_hz, taus=taus, input=log.input, confidence=confidence,
                   alpha=alpha, edf_method=edf_method,

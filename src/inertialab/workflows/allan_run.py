@@ -10,7 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from inertialab.config import Config, setting
+from inertialab.config import DEFAULT_CONFIDENCE, Config, setting
 from inertialab.errors import InputError
 from inertialab.result import ResultBase
 from inertialab.units import CLOCK_RATIO, CLOCK_TIME
@@ -102,9 +102,9 @@ class AllanConfig(Config):
         return self
 
 
-#: default confidence of an IMU log's intervals (curve and noise terms alike; the noise
-#: terms' coverage is benchmarked at 95 %, docs/noise-terms.md)
-IMU_CONFIDENCE = 0.95
+#: default confidence of an IMU log's intervals (curve and noise terms alike), from the
+#: one table :data:`inertialab.config.DEFAULT_CONFIDENCE`
+IMU_CONFIDENCE = DEFAULT_CONFIDENCE["imu"]
 
 
 @dataclass
@@ -186,7 +186,8 @@ def run(path, config: AllanConfig, *, options=None, progress=None) -> AllanRun:
                              g_local=c.g_local)
         sha = rec.sha256
     stats = wf.parse_stats(c.stat)
-    conf = c.confidence if c.confidence is not None else (0.683 if clock else IMU_CONFIDENCE)
+    conf = c.confidence if c.confidence is not None else \
+        DEFAULT_CONFIDENCE["clock" if clock else "imu"]
     res = wf.analyze(log, stats=stats, taus=wf.parse_taus(c.taus), confidence=conf,
                      method=c.method, fit_terms=c.terms, bias_correction=c.bias_correction,
                      progress=progress)
