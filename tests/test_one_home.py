@@ -129,3 +129,14 @@ def test_one_confidence_default_per_record_kind():
     assert not new, f"a confidence default spelled as a number (use inertialab.config.DEFAULT_CONFIDENCE): {new}"
     gone = sorted(CONFIDENCE_SITES_LEFT - found)
     assert not gone, f"remove from CONFIDENCE_SITES_LEFT: {gone}"
+
+
+def test_one_saturation_detector():
+    """Rails and the test of a sample against them live in io/gaps.py (``rails``,
+    ``at_rails``, used by ``detect_saturation`` and the triaxial workflow); no other module
+    defines a saturation detector."""
+    defs = sorted(f"{p.relative_to(SRC).as_posix()}:{n.name}" for p in SRC.rglob("*.py")
+                  for n in ast.walk(ast.parse(p.read_text()))
+                  if isinstance(n, ast.FunctionDef)
+                  and any(w in n.name for w in ("saturat", "rails")))
+    assert defs == ["io/gaps.py:at_rails", "io/gaps.py:detect_saturation", "io/gaps.py:rails"]
