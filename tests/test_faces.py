@@ -68,7 +68,6 @@ WITHOUT_EXAMPLES = {
     "inertialab.io.read_envelope",
     "inertialab.io.read_record",
     "inertialab.io.read_sidecar",
-    "inertialab.io.save_model",
     "inertialab.io.sidecar_path",
     "inertialab.io.validate_frame",
     "inertialab.io.write_record",

@@ -140,3 +140,29 @@ def test_one_saturation_detector():
                   if isinstance(n, ast.FunctionDef)
                   and any(w in n.name for w in ("saturat", "rails")))
     assert defs == ["io/gaps.py:at_rails", "io/gaps.py:detect_saturation", "io/gaps.py:rails"]
+
+
+def test_one_model_load_save_pair(tmp_path):
+    """inertialab.calib.load_model / save_model are the pair (the command line reaches them
+    through inertialab.workflows.registries); the old io spelling warns and still works."""
+    import warnings
+
+    import numpy as np
+    import pytest
+
+    from inertialab.calib import load_model, save_model
+    from inertialab.learn.poly import PolynomialRegressor
+
+    model = PolynomialRegressor(degree=1).fit(np.c_[np.arange(5.0)], 2.0 * np.arange(5.0) + 1)
+    save_model(model, tmp_path / "m.json")
+    back = load_model(tmp_path / "m.json", expected_type="polynomial")
+    assert np.allclose(back.predict(np.c_[[7.0]]), 15.0)
+    with pytest.raises(TypeError, match="not a registered model type"):
+        save_model(object(), tmp_path / "x.json")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        from inertialab.io import save_model as old
+    assert old is not None and any(issubclass(w.category, DeprecationWarning) for w in caught)
+    import inertialab.io
+
+    assert "save_model" not in inertialab.io.__all__

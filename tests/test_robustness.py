@@ -154,7 +154,7 @@ def edited_envelope(draw, env: dict):
 def test_model_files_with_edited_fields(tmp_path_factory):
     import numpy as np
 
-    from inertialab.io import save_model
+    from inertialab.io.modelfile import save_model
     from inertialab.learn.poly import PolynomialRegressor
 
     d0 = tmp_path_factory.mktemp("m")

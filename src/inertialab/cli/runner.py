@@ -128,7 +128,7 @@ class Run:
 
     @staticmethod
     def _write(out_dir, result, env, figures, after) -> None:
-        from inertialab.io import save_model
+        from inertialab.workflows.registries import save_model
 
         sha = result.sha256  # the training record's canonical hash
         art = result.artifacts()

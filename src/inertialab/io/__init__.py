@@ -33,10 +33,18 @@ _FACE = {
     "write_record": "writers",
 }
 
-__all__ = sorted(_FACE)
+#: ``save_model`` still resolves (deprecated: :func:`inertialab.calib.save_model` is the
+#: pair of :func:`inertialab.calib.load_model`) but is no longer part of the face.
+__all__ = sorted(set(_FACE) - {"save_model"})
 
 
 def __getattr__(name):  # PEP 562: the public face, imported on first use
+    if name == "save_model":  # the one pair is inertialab.calib.load_model / save_model
+        import warnings
+
+        warnings.warn("inertialab.io.save_model is deprecated: use inertialab.calib.save_model "
+                      "(with load_model, the one pair; it refuses unregistered types)",
+                      DeprecationWarning, stacklevel=2)
     module = _FACE.get(name)
     if module is None:
         raise AttributeError(f"module 'inertialab.io' has no attribute {name!r}")

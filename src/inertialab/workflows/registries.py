@@ -10,7 +10,7 @@ registry is imported when asked for, so a command's ``--help`` loads only its ow
 
 from __future__ import annotations
 
-__all__ = ["export_help", "export_targets", "load_model", "stat_help", "stat_names"]
+__all__ = ["export_help", "export_targets", "load_model", "save_model", "stat_help", "stat_names"]
 
 
 def stat_names() -> tuple[str, ...]:
@@ -57,3 +57,11 @@ def load_model(path, *, expected_type: str | None = None):
     from inertialab.calib.model_types import load_model as _load
 
     return _load(path, expected_type=expected_type)
+
+
+def save_model(obj, path, **kw):
+    """Write a model of a registered type (:func:`inertialab.calib.save_model`, the one
+    load/save pair; ``kw`` as :func:`inertialab.io.modelfile.save_model`)."""
+    from inertialab.calib.model_types import save_model as _save
+
+    return _save(obj, path, **kw)
