@@ -1,5 +1,5 @@
 """``inertialab dual fit`` and ``inertialab dual design`` (spec 003), each one call to
-:mod:`inertialab.workflows.dual_run` through the runner.
+:mod:`inertialab.workflows.dual` through the runner.
 
 No ``from __future__ import annotations`` here: the shared options are ``Annotated``
 aliases that typer must see as objects through :func:`~inertialab.cli.options.reading_options`.
@@ -14,7 +14,7 @@ from inertialab.cli.runner import config_command, read_record
 from inertialab.errors import InputError
 from inertialab.io.mapping import ReadOptions
 from inertialab.report import commands
-from inertialab.workflows import dual_run as wd
+from inertialab.workflows import dual as wd
 
 
 @reading_options
