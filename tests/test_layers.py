@@ -238,3 +238,24 @@ def test_no_function_above_100_lines():
                     bad.append(f"{rel}:{node.name}: {n} lines (at most {limit})")
     assert not bad, "functions too long:\n" + "\n".join(bad)
 
+
+
+def test_cli_reads_inputs_only_through_the_runner():
+    """In cli/, only runner.py reads a record or a model file (read_record, load_model)
+    or parses JSON; the command modules ask the runner. (cli/imu_noise.py, the six-axis
+    mode, still runs on its own until it moves onto the runner; main.py reads the --config
+    TOML of a run, not an input.)"""
+    readers = {"read_record", "load_model", "read_envelope", "loads", "load"}
+    bad = []
+    for path in sorted((SRC / "cli").glob("*.py")):
+        if path.name in ("runner.py", "imu_noise.py", "main.py"):
+            continue
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom) and node.module and \
+                    node.module.startswith("inertialab.") and node.module != "inertialab.cli.runner":
+                bad += [f"{path.name}: {node.module}.{a.name}" for a in node.names
+                        if a.name in readers]
+            if isinstance(node, ast.Attribute) and node.attr in ("loads", "load") and \
+                    getattr(node.value, "id", "") == "json":
+                bad.append(f"{path.name}:{node.lineno}: json.{node.attr}")
+    assert not bad, bad

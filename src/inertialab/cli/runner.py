@@ -59,7 +59,7 @@ from inertialab.cli.options import FLAG_OF, JsonOpt, OutDirOpt, OutFileOpt, Quie
 from inertialab.errors import InputError
 from inertialab.result import check_result
 
-__all__ = ["Run", "config_command", "read_record"]
+__all__ = ["Run", "config_command", "load_model", "read_record"]
 
 _COMMON = {name: inspect.Parameter(name, inspect.Parameter.KEYWORD_ONLY, default=False,
                                    annotation=ann)
@@ -164,6 +164,14 @@ def read_record(path, kind, **kw):
     from inertialab.io import readers
 
     return readers.read_record(path, kind, **kw)
+
+
+def load_model(path, *, expected_type: str | None = None):
+    """The model file a command reads (:func:`inertialab.calib.load_model` through
+    :func:`inertialab.workflows.registries.load_model`), loaded when the command runs."""
+    from inertialab.workflows.registries import load_model as _load
+
+    return _load(path, expected_type=expected_type)
 
 
 def _hints(cls) -> dict:

@@ -8,12 +8,11 @@ import typer
 
 from inertialab.cli.common import prepare_out_dir, write_figures
 from inertialab.cli.options import reading_options
-from inertialab.cli.runner import config_command, read_record
+from inertialab.cli.runner import config_command, load_model, read_record
 from inertialab.errors import InputError
 from inertialab.io.mapping import ReadOptions
 from inertialab.report import commands
 from inertialab.workflows import thermal_run as wt
-from inertialab.workflows.registries import load_model
 
 
 def _read(path: Path, read: ReadOptions):

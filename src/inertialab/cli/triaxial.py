@@ -9,11 +9,11 @@ from pathlib import Path
 import typer
 
 from inertialab.cli.options import reading_options
-from inertialab.cli.runner import config_command
+from inertialab.cli.runner import config_command, load_model
 from inertialab.io.mapping import ReadOptions
 from inertialab.report import commands
 from inertialab.workflows import triaxial_run as wr
-from inertialab.workflows.registries import export_help, load_model
+from inertialab.workflows.registries import export_help
 
 _TARGETS_HELP = export_help("calibration")
 
