@@ -23,7 +23,6 @@ from inertialab import __version__
 from inertialab.io import outputs
 from inertialab.io.names import safe_slug
 from inertialab.io.writers import atomic_write_bytes, atomic_write_text
-from inertialab.jsonable import to_jsonable
 
 JSON_SCHEMA_VERSION = 1
 
@@ -55,6 +54,8 @@ def file_sha256(path) -> str:
 def json_ready(obj, path: str = "", nulls: list[str] | None = None):
     """Plain-JSON copy of ``obj`` (see :func:`inertialab.jsonable.to_jsonable`); the key
     paths of non-finite floats are appended to ``nulls``."""
+    from inertialab.jsonable import to_jsonable  # numpy: loaded when a result is written
+
     return to_jsonable(obj, nulls=nulls, path=path)
 
 

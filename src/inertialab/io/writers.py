@@ -19,7 +19,6 @@ from typing import TYPE_CHECKING
 from inertialab.errors import InputError
 from inertialab.io import outputs
 from inertialab.io.sidecar import sidecar_path
-from inertialab.jsonable import to_jsonable
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -132,6 +131,8 @@ def _write_data(df: pd.DataFrame, p: Path, suffix: str) -> None:
 def write_sidecar(path: str | Path, meta: dict) -> Path:
     """Write ``meta`` as the JSON sidecar of data file ``path`` (atomically)."""
     sp = sidecar_path(path)
+    from inertialab.jsonable import to_jsonable  # numpy: loaded when a record is written
+
     text = json.dumps(to_jsonable(meta), indent=2, sort_keys=True, allow_nan=False)
     atomic_write_text(sp, text + "\n")
     return sp
