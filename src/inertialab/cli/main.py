@@ -144,7 +144,15 @@ def _root_class():
 
 def build_app() -> typer.Typer:
     """The typer app: the root group and its ``--version``; each command's module is
-    imported when the command line names that command (:data:`TOP_LEVEL`)."""
+    imported when the command line names that command (:data:`TOP_LEVEL`).
+
+    Examples
+    --------
+    >>> import typer
+    >>> root = typer.main.get_command(build_app())
+    >>> root.list_commands(None)[:4], root.commands
+    (['allan', 'batch', 'demo', 'validate'], {})
+    """
     app = _typer(name="inertialab",
                  help="Inertial-sensor test records to noise figures, calibration, error "
                       "models, compensation and forecasts.",
@@ -160,7 +168,13 @@ def build_app() -> typer.Typer:
 
 def full_command():
     """The root click group with every command loaded (for the documentation and the
-    tests that walk the whole command line)."""
+    tests that walk the whole command line).
+
+    Examples
+    --------
+    >>> sorted(full_command().commands["drift"].commands)
+    ['apply', 'evaluate', 'fit', 'forecast']
+    """
     root = typer.main.get_command(build_app())
     for name in root.list_commands(None):
         root.get_command(None, name)

@@ -49,6 +49,14 @@ def monomials(n_features: int, degree: int, *, interaction: bool,
 class PolynomialRegressor(Estimator):
     """Least-squares polynomial in one or more inputs.
 
+    Examples
+    --------
+    >>> import numpy as np
+    >>> x = np.c_[np.arange(6.0)]
+    >>> model = PolynomialRegressor(degree=2).fit(x, x[:, 0] ** 2 - 1)
+    >>> np.round(model.predict(np.c_[[2.5]]), 6)
+    array([5.25])
+
     Parameters
     ----------
     degree : int, default=4

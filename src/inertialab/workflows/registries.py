@@ -53,7 +53,15 @@ def export_help(kind: str) -> str:
 
 def load_model(path, *, expected_type: str | None = None):
     """Load a model file of any registered type (refusing another type than
-    ``expected_type`` when given)."""
+    ``expected_type`` when given).
+
+    Examples
+    --------
+    >>> from pathlib import Path
+    >>> models = Path(__file__).resolve().parents[3] / "tests" / "data" / "models"
+    >>> type(load_model(models / "polynomial-v1.json")).__name__
+    'PolynomialRegressor'
+    """
     from inertialab.calib.model_types import load_model as _load
 
     return _load(path, expected_type=expected_type)
