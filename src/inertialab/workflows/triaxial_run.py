@@ -10,13 +10,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-import numpy as np
-
 from inertialab.config import Config, seed_setting, setting
 from inertialab.errors import InputError
 from inertialab.result import ResultBase
 
 if TYPE_CHECKING:  # the study's floors load when a command runs, not for --help
+    import numpy as np
+
     from inertialab.workflows import triaxial as wf
 
 __all__ = ["ApplyConfig", "ExportConfig", "FerrarisConfig", "FitConfig", "run_apply", "run_export",
@@ -171,12 +171,15 @@ class FitResult(ResultBase):
 
     def corrected(self) -> np.ndarray:
         """The records corrected by the fit (the working unit), for the figures."""
+
         from inertialab.sensors.triaxial import correct
 
         return correct(self.run.fit.x, self.run.data.a)
 
     def norm_error(self) -> np.ndarray:
         """|corrected record| - g per record (the working unit), for the figures."""
+        import numpy as np
+
         return np.linalg.norm(self.corrected(), axis=1) - self.run.data.g
 
     def summary_rows(self) -> list:
@@ -240,6 +243,8 @@ class BatchResult(ResultBase):
              "wall_s": "s"}
 
     def to_json(self) -> dict:
+        import numpy as np
+
         t, b = self.batch.table, self.batch
         return {"method": "lm-batch", "objective": "scalar", "n_units": int(len(t)),
                 "yield_fraction": b.yield_fraction, "rmse_limit": b.rmse_limit,
