@@ -9,7 +9,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from inertialab.calib.vibration import UNITS as MODEL_UNITS
 from inertialab.config import Config, seed_setting, setting
 from inertialab.errors import InputError
 from inertialab.result import ResultBase
@@ -99,6 +98,8 @@ class FitResult(ResultBase):
         return {**self.res.to_json(), "metrics": self.res.metrics}
 
     def artifacts(self) -> dict:
+        from inertialab.calib.vibration import UNITS as MODEL_UNITS
+
         return {"models": [("model.json", self.res.model, MODEL_UNITS)]}
 
     def summary_rows(self) -> list:
