@@ -1,8 +1,8 @@
 """The floors of docs/architecture.md, read with ast: imports point down only, no import
 circles, no project module imported by string, sim/ only above workflows, no CLI flag
 names below cli/, cli/ imports no method or model floor, matplotlib only in report/,
-methods never print, no module above 700 lines, no function above 100 lines (a shrinking
-list of exceptions), a line budget for cli/."""
+methods never print, no function above 100 lines. Modules are cut by meaning, not by a
+line count: there is no ceiling on a module's or a floor's length."""
 
 import ast
 import re
@@ -13,7 +13,7 @@ SRC = Path(__file__).resolve().parent.parent / "src" / "inertialab"
 # rank: a module may import only modules of lower rank, or of its own package.
 RANK = {
     "units": 0, "errors": 0, "seeding": 0, "__init__": 0, "jsonable": 0, "_blas": 0,
-    "progress": 0, "estimator": 0, "config": 0, "limits": 0, "signals": 0,
+    "progress": 0, "estimator": 0, "config": 0, "limits": 0, "signals": 0, "result": 0,
     "io": 1,
     "metrics": 2, "regress": 2, "noise": 2,
     "learn": 3, "optim": 3,
@@ -31,7 +31,6 @@ ALLOWED_CROSS = {("learn", "regress"), ("optim", "regress")}
 NO_CROSS = {("calib", "sim"), ("sim", "calib")}
 # floors that may import sim/ (studies/ and cli/ only)
 SIM_USERS = {"sim", "studies", "cli", "__main__"}
-MAX_LINES = 700
 
 
 def _modules():
@@ -182,11 +181,6 @@ def test_workflows_never_import_matplotlib_and_methods_never_print():
     assert not offenders, "\n".join(offenders)
 
 
-def test_no_module_above_700_lines():
-    big = [f"{p.relative_to(SRC)}: {n}" for p in SRC.rglob("*.py")
-           if (n := len(p.read_text().splitlines())) > MAX_LINES]
-    assert not big, "modules above 700 lines:\n" + "\n".join(big)
-
 
 def _string_imports(tree):
     """Calls that import a module named by a string (``importlib.import_module(...)``,
@@ -219,8 +213,6 @@ CLI_FORBIDDEN = {"calib", "noise", "sensors", "learn", "optim", "regress"}
 #: join it).
 LONG_FUNCTIONS: dict[str, int] = {}
 MAX_FUNCTION_LINES = 100
-#: Lines of src/inertialab/cli/ (a ceiling that only goes down).
-CLI_MAX_LINES = 1_963  # +18: thermal fit --imu, thermal apply of thermal-imu, simulate thermal-imu
 
 
 def test_cli_imports_no_method_or_model_floor():
@@ -247,6 +239,23 @@ def test_no_function_above_100_lines():
     assert not bad, "functions too long:\n" + "\n".join(bad)
 
 
-def test_cli_line_budget():
-    n = sum(len(p.read_text().splitlines()) for p in (SRC / "cli").rglob("*.py"))
-    assert n <= CLI_MAX_LINES, f"cli/ has {n} lines (at most {CLI_MAX_LINES})"
+
+def test_cli_reads_inputs_only_through_the_runner():
+    """In cli/, only runner.py reads a record or a model file (read_record, load_model)
+    or parses JSON; the command modules ask the runner. (cli/imu_noise.py, the six-axis
+    mode, still runs on its own until it moves onto the runner; main.py reads the --config
+    TOML of a run, not an input.)"""
+    readers = {"read_record", "load_model", "read_envelope", "loads", "load"}
+    bad = []
+    for path in sorted((SRC / "cli").glob("*.py")):
+        if path.name in ("runner.py", "imu_noise.py", "main.py"):
+            continue
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom) and node.module and \
+                    node.module.startswith("inertialab.") and node.module != "inertialab.cli.runner":
+                bad += [f"{path.name}: {node.module}.{a.name}" for a in node.names
+                        if a.name in readers]
+            if isinstance(node, ast.Attribute) and node.attr in ("loads", "load") and \
+                    getattr(node.value, "id", "") == "json":
+                bad.append(f"{path.name}:{node.lineno}: json.{node.attr}")
+    assert not bad, bad

@@ -24,9 +24,14 @@ from dataclasses import dataclass
 
 from inertialab.errors import InputError
 
-__all__ = ["Config", "read_run_config", "seed_setting", "setting"]
+__all__ = ["DEFAULT_CONFIDENCE", "Config", "read_run_config", "seed_setting", "setting"]
 
 _KEY = "inertialab"
+
+#: The two-sided confidence of an interval when the user gives none, per record kind (the
+#: one place it is written): clocks 0.683, one sigma as Stable32 prints it; IMU logs 0.95,
+#: the level at which the noise terms' coverage is benchmarked (docs/noise-terms.md).
+DEFAULT_CONFIDENCE = {"clock": 0.683, "imu": 0.95}
 
 
 def setting(default=dataclasses.MISSING, *, help: str, flag: str | None = None,

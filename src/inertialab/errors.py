@@ -11,6 +11,11 @@ from __future__ import annotations
 class InputError(ValueError):
     """Bad input: a file, column, row, option or model file that cannot be used.
 
+    Examples
+    --------
+    >>> str(InputError("must be positive", path="g.csv", column="rate_dph", row=[3]))
+    "g.csv: column 'rate_dph', rows 3: must be positive"
+
     Parameters
     ----------
     message : str

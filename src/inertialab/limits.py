@@ -26,9 +26,9 @@ from pathlib import Path
 
 from inertialab.errors import InputError
 
-__all__ = ["MAX_COLUMNS", "MAX_MAGNITUDE", "MAX_WORK", "MAX_WORKERS", "bounded",
-           "bounded_int", "check_budget", "check_work", "finite", "memory_budget",
-           "regular_input"]
+__all__ = ["MAX_COLUMNS", "MAX_HORIZON", "MAX_MAGNITUDE", "MAX_WORK", "MAX_WORKERS", "bounded",
+           "bounded_int", "check_budget", "check_horizon", "check_work", "finite",
+           "memory_budget", "regular_input"]
 
 #: Default budget of one allocation declared by an input or an argument (bytes);
 #: ``INERTIALAB_MAX_BYTES`` in the environment overrides it (e.g. ``8e9``).
@@ -38,6 +38,23 @@ DEFAULT_BUDGET = 1 << 30
 MAX_MAGNITUDE = 1e100
 #: Most columns a table may have (a header of a million names is not a sensor log).
 MAX_COLUMNS = 10_000
+#: Longest forecast horizon of a storage-drift model in grid steps (about 2.7 years of a daily programme). A
+#: closed-loop forecast far past the 20 steps of spec 004 §5 says nothing, and its cost
+#: (bootstrap paths x steps) grows linearly: 1e8 steps ran for minutes.
+MAX_HORIZON = 1000
+
+
+def check_horizon(horizon) -> int:
+    """``horizon`` as an int in 1..:data:`MAX_HORIZON`, else an InputError naming it."""
+    try:
+        k = int(horizon)
+    except (TypeError, ValueError, OverflowError):
+        raise InputError(f"argument 'horizon' must be an integer, got {horizon!r}") from None
+    if k != horizon or not 1 <= k <= MAX_HORIZON:
+        raise InputError(f"argument 'horizon' must be an integer from 1 to {MAX_HORIZON} "
+                         f"steps, got {horizon}")
+    return k
+
 #: Most worker processes a run may start.
 MAX_WORKERS = 256
 

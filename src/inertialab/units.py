@@ -15,8 +15,6 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import numpy as np
-
 from inertialab.errors import InputError
 
 G_STANDARD = 9.80665
@@ -162,6 +160,8 @@ def convert(x, from_unit: str, to_unit: str, *, g_local: float = G_STANDARD):
     InputError
         Unknown unit, or units of different dimensions.
     """
+    import numpy as np
+
     a, b = lookup(from_unit), lookup(to_unit)
     if a.dimension != b.dimension:
         raise InputError(
@@ -175,6 +175,8 @@ def convert(x, from_unit: str, to_unit: str, *, g_local: float = G_STANDARD):
 
 def to_si(x, unit: str, *, g_local: float = G_STANDARD):
     """Convert ``x`` from ``unit`` to the SI unit of its dimension (rad, rad/s, m/s^2 ...)."""
+    import numpy as np
+
     u = lookup(unit)
     f = u.factor(g_local)
     if isinstance(x, (list, tuple)):
@@ -184,6 +186,8 @@ def to_si(x, unit: str, *, g_local: float = G_STANDARD):
 
 def from_si(x, unit: str, *, g_local: float = G_STANDARD):
     """Convert ``x`` from the SI unit of ``unit``'s dimension to ``unit``."""
+    import numpy as np
+
     u = lookup(unit)
     f = u.factor(g_local)
     if isinstance(x, (list, tuple)):
@@ -196,6 +200,8 @@ def lsb_to(x, lsb_per_unit: float, *, offset_lsb: float = 0.0):
 
     ``offset_lsb`` is subtracted first (e.g. 32768 for an unsigned 16-bit ADC).
     """
+    import numpy as np
+
     if not np.isfinite(lsb_per_unit) or lsb_per_unit == 0:
         raise InputError(f"LSB sensitivity must be finite and non-zero, got {lsb_per_unit}")
     return (np.asarray(x, dtype=float) - offset_lsb) / lsb_per_unit
@@ -203,6 +209,8 @@ def lsb_to(x, lsb_per_unit: float, *, offset_lsb: float = 0.0):
 
 def to_lsb(x, lsb_per_unit: float, *, offset_lsb: float = 0.0):
     """Inverse of :func:`lsb_to`."""
+    import numpy as np
+
     return np.asarray(x, dtype=float) * lsb_per_unit + offset_lsb
 
 

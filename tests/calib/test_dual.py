@@ -16,7 +16,7 @@ from inertialab.calib.dual import (
 )
 from inertialab.calib.model_types import load_model
 from inertialab.errors import InputError
-from inertialab.io import save_model
+from inertialab.io.modelfile import save_model
 from inertialab.sensors.dual_meter import (
     COEF_NAMES,
     estimable_combinations,

@@ -22,7 +22,7 @@ from inertialab.calib.thermal import (
     score,
 )
 from inertialab.errors import ExtrapolationWarning, InputError
-from inertialab.io import save_model
+from inertialab.io.modelfile import save_model
 from inertialab.sim.thermal_tumble import simulate
 from inertialab.workflows.thermal import fit_thermal, make_splits, prepare_samples
 

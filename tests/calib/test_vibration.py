@@ -12,7 +12,7 @@ from inertialab.calib.vibration import (
     residual_metrics,
 )
 from inertialab.errors import ExtrapolationWarning, InputError, NotFittedError
-from inertialab.io import save_model
+from inertialab.io.modelfile import save_model
 from inertialab.sensors.gyro_vibration import bias_shift_dph
 from inertialab.workflows.vibration import run_from_frame
 

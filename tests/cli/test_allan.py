@@ -53,6 +53,7 @@ def test_json_single_stat(rec, capsys):
     assert nt["Q"]["value"] == pytest.approx(0.5, rel=0.05)
 
 
+@pytest.mark.slow  # every statistic with figures: about 12 s
 def test_json_several_stats_and_out(rec, capsys, tmp_path):
     code, out, err = run(capsys, "allan", rec, "--stat", "oadev,mdev,totdev", "--taus",
                          "decade", "--confidence", "0.95", "--json", "--out", tmp_path / "o")
@@ -148,6 +149,7 @@ def test_bad_options(rec, capsys):
         assert code == 2 and len(err.strip().splitlines()) == 1, (args, err)
 
 
+@pytest.mark.slow  # a clock record with every figure: about 18 s
 def test_clock_phase_file_json_and_figure(tmp_path, capsys):
     # NBS14 phase in ns with an arbitrary column name, read with --column
     x = [0.0, 103.11111, 123.22222, 157.33333, 166.44444, 48.55555, -96.33333, -2.22222,

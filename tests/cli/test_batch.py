@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from inertialab.sim.triaxial_poses import simulate_line
-from tests.helpers import run_subprocess as run
+from tests.helpers import run_cli as run
 
 
 def one_line_error(res, pattern):
@@ -65,6 +65,7 @@ def test_batch_strict_exits_2(lot):
     one_line_error(res, "1 of 7 units could not be processed (--strict)")
 
 
+@pytest.mark.slow  # starts a Dask LocalCluster: about 10 s
 def test_batch_local_cluster_equals_serial(lot):
     d, _ = lot
     args = ("batch", "calibrate", "triaxial", "--inputs", d / "U0000*.csv", "--g-local", "9.8",

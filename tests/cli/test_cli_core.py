@@ -5,7 +5,7 @@ import json
 import pytest
 
 from inertialab import __version__
-from tests.helpers import run_subprocess as run
+from tests.helpers import run_cli as run
 
 
 def assert_user_error(res, pattern=None):
@@ -22,6 +22,16 @@ def test_version_and_help():
     assert res.returncode == 0 and res.stdout.strip() == f"inertialab {__version__}"
     res = run("--help")
     assert res.returncode == 0 and "demo" in res.stdout and "validate" in res.stdout
+
+
+def test_the_top_level_table_names_what_the_modules_register():
+    """cli/main.TOP_LEVEL (what a run imports for each name) is what a build of every
+    command module registers, in --help's order."""
+    from inertialab.cli.main import TOP_LEVEL, _registered, command_module, command_modules
+
+    assert list(_registered(command_modules())) == list(TOP_LEVEL)
+    for name, modules in TOP_LEVEL.items():
+        assert name in _registered(command_module(m) for m in modules)
 
 
 def test_unknown_command_and_option_exit_2_with_one_line():

@@ -7,7 +7,7 @@ import pytest
 from inertialab.cli.main import expand_config
 from inertialab.errors import InputError
 from inertialab.sim.triaxial_poses import simulate_line
-from tests.helpers import run_subprocess as run
+from tests.helpers import run_cli as run
 
 
 def _strip(obj):

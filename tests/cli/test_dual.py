@@ -56,7 +56,7 @@ def test_calibrate_json_shape_and_accuracy(records, capsys):
 
 
 def test_calibrate_two_orientation_and_out_dir(records, capsys, tmp_path):
-    code, out, err = run(capsys, "calibrate", "dual", records / "s5.csv",
+    code, out, err = run(capsys, "dual", "fit", records / "s5.csv",
                          records / "s5_orient2.csv", "--method", "ls", "--json", "--out",
                          tmp_path / "o")
     assert code == 0, err
@@ -89,7 +89,7 @@ def test_bad_prior_names(records, capsys, tmp_path):
     prior["coef"]["k_A2"] = prior["coef"].pop("KA2")
     p = tmp_path / "bad.json"
     p.write_text(json.dumps(prior))
-    code, _, err = run(capsys, "calibrate", "dual", records / "s1.csv", "--prior", p)
+    code, _, err = run(capsys, "dual", "fit", records / "s1.csv", "--prior", p)
     assert code == 2 and "unknown coefficient name(s) k_A2" in err
 
 
@@ -99,16 +99,15 @@ def test_design_dual_json(capsys):
     d = json.loads(out)
     np.testing.assert_allclose(d["positions_deg"], np.arange(12) * 30.0, atol=1e-9)
     assert d["criteria"]["cond"] == pytest.approx(np.sqrt(2), abs=1e-9)
-    code, _, err = run(capsys, "design", "dual", "--positions", "5")
+    code, _, err = run(capsys, "dual", "design", "--positions", "5")
     assert code == 2 and "at least 7" in err
 
 
-def test_old_spellings_are_hidden_aliases(records, capsys):
-    # calibrate dual / design dual run the same commands, hidden from --help
-    code, out, _ = run(capsys, "design", "dual", "--positions", "12", "--json")
-    code2, out2, _ = run(capsys, "dual", "design", "--positions", "12", "--json")
-    assert code == code2 == 0
-    assert json.loads(out)["positions_deg"] == json.loads(out2)["positions_deg"]
+def test_old_spellings_are_gone(records, capsys):
+    # calibrate dual / design dual were aliases for one release: now unknown commands
+    for old in (("design", "dual", "--positions", "12"), ("calibrate", "dual", records / "s1.csv")):
+        code, out, err = run(capsys, *old)
+        assert code == 2 and out == "" and "No such command" in err
     code, out, _ = run(capsys, "--help")
     assert code == 0 and "dual" in out and "calibrate" not in out
     code, out, _ = run(capsys, "dual", "--help")
@@ -119,7 +118,7 @@ def test_old_spellings_are_hidden_aliases(records, capsys):
     (["--positions", "100000000"], "--positions"),  # main's size bound or ours
     (["--positions", "1000"], "--positions must be an integer from 7 to 360"),
     (["--positions", "20", "--step-deg", "1e-9"], "--step-deg = 1e-09 gives"),
-    (["--range-deg", "0", "inf"], "must be finite"),
+    (["--range-deg", "0", "inf"], "--range-deg must be from -720 to 720, got inf"),
     (["--positions", "300", "--range-deg", "0", "90"], "exceeds the 91 candidate angles"),
 ])
 def test_design_sizes_are_bounded(capsys, args, pattern):

@@ -1,4 +1,4 @@
-"""``inertialab allan-imu``: six axes of a vendor file, Kalibr export, gap handling (issue 10)."""
+"""``inertialab allan --imu``: six axes of a vendor file, Kalibr export, gap handling (issue 10)."""
 
 import json
 import re
@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.helpers import run_subprocess as run
+from tests.helpers import run_cli as run
 
 VENDORS = Path(__file__).resolve().parents[2] / "docs" / "examples" / "vendors"
 
@@ -15,7 +15,7 @@ VENDORS = Path(__file__).resolve().parents[2] / "docs" / "examples" / "vendors"
 
 def test_vendor_file_six_axes_kalibr_export(tmp_path):
     y = tmp_path / "imu.yaml"
-    res = run("allan-imu", VENDORS / "xsens.txt", "--map-file", VENDORS / "xsens.map.toml",
+    res = run("allan", "--imu", VENDORS / "xsens.txt", "--map-file", VENDORS / "xsens.map.toml",
               "--export", "kalibr", y, "--json", "--out", tmp_path / "o")
     assert res.returncode == 0, res.stderr
     obj = json.loads(res.stdout)
@@ -52,16 +52,16 @@ def test_gaps_analysed_or_error_and_split(tmp_path):
     import json
 
     p = _gappy(tmp_path)
-    res = run("allan-imu", p, "--json")
+    res = run("allan", "--imu", p, "--json")
     assert res.returncode == 0, res.stderr
     allan = json.loads(res.stdout)["imu"]["axes"][0]["allan"]
     assert allan["n_missing"] == 4 and allan["n_gaps"] == 1
     # m = 1: 404 grid samples give 403 summands; the 5 that touch the 4 lost samples go
     assert allan["n_terms"][0] == 403 - 5
-    res = run("allan-imu", p, "--gaps", "error")
+    res = run("allan", "--imu", p, "--gaps", "error")
     assert res.returncode == 2 and "before row 201" in res.stderr and "~4 samples" in res.stderr
     assert len(res.stderr.strip().splitlines()) == 1
-    res = run("allan-imu", p, "--gaps", "split")
+    res = run("allan", "--imu", p, "--gaps", "split")
     assert res.returncode == 2 and "several segments" in res.stderr
 
 
@@ -71,7 +71,7 @@ def test_gaps_analysed_or_error_and_split(tmp_path):
     (("--map", "gx_rps=NoSuchCol"), "'NoSuchCol'"),
 ])
 def test_bad_input_one_line(tmp_path, extra, pattern):
-    res = run("allan-imu", _gappy(tmp_path), *extra)
+    res = run("allan", "--imu", _gappy(tmp_path), *extra)
     assert res.returncode == 2 and pattern in res.stderr, res.stderr
     assert len(res.stderr.strip().splitlines()) == 1
 
@@ -93,9 +93,9 @@ def test_allan_imu_flag_gives_the_same_export_as_allan_imu(tmp_path):
     pd.DataFrame(cols).to_csv(f, index=False)
     a, b = tmp_path / "a.yaml", tmp_path / "b.yaml"
     r1 = run("allan", f, "--imu", "--export", "kalibr", a, "--json")
-    r2 = run("allan-imu", f, "--export", "kalibr", b, "--json")
-    assert r1.returncode == 0 and r2.returncode == 0, r1.stderr + r2.stderr
-    assert a.read_text() == b.read_text()
+    r2 = run("allan-imu", f, "--export", "kalibr", b, "--json")  # the old spelling is gone
+    assert r1.returncode == 0 and r2.returncode == 2, r1.stderr + r2.stderr
+    assert "No such command" in r2.stderr and not b.exists()
     assert json.loads(r1.stdout)["command"] == "allan"
     # white rate noise of 1e-3 rad/s per sample at 100 Hz: density 1e-4 rad/s/sqrt(Hz);
     # 4000 samples give a few percent scatter

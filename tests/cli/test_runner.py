@@ -11,6 +11,7 @@ import pandas as pd
 import pytest
 
 from inertialab.cli.main import main
+from inertialab.result import ResultBase
 from tests.helpers import run_inprocess as run
 
 
@@ -53,7 +54,7 @@ def test_out_of_bounds_settings_are_one_line_naming_the_flag(record, capsys, tmp
     assert not (tmp_path / "x").exists() and out == ""
 
 
-class _OneRecord:
+class _OneRecord(ResultBase):
     """A result of a one-record command: a frame and a side file to write."""
 
     settings, units, warnings = {"k": 1}, {}, ()

@@ -209,9 +209,9 @@ def test_suffix_contradicting_header_units_and_apply_unit_mismatch(capsys, tmp_p
     assert not (tmp_path / "x.csv").exists()
 
 
-def test_old_spellings_are_hidden_aliases_and_reading_options_apply(capsys, tmp_path):
-    # 'calibrate triaxial|apply' still run (hidden) and give the same numbers as
-    # 'triaxial fit|apply'; the reading options of the front door (--map) work here too
+def test_old_spellings_are_gone_and_reading_options_apply(capsys, tmp_path):
+    # 'calibrate triaxial|apply' were aliases for one release: unknown now; the reading
+    # options of the front door (--map) work on 'triaxial fit|apply'
     sph = tmp_path / "sph.csv"
     cli(capsys, "simulate", "triaxial-poses", "--scenario", "turntable62", "--seed", "3",
         "--out", sph)
@@ -219,8 +219,8 @@ def test_old_spellings_are_hidden_aliases_and_reading_options_apply(capsys, tmp_
               "--out", tmp_path / "new")
     old = cli(capsys, "calibrate", "triaxial", sph, "--objective", "scalar", "--json",
               "--out", tmp_path / "old")
-    assert new[0] == 0 and old[0] == 0, old[2]
-    assert json.loads(new[1])["params"] == json.loads(old[1])["params"]
+    assert new[0] == 0 and old[0] == 2 and "No such command" in old[2]
+    assert not (tmp_path / "old").exists()
     code, out, err = cli(capsys, "--help")
     assert "calibrate" not in out and "triaxial" in out
     # vendor-style names mapped with --map
@@ -233,14 +233,12 @@ def test_old_spellings_are_hidden_aliases_and_reading_options_apply(capsys, tmp_
     assert code == 0, err
     mapped, plain = json.loads(out)["params"], json.loads(new[1])["params"]
     assert np.allclose([mapped[k] for k in plain], list(plain.values()), rtol=1e-12, atol=1e-15)
-    # apply under both spellings writes the same calibrated columns
-    for spelling in (("triaxial", "apply"), ("calibrate", "apply")):
-        dst = tmp_path / f"{spelling[0]}.csv"
-        code, out, err = cli(capsys, *spelling, tmp_path / "new" / "model.json", sph, "--out", dst)
-        assert code == 0, err
-    a = pd.read_csv(tmp_path / "triaxial.csv")
-    b = pd.read_csv(tmp_path / "calibrate.csv")
-    pd.testing.assert_frame_equal(a, b)
+    # apply writes the calibrated columns
+    dst = tmp_path / "triaxial.csv"
+    code, out, err = cli(capsys, "triaxial", "apply", tmp_path / "new" / "model.json", sph,
+                         "--out", dst)
+    assert code == 0, err
+    a = pd.read_csv(dst)
     assert {"ax_mps2", "ay_mps2", "az_mps2"} <= set(a.columns)
 
 
@@ -347,7 +345,7 @@ def test_ferraris_command_detects_sections_writes_model_figure_and_sections(caps
     for name in ("model.json", "result.json", "sections.json", "ferraris_sections.png"):
         assert (out / name).exists(), name
     # the written sections feed back through --sections (imucal's format), same model
-    code, stdout2, err = cli(capsys, "calibrate", "ferraris", path, "--json", "--sections",
+    code, stdout2, err = cli(capsys, "triaxial", "ferraris", path, "--json", "--sections",
                              out / "sections.json")
     assert code == 0, err
     d2 = json.loads(stdout2)

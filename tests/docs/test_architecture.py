@@ -72,3 +72,21 @@ def test_the_study_table_names_existing_modules():
         for floor, cell in zip(("calib", "workflows", "studies"), cells[2:5]):
             for name in re.findall(r"`(\w+\.py)`", cell.split("(")[0]):
                 assert (SRC / floor / name).is_file(), (floor, name)
+
+
+def _rules() -> list[str]:
+    text = PAGE.read_text()
+    section = text[text.index("Rules beside the order"):text.index("## One home per concern")]
+    return [b for b in re.split(r"\n- ", section)[1:]]
+
+
+def test_every_rule_names_the_test_that_keeps_it():
+    """Each rule of the page cites ``tests/...py::test_name``, and that test exists."""
+    rules = _rules()
+    assert len(rules) >= 10
+    for rule in rules:
+        refs = re.findall(r"`(tests/[\w/]+\.py)::(\w+)`", rule)
+        assert refs, f"a rule without its test: {rule[:60]}"
+        for path, name in refs:
+            text = (ROOT / path).read_text()
+            assert re.search(rf"^def {name}\(", text, re.M), f"{path}::{name} does not exist"

@@ -42,9 +42,9 @@ def test_the_front_door_notes_what_it_opened(tmp_path):
 
 
 def test_a_data_error_after_reading_names_the_record():
-    from inertialab.cli.main import build_app, user_error
+    from inertialab.cli.main import full_command, user_error
 
-    build_app()  # the commands register their settings' flags (as main does first)
+    full_command()  # the commands register their settings' flags (as a run does first)
 
     assert user_error(InputError("need at least 3 values"), ["model.json", "rec.csv"],
                       ["rec.csv"]) == "rec.csv: need at least 3 values"

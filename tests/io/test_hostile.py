@@ -3,12 +3,11 @@ parsing, bounded memory, one-line errors naming the file."""
 
 import os
 import resource
-import subprocess
-import sys
 import time
 
 import numpy as np
 import pytest
+from tests.helpers import run_cli
 
 from inertialab.errors import InputError
 from inertialab.io import peek_columns, read_record
@@ -62,9 +61,7 @@ def test_sparse_npy_and_parquet_fail_with_one_line(tmp_path):
 
 def test_validate_exits_2_on_the_sparse_file(tmp_path):
     p = _sparse(tmp_path / "big.csv", 2 * 2**30)
-    res = subprocess.run([sys.executable, "-m", "inertialab", "validate", str(p), "--kind",
-                          "gyro_log"], capture_output=True, text=True, timeout=120,
-                         env={**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)})
+    res = run_cli("validate", p, "--kind", "gyro_log")
     assert res.returncode == 2 and res.stdout == ""
     assert len(res.stderr.strip().splitlines()) == 1 and "NUL byte" in res.stderr
 

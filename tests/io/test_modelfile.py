@@ -8,8 +8,8 @@ import pytest
 
 from inertialab import InputError
 from inertialab.calib.model_types import load_model
-from inertialab.io import read_envelope, save_model
-from inertialab.io.modelfile import FORMAT_VERSION
+from inertialab.io import read_envelope
+from inertialab.io.modelfile import FORMAT_VERSION, save_model
 from inertialab.learn.poly import PolynomialRegressor
 
 

@@ -9,7 +9,8 @@ import pytest
 from inertialab.calib.drift import DriftModel, DriftSettings
 from inertialab.calib.model_types import load_model
 from inertialab.errors import DataQualityWarning, InputError
-from inertialab.io import save_model, validate_frame
+from inertialab.io import validate_frame
+from inertialab.io.modelfile import save_model
 from inertialab.sim.drift import benchmark_process, simulate_storage_batch
 from inertialab.workflows.drift import fit_drift, to_daily_grid
 

@@ -104,3 +104,22 @@ def test_unsorted_rows_are_sorted_with_warning(tmp_path):
     red = reduce_run(run)
     np.testing.assert_allclose(red_s.u_a, red.u_a, rtol=0, atol=1e-15)
     assert any("not in time order" in w for w in red_s.warnings)
+
+
+def test_the_study_in_one_module_and_the_old_name_warns():
+    """workflows/dual.py holds the commands' settings and calls; dual_run still answers,
+    with a DeprecationWarning; the default methods are calib's."""
+    import importlib
+    import sys
+    import warnings
+
+    from inertialab.calib.dual import METHODS
+    from inertialab.workflows import dual
+
+    assert dual.DualConfig().methods == METHODS == dual.parse_methods("all")
+    sys.modules.pop("inertialab.workflows.dual_run", None)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        old = importlib.import_module("inertialab.workflows.dual_run")
+    assert old.run_fit is dual.run_fit and old.FitConfig is dual.FitConfig
+    assert any(issubclass(w.category, DeprecationWarning) for w in caught)

@@ -8,7 +8,8 @@ import pytest
 
 from inertialab.calib.model_types import load_model
 from inertialab.calib.triaxial_checks import ImplausibleCalibrationError
-from inertialab.io import save_model, write_record
+from inertialab.io import write_record
+from inertialab.io.modelfile import save_model
 from inertialab.sim.ferraris_session import simulate_ferraris
 from inertialab.workflows import ferraris as wf
 from inertialab.workflows import triaxial as wt

@@ -189,7 +189,7 @@ def test_model_files_with_nan_or_nonsense_are_refused(model, tmp_path):
     import json
 
     from inertialab.calib.model_types import load_model
-    from inertialab.io import save_model
+    from inertialab.io.modelfile import save_model
 
     save_model(model, tmp_path / "m.json")
     env = json.loads((tmp_path / "m.json").read_text())

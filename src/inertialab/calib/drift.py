@@ -31,7 +31,7 @@ from inertialab.learn.forecast_baselines import make_baseline
 from inertialab.learn.monitoring import cusum_alarms, first_passage
 from inertialab.learn.nar import MAX_ORDER, NARForecaster
 from inertialab.learn.nar_direct import DirectNARForecaster
-from inertialab.limits import bounded, bounded_int
+from inertialab.limits import MAX_HORIZON, bounded, bounded_int, check_horizon
 
 __all__ = ["DEFAULT_BASELINES", "DIRECT", "MAX_HORIZON", "QUANTITIES", "check_horizon", "DailySeries", "DriftModel", "DriftSettings",
            "SeriesResult", "error_metrics", "fill_gaps", "fit_series"]
@@ -39,22 +39,6 @@ __all__ = ["DEFAULT_BASELINES", "DIRECT", "MAX_HORIZON", "QUANTITIES", "check_ho
 #: quantity -> working unit (bias µg, scale factor ppm; docs/drift.md)
 QUANTITIES = {"bias": "ug", "sf": "ppm"}
 
-#: Longest forecast horizon in grid steps (about 2.7 years of a daily programme). A
-#: closed-loop forecast far past the 20 steps of spec 004 §5 says nothing, and its cost
-#: (bootstrap paths x steps) grows linearly: 1e8 steps ran for minutes.
-MAX_HORIZON = 1000
-
-
-def check_horizon(horizon) -> int:
-    """``horizon`` as an int in 1..:data:`MAX_HORIZON`, else an InputError naming it."""
-    try:
-        k = int(horizon)
-    except (TypeError, ValueError, OverflowError):
-        raise InputError(f"argument 'horizon' must be an integer, got {horizon!r}") from None
-    if k != horizon or not 1 <= k <= MAX_HORIZON:
-        raise InputError(f"argument 'horizon' must be an integer from 1 to {MAX_HORIZON} "
-                         f"steps, got {horizon}")
-    return k
 
 #: Most grid steps one unit's series may span (about 270 years of days): a day column
 #: with one stray value of 1e9 would otherwise allocate a grid of a billion steps.

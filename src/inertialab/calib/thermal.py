@@ -29,7 +29,7 @@ import numpy as np
 from inertialab.errors import ExtrapolationWarning, InputError, MissingReferenceError
 from inertialab.learn.anfis import ANFIS
 from inertialab.learn.mlp_lm import MLPRegressorLM
-from inertialab.learn.poly import PolynomialRegressor, SeparatePolynomials, _monomials
+from inertialab.learn.poly import PolynomialRegressor, SeparatePolynomials, monomials
 from inertialab.learn.scm_search import FISH_DEFAULTS, search_scm
 from inertialab.learn.subclust import DEFAULTS as SCM_DEFAULTS
 from inertialab.limits import MAX_MAGNITUDE, bounded_int
@@ -228,7 +228,7 @@ def _tensor_to_dict(reg: PolynomialRegressor) -> dict:
 def _tensor_from_dict(d: dict) -> PolynomialRegressor:
     degrees = tuple(int(v) for v in d["degrees"])
     reg = PolynomialRegressor(degrees=degrees, warn_extrapolation=False)
-    reg.powers_ = _monomials(len(degrees), 0, interaction=True, degrees=degrees)
+    reg.powers_ = monomials(len(degrees), 0, interaction=True, degrees=degrees)
     reg.x_min_ = np.asarray(d["lo"], float)
     reg.x_span_ = np.asarray(d["span"], float)
     reg.coef_ = np.asarray(d["coef"], float)

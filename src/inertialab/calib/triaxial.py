@@ -322,7 +322,11 @@ def initial_estimate(a, *, objective="norm", g=tx.G_PAPER, ref=None, counts=Fals
     return fit.x, "ellipsoid fit"
 
 
-def _lm(a, ref, objective, g, x_start, loss="linear", f_scale=1.0, bounds=None):
+def fit_lm(a, ref, objective, g, x_start, loss="linear", f_scale=1.0, bounds=None):
+    """Levenberg-Marquardt fit of the triaxial model to the static means ``a`` (one row
+    per pose, the log's unit) against gravity ``g`` (m/s^2) or the reference directions
+    ``ref``, from ``x_start``; ``loss``/``f_scale``/``bounds`` as
+    :func:`inertialab.regress.nlls.levenberg_marquardt`."""
     fun = lambda p: tx.residuals(p, a, objective=objective, g=g, ref=ref)  # noqa: E731
     jac = lambda p: tx.jacobian(p, a, objective=objective, g=g, ref=ref)  # noqa: E731
     return levenberg_marquardt(fun, x_start, jac=jac, loss=loss, f_scale=f_scale, bounds=bounds)
@@ -377,7 +381,7 @@ def _lm_fit(a, ref, objective, g, x_start, *, loss, f_scale, bounded, counts):
     from it; ``bounded`` solves inside the search box of §3.2. Returns the solver's
     result, the start it used and the wall time (s)."""
     if loss != "linear" and f_scale is None:
-        plain = _lm(a, ref, objective, g, x_start)
+        plain = fit_lm(a, ref, objective, g, x_start)
         f_scale = max(3.0 * 1.4826 * float(np.median(np.abs(plain.residuals))), 1e-12)
         x_start = plain.x
     lm_box = None
@@ -385,7 +389,7 @@ def _lm_fit(a, ref, objective, g, x_start, *, loss, f_scale, bounded, counts):
         bx = tx.search_box(objective, center=x_start[:9] if counts else None)
         lm_box = (bx[:, 0], bx[:, 1])
     t0 = time.perf_counter()
-    res = _lm(a, ref, objective, g, x_start, loss=loss,
+    res = fit_lm(a, ref, objective, g, x_start, loss=loss,
               f_scale=1.0 if f_scale is None else f_scale, bounds=lm_box)
     return res, x_start, time.perf_counter() - t0
 

@@ -2,8 +2,7 @@
 
 One ``allan`` command with every option: one series
 (:mod:`inertialab.workflows.allan`) or, with ``--imu``, six IMU axes
-(:mod:`inertialab.workflows.imu_noise`, Kalibr/ROS export); ``allan-imu`` is its hidden
-old spelling (``--imu`` on by default). Thin: parse the options, read the record, call
+(:mod:`inertialab.workflows.imu_noise`, Kalibr/ROS export). Thin: parse the options, read the record, call
 the workflow, print the table and the noise terms (or its JSON object), write
 the figure, ``result.json`` and ``model.json`` with ``--out``.
 """
@@ -27,9 +26,8 @@ _IMU_HELP = ("Analyse gyro x/y/z and accelerometer x/y/z together (one table, on
              "noise densities and random walks).")
 
 
-def _allan_command(imu_default: bool):
-    """The ``allan`` command (``imu_default=False``) and its hidden old spelling
-    ``allan-imu`` (``True``): one function, every option."""
+def _allan_command():
+    """The ``allan`` command: one function, every option."""
 
     @reading_options
     @config_command(wa.AllanConfig)
@@ -37,7 +35,7 @@ def _allan_command(imu_default: bool):
         files: list[Path] = typer.Argument(..., help="Log file: CSV/Parquet (gyro_log) or a "
                                                      ".npy column (needs --rate and --unit); "
                                                      "several logs with --imu --pool."),
-        imu: bool = typer.Option(imu_default, "--imu", help=_IMU_HELP),
+        imu: bool = typer.Option(False, "--imu", help=_IMU_HELP),
         export: tuple[str, str] = typer.Option(None, "--export", help=_EXPORT_HELP),
         rostopic: str = typer.Option("/imu0", "--rostopic", help="IMU topic in the Kalibr, "
                                      "OpenVINS and VINS files (six-axis mode)."),
@@ -46,7 +44,7 @@ def _allan_command(imu_default: bool):
     ):
         """Allan family with confidence intervals and the Q N B K R noise terms; --imu:
         six IMU axes in one table and figure, with Kalibr/ROS export."""
-        command = "allan-imu" if imu_default else "allan"
+        command = "allan"
         file = files[0]
         if len(files) > 1 or config.pool:
             if not (imu and config.pool and len(files) > 1 and not export):
@@ -93,6 +91,4 @@ def _allan_command(imu_default: bool):
 
 def register(app: typer.Typer, groups: dict) -> None:
     from inertialab.cli.imu_noise import RepeatedExport as Cls
-    app.command("allan", cls=Cls)(_allan_command(False))
-    # old spelling, hidden for one release
-    app.command("allan-imu", hidden=True, cls=Cls)(_allan_command(True))
+    app.command("allan", cls=Cls)(_allan_command())

@@ -19,14 +19,10 @@ import sys
 import warnings
 from pathlib import Path
 
-import numpy as np
-
 from inertialab import __version__
 from inertialab.io import outputs
-from inertialab.io.modelfile import dependency_versions
 from inertialab.io.names import safe_slug
 from inertialab.io.writers import atomic_write_bytes, atomic_write_text
-from inertialab.jsonable import to_jsonable
 
 JSON_SCHEMA_VERSION = 1
 
@@ -58,6 +54,8 @@ def file_sha256(path) -> str:
 def json_ready(obj, path: str = "", nulls: list[str] | None = None):
     """Plain-JSON copy of ``obj`` (see :func:`inertialab.jsonable.to_jsonable`); the key
     paths of non-finite floats are appended to ``nulls``."""
+    from inertialab.jsonable import to_jsonable  # numpy: loaded when a result is written
+
     return to_jsonable(obj, nulls=nulls, path=path)
 
 
@@ -69,6 +67,8 @@ def envelope(command: str, payload: dict, *, inputs=(), settings: dict | None = 
     ``{"path", "sha256"}`` dicts pass through), ``settings``, ``units``, ``warnings``,
     ``meta`` (when given: ``timestamps``), then the payload's keys, and
     ``non_estimable`` listing the keys whose non-finite numbers became null."""
+    from inertialab.io import modelfile  # pydantic: loaded when a result is written
+
     ins = []
     for item in inputs:
         if isinstance(item, dict):
@@ -82,7 +82,7 @@ def envelope(command: str, payload: dict, *, inputs=(), settings: dict | None = 
         "command": command,
         "schema_version": JSON_SCHEMA_VERSION,
         "inertialab_version": __version__,
-        "dependencies": dependency_versions(),
+        "dependencies": modelfile.dependency_versions(),
         "inputs": ins,
         "settings": json_ready(settings or {}),
         "units": dict(units or {}),
@@ -239,6 +239,8 @@ def print_table(columns: list[str], rows: list[list], *, title: str | None = Non
 def _fmt(v) -> str:
     if v is None:
         return "-"
+    import numpy as np  # loaded by then: a result is being printed
+
     if isinstance(v, (float, np.floating)):
         return "nan" if not math.isfinite(v) else f"{v:.4g}"
     return str(v)

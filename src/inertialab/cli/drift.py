@@ -11,12 +11,10 @@ from pathlib import Path
 import typer
 
 from inertialab.cli.options import reading_options
-from inertialab.cli.runner import config_command
-from inertialab.io import read_record
+from inertialab.cli.runner import config_command, load_model, read_record
 from inertialab.io.mapping import ReadOptions
 from inertialab.report import commands
 from inertialab.workflows import drift_run as wf
-from inertialab.workflows.registries import load_model
 
 
 @reading_options

@@ -1,6 +1,5 @@
 """``inertialab dual fit`` and ``inertialab dual design`` (spec 003), each one call to
-:mod:`inertialab.workflows.dual_run` through the runner; ``calibrate dual`` and ``design
-dual`` are their hidden aliases.
+:mod:`inertialab.workflows.dual` through the runner.
 
 No ``from __future__ import annotations`` here: the shared options are ``Annotated``
 aliases that typer must see as objects through :func:`~inertialab.cli.options.reading_options`.
@@ -11,11 +10,11 @@ from pathlib import Path
 import typer
 
 from inertialab.cli.options import reading_options
-from inertialab.cli.runner import config_command
+from inertialab.cli.runner import config_command, read_record
 from inertialab.errors import InputError
 from inertialab.io.mapping import ReadOptions
 from inertialab.report import commands
-from inertialab.workflows import dual_run as wd
+from inertialab.workflows import dual as wd
 
 
 @reading_options
@@ -26,8 +25,6 @@ def dual_fit(
     *, config, run, read: ReadOptions,
 ):
     """Calibrate two accelerometers tumbled on a dividing head (g^2 model, LS, EBR)."""
-    from inertialab.io import read_record
-
     if len(files) > 2:
         raise InputError("give one record, or two for the two-orientation fit")
     config.dual_config(sensitivity=False)  # refuse bad settings before reading
@@ -50,6 +47,3 @@ def register(app: typer.Typer, groups: dict) -> None:
     dual = groups["dual"]
     dual.command("fit")(dual_fit)
     dual.command("design")(dual_design)
-    # old spellings, hidden for one release
-    groups["calibrate"].command("dual", hidden=True)(dual_fit)
-    groups["design"].command("dual", hidden=True)(dual_design)

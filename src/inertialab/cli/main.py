@@ -2,9 +2,9 @@
 
 Every command module of :func:`command_modules` defines ``register(app, groups)`` and
 adds its commands; ``groups`` holds one group per study (``vibration thermal triaxial dual
-drift``, command shape ``inertialab <study> fit|apply|...``) plus ``simulate`` and the
-hidden groups of the old spellings (``calibrate``, ``design``), so that modules can
-share a group. User errors
+drift``, command shape ``inertialab <study> fit|apply|...``) plus ``simulate``, so that
+modules can share a group; :data:`TOP_LEVEL` says which modules a top-level name needs,
+and only those are imported when it runs. User errors
 (:class:`~inertialab.errors.InputError`, usage errors) exit 2 with one line on stderr;
 set ``INERTIALAB_DEBUG=1`` to see tracebacks of unexpected errors.
 """
@@ -30,7 +30,7 @@ import typer  # noqa: E402
 
 from inertialab import __version__  # noqa: E402
 from inertialab import signals as _signals  # noqa: E402
-from inertialab.cli.options import check_limits, check_out_targets  # noqa: E402
+from inertialab.cli.options import check_out_targets  # noqa: E402
 from inertialab.config import read_run_config  # noqa: E402
 from inertialab.errors import InputError  # noqa: E402
 
@@ -42,14 +42,19 @@ _GROUP_HELP = {
                 "protocol, apply (spec 002).",
     "dual": "Dual-accelerometer dividing-head calibration, EBR, design (spec 003).",
     "drift": "Long-term storage drift forecasting and compensation (spec 004).",
-    "calibrate": "Old spellings: calibrate triaxial|ferraris|dual|apply.",
-    "design": "Old spelling: design dual.",
 }
-#: Groups kept for the old spellings only (hidden in --help for one release).
-_HIDDEN_GROUPS = {"calibrate", "design"}
 #: Groups whose bare form ``inertialab GROUP FILE ...`` runs ``GROUP fit FILE ...``
 #: (the old ``inertialab vibration SWEEP [FIXED]`` spelling).
 _DEFAULT_FIT_GROUPS = {"vibration"}
+#: Every top-level command or group, in the order ``--help`` lists them, with the command
+#: modules that register into it. The command line imports only the modules of the one
+#: name it runs, so a command loads its floors when it runs (tests/cli/test_main.py holds
+#: this table against a build of every module).
+TOP_LEVEL: dict[str, tuple[str, ...]] = {
+    "allan": ("allan",), "batch": ("batch",), "demo": ("demo",), "validate": ("validate",),
+    "simulate": ("simulate",), "vibration": ("vibration",), "thermal": ("thermal",),
+    "triaxial": ("triaxial",), "dual": ("dual",), "drift": ("drift",),
+}
 
 
 def _version_callback(value: bool):
@@ -58,41 +63,46 @@ def _version_callback(value: bool):
         raise typer.Exit(0)
 
 
+def command_module(name: str):
+    """The command module ``inertialab.cli.<name>`` (each imported explicitly, on first use)."""
+    if name == "allan":
+        from inertialab.cli import allan as mod
+    elif name == "batch":
+        from inertialab.cli import batch as mod
+    elif name == "demo":
+        from inertialab.cli import demo as mod
+    elif name == "drift":
+        from inertialab.cli import drift as mod
+    elif name == "dual":
+        from inertialab.cli import dual as mod
+    elif name == "simulate":
+        from inertialab.cli import simulate as mod
+    elif name == "thermal":
+        from inertialab.cli import thermal as mod
+    elif name == "triaxial":
+        from inertialab.cli import triaxial as mod
+    elif name == "validate":
+        from inertialab.cli import validate as mod
+    elif name == "vibration":
+        from inertialab.cli import vibration as mod
+    else:
+        raise KeyError(f"no command module {name!r}")
+    return mod
+
+
 def command_modules() -> tuple:
     """The command modules, each with ``register(app, groups)``, in registration order."""
-    from inertialab.cli import (
-        allan,
-        batch,
-        demo,
-        drift,
-        dual,
-        simulate,
-        thermal,
-        triaxial,
-        validate,
-        vibration,
-    )
-
-    return (allan, batch, demo, drift, dual, simulate, thermal, triaxial, validate, vibration)
+    names = dict.fromkeys(m for mods in TOP_LEVEL.values() for m in mods)
+    return tuple(command_module(n) for n in names)
 
 
-def build_app() -> typer.Typer:
-    """Assemble the typer app from the command modules."""
-    app = typer.Typer(
-        name="inertialab",
-        help="Inertial-sensor test records to noise figures, calibration, error models, "
-             "compensation and forecasts.",
-        no_args_is_help=True,
-        add_completion=False,
-        pretty_exceptions_enable=False,
-        rich_markup_mode=None,
-    )
+def _typer(**kw) -> typer.Typer:
+    return typer.Typer(add_completion=False, pretty_exceptions_enable=False,
+                       rich_markup_mode=None, **kw)
 
-    @app.callback()
-    def _root(version: bool = typer.Option(False, "--version", callback=_version_callback,
-                                           is_eager=True, help="Print the version and exit.")):
-        """inertialab command line."""
 
+def _registered(modules) -> dict:
+    """The click commands and groups that ``modules`` register, by top-level name."""
     from typer.core import TyperGroup
 
     class _DefaultFitGroup(TyperGroup):
@@ -101,17 +111,74 @@ def build_app() -> typer.Typer:
                 args = ["fit", *args]
             return super().parse_args(ctx, args)
 
-    groups = {name: typer.Typer(help=text, no_args_is_help=True, add_completion=False,
-                                pretty_exceptions_enable=False, rich_markup_mode=None,
-                                **({"cls": _DefaultFitGroup} if name in _DEFAULT_FIT_GROUPS
-                                   else {}))
+    app = _typer()
+    groups = {name: _typer(help=text, no_args_is_help=True,
+                           **({"cls": _DefaultFitGroup} if name in _DEFAULT_FIT_GROUPS else {}))
               for name, text in _GROUP_HELP.items()}
-    for mod in command_modules():
+    for mod in modules:
         mod.register(app, groups)
     for name, sub in groups.items():
         if sub.registered_commands or sub.registered_groups:
-            app.add_typer(sub, name=name, hidden=name in _HIDDEN_GROUPS)
+            app.add_typer(sub, name=name)
+    return dict(typer.main.get_group(app).commands)
+
+
+def _root_class():
+    from typer.core import TyperGroup
+
+    class _LazyRoot(TyperGroup):
+        """The root group: lists :data:`TOP_LEVEL` and imports a command's modules only
+        when the command line names it (or ``--help`` lists them)."""
+
+        def list_commands(self, ctx):
+            return list(TOP_LEVEL)
+
+        def get_command(self, ctx, name):
+            if name not in self.commands and name in TOP_LEVEL:
+                built = _registered(command_module(m) for m in TOP_LEVEL[name])
+                self.commands[name] = built[name]
+            return self.commands.get(name)
+
+    return _LazyRoot
+
+
+def build_app() -> typer.Typer:
+    """The typer app: the root group and its ``--version``; each command's module is
+    imported when the command line names that command (:data:`TOP_LEVEL`).
+
+    Examples
+    --------
+    >>> import typer
+    >>> root = typer.main.get_command(build_app())
+    >>> root.list_commands(None)[:4], root.commands
+    (['allan', 'batch', 'demo', 'validate'], {})
+    """
+    app = _typer(name="inertialab",
+                 help="Inertial-sensor test records to noise figures, calibration, error "
+                      "models, compensation and forecasts.",
+                 no_args_is_help=True, cls=_root_class())
+
+    @app.callback()
+    def _root(version: bool = typer.Option(False, "--version", callback=_version_callback,
+                                           is_eager=True, help="Print the version and exit.")):
+        """inertialab command line."""
+
     return app
+
+
+def full_command():
+    """The root click group with every command loaded (for the documentation and the
+    tests that walk the whole command line).
+
+    Examples
+    --------
+    >>> sorted(full_command().commands["drift"].commands)
+    ['apply', 'evaluate', 'fit', 'forecast']
+    """
+    root = typer.main.get_command(build_app())
+    for name in root.list_commands(None):
+        root.get_command(None, name)
+    return root
 
 
 def _one_line(text: str) -> str:
@@ -295,7 +362,6 @@ def main(argv: list[str] | None = None) -> None:
     try:
         args = expand_config(args)
         files = _input_files(args)
-        check_limits(args)
         check_out_targets(args)
         cmd = typer.main.get_command(build_app())
         with outputs.transaction(protect=files) as tx:

@@ -19,15 +19,16 @@ from __future__ import annotations
 
 import functools
 import inspect
-import math
 import re
 from pathlib import Path
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
 from inertialab.io.formats.registry import formats_with_option
-from inertialab.io.mapping import ReadOptions
+
+if TYPE_CHECKING:
+    from inertialab.io.mapping import ReadOptions
 
 JsonOpt = Annotated[bool, typer.Option("--json", help="Print one JSON object alone on stdout.")]
 QuietOpt = Annotated[bool, typer.Option("--quiet", help="No progress bar or warnings on stderr.")]
@@ -94,6 +95,8 @@ READING_PARAMS: list[inspect.Parameter] = [
 
 
 def _build_read(values: dict[str, Any]) -> ReadOptions:
+    from inertialab.io.mapping import ReadOptions  # pandas: loaded when a command runs
+
     return ReadOptions.from_cli(values.pop("map_text"), values.pop("map_file"), **values)
 
 
@@ -180,102 +183,7 @@ def flagged(message: str) -> str:
         flag = FLAG_OF.get(m.group(1))
         return flag if flag else m.group(0)
 
-    return re.sub(r"argument '([a-z_]+)'", sub, message)
-
-
-#: Bounds of the size arguments: flag -> (lowest, highest, what it is). A value
-#: outside is a usage error (exit 2) before any work starts, instead of a MemoryError or a
-#: run that does not end. :func:`check_limits` applies them to every command line (main
-#: calls it).
-#: Flags a command bounds itself with a tighter, specific message (drift ``--horizon``
-#: 1..1000, dual design ``--positions`` 7..360) are left to the command.
-LIMITS: dict[str, tuple[float, float, str]] = {
-    "--rate": (1e-9, 1e9, "a sample rate in Hz"),
-    "--hours": (1e-6, 1e4, "a duration in hours"),
-    "--days": (1, 36_500, "a number of days"),
-    "--units": (1, 10_000, "a number of units"),
-    "--n-units": (1, 1_000_000, "a number of units"),
-    "--restarts": (1, 1_000, "a number of restarts"),
-    "--fish": (1, 10_000, "a population size"),
-    "--generations": (1, 100_000, "a number of generations"),
-    "--max-generations": (1, 1_000_000, "a number of generations"),
-    "--epochs": (1, 1_000_000, "a number of epochs"),
-    "--search-epochs": (1, 1_000_000, "a number of epochs"),
-    "--max-gap": (0, 36_500, "a gap length"),
-    "--p1-s": (0, 1e6, "a duration in seconds"),
-    "--p2-s": (0, 1e6, "a duration in seconds"),
-    "--p3-s": (0, 1e6, "a duration in seconds"),
-    "--workers": (1, 256, "a number of worker processes"),
-    "--seed": (0, 2**63 - 1, "a random seed"),
-    "--try-number": (1, 1_000, "a number of prey attempts"),
-    "--positions": (1, 100_000, "a number of positions"),
-    "--acc-g": (0, 1_000, "an acceleration amplitude in g"),
-    "--placement-deg": (0, 45, "an angle in degrees"),
-    "--rotation-deg": (1, 3_600, "a rotation angle in degrees"),
-    "--range-deg": (-720, 720, "an angle in degrees"),
-    "--g-local": (1, 100, "a local gravity in m/s^2"),
-    "--tol-bias-ug": (1e-9, 1e9, "a tolerance in ug"),
-    "--resample": (1e-9, 1e9, "a sample rate in Hz"),
-}
-#: Options taking several values, each checked against :data:`LIMITS`.
-N_VALUES = {"--range-deg": 2}
-#: ``--taus``: at most this many log-spaced taus, and taus in seconds up to this.
-MAX_TAU_COUNT = 100_000
-MAX_TAU_S = 1e10
-
-
-def _number(text: str) -> float | None:
-    try:
-        return float(text)
-    except (TypeError, ValueError, OverflowError):
-        return None
-
-
-def check_value(flag: str, text: str) -> None:
-    """Raise :class:`~inertialab.errors.InputError` when ``text`` (the value given to
-    ``flag``) is a number outside :data:`LIMITS` (or a ``--taus`` count/list out of
-    bounds); a value that is not a number is left to the command's own parsing."""
-    from inertialab.errors import InputError
-
-    text = str(text).strip()
-    if flag == "--taus":
-        if text.isdigit():
-            if len(text) > 12 or not 1 <= int(text) <= MAX_TAU_COUNT:
-                raise InputError(f"--taus count must be 1 .. {MAX_TAU_COUNT}, got {text[:20]}")
-            return
-        vals = [_number(v) for v in text.split(",") if v.strip()]
-        if vals and all(v is not None for v in vals):
-            if not all(math.isfinite(v) and 0 < v <= MAX_TAU_S for v in vals):
-                raise InputError(f"--taus in seconds must be finite, > 0 and <= {MAX_TAU_S:g}, "
-                                 f"got {text[:40]}")
-        return
-    if flag not in LIMITS:
-        return
-    lo, hi, what = LIMITS[flag]
-    v = _number(text)
-    if v is None:
-        return
-    if not math.isfinite(v):
-        raise InputError(f"{flag} is {what} and must be finite, between {lo:g} and {hi:g}, "
-                         f"got {text[:40]}")
-    if not lo <= v <= hi:
-        raise InputError(f"{flag} is {what} and must be between {lo:g} and {hi:g}, "
-                         f"got {text[:40]}")
-
-
-def check_limits(args: list[str]) -> None:
-    """Check every bounded flag of a command line (``--flag VALUE`` and ``--flag=VALUE``)."""
-    for i, a in enumerate(args):
-        if not a.startswith("--"):
-            continue
-        flag, eq, value = a.partition("=")
-        if flag not in LIMITS and flag != "--taus":
-            continue
-        if eq:
-            check_value(flag, value)
-        else:
-            for v in args[i + 1:i + 1 + N_VALUES.get(flag, 1)]:
-                check_value(flag, v)
+    return re.sub(r"argument '([a-z_][a-z0-9_]*)'", sub, message)
 
 
 #: Options that name an output (file or directory); see :func:`check_out_targets`.

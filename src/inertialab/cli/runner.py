@@ -18,12 +18,13 @@ builds the one JSON envelope (``command``, ``inputs`` with their sha256, ``setti
 with ``--json`` or writes it as ``--out DIR/result.json`` (with the models and figures
 of the result); otherwise it prints the result's summary tables.
 
-A result (from the workflow) provides ``to_json()`` (its keys), ``settings`` and
-``units`` (dicts), ``artifacts()`` (``{"models": [(file name, model, units)], "files":
-{file name: text}}``) and ``summary_rows()`` (a list of ``(title, columns, rows)``
-tables and plain lines); ``sha256``, the training record's canonical hash, goes into the
-model files; ``warnings`` (optional) are the result's own warning lines, reported with
-the Python warnings raised while it ran. A command whose ``--out`` is one record
+A result (from the workflow) is a :class:`inertialab.result.Result`: ``to_json()`` (its
+keys), ``settings`` and ``units`` (dicts), ``artifacts()`` (``{"models": [(file name,
+model, units)], "files": {file name: text}}``), ``summary_rows()`` (a list of ``(title,
+columns, rows)`` tables and plain lines), ``inputs`` (set here, through
+``with_inputs``), ``sha256`` (the training record's canonical hash, written into the
+model files) and ``warnings`` (the result's own lines, reported with the Python warnings
+raised while it ran); :meth:`Run.execute` refuses anything else. A command whose ``--out`` is one record
 (``out="file"``) writes the result's ``artifacts()["records"]`` (``[(path, frame,
 meta)]``, the record and its sidecar) and ``["files"]`` (``{path: text}``, beside it),
 all after the result is complete.
@@ -56,8 +57,9 @@ from inertialab.cli.common import (
 )
 from inertialab.cli.options import FLAG_OF, JsonOpt, OutDirOpt, OutFileOpt, QuietOpt
 from inertialab.errors import InputError
+from inertialab.result import check_result
 
-__all__ = ["Run", "config_command"]
+__all__ = ["Run", "config_command", "load_model", "read_record"]
 
 _COMMON = {name: inspect.Parameter(name, inspect.Parameter.KEYWORD_ONLY, default=False,
                                    annotation=ann)
@@ -90,19 +92,18 @@ class Run:
         started, t0 = _utc(), time.perf_counter()
         with collect_warnings(quiet=self.quiet or self.as_json) as warns:
             with progress_bar(command, quiet=self.quiet or self.as_json) as bar:
-                result = produce(bar)
+                result = check_result(produce(bar), command)
         meta = {"timestamps": {"started_utc": started, "finished_utc": _utc(),
                                "wall_s": round(time.perf_counter() - t0, 6)}}
-        if callable(inputs):
-            inputs = inputs(result)
-        own = [w for w in getattr(result, "warnings", ()) if not any(w in x for x in warns)]
+        result.with_inputs(inputs(result) if callable(inputs) else inputs)
+        own = [w for w in result.warnings if not any(w in x for x in warns)]
         if own and not (self.quiet or self.as_json):  # the result's own, not Python warnings
             import sys
 
             for w in own:
                 sys.stderr.write(f"warning: {' '.join(w.split())}\n")
         warns = list(warns) + own
-        env = envelope(command, result.to_json(), inputs=inputs, settings=result.settings,
+        env = envelope(command, result.to_json(), inputs=result.inputs, settings=result.settings,
                        units=result.units, warnings_=warns, meta=meta)
         if out_dir is not None:
             self._write(out_dir, result, env, figures, after)
@@ -127,9 +128,9 @@ class Run:
 
     @staticmethod
     def _write(out_dir, result, env, figures, after) -> None:
-        from inertialab.io import save_model
+        from inertialab.workflows.registries import save_model
 
-        sha = getattr(result, "sha256", None)  # the training record's canonical hash
+        sha = result.sha256  # the training record's canonical hash
         art = result.artifacts()
         for name, model, units in art.get("models", ()):
             if "/" in name:
@@ -154,6 +155,23 @@ def _write_records(art: dict) -> None:
         write_record(frame, path, meta)
     for path, text in art.get("files", {}).items():
         atomic_write_text(path, text)
+
+
+def read_record(path, kind, **kw):
+    """The record a command reads, through the one front door
+    (:func:`inertialab.io.readers.read_record`), imported here when the command runs so
+    that ``--help`` and ``--version`` start without pandas."""
+    from inertialab.io import readers
+
+    return readers.read_record(path, kind, **kw)
+
+
+def load_model(path, *, expected_type: str | None = None):
+    """The model file a command reads (:func:`inertialab.calib.load_model` through
+    :func:`inertialab.workflows.registries.load_model`), loaded when the command runs."""
+    from inertialab.workflows.registries import load_model as _load
+
+    return _load(path, expected_type=expected_type)
 
 
 def _hints(cls) -> dict:
@@ -206,6 +224,7 @@ def config_command(config_cls, *, out: str | None = "dir", out_help: str | None 
 
         pos = [p for p in own if p.kind != inspect.Parameter.KEYWORD_ONLY]
         kw = [p for p in own if p.kind == inspect.Parameter.KEYWORD_ONLY]
+        wrapper.__config__ = config_cls  # the settings this command offers (tests walk them)
         wrapper.__signature__ = sig.replace(parameters=pos + params + list(common.values()) + kw)
         wrapper.__annotations__ = {p.name: p.annotation for p in
                                    pos + params + list(common.values()) + kw}

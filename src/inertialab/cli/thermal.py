@@ -1,6 +1,5 @@
 """``inertialab thermal fit / apply / export`` (spec 000): each one call to
-:mod:`inertialab.workflows.thermal_run` through the runner (:mod:`inertialab.cli.runner`).
-``thermal compensate`` is the old spelling of ``thermal apply`` (hidden, one release)."""
+:mod:`inertialab.workflows.thermal_run` through the runner (:mod:`inertialab.cli.runner`)."""
 
 from pathlib import Path
 from typing import Annotated
@@ -9,15 +8,13 @@ import typer
 
 from inertialab.cli.common import prepare_out_dir, write_figures
 from inertialab.cli.options import reading_options
-from inertialab.cli.runner import config_command
+from inertialab.cli.runner import config_command, load_model, read_record
 from inertialab.errors import InputError
-from inertialab.io import read_record
 from inertialab.io.formats.thermal_logs import read_imu_thermal_log as _read_imu
 from inertialab.io.mapping import ReadOptions
 from inertialab.report import commands
 from inertialab.workflows import thermal_imu as wi
 from inertialab.workflows import thermal_run as wt
-from inertialab.workflows.registries import load_model
 
 
 def _read(path: Path, read: ReadOptions):
@@ -29,7 +26,7 @@ def _load(model: Path):
 
 
 def _apply_command(name: str):
-    """The body of ``thermal apply`` (and of its old spelling ``thermal compensate``)."""
+    """The body of ``thermal apply``."""
 
     @reading_options
     @config_command(wt.ApplyConfig, out="file!", out_help="Output record (.csv or .parquet); "
@@ -103,9 +100,8 @@ def thermal_export(
         rec = _read(config.unit_record, read) if config.unit_record is not None else None
         res = wt.run_export(_load(model), config, unit_record=rec)
         res.write(prepare_out_dir(c))
-        res.inputs = [model] + ([] if rec is None else
-                                [{"path": str(config.unit_record), "sha256": rec.sha256}])
-        return res
+        return res.with_inputs([model] + ([] if rec is None else [
+            {"path": str(config.unit_record), "sha256": rec.sha256}]))
 
     run.execute("thermal export", produce, inputs=lambda res: res.inputs)
 
@@ -115,7 +111,6 @@ def register(app: typer.Typer, groups: dict) -> None:
     thermal.command("fit", context_settings={"allow_extra_args": True})(
         reading_options(thermal_fit))
     thermal.command("apply")(_apply_command("thermal apply"))
-    thermal.command("compensate", hidden=True)(_apply_command("thermal compensate"))
     thermal.command("export")(thermal_export)
 
 

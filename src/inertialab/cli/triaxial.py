@@ -1,6 +1,5 @@
 """``inertialab triaxial fit|ferraris|apply|export`` (spec 002), each one call to
-:mod:`inertialab.workflows.triaxial_run` through the runner. The old spellings
-``calibrate triaxial|ferraris|apply`` stay as hidden aliases for one release.
+:mod:`inertialab.workflows.triaxial_run` through the runner.
 """
 
 # No ``from __future__ import annotations``: typer reads the Annotated options of
@@ -10,11 +9,11 @@ from pathlib import Path
 import typer
 
 from inertialab.cli.options import reading_options
-from inertialab.cli.runner import config_command
+from inertialab.cli.runner import config_command, load_model
 from inertialab.io.mapping import ReadOptions
 from inertialab.report import commands
 from inertialab.workflows import triaxial_run as wr
-from inertialab.workflows.registries import export_help, load_model
+from inertialab.workflows.registries import export_help
 
 _TARGETS_HELP = export_help("calibration")
 
@@ -80,7 +79,7 @@ def triaxial_export(
 
 
 def register(app: typer.Typer, groups: dict) -> None:
-    triaxial, calibrate = groups["triaxial"], groups["calibrate"]
+    triaxial = groups["triaxial"]
     fit_cmd = reading_options(triaxial_fit)
     apply_cmd = reading_options(triaxial_apply)
     triaxial.command("fit")(fit_cmd)
@@ -88,6 +87,3 @@ def register(app: typer.Typer, groups: dict) -> None:
     triaxial.command("apply")(apply_cmd)
     triaxial.command("ferraris")(ferraris_cmd)
     triaxial.command("export")(triaxial_export)
-    calibrate.command("triaxial", hidden=True)(fit_cmd)
-    calibrate.command("apply", hidden=True)(apply_cmd)
-    calibrate.command("ferraris", hidden=True)(ferraris_cmd)

@@ -1,7 +1,6 @@
 """``inertialab vibration fit|apply`` (spec 001): each one call to
 :mod:`inertialab.workflows.vibration_run` through the runner. A bare ``inertialab
-vibration SWEEP [FIXED]`` is routed to ``vibration fit`` by :mod:`inertialab.cli.main`;
-the old ``vibration-compensate`` spelling stays as a hidden alias of ``vibration apply``.
+vibration SWEEP [FIXED]`` is routed to ``vibration fit`` by :mod:`inertialab.cli.main`.
 """
 
 from pathlib import Path
@@ -9,12 +8,10 @@ from pathlib import Path
 import typer
 
 from inertialab.cli.options import reading_options
-from inertialab.cli.runner import config_command
-from inertialab.io import read_record
+from inertialab.cli.runner import config_command, load_model, read_record
 from inertialab.io.mapping import ReadOptions
 from inertialab.report import commands
 from inertialab.workflows import vibration_run as wv
-from inertialab.workflows.registries import load_model
 
 
 @reading_options
@@ -61,5 +58,3 @@ def vibration_apply(
 def register(app: typer.Typer, groups: dict) -> None:
     groups["vibration"].command("fit")(vibration_fit)
     groups["vibration"].command("apply")(vibration_apply)
-    # old spelling, hidden for one release
-    app.command("vibration-compensate", hidden=True)(vibration_apply)

@@ -251,6 +251,55 @@ def _runs_at(x: np.ndarray, value: float, min_run: int) -> np.ndarray:
     return out
 
 
+def rails(suffix: str, meta: dict, scale_g: float, raw=None) -> tuple[float, float] | None:
+    """A sensor's output rails ``(lo, hi)`` in the column's raw unit, or None when unknown.
+
+    Counts (``suffix == "lsb"``): ``saturation_lsb`` (half range around ``lsb_offset``)
+    when the sidecar gives it; otherwise 16-bit rails, signed (-32768, 32767) when every
+    value of ``raw`` fits a signed word, else unsigned (0, 65535) when every value fits
+    that, else none. SI units: ``range_g`` (0.999 of it; ``scale_g`` is one g in the
+    column's unit).
+
+    Examples
+    --------
+    >>> rails("lsb", {}, 1.0, [-120, 40, 17])
+    (-32768.0, 32767.0)
+    >>> rails("mps2", {"range_g": 2}, 9.80665)
+    (-19.5936867, 19.5936867)
+    """
+    if suffix == "lsb":
+        off = float(meta.get("lsb_offset", 0.0) or 0.0)
+        if "saturation_lsb" in meta:
+            s = float(meta["saturation_lsb"])
+            return off - s, off + s - 1
+        if raw is None:
+            return None
+        lo, hi = float(np.min(raw)), float(np.max(raw))
+        if lo >= -32768 and hi <= 32767:
+            return -32768.0, 32767.0
+        if lo >= 0 and hi <= 65535:
+            return 0.0, 65535.0
+        return None
+    if "range_g" in meta:
+        lim = float(meta["range_g"]) * scale_g * 0.999
+        return -lim, lim
+    return None
+
+
+def at_rails(values, limits) -> np.ndarray:
+    """The one saturation test: True where a sample sits at or beyond a rail of
+    ``limits = (lo, hi)``; for an ``(n, k)`` array, True for a row with any such value.
+
+    Examples
+    --------
+    >>> at_rails([[0.0, 1.0], [2.0, -2.0], [0.5, 0.5]], (-2.0, 2.0)).tolist()
+    [False, True, False]
+    """
+    x = np.asarray(values, dtype=float)
+    hit = (x <= limits[0]) | (x >= limits[1])
+    return hit if hit.ndim == 1 else np.any(hit, axis=1)
+
+
 def detect_saturation(df: pd.DataFrame, columns, full_scale=None, *, min_run: int = 3,
                       rel_tol: float = 1e-9) -> SaturationReport:
     """Flag samples at the sensor's full-scale value.
@@ -291,7 +340,7 @@ def detect_saturation(df: pd.DataFrame, columns, full_scale=None, *, min_run: in
             if not np.isfinite(fs) or fs == 0:
                 raise InputError(f"full-scale value must be finite and non-zero, got {fs}",
                                  column=c)
-            f = np.abs(x) >= fs * (1.0 - rel_tol)
+            f = at_rails(x, (-fs * (1.0 - rel_tol), fs * (1.0 - rel_tol)))
             limits[c] = fs
         if f.any():
             counts[c] = int(f.sum())

@@ -34,14 +34,16 @@ import re
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
-
-import numpy as np
-import pandas as pd
+from typing import TYPE_CHECKING
 
 from inertialab import units as U
 from inertialab.errors import InputError
 from inertialab.io.formats.text import ParseOptions
 from inertialab.io.modelfile import unique_keys
+
+if TYPE_CHECKING:  # numpy and pandas load when a table is mapped, not when a command starts
+    import numpy as np
+    import pandas as pd
 
 __all__ = [
     "ColumnMap",
@@ -110,6 +112,8 @@ _SCALED = re.compile(r"^([0-9]*\.?[0-9]+(?:[eE][+-]?[0-9]+)?)\s*\*?\s*([A-Za-z].
 
 
 def _check_entry(target: str, source: str, unit: str | None, *, where: str) -> MapEntry:
+    import numpy as np
+
     target = target.strip().lower()
     source = source.strip()
     if not target or not source:
@@ -264,6 +268,9 @@ def _find_source(df: pd.DataFrame, name: str, *, path, header_units=None) -> str
 
 
 def _numeric(s: pd.Series, *, path, column: str) -> pd.Series:
+    import numpy as np
+    import pandas as pd
+
     if pd.api.types.is_numeric_dtype(s) and not pd.api.types.is_bool_dtype(s):
         return s
     conv = pd.to_numeric(s, errors="coerce")
@@ -281,6 +288,8 @@ def time_to_seconds(values: pd.Series, unit: str, *, path=None, column: str = ""
     Integer stamps (any integer dtype, or floats holding whole numbers below 2**53)
     are differenced in int64 before scaling, so ns since the epoch keep full resolution.
     """
+    import numpy as np
+
     u = U.lookup(unit)
     if u.dimension != "time":
         raise InputError(f"unit '{unit}' is a {u.dimension}, expected a time", path=path,
@@ -320,6 +329,9 @@ def apply_map(df: pd.DataFrame, cmap: ColumnMap, *, path=None, g_local: float | 
     values relabelled) declares it; a column whose unit nothing declares or decides is an
     :class:`InputError` naming it and the units it could be.
     """
+    import numpy as np
+    import pandas as pd
+
     from inertialab.io.formats.text import unit_suffix
 
     if not cmap:
@@ -388,6 +400,8 @@ def _infer_units(df, entries, *, path, meta, header_units, unit_option) -> list[
     """Entries whose measurement target has no source unit get the unit the data decide
     (:mod:`inertialab.io.unit_check`), or an error naming the column."""
     import warnings
+
+    import numpy as np
 
     from inertialab.errors import DataQualityWarning
     from inertialab.io.unit_check import CANDIDATES, infer_unit
@@ -543,6 +557,8 @@ class ReadOptions:
     resample_hz: float | None = None
 
     def __post_init__(self):
+        import numpy as np
+
         for name in ("rate_hz", "resample_hz"):
             v = getattr(self, name)
             if v is not None:

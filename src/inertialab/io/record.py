@@ -50,6 +50,33 @@ class Record:
             raise InputError("no such column", path=self.path, column=name)
         return self.data[name].to_numpy()
 
+    def series(self, name: str) -> np.ndarray:
+        """Values of a canonical column on the record's time grid, as floats: NaN in the
+        slots of samples lost in a dropout (never interpolated), so that a statistic
+        cannot splice the data across a gap (``oadev`` refuses NaN;
+        :func:`inertialab.noise.gap_deviation` takes it). The values of :meth:`column`
+        when nothing was lost or the record has no time base.
+
+        Examples
+        --------
+        >>> import warnings
+        >>> import pandas as pd
+        >>> from inertialab.io import validate_frame
+        >>> frame = pd.DataFrame({"t_s": [0.0, 0.1, 0.2, 0.5, 0.6],  # two samples lost
+        ...                       "rate_dph": [1.0, 2.0, 3.0, 4.0, 5.0]})
+        >>> with warnings.catch_warnings():
+        ...     warnings.simplefilter("ignore")  # the dropout's DataQualityWarning
+        ...     rec = validate_frame(frame, "gyro_log")
+        >>> rec.column("rate_dph").tolist()
+        [1.0, 2.0, 3.0, 4.0, 5.0]
+        >>> rec.series("rate_dph").tolist()
+        [1.0, 2.0, 3.0, nan, nan, 4.0, 5.0]
+        """
+        values = np.asarray(self.column(name), dtype=np.float64)
+        if self.timebase is None:
+            return values
+        return np.asarray(self.timebase.place(values), dtype=np.float64)
+
     def find(self, base: str) -> str | None:
         """Canonical name of the unit-flexible column with ``base`` (e.g. ``rate`` ->
         ``rate_dph``), or None."""

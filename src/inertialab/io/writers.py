@@ -14,13 +14,14 @@ import json
 import os
 import tempfile
 from pathlib import Path
-
-import pandas as pd
+from typing import TYPE_CHECKING
 
 from inertialab.errors import InputError
 from inertialab.io import outputs
 from inertialab.io.sidecar import sidecar_path
-from inertialab.jsonable import to_jsonable
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 
 @contextlib.contextmanager
@@ -83,7 +84,16 @@ def atomic_path(path: str | Path):
 
 
 def atomic_write_text(path: str | Path, text: str) -> Path:
-    """Write ``text`` (UTF-8) to ``path`` atomically."""
+    """Write ``text`` (UTF-8) to ``path`` atomically (a temporary file beside it, renamed
+    into place once complete).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> p = atomic_write_text(pathlib.Path(tempfile.mkdtemp()) / "note.txt", "ok")
+    >>> p.read_text()
+    'ok'
+    """
     with atomic_path(path) as tmp:
         tmp.write_text(text, encoding="utf-8")
     return Path(path)
@@ -130,6 +140,8 @@ def _write_data(df: pd.DataFrame, p: Path, suffix: str) -> None:
 def write_sidecar(path: str | Path, meta: dict) -> Path:
     """Write ``meta`` as the JSON sidecar of data file ``path`` (atomically)."""
     sp = sidecar_path(path)
+    from inertialab.jsonable import to_jsonable  # numpy: loaded when a record is written
+
     text = json.dumps(to_jsonable(meta), indent=2, sort_keys=True, allow_nan=False)
     atomic_write_text(sp, text + "\n")
     return sp

@@ -22,7 +22,7 @@ from inertialab.errors import ExtrapolationWarning, InputError, NotFittedError
 from inertialab.estimator import Estimator
 
 
-def _monomials(n_features: int, degree: int, *, interaction: bool,
+def monomials(n_features: int, degree: int, *, interaction: bool,
                degrees=None) -> list[tuple[int, ...]]:
     """Exponent tuples of every monomial up to ``degree``.
 
@@ -48,6 +48,14 @@ def _monomials(n_features: int, degree: int, *, interaction: bool,
 
 class PolynomialRegressor(Estimator):
     """Least-squares polynomial in one or more inputs.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> x = np.c_[np.arange(6.0)]
+    >>> model = PolynomialRegressor(degree=2).fit(x, x[:, 0] ** 2 - 1)
+    >>> np.round(model.predict(np.c_[[2.5]]), 6)
+    array([5.25])
 
     Parameters
     ----------
@@ -116,7 +124,7 @@ class PolynomialRegressor(Estimator):
             raise InputError(f"X has {X.shape[0]} rows but y has {y.size}")
         if not (np.all(np.isfinite(X)) and np.all(np.isfinite(y))):
             raise InputError("X and y must be finite")
-        self.powers_ = _monomials(X.shape[1], int(self.degree), interaction=self.interaction,
+        self.powers_ = monomials(X.shape[1], int(self.degree), interaction=self.interaction,
                                   degrees=self.degrees)
         if y.size < len(self.powers_):
             raise InputError(

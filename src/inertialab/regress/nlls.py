@@ -124,6 +124,14 @@ def levenberg_marquardt(fun: Callable, x0, *, jac: Callable | str = "2-point",
                         tol: float = 1e-12, max_nfev: int | None = None) -> NLLSResult:
     """Minimise ``sum(fun(x)^2)`` with scipy's least_squares and report the covariance.
 
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.arange(5.0)
+    >>> res = levenberg_marquardt(lambda p: p[0] * t + p[1] - (2 * t + 1), [0.0, 0.0])
+    >>> np.round(res.x, 6)
+    array([2., 1.])
+
     Parameters
     ----------
     fun : callable ``x -> residuals (m,)``

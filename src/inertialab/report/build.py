@@ -20,7 +20,13 @@ from inertialab.studies.demo import summary_rows
 
 def figure_modules() -> dict:
     """Study name -> its figure module (imported here, explicitly: matplotlib loads
-    when a report is drawn, not when the package is imported)."""
+    when a report is drawn, not when the package is imported).
+
+    Examples
+    --------
+    >>> sorted(figure_modules())
+    ['allan', 'batch', 'drift', 'dual', 'thermal', 'triaxial', 'vibration']
+    """
     from inertialab.report.figures import (
         allan,
         batch,

@@ -10,6 +10,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from inertialab.config import Config, seed_setting, setting
+from inertialab.result import ResultBase
 
 __all__ = ["DemoConfig", "DemoResult", "run"]
 
@@ -23,7 +24,7 @@ class DemoConfig(Config):
 
 
 @dataclass
-class DemoResult:
+class DemoResult(ResultBase):
     """The studies' results and the report written from them (``paths``: ``index``,
     ``results``, ``rows`` of the summary table)."""
 

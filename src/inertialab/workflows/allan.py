@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from inertialab import units
+from inertialab.config import DEFAULT_CONFIDENCE
 from inertialab.errors import DataQualityWarning, InputError
 from inertialab.noise import registry as stat_registry
 from inertialab.noise._phase import PageReleaser
@@ -459,12 +460,32 @@ def parse_noise_type(text, stats) -> int | dict | None:
     return out
 
 
+#: ``taus``: at most this many log-spaced taus, and taus in seconds up to this (a larger
+#: request is refused before any work instead of allocating or looping without end).
+MAX_TAU_COUNT = 100_000
+MAX_TAU_S = 1e10
+
+
 def parse_taus(taus: str):
-    """``"octave" | "decade" | "many" | "all" | "<int>" | "0.1,1,10"`` (seconds)."""
+    """The one grammar of the ``taus`` setting: ``"octave" | "decade" | "many" | "all" |
+    "<count>" | "0.1,1,10"`` (seconds), with its bounds (:data:`MAX_TAU_COUNT`,
+    :data:`MAX_TAU_S`); the value :func:`inertialab.noise.allan.tau_grid` takes.
+
+    Examples
+    --------
+    >>> parse_taus("Octave"), parse_taus("20"), parse_taus("0.1, 1,10")
+    ('octave', 20, [0.1, 1.0, 10.0])
+    >>> parse_taus("0")
+    Traceback (most recent call last):
+    ...
+    inertialab.errors.InputError: argument 'taus' count must be 1 .. 100000, got 0
+    """
     t = str(taus).strip().lower()
     if t in ("octave", "decade", "many", "all"):
         return t
     if t.isdigit():
+        if len(t) > 12 or not 1 <= int(t) <= MAX_TAU_COUNT:
+            raise InputError(f"argument 'taus' count must be 1 .. {MAX_TAU_COUNT}, got {t[:20]}")
         return int(t)
     try:
         vals = [float(v) for v in t.split(",") if v.strip()]
@@ -473,6 +494,9 @@ def parse_taus(taus: str):
                          f"'{taus}'") from None
     if not vals:
         raise InputError("argument 'taus' is empty")
+    if not all(math.isfinite(v) and 0 < v <= MAX_TAU_S for v in vals):
+        raise InputError(f"argument 'taus' in seconds must be finite, > 0 and <= {MAX_TAU_S:g}, "
+                         f"got {t[:40]}")
     return vals
 
 
@@ -593,7 +617,7 @@ def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: st
     # one confidence for the curves and the terms when given (the command's); else the
     # curves at 0.683 (1 sigma, Stable32's) and the terms at their benchmarked 0.95
     terms_conf = CONFIDENCE if confidence is None else confidence
-    confidence = 0.683 if confidence is None else confidence
+    confidence = DEFAULT_CONFIDENCE["clock"] if confidence is None else confidence
     results = []
     common = dict(rate_hz=log.rate_hz, taus=taus, input=log.input, confidence=confidence,
                   alpha=alpha, edf_method=edf_method,

@@ -10,10 +10,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from inertialab.config import Config, setting
+from inertialab.config import DEFAULT_CONFIDENCE, Config, setting
 from inertialab.errors import InputError
+from inertialab.result import ResultBase
 from inertialab.units import CLOCK_RATIO, CLOCK_TIME
-from inertialab.workflows import allan as wf
 from inertialab.workflows.registries import stat_help
 
 __all__ = ["AllanConfig", "AllanRun", "run"]
@@ -101,6 +101,8 @@ class AllanConfig(Config):
 
     def check(self) -> AllanConfig:
         """Bounds and the rules between settings (before any reading)."""
+        from inertialab.workflows import allan as wf
+
         self.validate()
         wf.parse_noise_type(self.noise_type, wf.parse_stats(self.stat))
         wf.parse_taus(self.taus)
@@ -116,13 +118,13 @@ class AllanConfig(Config):
         return self
 
 
-#: default confidence of an IMU log's intervals (curve and noise terms alike; the noise
-#: terms' coverage is benchmarked at 95 %, docs/noise-terms.md)
-IMU_CONFIDENCE = 0.95
+#: default confidence of an IMU log's intervals (curve and noise terms alike), from the
+#: one table :data:`inertialab.config.DEFAULT_CONFIDENCE`
+IMU_CONFIDENCE = DEFAULT_CONFIDENCE["imu"]
 
 
 @dataclass
-class AllanRun:
+class AllanRun(ResultBase):
     """One series' analysis (:class:`~inertialab.workflows.allan.AllanAnalysis`) and the
     series it came from."""
 
@@ -210,6 +212,7 @@ def run(path, config: AllanConfig, *, options=None, progress=None) -> AllanRun:
     """Read ``path`` (a ``gyro_log``, or a ``clock_log`` for phase/frequency input) and
     compute the requested statistics and noise terms."""
     from inertialab.io import read_record
+    from inertialab.workflows import allan as wf
 
     c = config.check()
     clock = c.input in ("phase", "frequency")
@@ -231,7 +234,8 @@ def run(path, config: AllanConfig, *, options=None, progress=None) -> AllanRun:
                              g_local=c.g_local)
         sha = rec.sha256
     stats = wf.parse_stats(c.stat)
-    conf = c.confidence if c.confidence is not None else (0.683 if clock else IMU_CONFIDENCE)
+    conf = c.confidence if c.confidence is not None else \
+        DEFAULT_CONFIDENCE["clock" if clock else "imu"]
     alpha = wf.parse_noise_type(c.noise_type, stats)
     res = wf.analyze(log, stats=stats, taus=wf.parse_taus(c.taus), confidence=conf,
                      method=c.method, fit_terms=c.terms, bias_correction=c.bias_correction,

@@ -13,11 +13,15 @@ import re
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from inertialab.config import Config, setting
 from inertialab.errors import InputError
 from inertialab.jsonable import to_jsonable
-from inertialab.workflows import batch as wb
+from inertialab.result import ResultBase
+
+if TYPE_CHECKING:  # the study's floors load when a command runs, not for --help
+    from inertialab.workflows import batch as wb
 
 __all__ = ["BatchConfig", "BatchJob", "BatchRun", "parse_tolerance", "prepare", "run"]
 
@@ -31,6 +35,8 @@ _CHECK = re.compile(r"^\s*([A-Za-z_][A-Za-z0-9_.]*)\s*(<=|>=|<|>|=)\s*(.+?)\s*$"
 
 
 def _check(raw: str) -> wb.Check:
+    from inertialab.workflows import batch as wb
+
     s, is_abs = raw.strip(), False
     m_abs = re.match(r"^abs\(\s*([^)]+?)\s*\)(.*)$", s)
     if m_abs:
@@ -84,9 +90,9 @@ class BatchConfig(Config):
                                                      "or repeated).")
     strict: bool = setting(False, help="Exit 2 when any unit could not be processed.")
     unit: str | None = setting(None, help="Unit suffix for columns without one.")
-    rate: float | None = setting(None, help="Sample rate in Hz (allan).")
+    rate: float | None = setting(None, help="Sample rate in Hz (allan).", lo=1e-9, hi=1e9)
     gaps: str = setting("error", help="error | split (allan logs).", choices=("error", "split"))
-    g_local: float | None = setting(None, help="Local gravity, m/s^2.")
+    g_local: float | None = setting(None, help="Local gravity, m/s^2.", lo=1.0, hi=100.0)
     model: Path | None = setting(None, help="Model file (thermal compensate).")
 
 
@@ -107,6 +113,8 @@ def prepare(command: Sequence[str], inputs, config: BatchConfig, read) -> BatchJ
     apply``), the files of the ``inputs`` globs, the rules and the model file; ``read``
     (:class:`~inertialab.io.mapping.ReadOptions`, built and checked once here: a bad map
     is one error, not one per unit)."""
+    from inertialab.workflows import batch as wb
+
     c = config.validate()
     name = ALIASES.get(" ".join(command).strip().lower())
     if name is None:
@@ -136,7 +144,7 @@ def prepare(command: Sequence[str], inputs, config: BatchConfig, read) -> BatchJ
 
 
 @dataclass
-class BatchRun:
+class BatchRun(ResultBase):
     """The fleet's :class:`~inertialab.workflows.batch.BatchResult` and its settings."""
 
     res: object
@@ -167,6 +175,8 @@ class BatchRun:
 def run(job: BatchJob, *, progress=None) -> BatchRun:
     """Run the job's command on every file (Dask, or serially); with ``strict`` a unit
     that could not be processed fails the whole batch (one line)."""
+    from inertialab.workflows import batch as wb
+
     c = job.config
     res = wb.run_batch(job.name, job.paths, options=job.options, checks=job.checks,
                        scheduler=c.scheduler, workers=c.workers, progress=progress)

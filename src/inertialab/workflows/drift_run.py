@@ -10,7 +10,8 @@ from dataclasses import dataclass
 
 from inertialab.config import Config, seed_setting, setting
 from inertialab.errors import InputError
-from inertialab.workflows import drift as wf
+from inertialab.limits import MAX_HORIZON, check_horizon
+from inertialab.result import ResultBase
 
 __all__ = ["Config", "EvaluateConfig", "FitConfig", "UNITS", "check_horizon", "run_apply", "run_evaluate", "run_fit",
            "run_forecast"]
@@ -20,7 +21,6 @@ UNITS = {"bias": "ug", "sf": "ppm", "day": "day", "order": "1", "cv_scores": "1"
          "ljung_box_p": "1", "recalibration_day": "day", "tolerance": "ug (bias) | ppm (sf)",
          "k_ref": "mA/g", "skill_vs_persistence": "1"}
 #: The forecast horizon check (1 .. 1000 grid steps), for callers that check first.
-check_horizon = wf.check_horizon
 _QUANTITIES = {"both": ("bias", "sf"), "bias": ("bias",), "sf": ("sf",)}
 
 
@@ -55,7 +55,7 @@ def _hidden_grid(text):
 class _Common(Config):
     quantity: str = setting("both", help="bias | sf | both", choices=tuple(_QUANTITIES))
     horizon: int = setting(20, help="Forecast horizon K in grid steps (1 to 1000).",
-                           lo=1, hi=wf.MAX_HORIZON)
+                           lo=1, hi=MAX_HORIZON)
     order: str = setting("auto", help="auto (kernel CV, H = 6) or N.")
     restarts: int = setting(10, help="Training restarts R.", lo=1, hi=1000)
     hidden: int = setting(10, help="Hidden neurons S (spec default 10).", lo=1, hi=200)
@@ -74,9 +74,9 @@ class FitConfig(_Common):
                                                 "last test); later days are scored as holdout.",
                                      lo=-10**7, hi=10**7)
     tol_bias_ug: float | None = setting(None, help="Bias tolerance (default: sidecar, else 50).",
-                                        unit="ug", lo=0.0, hi=1e9)
+                                        unit="ug", lo=1e-9, hi=1e9)
     tol_sf_ppm: float | None = setting(None, help="Scale-factor tolerance (default: sidecar, "
-                                                  "else 50).", unit="ppm", lo=0.0, hi=1e9)
+                                                  "else 50).", unit="ppm", lo=1e-9, hi=1e9)
     max_gap: int = setting(3, help="Longest gap (steps) interpolated.", lo=0, hi=36_500)
     hampel: bool = setting(False, help="Hampel outlier screen (spec 004 §2.2).")
     arima: bool = setting(False, help="Add the ARIMA-by-AIC baseline (slow).")
@@ -120,7 +120,7 @@ def _unit_payload(r) -> dict:
 
 
 @dataclass
-class FitResult:
+class FitResult(ResultBase):
     """``drift fit``: the fit (:class:`inertialab.workflows.drift.DriftFit`) and the
     effective settings (tolerances from the sidecar resolved)."""
 
@@ -151,6 +151,8 @@ class FitResult:
 
 def run_fit(record, config: FitConfig, *, progress=None) -> FitResult:
     """Fit NAR models per unit and quantity, forecast, and schedule re-calibration."""
+    from inertialab.workflows import drift as wf
+
     c = config.validate()
     p, grid = _order(c.order), _hidden_grid(c.hidden_grid)
     tb = c.tol_bias_ug if c.tol_bias_ug is not None else float(record.meta.get("tol_bias_ug", 50.0))
@@ -168,7 +170,7 @@ def run_fit(record, config: FitConfig, *, progress=None) -> FitResult:
 
 
 @dataclass
-class EvaluateResult:
+class EvaluateResult(ResultBase):
     """``drift evaluate``: per unit and quantity the rolling-origin comparison."""
 
     per_unit: dict
@@ -200,6 +202,8 @@ class EvaluateResult:
 def run_evaluate(record, config: EvaluateConfig, *, progress=None) -> EvaluateResult:
     """Rolling-origin evaluation: refit at origins FIRST, FIRST+STEP, ..., N-K and compare
     NAR with the baselines (spec 004 §5)."""
+    from inertialab.workflows import drift as wf
+
     c = config.validate()
     p, grid = _order(c.order), _hidden_grid(c.hidden_grid)
     base = ("persistence", "window_mean", "ar_ls", "ar_aic", "poly_trend", "kernel_nar")
@@ -215,7 +219,7 @@ def run_evaluate(record, config: EvaluateConfig, *, progress=None) -> EvaluateRe
 
 
 @dataclass
-class ApplyResult:
+class ApplyResult(ResultBase):
     """``drift apply``: the compensated frame and the residual summary."""
 
     frame: object
@@ -245,6 +249,8 @@ class ApplyResult:
 def run_apply(model, record, *, out=None, model_path=None) -> ApplyResult:
     """Compensate a later record with the forecast bias and scale factor (spec 004 §9);
     ``out``: where the compensated record is to be written (with its sidecar)."""
+    from inertialab.workflows import drift as wf
+
     frame, summary = wf.apply(model, record)
     return ApplyResult(frame=frame, summary=summary, settings={},
                        written=None if out is None else str(out),
@@ -253,7 +259,7 @@ def run_apply(model, record, *, out=None, model_path=None) -> ApplyResult:
 
 
 @dataclass
-class ForecastResult:
+class ForecastResult(ResultBase):
     """``drift forecast``: forecasts again from a saved model."""
 
     per_unit: dict
@@ -282,7 +288,9 @@ class ForecastResult:
 def run_forecast(model, horizon: int | None = None) -> ForecastResult:
     """Forecast every unit and quantity of a saved model ``horizon`` steps (default: the
     fit's)."""
+    from inertialab.workflows import drift as wf
+
     if horizon is not None:
-        wf.check_horizon(horizon)
+        check_horizon(horizon)
     return ForecastResult(per_unit=wf.forecast(model, horizon),
                           settings={"horizon": horizon, "seed": model.settings.get("seed")})

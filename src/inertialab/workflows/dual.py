@@ -9,7 +9,14 @@ Thin, one verb set over :mod:`inertialab.calib.dual`:
 * :func:`fit` — the chosen methods on one tumble, the two-orientation fit when a second
   tumble is given, errors vs truth for a virtual-lab record, and the head-error
   sensitivity when asked; :class:`DualResult` carries the command's JSON payload;
-* :func:`design` — D-optimal positions (§7.2).
+* :func:`design` — D-optimal positions (§7.2);
+* the commands, one call each: :class:`FitConfig` and ``run_fit(records, config) ->
+  FitResult``, :class:`DesignConfig` and ``run_design(config) -> DesignResult``
+  (:class:`inertialab.result.Result`: ``to_json()``, ``settings``, ``units``,
+  ``warnings``, ``artifacts()``, ``summary_rows()``).
+
+The estimators (:mod:`inertialab.calib.dual`, pandas, scipy) are imported inside the
+functions that use them, so that ``dual fit --help`` starts light.
 """
 
 from __future__ import annotations
@@ -18,33 +25,35 @@ import json
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pandas as pd
 
-from inertialab.calib.dual import (
-    METHODS,
-    DualFit,
-    MethodResult,
-    calibrate,
-    design_dual,
-    errors_vs_truth,
-    fit_two_orientation,
-    head_error_sensitivity,
-)
-from inertialab.calib.dual_prior import (
-    DualPrior,
-    history_prior,
-    prior_from_dict,
-    prior_from_history,
-    resolve_prior,
-)
-from inertialab.calib.dual_reduce import Reduced, reduce_stops
+from inertialab.config import Config, setting
 from inertialab.errors import InputError
+from inertialab.result import ResultBase
 from inertialab.sensors.dual_meter import COEF_UNITS, PAPER_ALIASES
 
-__all__ = ["METHOD_CHOICES", "PAPER_ALIASES", "UNITS", "DualConfig", "DualResult", "design",
-           "fit", "load_prior", "parse_methods", "prepare", "prior_from_history"]
+if TYPE_CHECKING:
+    from inertialab.calib.dual import DualFit, MethodResult
+    from inertialab.calib.dual_prior import DualPrior
+    from inertialab.calib.dual_reduce import Reduced
+
+__all__ = ["METHOD_CHOICES", "PAPER_ALIASES", "UNITS", "DesignConfig", "DesignResult",
+           "DualConfig", "DualResult", "FitConfig", "FitResult", "design", "fit",
+           "load_prior", "parse_methods", "prepare", "prior_from_history", "run_design",
+           "run_fit"]
+
+#: The methods of :func:`fit`, in :data:`inertialab.calib.dual.METHODS`'s order (the
+#: calib module checks that both agree).
+_ALL_METHODS = ("single-ls", "ls", "ebr", "ridge-hkb", "ridge-gcv")
+
+
+def prior_from_history(*args, **kw):
+    """:func:`inertialab.calib.dual_prior.prior_from_history` (imported when called)."""
+    from inertialab.calib.dual_prior import prior_from_history as _from_history
+
+    return _from_history(*args, **kw)
 
 #: Values of the ``method`` argument ("all" = every method of :data:`METHODS`).
 METHOD_CHOICES = ("ebr", "ls", "single-ls", "ridge-hkb", "ridge-gcv", "all")
@@ -59,13 +68,21 @@ def parse_methods(method: str) -> tuple:
     if m not in METHOD_CHOICES:
         raise InputError(f"argument 'method' must be one of {', '.join(METHOD_CHOICES)}, "
                          f"got '{method}'")
-    return METHODS if m == "all" else (m,)
+    return _ALL_METHODS if m == "all" else (m,)
 
 
 def load_prior(spec) -> DualPrior | None:
     """``None``/"none" (paper-faithful beta0 = 0, W = I), "certificate", a JSON prior file,
     a CSV of past calibrations (one row per calibration, columns ``COEF_NAMES``; mean
     and SD floored at tau/2 of spec §6.5), or a DualPrior."""
+    import pandas as pd
+
+    from inertialab.calib.dual_prior import (
+        DualPrior,
+        history_prior,
+        prior_from_dict,
+        resolve_prior,
+    )
     if spec is None or isinstance(spec, DualPrior):
         return spec
     s = str(spec)
@@ -112,6 +129,10 @@ def load_prior(spec) -> DualPrior | None:
 
 def prepare(record, *, g_local: float | None = None) -> Reduced:
     """Reduce a validated ``dual_tumble`` :class:`~inertialab.io.Record` (spec §2.3)."""
+    import pandas as pd
+
+    from inertialab.calib.dual_reduce import reduce_stops
+
     df = record.data
     path = record.path
     dirs = df["direction"].astype(str).str.strip().str.upper()
@@ -185,7 +206,7 @@ class DualConfig:
     of single-ls/ls/ebr (the figure of ``--out``).
     """
 
-    methods: tuple = METHODS
+    methods: tuple = _ALL_METHODS
     prior: object = None
     second_order: bool = False
     ebr_rule: str = "E1"
@@ -227,12 +248,22 @@ class DualResult:
         return out
 
 
-def fit(data: Reduced | Sequence[Reduced], config: DualConfig = DualConfig(), *,
+def fit(data: Reduced | Sequence[Reduced], config: DualConfig | None = None, *,
         truth: dict | None = None) -> DualResult:
     """Fit one tumble, or two (opposite OA signs) for the two-orientation fit (spec §7.2).
 
-    ``truth`` (the virtual lab's coefficients) adds the errors vs truth (spec §4).
+    ``config`` defaults to :class:`DualConfig` (spec 003 defaults); ``truth`` (the
+    virtual lab's coefficients) adds the errors vs truth (spec §4).
     """
+    from inertialab.calib.dual import (
+        calibrate,
+        errors_vs_truth,
+        fit_two_orientation,
+        head_error_sensitivity,
+    )
+    from inertialab.calib.dual_reduce import Reduced
+
+    config = DualConfig() if config is None else config
     reds = [data] if isinstance(data, Reduced) else list(data)
     if not 1 <= len(reds) <= 2:
         raise InputError("give one record, or two for the two-orientation fit")
@@ -255,4 +286,146 @@ def fit(data: Reduced | Sequence[Reduced], config: DualConfig = DualConfig(), *,
 def design(n_positions: int = 20, *, range_deg=(0.0, 360.0), step_deg: float = 1.0) -> dict:
     """D-optimal positions for the identifiable g^2 harmonic model
     (:func:`inertialab.calib.dual.design_dual`)."""
+    from inertialab.calib.dual import design_dual
+
     return design_dual(n_positions, range_deg=range_deg, step_deg=step_deg)
+
+
+# ------------------------------------------------------ the commands, one call each
+
+#: Display factor and unit of each coefficient in the summary table.
+_SCALE = {"KA0": (1e6, "ug"), "KB0": (1e6, "ug"), "kA1": (1e6, "ppm"),
+          "kB1": (1e6, "ppm"), "eta": (1e6, "urad"), "KA2": (1e6, "ug/g^2"),
+          "KB2": (1e6, "ug/g^2"), "KAx": (1e6, "ug/g^2"), "KBx": (1e6, "ug/g^2")}
+
+
+@dataclass(frozen=True)
+class FitConfig(Config):
+    """Settings of ``dual fit``."""
+
+    method: str = setting("all", help="ebr | ls | single-ls | ridge-hkb | ridge-gcv | all")
+    prior: str = setting("none", help="none (paper: beta0 = 0, W = I) | certificate | FILE "
+                                      "(inertialab.prior/1 JSON, or a CSV of past "
+                                      "calibrations)")
+    ebr_rule: str = setting("E1", help="E1 (Stein) | E2 (ML) | E3 (SURE)")
+    lambda_combination: str = setting("star", help="star | max | min of lambda* and lambda0")
+    second_order: bool = setting(False, help="Iterated second-order correction of y (spec "
+                                             "§1.5).")
+    g_local: float | None = setting(None, help="Local gravity, m/s^2.", lo=1.0, hi=100.0)
+
+    def dual_config(self, *, sensitivity: bool) -> DualConfig:
+        return DualConfig(methods=parse_methods(self.method), prior=self.prior,
+                             second_order=self.second_order, ebr_rule=self.ebr_rule,
+                             lambda_combination=self.lambda_combination,
+                             sensitivity=sensitivity)
+
+
+def _cell(v, sd, f) -> str:
+    if v is None:
+        return "-"
+    sds = "n/e" if sd is None or sd != sd or sd == float("inf") else f"{sd * f:.3g}"
+    return f"{v * f:+.4g} +- {sds}"
+
+
+@dataclass
+class FitResult(ResultBase):
+    """The dual fit (:class:`~inertialab.workflows.dual.DualResult`)."""
+
+    res: object
+    settings: dict
+    sha256: str | None = None
+
+    @property
+    def units(self) -> dict:
+
+        return UNITS
+
+    @property
+    def warnings(self) -> list:
+        return list(self.res.fit.warnings)
+
+    def to_json(self) -> dict:
+        return self.res.payload()
+
+    def artifacts(self) -> dict:
+        return {"models": [("model.json", self.res.model, UNITS)]}
+
+    def summary_rows(self) -> list:
+        fit = self.res.fit
+        cols = list(fit.methods)
+        rows = []
+        for n, (f, u) in _SCALE.items():
+            label = f"{n} = {PAPER_ALIASES[n]}" if n in PAPER_ALIASES else n
+            rows.append([f"{label} ({u})"] + [_cell(fit.methods[k].coef.get(n),
+                                                    fit.methods[k].sd.get(n), f) for k in cols])
+        rows.append(["R (ug)"] + [f"{fit.methods[k].residual * 1e6:.3g}" for k in cols])
+        rows.append(["R_val (ug)"] + [f"{fit.methods[k].r_val * 1e6:.3g}" for k in cols])
+        rows.append(["rank"] + [str(fit.methods[k].rank) for k in cols])
+        out = [("dual fit (n/e: not estimable; EBR SD = posterior)", ["coefficient", *cols],
+                rows)]
+        if "ls" in fit.methods:
+            out += [f"  estimable {c['name']:>9s} = {c['value']:+.4e} +- {c['sd']:.2e}"
+                    for c in fit.methods["ls"].estimable]
+        two = self.res.two_orientation
+        if two is not None:
+            out.append("two-orientation LS: " + ", ".join(
+                f"{n} = {two.coef[n]:+.3e} +- {two.sd[n] or float('nan'):.1e}"
+                for n in ("KA2", "KB2", "KAx", "KBx")))
+        return out
+
+
+def run_fit(records, config: FitConfig, *, sensitivity: bool = False) -> FitResult:
+    """Calibrate two accelerometers tumbled on a dividing head (one record, or two with
+    opposite OA signs for the two-orientation fit)."""
+    c = config.validate()
+    if not 1 <= len(records) <= 2:
+        raise InputError("give one record, or two for the two-orientation fit")
+    cfg = c.dual_config(sensitivity=sensitivity)
+    reds = [prepare(r, g_local=c.g_local) for r in records]
+    res = fit(reds, cfg, truth=records[0].meta.get("truth"))
+    settings = {"method": c.method.strip().lower(), "prior": c.prior,
+                "ebr_rule": c.ebr_rule.upper(), "lambda_combination": c.lambda_combination.lower(),
+                "second_order": c.second_order, "g_local": c.g_local, "seed": None}
+    return FitResult(res=res, settings=settings, sha256=records[0].sha256)
+
+
+@dataclass(frozen=True)
+class DesignConfig(Config):
+    """Settings of ``dual design`` (bounds checked by the design itself, with the
+    candidate count)."""
+
+    positions: int = setting(20, help="Number of positions (7 to 360).")
+    range_deg: tuple[float, float] = setting((0.0, 360.0), help="Allowed angle range LO HI "
+                                                                "(deg).", lo=-720.0, hi=720.0)
+    step_deg: float = setting(1.0, help="Candidate grid step (deg; at most 3601 candidates).")
+
+
+@dataclass
+class DesignResult(ResultBase):
+    """``dual design``: the D-optimal positions beside the equally spaced ones."""
+
+    res: dict
+    settings: dict
+    units = {"positions_deg": "deg"}
+
+    def to_json(self) -> dict:
+        return self.res
+
+    def artifacts(self) -> dict:
+        return {}
+
+    def summary_rows(self) -> list:
+        c, e = self.res["criteria"], self.res["equally_spaced"]["criteria"]
+        keys = ("log_det", "a_trace_inv", "e_min_eig", "cond")
+        return ["positions (deg): " + " ".join(f"{a:g}" for a in self.res["positions_deg"]),
+                (None, ["design", "log det (D)", "trace inv (A)", "min eig (E)", "cond"],
+                 [["D-optimal", *(c[k] for k in keys)],
+                  ["equally spaced", *(e[k] for k in keys)]]),
+                self.res["note"]]
+
+
+def run_design(config: DesignConfig) -> DesignResult:
+    """D-optimal dividing-head positions for the identifiable g^2 harmonic model."""
+    c = config.validate()
+    res = design(c.positions, range_deg=c.range_deg, step_deg=c.step_deg)
+    return DesignResult(res=res, settings=c.to_dict())

@@ -4,20 +4,26 @@ and the model types (:mod:`inertialab.calib.model_types`, imported when a model 
 loaded: it imports every model class).
 
 The command line imports no method or model floor; it asks here for its choices and
-help texts, so a new statistic or exporter appears there with no CLI change.
+help texts, so a new statistic or exporter appears there with no CLI change. Each
+registry is imported when asked for, so a command's ``--help`` loads only its own.
 """
 
 from __future__ import annotations
 
-from inertialab.io import exporters
-from inertialab.noise import registry as _stats
-
-__all__ = ["export_help", "export_targets", "load_model", "stat_help", "stat_names"]
+__all__ = ["export_help", "export_targets", "load_model", "save_model", "stat_help", "stat_names"]
 
 
 def stat_names() -> tuple[str, ...]:
-    """The statistic names ``--stat`` takes, canonical order."""
-    return _stats.names()
+    """The statistic names ``--stat`` takes, canonical order.
+
+    Examples
+    --------
+    >>> stat_names()[:3]
+    ('adev', 'oadev', 'mdev')
+    """
+    from inertialab.noise import registry
+
+    return registry.names()
 
 
 def stat_help() -> str:
@@ -26,18 +32,44 @@ def stat_help() -> str:
 
 
 def export_targets(kind: str) -> tuple[str, ...]:
-    """The export targets of ``kind`` (``noise``, ``calibration`` or ``thermal``)."""
+    """The export targets of ``kind`` (``noise``, ``calibration`` or ``thermal``).
+
+    Examples
+    --------
+    >>> "kalibr" in export_targets("noise")
+    True
+    """
+    from inertialab.io import exporters
+
     return exporters.targets(kind)
 
 
 def export_help(kind: str) -> str:
     """Help text listing the export targets of ``kind`` and their tools."""
+    from inertialab.io import exporters
+
     return " | ".join(f"{e.target} ({e.tool})" for e in exporters.EXPORTERS if e.kind == kind)
 
 
 def load_model(path, *, expected_type: str | None = None):
     """Load a model file of any registered type (refusing another type than
-    ``expected_type`` when given)."""
+    ``expected_type`` when given).
+
+    Examples
+    --------
+    >>> from pathlib import Path
+    >>> models = Path(__file__).resolve().parents[3] / "tests" / "data" / "models"
+    >>> type(load_model(models / "polynomial-v1.json")).__name__
+    'PolynomialRegressor'
+    """
     from inertialab.calib.model_types import load_model as _load
 
     return _load(path, expected_type=expected_type)
+
+
+def save_model(obj, path, **kw):
+    """Write a model of a registered type (:func:`inertialab.calib.save_model`, the one
+    load/save pair; ``kw`` as :func:`inertialab.io.modelfile.save_model`)."""
+    from inertialab.calib.model_types import save_model as _save
+
+    return _save(obj, path, **kw)

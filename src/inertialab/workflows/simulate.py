@@ -18,6 +18,7 @@ import numpy as np
 
 from inertialab.config import Config, seed_setting, setting
 from inertialab.errors import InputError
+from inertialab.result import ResultBase
 
 __all__ = ["DualTumbleConfig", "FerrarisSessionConfig", "FogVibrationConfig",
            "GyroStaticConfig", "StorageDriftConfig", "ThermalTumbleConfig",
@@ -27,7 +28,7 @@ __all__ = ["DualTumbleConfig", "FerrarisSessionConfig", "FogVibrationConfig",
 
 
 @dataclass
-class Written:
+class Written(ResultBase):
     """What a ``simulate`` command writes and reports: ``records`` ``[(path, frame,
     meta)]``, ``files`` ``{path: text}``, the JSON keys (``payload``), ``settings``,
     ``units`` and the one summary ``line``."""

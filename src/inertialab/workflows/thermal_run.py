@@ -9,11 +9,15 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from inertialab.config import Config, seed_setting, setting
 from inertialab.errors import InputError
+from inertialab.result import ResultBase
 from inertialab.units import THERMAL_UNITS
-from inertialab.workflows import thermal as wf
+
+if TYPE_CHECKING:  # the study's floors load when a command runs, not for --help
+    from inertialab.workflows import thermal as wf
 
 __all__ = ["ApplyConfig", "ApplyResult", "ExportConfig", "ExportResult", "FitConfig", "FitResult",
            "run_apply", "run_export", "run_fit"]
@@ -24,6 +28,8 @@ _CHOICES = ("iafsa-scm-anfis", "scm-anfis", "anfis", "fis", "ann", "poly-sep", "
 
 def methods_from(method: str) -> tuple[str, ...]:
     """The methods of a ``method`` text: one name, a comma list, or ``all``."""
+    from inertialab.workflows import thermal as wf
+
     m = method.strip().lower()
     if m == "all":
         return wf.METHODS
@@ -57,11 +63,13 @@ class FitConfig(Config):
     # visual, step and crowd lie in (0, 1]: checked with that message by ThermalConfig
     visual: float = setting(0.30, help="IAFSA initial visual range, unit-cube units (0.30).")
     step: float = setting(0.10, help="IAFSA initial step, unit-cube units (0.10).")
-    try_number: int = setting(5, help="IAFSA prey attempts (5).", lo=1, hi=10_000)
+    try_number: int = setting(5, help="IAFSA prey attempts (5).", lo=1, hi=1000)
     crowd: float = setting(0.618, help="IAFSA crowd factor (0.618).")
     seed: int = seed_setting("Random seed (same seed, same numbers).")
 
     def thermal_config(self) -> wf.ThermalConfig:
+        from inertialab.workflows import thermal as wf
+
         methods = methods_from(self.method)
         if "poly-sep" in methods and (self.learn_drift or self.input == "raw"):
             raise InputError("poly-sep needs argument 'input' ua without argument "
@@ -76,7 +84,7 @@ class FitConfig(Config):
 
 
 @dataclass
-class FitResult:
+class FitResult(ResultBase):
     """The fit (:class:`~inertialab.workflows.thermal.ThermalFit`), its samples, the
     model's own drift and the bias/scale-factor curves."""
 
@@ -92,6 +100,8 @@ class FitResult:
         return self.result.summary(self.own)
 
     def artifacts(self) -> dict:
+        from inertialab.workflows import thermal as wf
+
         r, u = self.result, {"temp": "degC", "output": "mV"}
         models = [("model.json", r.models[r.model_method], u)]
         models += [(f"models/{m}.json", mod, u) for m, mod in r.models.items()]
@@ -126,6 +136,8 @@ class FitResult:
 
 def run_fit(record, config: FitConfig, *, progress=None) -> FitResult:
     """Fit integrated temperature-compensation models on a thermal tumble record."""
+    from inertialab.workflows import thermal as wf
+
     c = config.validate()
     cfg = c.thermal_config()
     samples = wf.prepare(record, cfg)
@@ -158,7 +170,7 @@ class ApplyConfig(Config):
 
 
 @dataclass
-class ApplyResult:
+class ApplyResult(ResultBase):
     """``thermal apply``: the compensated record (:class:`~inertialab.workflows.thermal.
     ThermalApplied`) to write at ``out``."""
 
@@ -189,6 +201,7 @@ def run_apply(model, record, config: ApplyConfig, *, out, source: str | None = N
     """Compensate a thermal-tumble record with a thermal model; the record to write at
     ``out`` has comp_output_mv (mV), comp_a_g (g) and status."""
     from inertialab.calib.model_checks import refuse_or_flag, thermal_findings
+    from inertialab.workflows import thermal as wf
 
     c = config.validate()
     flags = refuse_or_flag(thermal_findings(model), "thermal", force=c.force, path=source)
@@ -214,7 +227,7 @@ class ExportConfig(Config):
 
 
 @dataclass
-class ExportResult:
+class ExportResult(ResultBase):
     """``thermal export``: the C99 pair of a fuzzy thermal model (``files``: the paths
     written by :meth:`write`)."""
 
@@ -248,6 +261,8 @@ class ExportResult:
 def run_export(model, config: ExportConfig, *, unit_record=None) -> ExportResult:
     """Dependency-free C99 of a fuzzy thermal model (inputs clamped, status flag);
     ``unit_record``: the record read from ``config.unit_record``."""
+    from inertialab.workflows import thermal as wf
+
     c = config.validate()
     ex = wf.export(model, prefix=c.prefix, unit_record=unit_record)
     return ExportResult(ex=ex, mapped=unit_record is not None, settings=c.to_dict())

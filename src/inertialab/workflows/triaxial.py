@@ -33,8 +33,8 @@ from inertialab.calib.triaxial import (  # noqa: F401 - re-exported for callers 
     METHODS,
     CalibrationFit,
     TriaxialCalibration,
-    _lm,
     calibrate,
+    fit_lm,
     initial_estimate,
 )
 from inertialab.calib.triaxial_batch import BatchCalibration, calibrate_batch  # noqa: F401
@@ -53,6 +53,7 @@ from inertialab.calib.triaxial_session import (  # noqa: F401 - re-exported
     to_model,
 )
 from inertialab.errors import DataQualityWarning, InputError
+from inertialab.io.gaps import at_rails, rails
 from inertialab.io.readers import Record, hash_frame, read_record
 from inertialab.io.record import naming
 from inertialab.noise.static_intervals import StaticIntervals, sweep_thresholds
@@ -194,32 +195,6 @@ def _references(df: pd.DataFrame, g: float, *, path=None):
     return ref
 
 
-def _saturation_limits(suffix, meta, scale_g, raw=None):
-    """Raw-unit rails for saturation checks, or None when unknown.
-
-    Counts: ``saturation_lsb`` (half range around ``lsb_offset``) when given; otherwise
-    16-bit rails, signed (-32768, 32767) when every value fits a signed word, else unsigned
-    (0, 65535) when every value fits that, else none. SI: ``range_g`` (0.999 of it).
-    """
-    if suffix == "lsb":
-        off = float(meta.get("lsb_offset", 0.0) or 0.0)
-        if "saturation_lsb" in meta:
-            s = float(meta["saturation_lsb"])
-            return off - s, off + s - 1
-        if raw is None:
-            return None
-        lo, hi = float(np.min(raw)), float(np.max(raw))
-        if lo >= -32768 and hi <= 32767:
-            return -32768.0, 32767.0
-        if lo >= 0 and hi <= 65535:
-            return 0.0, 65535.0
-        return None
-    if "range_g" in meta:
-        lim = float(meta["range_g"]) * scale_g * 0.999
-        return -lim, lim
-    return None
-
-
 def static_data_from_frame(df: pd.DataFrame, meta: dict | None = None, *, g: float | None = None,
                            lsb_per_g: float | None = None, path=None,
                            header_check: bool = True) -> StaticData:
@@ -235,10 +210,9 @@ def static_data_from_frame(df: pd.DataFrame, meta: dict | None = None, *, g: flo
                                          header_check=header_check, path=path, raw=raw)
     keep = np.ones(len(df), dtype=bool)
     dropped = []
-    lim = _saturation_limits(suf, meta, units.to_si(1.0, suf, g_local=g) / g if suf != "lsb" else 1,
-                             raw)
+    lim = rails(suf, meta, units.to_si(1.0, suf, g_local=g) / g if suf != "lsb" else 1, raw)
     if lim is not None:
-        sat = np.any((raw <= lim[0]) | (raw >= lim[1]), axis=1)
+        sat = at_rails(raw, lim)
         if sat.any():
             rows = (np.flatnonzero(sat) + 1).tolist()
             warnings.warn(f"{path or 'records'}: {int(sat.sum())} record(s) at the sensor's rail "
@@ -301,7 +275,7 @@ def raw_log_data(t, acc_raw, meta: dict | None = None, *, suffix: str = "mps2",
     def score(iv: StaticIntervals) -> float:
         try:
             x0, _ = initial_estimate(iv.mean, objective="norm", g=g, counts=counts)
-            res = _lm(iv.mean, None, "norm", g, x0)
+            res = fit_lm(iv.mean, None, "norm", g, x0)
             return float(np.sqrt(np.mean(res.residuals**2)))
         except (InputError, np.linalg.LinAlgError):
             return float("inf")
@@ -321,10 +295,10 @@ def raw_log_data(t, acc_raw, meta: dict | None = None, *, suffix: str = "mps2",
         iv, kused, sweep_counts = sw.best, sw.k_best, sw.counts
     keep = np.ones(iv.count, dtype=bool)
     dropped = []
-    lim = _saturation_limits(suffix, meta, 1.0 if suffix == "lsb" else
-                             units.to_si(1.0, suffix, g_local=g) / g, raw)
+    lim = rails(suffix, meta, 1.0 if suffix == "lsb" else units.to_si(1.0, suffix, g_local=g) / g,
+                raw)
     if lim is not None:
-        sat_s = np.any((raw <= lim[0]) | (raw >= lim[1]), axis=1)
+        sat_s = at_rails(raw, lim)
         csum = np.r_[0, np.cumsum(sat_s)]
         nsat = csum[iv.stop] - csum[iv.start]
         if np.any(nsat > 0):

@@ -8,14 +8,16 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-import numpy as np
-
-from inertialab.calib.triaxial_checks import Limits
 from inertialab.config import Config, seed_setting, setting
 from inertialab.errors import InputError
-from inertialab.workflows import ferraris as wfr
-from inertialab.workflows import triaxial as wf
+from inertialab.result import ResultBase
+
+if TYPE_CHECKING:  # the study's floors load when a command runs, not for --help
+    import numpy as np
+
+    from inertialab.workflows import triaxial as wf
 
 __all__ = ["ApplyConfig", "ExportConfig", "FerrarisConfig", "FitConfig", "run_apply", "run_export",
            "run_ferraris", "run_fit", "run_fit_file"]
@@ -78,6 +80,9 @@ class FitConfig(Config):
     seed: int = seed_setting("Random seed (same seed, same numbers).")
 
     def fit_config(self, method: str) -> wf.Config:
+        from inertialab.calib.triaxial_checks import Limits
+        from inertialab.workflows import triaxial as wf
+
         return wf.Config(method=method, objective=self.objective, seed=self.seed,
                          max_generations=self.max_generations, robust=self.robust,
                          placement_deg=self.placement_deg,
@@ -131,7 +136,7 @@ def _method_files(tables: dict, skipped: dict, name: str) -> dict:
 
 
 @dataclass
-class FitResult:
+class FitResult(ResultBase):
     """``triaxial fit`` of one unit: the run (:class:`CalibrationRun`), the per-method
     tables when several methods were fitted, the effective settings."""
 
@@ -146,9 +151,13 @@ class FitResult:
 
     @property
     def units(self) -> dict:
+        from inertialab.workflows import triaxial as wf
+
         return wf.result_units(self.run)
 
     def to_json(self) -> dict:
+        from inertialab.workflows import triaxial as wf
+
         payload = wf.result_payload(self.run)
         payload["seed"] = self.seed
         if self.tables is not None:
@@ -162,12 +171,15 @@ class FitResult:
 
     def corrected(self) -> np.ndarray:
         """The records corrected by the fit (the working unit), for the figures."""
+
         from inertialab.sensors.triaxial import correct
 
         return correct(self.run.fit.x, self.run.data.a)
 
     def norm_error(self) -> np.ndarray:
         """|corrected record| - g per record (the working unit), for the figures."""
+        import numpy as np
+
         return np.linalg.norm(self.corrected(), axis=1) - self.run.data.g
 
     def summary_rows(self) -> list:
@@ -222,7 +234,7 @@ class FitResult:
 
 
 @dataclass
-class BatchResult:
+class BatchResult(ResultBase):
     """``triaxial fit`` of a multi-unit (production-line) file: yield and per-unit table."""
 
     batch: object
@@ -231,6 +243,8 @@ class BatchResult:
              "wall_s": "s"}
 
     def to_json(self) -> dict:
+        import numpy as np
+
         t, b = self.batch.table, self.batch
         return {"method": "lm-batch", "objective": "scalar", "n_units": int(len(t)),
                 "yield_fraction": b.yield_fraction, "rmse_limit": b.rmse_limit,
@@ -254,6 +268,8 @@ class BatchResult:
 def run_fit(record, config: FitConfig, *, schedule=None, name: str = "", progress=None):
     """Calibrate a triaxial accelerometer (and gyro) from static records or a raw log
     (``schedule``: the pose schedule frame of a raw log, or None)."""
+    from inertialab.workflows import triaxial as wf
+
     c = config.validate()
     methods = wf.methods_from(c.method)
     unit = None if c.unit is None else c.unit.lower()
@@ -297,6 +313,7 @@ def run_fit_file(file, config: FitConfig, *, options=None, progress=None):
     log takes its pose schedule from ``config.schedule`` or ``<stem>.schedule.csv`` when
     present. The result's ``inputs`` name the file and the schedule read."""
     from inertialab.io.sidecar import read_schedule, schedule_path
+    from inertialab.workflows import triaxial as wf
 
     unit = None if config.unit is None else config.unit.lower()
     rec = wf.read(file, options=options, unit=unit, g_local=config.g_local)
@@ -307,7 +324,7 @@ def run_fit_file(file, config: FitConfig, *, options=None, progress=None):
             schedule = read_schedule(sp)  # the text front door: regular file, size, encoding
             inputs.append(sp)
     res = run_fit(rec, config, schedule=schedule, name=Path(file).name, progress=progress)
-    res.inputs = inputs
+    res.with_inputs(inputs)
     return res
 
 
@@ -334,7 +351,7 @@ class FerrarisConfig(Config):
 
 
 @dataclass
-class FerrarisResult:
+class FerrarisResult(ResultBase):
     """``triaxial ferraris``: the run (:class:`~inertialab.workflows.ferraris.FerrarisRun`)."""
 
     run: object
@@ -345,9 +362,13 @@ class FerrarisResult:
 
     @property
     def units(self) -> dict:
+        from inertialab.workflows import ferraris as wfr
+
         return wfr.result_units(self.run)
 
     def to_json(self) -> dict:
+        from inertialab.workflows import ferraris as wfr
+
         return wfr.result_payload(self.run)
 
     def artifacts(self) -> dict:
@@ -378,6 +399,9 @@ class FerrarisResult:
 def run_ferraris(record, config: FerrarisConfig, *, name: str = "", progress=None):
     """Accelerometer (12 parameters) and gyro (scale, misalignment, bias, g-sensitivity)
     from six static faces and a turn about each axis."""
+    from inertialab.calib.triaxial_checks import Limits
+    from inertialab.workflows import ferraris as wfr
+
     c = config.validate()
     session = wfr.prepare(record, sections=c.sections, g_local=c.g_local)
     if progress is not None:
@@ -404,7 +428,7 @@ class ApplyConfig(Config):
 
 
 @dataclass
-class ApplyResult:
+class ApplyResult(ResultBase):
     """``triaxial apply``: the calibrated record (``data``, ``meta``) and its summary."""
 
     data: object
@@ -430,6 +454,8 @@ def run_apply(model, path, config: ApplyConfig, *, options=None, model_path=None
               output=None) -> ApplyResult:
     """Apply a triaxial calibration to the record at ``path``:
     calibrated = correction_matrix @ (raw - offset) (and the gyro block)."""
+    from inertialab.workflows import triaxial as wf
+
     c = config.validate()
     unit = None if c.unit is None else c.unit.lower()
     rec = wf.read(path, options=options, unit=unit)
@@ -453,7 +479,7 @@ class ExportConfig(Config):
 
 
 @dataclass
-class ExportResult:
+class ExportResult(ResultBase):
     """``triaxial export``: the files written for another tool."""
 
     written: list

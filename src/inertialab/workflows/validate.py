@@ -9,6 +9,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from inertialab.result import ResultBase
+
 __all__ = ["ValidationResult", "run"]
 
 _SOURCE = {"argument": "rate option", "sidecar": "sidecar fs_hz"}
@@ -23,7 +25,7 @@ def _unit_of(column: str) -> str:
 
 
 @dataclass
-class ValidationResult:
+class ValidationResult(ResultBase):
     """The record read and checked (:class:`~inertialab.io.Record`) as ``kind``."""
 
     rec: object

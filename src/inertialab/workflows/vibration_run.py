@@ -7,11 +7,14 @@ and ``summary_rows()``.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
-from inertialab.calib.vibration import UNITS as MODEL_UNITS
 from inertialab.config import Config, seed_setting, setting
 from inertialab.errors import InputError
-from inertialab.workflows import vibration as wf
+from inertialab.result import ResultBase
+
+if TYPE_CHECKING:  # the study's floors load when a command runs, not for --help
+    from inertialab.workflows import vibration as wf
 
 __all__ = ["ApplyConfig", "ApplyResult", "FitConfig", "FitResult", "run_apply", "run_fit"]
 
@@ -72,13 +75,15 @@ class FitConfig(Config):
     seed: int = seed_setting("Random seed (same seed, same numbers).")
 
     def vibration_config(self, *, views: bool) -> wf.VibrationConfig:
+        from inertialab.workflows import vibration as wf
+
         return wf.VibrationConfig(level=_level(self.level), spread=_spread(self.spread),
                                   goal=self.goal, centers=self.centers, targets=self.targets,
                                   rng=self.seed, views=views)
 
 
 @dataclass
-class FitResult:
+class FitResult(ResultBase):
     """The analysis (:class:`~inertialab.workflows.vibration.VibrationResult`)."""
 
     res: object
@@ -93,6 +98,8 @@ class FitResult:
         return {**self.res.to_json(), "metrics": self.res.metrics}
 
     def artifacts(self) -> dict:
+        from inertialab.calib.vibration import UNITS as MODEL_UNITS
+
         return {"models": [("model.json", self.res.model, MODEL_UNITS)]}
 
     def summary_rows(self) -> list:
@@ -116,6 +123,8 @@ def run_fit(sweep_record, fixed_record, config: FitConfig, *, views: bool = True
             progress=None) -> FitResult:
     """Phase-wise Allan terms, db4 separation and the RBF bias model on the sweep; the
     fixed run compensated when given (``views``: also the multiscale figures' data)."""
+    from inertialab.workflows import vibration as wf
+
     c = config.validate()
     cfg = c.vibration_config(views=views)
     sweep = wf.prepare(sweep_record)
@@ -132,7 +141,7 @@ class ApplyConfig(Config):
 
 
 @dataclass
-class ApplyResult:
+class ApplyResult(ResultBase):
     """``vibration apply``: the compensated record
     (:class:`~inertialab.workflows.vibration.CompensatedRecord`) to write at ``out``."""
 
@@ -154,6 +163,8 @@ class ApplyResult:
 def run_apply(model, record, config: ApplyConfig, *, out, model_path=None) -> ApplyResult:
     """Apply a saved vibration-compensation model to a new record (spec 001 §3.10); the
     record to write at ``out`` has rate_comp_dph (deg/h)."""
+    from inertialab.workflows import vibration as wf
+
     c = config.validate()
     res = wf.apply(model, record, model_name=c.model, apply_to=c.apply_to,
                    model_path=None if model_path is None else str(model_path))

@@ -59,5 +59,11 @@ FORMATS: tuple[FileFormat, ...] = (
 
 
 def formats_with_option(option: str) -> tuple[str, ...]:
-    """Names of the formats that use reading option ``option``."""
+    """Names of the formats that use reading option ``option``.
+
+    Examples
+    --------
+    >>> formats_with_option("topic")
+    ('rosbag1', 'rosbag2', 'ulog')
+    """
     return tuple(f.name for f in FORMATS if option in f.options)

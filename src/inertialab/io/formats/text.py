@@ -37,13 +37,14 @@ import os
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
-
-import numpy as np
-import pandas as pd
+from typing import TYPE_CHECKING
 
 from inertialab import units as U
 from inertialab.errors import InputError
 from inertialab.limits import MAX_COLUMNS, regular_input
+
+if TYPE_CHECKING:  # pandas loads when a table is read, not when a command starts
+    import pandas as pd
 
 __all__ = ["MAX_TEXT_BYTES", "TextLayout", "TextTable", "layout_of", "load_text", "unit_suffix"]
 
@@ -466,6 +467,8 @@ def load_text(path, parse=None, *, nrows: int | None = None) -> TextTable:
     if lay.sep != r"\s+":
         kw["skipinitialspace"] = True
     chunks = None
+    import pandas as pd
+
     try:
         if nrows is not None:
             df = pd.read_csv(p, nrows=nrows, **kw)
@@ -505,6 +508,9 @@ def _refuse_stray_text(chunks: list, *, path) -> None:
     column (unit ids, dates) has far more text and is joined as before."""
     if len(chunks) < 2:
         return
+    import numpy as np
+    import pandas as pd
+
     for name in chunks[0].columns:
         kinds = [pd.api.types.is_numeric_dtype(c[name]) for c in chunks]
         if all(kinds) or not any(kinds):

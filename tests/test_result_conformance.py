@@ -1,0 +1,123 @@
+"""Every registered command returns a :class:`inertialab.result.Result` to the runner:
+each command runs once here, in this process, on small virtual-lab records, and the test
+records what reached :func:`inertialab.result.check_result` (the runner refuses anything
+else with a TypeError). The run of every command is ``slow`` (CI's second step); every
+other CLI test passes through the same check."""
+
+import json
+
+import pytest
+
+from inertialab.result import Result, ResultBase, check_result
+from tests.helpers import run_cli
+
+#: One small successful run per registered command (``{d}``: the shared directory).
+SETUP = [
+    ["simulate", "gyro-static", "--preset", "allan-test", "--hours", "0.05", "--rate", "10",
+     "--seed", "1", "--out", "{d}/gyro.csv"],
+    ["simulate", "thermal-tumble", "--out", "{d}/thermal.csv"],
+    ["simulate", "triaxial-poses", "--scenario", "sphere100-clean", "--out", "{d}/tri.csv"],
+    ["simulate", "dual-tumble", "--scenario", "S1", "--out", "{d}/dual.csv"],
+    ["simulate", "storage-drift", "--units", "2", "--days", "60", "--out", "{d}/drift.csv"],
+    ["simulate", "fog-vibration", "--experiment", "sweep", "--p1-s", "40", "--p3-s", "40",
+     "--sweep-oct-per-min", "60", "--out", "{d}/vs.csv"],
+    ["simulate", "fog-vibration", "--experiment", "fixed", "--p1-s", "40", "--p3-s", "40",
+     "--p2-s", "40", "--out", "{d}/vf.csv"],
+    ["simulate", "ferraris-session", "--out", "{d}/fer.raw.csv"],
+]
+CASES = {
+    "validate": ["validate", "{d}/gyro.csv", "--kind", "gyro_log"],
+    "allan": ["allan", "{d}/gyro.csv"],
+    "batch": ["batch", "allan", "--inputs", "{d}/gyro.csv", "--scheduler", "serial"],
+    "thermal fit": ["thermal", "fit", "{d}/thermal.csv", "--method", "fis", "--out",
+                    "{d}/thermal_fit"],
+    "thermal apply": ["thermal", "apply", "{d}/thermal_fit/model.json", "{d}/thermal.csv",
+                      "--out", "{d}/thermal_comp.csv"],
+    "thermal export": ["thermal", "export", "{d}/thermal_fit/model.json", "--c", "{d}/c"],
+    "triaxial fit": ["triaxial", "fit", "{d}/tri.csv", "--method", "lm", "--out",
+                     "{d}/tri_fit"],
+    "triaxial apply": ["triaxial", "apply", "{d}/tri_fit/model.json", "{d}/tri.csv", "--out",
+                       "{d}/tri_cal.csv"],
+    "triaxial export": ["triaxial", "export", "{d}/tri_fit/model.json", "--to", "kalibr",
+                        "--out", "{d}/tri.yaml"],
+    "triaxial ferraris": ["triaxial", "ferraris", "{d}/fer.raw.csv"],
+    "dual fit": ["dual", "fit", "{d}/dual.csv", "--method", "ls"],
+    "dual design": ["dual", "design", "--positions", "12"],
+    "drift fit": ["drift", "fit", "{d}/drift.csv", "--quantity", "bias", "--order", "1",
+                  "--restarts", "1", "--horizon", "5", "--out", "{d}/drift_fit"],
+    "drift evaluate": ["drift", "evaluate", "{d}/drift.csv", "--quantity", "bias", "--order",
+                       "1", "--restarts", "1", "--horizon", "5", "--first", "40", "--step",
+                       "10"],
+    "drift forecast": ["drift", "forecast", "{d}/drift_fit/model.json"],
+    "drift apply": ["drift", "apply", "{d}/drift_fit/model.json", "{d}/drift.csv", "--out",
+                    "{d}/drift_comp.csv"],
+    "vibration fit": ["vibration", "fit", "{d}/vs.csv", "--out", "{d}/vib_fit"],
+    "vibration apply": ["vibration", "apply", "{d}/vib_fit/model.json", "{d}/vf.csv",
+                        "--out", "{d}/vib_comp.csv"],
+}
+
+
+def _commands() -> set[str]:
+    from inertialab.cli.main import full_command
+
+    names = set()
+    for name, cmd in full_command().commands.items():
+        subs = getattr(cmd, "commands", None)
+        names |= {f"{name} {s}" for s in subs} if subs else {name}
+    return names
+
+
+@pytest.fixture(scope="module")
+def seen(tmp_path_factory, monkeypatch_module):
+    """command -> the type that reached check_result, over one run of every command."""
+    from inertialab.cli import runner
+
+    d = tmp_path_factory.mktemp("conformance")
+    got = {}
+
+    def recording(result, command):
+        got[command] = result
+        return check_result(result, command)
+
+    monkeypatch_module.setattr(runner, "check_result", recording)
+    for argv in SETUP + list(CASES.values()):
+        res = run_cli(*[a.format(d=d) for a in argv])
+        assert res.returncode == 0, f"{argv}: {res.stderr}"
+    return got
+
+
+@pytest.fixture(scope="module")
+def monkeypatch_module():
+    mp = pytest.MonkeyPatch()
+    yield mp
+    mp.undo()
+
+
+def test_every_registered_command_is_run_here():
+    expected = {" ".join(a[:2]) if a[0] in ("simulate",) else k for k, a in CASES.items()}
+    missing = sorted(c for c in _commands()
+                     if c not in expected and not c.startswith("simulate ") and c != "demo")
+    assert not missing, f"commands without a conformance case: {missing}"
+
+
+@pytest.mark.slow  # one run of every command: about 40 s on a loaded 2-core machine
+def test_every_command_returns_a_result(seen):
+    labels = {"vibration fit": "vibration"}  # the envelope's command name
+    for command in CASES:
+        label = labels.get(command, command)
+        assert label in seen, f"{command}: nothing reached the runner"
+        result = seen[label]
+        assert isinstance(result, Result) and isinstance(result, ResultBase), command
+        json.dumps(result.inputs, default=str)
+        takes_input = command != "dual design"
+        assert bool(result.inputs) == takes_input, f"{command}: inputs {result.inputs}"
+    kinds = [c for c in _commands() if c.startswith("simulate ")]
+    assert {f"simulate {k.split()[1]}" for k in kinds} >= {"simulate gyro-static"}
+    assert any(k.startswith("simulate") for k in seen)
+
+
+def test_a_result_that_is_not_one_is_refused():
+    from inertialab.cli.runner import Run
+
+    with pytest.raises(TypeError, match="allan returned a dict, not a Result"):
+        Run(quiet=True).execute("allan", lambda bar: {"adev": 1.0})
