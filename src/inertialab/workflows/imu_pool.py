@@ -285,14 +285,17 @@ def pool_axis(name, logs, *, candidates, confidence, drift=None, y_check=None,
     widened, spread = widen_terms(pooled, own, stats, same, z)
     shortest = min(len(lg.columns[name][1]) / lg.rate_hz for lg in logs)
     between = homogeneity(curves, rates, max_tau_s=shortest / 16.0)
-    axis = pooled_axis(name, col, unit, pool_curves(curves, rates, confidence), widened, g)
+    curve = pool_curves(curves, rates, confidence)
+    axis = pooled_axis(name, col, unit, curve, widened, g)
     if drift is not None:
         from inertialab.workflows.imu_drift import axis_drift
 
+        # the drift interval takes the between-log spread of the logs' own drift once, on
+        # the pooled fit's own intervals (the widened terms would count it twice)
         extra = drift_between(own, rates, stats, drift)
-        axis = replace(axis, drift=axis_drift(axis, rates[0], drift, y_check,
-                                              extra_log_var=extra))
-        axis.drift["between_log_var"] = [float(v) for v in extra]
+        d = axis_drift(pooled_axis(name, col, unit, curve, pooled, g), rates[0], drift,
+                       y_check, extra_log_var=extra)
+        axis = replace(axis, drift=d | {"between_log_var": [float(v) for v in extra]})
     per_log = []
     for lg, t, st, ok in zip(logs, own, stats, same):
         a = pooled_axis(name, lg.columns[name][0], unit, lg.curves[name], t, g)
