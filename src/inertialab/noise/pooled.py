@@ -170,6 +170,8 @@ def widen_term(term, between_log_var: float, z: float = 1.959963984540054):
     add = z * z * max(between_log_var, 0.0)
     if not term.significant:
         ub = float(term.upper_bound) if math.isfinite(term.upper_bound) else hi
+        if not math.isfinite(ub):
+            return term
         ub *= math.exp(math.sqrt(add))
         return replace(term, ci=(0.0, ub), upper_bound=ub)
     if not (val > 0 and lo > 0 and math.isfinite(hi) and lo <= val <= hi):

@@ -331,6 +331,24 @@ class PoolResult:
                     "spread_means": POOL_KINDS[self.pool_kind],
                     "logs": [lg.summary() for lg in self.logs]}
 
+    # the command runner's protocol (inertialab.cli.runner.Run.execute)
+    @property
+    def settings(self) -> dict:
+        return self.imu.settings
+
+    @property
+    def units(self) -> dict:
+        return {"rate_hz": "Hz"}
+
+    def to_json(self) -> dict:
+        return {"imu": self.to_dict()}
+
+    def artifacts(self) -> dict:
+        return {}
+
+    def summary_rows(self) -> list:
+        return self.tables()
+
     def tables(self) -> list:
         """``(title, columns, rows)``: the pooled table, the drift tables, and each log's
         own terms with the between-log test and the model choice."""
@@ -421,6 +439,24 @@ def analyse_pool(files, *, read=None, unit=None, rate=None, gaps=None, g_local=N
     return PoolResult(imu, tuple(logs), extras, pool_kind)
 
 
+def run_pool(files, config, *, imu: bool, export=None, read=None, progress=None):
+    """``allan --imu LOG1 LOG2 ... --pool`` as one call: the command's settings checked
+    (several logs need the six-axis mode and pooling; no export, plan or inflation), then
+    :func:`analyse_pool`."""
+    c = config
+    if not (imu and c.pool and len(files) > 1):
+        raise InputError("several logs are pooled in the six-axis mode with argument 'pool' "
+                         "(and argument 'pool' needs several logs)")
+    if export or c.plan or c.inflate:
+        raise InputError("argument 'export', argument 'plan' and argument 'inflate' are not "
+                         "available with argument 'pool'")
+    return analyse_pool([str(f) for f in files], read=read, unit=c.unit, rate=c.rate,
+                        gaps=c.gaps, g_local=c.g_local, warmup=c.warmup,
+                        pool_kind=c.pool_kind, predict_drift=c.predict_drift,
+                        bias_window=c.bias_window, check_on=c.check_on,
+                        confidence=0.95 if c.confidence is None else c.confidence,
+                        progress=progress)
+
 __all__ = ["POOL_KINDS", "PoolLog", "PoolResult", "analyse_pool", "choose_model",
-           "drift_between", "pool_axis", "pooled_axis", "read_log", "read_pool",
+           "drift_between", "pool_axis", "pooled_axis", "read_log", "read_pool", "run_pool",
            "widen_terms"]
