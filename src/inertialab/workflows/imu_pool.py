@@ -9,9 +9,10 @@ line naming it before anything is fitted. Per axis then (:mod:`inertialab.noise.
 
 * the pooled curve on the first log's taus (logs of another rate only from
   ``QN_SPLIT_S``: Q and N pooled only across logs of one rate);
-* the model chosen among ``candidates`` (WLS, GMWM) by leave-one-log-out: each fitted on
-  the other logs' pooled curve and scored on the left-out log's curve
-  (:func:`inertialab.noise.pooled.cv_score`); the pooled terms are the chosen method's;
+* the model chosen among ``candidates`` (:data:`CANDIDATES` of the method: WLS with the
+  band-limited B or with IEEE 952's flicker B; GMWM or WLS) by leave-one-log-out: each
+  fitted on the other logs' pooled curve and scored on the left-out log's curve
+  (:func:`inertialab.noise.pooled.cv_score`); the pooled terms are the chosen model's;
 * each log's own terms beside them (``logs[]``), and the near-stationarity test between
   the logs' curves;
 * the N, B and K intervals widened by the between-log spread of the logs' own terms
@@ -138,11 +139,19 @@ def _curves(logs, confidence: float) -> None:
             lg.curves[k] = dev
 
 
+#: the models the leave-one-log-out chooses among, per method: WLS with the band-limited
+#: B against IEEE 952's flicker B; GMWM (its WIC's processes) against that WLS
+CANDIDATES = {"wls": ("wls", "wls-flicker"), "gmwm": ("gmwm", "wls")}
+
+
 def _fit(dev, unit: str, kind: str, method: str, rate_hz: float, g: float, confidence: float):
+    """The noise terms of a curve by ``method`` (``wls-flicker``: WLS with IEEE 952's
+    flicker B, :func:`inertialab.noise.terms.fit_noise_terms` ``b_shape="flicker"``)."""
     from inertialab.noise.terms import fit_noise_terms
 
-    return fit_noise_terms(dev, unit=unit, kind=kind, method=method, rate_hz=rate_hz,
-                           g_local=g, confidence=confidence)
+    shape = "flicker" if method == "wls-flicker" else "band"
+    return fit_noise_terms(dev, unit=unit, kind=kind, method=method.replace("-flicker", ""),
+                           rate_hz=rate_hz, g_local=g, confidence=confidence, b_shape=shape)
 
 
 def choose_model(curves, rates, unit, kind, candidates, g, confidence) -> dict:
@@ -387,7 +396,7 @@ def _term_cell(d: dict) -> str:
 
 
 def analyse_pool(files, *, read=None, unit=None, rate=None, gaps=None, g_local=None,
-                 warmup="auto", pool_kind="runs", candidates=("wls", "gmwm"),
+                 warmup="auto", pool_kind="runs", candidates=CANDIDATES["wls"],
                  predict_drift=None, bias_window=10.0, check_on=None,
                  confidence=0.95, progress=None) -> PoolResult:
     """Several logs as one noise model per axis (module docstring). ``check_on``: another
@@ -439,6 +448,13 @@ def analyse_pool(files, *, read=None, unit=None, rate=None, gaps=None, g_local=N
     return PoolResult(imu, tuple(logs), extras, pool_kind)
 
 
+def _candidates(method: str) -> tuple:
+    if method not in CANDIDATES:
+        raise InputError(f"argument 'method' with argument 'pool' must be wls or gmwm, got "
+                         f"'{method}'")
+    return CANDIDATES[method]
+
+
 def run_pool(files, config, *, imu: bool, export=None, read=None, progress=None):
     """``allan --imu LOG1 LOG2 ... --pool`` as one call: the command's settings checked
     (several logs need the six-axis mode and pooling; no export, plan or inflation), then
@@ -452,11 +468,12 @@ def run_pool(files, config, *, imu: bool, export=None, read=None, progress=None)
                          "available with argument 'pool'")
     return analyse_pool([str(f) for f in files], read=read, unit=c.unit, rate=c.rate,
                         gaps=c.gaps, g_local=c.g_local, warmup=c.warmup,
-                        pool_kind=c.pool_kind, predict_drift=c.predict_drift,
+                        pool_kind=c.pool_kind, candidates=_candidates(c.method),
+                        predict_drift=c.predict_drift,
                         bias_window=c.bias_window, check_on=c.check_on,
                         confidence=0.95 if c.confidence is None else c.confidence,
                         progress=progress)
 
-__all__ = ["POOL_KINDS", "PoolLog", "PoolResult", "analyse_pool", "choose_model",
+__all__ = ["CANDIDATES", "POOL_KINDS", "PoolLog", "PoolResult", "analyse_pool", "choose_model",
            "drift_between", "pool_axis", "pooled_axis", "read_log", "read_pool", "run_pool",
            "widen_terms"]
