@@ -227,6 +227,11 @@ def run_real_intervals() -> dict:
         out["warmup"][name] = {"span_s": wu["span_s"], "from": wu["from"],
                                "by": {k: v["warmup_s"] for k, v in wu["by"].items()}}
         cut[name] = {k: (y[wu["n_samples"]:], u) for k, (y, u) in axes.items()}
+        for axis, (y, unit) in axes.items():  # how much the cut moves the whole-log terms
+            t0, t1 = _fit(y, RATE_HZ, unit)[1], _fit(cut[name][axis][0], RATE_HZ, unit)[1]
+            out.setdefault("terms_moved", {})[f"{name} {axis}"] = {
+                k: [getattr(t0, k).value, getattr(t1, k).value,
+                    "upper_bound" in getattr(t1, k).flags] for k in "NBK"}
         for key, src in (("halves", cut[name]), ("halves_no_warmup", axes)):
             for axis, (y, unit) in src.items():
                 h = y.size // 2

@@ -412,6 +412,8 @@ def analyse_pool(files, *, read=None, unit=None, rate=None, gaps=None, g_local=N
         raise InputError("argument 'check_on' with a pool must be a log not in the pool")
     if check_on and not predict_drift:
         raise InputError("argument 'check_on' needs argument 'predict_drift'")
+    if check_on and str(check_on) in [str(f) for f in files]:
+        raise InputError("argument 'check_on' must be a log not in the pool", path=check_on)
     kw = dict(read=read, unit=unit, rate=rate, gaps=gaps, g_local=g_local, warmup=warmup)
     logs = read_pool(files, **kw)
     check = read_pool([files[0], check_on], **kw)[1] if check_on else None
