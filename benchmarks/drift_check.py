@@ -11,10 +11,22 @@ of the pooled RMS) and the coverage of the 95 % band (pooled windows); the same 
 Kalibr / imu_utils reading. On the real ADIS16405 logs (``--real``): fit on the first
 half, check on the second, per axis.
 
+Each preset seed also checks the predicted RMS's 95 % interval
+(:func:`inertialab.noise.drift_prediction.predicted_rms_ci`, with the fitted log's
+measured non-stationarity and local misfit, widened by the observed RMS's own sampling):
+its coverage and median high/low per horizon (``rms_ci``). ``--pooled`` pools three
+independent logs of a preset (:mod:`inertialab.noise.pooled`) and checks the pooled
+interval on a fourth; ``--real-intervals`` checks it on the shared logs by halves after
+the warm-up (and with none cut) and by leave-one-log-out, and records how much the
+warm-up cut moves each log's terms.
+
 Commands::
 
     python -m benchmarks.drift_check --seeds 50 --hours 3 --json benchmarks/results/drift_check.json
     python -m benchmarks.drift_check --real
+    python -m benchmarks.drift_check --seeds 40 --hours 3          # with the RMS interval
+    python -m benchmarks.drift_check --pooled --seeds 20 --hours 2
+    python -m benchmarks.drift_check --real-intervals
 
 Targets: observed/predicted 1.00 +- 0.05 and coverage 93-97 % at every horizon on the
 presets; 0.8-1.25 at every horizon and axis on the real logs.
