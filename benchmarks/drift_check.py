@@ -11,10 +11,22 @@ of the pooled RMS) and the coverage of the 95 % band (pooled windows); the same 
 Kalibr / imu_utils reading. On the real ADIS16405 logs (``--real``): fit on the first
 half, check on the second, per axis.
 
+Each preset seed also checks the predicted RMS's 95 % interval
+(:func:`inertialab.noise.drift_prediction.predicted_rms_ci`, with the fitted log's
+measured non-stationarity and local misfit, widened by the observed RMS's own sampling):
+its coverage and median high/low per horizon (``rms_ci``). ``--pooled`` pools three
+independent logs of a preset (:mod:`inertialab.noise.pooled`) and checks the pooled
+interval on a fourth; ``--real-intervals`` checks it on the shared logs by halves after
+the warm-up (and with none cut) and by leave-one-log-out, and records how much the
+warm-up cut moves each log's terms.
+
 Commands::
 
     python -m benchmarks.drift_check --seeds 50 --hours 3 --json benchmarks/results/drift_check.json
     python -m benchmarks.drift_check --real
+    python -m benchmarks.drift_check --seeds 40 --hours 3          # with the RMS interval
+    python -m benchmarks.drift_check --pooled --seeds 20 --hours 2
+    python -m benchmarks.drift_check --real-intervals
 
 Targets: observed/predicted 1.00 +- 0.05 and coverage 93-97 % at every horizon on the
 presets; 0.8-1.25 at every horizon and axis on the real logs.
@@ -181,6 +193,137 @@ def run_real() -> dict:
     return out
 
 
+def _axis_prediction(y_fit, rate_hz, unit, y_check, *, extra_between=None):
+    """Fit ``y_fit``, predict with the RMS interval (as ``allan --imu``: terms, measured
+    non-stationarity, local misfit; ``extra_between``: a pool's between-log part) and
+    check on ``y_check``: ``(ratio, inside, edge, terms, stationarity)``."""
+    from inertialab.noise.drift_prediction import (
+        check_prediction,
+        misfit_log_var,
+        predict_terms,
+    )
+    from inertialab.noise.stationarity import check_stationarity
+    from inertialab.workflows.imu_drift import nonstationary_log_var
+
+    res, terms = _fit(y_fit, rate_hz, unit)
+    st = check_stationarity(y_fit, rate_hz)
+    pred = predict_terms(terms, HORIZONS, WINDOW, rate_hz)
+    extra = nonstationary_log_var(st, HORIZONS) + misfit_log_var(res, terms, HORIZONS)
+    if extra_between is not None:
+        extra = extra + extra_between
+    c = check_prediction(pred, y_check, rate_hz)
+    chk = _ci_check(pred, terms, extra, c["n_effective"], c["observed_rms"])
+    return c["ratio"], chk, terms, st
+
+
+def _warmup_span(axes: dict, rate_hz: float) -> dict:
+    from inertialab.noise.warmup import log_warmup
+
+    return log_warmup({k: v[0] for k, v in axes.items()}, rate_hz)
+
+
+def run_real_intervals() -> dict:
+    """The RMS interval on the shared logs: fitted on the first half of what follows the
+    warm-up and checked on the second (and, for comparison, with no warm-up cut), and
+    leave-one-log-out (fitted on one whole log, checked on the other; the between-log part
+    from the fitted log's own segments, as ``--pool`` with one log in the fit)."""
+    from benchmarks.real_logs import LOGS, RATE_HZ, load_shared
+    from inertialab.noise.pooled import between_var
+    from inertialab.workflows.imu_drift import nonstationary_log_var
+
+    logs = {name: load_shared(name) for name in LOGS}
+    out = {"halves": {}, "halves_no_warmup": {}, "leave_one_out": {}, "warmup": {}}
+    cut = {}
+    for name, axes in logs.items():
+        wu = _warmup_span(axes, RATE_HZ)
+        out["warmup"][name] = {"span_s": wu["span_s"], "from": wu["from"],
+                               "by": {k: v["warmup_s"] for k, v in wu["by"].items()}}
+        cut[name] = {k: (y[wu["n_samples"]:], u) for k, (y, u) in axes.items()}
+        for axis, (y, unit) in axes.items():  # how much the cut moves the whole-log terms
+            t0, t1 = _fit(y, RATE_HZ, unit)[1], _fit(cut[name][axis][0], RATE_HZ, unit)[1]
+            out.setdefault("terms_moved", {})[f"{name} {axis}"] = {
+                k: [getattr(t0, k).value, getattr(t1, k).value,
+                    "upper_bound" in getattr(t1, k).flags] for k in "NBK"}
+        for key, src in (("halves", cut[name]), ("halves_no_warmup", axes)):
+            for axis, (y, unit) in src.items():
+                h = y.size // 2
+                r, chk, terms, st = _axis_prediction(y[:h], RATE_HZ, unit, y[h:])
+                out[key][f"{name} {axis}"] = {"ratio": r.tolist(), **chk,
+                                              "stationarity": st.verdict,
+                                              "N": terms.N.value, "B": terms.B.value,
+                                              "K": terms.K.value}
+                print(key, name, axis, np.round(r, 2), chk["ci_inside"],
+                      np.round(chk["ci_edge"], 2), st.verdict, flush=True)
+    names = list(LOGS)
+    for fit_name in names:
+        for chk_name in names:
+            if chk_name == fit_name:
+                continue
+            for axis, (y, unit) in cut[fit_name].items():
+                from inertialab.noise.stationarity import check_stationarity
+
+                st = check_stationarity(y, RATE_HZ)
+                prior = nonstationary_log_var(st, HORIZONS)
+                between = np.array([between_var([0.0], [0.0], p) for p in prior]) * 2.0
+                r, chk, _, _ = _axis_prediction(y, RATE_HZ, unit, cut[chk_name][axis][0],
+                                                extra_between=between)
+                out["leave_one_out"][f"{fit_name}->{chk_name} {axis}"] = {
+                    "ratio": r.tolist(), **chk}
+                print("loo", fit_name, chk_name, axis, np.round(r, 2), chk["ci_inside"],
+                      np.round(chk["ci_edge"], 2), flush=True)
+    for key in ("halves", "halves_no_warmup", "leave_one_out"):
+        ins = np.array([v["ci_inside"] for v in out[key].values()])
+        edge = np.array([v["ci_edge"] for v in out[key].values()])
+        out[key + "_summary"] = {"inside": int(ins.sum()), "of": int(ins.size),
+                                 "worst_edge": float(edge.max()),
+                                 "inside_per_horizon": ins.sum(axis=0).tolist()}
+        print(key, out[key + "_summary"], flush=True)
+    return out
+
+
+def pooled_row(preset: str, seed: int, hours: float, n_logs: int = 3) -> dict:
+    """Pool ``n_logs`` independent logs of a preset (WLS), predict with the pooled RMS
+    interval and check on one more log: ``{"inside", "edge", "high_over_low"}``."""
+    from inertialab.noise.allan import oadev
+    from inertialab.noise.drift_prediction import (
+        check_prediction,
+        misfit_log_var,
+        predict_terms,
+    )
+    from inertialab.noise.pooled import pool_curves
+    from inertialab.noise.stationarity import check_stationarity
+    from inertialab.noise.terms import fit_noise_terms
+    from inertialab.sim.mems_presets import simulate
+    from inertialab.workflows.imu_drift import DriftOptions
+    from inertialab.workflows.imu_pool import drift_between
+
+    runs = [simulate(preset, hours=hours, seed=seed + 1000 * i) for i in range(n_logs + 1)]
+    fs, unit = runs[0].rate_hz, runs[0].unit
+    curves = [oadev(r.y, rate_hz=fs, taus="octave") for r in runs[:n_logs]]
+    own = [fit_noise_terms(c, unit=unit, kind=None, rate_hz=fs) for c in curves]
+    stats = [check_stationarity(r.y, fs) for r in runs[:n_logs]]
+    pooled = pool_curves(curves, [fs] * n_logs)
+    terms = fit_noise_terms(pooled, unit=unit, kind=None, rate_hz=fs)
+    opts = DriftOptions(horizons_s=HORIZONS, bias_window_s=WINDOW)
+    extra = drift_between(own, [fs] * n_logs, stats, opts)
+    extra = extra + misfit_log_var(pooled, terms, HORIZONS)
+    pred = predict_terms(terms, HORIZONS, WINDOW, fs)
+    c = check_prediction(pred, runs[-1].y, fs)
+    return _ci_check(pred, terms, extra, c["n_effective"], c["observed_rms"])
+
+
+def run_pooled(seeds: int, hours: float, presets=PRESETS) -> dict:
+    out = {}
+    for p in presets:
+        rows = [pooled_row(p, s, hours) for s in range(seeds)]
+        ins = np.array([r["ci_inside"] for r in rows])
+        hl = np.array([r["ci_high_over_low"] for r in rows], dtype=float)
+        out[p] = {"seeds": seeds, "coverage": ins.mean(axis=0).tolist(),
+                  "high_over_low_median": np.nanmedian(hl, axis=0).tolist()}
+        print("pooled", p, out[p], flush=True)
+    return out
+
+
 def _fmt(s) -> str:
     m = s["model"]
     return (f"ratio median {np.round(m['ratio_median'], 3)} pooled "
@@ -250,6 +393,11 @@ def main(argv=None) -> int:
     ap.add_argument("--hours", type=float, default=3.0)
     ap.add_argument("--preset", action="append")
     ap.add_argument("--real", action="store_true")
+    ap.add_argument("--real-intervals", action="store_true",
+                    help="the RMS interval on the shared logs: halves after the warm-up, "
+                         "with no warm-up cut, and leave-one-log-out")
+    ap.add_argument("--pooled", action="store_true",
+                    help="presets: pool three logs, check the interval on a fourth")
     ap.add_argument("--json")
     a = ap.parse_args(argv)
     t0 = time.time()
@@ -258,6 +406,10 @@ def main(argv=None) -> int:
                           "load_1min_start": os.getloadavg()[0]}}
     if a.real:
         result["real"] = run_real()
+    elif a.real_intervals:
+        result["real_intervals"] = run_real_intervals()
+    elif a.pooled:
+        result["pooled"] = run_pooled(a.seeds, a.hours, a.preset or PRESETS)
     else:
         result["presets"] = run_presets(a.seeds, a.hours, a.preset or PRESETS)
     result["machine"]["load_1min_end"] = os.getloadavg()[0]

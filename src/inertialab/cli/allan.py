@@ -32,9 +32,8 @@ def _allan_command():
     @reading_options
     @config_command(wa.AllanConfig)
     def allan(
-        files: list[Path] = typer.Argument(..., help="Log file: CSV/Parquet (gyro_log) or a "
-                                                     ".npy column (needs --rate and --unit); "
-                                                     "several logs with --imu --pool."),
+        files: list[Path] = typer.Argument(..., help="Log file: CSV/Parquet (gyro_log) or .npy "
+                                           "(needs --rate, --unit); several: --imu --pool."),
         imu: bool = typer.Option(False, "--imu", help=_IMU_HELP),
         export: tuple[str, str] = typer.Option(None, "--export", help=_EXPORT_HELP),
         rostopic: str = typer.Option("/imu0", "--rostopic", help="IMU topic in the Kalibr, "
@@ -44,19 +43,13 @@ def _allan_command():
     ):
         """Allan family with confidence intervals and the Q N B K R noise terms; --imu:
         six IMU axes in one table and figure, with Kalibr/ROS export."""
-        command = "allan"
-        file = files[0]
-        if len(files) > 1 or config.pool:
-            if not (imu and config.pool and len(files) > 1 and not export):
-                raise InputError("several logs need --imu --pool (and --pool several logs; "
-                                 "no --export)")
-            from inertialab.cli.imu_pool import run_pool
-
-            c = config
-            return run_pool(files=files, read=read, unit=c.unit, rate=c.rate, gaps=c.gaps,
-                            g_local=c.g_local, out=run.out, as_json=run.as_json,
-                            quiet=run.quiet, command=command, drift=c.drift_settings(),
-                            confidence=c.confidence, warmup=c.warmup, pool_kind=c.pool_kind)
+        command, file = "allan", files[0]
+        if len(files) > 1 or config.pool:  # several logs as one model
+            from inertialab.report.figures.imu_noise import imu_figures
+            from inertialab.workflows.imu_pool import run_pool
+            return run.execute(command, lambda bar: run_pool(
+                files, config, imu=imu, export=export, read=read, progress=bar),
+                inputs=[str(f) for f in files], figures=lambda r: imu_figures(r.imu))
         if imu or export:
             from inertialab.cli.imu_noise import run_six_axes
 
@@ -71,7 +64,7 @@ def _allan_command():
                                 drift=c.drift_settings() | {"warmup": c.warmup},
                                 confidence=c.confidence, force=force)
         if any(v not in (None, False) for v in config.drift_settings().values()):
-            raise InputError("--predict-drift, --check-on, --plan and --inflate need --imu")
+            raise InputError("--predict-drift, --check-on, --plan, --inflate, --warmup need --imu")
         config.check()  # refuse bad settings before reading
 
         def figures(res):

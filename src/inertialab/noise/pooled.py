@@ -22,10 +22,10 @@
 * :func:`cv_score`: the leave-one-log-out criterion of a model fitted on the other logs:
   the mean over the left-out log's taus of ``(ln a - ln model)^2 / psi'(nu/2)``.
 
-Anchor: the multi-signal GMWM of Bakalli, Radi, El-Sheimy, Molinari, Guerrier (mgmwm,
-R package of the SMAC-Group; "A computational multivariate-based technique for inertial
-sensor calibration", 2019/2023) — several replicates in one fit, a near-stationarity test
-between them, and model choice by a cross-validated criterion. Hand-written from that
+Anchor: the multi-signal wavelet-variance framework of Radi, Bakalli, Guerrier,
+El-Sheimy, Sesay and Molinari (IEEE Trans. Instrum. Meas., 2019; the R package mgmwm of
+the SMAC-Group): several replicates in one fit, a near-stationarity test between them,
+and model choice by a cross-validated criterion. Hand-written from that
 design on the Allan variance (no code read or copied); tested on simulated logs of one
 truth and of two truths (tests/noise/test_pooled.py).
 """
@@ -170,6 +170,8 @@ def widen_term(term, between_log_var: float, z: float = 1.959963984540054):
     add = z * z * max(between_log_var, 0.0)
     if not term.significant:
         ub = float(term.upper_bound) if math.isfinite(term.upper_bound) else hi
+        if not math.isfinite(ub):
+            return term
         ub *= math.exp(math.sqrt(add))
         return replace(term, ci=(0.0, ub), upper_bound=ub)
     if not (val > 0 and lo > 0 and math.isfinite(hi) and lo <= val <= hi):

@@ -78,7 +78,7 @@ class AllanConfig(Config):
     pool: bool = setting(False, help="Six-axis mode, several logs: one noise model per axis "
                                      "over them, with each log's own terms beside it.",
                          flag="pool/no-pool")
-    pool_kind: str = setting("runs", help="With --pool: runs (several runs of one unit) or "
+    pool_kind: str = setting("runs", help="With pooling: runs (several runs of one unit) or "
                                           "units (units of one model): what the between-log "
                                           "spread means.", choices=("runs", "units"))
     noise_type: str | None = setting(None, help="Noise type for the bias corrections and "
@@ -94,9 +94,12 @@ class AllanConfig(Config):
 
     def drift_settings(self) -> dict:
         """The six-axis drift settings (:func:`inertialab.workflows.imu_noise.analyse_file`);
-        ``bias_window`` only where a prediction is asked for."""
+        ``bias_window`` only where a prediction is asked for, ``warmup`` where not the
+        default."""
         d = {"predict_drift": self.predict_drift, "check_on": self.check_on,
              "plan": self.plan, "inflate": self.inflate}
+        if self.warmup != "auto":  # the six-axis default; another needs --imu
+            d["warmup"] = self.warmup
         return d | {"bias_window": self.bias_window} if self.predict_drift else d
 
     def check(self) -> AllanConfig:

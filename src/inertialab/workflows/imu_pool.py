@@ -9,9 +9,10 @@ line naming it before anything is fitted. Per axis then (:mod:`inertialab.noise.
 
 * the pooled curve on the first log's taus (logs of another rate only from
   ``QN_SPLIT_S``: Q and N pooled only across logs of one rate);
-* the model chosen among ``candidates`` (WLS, GMWM) by leave-one-log-out: each fitted on
-  the other logs' pooled curve and scored on the left-out log's curve
-  (:func:`inertialab.noise.pooled.cv_score`); the pooled terms are the chosen method's;
+* the model chosen among ``candidates`` (:data:`CANDIDATES` of the method: WLS with the
+  band-limited B or with IEEE 952's flicker B; GMWM or WLS) by leave-one-log-out: each
+  fitted on the other logs' pooled curve and scored on the left-out log's curve
+  (:func:`inertialab.noise.pooled.cv_score`); the pooled terms are the chosen model's;
 * each log's own terms beside them (``logs[]``), and the near-stationarity test between
   the logs' curves;
 * the N, B and K intervals widened by the between-log spread of the logs' own terms
@@ -138,11 +139,19 @@ def _curves(logs, confidence: float) -> None:
             lg.curves[k] = dev
 
 
+#: the models the leave-one-log-out chooses among, per method: WLS with the band-limited
+#: B against IEEE 952's flicker B; GMWM (its WIC's processes) against that WLS
+CANDIDATES = {"wls": ("wls", "wls-flicker"), "gmwm": ("gmwm", "wls")}
+
+
 def _fit(dev, unit: str, kind: str, method: str, rate_hz: float, g: float, confidence: float):
+    """The noise terms of a curve by ``method`` (``wls-flicker``: WLS with IEEE 952's
+    flicker B, :func:`inertialab.noise.terms.fit_noise_terms` ``b_shape="flicker"``)."""
     from inertialab.noise.terms import fit_noise_terms
 
-    return fit_noise_terms(dev, unit=unit, kind=kind, method=method, rate_hz=rate_hz,
-                           g_local=g, confidence=confidence)
+    shape = "flicker" if method == "wls-flicker" else "band"
+    return fit_noise_terms(dev, unit=unit, kind=kind, method=method.replace("-flicker", ""),
+                           rate_hz=rate_hz, g_local=g, confidence=confidence, b_shape=shape)
 
 
 def choose_model(curves, rates, unit, kind, candidates, g, confidence) -> dict:
@@ -285,14 +294,17 @@ def pool_axis(name, logs, *, candidates, confidence, drift=None, y_check=None,
     widened, spread = widen_terms(pooled, own, stats, same, z)
     shortest = min(len(lg.columns[name][1]) / lg.rate_hz for lg in logs)
     between = homogeneity(curves, rates, max_tau_s=shortest / 16.0)
-    axis = pooled_axis(name, col, unit, pool_curves(curves, rates, confidence), widened, g)
+    curve = pool_curves(curves, rates, confidence)
+    axis = pooled_axis(name, col, unit, curve, widened, g)
     if drift is not None:
         from inertialab.workflows.imu_drift import axis_drift
 
+        # the drift interval takes the between-log spread of the logs' own drift once, on
+        # the pooled fit's own intervals (the widened terms would count it twice)
         extra = drift_between(own, rates, stats, drift)
-        axis = replace(axis, drift=axis_drift(axis, rates[0], drift, y_check,
-                                              extra_log_var=extra))
-        axis.drift["between_log_var"] = [float(v) for v in extra]
+        d = axis_drift(pooled_axis(name, col, unit, curve, pooled, g), rates[0], drift,
+                       y_check, extra_log_var=extra)
+        axis = replace(axis, drift=d | {"between_log_var": [float(v) for v in extra]})
     per_log = []
     for lg, t, st, ok in zip(logs, own, stats, same):
         a = pooled_axis(name, lg.columns[name][0], unit, lg.curves[name], t, g)
@@ -327,6 +339,24 @@ class PoolResult:
         return d | {"pooled": True, "pool_kind": self.pool_kind,
                     "spread_means": POOL_KINDS[self.pool_kind],
                     "logs": [lg.summary() for lg in self.logs]}
+
+    # the command runner's protocol (inertialab.cli.runner.Run.execute)
+    @property
+    def settings(self) -> dict:
+        return self.imu.settings
+
+    @property
+    def units(self) -> dict:
+        return {"rate_hz": "Hz"}
+
+    def to_json(self) -> dict:
+        return {"imu": self.to_dict()}
+
+    def artifacts(self) -> dict:
+        return {}
+
+    def summary_rows(self) -> list:
+        return self.tables()
 
     def tables(self) -> list:
         """``(title, columns, rows)``: the pooled table, the drift tables, and each log's
@@ -366,7 +396,7 @@ def _term_cell(d: dict) -> str:
 
 
 def analyse_pool(files, *, read=None, unit=None, rate=None, gaps=None, g_local=None,
-                 warmup="auto", pool_kind="runs", candidates=("wls", "gmwm"),
+                 warmup="auto", pool_kind="runs", candidates=CANDIDATES["wls"],
                  predict_drift=None, bias_window=10.0, check_on=None,
                  confidence=0.95, progress=None) -> PoolResult:
     """Several logs as one noise model per axis (module docstring). ``check_on``: another
@@ -382,6 +412,8 @@ def analyse_pool(files, *, read=None, unit=None, rate=None, gaps=None, g_local=N
         raise InputError("argument 'check_on' with a pool must be a log not in the pool")
     if check_on and not predict_drift:
         raise InputError("argument 'check_on' needs argument 'predict_drift'")
+    if check_on and str(check_on) in [str(f) for f in files]:
+        raise InputError("argument 'check_on' must be a log not in the pool", path=check_on)
     kw = dict(read=read, unit=unit, rate=rate, gaps=gaps, g_local=g_local, warmup=warmup)
     logs = read_pool(files, **kw)
     check = read_pool([files[0], check_on], **kw)[1] if check_on else None
@@ -418,6 +450,32 @@ def analyse_pool(files, *, read=None, unit=None, rate=None, gaps=None, g_local=N
     return PoolResult(imu, tuple(logs), extras, pool_kind)
 
 
-__all__ = ["POOL_KINDS", "PoolLog", "PoolResult", "analyse_pool", "choose_model",
-           "drift_between", "pool_axis", "pooled_axis", "read_log", "read_pool",
+def _candidates(method: str) -> tuple:
+    if method not in CANDIDATES:
+        raise InputError(f"argument 'method' with argument 'pool' must be wls or gmwm, got "
+                         f"'{method}'")
+    return CANDIDATES[method]
+
+
+def run_pool(files, config, *, imu: bool, export=None, read=None, progress=None):
+    """``allan --imu LOG1 LOG2 ... --pool`` as one call: the command's settings checked
+    (several logs need the six-axis mode and pooling; no export, plan or inflation), then
+    :func:`analyse_pool`."""
+    c = config
+    if not (imu and c.pool and len(files) > 1):
+        raise InputError("several logs are pooled in the six-axis mode with argument 'pool' "
+                         "(and argument 'pool' needs several logs)")
+    if export or c.plan or c.inflate:
+        raise InputError("argument 'export', argument 'plan' and argument 'inflate' are not "
+                         "available with argument 'pool'")
+    return analyse_pool([str(f) for f in files], read=read, unit=c.unit, rate=c.rate,
+                        gaps=c.gaps, g_local=c.g_local, warmup=c.warmup,
+                        pool_kind=c.pool_kind, candidates=_candidates(c.method),
+                        predict_drift=c.predict_drift,
+                        bias_window=c.bias_window, check_on=c.check_on,
+                        confidence=0.95 if c.confidence is None else c.confidence,
+                        progress=progress)
+
+__all__ = ["CANDIDATES", "POOL_KINDS", "PoolLog", "PoolResult", "analyse_pool", "choose_model",
+           "drift_between", "pool_axis", "pooled_axis", "read_log", "read_pool", "run_pool",
            "widen_terms"]

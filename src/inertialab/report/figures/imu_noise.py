@@ -41,10 +41,15 @@ def imu_figure(result) -> Figure:
         ax.plot([], [], "-", color="0.3", label="measured (band: interval)")
         ax.plot([], [], "--", color="0.3", lw=1, label="fitted model")
         ax.legend(fontsize="small")
+    wu = (result.settings.get("warmup") or {}).get("span_s") or 0.0
+    if wu > 0:  # the warm-up span left out of every fit, marked on the figure
+        fig.text(0.01, 0.01, f"warm-up {wu:.0f} s at the start left out of every axis",
+                 fontsize=8, color="#aa3333")
+    note = f"; a {wu:.0f}-s warm-up at the start left out" if wu > 0 else ""
     conf = next((a.deviation.confidence for a in result.axes if a.deviation is not None), 0.95)
     return Figure(figure=fig, caption="Overlapping Allan deviation per axis (solid, band: "
                   f"{100 * conf:.1f} % interval) and the fitted "
-                  "five-term model (dashed)", name="imu_allan")
+                  f"five-term model (dashed){note}", name="imu_allan")
 
 
 def drift_figure(result) -> Figure | None:
@@ -70,6 +75,9 @@ def drift_figure(result) -> Figure | None:
             ax.loglog(h, d["predicted_rms"], "-", color=c, label=a.axis)
             ax.loglog(h, d["band_95"], "-.", color=c, lw=0.8, alpha=0.6)
             ax.loglog(h, d["kalibr"]["predicted_rms"], ":", color=c, lw=1)
+            ci = d.get("predicted_rms_ci")
+            if ci:
+                ax.fill_between(h, ci["low"], ci["high"], color=c, alpha=0.12)
             if "check" in d:
                 ax.loglog(h, d["check"]["observed_rms"], "o", color=c, ms=4)
         ax.set_xlabel("horizon after the bias window (s)")
@@ -81,7 +89,8 @@ def drift_figure(result) -> Figure | None:
     return Figure(figure=fig, name="imu_drift",
                   caption=f"Error integrated after a {w:g}-s bias window: the fitted model's "
                           "RMS (solid) and 95 % half-width (dash-dot), the Kalibr/imu_utils "
-                          "reading's RMS (dotted), the observed RMS (dots)")
+                          "reading's RMS (dotted), the model RMS's 95 % interval (band), the "
+                          "observed RMS (dots)")
 
 
 def imu_figures(result) -> list:
