@@ -82,9 +82,12 @@ def _sigma_s(t: np.ndarray, temp: np.ndarray, bin_s: float) -> float:
     between its distinct values) at the log's rate of change (moving parts only)."""
     levels = np.unique(temp)
     q = float(np.min(np.diff(levels))) if levels.size > 1 else 1.0
-    k = max(int(round(600.0 / max(float(np.median(np.diff(t))), 1e-9))), 1)
-    coarse = temp[::k]
-    rate = np.abs(np.diff(coarse)) / (600.0 if k > 1 else np.median(np.diff(t)))
+    span = float(t[-1] - t[0]) if t.size > 1 else 0.0
+    step = min(600.0, span / 10.0) if span > 0 else 0.0
+    if step <= 0:
+        return 2.0 * bin_s
+    coarse = np.interp(np.arange(float(t[0]), float(t[-1]) + 1e-9, step), t, temp)
+    rate = np.abs(np.diff(coarse)) / step  # the reading's rate of change on a 600-s grid
     moving = rate[rate > STILL_C_PER_S]
     if moving.size == 0:
         return 2.0 * bin_s

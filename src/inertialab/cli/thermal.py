@@ -10,7 +10,6 @@ from inertialab.cli.common import prepare_out_dir, write_figures
 from inertialab.cli.options import reading_options
 from inertialab.cli.runner import config_command, load_model, read_record
 from inertialab.errors import InputError
-from inertialab.io.formats.thermal_logs import read_imu_thermal_log as _read_imu
 from inertialab.io.mapping import ReadOptions
 from inertialab.report import commands
 from inertialab.workflows import thermal_imu as wi
@@ -115,3 +114,11 @@ def register(app: typer.Typer, groups: dict) -> None:
 
 
 __all__ = ["register"]
+
+
+def _read_imu(path):
+    """A drone IMU temperature-ramp log (:mod:`inertialab.io.formats.thermal_logs`),
+    loaded when the command runs."""
+    from inertialab.io.formats.thermal_logs import read_imu_thermal_log
+
+    return read_imu_thermal_log(path)

@@ -287,6 +287,11 @@ class NoiseTerms:
         return sum(Process(d["process"], dict(d["params"])).avar(m, float(tau0))
                    for d in procs)
 
+    def report_factor(self, name: str) -> float:
+        """Report value of term ``name`` (``"N"``, ``"B"``, ``"K"`` ...) per unit amplitude
+        in the data unit (the linear factor of the report unit)."""
+        return _Converter(self.unit, self.kind, self.g_local).factor(name)
+
     def term_devs(self, taus_s) -> dict[str, np.ndarray]:
         """Each term's own deviation line at ``taus_s`` in the data unit (NaN if absent)."""
         t = np.asarray(taus_s, dtype=float)

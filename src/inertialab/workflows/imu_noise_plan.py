@@ -28,9 +28,7 @@ __all__ = ["axis_plan_with_interval", "report_factor"]
 
 def report_factor(terms, name: str) -> float:
     """Report unit of a term per its native unit (data unit based) for a fit."""
-    from inertialab.noise._terms_base import _Converter
-
-    return _Converter(terms.unit, terms.kind, terms.g_local).factor(name)
+    return terms.report_factor(name)
 
 
 def _with_k(axis, k_report: float, tau0: float):

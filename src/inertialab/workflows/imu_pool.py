@@ -30,6 +30,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from inertialab import units as U
+from inertialab.config import DEFAULT_CONFIDENCE
 from inertialab.errors import InputError
 from inertialab.workflows.imu_drift import AXES, axis_columns
 
@@ -398,7 +399,7 @@ def _term_cell(d: dict) -> str:
 def analyse_pool(files, *, read=None, unit=None, rate=None, gaps=None, g_local=None,
                  warmup="auto", pool_kind="runs", candidates=CANDIDATES["wls"],
                  predict_drift=None, bias_window=10.0, check_on=None,
-                 confidence=0.95, progress=None) -> PoolResult:
+                 confidence=DEFAULT_CONFIDENCE["imu"], progress=None) -> PoolResult:
     """Several logs as one noise model per axis (module docstring). ``check_on``: another
     log (not one of ``files``) on which the predicted drift is checked."""
     from inertialab.workflows.imu_drift import DriftOptions
@@ -473,7 +474,8 @@ def run_pool(files, config, *, imu: bool, export=None, read=None, progress=None)
                         pool_kind=c.pool_kind, candidates=_candidates(c.method),
                         predict_drift=c.predict_drift,
                         bias_window=c.bias_window, check_on=c.check_on,
-                        confidence=0.95 if c.confidence is None else c.confidence,
+                        confidence=DEFAULT_CONFIDENCE["imu"] if c.confidence is None
+                        else c.confidence,
                         progress=progress)
 
 __all__ = ["CANDIDATES", "POOL_KINDS", "PoolLog", "PoolResult", "analyse_pool", "choose_model",

@@ -19,13 +19,18 @@ This module never reads files, draws or imports the virtual lab.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pandas as pd
 
-from inertialab.calib.thermal_imu import AXES, UNITS, FitSettings, fit_imu_model
 from inertialab.config import Config, seed_setting, setting
 from inertialab.errors import InputError
+from inertialab.result import ResultBase
+
+if TYPE_CHECKING:  # pandas and the fit load when a command runs, not when it starts
+    import pandas as pd
+
+    from inertialab.calib.thermal_imu import FitSettings
 
 __all__ = ["EXPORT_HELP", "EXPORT_TARGETS", "FIT_SETTINGS_TAKEN", "IMU_HELP", "given", "ImuApplyResult", "ImuFitResult", "ThermalImuSimConfig",
            "fit_settings", "pair_exports", "report_table", "run_imu_apply",
@@ -71,6 +76,10 @@ def report_table(model) -> pd.DataFrame:
     term, the order-3 form kept for the firmware and its held-out RMS, and the scale
     factor's tempco at mid-range (ppm/°C; an accelerometer logged in several
     orientations only)."""
+    import pandas as pd
+
+    from inertialab.calib.thermal_imu import UNITS
+
     rows = []
     for s in model.sensors:
         for ax, form in zip(s["axes"], s["px4"]["forms"]):
@@ -104,7 +113,7 @@ def _markdown(table: pd.DataFrame) -> str:
 
 
 @dataclass
-class ImuFitResult:
+class ImuFitResult(ResultBase):
     """``thermal fit --imu``: the fit (:class:`~inertialab.calib.thermal_imu.ImuFit`) and
     its report table."""
 
@@ -145,6 +154,8 @@ def run_imu_fit(log, settings: FitSettings, *, exports=(), caltemp_c: float | No
                 ) -> ImuFitResult:
     """Fit every sensor instance of a read log (module docstring) and write the
     ``exports`` ``(target, path)`` pairs (:func:`pair_exports`)."""
+    from inertialab.calib.thermal_imu import fit_imu_model
+
     fit = fit_imu_model(log, settings)
     for s in fit.model.sensors:
         if s["span_c"] < 30.0:
@@ -171,7 +182,7 @@ def write_exports(model, pairs, *, caltemp_c: float | None = None) -> list:
 
 
 @dataclass
-class ImuApplyResult:
+class ImuApplyResult(ResultBase):
     """``thermal apply`` of a ``thermal-imu`` model: the corrected table to write."""
 
     frame: pd.DataFrame
@@ -200,6 +211,10 @@ class ImuApplyResult:
 
 
 def _instance_frame(model, inst: int, streams: dict) -> pd.DataFrame:
+    import pandas as pd
+
+    from inertialab.calib.thermal_imu import AXES
+
     acc, gyr = streams.get(("accel", inst)), streams.get(("gyro", inst))
     base = acc if acc is not None else gyr
     frame = {"instance": np.full(base.t_s.size, inst), "t_s": base.t_s, "temp_c": base.temp_c}
@@ -215,6 +230,8 @@ def _instance_frame(model, inst: int, streams: dict) -> pd.DataFrame:
 
 def run_imu_apply(model, log, *, out, source: str | None = None) -> ImuApplyResult:
     """Correct every sensor of ``log`` that the model knows (by kind and instance)."""
+    import pandas as pd
+
     streams = {(s.kind, s.instance): s for s in log.streams}
     known = {(s["kind"], s["instance"]) for s in model.sensors}
     missing = sorted(set(streams) - known)
@@ -236,6 +253,8 @@ def fit_settings(config, given) -> FitSettings:
     """The fit's settings from ``thermal fit``'s (``config``: method, seed, epochs, fish,
     generations); a setting the user did not give (``given``: the names given) takes the
     IMU default (poly, 50 epochs, 5 fish, 5 generations)."""
+    from inertialab.calib.thermal_imu import FitSettings
+
     kw = {k: getattr(config, k) for k in ("epochs", "fish", "generations") if k in given}
     return FitSettings(method=config.method if "method" in given else "poly",
                        seed=config.seed, **kw).validate()

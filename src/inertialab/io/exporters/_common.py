@@ -104,7 +104,17 @@ _ROS_NAME = re.compile(r"[~/A-Za-z][A-Za-z0-9_/]*")
 
 
 def check_topic(topic: str, what: str = "rostopic") -> str:
-    """``topic`` when it is a valid ROS name; else one-line InputError naming ``what``."""
+    """``topic`` when it is a valid ROS name; else one-line InputError naming ``what``.
+
+    Examples
+    --------
+    >>> check_topic("/imu0")
+    '/imu0'
+    >>> check_topic("imu0; rm -rf")
+    Traceback (most recent call last):
+    ...
+    inertialab.errors.InputError: argument 'rostopic' must be a ROS topic name (letters, digits, _ and /), got 'imu0; rm -rf'
+    """
     t = str(topic)
     if not _ROS_NAME.fullmatch(t) or len(t) > 256:
         raise InputError(f"argument '{what}' must be a ROS topic name (letters, digits, _ and "
