@@ -153,7 +153,6 @@ PRIVATE_IMPORTS_LEFT = {
     "inertialab.workflows.allan -> inertialab.noise._phase.PageReleaser",
     "inertialab.workflows.imu_drift -> inertialab.noise._gmwm_model.Process",
     "inertialab.workflows.imu_drift -> inertialab.noise.gmwm._slow",
-    "inertialab.workflows.imu_noise -> inertialab.noise._terms_base._Converter",
     "inertialab.workflows.thermal -> inertialab._blas.single_threaded_blas",
 }
 

@@ -32,6 +32,7 @@ import numpy as np
 from inertialab import units as U
 from inertialab.config import DEFAULT_CONFIDENCE
 from inertialab.errors import InputError
+from inertialab.result import ResultBase
 from inertialab.workflows.imu_drift import AXES, axis_columns
 
 #: what the between-log spread means, per pool kind
@@ -322,7 +323,7 @@ def pool_axis(name, logs, *, candidates, confidence, drift=None, y_check=None,
 
 
 @dataclass(frozen=True)
-class PoolResult:
+class PoolResult(ResultBase):
     """The pooled analysis: ``imu`` (an :class:`~inertialab.workflows.imu_noise.IMUNoise`
     of the pooled axes, for the usual table and figure), ``logs``, ``extras`` per axis
     (``logs[]``, ``between_logs``, ``model_choice``, ``between_log_var``, ``ci_fit``),
