@@ -192,7 +192,7 @@ def markdown(result: dict) -> str:
 
 def budgets_only() -> int:
     """``python -m benchmarks.demo budgets``: re-time ``inertialab demo --quick`` and
-    ``inertialab demo`` (the issue-9 budgets) and merge them into the stored
+    ``inertialab demo`` (the demo's time budgets) and merge them into the stored
     ``benchmarks/results/demo.json``; the report-stage comparison (minutes, alternated
     with a baseline checkout) stays as stored, with its own date."""
     from benchmarks.__main__ import store

@@ -19,8 +19,8 @@ octave overlapping Allan deviation and check what a curve can and cannot hold:
   one of K or R is reported significant.
 
 The development logs are the two 2.8-h ADIS16405 logs of the R package imudata
-(SMAC-Group, CC BY-NC-SA 4.0), read from ``../shared/data/imudata`` beside the
-repository with ``pyreadr`` (``pip install pyreadr``); they are never copied into the
+(SMAC-Group, CC BY-NC-SA 4.0), read from ``imudata/`` in the real-data folder
+(:func:`benchmarks.real_data.real_data_dir`: ``$INERTIALAB_REAL_DATA``) with ``pyreadr`` (``pip install pyreadr``); they are never copied into the
 repository. Any other static log (CSV with the usual columns) can be checked with
 ``--csv``. Commands::
 
@@ -45,8 +45,10 @@ from pathlib import Path
 
 import numpy as np
 
+from benchmarks.real_data import real_data_dir
+
 ROOT = Path(__file__).resolve().parents[1]
-SHARED = ROOT.parent / "shared" / "data" / "imudata"
+SHARED = real_data_dir() / "imudata"
 LOGS = {"imu3": "adis_16405_imu3.rda", "imu4": "adis_16405_imu4.rda"}
 #: imudata's columns: (axis, unit suffix)
 COLUMNS = {"Gyro. X": ("gx", "dps"), "Gyro. Y": ("gy", "dps"), "Gyro. Z": ("gz", "dps"),

@@ -3,7 +3,7 @@
 import collections
 import os
 
-# Single-threaded BLAS, as DESIGN.md assumes for bit-identical results (and 10x faster for
+# Single-threaded BLAS, for bit-identical results (and 10x faster for
 # the small problems of this suite on a shared 2-core machine). Set before numpy loads.
 for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")

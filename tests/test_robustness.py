@@ -244,7 +244,7 @@ MODEL_FILES = {"thermal_model": "thermal_fit/model.json", "tri_model": "tri_fit/
 
 #: command -> list of (mutated input, argv template). ``{file}`` is the mutated copy,
 #: ``{out}`` an output path inside the case directory, ``{dir}`` the base directory.
-#: Canonical spellings (issue 13); the hidden old spellings are aliases of these.
+#: Canonical spellings; the hidden old spellings are aliases of these.
 CLI_CASES = {
     "validate": [("ex:gyro_log.csv", ["validate", "{file}", "--kind", "gyro_log"]),
                  ("ex:triaxial.static.csv", ["validate", "{file}", "--kind", "triaxial_static"]),
@@ -366,7 +366,7 @@ def test_every_registered_command_is_swept():
 # ------------------------------------------------------------------ main's last line of defence
 
 def test_user_errors_from_the_environment_are_exit_2_lines():
-    """Exceptions that bad input or the machine cause (issue 19 item 7) map to one line
+    """Exceptions that bad input or the machine cause map to one line
     naming the file; a genuine bug does not."""
     import errno
 

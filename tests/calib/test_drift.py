@@ -76,7 +76,7 @@ def test_rolling_origin_counts_and_paired_test():
 
 @pytest.mark.filterwarnings("ignore::inertialab.errors.DataQualityWarning")
 def test_direct_strategy_beside_recursive():
-    # issue 18 item 8: the direct strategy (one net per step) is scored like a baseline
+    # the direct strategy (one net per step) is scored like a baseline
     from dataclasses import replace
 
     df, y = _s1_record(4, n=120)
@@ -93,7 +93,7 @@ def test_direct_strategy_beside_recursive():
 def test_model_fixture_v1_still_loads():
     # format-version-1 fixture (tests/data/README.md); the forecast is deterministic (seeded
     # paths), so it must reproduce the values recorded when the file was written, to 1e-9
-    # relative (DESIGN.md: across machines equal to 1e-9 relative).
+    # relative (equal across machines to 1e-9 relative).
     from pathlib import Path
 
     m = load_model(Path(__file__).parents[1] / "data" / "models" / "storage-drift-v1.json",
@@ -120,7 +120,7 @@ def test_check_horizon_bounds():
 
 
 def test_model_payload_fuzz_is_always_input_error():
-    # issue 19 items 5/7: wrong-typed, non-finite or out-of-range payload fields are an
+    # wrong-typed, non-finite or out-of-range payload fields are an
     # InputError at load (or the model forecasts finitely), never another exception
     import copy
     import json

@@ -146,7 +146,7 @@ def test_design_tool_finds_equal_spacing():
 def test_model_fixture_v1_still_loads():
     # format-version-1 fixture (tests/data/README.md): written from S1 seed 4, ls + ebr,
     # certificate prior. It must load as the current class and hold the coefficients a
-    # fresh fit of the same virtual tumble gives (1e-9 relative: across machines, DESIGN.md).
+    # fresh fit of the same virtual tumble gives (1e-9 relative: equal across machines to that).
     from pathlib import Path
 
     from inertialab.calib.dual_prior import certificate_prior
@@ -196,7 +196,7 @@ def test_paper_alias_kip_names_kx(tmp_path):
 
 
 def test_model_payload_validation():
-    # issue 19 items 5/7: non-finite or wrong-typed payload fields are an InputError
+    # non-finite or wrong-typed payload fields are an InputError
     red = reduce_run(simulate_run(scenario_config("S1"), 4))
     good = _quiet_fit(red, methods=("ls",)).model.to_dict()
     for key, v in (("coef", None), ("coef", [1, 2]), ("s_a", 0), ("s_a", "x"),

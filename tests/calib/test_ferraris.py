@@ -1,4 +1,4 @@
-"""calib.ferraris against the truth of the virtual Ferraris session (issue 17 item 2)."""
+"""calib.ferraris against the truth of the virtual Ferraris session."""
 
 import json
 

@@ -1,6 +1,5 @@
 """Tests of inertialab.calib.thermal: splits, the seven estimators, metrics, the model
-artefact, compensation, drift/transfer and recalibration (spec 000 §3-§5, §8.1, issue 5
-items 3 and 7). Samples are built by the workflow's prepare step."""
+artefact, compensation, drift/transfer and recalibration (spec 000 §3-§5, §8.1). Samples are built by the workflow's prepare step."""
 
 from __future__ import annotations
 
@@ -180,7 +179,7 @@ def test_transfer_to_another_unit_of_the_lot(quick_fit, run_b):
 
 @pytest.mark.slow
 def test_transfer_meets_the_spec_bound():
-    """Spec 000 §8.2.4 at its own tolerance (issue 18 item 10): paper preset, lot 0, unit 0
+    """Spec 000 §8.2.4 at its own tolerance: paper preset, lot 0, unit 0
     trains IAFSA-SCM-ANFIS, unit 1 is compensated through its own 55 °C tumble (§3.7);
     median over run seeds 0, 1, 2 of the maximum compensated drift <= 30 µg, raw >= 3 mg.
 

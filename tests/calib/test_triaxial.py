@@ -1,5 +1,4 @@
-"""calib.triaxial: the estimators and the artefact on arrays (spec 002 §3, §6, §7.1 items 3, 4, 9;
-issue 6 items 4, 8)."""
+"""calib.triaxial: the estimators and the artefact on arrays (spec 002 §3, §6, §7.1 items 3, 4, 9)."""
 
 import json
 

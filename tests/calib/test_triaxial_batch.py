@@ -1,4 +1,4 @@
-"""calib.triaxial_batch: chunked and streamed fleet calibration (issue 17 item 8)."""
+"""calib.triaxial_batch: chunked and streamed fleet calibration."""
 
 import tracemalloc
 

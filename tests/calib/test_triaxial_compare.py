@@ -1,5 +1,5 @@
 """calib.triaxial_compare: per-method parameter tables and the six-face error comparison
-from the user's data (issue 18; spec 002 Tables 3-6, 8-9, 11-12 and Fig. 8)."""
+from the user's data (spec 002 Tables 3-6, 8-9, 11-12 and Fig. 8)."""
 
 import numpy as np
 import pytest
@@ -61,7 +61,7 @@ def test_six_face_errors_are_eq21_of_each_model_against_the_face_references(sixf
     e = poses.loc[poses["method"] == "lm", "vector_error_mps2"].to_numpy()
     assert summ.loc["lm", "eq21_rmse_mps2"] == pytest.approx(np.sqrt(np.mean(e**2)), rel=1e-12)
     assert summ.loc["lm", "eq21_sd_mps2"] == pytest.approx(np.std(e, ddof=1), rel=1e-12)
-    # the six-position face fit puts every face on |a| = g (issue 17 item 3)
+    # the six-position face fit puts every face on |a| = g
     assert summ.loc["six-position", "norm_max_abs_mps2"] < 1e-9
 
 

@@ -1,4 +1,4 @@
-"""Tests of the vibration-bias model (calib.vibration; spec 001 §3.7-3.10, §4; issue 4)."""
+"""Tests of the vibration-bias model (calib.vibration; spec 001 §3.7-3.10, §4)."""
 
 import numpy as np
 import pandas as pd

@@ -1,4 +1,4 @@
-"""CLI: inertialab allan and simulate gyro-static (issue 3 items 6 and 7)."""
+"""CLI: inertialab allan and simulate gyro-static."""
 
 from __future__ import annotations
 

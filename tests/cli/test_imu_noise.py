@@ -1,4 +1,4 @@
-"""``inertialab allan --imu``: six axes of a vendor file, Kalibr export, gap handling (issue 10)."""
+"""``inertialab allan --imu``: six axes of a vendor file, Kalibr export, gap handling."""
 
 import json
 import re
@@ -77,7 +77,7 @@ def test_bad_input_one_line(tmp_path, extra, pattern):
 
 
 def test_allan_imu_flag_gives_the_same_export_as_allan_imu(tmp_path):
-    """``inertialab allan FILE --imu --export kalibr F`` (issue 10 item 3) is the same
+    """``inertialab allan FILE --imu --export kalibr F`` is the same
     analysis as ``allan-imu``: identical YAML on a six-axis file with canonical columns."""
     import numpy as np
     import pandas as pd

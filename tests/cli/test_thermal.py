@@ -155,7 +155,7 @@ def test_fit_reads_through_the_mapping_front_door(records, tmp_path, capsys):
 
 
 def test_fit_all_saves_the_proposed_model_and_export_works(records, tmp_path, capsys):
-    """Issue 18 item 1: the documented fit -> export sequence with --method all."""
+    """The documented fit -> export sequence with --method all."""
     out = tmp_path / "all"
     code, _, err = run(capsys, "thermal", "fit", records / "a.csv", "--method", "all",
                        "--fish", "3", "--generations", "1", "--search-epochs", "3",
@@ -173,7 +173,7 @@ def test_fit_all_saves_the_proposed_model_and_export_works(records, tmp_path, ca
 
 
 def test_fit_writes_the_papers_tables_and_figures_from_user_data(fitted):
-    """Issue 18 item 3: Table 2 (CSV and Markdown), Table 1, Figs. 3/4 and their data."""
+    """Table 2 (CSV and Markdown), Table 1, Figs. 3/4 and their data."""
     res = json.loads((fitted / "result.json").read_text())
     t2 = pd.read_csv(fitted / "table2.csv")
     assert list(t2.method) == list(res["models"])
@@ -223,7 +223,7 @@ def test_fish_swarm_parameters_are_settable_and_checked(records, capsys):
 
 
 def test_apply_writes_the_transfer_figure(records, fitted, tmp_path, capsys):
-    """Issue 18 item 3: the seed's Fig. 9 from thermal apply."""
+    """The seed's Fig. 9 from thermal apply."""
     fig = tmp_path / "figs" / "fig9.png"
     code, _, err = run(capsys, "thermal", "apply", fitted / "model.json", records / "b.csv",
                        "--out", tmp_path / "b.csv", "--figure", fig)
@@ -246,7 +246,7 @@ def test_export_for_another_unit_carries_its_mapping(records, fitted, tmp_path, 
 
 
 def test_export_of_a_hostile_model_file(fitted, tmp_path, capsys):
-    """Issue 19 item 2 through the CLI: an injected unit_id stays inside a comment; a
+    """Through the CLI: an injected unit_id stays inside a comment; a
     NaN coefficient (JSON NaN) is refused (on load) with exit 2 and
     nothing written."""
     env = json.loads((fitted / "model.json").read_text())
@@ -266,7 +266,7 @@ def test_export_of_a_hostile_model_file(fitted, tmp_path, capsys):
 
 def test_a_1e308_cell_and_nan_models_exit_2_and_write_nothing(records, fitted, tmp_path,
                                                                capsys):
-    """Issue 19 item 5: thermal fit with one 1e308 cell wrote a model with null metrics;
+    """Thermal fit with one 1e308 cell wrote a model with null metrics;
     thermal compensate with a NaN model wrote all-NaN outputs. Both are bad input now."""
     f = pd.read_csv(records / "a.csv")
     f.loc[200, "output_mv"] = 1e308

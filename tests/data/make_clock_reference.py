@@ -1,4 +1,4 @@
-"""Regenerate the PHASE.DAT-style clock record and its reference tables (issue 15).
+"""Regenerate the PHASE.DAT-style clock record and its reference tables.
 
 Run from the repository root (needs allantools; not part of the test run)::
 

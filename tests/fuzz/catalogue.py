@@ -841,8 +841,8 @@ def slow_cases() -> list[Case]:
 
 def _watchdog(argv, cwd) -> Outcome:
     """A subprocess run without an address-space limit, failed by the watchdog of
-    :func:`tests.fuzz.issue30.watched` over 2 GB resident or 60 s."""
-    from tests.fuzz.issue30 import watched
+    :func:`tests.fuzz.second_round.watched` over 2 GB resident or 60 s."""
+    from tests.fuzz.second_round import watched
 
     return watched(argv, cwd)
 

@@ -1,5 +1,5 @@
 """Count the hostile cases per class and their outcomes (docs/robustness.md): the first
-fuzz's classes (catalogue.py) and the second's (issue30.py).
+fuzz's classes (catalogue.py) and the second's (second_round.py).
 
     python -m tests.fuzz.report            # fast set (in-process, about a minute)
     python -m tests.fuzz.report --slow     # plus the slow set (subprocesses, minutes)
@@ -25,10 +25,10 @@ import time
 from pathlib import Path
 
 from tests.fuzz import catalogue as cat
-from tests.fuzz import issue30
+from tests.fuzz import second_round
 
 #: Every class counted: the first fuzz's, then the second fuzz's.
-ALL_CLASSES = {**cat.CLASSES, **issue30.CLASSES}
+ALL_CLASSES = {**cat.CLASSES, **second_round.CLASSES}
 
 
 def _random_cases(n: int, seed: int) -> list[cat.Case]:
@@ -107,9 +107,9 @@ def main(argv=None) -> int:
         import inertialab.cli.main as cli_main
 
         cli_main._about = lambda files: ""
-    cases = cat.fast_cases() + issue30.fast_cases() + _random_cases(args.random, args.seed)
+    cases = cat.fast_cases() + second_round.fast_cases() + _random_cases(args.random, args.seed)
     if args.slow:
-        cases += cat.slow_cases() + issue30.slow_cases()
+        cases += cat.slow_cases() + second_round.slow_cases()
     log = None if args.markdown else (lambda s: print(s, file=sys.stderr, flush=True))
     with tempfile.TemporaryDirectory(prefix="inertialab-fuzz-") as tmp:
         t0 = time.perf_counter()

@@ -10,10 +10,10 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from tests.fuzz import catalogue as cat
-from tests.fuzz import issue30
+from tests.fuzz import second_round
 
 CASES = cat.fast_cases()
-CASES30 = issue30.fast_cases()
+CASES30 = second_round.fast_cases()
 
 
 @pytest.mark.parametrize("case", CASES, ids=[c.id for c in CASES])
@@ -24,9 +24,9 @@ def test_hostile_case(case, tmp_path, request):
 
 @pytest.mark.parametrize("case", CASES30, ids=[c.id for c in CASES30])
 def test_second_fuzz_case(case, tmp_path, request):
-    """The second fuzz's findings (tests/fuzz/issue30.py): FIFOs and other cases that
+    """The second fuzz's findings (tests/fuzz/second_round.py): FIFOs and other cases that
     could block run under the watchdog; a case owned by another change is xfail."""
-    issue30.check_case(case, tmp_path, request)
+    second_round.check_case(case, tmp_path, request)
 
 
 ROLES_WITH_OUTPUT = [r for r, (_s, _b, kind, _src) in cat._recipes().items()

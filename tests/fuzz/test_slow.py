@@ -9,10 +9,10 @@ from __future__ import annotations
 import pytest
 
 from tests.fuzz import catalogue as cat
-from tests.fuzz import issue30
+from tests.fuzz import second_round
 
 CASES = cat.slow_cases()
-CASES30 = issue30.slow_cases()
+CASES30 = second_round.slow_cases()
 
 
 @pytest.mark.hostile_slow
@@ -30,4 +30,4 @@ def test_hostile_slow_case(case, tmp_path, request):
 def test_second_fuzz_slow_case(case, tmp_path, request):
     """Memory bombs, endless searches and signals of the second fuzz, each in a
     subprocess under the watchdog (2 GB resident, 60 s), no address-space limit."""
-    issue30.check_case(case, tmp_path, request)
+    second_round.check_case(case, tmp_path, request)

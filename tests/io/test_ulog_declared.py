@@ -9,7 +9,7 @@ from __future__ import annotations
 import time
 
 import pytest
-from tests.fuzz.issue30 import ULOG_COUNT_BOMB, ULOG_NESTED_BOMB, ulog_bytes
+from tests.fuzz.second_round import ULOG_COUNT_BOMB, ULOG_NESTED_BOMB, ulog_bytes
 
 from inertialab.errors import InputError
 

@@ -1,4 +1,4 @@
-"""Tests of inertialab.learn.anfis (spec 000 §8.1.6 and issue 5 item 6)."""
+"""Tests of inertialab.learn.anfis (spec 000 §8.1.6)."""
 
 from __future__ import annotations
 

@@ -175,7 +175,7 @@ def test_errors():
 
 
 def test_hidden_grid_chooses_by_mean_validation_mse():
-    # spec 004 §3.2 option hidden_grid (issue 18 item 8): every size trains from the same
+    # spec 004 §3.2 option hidden_grid: every size trains from the same
     # R seeds; S is the size with the lowest mean validation MSE over the restarts, and
     # the chosen members are exactly those of a plain fit with that size
     from inertialab.sim.drift import benchmark_process
@@ -213,7 +213,7 @@ def test_auto_lag_bound_is_the_largest_the_spec_data_rule_allows():
 
 
 def test_mackey_glass_learner_beats_ar6_and_persistence_reduced():
-    # issue 18 item 9, CI-sized (benchmarks/drift.py has the 500-value, 6-origin run):
+    # , CI-sized (benchmarks/drift.py has the 500-value, 6-origin run):
     # Mackey-Glass tau = 17, 220 training values before T = 220 and 300, R = 1 restart,
     # 20-step closed loop, RMSE pooled. Target NAR <= 0.5 x AR(6) and <= 0.25 x
     # persistence (measured 3.6e-4 vs 0.093 and 0.30). The cause of the spec-H = 6 miss

@@ -1,4 +1,4 @@
-"""Direct multi-step NAR (spec 004 §3.8 ablation; issue 18 item 8)."""
+"""Direct multi-step NAR (spec 004 §3.8 ablation)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Out-of-core Allan on Dask: parallel == in-memory (noise.allan_dask; issue 10 item 5)."""
+"""Out-of-core Allan on Dask: parallel == in-memory (noise.allan_dask)."""
 
 import numpy as np
 import pytest
@@ -34,7 +34,7 @@ def test_chunked_allan_dask_equals_in_memory(tmp_path, client):
                    range_chunks=3)
     np.testing.assert_array_equal(r.m, ref.m)
     np.testing.assert_array_equal(r.n_terms, ref.n_terms)
-    # only the order of the final additions differs: 1e-12 relative (issue 10 item 5)
+    # only the order of the final additions differs: 1e-12 relative
     np.testing.assert_allclose(r.dev, ref.dev, rtol=1e-12, atol=0)
     np.testing.assert_array_equal(r.alpha, ref.alpha)
     np.testing.assert_allclose(r.ci_low, ref.ci_low, rtol=1e-12)

@@ -1,4 +1,4 @@
-"""The fast paths of the Allan family (issue 15 item 5) against independent references:
+"""The fast paths of the Allan family against independent references:
 lag-doubling octave kernels, per-m dense kernels, TOTDEV without the extension, the
 out-of-core stream and the vectorised EDF / noise identification, each checked against
 allantools, the scalar implementation it replaces, or a long-double computation."""
@@ -147,7 +147,7 @@ def test_out_of_core_equals_in_memory(tmp_path, stat):
 @pytest.mark.parametrize("stat", STATISTICS)
 @pytest.mark.parametrize("kind", ["rate", "angle"])
 def test_extra_memory_at_most_one_copy(stat, kind):
-    # issue 15 item 5: extra memory at most one copy of the input (octave taus)
+    # extra memory at most one copy of the input (octave taus)
     n = 1 << 22  # fixed buffers (a few MB) are < 10 % of the input here
     y = np.random.default_rng(2).standard_normal(n)
     data = y if kind == "rate" else np.cumsum(y)

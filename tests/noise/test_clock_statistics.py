@@ -1,4 +1,4 @@
-"""MTOTDEV, TTOTDEV, HTOTDEV, Theo1/TheoBR/TheoH, MTIE, TIE rms (issue 15): published NBS14
+"""MTOTDEV, TTOTDEV, HTOTDEV, Theo1/TheoBR/TheoH, MTIE, TIE rms: published NBS14
 values, allantools to 1e-10, brute-force definitions."""
 
 from pathlib import Path

@@ -142,7 +142,7 @@ def test_totdev_default_is_sp1065_table7_like_allantools():
 
 @pytest.mark.parametrize("stat", list(E.GREENHALL_STATS) + ["totdev"])
 def test_default_edf_finite_at_every_m_and_alpha(stat):
-    # Issue 14 item 4: finite and positive at every m (1 .. N/16 for every alpha the
+    # finite and positive at every m (1 .. N/16 for every alpha the
     # statistic's family allows, -4 for Hadamard) - the old Gaussian path gave 0.002 for
     # random-walk rate at m = 1.
     nx = 2049
@@ -179,7 +179,7 @@ def test_white_phase_short_record_exact_sum():
 
 
 def test_greenhall_edf_is_fast():
-    # issue 15: per-tau EDF ~0.1-0.3 ms (allantools' cost), not milliseconds
+    # per-tau EDF ~0.1-0.3 ms (allantools' cost), not milliseconds
     import time
 
     ms = np.unique(np.geomspace(1, 2**16, 60).astype(int))

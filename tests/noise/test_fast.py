@@ -1,4 +1,4 @@
-"""The compiled ``[fast]`` kernels (numba; issue 15 item 5) against the numpy paths they
+"""The compiled ``[fast]`` kernels (numba) against the numpy paths they
 replace: every statistic, rate and angle input, octave / all / explicit taus, odd and
 tiny records; deviations, EDFs and intervals to 1e-12 relative, noise types equal.
 ``INERTIALAB_FAST=0`` selects the numpy path (the reference here)."""

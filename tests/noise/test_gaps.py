@@ -1,4 +1,4 @@
-"""Gap-resistant OADEV/ADEV/MDEV/TDEV/HDEV/OHDEV (noise.gaps, issue 15 item 3): allantools
+"""Gap-resistant OADEV/ADEV/MDEV/TDEV/HDEV/OHDEV (noise.gaps): allantools
 gradev, the gap-free path of every statistic, brute-force summands over gappy records,
 and the frequency-data rule (no integration across a gap)."""
 

@@ -1,4 +1,4 @@
-"""GMWM (issue 14 item 6): wavelet variance, latent-process fit, WIC selection, intervals."""
+"""GMWM: wavelet variance, latent-process fit, WIC selection, intervals."""
 
 from __future__ import annotations
 
@@ -136,7 +136,7 @@ def test_k_from_one_slow_gm_carries_its_correlation_time():
 
 
 def test_gm_correlation_time_capped_and_low_eta_scales_dropped():
-    # Issue 14 item 5: white + random walk + a GM (tc 20 s) at 10 Hz, 2^19 samples
+    # white + random walk + a GM (tc 20 s) at 10 Hz, 2^19 samples
     # (14.6 h). The scales with eta3 < 3 (the last two) are not fitted, no GM correlation
     # time exceeds 1/8 of the longest fitted scale, and K comes from the random walk
     # (not traded for a long GM): within 15 % of the truth (measured seeds 0-2: +5.4 %,
@@ -157,7 +157,7 @@ def test_gm_correlation_time_capped_and_low_eta_scales_dropped():
 
 
 def test_drift_is_a_candidate_only_beside_a_random_walk():
-    # issue 14 item 5: a DR read instead of the RW on the last scales set K to 0
+    # a DR read instead of the RW on the last scales set K to 0
     specs = G._specs(3, True, True)
     assert any("DR" in s for s in specs)
     assert all("RW" in s for s in specs if "DR" in s)
@@ -185,7 +185,7 @@ def test_k_interval_covers_on_white_plus_random_walk():
 
 
 def test_absent_random_walk_reported_as_an_upper_bound():
-    # issue 14 item 2 for GMWM: white + one GM, no random walk. The WIC leaves the RW out;
+    # for GMWM: white + one GM, no random walk. The WIC leaves the RW out;
     # K is reported absent with the interval [0, upper], the upper bootstrap percentile
     # of K in the best candidate that has a random walk
     fs, n = 10.0, 2**18
@@ -205,7 +205,7 @@ def test_absent_random_walk_reported_as_an_upper_bound():
 
 
 def test_absent_drift_reported_as_a_profile_upper_bound_that_covers():
-    # issue 14 items 2-3 for GMWM: white + random walk + a faint rate ramp the WIC leaves
+    # for GMWM: white + random walk + a faint rate ramp the WIC leaves
     # out. R is reported absent with [0, upper], the upper end of the objective's profile
     # in the drift; the true ramp lies below the bound wherever the drift is left out
     # (measured: left out in 6 of 10 records, bound 2.5-4.6x the truth; at 2^17 samples

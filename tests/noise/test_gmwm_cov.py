@@ -1,4 +1,4 @@
-"""Covariance of the Haar wavelet variance across scales (issue 14 item 5): the spectral
+"""Covariance of the Haar wavelet variance across scales: the spectral
 integrals against the exact discrete Allan variances, Greenhall's EDF and a simulation."""
 
 from __future__ import annotations

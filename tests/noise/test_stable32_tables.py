@@ -1,4 +1,4 @@
-"""PHASE.DAT-style reference tables (issue 15 item 4): every statistic of the Allan family
+"""PHASE.DAT-style reference tables: every statistic of the Allan family
 on a 1001-point clock phase record, deviation to 1e-10 and 68.3 % interval bounds to 1e-3
 of tables computed independently (allantools + the published SP 1065 EDFs; recipe and
 provenance: tests/data/README.md), and the published EDF and bias formulas themselves."""

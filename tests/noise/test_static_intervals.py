@@ -105,7 +105,7 @@ def test_strictly_increasing_time_required():
 
 
 def test_turns_about_the_vertical_are_rests_to_the_accelerometer_but_not_with_the_gyro():
-    # issue 17 leftover: on a Ferraris-style log without shake, a turn about the vertical keeps
+    # on a Ferraris-style log without shake, a turn about the vertical keeps
     # the accelerometer as still as a rest; only the gyro tells it apart
     from inertialab.sim.ferraris_session import simulate_ferraris
 

@@ -1,4 +1,4 @@
-"""Noise terms Q N B K R: analytic curves, units, simulated recovery (issue 3 item 4)."""
+"""Noise terms Q N B K R: analytic curves, units, simulated recovery."""
 
 from __future__ import annotations
 
@@ -140,7 +140,7 @@ def _recovery(preset: str, seeds=range(20)):
 
 @pytest.mark.slow
 def test_recovery_18_of_20_seeds():
-    # Issue 3 item 4 / spec 001 §6.2: N and K within 5 %, B within 20 % in at least 18 of
+    # spec 001 §6.2: N and K within 5 %, B within 20 % in at least 18 of
     # 20 seeds, read on "allan-rrw" (N, K) and "allan-bi" (N, B). Measured: N within
     # 0.5 % everywhere, K 19/20 (worst -5.8 %), B 20/20 (worst -10 %).
     rrw = _recovery("allan-rrw")
@@ -203,7 +203,7 @@ def test_spec001_checks_2_to_4_single_noises():
     assert q.value == pytest.approx(0.5, rel=0.01) and q.unit == "arcsec"
 
 
-# ----------------------------------------------------------------------------- issue 14
+# -----------------------------------------------------------------------------
 
 
 @pytest.fixture(scope="module")
@@ -400,7 +400,7 @@ def test_wls_recovers_band_limited_b_and_k_exactly():
 
 
 def test_mems_preset_terms_within_bounds_and_intervals():
-    # CI-sized check of issue 14 item 3 on the consumer-100hz preset, 10-h records, seeds
+    # CI-sized check on the consumer-100hz preset, 10-h records, seeds
     # 0-5 (the 200-seed coverage is benchmarks/noise_terms.py). Measured: |N err| <= 0.6 %,
     # |B err| <= 10.2 %, |K err| <= 33 %, median |K err| 13 %; the truth inside all 18
     # intervals.
@@ -466,7 +466,7 @@ def test_batched_nnls_equals_scipy_nnls():
 
 
 def test_non_significant_ramp_widens_the_other_intervals_to_the_fit_without_it():
-    # issue 14 item 3: where R is only an upper bound the values stay the full fit's and
+    # where R is only an upper bound the values stay the full fit's and
     # the Q N B K intervals span the fits with and without R (flag span_without_R)
     import inertialab.noise._terms_ls as L
 

@@ -1,8 +1,8 @@
 """Shared conformance suite for every population optimiser in inertialab.optim.
 
 Runs over every optimiser (CS, ACS, PSO, AFSA, IAFSA); one that fails to import is a
-test failure, not a skip (issue 13). Checks the
-shared contract of CONTRACTS.md "optim": signature, result type, counting, seeding, bounds,
+test failure, not a skip. Checks the
+shared contract of the optimisers (inertialab.optim.base): signature, result type, counting, seeding, bounds,
 targets, x_init, callbacks.
 """
 

@@ -1,4 +1,4 @@
-"""Drawing the report's sections in forked processes (issue 18 item 11): same sections in
+"""Drawing the report's sections in forked processes: same sections in
 the same order as in one process, warnings raised again in the parent, a failing section
 raises its own error."""
 

@@ -1,4 +1,4 @@
-"""Figures of the noise-term fit and the GMWM (issue 14 item 8)."""
+"""Figures of the noise-term fit and the GMWM."""
 
 from __future__ import annotations
 

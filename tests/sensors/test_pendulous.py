@@ -91,7 +91,7 @@ def test_coefficients_round_trip():
 
 
 def test_bias_and_eq3_scale_factor_drift_per_input_level():
-    """Figs. 3/4 of the seed (issue 18 item 3): noise-free tumbles at five temperatures
+    """Figs. 3/4 of the seed: noise-free tumbles at five temperatures
     with K0(T), K1(T) known; averaging eq. 3 over the two positions of a level cancels
     the Kip and Kp terms (a_p = ±cos), leaving K1(T) + K2 a_i exactly."""
     from inertialab.sensors.pendulous import bias_scale_factor_drift

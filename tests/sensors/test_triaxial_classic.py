@@ -95,7 +95,7 @@ def test_face_fit_closed_form_is_the_six_position_method():
 
 @pytest.mark.parametrize("deg", [1.0, 3.0])
 def test_face_fit_hand_placed_faces_have_gravity_magnitude(deg):
-    # issue 17 item 3: faces tilted by a few degrees; the closed form leaves |a| errors of
+    # faces tilted by a few degrees; the closed form leaves |a| errors of
     # 0.3 % per degree (first order: the bias absorbs the tilts), the refinement none
     from inertialab.sensors.triaxial_classic import face_fit
 

@@ -84,7 +84,7 @@ def test_bad_arguments():
 
 
 def test_mackey_glass_matches_the_anfis_benchmark_series():
-    # the learner benchmark of issue 18 item 9 uses Jang's Mackey-Glass set-up; the
+    # the learner benchmark uses Jang's Mackey-Glass set-up; the
     # independent RK4 integration in tests/learn/test_anfis.py must give the same values
     from inertialab.sim.drift import mackey_glass
     from tests.learn.test_anfis import _mackey_glass

@@ -1,4 +1,4 @@
-"""sim.ferraris_session: the virtual Ferraris session (issue 17 item 2)."""
+"""sim.ferraris_session: the virtual Ferraris session."""
 
 import numpy as np
 

@@ -1,4 +1,4 @@
-"""Virtual-lab MEMS presets (issue 14 item 1): the log looks like a real MEMS log and its
+"""Virtual-lab MEMS presets: the log looks like a real MEMS log and its
 true terms are what the docstring says."""
 
 from __future__ import annotations
@@ -105,7 +105,7 @@ def test_bad_input():
 
 # sha256 (first 16 hex) of simulate(preset, hours=0.05, seed).y.tobytes(), recorded with the
 # generator before it was rewritten to work in place (commit 087e5bb): the in-place
-# generator must reproduce every earlier record bit for bit (issue 14 item 1)
+# generator must reproduce every earlier record bit for bit
 _RECORDED = {("consumer-100hz", 0): "53aee9a2c5c35ee0", ("consumer-100hz", 7): "ab967165d8608a89",
              ("industrial-400hz", 0): "bb53690bcb9613ed", ("consumer-1khz", 7): "2177011364f91bd1",
              ("accel-200hz", 0): "c67f4c4852a82ce9"}

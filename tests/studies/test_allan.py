@@ -1,4 +1,4 @@
-"""Allan study: the demo on the virtual lab and its report section (issue 3)."""
+"""Allan study: the demo on the virtual lab and its report section."""
 
 from __future__ import annotations
 

@@ -18,7 +18,7 @@ def test_study_registered_with_budgeted_settings():
 @pytest.mark.slow
 @pytest.mark.filterwarnings("ignore")
 def test_a13_interval_coverage_over_the_spec_unit_count():
-    # spec 004 A13 at its stated count (issue 18 item 10): nav preset, 20 units from
+    # spec 004 A13 at its stated count: nav preset, 20 units from
     # SeedSequence(0), days 0-79 in-sample, K = 20, preset strict: the 95 % intervals cover
     # the observed (non-imputed, non-outlier) holdout values in 85-99 % of (unit, step)
     # pairs. Benchmark full run: 0.969 over 738 pairs.

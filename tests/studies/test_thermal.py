@@ -1,5 +1,4 @@
-"""The thermal study in the demo, its report section and the bootstrap of spec 000 §8.4
-(issue 5 item 4)."""
+"""The thermal study in the demo, its report section and the bootstrap of spec 000 §8.4."""
 
 from __future__ import annotations
 

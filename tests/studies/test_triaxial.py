@@ -20,10 +20,10 @@ def test_demo_quick_runs_and_reports():
 
 
 def test_turntable_methods_scored_against_the_same_sensor_frame_truth():
-    # issue 17 item 7: lab six-position -> LM-S12 on turntable62-realistic, every method
+    # lab six-position -> LM-S12 on turntable62-realistic, every method
     # against the true gravity vectors in the sensor frame: ~21 % better (10 seeds, measured
     # 20.9 %; paper 25 %). Scoring S12 in its own fitted frame and the lab baseline against
-    # unturned references inflated it to ~74 % (docs/results.md before issue 17).
+    # unturned references inflated it to ~74 % (docs/results.md before the turned references).
     import numpy as np
 
     from inertialab.calib.triaxial import calibrate

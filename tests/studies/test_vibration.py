@@ -1,4 +1,4 @@
-"""Tests of the vibration study: the pipeline on the virtual lab (spec 001 §3.11; issue 4)."""
+"""Tests of the vibration study: the pipeline on the virtual lab (spec 001 §3.11)."""
 
 import warnings
 

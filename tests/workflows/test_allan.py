@@ -173,7 +173,7 @@ def test_verbs_are_the_workflow_functions():
     assert W.prepare is W.prepare_log and W.fit is W.analyze
 
 
-# ------------------------------------------------------------------ clock inputs (issue 15)
+# ------------------------------------------------------------------ clock inputs
 
 NBS14_Y = np.array([892.0, 809.0, 823.0, 798.0, 671.0, 644.0, 883.0, 903.0, 677.0])
 

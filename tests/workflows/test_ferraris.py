@@ -1,4 +1,4 @@
-"""workflows.ferraris: record -> sections -> fit -> model -> apply (issue 17 items 2, 4)."""
+"""workflows.ferraris: record -> sections -> fit -> model -> apply."""
 
 import json
 import warnings

@@ -1,4 +1,4 @@
-"""Six-axis noise and Kalibr/ROS export against a simulated IMU of known densities (issue 10 item 3)."""
+"""Six-axis noise and Kalibr/ROS export against a simulated IMU of known densities."""
 
 import math
 import re

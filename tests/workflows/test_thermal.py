@@ -89,7 +89,7 @@ def test_fit_verb_scores_the_requested_models(run_a):
 
 
 def test_random_streams_are_keyed_by_method_name_not_position(run_a):
-    """Issue 18 item 2: a model's numbers do not depend on which other models are fitted
+    """A model's numbers do not depend on which other models are fitted
     beside it or in which order (before: IAFSA on interp_T seed 2 gave 4.15 µg alone and
     26.8 µg with all methods)."""
     s = prepare_samples(run_a.frame)

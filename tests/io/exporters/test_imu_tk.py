@@ -1,4 +1,4 @@
-"""io.exporters.imu_tk: 21 numbers per triad, X' = T K (X - B) (issue 17 item 6)."""
+"""io.exporters.imu_tk: 21 numbers per triad, X' = T K (X - B)."""
 
 import numpy as np
 import pytest

@@ -1,5 +1,5 @@
 """io.exporters.imucal: imucal's v2 JSON, read back by imucal itself when installed and by
-its documented formulas always (issue 17 item 6)."""
+its documented formulas always."""
 
 import json
 

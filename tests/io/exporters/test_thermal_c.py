@@ -84,7 +84,7 @@ def _run(exe, T, U, ap):
 @pytest.mark.skipif(CC is None, reason="no C compiler (cc) on this machine")
 @pytest.mark.parametrize("which", ["plain", "raw"])
 def test_compiled_c_carries_the_second_unit_mapping(models, unit_b, which, tmp_path):
-    """Issue 18 item 4: code for unit B runs A's model through B's own 55 °C coefficients
+    """Code for unit B runs A's model through B's own 55 °C coefficients
     (spec 000 §3.7) and agrees with compensate(..., unit_ref=B) on 10 000 inputs."""
     _, ms = models
     model = ms[which]
@@ -161,7 +161,7 @@ HOSTILE = [
 @pytest.mark.skipif(CC is None, reason="no C compiler (cc) on this machine")
 @pytest.mark.parametrize("text", HOSTILE)
 def test_data_derived_text_cannot_inject_code(models, unit_b, text, tmp_path):
-    """Issue 19 item 2: unit ids and the method name come from records and model files;
+    """Unit ids and the method name come from records and model files;
     in the generated C they are reduced to a safe character set, so the code compiles
     with -Werror -pedantic and defines no symbol of the payload."""
     _, ms = models
@@ -187,7 +187,7 @@ def test_data_derived_text_cannot_inject_code(models, unit_b, text, tmp_path):
 @pytest.mark.parametrize("where", ["k0", "consequent", "sigma", "range"])
 @pytest.mark.parametrize("value", [float("nan"), float("inf"), -float("inf")])
 def test_non_finite_constants_are_refused(models, where, value):
-    """Issue 19 item 2: NaN/Infinity would be written as 'nan'/'inf', which is not C."""
+    """NaN/Infinity would be written as 'nan'/'inf', which is not C."""
     from inertialab.learn.anfis import ANFIS
 
     _, ms = models
