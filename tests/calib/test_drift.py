@@ -67,7 +67,7 @@ def test_rolling_origin_counts_and_paired_test():
     assert len(rr.rmse["nar"]) == 3 and len(rr.rmse["persistence"]) == 3
     win = np.mean(np.asarray(rr.rmse["nar"]) < np.asarray(rr.rmse["persistence"]))
     assert rr.win_rate["persistence"] == pytest.approx(win)
-    # the per-step error curve (seed Figs. 6/8): persistence checked independently
+    # the per-step error curve (Yue et al., spec 004, Figs. 6/8): persistence checked independently
     y = s.values
     want = [np.mean([abs(y[T - 1 + k] - y[T - 1]) for T in (60, 70, 80)]) for k in range(1, 21)]
     np.testing.assert_allclose(rr.step_mae["persistence"], want, rtol=1e-12)

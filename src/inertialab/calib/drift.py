@@ -270,7 +270,7 @@ class SeriesResult:
 
     def error_curve(self) -> dict | None:
         """|e_k| per forecast step k = 1..K on the holdout for the NAR and each baseline
-        (None on steps with no scored day); None without a holdout (seed Figs. 6/8)."""
+        (None on steps with no scored day); None without a holdout (Yue et al., spec 004, Figs. 6/8)."""
         if not self.holdout:
             return None
         K = len(self.forecast["value"])

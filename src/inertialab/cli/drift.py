@@ -34,7 +34,7 @@ def drift_evaluate(file: Path = typer.Argument(..., help="storage_drift record (
                    *, config, run, read: ReadOptions):
     """Rolling-origin evaluation: refit at origins FIRST, FIRST+STEP, ..., N-K and
     compare NAR with the baselines (per-origin RMSE, win rates, Wilcoxon, per-step
-    error curve; spec 004 §5)."""
+    error curve; spec 004)."""
     run.execute("drift evaluate", lambda bar: wf.run_evaluate(
         read_record(file, "storage_drift", options=read), config, progress=bar),
         inputs=[file], figures=commands.drift_evaluate)
@@ -49,7 +49,7 @@ def drift_apply(model: Path = typer.Argument(..., help="model.json written by 'd
                                                       "output_ma and a_ref_g columns)."),
                 *, config, run, read: ReadOptions):
     """Compensate a later record with the forecast bias and scale factor: residuals
-    with and without the forecast, and a = I/k - b for an output current (spec 004 §9)."""
+    with and without the forecast, and a = I/k - b for an output current (spec 004)."""
     run.execute("drift apply", lambda bar: wf.run_apply(
         load_model(model, expected_type="storage-drift"),
         read_record(file, "storage_drift", options=read), out=run.out, model_path=model),

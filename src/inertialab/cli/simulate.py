@@ -30,14 +30,14 @@ def _command(kind: str, config_cls, simulate):
 
 
 def _gyro_static(c, out):
-    """A FOG at rest (spec 001 §6.2 noise model) with known Q N B K R."""
+    """A FOG at rest (the noise model of spec 001) with known Q N B K R."""
     from inertialab.sim.gyro_static import simulate
 
     return ws.gyro_static(simulate(c.preset, hours=c.hours, rate_hz=c.rate, seed=c.seed), c, out)
 
 
 def _thermal_tumble(c, out):
-    """Write a virtual thermal tumble record (23 set points x 24 positions, spec 000 §7)."""
+    """Write a virtual thermal tumble record (23 set points x 24 positions, spec 000)."""
     from inertialab.sim.thermal_tumble import simulate
 
     return ws.thermal_tumble(simulate(c.preset, c.lot_seed, c.unit, seed=c.seed, ramp=c.ramp),
@@ -53,7 +53,7 @@ def _thermal_imu(c, out):
 
 
 def _fog_vibration(c, out):
-    """Simulate a FOG on a linear shaker (spec 001 §6): three phases, §2.2 record."""
+    """Simulate a FOG on a linear shaker (spec 001): three phases in the vibration record."""
     from inertialab.sim.fog_vibration import simulate
 
     return ws.fog_vibration(simulate(c.experiment, c.seed, c.preset, **c.overrides()), c, out)
@@ -90,7 +90,7 @@ def _dual_tumble(c, out):
 
 
 def _storage_drift(c, out):
-    """Simulate a storage programme (spec 004 §7) with ground-truth columns."""
+    """Simulate a storage programme (spec 004) with ground-truth columns."""
     from inertialab.sim.drift import simulate_storage_batch
 
     return ws.storage_drift(simulate_storage_batch(

@@ -36,7 +36,7 @@ def _apply_command(name: str):
         file: Annotated[Path, typer.Argument(help="thermal_tumble record to compensate.")],
         figure: Annotated[Path | None, typer.Option(
             "--figure", help="Also write the drift before/after compensation per input "
-                             "level (seed Fig. 9, the transfer figure) to this .png; needs "
+                             "level (Fu et al., spec 000, Fig. 9, the transfer figure) to this .png; needs "
                              "a full tumble with a 55 °C set point.")] = None,
         *, config, run, read: ReadOptions | None = None,
     ):

@@ -47,7 +47,7 @@ def vibration_apply(
                                                  "vib_on, vib_freq_hz)."),
     *, config, run, read: ReadOptions = None,
 ):
-    """Apply a saved vibration-compensation model to a new record (spec §3.10)."""
+    """Apply a saved vibration-compensation model to a new record."""
     run.execute("vibration apply", lambda bar: wv.run_apply(
         load_model(model_file, expected_type="vibration-compensation"),
         read_record(record_file, "gyro_log", options=read), config, out=run.out,

@@ -26,7 +26,7 @@ RATE_OR_COUNTS = ("angular_rate", "counts")
 
 GYRO_LOG = Schema(
     kind="gyro_log",
-    source="spec 001 §2.2",
+    source="spec 001",
     description="Continuous gyro or IMU log at a uniform rate.",
     columns=(
         C("t_s", description="time since record start, s (or give the sample rate)"),
@@ -51,7 +51,7 @@ GYRO_LOG = Schema(
 
 THERMAL_TUMBLE = Schema(
     kind="thermal_tumble",
-    source="spec 000 §2.3",
+    source="spec 000",
     description="Multi-position tumble at many chamber temperatures (one row per visit).",
     columns=(
         C("unit_id", kind="str"), C("lot_id", kind="str"), C("run_id", kind="str"),
@@ -78,7 +78,7 @@ THERMAL_TUMBLE = Schema(
 
 TRIAXIAL_STATIC = Schema(
     kind="triaxial_static",
-    source="spec 002 §2.3 static-record CSV",
+    source="spec 002 static-record CSV",
     description="One row per static position of a triaxial accelerometer.",
     columns=(
         C("unit_id", kind="str"),
@@ -99,7 +99,7 @@ TRIAXIAL_STATIC = Schema(
 
 TRIAXIAL_RAW = Schema(
     kind="triaxial_raw",
-    source="spec 002 §2.3 raw-log CSV",
+    source="spec 002 raw-log CSV",
     description="Continuous raw log of a triaxial IMU turned through static poses.",
     columns=(
         C("t_s", required=True),
@@ -117,7 +117,7 @@ TRIAXIAL_RAW = Schema(
 
 DUAL_TUMBLE = Schema(
     kind="dual_tumble",
-    source="spec 003 §2.2",
+    source="spec 003",
     description="Two orthogonal accelerometers on a dividing head, one row per DMM sample.",
     columns=(
         C("run_id", kind="str"),
@@ -136,7 +136,7 @@ DUAL_TUMBLE = Schema(
 
 STORAGE_DRIFT = Schema(
     kind="storage_drift",
-    source="spec 004 §2.1",
+    source="spec 004",
     description="Long-term storage tests, one row per test of one unit.",
     columns=(
         C("unit_id", kind="str", required=True),

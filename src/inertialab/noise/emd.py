@@ -1,4 +1,4 @@
-"""Empirical mode decomposition as an analysis view (spec 001 §3.5, seed Fig. 2b).
+"""Empirical mode decomposition as an analysis view (spec 001 §3.5, Fang et al. Fig. 2b).
 
 The seed shows EMD only to document that it mode-mixes on a noisy FOG record; no
 decision of the pipeline depends on it. Two back ends:

@@ -132,7 +132,7 @@ def cwt_scalogram(x, fs_hz: float, *, wavelet: str = "cmor1.5-1.0", n_scales: in
                   f_min_hz: float | None = None, f_max_hz: float | None = None,
                   block: int = 2**16, overlap: float = 0.1, max_columns: int = 4096,
                   method: str = "fft") -> Scalogram:
-    """CWT scalogram of ``x`` (spec 001 §3.5, seed Fig. 2c).
+    """CWT scalogram of ``x`` (spec 001 §3.5, Fang et al. Fig. 2c).
 
     Parameters
     ----------

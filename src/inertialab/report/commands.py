@@ -40,7 +40,7 @@ def thermal_imu_fit(res) -> list:
 
 def thermal_transfer(res, name: str):
     """``thermal apply --figure``: the drift before and after compensation per input level
-    (seed Fig. 9); needs ``res.res.drift`` (a full tumble with a reference set point)."""
+    (Fu et al., spec 000, Fig. 9); needs ``res.res.drift`` (a full tumble with a reference set point)."""
     from inertialab.report.figures.thermal import drift_figure
 
     r, mdl = res.res, res.model

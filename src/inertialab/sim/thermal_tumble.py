@@ -171,7 +171,7 @@ class UnitParams:
 
 def drift_truth(unit: UnitParams, t_el, a_i, a_p=None) -> np.ndarray:
     """Output drift relative to 55 °C, in g: ``(U(T) - U(55))/K1c`` at the given inputs
-    (seed Figs. 2-4; ``a_p`` defaults to ``+sqrt(1 - a_i^2)``)."""
+    (Fu et al., spec 000, Figs. 2-4; ``a_p`` defaults to ``+sqrt(1 - a_i^2)``)."""
     a_i = np.asarray(a_i, dtype=float)
     if a_p is None:
         a_p = np.sqrt(np.clip(1.0 - a_i**2, 0.0, None))

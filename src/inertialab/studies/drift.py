@@ -137,7 +137,7 @@ def run_demo(settings, progress=None) -> StudyResult:
                  1e-4, "mA/g"),
         Headline("bias skill vs persistence (median)", b.get("median_skill_vs_persistence"),
                  None, "1"),
-        Headline("95 % interval coverage, nav preset (A13: 0.85-0.99)", nav_coverage, None,
+        Headline("95 % interval coverage, nav preset (target 0.85-0.99)", nav_coverage, None,
                  "fraction"),
         Headline("nav units leaving tolerance before their re-calibration day (target <= 0.1)",
                  nav_exceeded, None, "fraction"),
@@ -164,7 +164,7 @@ def run_demo(settings, progress=None) -> StudyResult:
         f"0-{settings.origin_day} and forecast 20 days, beside persistence, AR and trend "
         "baselines. Bias in µg and scale factor in ppm of each unit's mean K1; the seed's "
         "error levels are compared in g and mA/g.",
-        "On this preset the NAR is not expected to beat AR or persistence (spec A8): the "
+        "On this preset the NAR is not expected to beat AR or persistence (spec 004): the "
         "day-to-day scatter dominates. Re-calibration days are the 10 % quantile of the "
         "first passage of the bootstrap paths out of ±50 µg / ±50 ppm around the value at "
         "the origin; with the paper preset's 50 µg turn-on scatter most units leave that "

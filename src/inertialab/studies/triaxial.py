@@ -160,15 +160,15 @@ def _headline(settings, rows, red, acc_err, g_err) -> list:
 
 
 _TEXT = [
-    "Spec 002 on the virtual lab: a simulated MPU6050 (true errors of spec §6.1) on the "
+    "Spec 002 on the virtual lab: a simulated MPU6050 (the true errors of spec 002's simulation) on the "
     "62-position turntable with mount rotation, 16-bit quantisation and a quadratic "
     "mismatch; the six-position 'laboratory' baseline uses the six face positions of the 62. "
     "Every method's eq.-21 error is scored against the same truth, the true gravity vectors "
     "in the sensor frame (scoring S12 fits against references turned by their own fitted "
     "mount rotation and the others against unturned ones inflated the gain to ~74 %).",
-    "CS, ACS and PSO share each seed's initial population and stop at J <= 1e-10 (§3.9).",
+    "CS, ACS and PSO share each seed's initial population and stop at J <= 1e-10.",
     "A raw 100 Hz log in counts with gyro channels goes through static-interval detection "
-    "(threshold sweep), accelerometer LM-norm and gyro calibration by integration (§7.3).",
+    "(threshold sweep), accelerometer LM-norm and gyro calibration by integration.",
 ]
 
 

@@ -103,7 +103,7 @@ def run_demo(settings, progress=None) -> StudyResult:
                  f"{rb.get('poly', float('nan')):.3g}", "RBF smaller", "deg/h"),
     ]
     text = [
-        "Virtual FOG (spec 001 §6, preset mid) on a shaker at 5 g: a 1-500 Hz log sweep (E1) "
+        "Virtual FOG (spec 001, preset mid) on a shaker at 5 g: a 1-500 Hz log sweep (E1) "
         "and a 500 Hz fixed run (E2), each with a static phase before and after vibration.",
         f"Noise terms per phase by OADEV and WLS; db4 decomposition to J = 10, level L = "
         f"{res.level} (rule: {res.level_selection.level}); bias-vs-frequency targets from "

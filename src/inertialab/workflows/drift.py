@@ -73,7 +73,7 @@ def _load_ohm(frame, meta, path, col) -> np.ndarray:
         else:
             raise InputError("a scale factor in V/g needs the load resistor: a load_ohm "
                              "column or 'load_ohm' in the sidecar (k[mA/g] = 1000 k[V/g] / "
-                             "R[ohm], spec 004 §1)", path=path, column=col)
+                             "R[ohm], spec 004)", path=path, column=col)
     bad = ~(np.isfinite(r) & (r > 0))
     if bad.any():
         rows = (np.flatnonzero(bad)[:5] + 1).tolist()
@@ -85,7 +85,7 @@ def _load_ohm(frame, meta, path, col) -> np.ndarray:
 
 def _sf_ma_per_g(frame, col, meta, path) -> np.ndarray:
     """A scale-factor column in mA/g: V/g through the load resistor (k[mA/g] =
-    1000 k[V/g] / R[ohm], spec 004 §1), mA/g as it is."""
+    1000 k[V/g] / R[ohm], spec 004), mA/g as it is."""
     x = frame[col].to_numpy(dtype=float)
     if split_suffix(col)[1] == "v_per_g":
         return 1000.0 * x / _load_ohm(frame, meta, path, col)

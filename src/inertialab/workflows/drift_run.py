@@ -58,7 +58,7 @@ class _Common(Config):
                            lo=1, hi=MAX_HORIZON)
     order: str = setting("auto", help="auto (kernel CV, H = 6) or N.")
     restarts: int = setting(10, help="Training restarts R.", lo=1, hi=1000)
-    hidden: int = setting(10, help="Hidden neurons S (spec default 10).", lo=1, hi=200)
+    hidden: int = setting(10, help="Hidden neurons S (the paper's 10).", lo=1, hi=200)
     hidden_grid: str | None = setting(None, help="Choose S by validation from sizes, e.g. "
                                                  "2,4,6,8,10 (replaces the single size).")
     preset: str = setting("paper", help="paper (best member, random split) | strict "
@@ -78,7 +78,7 @@ class FitConfig(_Common):
     tol_sf_ppm: float | None = setting(None, help="Scale-factor tolerance (default: sidecar, "
                                                   "else 50).", unit="ppm", lo=1e-9, hi=1e9)
     max_gap: int = setting(3, help="Longest gap (steps) interpolated.", lo=0, hi=36_500)
-    hampel: bool = setting(False, help="Hampel outlier screen (spec 004 §2.2).")
+    hampel: bool = setting(False, help="Hampel outlier screen (spec 004).")
     arima: bool = setting(False, help="Add the ARIMA-by-AIC baseline (slow).")
     seed: int = seed_setting("Seed of the restarts and bootstrap paths.")
 

@@ -309,8 +309,7 @@ class FitConfig(Config):
                                       "calibrations)")
     ebr_rule: str = setting("E1", help="E1 (Stein) | E2 (ML) | E3 (SURE)")
     lambda_combination: str = setting("star", help="star | max | min of lambda* and lambda0")
-    second_order: bool = setting(False, help="Iterated second-order correction of y (spec "
-                                             "§1.5).")
+    second_order: bool = setting(False, help="Iterated second-order correction of y (spec 003).")
     g_local: float | None = setting(None, help="Local gravity, m/s^2.", lo=1.0, hi=100.0)
 
     def dual_config(self, *, sensitivity: bool) -> DualConfig:

@@ -208,7 +208,7 @@ def ferraris_session(rec, c: FerrarisSessionConfig, out: Path) -> Written:
 class DualTumbleConfig(Config):
     """Settings of ``simulate dual-tumble``."""
 
-    scenario: str = setting("S1", help="S0 ... S5 (spec 003 §6.4).")
+    scenario: str = setting("S1", help="S0 ... S5 (the virtual-lab scenarios of docs/dual.md).")
     seed: int = seed_setting(default=20240603)
     h: float | None = setting(None, help="Head-error scale (S2 sweep; default 1).")
     positions: int | None = setting(None, help="Positions per pass (S4).", lo=1, hi=100_000)

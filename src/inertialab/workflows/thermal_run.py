@@ -55,7 +55,7 @@ class FitConfig(Config):
     input: str = setting("ua", help="ua (eq. 5) | raw (N = U)", choices=("ua", "raw"))
     learn_drift: bool = setting(False, help="Learn Nc - N.")
     radii: str = setting("scalar", help="scalar | per_dim (IAFSA)", choices=("scalar", "per_dim"))
-    fish: int = setting(10, help="IAFSA fish (spec: 10).", lo=1, hi=10_000)
+    fish: int = setting(10, help="IAFSA fish (the paper's 10).", lo=1, hi=10_000)
     generations: int = setting(30, help="IAFSA generations (30).", lo=1, hi=100_000)
     epochs: int = setting(150, help="Final ANFIS epochs (150).", lo=1, hi=1_000_000)
     search_epochs: int = setting(20, help="ANFIS epochs inside the IAFSA objective (20).",
@@ -161,7 +161,7 @@ class ApplyConfig(Config):
 
     reference: str = setting("auto", help="model | record | auto: Ua with the model unit's "
                                           "55 °C coefficients, or with the record's own 55 °C "
-                                          "tumble (transfer to another unit, spec 000 §3.7); "
+                                          "tumble (transfer to another unit, spec 000); "
                                           "auto = record when it has a full 55 °C tumble of "
                                           "another unit.")
     force: bool = setting(False, help="Apply a model that fails its re-check at its training "
@@ -223,7 +223,7 @@ class ExportConfig(Config):
     unit_record: Path | None = setting(None, help="thermal_tumble record of the unit the code "
                                                   "will run on, when it is another unit of the "
                                                   "lot: its 55 °C tumble gives the transfer "
-                                                  "mapping of spec 000 §3.7.")
+                                                  "mapping of spec 000.")
 
 
 @dataclass

@@ -358,7 +358,7 @@ def _compensate_fixed(fixed, a_fix, level: int, model, cfg, tmin_phys: float, ta
     clipped = any(issubclass(w.category, ExtrapolationWarning) for w in caught)
     if clipped:
         warnings.warn(f"{fixed.path}: drive frequencies outside the sweep's training range "
-                      f"{model.f_range_hz_} Hz were clipped to it (spec §3.10)",
+                      f"{model.f_range_hz_} Hz were clipped to it",
                       ExtrapolationWarning, stacklevel=3)
     metrics["clipped_frequencies"] = bool(clipped)
     tables_step()
@@ -522,7 +522,7 @@ def analyse(sweep: VibrationRun, fixed: VibrationRun | None = None,
                                      lambda: prog.update(6, total, "compensation tables"))
     else:
         metrics["compensation_note"] = ("no fixed-frequency record: the compensation rows are "
-                                        "omitted (spec §3.11)")
+                                        "omitted")
     views["level"] = level
     views["decomposition"] = {"run": sel_run, "dec": decs[sel_run],
                               "fs_hz": runs[sel_run].fs_hz, "k_on": runs[sel_run].k_on,

@@ -61,12 +61,12 @@ def _spread(spread: str):
 class FitConfig(Config):
     """Settings of ``vibration fit``."""
 
-    level: str = setting("6", help="Approximation level L (seed 6) or 'auto' (spec §3.6 "
+    level: str = setting("6", help="Approximation level L (the paper's 6) or 'auto' (the paper's "
                                    "rule).")
-    spread: str = setting("1.2", help="RBF spread in Hz (seed 1.2), or 'validate': the spread "
+    spread: str = setting("1.2", help="RBF spread in Hz (the paper's 1.2), or 'validate': the spread "
                                       "with the least held-out RMSE on the even 1-Hz bins "
                                       "(reported).")
-    goal: float = setting(1e-4, help="RBF MSE goal (seed 1e-4).", unit="(deg/h)^2",
+    goal: float = setting(1e-4, help="RBF MSE goal (the paper's 1e-4).", unit="(deg/h)^2",
                           lo=1e-300, hi=1e12)
     centers: str = setting("max_error", help="RBF centres: max_error | ols | random_fixed | "
                                              "all.")

@@ -2,7 +2,7 @@
 
 Layouts are computed once by :func:`inertialab.report.layout.fit` when the figure is
 written. Figures are built from workflow results only: drift against temperature per input
-level before and after compensation (seed Figs. 2-4 and 9), test residuals per model,
+level before and after compensation (Fu et al., spec 000, Figs. 2-4 and 9), test residuals per model,
 and the transfer to a second unit with its bootstrap band when there is one.
 """
 
@@ -72,7 +72,7 @@ def bias_figure(bsf, *, title: str = "", name: str = "thermal_bias") -> Figure:
     mx = np.nanmax(np.abs(bsf.bias_drift_mg))
     ax.set_title(f"{title + ': ' if title else ''}bias drift, max {mx:.3f} mg", fontsize=9)
     return Figure(fig, "Bias (mean of the 0° and 180° positions) against temperature, "
-                       f"relative to {bsf.reference_temp_c:g} °C (seed Fig. 3).", name=name)
+                       f"relative to {bsf.reference_temp_c:g} °C (Fu et al., spec 000, Fig. 3).", name=name)
 
 
 def scale_factor_figure(bsf, *, title: str = "", name: str = "thermal_scale_factor") -> Figure:
@@ -92,7 +92,7 @@ def scale_factor_figure(bsf, *, title: str = "", name: str = "thermal_scale_fact
                  f"max |drift| {mx:.2f} mV/g", fontsize=9)
     ax.legend(fontsize=6, ncol=2, title="a_i", title_fontsize=7)
     return Figure(fig, "Scale factor (U - K0)/a_i (eq. 3) against temperature per input "
-                       f"level, relative to {bsf.reference_temp_c:g} °C (seed Fig. 4).",
+                       f"level, relative to {bsf.reference_temp_c:g} °C (Fu et al., spec 000, Fig. 4).",
                   name=name)
 
 

@@ -1,4 +1,4 @@
-"""Figures and report section of the ``vibration`` study (spec 001; seed Figs. 1-8).
+"""Figures and report section of the ``vibration`` study (spec 001; Fang et al. Figs. 1-8).
 
 :func:`figures` turns a :class:`~inertialab.workflows.vibration.VibrationResult` into the
 seed's figures (record with phases, CWT scalogram, decomposition levels, bias curve of
@@ -42,7 +42,7 @@ def _fig_record(res):
         ax.legend(loc="upper right", fontsize=7)
     axes[-1].set_xlabel("time [s]")
     return Figure(fig, "Records of the sweep (E1) and 500-Hz (E2) runs with their phases "
-                       "(seed Fig. 1) and the level-L approximation.", "record")
+                       "(Fang et al., spec 001, Fig. 1) and the level-L approximation.", "record")
 
 
 _SUPER = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
@@ -92,7 +92,7 @@ def _fig_scalogram(res):
     ax.set_ylabel("frequency [Hz]")
     fig.colorbar(im, ax=ax, label="|W|^2 [dB re (deg/h)^2]")
     ax.set_title("CWT scalogram (cmor1.5-1.0), fixed-frequency run")
-    return Figure(fig, "CWT scalogram of the 500-Hz run (seed Fig. 2c): P1 quiet, P2 "
+    return Figure(fig, "CWT scalogram of the 500-Hz run (Fang et al., spec 001, Fig. 2c): P1 quiet, P2 "
                        "high-frequency energy (the 500-Hz drive aliases to 100 Hz at "
                        "fs = 200 Hz), P3 quiet again.", "scalogram")
 
@@ -111,7 +111,7 @@ def _fig_spectra(res):
     ax.set_ylabel("ASD [(deg/h)/sqrt(Hz)]")
     ax.legend(fontsize=7)
     ax.set_title("Welch amplitude spectrum per phase (dotted: aliases of the drive harmonics)")
-    return Figure(fig, "FFT (Welch) view per phase (seed Fig. 2a): vibration raises the "
+    return Figure(fig, "FFT (Welch) view per phase (Fang et al., spec 001, Fig. 2a): vibration raises the "
                        "high-frequency noise.", "spectra")
 
 
@@ -128,7 +128,7 @@ def _fig_emd(res):
         axes[i + 1].set_ylabel(f"IMF{i + 1}")
     axes[-1].set_xlabel("time [s]")
     axes[0].set_title(f"EMD of a window at the vibration onset ({e['backend']} sifting)")
-    return Figure(fig, "EMD around the vibration onset (seed Fig. 2b): the IMFs mix modes on "
+    return Figure(fig, "EMD around the vibration onset (Fang et al., spec 001, Fig. 2b): the IMFs mix modes on "
                        "this noisy signal, which is why the seed turns to the CWT.", "emd")
 
 
@@ -150,7 +150,7 @@ def _fig_levels(res):
             ax.tick_params(labelsize=7)
     fig.suptitle(f"db4 decomposition of the {d['run']} run (approximations and details)",
                  fontsize=9)
-    return Figure(fig, "Mallat db4 decomposition (seed Figs. 3-4): low levels carry drift and "
+    return Figure(fig, "Mallat db4 decomposition (Fang et al., spec 001, Figs. 3-4): low levels carry drift and "
                        "noise; at high levels P2 keeps the vibration bias.", "levels")
 
 
@@ -175,7 +175,7 @@ def _fig_separation(res):
         ax.set_ylabel("deg/h", fontsize=8)
         ax.legend(fontsize=7, loc="upper right")
     axes[-1].set_xlabel("time [s]")
-    fig.suptitle(f"Separation of the {d['run']} run (seed Fig. 4): A{L}, D1 and x - A{L}",
+    fig.suptitle(f"Separation of the {d['run']} run (Fang et al., spec 001, Fig. 4): A{L}, D1 and x - A{L}",
                  fontsize=9)
     return Figure(fig, f"Seed Fig. 4 analogue: the level-{L} approximation is the bias "
                        f"signal; D1 (the finest detail) and x - A{L} (D1 + ... + D{L}) carry "
@@ -183,7 +183,7 @@ def _fig_separation(res):
 
 
 def _fig_waterfall(res):
-    """The sweep's decomposition as a waterfall (seed Fig. 3, 3-D time-scale view): each
+    """The sweep's decomposition as a waterfall (Fang et al., spec 001, Fig. 3, 3-D time-scale view): each
     detail D_j and the final approximation, normalised, offset by level."""
     sw = res.views.get("sweep")
     if sw is None or sw.get("dec") is None:
@@ -224,7 +224,7 @@ def _fig_waterfall(res):
     ax.set_xlabel("time [s]")
     ax.set_title("Sweep run: db4 details by level (waterfall; each trace normalised)",
                  fontsize=9)
-    return Figure(fig, "Waterfall of the sweep's decomposition (seed Fig. 3): where each level "
+    return Figure(fig, "Waterfall of the sweep's decomposition (Fang et al., spec 001, Fig. 3): where each level "
                        "responds as the drive frequency (top axis) rises.", "sweep_waterfall")
 
 
@@ -245,7 +245,7 @@ def _fig_bias(res):
     ax.legend(fontsize=8)
     ax.set_title("Bias error versus vibration frequency")
     return Figure(fig, "RBF network versus 4th-order polynomial on the bias-vs-frequency "
-                       "targets of the sweep (seed Fig. 6).", "bias_curve")
+                       "targets of the sweep (Fang et al., spec 001, Fig. 6).", "bias_curve")
 
 
 def _fig_compensated(res):
@@ -263,7 +263,7 @@ def _fig_compensated(res):
     ax.set_ylabel("rate [deg/h]")
     ax.legend(fontsize=8)
     ax.set_title("Fixed 500-Hz run after denoising and compensation")
-    return Figure(fig, "Compensation of the 500-Hz run (seed Figs. 7-8): the offset of P2 is "
+    return Figure(fig, "Compensation of the 500-Hz run (Fang et al., spec 001, Figs. 7-8): the offset of P2 is "
                        "removed except near the vibration edges.", "compensated")
 
 
