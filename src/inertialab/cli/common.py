@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from inertialab import __version__
+from inertialab.cli.options import flagged
 from inertialab.io import outputs
 from inertialab.io.modelfile import dependency_versions
 from inertialab.io.names import safe_slug
@@ -129,7 +130,7 @@ def collect_warnings(quiet: bool = False):
             for w in caught:
                 if issubclass(w.category, (DeprecationWarning, PendingDeprecationWarning)):
                     continue
-                text = f"{w.category.__name__}: {' '.join(str(w.message).split())}"
+                text = f"{w.category.__name__}: {flagged(' '.join(str(w.message).split()))}"
                 if text in seen:
                     continue
                 seen.add(text)
