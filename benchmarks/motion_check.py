@@ -13,8 +13,9 @@ runs) on
   axis must be refused; a static bench with a 0.5-Hz wobble (:func:`wobble_bench`): no
   axis refused.
 
-Reported: per case, the axes refused out of the axes judged, and the largest band ratio
-(band median over the white floor, :func:`band_excess`) seen.
+Reported: per case, the axes refused out of the axes judged, and the largest and smallest
+band ratio of an axis (its highest band median over the white floor, :func:`band_excess`;
+an axis may be refused by the excursion or gravity test instead).
 
 Command: ``python -m benchmarks motion_check`` (``--quick`` for the reduced set).
 """
@@ -106,8 +107,10 @@ def _judge(cols: dict, rate_hz: float) -> dict:
 
     why = motion_reasons(cols, rate_hz)
     ratios = [band_excess(y, rate_hz) for y in cols.values()]
-    top = max((r[0] for r in ratios if r is not None), default=float("nan"))
-    return {"refused": sorted(why), "n_axes": len(cols), "max_ratio": float(top)}
+    vals = [r[0] for r in ratios if r is not None]
+    return {"refused": sorted(why), "n_axes": len(cols),
+            "max_ratio": float(max(vals, default=float("nan"))),
+            "min_ratio": float(min(vals, default=float("nan")))}
 
 
 def preset_triad(name: str, seed: int, hours: float) -> tuple[dict, float]:
@@ -182,22 +185,23 @@ def markdown(result: dict) -> str:
              f"Static axes refused (false positives): **{result['false_positive_axes']} of "
              f"{result['static_axes']}**; simulated motion refused: "
              f"**{result['motion_refused']} of {result['motion_axes']}** axes.", "",
-             "| case | records | axes refused / judged | largest band ratio |",
-             "|---|---|---|---|"]
+             "| case | records | axes refused / judged | band ratio of an axis: largest "
+             "| smallest |", "|---|---|---|---|---|"]
     groups: dict = {}
     for r in result["presets"] + result["motion"] + result["wobble"]:
         key = r["case"] + (f" {r['hours']:g} h" if "hours" in r else "")
-        g = groups.setdefault(key, [0, 0, 0, 0.0])
+        g = groups.setdefault(key, [0, 0, 0, 0.0, float("inf")])
         g[0] += 1
         g[1] += len(r["refused"])
         g[2] += r["n_axes"]
         g[3] = max(g[3], r["max_ratio"])
+        g[4] = min(g[4], r.get("min_ratio", float("nan")))
     for r in result["real"]:
         if "n_axes" in r:
             groups[r["case"] + (" (static)" if r["static"] else "")] = [
-                1, len(r["refused"]), r["n_axes"], r["max_ratio"]]
-    for key, (n, ref, ax, top) in groups.items():
-        lines.append(f"| {key} | {n} | {ref} / {ax} | {top:.3g} |")
+                1, len(r["refused"]), r["n_axes"], r["max_ratio"], r.get("min_ratio")]
+    for key, (n, ref, ax, top, low) in groups.items():
+        lines.append(f"| {key} | {n} | {ref} / {ax} | {top:.3g} | {low:.3g} |")
     return "\n".join(lines) + "\n"
 
 

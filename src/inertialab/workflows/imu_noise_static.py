@@ -13,9 +13,10 @@ a real MEMS gyro's. Three tests, each independent of the noise-term fit:
   up to ``rate/2``; the median power of each band, narrow lines masked (:func:`_line_mask`),
   is compared with the white floor (:func:`_white_floor`: the lowest band median once
   the roll-off bands at the top are dropped). A band :data:`EXCESS` times above the
-  floor is motion. Measured by ``python -m benchmarks motion_check``: at most 1.5 on
-  the presets (4 presets x 8 seeds x 0.05-2 h, triads), the two 2.8-h ADIS16405 logs
-  and the static PX4 bench log; 600 and more on simulated flight, handling and sway.
+  floor is motion. Measured by ``python -m benchmarks motion_check``: at most 1.71 on
+  the presets (4 presets x 8 seeds x 0.05, 0.5 and 2 h, triads; 1.2 from 0.5 h on),
+  1.38 on the two 2.8-h ADIS16405 logs, 1.22 on the static PX4 bench log, 1.41 on a
+  bench with a 0.5-Hz wobble; every axis of simulated flight, handling and sway refused.
 * **gross excursions** (:func:`excursion_fraction`): samples further than
   :data:`EXCURSION_SIGMAS` sigmas (the white floor's, or the robust spread of the
   samples about their level when larger: lines are no excursions) from the 10-s block
