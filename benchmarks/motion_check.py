@@ -157,6 +157,35 @@ def run_real() -> list[dict]:
     return rows
 
 
+def low_passed(cols: dict, fraction: float) -> dict:
+    """``cols`` through a 2nd-order Butterworth low-pass at ``fraction`` of the rate (a
+    sensor's filter set low), started at the first sample."""
+    from scipy.signal import sosfilt
+
+    sos = butter(2, 2.0 * fraction, output="sos")
+    return {a: sosfilt(sos, y - y[0]) + y[0] for a, y in cols.items()}
+
+
+def run_filtered(seeds) -> dict:
+    """The sensor's own low-pass set low: static presets (3-min gyro axes of
+    consumer-100hz and consumer-1khz, the filter moved to ``fraction * rate``) and the
+    simulated motion through the same filter."""
+    from inertialab.sim.mems_presets import preset, simulate
+
+    static, motion = [], []
+    for frac in (0.05, 0.02, 0.01):
+        for name in ("consumer-100hz", "consumer-1khz"):
+            for s in seeds:
+                r = simulate(preset(name).with_(lpf_fraction=frac), hours=0.05, seed=s)
+                static.append({"case": f"{name} low-pass at rate*{frac:g}", "seed": s}
+                              | _judge({"gx": r.y}, r.rate_hz))
+    for frac in (0.1, 0.04, 0.02, 0.01):
+        for f in (flight, handling, sway):
+            motion += [{"case": f"{f.__name__} low-pass at rate*{frac:g}", "seed": s}
+                       | _judge(low_passed(f(s), frac), FS) for s in seeds]
+    return {"static": static, "motion": motion}
+
+
 def run(quick: bool = False) -> dict:
     """``python -m benchmarks motion_check``."""
     import warnings
@@ -170,9 +199,11 @@ def run(quick: bool = False) -> dict:
     motion = [{"case": f.__name__, "seed": s} | _judge(f(s), FS)
               for f in (flight, handling, sway) for s in seeds]
     wobble = [{"case": "wobble_bench", "seed": s} | _judge(wobble_bench(s), FS) for s in seeds]
+    filtered = run_filtered(range(2) if quick else range(4))
     false_pos = sum(len(r["refused"]) for r in presets + wobble)
     false_pos += sum(len(r.get("refused", [])) for r in real if r.get("static"))
     return {"presets": presets, "real": real, "motion": motion, "wobble": wobble,
+            "filtered": filtered,
             "false_positive_axes": false_pos,
             "static_axes": sum(r["n_axes"] for r in presets + wobble)
             + sum(r.get("n_axes", 0) for r in real if r.get("static")),
@@ -188,7 +219,9 @@ def markdown(result: dict) -> str:
              "| case | records | axes refused / judged | band ratio of an axis: largest "
              "| smallest |", "|---|---|---|---|---|"]
     groups: dict = {}
-    for r in result["presets"] + result["motion"] + result["wobble"]:
+    filt = result.get("filtered", {})
+    for r in (result["presets"] + result["motion"] + result["wobble"]
+              + filt.get("static", []) + filt.get("motion", [])):
         key = r["case"] + (f" {r['hours']:g} h" if "hours" in r else "")
         g = groups.setdefault(key, [0, 0, 0, 0.0, float("inf")])
         g[0] += 1

@@ -101,6 +101,20 @@ def test_simulated_motion_is_refused_on_all_six_axes(kind, seed):
     assert sorted(motion_reasons(cols, mc.FS)) == sorted(mc.AXES)
 
 
+def test_a_filter_set_low_passes_and_motion_through_it_is_still_refused():
+    # the sensor's low-pass at rate/50 (consumer-100hz: 2 Hz) is its roll-off, not a
+    # floor; motion through a filter at rate/100 is still motion on every axis
+    import benchmarks.motion_check as mc
+
+    from inertialab.sim.mems_presets import preset, simulate
+
+    r = simulate(preset("consumer-100hz").with_(lpf_fraction=0.02), hours=0.05, seed=4)
+    assert motion_reasons({"gx": r.y}, r.rate_hz) == {}
+    for kind in ("handling", "sway"):
+        cols = mc.low_passed(getattr(mc, kind)(1), 0.01)
+        assert sorted(motion_reasons(cols, mc.FS)) == sorted(mc.AXES)
+
+
 def test_a_broad_sway_is_motion_a_narrow_line_of_the_same_power_is_not():
     import benchmarks.motion_check as mc
 

@@ -61,9 +61,14 @@ LINE_CORE = 0.8
 LINE_BINS = 3
 #: a top band below this fraction of the band under it is the low-pass roll-off ...
 ROLL_OFF = 0.9
-#: ... when its lower edge is at or above rate / ROLL_OFF_FROM (MEMS anti-alias filters
-#: sit at rate/10 to rate/2.5: the presets, the PX4 and ADIS16405 logs)
-ROLL_OFF_FROM = 40.0
+#: ... when its lower edge is at or above rate / ROLL_OFF_FROM. MEMS anti-alias filters
+#: sit at rate/10 to rate/2.5 (the presets, the PX4 and ADIS16405 logs); 60 lets a
+#: corner at rate/50 pass (a static preset filtered there: 0 of 6 refused, at rate/100:
+#: 6 of 6) and still lets no motion through (flight, handling and sway low-passed at
+#: rate/10 to rate/100: every axis refused; with 100, 2 of 12 sway axes pass; without
+#: the limit, half the handling and sway axes: motion falling into the filter's
+#: roll-off would be taken for it). ``benchmarks.motion_check`` measures both sides.
+ROLL_OFF_FROM = 60.0
 #: least bins in a band for its median to count
 MIN_BINS = 5
 
