@@ -201,11 +201,15 @@ def test_suffix_contradicting_header_units_and_apply_unit_mismatch(capsys, tmp_p
     code, out, err = cli(capsys, "triaxial", "fit", path, "--unit", "mps2", "--objective",
                          "scalar", "--out", tmp_path / "res")
     assert code == 0, err
-    # applying an m/s^2 calibration to a counts log is refused
+    # applying an m/s^2 calibration to a counts log is refused: read with the fit's
+    # --unit mps2 (the model keeps it), its values are no accelerations; told it is lsb,
+    # the model's raw unit refuses it
     log = tmp_path / "log.raw.csv"
     cli(capsys, "simulate", "triaxial-poses", "--scenario", "rawlog62-counts", "--out", log)
     one_line_error(*cli(capsys, "triaxial", "apply", tmp_path / "res" / "model.json", log,
-                        "--out", tmp_path / "x.csv")[::2], "expects 'mps2'")
+                        "--out", tmp_path / "x.csv")[::2], "like raw ADC counts")
+    one_line_error(*cli(capsys, "triaxial", "apply", tmp_path / "res" / "model.json", log,
+                        "--unit", "lsb", "--out", tmp_path / "x.csv")[::2], "expects 'mps2'")
     assert not (tmp_path / "x.csv").exists()
 
 
@@ -484,3 +488,38 @@ def test_method_all_writes_parameter_tables_and_six_face_figure_equal_to_each_fi
     assert len(errs) == 6 * 5 and set(errs["pose"]) == {"+x", "-x", "+y", "-y", "+z", "-z"}
     # an unknown method is a one-line error naming the argument's flag
     one_line_error(*cli(capsys, "triaxial", "fit", path, "--method", "lm,foo")[::2], "--method")
+
+
+def test_apply_reads_the_file_as_the_fit_read_its_own(capsys, tmp_path):
+    # fit on a vendor file read with --map and --sep: apply on the same kind of file needs
+    # neither (the model keeps them), gives what apply on the canonical file gives, and an
+    # option given again wins; a model file written without them (an older one) still loads
+    sph = tmp_path / "sph.csv"
+    cli(capsys, "simulate", "triaxial-poses", "--scenario", "turntable62", "--seed", "3",
+        "--out", sph)
+    vendor = tmp_path / "vendor.csv"
+    pd.read_csv(sph).rename(columns={"ax_mps2": "Acc X", "ay_mps2": "Acc Y",
+                                     "az_mps2": "Acc Z"}).to_csv(vendor, index=False, sep=";")
+    mapping = "ax_mps2=Acc X,ay_mps2=Acc Y,az_mps2=Acc Z"
+    code, _, err = cli(capsys, "triaxial", "fit", vendor, "--objective", "scalar", "--sep", ";",
+                       "--map", mapping, "--out", tmp_path / "m")
+    assert code == 0, err
+    model = tmp_path / "m" / "model.json"
+    env = json.loads(model.read_text())
+    assert env["settings"]["reading"] == {"column_map": mapping, "parse": {
+        "sep": ";", "decimal": None, "skip_rows": None}}
+    code, _, err = cli(capsys, "triaxial", "apply", model, vendor, "--out", tmp_path / "v.csv")
+    assert code == 0, err
+    code, _, err = cli(capsys, "triaxial", "apply", model, sph, "--sep", ",", "--map",
+                       "ax_mps2=ax_mps2,ay_mps2=ay_mps2,az_mps2=az_mps2",
+                       "--out", tmp_path / "c.csv")
+    assert code == 0, err
+    a, b = pd.read_csv(tmp_path / "v.csv"), pd.read_csv(tmp_path / "c.csv")
+    assert np.allclose(a["ax_mps2"], b["ax_mps2"], rtol=1e-12)
+    del env["settings"]["reading"]
+    model.write_text(json.dumps(env))
+    code, _, err = cli(capsys, "triaxial", "apply", model, vendor, "--out", tmp_path / "o.csv")
+    one_line_error(code, err, "vendor.csv")
+    code, _, err = cli(capsys, "triaxial", "apply", model, vendor, "--sep", ";", "--map",
+                       mapping, "--out", tmp_path / "o.csv")
+    assert code == 0, err

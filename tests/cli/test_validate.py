@@ -116,3 +116,33 @@ def test_clock_without_time_same_error_from_validate_and_allan(tmp_path, capsys)
     v = _err(capsys, "validate", p, "--kind", "clock_log")
     a = _err(capsys, "allan", p, "--input", "phase")
     assert v == a == f"error: {p}: needs a t_s column or --rate"
+
+
+def test_a_varying_temperature_does_not_let_constant_axes_through(tmp_path, capsys):
+    # the analysed axes decide: stuck gyros beside a drifting temperature are refused by
+    # validate and the analysis alike; one varying axis lets the log through
+    n = 2000
+    t = np.arange(n) / 100.0
+    temp = 25.0 + 0.001 * np.arange(n)
+    stuck = tmp_path / "stuck.csv"
+    rows = ["t_s,gx_dps,gy_dps,gz_dps,temp_c"] + [f"{a},0.0125,-0.05,0.1,{b}"
+                                                   for a, b in zip(t, temp)]
+    stuck.write_text("\n".join(rows) + "\n")
+    for cmd in (("validate", str(stuck), "--kind", "allan"),
+                ("validate", str(stuck), "--kind", "imu"), ("allan", str(stuck))):
+        code, _, err = run_inprocess(capsys, *cmd)
+        assert code == 2 and "constant in every analysed column (gx_dps, gy_dps, gz_dps)" in err
+    # the six-axis analysis reads gx..az only: a varying rate column beside them is none
+    rows = ["t_s,gx_dps,gy_dps,gz_dps,rate_dph"] + [f"{a},0.0125,-0.05,0.1,{3600 * b}"
+                                                     for a, b in zip(t, temp)]
+    stuck.write_text("\n".join(rows) + "\n")
+    for cmd in (("validate", str(stuck), "--kind", "imu"), ("allan", str(stuck), "--imu")):
+        code, _, err = run_inprocess(capsys, *cmd)
+        assert code == 2 and "constant in every analysed column (gx_dps, gy_dps, gz_dps)" in err
+    live = tmp_path / "live.csv"
+    gx = 0.0125 + 0.01 * np.random.default_rng(0).standard_normal(n)
+    rows = ["t_s,gx_dps,gy_dps,gz_dps,temp_c"] + [f"{a},{g},-0.05,0.1,25.0"
+                                                   for a, g in zip(t, gx)]
+    live.write_text("\n".join(rows) + "\n")
+    code, _, err = run_inprocess(capsys, "validate", str(live), "--kind", "allan")
+    assert code in (0, None), err

@@ -11,7 +11,7 @@ import pytest
 
 from inertialab.io import validate_frame
 from inertialab.workflows.imu_noise import analyse_record
-from inertialab.workflows.imu_noise_static import motion_reasons
+from inertialab.workflows.imu_noise_static import band_excess, motion_reasons
 from tests.helpers import run_inprocess
 
 G = 9.80665
@@ -65,6 +65,66 @@ def test_simulated_flight_is_not_static_on_all_six_axes():
     why = motion_reasons(cols, FS)
     assert sorted(why) == sorted(cols)
     assert all(("white-noise floor" in w or "gravity direction" in w) for w in why.values())
+
+
+@pytest.mark.parametrize("seed", [0, 5])
+@pytest.mark.parametrize("name", ["consumer-100hz", "industrial-400hz", "consumer-1khz",
+                                  "accel-200hz"])
+def test_static_presets_pass_on_every_axis_through_their_own_low_pass(name, seed):
+    # the presets carry a Butterworth low-pass at rate/10 (as real MEMS do): the bands
+    # it rolls off are no white floor, and no axis of a static 3-min triad is refused
+    from benchmarks.motion_check import preset_triad
+
+    cols, fs = preset_triad(name, seed, 0.05)
+    assert motion_reasons(cols, fs) == {}
+    assert all(band_excess(y, fs)[0] < 2.0 for y in cols.values())
+
+
+@pytest.mark.parametrize("name", ["consumer-100hz", "industrial-400hz", "consumer-1khz",
+                                  "accel-200hz"])
+def test_the_floor_is_the_white_density_not_the_roll_off(name):
+    # one-sided PSD of the white noise, quantisation included: 2 N^2; the floor (the
+    # lowest band median of the plateau) sits a little under it on 30 min
+    from inertialab.sim.mems_presets import preset, simulate
+
+    r = simulate(name, hours=0.5, seed=11)
+    floor = band_excess(r.y, r.rate_hz)[3]
+    assert floor / (2.0 * preset(name).n_total(r.rate_hz) ** 2) == pytest.approx(0.95, abs=0.1)
+
+
+@pytest.mark.parametrize("seed", [0, 3])
+@pytest.mark.parametrize("kind", ["flight", "handling", "sway"])
+def test_simulated_motion_is_refused_on_all_six_axes(kind, seed):
+    import benchmarks.motion_check as mc
+
+    cols = getattr(mc, kind)(seed)
+    assert sorted(motion_reasons(cols, mc.FS)) == sorted(mc.AXES)
+
+
+def test_a_filter_set_low_passes_and_motion_through_it_is_still_refused():
+    # the sensor's low-pass at rate/50 (consumer-100hz: 2 Hz) is its roll-off, not a
+    # floor; motion through a filter at rate/100 is still motion on every axis
+    import benchmarks.motion_check as mc
+
+    from inertialab.sim.mems_presets import preset, simulate
+
+    r = simulate(preset("consumer-100hz").with_(lpf_fraction=0.02), hours=0.05, seed=4)
+    assert motion_reasons({"gx": r.y}, r.rate_hz) == {}
+    for kind in ("handling", "sway"):
+        cols = mc.low_passed(getattr(mc, kind)(1), 0.01)
+        assert sorted(motion_reasons(cols, mc.FS)) == sorted(mc.AXES)
+
+
+def test_a_broad_sway_is_motion_a_narrow_line_of_the_same_power_is_not():
+    import benchmarks.motion_check as mc
+
+    rng = np.random.default_rng(2)
+    sway = mc.sway(2)["gx"]
+    t = np.arange(sway.size) / mc.FS
+    line = 0.005 * rng.standard_normal(t.size) + sway.std() * math.sqrt(2) * np.sin(
+        2 * np.pi * 0.3 * t)
+    assert "gx" in motion_reasons({"gx": sway}, mc.FS)
+    assert motion_reasons({"gx": line}, mc.FS) == {}
 
 
 def test_bench_with_a_narrow_line_is_static_and_reports_the_line():
@@ -140,3 +200,13 @@ def test_px4_moving_log_refused_on_six_axes_and_sensor_combined_named():
     text = " ".join(str(x.message) for x in w)
     assert "sensor_combined" in text and "sensor_gyro" in text and "sensor_accel" in text
     assert "sensor_gyro" in res.settings["source_note"]
+
+
+def test_the_command_line_names_flags_in_warnings_notes_and_help(capsys):
+    # library messages name the argument ('topic', 'pool'); the user reads the flag
+    code, out, err = run_inprocess(capsys, "allan", str(_shared_px4() / "sample_appended_multiple.ulg"),
+                                   "--imu", "--no-terms")
+    assert code in (0, None), err
+    assert "--topic" in err + out and "argument '" not in err + out
+    code, out, err = run_inprocess(capsys, "allan", "--help")
+    assert "With --pool:" in " ".join(out.split())

@@ -20,6 +20,7 @@ import warnings
 from pathlib import Path
 
 from inertialab import __version__
+from inertialab.cli.options import flagged
 from inertialab.io import outputs
 from inertialab.io.names import safe_slug
 from inertialab.io.writers import atomic_write_bytes, atomic_write_text
@@ -129,7 +130,7 @@ def collect_warnings(quiet: bool = False):
             for w in caught:
                 if issubclass(w.category, (DeprecationWarning, PendingDeprecationWarning)):
                     continue
-                text = f"{w.category.__name__}: {' '.join(str(w.message).split())}"
+                text = f"{w.category.__name__}: {flagged(' '.join(str(w.message).split()))}"
                 if text in seen:
                     continue
                 seen.add(text)

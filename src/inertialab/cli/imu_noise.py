@@ -7,6 +7,7 @@ import json
 from typer.core import TyperCommand
 
 from inertialab.cli import common as C
+from inertialab.cli.options import flagged
 
 
 class RepeatedExport(TyperCommand):
@@ -49,4 +50,4 @@ def run_six_axes(*, file, export=None, rostopic=None, read=None, unit=None, rate
                          units={"rate_hz": "Hz"}, warnings_=warns)
     for title, cols, rows in display_tables(res, file):
         C.print_table(cols, rows, title=title)
-    print("\n".join(res.notes()))
+    print(flagged("\n".join(res.notes())))

@@ -30,7 +30,7 @@ import typer  # noqa: E402
 
 from inertialab import __version__  # noqa: E402
 from inertialab import signals as _signals  # noqa: E402
-from inertialab.cli.options import check_out_targets  # noqa: E402
+from inertialab.cli.options import check_out_targets, flagged  # noqa: E402
 from inertialab.config import read_run_config  # noqa: E402
 from inertialab.errors import InputError  # noqa: E402
 
@@ -304,8 +304,6 @@ def user_error(exc: BaseException, files: list[str], read=()) -> str | None:
     not an internal error; data errors name ``read``, the records opened), or None for a bug."""
     files = list(read) or files
     if isinstance(exc, InputError):
-        from inertialab.cli.options import flagged
-
         text = flagged(_one_line(exc))  # library messages name arguments; users see flags
         if exc.path is None and files and not text.startswith("-"):  # name the inputs
             text = f"{', '.join(files[:3])}: {text}" if read else text + _about(files)
@@ -336,7 +334,7 @@ def _one_line_warning(message, category, filename, lineno, file=None, line=None)
     """warnings.showwarning for the CLI: one line, no source line."""
     stream = file if file is not None else sys.stderr
     with contextlib.suppress(OSError, ValueError):
-        stream.write(f"warning: {category.__name__}: {_one_line(message)}\n")
+        stream.write(f"warning: {category.__name__}: {flagged(_one_line(message))}\n")
 
 
 def _interrupted(signum: int) -> int:

@@ -55,7 +55,7 @@ from inertialab.cli.common import (
     progress_bar,
     write_figures,
 )
-from inertialab.cli.options import FLAG_OF, JsonOpt, OutDirOpt, OutFileOpt, QuietOpt
+from inertialab.cli.options import FLAG_OF, JsonOpt, OutDirOpt, OutFileOpt, QuietOpt, flagged
 from inertialab.errors import InputError
 from inertialab.result import check_result
 
@@ -101,7 +101,7 @@ class Run:
             import sys
 
             for w in own:
-                sys.stderr.write(f"warning: {' '.join(w.split())}\n")
+                sys.stderr.write(f"warning: {flagged(' '.join(w.split()))}\n")
         warns = list(warns) + own
         env = envelope(command, result.to_json(), inputs=result.inputs, settings=result.settings,
                        units=result.units, warnings_=warns, meta=meta)
@@ -183,7 +183,7 @@ def _hints(cls) -> dict:
 
 
 def _option(f: dataclasses.Field, meta: dict, hint) -> inspect.Parameter:
-    text = meta["help"] + (f" [{meta['unit']}]" if meta.get("unit") else "")
+    text = flagged(meta["help"]) + (f" [{meta['unit']}]" if meta.get("unit") else "")
     default = None if f.default is dataclasses.MISSING else f.default
     decl = "/".join("--" + part for part in meta["flag"].split("/"))  # "a/no-a": a switch
     return inspect.Parameter(f.name, inspect.Parameter.KEYWORD_ONLY, default=default,

@@ -32,7 +32,7 @@ from __future__ import annotations
 import json
 import re
 import tomllib
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -606,6 +606,33 @@ class ReadOptions:
         if self.join:
             out["join"] = [str(j) for j in self.join]
         return out
+
+    def reusable(self) -> dict:
+        """The options a model keeps to read the next file as its training file was
+        read (JSON-ready, non-default only): the map (its content, also when it came
+        from a map file), units, rate, separators, time column, topic ... never the
+        paths of joined files."""
+        return {k: v for k, v in self.settings().items() if k != "join"}
+
+    def over(self, stored: dict | None) -> ReadOptions:
+        """These options, each one left at its default taken from ``stored`` (a
+        :meth:`reusable` dict; None or empty: these unchanged): what the user gives
+        now wins, option by option."""
+        if not stored:
+            return self
+        kw = {}
+        if not self.column_map and stored.get("column_map"):
+            kw["column_map"] = parse_map(stored["column_map"])
+        if self.parse.is_default and stored.get("parse"):
+            from inertialab.io.formats.text import ParseOptions
+
+            kw["parse"] = ParseOptions(**{k: stored["parse"].get(k)
+                                          for k in ("sep", "decimal", "skip_rows")})
+        for k in ("rate_hz", "unit", "time_column", "time_unit", "topic", "instance",
+                  "dataset", "resample_hz"):
+            if getattr(self, k) is None and stored.get(k) is not None:
+                kw[k] = stored[k]
+        return replace(self, **kw) if kw else self
 
     @classmethod
     def from_cli(cls, map_text: str | None = None, map_file=None, *, sep: str | None = None,

@@ -121,20 +121,43 @@ def preflight(record, kind: str) -> None:
                          "segment", path=path)
     check_length(record, kind)
     if k.varying:
-        check_varying(record)
+        check_varying(record, kind)
     if k.static:
         from inertialab.io.unit_check import check_static_units
 
         check_static_units(record)
 
 
-def check_varying(record) -> None:
-    """Refuse a log whose every measurement column is constant (a stuck or absent
-    sensor: nothing to analyse), as the analyses do; one constant column among varying
-    ones is the analysis's to flag."""
-    import numpy as np
+#: dimensions of the columns an Allan analysis reads; temperatures, voltages and times
+#: beside them are context, not a signal
+_MEASURED = ("angular_rate", "acceleration", "angle", "counts")
+
+
+def _analysed(record, kind: str | None) -> list[str]:
+    """The unit columns ``kind``'s analysis reads: the six axes for ``imu``, else those of
+    a rate, acceleration, angle or count unit (all unit columns when none is)."""
+    from inertialab import units
 
     cols = [c for c in (record.units or {}) if c in record.data.columns and c != "t_s"]
+    if kind == "imu":
+        return [c for c in cols if units.split_suffix(c)[0] in _IMU]
+
+    def measured(c) -> bool:
+        try:
+            return units.dimension(record.units[c]) in _MEASURED
+        except (InputError, KeyError, ValueError):
+            return True  # a unit this table does not know: the analysis decides
+    return [c for c in cols if measured(c)] or cols
+
+
+def check_varying(record, kind: str | None = None) -> None:
+    """Refuse a log whose every analysed column (:func:`_analysed`) is constant (a stuck
+    or absent sensor: nothing to analyse, however much a temperature column beside it
+    varies), as the analyses do; one constant column among varying ones is the
+    analysis's to flag."""
+    import numpy as np
+
+    cols = _analysed(record, kind)
     if not cols:
         return
     for c in cols:
@@ -142,8 +165,8 @@ def check_varying(record) -> None:
         v = v[np.isfinite(v)]
         if v.size and np.ptp(v) > 0:
             return
-    raise InputError("data are constant in every column (" + ", ".join(cols) + "); nothing "
-                     "to analyse", path=record.path)
+    raise InputError("data are constant in every analysed column (" + ", ".join(cols)
+                     + "); nothing to analyse", path=record.path)
 
 
 def check_length(record, kind: str) -> None:

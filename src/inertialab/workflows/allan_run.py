@@ -78,7 +78,7 @@ class AllanConfig(Config):
     pool: bool = setting(False, help="Six-axis mode, several logs: one noise model per axis "
                                      "over them, with each log's own terms beside it.",
                          flag="pool/no-pool")
-    pool_kind: str = setting("runs", help="With pooling: runs (several runs of one unit) or "
+    pool_kind: str = setting("runs", help="With argument 'pool': runs (several runs of one unit) or "
                                           "units (units of one model): what the between-log "
                                           "spread means.", choices=("runs", "units"))
     noise_type: str | None = setting(None, help="Noise type for the bias corrections and "

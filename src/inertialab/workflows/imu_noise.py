@@ -505,7 +505,7 @@ def analyse_record(rec, *, rate_hz: float | None = None, taus="octave", method: 
         from inertialab.io.unit_check import check_static_units
 
         check_length(rec, "imu")  # preflight's length and unit checks, with the rate given
-        check_varying(rec)
+        check_varying(rec, "imu")
         check_static_units(rec)
     cols = axis_columns(rec)
     if not cols:

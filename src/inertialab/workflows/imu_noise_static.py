@@ -4,16 +4,19 @@ Noise terms read from a record that moves describe the motion, not the sensor: a
 log's Allan curves peak at 0.3-0.5 s and a five-term fit then gives densities 100 times
 a real MEMS gyro's. Three tests, each independent of the noise-term fit:
 
-* **broadband excess** (:func:`band_excess`): a static sensor's spectrum is flat (white
-  noise) between the flicker corner (below ~0.05 Hz for MEMS) and its anti-alias
-  filter. The Welch periodogram (Hann, segments of at most :data:`SEGMENT_S` s, linear
-  detrend) is cut into octave bands from :data:`BAND_LO_HZ` up to ``rate/2``; the
-  median power of each band, narrow lines masked (bins :data:`LINE_RATIO` times above
-  the running median of their neighbours, and their skirts down to 2 times), is
-  compared with the lowest band median at or below ``rate/10`` (the white floor, under
-  the filter's roll-off). A band :data:`EXCESS` times above the floor is motion
-  (the two real 2.8-h ADIS16405 logs: at most 1.5; a static 11-s PX4 bench log: at most
-  1.94; white noise with a 0.5-Hz line: 1.1 once the line is masked).
+* **broadband excess** (:func:`band_excess`): variance at short tau that white noise,
+  flicker, random walk and lines cannot explain. A static sensor's spectrum never rises
+  with frequency: flicker and random walk raise only its lowest bands (below ~0.05 Hz
+  for MEMS), its own anti-alias or decimation low-pass (rate/10 to rate/2.5) lowers the
+  top ones, quantisation is white. The Welch periodogram (Hann, segments of at most
+  :data:`SEGMENT_S` s, linear detrend) is cut into octave bands from :data:`BAND_LO_HZ`
+  up to ``rate/2``; the median power of each band, narrow lines masked (:func:`_line_mask`),
+  is compared with the white floor (:func:`_white_floor`: the lowest band median once
+  the roll-off bands at the top are dropped). A band :data:`EXCESS` times above the
+  floor is motion. Measured by ``python -m benchmarks motion_check``: at most 1.71 on
+  the presets (4 presets x 8 seeds x 0.05, 0.5 and 2 h, triads; 1.2 from 0.5 h on),
+  1.38 on the two 2.8-h ADIS16405 logs, 1.22 on the static PX4 bench log, 1.41 on a
+  bench with a 0.5-Hz wobble; every axis of simulated flight, handling and sway refused.
 * **gross excursions** (:func:`excursion_fraction`): samples further than
   :data:`EXCURSION_SIGMAS` sigmas (the white floor's, or the robust spread of the
   samples about their level when larger: lines are no excursions) from the 10-s block
@@ -24,8 +27,9 @@ a real MEMS gyro's. Three tests, each independent of the noise-term fit:
   angle): every accelerometer axis is not static.
 
 The curve-shape rule of :func:`inertialab.noise.terms.not_static_reason` (a rise that
-reaches 1 s) is kept beside these. A narrow line (a fan, a pump, a 0.5-Hz wobble) is
-masked here and reported with the terms as a line, not as motion.
+reaches 1 s) is kept beside these. A narrow line (a fan, a pump, a 0.5-Hz wobble: its
+power within a few bins) is masked here and reported with the terms as a line, not as
+motion; a broad hump (a sway of a few tenths of a hertz) is motion.
 """
 
 from __future__ import annotations
@@ -51,6 +55,20 @@ EXCURSION_SIGMAS = 12.0
 EXCURSION_FRACTION = 1e-3
 #: the gravity direction may wander this much (degrees) on a static bench
 TURN_DEG = 1.0
+#: a narrow line holds this fraction of its excess power ...
+LINE_CORE = 0.8
+#: ... within this many periodogram bins of its peak (the Hann main lobe is +-2 bins)
+LINE_BINS = 3
+#: a top band below this fraction of the band under it is the low-pass roll-off ...
+ROLL_OFF = 0.9
+#: ... when its lower edge is at or above rate / ROLL_OFF_FROM. MEMS anti-alias filters
+#: sit at rate/10 to rate/2.5 (the presets, the PX4 and ADIS16405 logs); 60 lets a
+#: corner at rate/50 pass (a static preset filtered there: 0 of 6 refused, at rate/100:
+#: 6 of 6) and still lets no motion through (flight, handling and sway low-passed at
+#: rate/10 to rate/100: every axis refused; with 100, 2 of 12 sway axes pass; without
+#: the limit, half the handling and sway axes: motion falling into the filter's
+#: roll-off would be taken for it). ``benchmarks.motion_check`` measures both sides.
+ROLL_OFF_FROM = 60.0
 #: least bins in a band for its median to count
 MIN_BINS = 5
 
@@ -63,20 +81,47 @@ def _periodogram(y, rate_hz: float):
 
 
 def _line_mask(p) -> np.ndarray:
-    """Bins of narrow lines (and their skirts): True where a line sits."""
+    """Bins of narrow lines (and their skirts): True where a line sits.
+
+    A run of bins :data:`LINE_RATIO` times above the running median of their
+    neighbours, widened to its skirts (down to 2 times), is a line when at least
+    :data:`LINE_CORE` of its excess power lies within :data:`LINE_BINS` bins of its peak
+    (a sinusoid under the Hann window: its main lobe); a broader hump (a sway, random
+    motion of a few tenths of a hertz) is left in its band."""
     from scipy.ndimage import median_filter
 
     floor = median_filter(p, 31, mode="nearest")
     r = np.where(floor > 0, p / np.where(floor > 0, floor, 1.0), 0.0)
-    mask = r >= LINE_RATIO
-    for i in np.nonzero(mask)[0]:
+    mask = np.zeros(p.size, dtype=bool)
+    done = np.zeros(p.size, dtype=bool)
+    for i in np.nonzero(r >= LINE_RATIO)[0]:
+        if done[i]:
+            continue
         a, b = i, i
         while a > 0 and r[a - 1] >= 2.0:
             a -= 1
         while b < r.size - 1 and r[b + 1] >= 2.0:
             b += 1
-        mask[a:b + 1] = True
+        done[a:b + 1] = True
+        excess = np.clip(p[a:b + 1] - floor[a:b + 1], 0.0, None)
+        k = int(np.argmax(p[a:b + 1]))
+        core = excess[max(0, k - LINE_BINS):k + LINE_BINS + 1].sum()
+        if core >= LINE_CORE * excess.sum():
+            mask[a:b + 1] = True
     return mask
+
+
+def _white_floor(bands, rate_hz: float) -> float:
+    """The white-noise plateau of the band medians ``[(f_low, f_high, median), ...]``:
+    the top bands whose median falls below :data:`ROLL_OFF` times the band under them
+    (the sensor's own anti-alias or decimation low-pass, corner above
+    ``rate / ROLL_OFF_FROM``) are dropped, and the lowest of the rest is the floor
+    (flicker and random walk only raise the low bands, lines are masked)."""
+    k = len(bands)
+    while (k > 1 and bands[k - 1][0] >= rate_hz / ROLL_OFF_FROM
+           and bands[k - 1][2] < ROLL_OFF * bands[k - 2][2]):
+        k -= 1
+    return min(b[2] for b in bands[:k])
 
 
 def band_excess(y, rate_hz: float):
@@ -95,10 +140,11 @@ def band_excess(y, rate_hz: float):
         if sel.sum() >= MIN_BINS:
             bands.append((lo, 2.0 * lo, float(np.median(p[sel]))))
         lo *= 2.0
-    floors = [b[2] for b in bands if b[0] <= rate_hz / 10.0]
-    if len(bands) < 2 or not floors or not min(floors) > 0:
+    if len(bands) < 2:
         return None
-    floor = min(floors)
+    floor = _white_floor(bands, rate_hz)
+    if not floor > 0:
+        return None
     top = max(bands, key=lambda b: b[2])
     return top[2] / floor, top[0], top[1], floor
 

@@ -325,6 +325,8 @@ def run_fit_file(file, config: FitConfig, *, options=None, progress=None):
             inputs.append(sp)
     res = run_fit(rec, config, schedule=schedule, name=Path(file).name, progress=progress)
     res.with_inputs(inputs)
+    if options is not None and options.reusable():  # kept in the model file for apply
+        res.settings["reading"] = options.reusable()
     return res
 
 
@@ -450,21 +452,39 @@ class ApplyResult(ResultBase):
                 + (" and rad/s" if s["gyro_calibrated"] else "") + ")"]
 
 
+def _trained_settings(model_path) -> dict:
+    """The settings a model file was written with (``{}`` without a file or settings)."""
+    if model_path is None:
+        return {}
+    from inertialab.io.modelfile import read_envelope
+
+    settings = read_envelope(model_path).get("settings")
+    return settings if isinstance(settings, dict) else {}
+
+
 def run_apply(model, path, config: ApplyConfig, *, options=None, model_path=None,
               output=None) -> ApplyResult:
     """Apply a triaxial calibration to the record at ``path``:
-    calibrated = correction_matrix @ (raw - offset) (and the gyro block)."""
+    calibrated = correction_matrix @ (raw - offset) (and the gyro block). The file is
+    read with the reading options and unit the model was fitted with (stored in the
+    model file at ``model_path`` by ``fit``; a model file without them, as older ones,
+    adds nothing), each one the user gives in ``options`` or ``config`` winning."""
+    from inertialab.io.mapping import ReadOptions
     from inertialab.workflows import triaxial as wf
 
     c = config.validate()
-    unit = None if c.unit is None else c.unit.lower()
+    trained = _trained_settings(model_path)
+    options = (options or ReadOptions()).over(trained.get("reading"))
+    unit = c.unit if c.unit is not None else trained.get("unit")
+    unit = None if unit is None else str(unit).lower()
     rec = wf.read(path, options=options, unit=unit)
     cal = wf.apply(model, rec, model_path=model_path, force=c.force)
     summary = {"output": None if output is None else str(output), "rows": int(len(cal.data)),
                "accelerometer_columns": [rec.find(b) for b in ("ax", "ay", "az")],
                "gyro_calibrated": wf.gyro_applied(model, rec), "raw_unit": model.raw_unit}
     return ApplyResult(data=cal.data, meta=cal.meta, summary=summary,
-                       settings={"unit": unit, "force": c.force})
+                       settings={"unit": unit, "force": c.force,
+                                 "reading": options.reusable()})
 
 
 # ------------------------------------------------------------------------- export
