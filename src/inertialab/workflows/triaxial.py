@@ -32,7 +32,6 @@ re-exported here (``METHODS``, ``calibrate``, ``StaticData`` ...) load on first 
 from __future__ import annotations
 
 import dataclasses
-import importlib
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -62,16 +61,16 @@ __all__ = ["NOT_WRITTEN", "UNITS", "USES", "ApplyConfig", "ExportConfig",
            "run_fit_file", "static_data_from_frame", "unit_conversion"]
 
 #: Names of the floors below, re-exported for callers of the workflow and loaded on first
-#: use (name -> module).
+#: use (name -> the floor's module name).
 _FLOORS = {
     **dict.fromkeys(("METHODS", "CalibrationFit", "TriaxialCalibration", "calibrate",
-                     "fit_lm", "initial_estimate"), "inertialab.calib.triaxial"),
-    **dict.fromkeys(("BatchCalibration", "calibrate_batch"), "inertialab.calib.triaxial_batch"),
+                     "fit_lm", "initial_estimate"), "triaxial"),
+    **dict.fromkeys(("BatchCalibration", "calibrate_batch"), "triaxial_batch"),
     **dict.fromkeys(("ImplausibleCalibrationError", "Limits", "check_accel", "check_gyro",
-                     "refusal"), "inertialab.calib.triaxial_checks"),
+                     "refusal"), "triaxial_checks"),
     **dict.fromkeys(("CalibrationRun", "StaticData", "calibrate_record_data", "quality",
-                     "to_model"), "inertialab.calib.triaxial_session"),
-    **dict.fromkeys(("StaticIntervals", "sweep_thresholds"), "inertialab.noise.static_intervals"),
+                     "to_model"), "triaxial_session"),
+    **dict.fromkeys(("StaticIntervals", "sweep_thresholds"), "static_intervals"),
 }
 
 
@@ -84,7 +83,13 @@ def __getattr__(name: str):
                       stacklevel=2)
         return FitConfig
     if name in _FLOORS:
-        return getattr(importlib.import_module(_FLOORS[name]), name)
+        from inertialab.calib import triaxial, triaxial_batch, triaxial_checks, triaxial_session
+        from inertialab.noise import static_intervals
+
+        floors = {"triaxial": triaxial, "triaxial_batch": triaxial_batch,
+                  "triaxial_checks": triaxial_checks, "triaxial_session": triaxial_session,
+                  "static_intervals": static_intervals}
+        return getattr(floors[_FLOORS[name]], name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
