@@ -675,7 +675,9 @@ def methods_from(method: str) -> tuple[str, ...]:
 
 @dataclass(frozen=True)
 class FitConfig(_Settings):
-    """Settings of ``thermal fit``."""
+    """Settings of ``thermal fit``, in the order (and under the names) ``settings``
+    writes them (:func:`run_fit`: these, the methods as a list, and the reference
+    temperature the record gave)."""
 
     method: str = setting("iafsa-scm-anfis", help="iafsa-scm-anfis | scm-anfis | anfis | fis | "
                                                   "ann | poly-sep | poly-2d | all (or a comma "
@@ -770,12 +772,8 @@ def run_fit(record, config: FitConfig, *, progress=None) -> FitResult:
     cfg = c.thermal_config()
     samples = prepare(record, cfg)
     result = fit(samples, cfg, progress=progress)
-    settings = {"method": list(cfg.methods), "split": c.split, "target": c.target,
-                "input": c.input, "learn_drift": c.learn_drift, "radii": c.radii,
-                "fish": c.fish, "generations": c.generations, "epochs": c.epochs,
-                "search_epochs": c.search_epochs, "visual": c.visual, "step": c.step,
-                "try_number": c.try_number, "crowd": c.crowd, "seed": c.seed,
-                "reference_temp_c": samples.reference_temp_c}
+    settings = c.to_dict() | {"method": list(cfg.methods),
+                              "reference_temp_c": samples.reference_temp_c}
     return FitResult(result=result, samples=samples, own=result.own_drift(),
                      bsf=bias_scale_factor(samples), settings=settings,
                      sha256=record.sha256)
