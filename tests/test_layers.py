@@ -259,3 +259,27 @@ def test_cli_reads_inputs_only_through_the_runner():
                     getattr(node.value, "id", "") == "json":
                 bad.append(f"{path.name}:{node.lineno}: json.{node.attr}")
     assert not bad, bad
+
+
+#: ``workflows/*_run.py`` modules that still hold their commands (not yet merged into
+#: their study's module).
+_RUN_MODULES_NOT_MERGED = {"allan_run.py"}
+
+
+def test_one_workflow_module_per_study():
+    """A ``workflows/<study>_run.py`` is a deprecated alias: it defines no function or
+    class, imports its names from ``workflows/<study>.py`` and warns on import."""
+    bad = []
+    for path in sorted((SRC / "workflows").glob("*_run.py")):
+        if path.name in _RUN_MODULES_NOT_MERGED:
+            continue
+        tree = ast.parse(path.read_text())
+        study = path.name.removesuffix("_run.py")
+        defines = [n.name for n in tree.body if isinstance(n, (ast.FunctionDef, ast.ClassDef))]
+        sources = {n.module for n in tree.body if isinstance(n, ast.ImportFrom)}
+        warns = "DeprecationWarning" in path.read_text()
+        if defines or f"inertialab.workflows.{study}" not in sources or not warns:
+            bad.append(f"{path.name}: defines {defines}, imports {sorted(sources)}, "
+                       f"warns {warns}")
+    assert not bad, "\n".join(bad)
+    assert all((SRC / "workflows" / n).exists() for n in _RUN_MODULES_NOT_MERGED)

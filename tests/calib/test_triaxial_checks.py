@@ -157,7 +157,7 @@ def test_unsigned_counts_log_calibrates_without_force(tmp_path):
     # the gate before: the mid-scale offset read as a rate (bgx ~ 4.4 rad/s) refused it
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        run = fc.fit(session, fc.Config(method="lm", objective="norm"))
+        run = fc.fit(session, fc.FitConfig(method="lm", objective="norm"))
     assert not run.model.flags
     old = check_gyro(run.gyro_fit, run.gyro_nominal)  # without the ADC range
     assert old and old[-1].parameters == ("bgx", "bgy", "bgz")
@@ -170,7 +170,7 @@ def test_unsigned_counts_log_calibrates_without_force(tmp_path):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         ref = fc.fit(fc.prepare(fc.read(p), gyro=True, k_thr=6),
-                     fc.Config(method="lm", objective="norm"))
+                     fc.FitConfig(method="lm", objective="norm"))
     np.testing.assert_allclose(run.fit.x[:3] - 32768.0, ref.fit.x[:3], atol=1e-3)
     np.testing.assert_allclose(run.fit.x[3:], ref.fit.x[3:], rtol=1e-6, atol=1e-9)
     # the gyro matrix matches the truth to 1 % (sensitivity found in the data)
@@ -191,4 +191,4 @@ def test_counts_bias_far_from_the_adc_zero_is_refused_naming_the_range(tmp_path)
                            match=r"implausible: bgx, bgy, bgz \(bgx = \+1\d{4}\.\d, "
                                  r"bgy = .* counts from the ADC zero \(unsigned 16-bit ADC "
                                  r"\(detected\), zero at 32768\) beyond ±8192 counts\)"):
-            fc.fit(session, fc.Config(method="lm", objective="norm"))
+            fc.fit(session, fc.FitConfig(method="lm", objective="norm"))

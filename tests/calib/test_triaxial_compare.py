@@ -14,7 +14,7 @@ from inertialab.workflows import triaxial as wf
 def sixface_runs():
     rec = tp.simulate("sixface", seed=0)
     session = wf.Session(data=wf.static_data_from_frame(rec.data, rec.meta), meta=rec.meta)
-    cfg = wf.Config(objective="scalar", max_generations=150)
+    cfg = wf.FitConfig(objective="scalar", max_generations=150)
     runs, skipped = wf.fit_methods(session, cfg, wf.methods_from("all"))
     return session, runs, skipped
 

@@ -5,7 +5,7 @@ import pytest
 
 from inertialab.errors import InputError
 from inertialab.io.mapping import parse_unit_option
-from inertialab.workflows.batch_run import parse_tolerance
+from inertialab.workflows.batch import parse_tolerance
 
 
 @pytest.mark.parametrize("rule", ["adev_1s<=nan", "adev_1s>=-inf", "kx=0..inf",
@@ -31,3 +31,21 @@ def test_unit_option_forms_still_parse():
     assert parse_unit_option("g,dps") == "g,dps"
     assert parse_unit_option("gx=dps,ax=g") == {"gx": "dps", "ax": "g"}
     assert parse_unit_option("  ") is None
+
+
+def test_the_command_in_one_module_and_the_old_name_warns():
+    """workflows/batch.py holds the fleet runner and the command's settings and calls;
+    batch_run still answers, with a DeprecationWarning."""
+    import importlib
+    import sys
+    import warnings
+
+    from inertialab.workflows import batch
+
+    sys.modules.pop("inertialab.workflows.batch_run", None)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        old = importlib.import_module("inertialab.workflows.batch_run")
+    assert old.run is batch.run and old.BatchConfig is batch.BatchConfig
+    assert old.parse_tolerance is batch.parse_tolerance
+    assert any(issubclass(w.category, DeprecationWarning) for w in caught)

@@ -224,3 +224,22 @@ def test_apply_compensates_a_later_record_with_the_forecast():
     bad = later.assign(unit_id="Z")
     with pytest.raises(InputError, match="Z are not in the model"):
         apply(model, validate_frame(bad, "storage_drift"))
+
+
+def test_the_study_in_one_module_and_the_old_name_warns():
+    """workflows/drift.py holds the commands' settings and calls; drift_run still answers,
+    with a DeprecationWarning; the estimator's names load on first use."""
+    import importlib
+    import sys
+    import warnings
+
+    from inertialab.calib.drift import DriftSettings
+    from inertialab.workflows import drift
+
+    assert drift.DriftSettings is DriftSettings
+    sys.modules.pop("inertialab.workflows.drift_run", None)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        old = importlib.import_module("inertialab.workflows.drift_run")
+    assert old.run_fit is drift.run_fit and old.FitConfig is drift.FitConfig
+    assert any(issubclass(w.category, DeprecationWarning) for w in caught)

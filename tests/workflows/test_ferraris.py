@@ -74,10 +74,10 @@ def test_wrong_turn_angle_is_refused_and_force_flags(session_file):
     session = wf.prepare(wt.read(path))
     # stating 90-deg turns for 360-deg ones makes the gyro 4x too sensitive: implausible
     with pytest.raises(ImplausibleCalibrationError, match="K_g11, K_g22, K_g33"):
-        wf.fit(session, wf.Config(rotation_deg=90))
+        wf.fit(session, wf.FerrarisConfig(rotation_deg=90))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        run = wf.fit(session, wf.Config(rotation_deg=90, force=True))
+        run = wf.fit(session, wf.FerrarisConfig(rotation_deg=90, force=True))
     assert run.model.flags
 
 

@@ -223,3 +223,24 @@ def test_apply_with_a_1e308_cell_is_an_error_naming_the_row(model, run_b, tmp_pa
     # model input overflows on that row: an error, not a NaN or clamped output
     with pytest.raises(InputError, match="row 8"):
         apply(model, read_record(p, "thermal_tumble"))
+
+
+def test_the_study_in_one_module_and_the_old_name_warns():
+    """workflows/thermal.py holds the commands' settings and calls and starts without the
+    estimator floor; thermal_run still answers, with a DeprecationWarning; the command's
+    spelling (visual, step, try_number, crowd) reaches the estimator's settings."""
+    import importlib
+    import sys
+    import warnings
+
+    from inertialab.workflows import thermal
+
+    cfg = thermal.FitConfig(method="fis", visual=0.5, step=0.2, try_number=7, crowd=0.5)
+    assert cfg.thermal_config().fish_params() == {"visual": 0.5, "step": 0.2,
+                                                  "try_number": 7, "crowd": 0.5}
+    sys.modules.pop("inertialab.workflows.thermal_run", None)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        old = importlib.import_module("inertialab.workflows.thermal_run")
+    assert old.run_fit is thermal.run_fit and old.FitConfig is thermal.FitConfig
+    assert any(issubclass(w.category, DeprecationWarning) for w in caught)

@@ -135,7 +135,7 @@ def test_garbage_fit_is_refused_forced_fit_is_flagged_and_apply_refuses_it(tmp_p
         warnings.simplefilter("ignore")
         with pytest.raises(ImplausibleCalibrationError, match="implausible: kx, ky, kz"):
             fc.fit(session)
-        run = fc.fit(session, fc.Config(force=True))
+        run = fc.fit(session, fc.FitConfig(force=True))
     assert run.model.flags and any("kx, ky, kz" in f for f in run.model.flags)
     d = run.model.to_dict()
     assert d["flags"] == run.model.flags
@@ -160,8 +160,8 @@ def test_wrong_gyro_sensitivity_is_refused():
     for factor, scale in ((4.0, "0.2"), (0.25, "3.9")):
         with pytest.raises(ImplausibleCalibrationError,
                            match=rf"implausible: m11, m22, m33 \(gyro scale m11 = {scale}"):
-            fc.fit(session, fc.Config(gyro_lsb_per_rps=tp.GYRO_LSB_PER_RPS / factor))
-    assert not fc.fit(session, fc.Config()).model.flags  # the header's value is right
+            fc.fit(session, fc.FitConfig(gyro_lsb_per_rps=tp.GYRO_LSB_PER_RPS / factor))
+    assert not fc.fit(session, fc.FitConfig()).model.flags  # the header's value is right
 
 
 def test_quality_eq21_per_pose_intervals_and_coverage():
@@ -200,3 +200,28 @@ def test_ci95_covers_the_truth_about_95_percent():
             lo, hi = q["ci95"][name]
             hits.append(lo <= X_TRUE[j] <= hi)
     assert 0.90 <= np.mean(hits) <= 0.99
+
+
+def test_the_study_in_one_module_one_config_and_the_old_names_warn():
+    """workflows/triaxial.py holds the commands' settings and calls; the command's
+    FitConfig is the settings of prepare and fit and its fields are the JSON keys of
+    ``settings``; triaxial_run and the old Config still answer, with a DeprecationWarning."""
+    import importlib
+    import sys
+    import warnings
+
+    cfg = fc.FitConfig(t_init_s=5.0, bias_limit_mps2=2.0)
+    assert {f.name: m["flag"] for f, m in fc.FitConfig.fields()
+            if f.name in ("t_init_s", "bias_limit_mps2")} == {"t_init_s": "t-init",
+                                                             "bias_limit_mps2": "bias-limit"}
+    written = cfg.written()
+    assert written["t_init_s"] == 5.0 and written["bias_limit_mps2"] == 2.0
+    assert not set(fc.NOT_WRITTEN) & set(written)
+    assert cfg.limits({"adc": {"bits": 12, "signed": False}}).bias == 2.0
+    sys.modules.pop("inertialab.workflows.triaxial_run", None)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        old = importlib.import_module("inertialab.workflows.triaxial_run")
+        assert fc.Config is fc.FitConfig
+    assert old.run_fit is fc.run_fit and old.FitConfig is fc.FitConfig
+    assert sum(issubclass(w.category, DeprecationWarning) for w in caught) == 2

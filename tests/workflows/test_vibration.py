@@ -122,3 +122,25 @@ def test_prepare_and_apply_on_a_record(tmp_path):
     assert abs(out.residual["delta_b"]) < 0.05
     assert out.meta["compensated_with"] == "m.json" and out.meta["apply_to"] == "raw"
     assert out.meta["compensation_model"] == "rbf"
+
+
+def test_the_study_in_one_module_and_the_old_name_warns():
+    """workflows/vibration.py holds the commands' settings and calls and starts without
+    PyWavelets; vibration_run still answers, with a DeprecationWarning."""
+    import importlib
+    import subprocess
+    import sys
+    import warnings
+
+    from inertialab.workflows import vibration
+
+    code = ("import sys, inertialab.workflows.vibration; "
+            "print(sorted(m for m in ('pywt', 'pandas', 'scipy') if m in sys.modules))")
+    assert subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          check=True).stdout.strip() == "[]"
+    sys.modules.pop("inertialab.workflows.vibration_run", None)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        old = importlib.import_module("inertialab.workflows.vibration_run")
+    assert old.run_fit is vibration.run_fit and old.FitConfig is vibration.FitConfig
+    assert any(issubclass(w.category, DeprecationWarning) for w in caught)

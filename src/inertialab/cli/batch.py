@@ -1,6 +1,6 @@
 """``inertialab batch CMD --inputs GLOB``: one command over many files on Dask, through
-the runner: :func:`inertialab.workflows.batch_run.prepare` checks the command, the files
-and the ``--tolerance`` rules before any work, :func:`inertialab.workflows.batch_run.run`
+the runner: :func:`inertialab.workflows.batch.prepare` checks the command, the files
+and the ``--tolerance`` rules before any work, :func:`inertialab.workflows.batch.run`
 runs the fleet (:func:`inertialab.workflows.batch.run_batch`).
 """
 
@@ -11,9 +11,8 @@ from inertialab.cli.options import reading_options
 from inertialab.cli.runner import config_command
 from inertialab.io.mapping import ReadOptions
 from inertialab.report import commands
-from inertialab.workflows import batch_run as wb
-from inertialab.workflows.batch import expand_inputs
-from inertialab.workflows.batch_run import parse_tolerance
+from inertialab.workflows import batch as wb
+from inertialab.workflows.batch import expand_inputs, parse_tolerance
 
 __all__ = ["expand_inputs", "parse_tolerance", "register"]
 

@@ -1,5 +1,5 @@
 """``inertialab drift fit|evaluate|apply|forecast`` (spec 004). Each command is one call to
-:mod:`inertialab.workflows.drift_run` through the runner (:mod:`inertialab.cli.runner`):
+:mod:`inertialab.workflows.drift` through the runner (:mod:`inertialab.cli.runner`):
 its options come from the workflow's ``Config``.
 
 No ``from __future__ import annotations`` here: typer must see the option annotations
@@ -12,9 +12,10 @@ import typer
 
 from inertialab.cli.options import reading_options
 from inertialab.cli.runner import config_command, load_model, read_record
+from inertialab.config import Config
 from inertialab.io.mapping import ReadOptions
 from inertialab.report import commands
-from inertialab.workflows import drift_run as wf
+from inertialab.workflows import drift as wf
 
 
 @reading_options
@@ -41,7 +42,7 @@ def drift_evaluate(file: Path = typer.Argument(..., help="storage_drift record (
 
 
 @reading_options
-@config_command(wf.Config, out="file")
+@config_command(Config, out="file")
 def drift_apply(model: Path = typer.Argument(..., help="model.json written by 'drift fit "
                                                        "--out'."),
                 file: Path = typer.Argument(..., help="Later storage_drift record (same units; "
@@ -56,7 +57,7 @@ def drift_apply(model: Path = typer.Argument(..., help="model.json written by 'd
         inputs=[model, file])
 
 
-@config_command(wf.Config, out=None)
+@config_command(Config, out=None)
 def drift_forecast(model: Path = typer.Argument(..., help="model.json written by 'drift fit "
                                                           "--out'."),
                    horizon: int = typer.Option(None, "--horizon", help="Steps K, 1 to 1000 "

@@ -1,5 +1,5 @@
 """``inertialab thermal fit / apply / export`` (spec 000): each one call to
-:mod:`inertialab.workflows.thermal_run` through the runner (:mod:`inertialab.cli.runner`)."""
+:mod:`inertialab.workflows.thermal` through the runner (:mod:`inertialab.cli.runner`)."""
 
 from pathlib import Path
 from typing import Annotated
@@ -12,8 +12,8 @@ from inertialab.cli.runner import config_command, load_model, read_record
 from inertialab.errors import InputError
 from inertialab.io.mapping import ReadOptions
 from inertialab.report import commands
+from inertialab.workflows import thermal as wt
 from inertialab.workflows import thermal_imu as wi
-from inertialab.workflows import thermal_run as wt
 
 
 def _read(path: Path, read: ReadOptions):

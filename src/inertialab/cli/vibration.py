@@ -1,5 +1,5 @@
 """``inertialab vibration fit|apply`` (spec 001): each one call to
-:mod:`inertialab.workflows.vibration_run` through the runner. A bare ``inertialab
+:mod:`inertialab.workflows.vibration` through the runner. A bare ``inertialab
 vibration SWEEP [FIXED]`` is routed to ``vibration fit`` by :mod:`inertialab.cli.main`.
 """
 
@@ -11,7 +11,7 @@ from inertialab.cli.options import reading_options
 from inertialab.cli.runner import config_command, load_model, read_record
 from inertialab.io.mapping import ReadOptions
 from inertialab.report import commands
-from inertialab.workflows import vibration_run as wv
+from inertialab.workflows import vibration as wv
 
 
 @reading_options

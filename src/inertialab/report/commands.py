@@ -133,7 +133,7 @@ def drift_evaluate(res) -> list:
     """``drift evaluate``: the per-step error curve of each unit and quantity."""
     from inertialab.io.names import safe_slug
     from inertialab.report.figures.drift import error_curve_figure
-    from inertialab.workflows.drift_run import UNITS
+    from inertialab.workflows.drift import UNITS
 
     taken: set = set()
     figs = []

@@ -5,11 +5,16 @@
   ``fs_hz``), local gravity and the nine sections: from imucal's section list (argument
   ``sections``: a dict or a JSON file) or detected from the accelerometer and the gyro
   (:func:`inertialab.calib.ferraris.detect_sections`).
-- :func:`fit` (session, :class:`Config` -> :class:`FerrarisRun`): the estimator of
+- :func:`fit` (session, :class:`FerrarisConfig` -> :class:`FerrarisRun`): the estimator of
   :mod:`inertialab.calib.ferraris`, its plausibility checks (refused unless ``force``),
   and the model, a :class:`~inertialab.calib.ferraris.FerrarisCalibration` (model type
   ``ferraris-calibration``, a triaxial calibration with a typed gyro block) that
   :func:`inertialab.workflows.triaxial.apply` applies.
+
+The command ``triaxial ferraris`` is one call: :class:`FerrarisConfig` (the settings of
+:func:`prepare` and :func:`fit` too) and ``run_ferraris(record, config) ->
+FerrarisResult``. The estimator (:mod:`inertialab.calib.ferraris`, scipy) and the
+record floor (pandas) are imported inside the functions, so that ``--help`` starts light.
 """
 
 from __future__ import annotations
@@ -17,16 +22,34 @@ from __future__ import annotations
 import dataclasses
 import warnings
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from inertialab import units
-from inertialab.calib import ferraris as fr
-from inertialab.calib.triaxial_checks import ImplausibleCalibrationError, Limits, refusal
+from inertialab.config import Config as _Settings
+from inertialab.config import setting
 from inertialab.errors import DataQualityWarning, InputError
-from inertialab.io.readers import Record
-from inertialab.io.record import naming
-from inertialab.workflows.triaxial import _acc_cols, _g_from, _gyro_cols
+from inertialab.result import ResultBase
+from inertialab.workflows.triaxial import _acc_cols, _g_from, _gyro_cols, _matrix_lines
+
+if TYPE_CHECKING:
+    from inertialab.calib import ferraris as fr
+    from inertialab.io.readers import Record
+
+__all__ = ["FerrarisConfig", "FerrarisResult", "FerrarisRun", "FerrarisSession", "fit",
+           "prepare", "result_payload", "result_units", "run_ferraris"]
+
+
+def __getattr__(name: str):
+    """``Config``, the fit's settings before :class:`FerrarisConfig` was the one class,
+    with a DeprecationWarning."""
+    if name == "Config":
+        warnings.warn("inertialab.workflows.ferraris.Config is deprecated: use FerrarisConfig "
+                      "(no_g_sensitivity, bias_limit_mps2 in place of g_sensitivity, limits)",
+                      DeprecationWarning, stacklevel=2)
+        return FerrarisConfig
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 @dataclass(frozen=True)
@@ -58,7 +81,9 @@ def prepare(record: Record, *, sections=None, g_local: float | None = None) -> F
     ``sections``: imucal's section list as a dict, or the path of its JSON file; None
     detects them from the accelerometer and the gyro.
     """
+    from inertialab.calib import ferraris as fr
     from inertialab.io.preflight import preflight
+    from inertialab.io.record import naming
 
     preflight(record, "ferraris")  # the checks `validate --kind ferraris` runs
     acols = _acc_cols(record)
@@ -95,17 +120,29 @@ def prepare(record: Record, *, sections=None, g_local: float | None = None) -> F
 
 
 @dataclass(frozen=True)
-class Config:
-    """Settings of :func:`fit`: the turn angle (deg, sense detected), the accelerometer
-    face refinement and its placement tilt (deg), the g-sensitivity, and the plausibility
-    ``limits`` with ``force`` (write a refused fit flagged)."""
+class FerrarisConfig(_Settings):
+    """Settings of ``triaxial ferraris`` and of :func:`fit`: the turn angle (deg, sense
+    detected), the accelerometer face refinement and its placement tilt (deg), the
+    g-sensitivity, the plausibility bound ``bias_limit_mps2`` with ``force`` (write a
+    refused fit flagged)."""
 
-    rotation_deg: float = 360.0
-    refine: bool = True
-    placement_deg: float = 2.0
-    g_sensitivity: bool = True
-    force: bool = False
-    limits: Limits = Limits()
+    sections: str | None = setting(None, help="imucal section list (JSON {\"x_p\": {\"start\": "
+                                              "i, \"end\": j}, ..., \"z_rot\": ...}); default: "
+                                              "detected from the accelerometer and the gyro.")
+    rotation_deg: float = setting(360.0, help="Angle of every turn (the sense is detected).",
+                                  unit="deg", lo=1.0, hi=3600.0)
+    placement_deg: float = setting(2.0, help="Standard deviation of a face's hand-placement "
+                                             "tilt.", unit="deg", lo=0.0, hi=45.0)
+    no_g_sensitivity: bool = setting(False, help="Do not estimate the gyro's g-sensitivity.")
+    g_local: float | None = setting(None, help="Local gravity (else header, else 9.80665 with "
+                                               "a warning).", unit="m/s^2", lo=1.0, hi=100.0)
+    unit: str | None = setting(None, help="Unit of suffix-less ax/ay/az (mps2 | g | lsb).")
+    bias_limit_mps2: float | None = setting(None, help="Largest plausible |accelerometer "
+                                                       "bias|.", unit="m/s^2", flag="bias-limit",
+                                            lo=0.0, hi=1e6)
+    force: bool = setting(False, help="Write an implausible calibration anyway, flagged.")
+    refine: bool = setting(True, help="Refine the accelerometer on the six faces (placement "
+                                      "tilt).", cli=False)
 
 
 @dataclass(frozen=True)
@@ -117,18 +154,21 @@ class FerrarisRun:
     session: FerrarisSession
 
 
-def fit(session: FerrarisSession, config: Config | None = None) -> FerrarisRun:
+def fit(session: FerrarisSession, config: FerrarisConfig | None = None) -> FerrarisRun:
     """Calibrate accelerometer and gyro from the session (refused when implausible)."""
-    config = config or Config()
+    from inertialab.calib import ferraris as fr
+    from inertialab.calib.triaxial_checks import ImplausibleCalibrationError, Limits, refusal
+
+    config = config or FerrarisConfig()
     f = fr.fit_ferraris(session.acc, session.gyro, session.fs, session.sections, g=session.g,
                         rotation_deg=config.rotation_deg, refine=config.refine,
                         placement_rad=float(np.deg2rad(config.placement_deg)),
-                        g_sensitivity=config.g_sensitivity)
+                        g_sensitivity=not config.no_g_sensitivity)
     model = fr.to_model(f, acc_unit=session.acc_unit, gyro_unit=session.gyro_unit, g=session.g,
                         n_samples=len(session.acc))
     findings = fr.check_ferraris(f, acc_nominal=_nominal(session.acc_unit, g=session.g),
                                  gyro_nominal=_nominal(session.gyro_unit, g=session.g),
-                                 g=session.g, limits=config.limits)
+                                 g=session.g, limits=Limits(bias=config.bias_limit_mps2))
     if findings:
         if not config.force:
             raise ImplausibleCalibrationError(refusal(findings))
@@ -146,6 +186,8 @@ def result_payload(run: FerrarisRun) -> dict:
     turns' senses and axes, each face's calibrated |a| - g and tilt, and for known gyro
     units each turn's angle as the raw gyro (nominal sensitivity) integrates it.
     """
+    from inertialab.calib import ferraris as fr
+
     f, s = run.fit, run.session
     d = run.model.to_dict()
     gn = _nominal(s.gyro_unit, g=s.g)
@@ -200,3 +242,61 @@ def result_units(run: FerrarisRun) -> dict:
             "gyro.g_sensitivity": f"{s.gyro_unit} per m/s^2", "g_local": "m/s^2",
             "fs_hz": "Hz", "sections": "sample index [start, end)",
             "gyro_static_rms": s.gyro_unit, "faces.norm_error_mps2": "m/s^2"}
+
+
+@dataclass
+class FerrarisResult(ResultBase):
+    """``triaxial ferraris``: the run (:class:`~inertialab.workflows.ferraris.FerrarisRun`)."""
+
+    run: object
+    session: object
+    settings: dict
+    name: str = ""
+    sha256: str | None = None
+
+    @property
+    def units(self) -> dict:
+        return result_units(self.run)
+
+    def to_json(self) -> dict:
+        return result_payload(self.run)
+
+    def artifacts(self) -> dict:
+        import json
+
+        return {"models": [("model.json", self.run.model, self.units)],
+                "files": {"sections.json": json.dumps(self.to_json()["sections"], indent=1)
+                          + "\n"}}
+
+    def summary_rows(self) -> list:
+        p, s = self.to_json(), self.session
+        how = "detected" if s.detection is not None else f"from {self.settings['sections']}"
+        out = [f"triaxial ferraris: {self.name}, sections {how}, {s.fs:g} Hz, g = {s.g:g}",
+               ("faces", ["face", "|a| - g (m/s^2)", "tilt (deg)"],
+                [[n, f"{d['norm_error_mps2']:+.2e}", f"{d['tilt_deg']:.2f}"]
+                 for n, d in p["faces"].items()])]
+        for n, d in p["turns"].items():
+            sense = "counterclockwise" if d["sense"] > 0 else "clockwise"
+            out.append(f"{n}: {sense} seen from above, axis ("
+                       + ", ".join(f"{v:+.3f}" for v in d["axis"]) + ")")
+        out += _matrix_lines("accelerometer: a = correction_matrix @ (raw - offset)   [m/s^2]",
+                             p["correction_matrix"])
+        out += _matrix_lines("gyro: rate = M_g @ (raw - offset - g_sensitivity @ a)   [rad/s]",
+                             p["gyro"]["correction_matrix"])
+        return out + [f"FLAGGED: {flag}" for flag in self.run.model.flags]
+
+
+def run_ferraris(record, config: FerrarisConfig, *, name: str = "", progress=None):
+    """Accelerometer (12 parameters) and gyro (scale, misalignment, bias, g-sensitivity)
+    from six static faces and a turn about each axis."""
+    c = config.validate()
+    session = prepare(record, sections=c.sections, g_local=c.g_local)
+    if progress is not None:
+        progress.update(0.5, 1.0, "sections ready")
+    run = fit(session, c)
+    settings = {"sections": c.sections, "rotation_deg": c.rotation_deg,
+                "placement_deg": c.placement_deg, "g_sensitivity": not c.no_g_sensitivity,
+                "g_local": session.g, "unit": c.unit, "bias_limit_mps2": c.bias_limit_mps2,
+                "force": c.force}
+    return FerrarisResult(run=run, session=session, settings=settings, name=name,
+                          sha256=record.sha256)

@@ -14,9 +14,21 @@ The verbs of every workflow:
   ``comp_output_mv``, ``comp_a_g`` and ``status``, and the reference-temperature
   policy (whose 55 °C coefficients form Ua: the model unit's or the record's own, §3.7).
 
+The commands ``thermal fit|apply|export``, one call each: a
+:class:`~inertialab.config.Config` of settings per command (:class:`FitConfig`,
+:class:`ApplyConfig`, :class:`ExportConfig`) and ``run_*(record, config) -> result``
+whose result (:class:`inertialab.result.Result`) knows ``to_json()``, ``settings``,
+``units``, ``artifacts()`` (the saved model, one model per method, Tables 1 and 2, the
+bias/scale-factor table) and ``summary_rows()``. ``FitConfig`` spells each setting as the
+command line and the JSON ``settings`` do (``visual``, ``step``, ``try_number``,
+``crowd``); :meth:`FitConfig.thermal_config` hands them to the estimator's
+:class:`~inertialab.calib.thermal.ThermalConfig` (``fish_visual`` ...).
+
 The estimators, the model artefact and compensation live in
-:mod:`inertialab.calib.thermal`; this module never reads files, draws or imports the
-virtual lab.
+:mod:`inertialab.calib.thermal`, imported (with pandas) inside the functions that use
+them so that ``thermal fit --help`` starts light; their names re-exported here
+(``ThermalConfig``, ``METHODS``, ``compensate`` ...) load on first use. This module never
+reads files, draws or imports the virtual lab.
 """
 
 from __future__ import annotations
@@ -24,35 +36,18 @@ from __future__ import annotations
 import time
 import zlib
 from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pandas as pd
 
 from inertialab._blas import single_threaded_blas
-from inertialab.calib.thermal import (  # noqa: F401 - re-exported for callers of the workflow
-    FUZZY,
-    METHODS,
-    PROPOSED,
-    STATUS_N_CLAMPED,
-    STATUS_OK,
-    STATUS_T_CLAMPED,
-    Compensation,
-    DriftResult,
-    ModelMetrics,
-    Split,
-    ThermalConfig,
-    ThermalModel,
-    ThermalSamples,
-    compensate,
-    drift,
-    fit_model,
-    raw_drift_rms_ug,
-    recalibrate,
-    score,
-)
+from inertialab.config import Config as _Settings
+from inertialab.config import seed_setting, setting
 from inertialab.errors import InputError, MissingReferenceError
 from inertialab.io.exporters.thermal_c import export_c
 from inertialab.progress import NullProgress
+from inertialab.result import ResultBase
 from inertialab.seeding import as_generator
 from inertialab.sensors.pendulous import (
     bias_scale_factor_drift,
@@ -61,6 +56,37 @@ from inertialab.sensors.pendulous import (
     integrated_output,
     reference_target,
 )
+from inertialab.units import THERMAL_UNITS
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+    from inertialab.calib.thermal import (
+        FUZZY,
+        METHODS,
+        PROPOSED,
+        Compensation,
+        DriftResult,
+        Split,
+        ThermalConfig,
+        ThermalModel,
+        ThermalSamples,
+        compensate,
+        drift,
+    )
+
+#: Names of :mod:`inertialab.calib.thermal` re-exported for callers of the workflow,
+#: loaded on first use.
+_CALIB = ("FUZZY", "METHODS", "PROPOSED", "STATUS_N_CLAMPED", "STATUS_OK", "STATUS_T_CLAMPED", "Compensation", "DriftResult", "ModelMetrics", "Split", "ThermalConfig", "ThermalModel", "ThermalSamples", "compensate", "drift", "fit_model", "raw_drift_rms_ug", "recalibrate", "score")
+
+
+def __getattr__(name: str):
+    """The estimator floor's names (:data:`_CALIB`) on first use."""
+    if name in _CALIB:
+        from inertialab.calib import thermal
+
+        return getattr(thermal, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 # ---------------------------------------------------------------------------------------
@@ -88,6 +114,8 @@ def prepare_samples(frame: pd.DataFrame, config: ThermalConfig | None = None, *,
         Fewer than ``n_positions`` positions at a set point; a measured temperature more
         than ``temp_tolerance_c`` from its set point (the row is named).
     """
+    from inertialab.calib.thermal import ThermalConfig, ThermalSamples
+
     cfg = (config or ThermalConfig()).validate()
     f = frame.copy()
     for col in ("temp_set_c", "temp_meas_c", "pos_index", "output_mv"):
@@ -215,6 +243,8 @@ def prepare(record, config: ThermalConfig | None = None) -> ThermalSamples:
     """Samples of a ``thermal_tumble`` record (:class:`inertialab.io.Record`): the
     reference temperature comes from the record's sidecar (``reference_temp_C``) when
     it has one, else from ``config`` (55 °C)."""
+    from inertialab.calib.thermal import ThermalConfig
+
     cfg = config or ThermalConfig()
     ref_t = reference_temperature(record.meta, record.path, default=cfg.reference_temp_c)
     return prepare_samples(record.data, replace(cfg, reference_temp_c=ref_t), path=record.path)
@@ -248,6 +278,8 @@ def validation_subset(train: np.ndarray, strata: np.ndarray, frac: float,
 def make_splits(samples: ThermalSamples, config: ThermalConfig, rng=None) -> list[Split]:
     """The split(s) of spec 000 §3.1 step 4 (one for random/interp_T/up_down, one per set
     point for leave_one_T_out; the reference set point is always in training)."""
+    from inertialab.calib.thermal import Split
+
     cfg = config.validate()
     g = as_generator(rng)
     strata = strata_of(samples)
@@ -321,11 +353,15 @@ class ThermalFit:
     def model_method(self) -> str:
         """The method saved as *the* model of a fit (``model.json``): the proposed
         IAFSA-SCM-ANFIS (spec 000 §3.6) when it was fitted, else the first requested."""
+        from inertialab.calib.thermal import PROPOSED
+
         return PROPOSED if PROPOSED in self.models else self.config.methods[0]
 
     def own_drift(self, method: str | None = None) -> DriftResult:
         """Drift of the training unit compensated with its own model (default: the
         saved model's method)."""
+        from inertialab.calib.thermal import drift
+
         return drift(self.models[method or self.model_method], self.samples, own_unit=True)
 
     def summary(self, own: DriftResult | None = None) -> dict:
@@ -354,6 +390,8 @@ class ThermalFit:
         """The paper's Table 2 from this fit: per model ME, AE, MAXE, MARE and RMSE on the
         test set (spec 000 §5; absolute errors in µg and mg, relative in ppm), with MBE,
         the rule count, the SCM parameters and the wall time (spec 000 §8.2.6)."""
+        import pandas as pd
+
         rows = []
         for m, v in self.metrics.items():
             scm = self.models[m].scm or {}
@@ -372,6 +410,8 @@ class ThermalFit:
 
     def table1(self) -> pd.DataFrame:
         """The paper's Table 1: the fish-swarm parameters used (quantity, value)."""
+        import pandas as pd
+
         t = self.config.fish_table()
         return pd.DataFrame({"quantity": list(t), "value": [t[k] for k in t]})
 
@@ -388,6 +428,8 @@ def bias_scale_factor(samples: ThermalSamples):
 
 def bias_scale_factor_table(bsf) -> pd.DataFrame:
     """The data of Figs. 3 and 4 as one long table: one row per (set point, input level)."""
+    import pandas as pd
+
     n_t, n_l = bsf.scale_factor_mv_per_g.shape
     return pd.DataFrame({
         "set_point_c": np.repeat(bsf.set_point_c, n_l), "temp_c": np.repeat(bsf.temp_c, n_l),
@@ -447,6 +489,8 @@ def fit_thermal(samples: ThermalSamples, config: ThermalConfig | None = None, *,
     the fold index and the method's *name* (:func:`method_stream`), so a model gets the
     same numbers whether it is fitted alone or beside others, in any order.
     """
+    from inertialab.calib.thermal import ThermalConfig, fit_model, raw_drift_rms_ug, score
+
     cfg = (config or ThermalConfig()).validate()
     progress = progress or NullProgress()
     ss = np.random.SeedSequence(cfg.seed)
@@ -558,6 +602,8 @@ def apply(model: ThermalModel, record, *, reference: str = "auto",
         ``reference="record"`` without a usable tumble in the record; every reading
         outside the model's calibrated temperature range.
     """
+    from inertialab.calib.thermal import ThermalConfig, compensate, drift
+
     ref_mode = str(reference).strip().lower()
     if ref_mode not in REFERENCES:
         raise InputError(f"argument 'reference' must be auto, model or record, got '{reference}'")
@@ -597,6 +643,8 @@ def export(model: ThermalModel, *, prefix: str = "qfa", unit_record=None):
     """C99 source of a fuzzy thermal model (:func:`inertialab.io.exporters.thermal_c.export_c`).
     ``unit_record``: a thermal-tumble record of the unit the code will run on, when it is
     another unit of the lot; its 55 °C tumble gives the coefficients of the §3.7 mapping."""
+    from inertialab.calib.thermal import ThermalConfig
+
     unit_ref, unit_id = None, ""
     if unit_record is not None:
         cfg = ThermalConfig(input=model.input, target=model.target,
@@ -606,9 +654,246 @@ def export(model: ThermalModel, *, prefix: str = "qfa", unit_record=None):
     return export_c(model, prefix=prefix, unit_ref=unit_ref, unit_id=unit_id)
 
 
+_CHOICES = ("iafsa-scm-anfis", "scm-anfis", "anfis", "fis", "ann", "poly-sep", "poly-2d",
+            "all")
+
+
+def methods_from(method: str) -> tuple[str, ...]:
+    """The methods of a ``method`` text: one name, a comma list, or ``all``."""
+    from inertialab.calib.thermal import METHODS
+
+    m = method.strip().lower()
+    if m == "all":
+        return METHODS
+    parts = tuple(p.strip() for p in m.split(",") if p.strip())
+    bad = [p for p in parts if p not in _CHOICES or p == "all"]
+    if not parts or bad:
+        raise InputError(f"argument 'method' must be one of {', '.join(_CHOICES)} (or a "
+                         f"comma-separated list), got '{method}'")
+    return parts
+
+
+@dataclass(frozen=True)
+class FitConfig(_Settings):
+    """Settings of ``thermal fit``, in the order (and under the names) ``settings``
+    writes them (:func:`run_fit`: these, the methods as a list, and the reference
+    temperature the record gave)."""
+
+    method: str = setting("iafsa-scm-anfis", help="iafsa-scm-anfis | scm-anfis | anfis | fis | "
+                                                  "ann | poly-sep | poly-2d | all (or a comma "
+                                                  "list)")
+    split: str = setting("random", help="random | interp_T | leave_one_T_out | up_down",
+                         choices=("random", "interp_T", "leave_one_T_out", "up_down"))
+    target: str = setting("linear55", help="linear55 | measured55",
+                          choices=("linear55", "measured55"))
+    input: str = setting("ua", help="ua (eq. 5) | raw (N = U)", choices=("ua", "raw"))
+    learn_drift: bool = setting(False, help="Learn Nc - N.")
+    radii: str = setting("scalar", help="scalar | per_dim (IAFSA)", choices=("scalar", "per_dim"))
+    fish: int = setting(10, help="IAFSA fish (the paper's 10).", lo=1, hi=10_000)
+    generations: int = setting(30, help="IAFSA generations (30).", lo=1, hi=100_000)
+    epochs: int = setting(150, help="Final ANFIS epochs (150).", lo=1, hi=1_000_000)
+    search_epochs: int = setting(20, help="ANFIS epochs inside the IAFSA objective (20).",
+                                 lo=1, hi=1_000_000)
+    # visual, step and crowd lie in (0, 1]: checked with that message by ThermalConfig
+    visual: float = setting(0.30, help="IAFSA initial visual range, unit-cube units (0.30).")
+    step: float = setting(0.10, help="IAFSA initial step, unit-cube units (0.10).")
+    try_number: int = setting(5, help="IAFSA prey attempts (5).", lo=1, hi=1000)
+    crowd: float = setting(0.618, help="IAFSA crowd factor (0.618).")
+    seed: int = seed_setting("Random seed (same seed, same numbers).")
+
+    def thermal_config(self) -> ThermalConfig:
+        from inertialab.calib.thermal import ThermalConfig
+
+        methods = methods_from(self.method)
+        if "poly-sep" in methods and (self.learn_drift or self.input == "raw"):
+            raise InputError("poly-sep needs argument 'input' ua without argument "
+                             "'learn_drift'")
+        return ThermalConfig(methods=methods, split=self.split, target=self.target,
+                                input=self.input, learn_drift=self.learn_drift,
+                                radii=self.radii, fish=self.fish, generations=self.generations,
+                                epochs=self.epochs, search_epochs=self.search_epochs,
+                                fish_visual=self.visual, fish_step=self.step,
+                                fish_try_number=self.try_number, fish_crowd=self.crowd,
+                                seed=self.seed).validate()
+
+
+@dataclass
+class FitResult(ResultBase):
+    """The fit (:class:`~inertialab.workflows.thermal.ThermalFit`), its samples, the
+    model's own drift and the bias/scale-factor curves."""
+
+    result: object
+    samples: object
+    own: object
+    bsf: object
+    settings: dict
+    sha256: str | None = None
+    units = dict(THERMAL_UNITS)
+
+    def to_json(self) -> dict:
+        return self.result.summary(self.own)
+
+    def artifacts(self) -> dict:
+        r, u = self.result, {"temp": "degC", "output": "mV"}
+        models = [("model.json", r.models[r.model_method], u)]
+        models += [(f"models/{m}.json", mod, u) for m, mod in r.models.items()]
+        files = {}
+        for name, table, title in (
+                ("table1", r.table1(), "Table 1: fish-swarm parameters"),
+                ("table2", r.table2(), f"Table 2: test errors per model ({self.settings['split']}"
+                                       f" split, {r.test_index.size} test samples)")):
+            files[f"{name}.csv"] = table.to_csv(index=False)
+            files[f"{name}.md"] = markdown_table(table, title=title)
+        files["bias_scale_factor.csv"] = bias_scale_factor_table(self.bsf).to_csv(index=False)
+        return {"models": models, "files": files}
+
+    def summary_rows(self) -> list:
+        r = self.result
+        rows = [[m, v.rmse_ug, v.me_ug, v.ae_ug, v.maxe_ppm, v.mare_ppm, v.rules, v.wall_s]
+                for m, v in r.metrics.items()]
+        out = [(f"thermal fit ({self.settings['split']} split, raw drift RMS "
+                f"{r.raw_rms_ug:.0f} µg)",
+                ["model", "RMSE µg", "ME µg", "AE µg", "MAXE ppm", "MARE ppm", "rules",
+                 "wall s"], rows)]
+        if r.search:
+            s, p = r.search, r.search["params"]
+            out.append(f"IAFSA: radius={p['radius']}, squash={p['squash']:.4g}, "
+                       f"accept={p['accept']:.4g}, reject={p['reject']:.4g}, "
+                       f"rules={s['n_rules']}, F*={s['fun'] * 1e3:.2f} µg (default "
+                       f"{s['f_default'] * 1e3:.2f})")
+            out.append("fish swarm (Table 1): " + ", ".join(
+                f"{k}={v:g}" for k, v in self.to_json()["fish"].items()))
+        return out
+
+
+def run_fit(record, config: FitConfig, *, progress=None) -> FitResult:
+    """Fit integrated temperature-compensation models on a thermal tumble record."""
+    c = config.validate()
+    cfg = c.thermal_config()
+    samples = prepare(record, cfg)
+    result = fit(samples, cfg, progress=progress)
+    settings = c.to_dict() | {"method": list(cfg.methods),
+                              "reference_temp_c": samples.reference_temp_c}
+    return FitResult(result=result, samples=samples, own=result.own_drift(),
+                     bsf=bias_scale_factor(samples), settings=settings,
+                     sha256=record.sha256)
+
+
+# -------------------------------------------------------------------------- apply
+
+@dataclass(frozen=True)
+class ApplyConfig(_Settings):
+    """Settings of ``thermal apply``."""
+
+    reference: str = setting("auto", help="model | record | auto: Ua with the model unit's "
+                                          "55 °C coefficients, or with the record's own 55 °C "
+                                          "tumble (transfer to another unit, spec 000); "
+                                          "auto = record when it has a full 55 °C tumble of "
+                                          "another unit.")
+    force: bool = setting(False, help="Apply a model that fails its re-check at its training "
+                                      "conditions (compensated drift beyond the raw) anyway; "
+                                      "the output is flagged.")
+
+
+@dataclass
+class ApplyResult(ResultBase):
+    """``thermal apply``: the compensated record (:class:`~inertialab.workflows.thermal.
+    ThermalApplied`) to write at ``out``."""
+
+    res: object
+    out: object
+    settings: dict
+    sha256: str | None = None
+    model: object = None
+    units = {}
+
+    def to_json(self) -> dict:
+        return self.res.summary() | {"out": str(self.out)}
+
+    def artifacts(self) -> dict:
+        return {"records": [(self.out, self.res.frame, self.res.meta)]}
+
+    def summary_rows(self) -> list:
+        s, d = self.res.summary(), self.res.drift
+        out = [f"compensated {s['n_rows']} rows ({s['n_clamped']} clamped) -> {self.out}"]
+        if d is not None:
+            out.append(f"drift vs 55 °C: raw max {d.raw_max_ug / 1e3:.3f} mg, compensated max "
+                       f"{d.comp_max_ug:.2f} µg")
+        return out
+
+
+def run_apply(model, record, config: ApplyConfig, *, out, source: str | None = None
+              ) -> ApplyResult:
+    """Compensate a thermal-tumble record with a thermal model; the record to write at
+    ``out`` has comp_output_mv (mV), comp_a_g (g) and status."""
+    from inertialab.calib.model_checks import refuse_or_flag, thermal_findings
+    c = config.validate()
+    flags = refuse_or_flag(thermal_findings(model), "thermal", force=c.force, path=source)
+    res = apply(model, record, reference=c.reference, source=source)
+    if flags:
+        res.meta["flags"] = flags
+    return ApplyResult(res=res, out=out, settings={"reference": c.reference.strip().lower(),
+                                                   "force": c.force},
+                       sha256=record.sha256, model=model)
+
+
+# ------------------------------------------------------------------------- export
+
+@dataclass(frozen=True)
+class ExportConfig(_Settings):
+    """Settings of ``thermal export``."""
+
+    prefix: str = setting("qfa", help="C identifier prefix.")
+    unit_record: Path | None = setting(None, help="thermal_tumble record of the unit the code "
+                                                  "will run on, when it is another unit of the "
+                                                  "lot: its 55 °C tumble gives the transfer "
+                                                  "mapping of spec 000.")
+
+
+@dataclass
+class ExportResult(ResultBase):
+    """``thermal export``: the C99 pair of a fuzzy thermal model (``files``: the paths
+    written by :meth:`write`)."""
+
+    ex: object
+    mapped: bool
+    settings: dict
+    files: list | None = None
+    units = {}
+
+    def write(self, directory) -> list:
+        from inertialab.io.exporters import get
+
+        self.files = get("thermal", "c99").write(self.ex, directory)
+        return self.files
+
+    def to_json(self) -> dict:
+        p = self.settings["prefix"]
+        return {"files": self.files, "n_rules": self.ex.n_rules,
+                "exp_calls": self.ex.exp_calls, "flops": self.ex.flops,
+                "functions": [f"{p}_comp_mV", f"{p}_comp_g"],
+                "mapped_unit": self.ex.unit_id if self.mapped else None}
+
+    def artifacts(self) -> dict:
+        return {}
+
+    def summary_rows(self) -> list:
+        return [f"written: {self.files[0]}, {self.files[1]} ({self.ex.n_rules} rules, "
+                f"{self.ex.exp_calls} exp calls per reading)"]
+
+
+def run_export(model, config: ExportConfig, *, unit_record=None) -> ExportResult:
+    """Dependency-free C99 of a fuzzy thermal model (inputs clamped, status flag);
+    ``unit_record``: the record read from ``config.unit_record``."""
+    c = config.validate()
+    ex = export(model, prefix=c.prefix, unit_record=unit_record)
+    return ExportResult(ex=ex, mapped=unit_record is not None, settings=c.to_dict())
+
+
 __all__ = [
     "FUZZY", "METHODS", "PROPOSED", "REFERENCES", "ThermalApplied", "export", "ThermalConfig",
     "ThermalFit", "ThermalModel", "ThermalSamples", "apply", "compensate", "drift", "fit",
     "fit_thermal", "make_splits", "prepare", "prepare_samples", "reference_temperature",
-    "strata_of", "validation_subset",
+    "strata_of", "validation_subset", "ApplyConfig", "ApplyResult", "ExportConfig",
+    "ExportResult", "FitConfig", "FitResult", "methods_from", "run_apply", "run_export", "run_fit",
 ]

@@ -20,6 +20,15 @@ optionally, a fixed-frequency record (E2), both in the ``gyro_log`` schema with
    polynomial-compensated E2 (seed Table 3, "wls", ``tau >= 2^(L+1) tau0`` for
    ``A_L``-derived rows), the residual bias and the edge metrics of §4.
 
+The commands ``vibration fit|apply``, one call each: :class:`FitConfig` (its
+:meth:`~FitConfig.vibration_config` the pipeline's :class:`VibrationConfig`) and
+``run_fit(sweep, fixed, config) -> FitResult``, :class:`ApplyConfig` and
+``run_apply(model, record, config) -> ApplyResult`` (:class:`inertialab.result.Result`).
+The estimator (:mod:`inertialab.calib.vibration`), the wavelets (PyWavelets) and the
+record reader (:mod:`inertialab.workflows.vibration_record`) are imported inside the
+functions that use them, so that ``vibration fit --help`` starts light; their names
+re-exported here load on first use.
+
 The model itself (estimator on arrays, model file) is :mod:`inertialab.calib.vibration`;
 the virtual-lab demo is :mod:`inertialab.studies.vibration`. This module neither reads
 arguments nor draws (figures are in :mod:`inertialab.report.figures.vibration`).
@@ -30,24 +39,27 @@ from __future__ import annotations
 import time
 import warnings
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from inertialab import metrics as _metrics
-from inertialab.calib.vibration import (
-    SPREAD_GRID,
-    BiasTargets,
-    VibrationModel,
-    VibrationRun,
-    bias_targets,
-    phase_stats,
-    residual_metrics,
-    select_spread,
-)
+from inertialab.config import Config as _Settings
+from inertialab.config import seed_setting, setting
 from inertialab.errors import DataQualityWarning, ExtrapolationWarning, InputError
-from inertialab.noise import wavelet as wv
 from inertialab.progress import NullProgress
-from inertialab.workflows.vibration_record import load_run, prepare, run_from_frame
+from inertialab.result import ResultBase
+
+if TYPE_CHECKING:
+    from inertialab.calib.vibration import (
+        BiasTargets,
+        VibrationModel,
+        VibrationRun,
+        bias_targets,
+        residual_metrics,
+    )
+    from inertialab.noise import wavelet as wv
+    from inertialab.workflows.vibration_record import load_run, prepare, run_from_frame
 
 __all__ = [
     "BiasTargets",
@@ -64,7 +76,32 @@ __all__ = [
     "prepare",
     "residual_metrics",
     "run_from_frame",
+    "ApplyConfig",
+    "ApplyResult",
+    "FitConfig",
+    "FitResult",
+    "run_apply",
+    "run_fit",
 ]
+
+#: Names of the floors below re-exported for callers of the workflow, loaded on first
+#: use: the estimator's (:mod:`inertialab.calib.vibration`) and the record reader's.
+_CALIB = ("SPREAD_GRID", "BiasTargets", "VibrationModel", "VibrationRun", "bias_targets", "phase_stats", "residual_metrics", "select_spread")
+_RECORD = ("load_run", "prepare", "run_from_frame")
+
+
+def __getattr__(name: str):
+    """The floors' names (:data:`_CALIB`, :data:`_RECORD`) on first use."""
+    if name in _CALIB:
+        from inertialab.calib import vibration
+
+        return getattr(vibration, name)
+    if name in _RECORD:
+        from inertialab.workflows import vibration_record
+
+        return getattr(vibration_record, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
 
 TERMS = ("Q", "N", "B", "K", "R")
 #: Report units of the five terms (docs/vibration.md).
@@ -137,7 +174,7 @@ class VibrationConfig:
     centers : str, default="max_error"
         RBF centre selection (seed wording "random fixed"; spec default newrb's).
     max_neurons : int or None
-    spread_grid : tuple of float, default SPREAD_GRID
+    spread_grid : tuple of float, default None (calib's ``SPREAD_GRID``)
         Candidate spreads (Hz) for ``spread="validate"``.
     target_guard_s : float, default=2.0
         Guards of the E1 targets (§3.7).
@@ -167,7 +204,7 @@ class VibrationConfig:
     goal: float = 1e-4
     centers: str = "max_error"
     max_neurons: int | None = None
-    spread_grid: tuple = SPREAD_GRID
+    spread_grid: tuple | None = None
     target_guard_s: float = 2.0
     level_guard_s: float = 5.0
     residual_guard_s: float = 10.0
@@ -235,6 +272,8 @@ class VibrationResult:
 
 
 def _level_selection(run: VibrationRun, dec, cfg: VibrationConfig):
+    from inertialab.noise import wavelet as wv
+
     w = run.guarded(run.p2, cfg.level_guard_s)
     return wv.select_level(dec, window=w, reference=run.p1, threshold=cfg.delta_threshold)
 
@@ -256,12 +295,15 @@ def _true_curve(run: VibrationRun, f_hz: np.ndarray):
 
 
 def _fit_block(targets: BiasTargets, cfg: VibrationConfig, level: int, run: VibrationRun):
+    from inertialab.calib.vibration import SPREAD_GRID, VibrationModel, select_spread
+
     f, e = targets.f_hz, targets.e_dph
     odd = targets.bin_index % 2 == 1
     selection = None
     spread = cfg.spread
     if spread == "validate":  # the spread with the least held-out RMSE
-        selection = select_spread(f, e, odd, grid=cfg.spread_grid, goal=cfg.goal,
+        selection = select_spread(f, e, odd, grid=SPREAD_GRID if cfg.spread_grid is None else cfg.spread_grid,
+                                  goal=cfg.goal,
                                   centers=cfg.centers, max_neurons=cfg.max_neurons,
                                   rng=cfg.rng)
         spread = selection["chosen"]
@@ -348,6 +390,8 @@ def _compensate_fixed(fixed, a_fix, level: int, model, cfg, tmin_phys: float, ta
     """Step 7 of :func:`analyse`: compensate the fixed run (RBF and polynomial), its noise
     tables and residual metrics (filled into ``tables``, ``metrics``, ``views``); returns
     the residual bias of each model, deg/h."""
+    from inertialab.calib.vibration import residual_metrics
+
     comp = {"raw": fixed.rate_dph, f"A{level}": a_fix}
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", ExtrapolationWarning)
@@ -430,6 +474,8 @@ def _phase_tables(runs: dict, tables: dict, metrics: dict) -> None:
 def _decompose(runs: dict, cfg: VibrationConfig, metrics: dict):
     """Step 4: the db4 decomposition of each record and the level L (the fixed run's
     §3.6 rule, or the sweep's); returns ``(decompositions, rule record, selection, L)``."""
+    from inertialab.noise import wavelet as wv
+
     decs = {name: wv.decompose(r.rate_dph, level=cfg.wavelet_level) for name, r in runs.items()}
     sel_run = "fixed" if "fixed" in runs else "sweep"
     sel = _level_selection(runs[sel_run], decs[sel_run], cfg)
@@ -453,6 +499,8 @@ def _decomposition_tables(runs: dict, decs: dict, level: int, tmin_phys: float,
                           tables: dict, metrics: dict) -> None:
     """Step 5: the Table-2 analogue (paper: "ols" over the full range; physical: wls,
     tau >= 2^(L+1) tau0) and the raw records' bias and 10-s stability per phase."""
+    from inertialab.calib.vibration import phase_stats
+
     metrics["decomposition_physical"] = {}
     for rname, r in runs.items():
         a = decs[rname].approximation(level)
@@ -473,6 +521,8 @@ def _decomposition_tables(runs: dict, decs: dict, level: int, tmin_phys: float,
 def _bias_model(sweep: VibrationRun, dec, level: int, cfg: VibrationConfig, views: dict):
     """Step 6: the sweep's bias targets, the RBF model and the polynomial baseline (their
     curves into ``views``); returns ``(model, fit block)``."""
+    from inertialab.calib.vibration import bias_targets
+
     a_sweep = dec.approximation(level)
     targets = bias_targets(sweep, a_sweep, guard_s=cfg.target_guard_s,
                            bin_width_hz=cfg.bin_width_hz, min_count=cfg.min_bin_count,
@@ -570,6 +620,9 @@ def apply(model: VibrationModel, record, *, model_name: str = "rbf",
     """
     import pandas as pd
 
+    from inertialab.calib.vibration import VibrationRun, residual_metrics
+    from inertialab.workflows.vibration_record import prepare
+
     run = record if isinstance(record, VibrationRun) else prepare(record)
     comp = model.compensate(run.rate_dph, run.vib_on, run.freq_hz, model=model_name,
                             apply_to=apply_to)
@@ -581,3 +634,152 @@ def apply(model: VibrationModel, record, *, model_name: str = "rbf",
     meta.update({"compensated_with": None if model_path is None else str(model_path),
                  "compensation_model": model_name, "apply_to": apply_to})
     return CompensatedRecord(data=df, meta=meta, residual=metrics)
+
+
+#: Units of the numeric keys of the ``vibration`` JSON.
+JSON_UNITS = {
+    "level": "1", "delta_j": "1", "residual_bias_dph": "deg/h",
+    "fit.rbf.train_rmse": "deg/h", "fit.rbf.heldout_rmse": "deg/h",
+    "fit.poly.train_rmse": "deg/h", "fit.poly.heldout_rmse": "deg/h",
+    "fit.rbf.train_mse": "(deg/h)^2", "fit.poly.train_mse": "(deg/h)^2",
+    "fit.rbf.truth_rmse": "deg/h", "fit.poly.truth_rmse": "deg/h",
+    "fit.rbf.spread": "Hz", "fit.rbf.goal": "(deg/h)^2", "fit.f_range_hz": "Hz",
+}
+
+
+def _level(level: str):
+    v = str(level).strip().lower()
+    if v == "auto":
+        return "auto"
+    try:
+        n = int(v)
+    except ValueError:
+        raise InputError(f"argument 'level' must be an integer 1..9 or 'auto', got "
+                         f"'{level}'") from None
+    if not 1 <= n <= 9:
+        raise InputError(f"argument 'level' must be in 1..9 or 'auto', got {n}")
+    return n
+
+
+def _spread(spread: str):
+    v = str(spread).strip().lower()
+    if v == "validate":
+        return "validate"
+    try:
+        x = float(v)
+    except ValueError:
+        raise InputError(f"argument 'spread' must be a positive number (Hz) or 'validate', "
+                         f"got '{spread}'") from None
+    if not x > 0 or x != x or x == float("inf"):
+        raise InputError(f"argument 'spread' must be positive and finite, got {x}")
+    return x
+
+
+@dataclass(frozen=True)
+class FitConfig(_Settings):
+    """Settings of ``vibration fit``."""
+
+    level: str = setting("6", help="Approximation level L (the paper's 6) or 'auto' (the paper's "
+                                   "rule).")
+    spread: str = setting("1.2", help="RBF spread in Hz (the paper's 1.2), or 'validate': the spread "
+                                      "with the least held-out RMSE on the even 1-Hz bins "
+                                      "(reported).")
+    goal: float = setting(1e-4, help="RBF MSE goal (the paper's 1e-4).", unit="(deg/h)^2",
+                          lo=1e-300, hi=1e12)
+    centers: str = setting("max_error", help="RBF centres: max_error | ols | random_fixed | "
+                                             "all.")
+    targets: str = setting("bins", help="E1 training pairs: bins (1-Hz bin means) | samples "
+                                        "(every 2^L-th sample).", choices=("bins", "samples"))
+    seed: int = seed_setting("Random seed (same seed, same numbers).")
+
+    def vibration_config(self, *, views: bool) -> VibrationConfig:
+        return VibrationConfig(level=_level(self.level), spread=_spread(self.spread),
+                                  goal=self.goal, centers=self.centers, targets=self.targets,
+                                  rng=self.seed, views=views)
+
+
+@dataclass
+class FitResult(ResultBase):
+    """The analysis (:class:`~inertialab.workflows.vibration.VibrationResult`)."""
+
+    res: object
+    sha256: str | None = None
+    units = JSON_UNITS
+
+    @property
+    def settings(self) -> dict:
+        return self.res.settings
+
+    def to_json(self) -> dict:
+        return {**self.res.to_json(), "metrics": self.res.metrics}
+
+    def artifacts(self) -> dict:
+        from inertialab.calib.vibration import UNITS as MODEL_UNITS
+
+        return {"models": [("model.json", self.res.model, MODEL_UNITS)]}
+
+    def summary_rows(self) -> list:
+        res = self.res
+        rows = [[tname, rname] + [row[k]["value"] for k in "QNBKR"]
+                for tname, table in res.tables.items() for rname, row in table.items()]
+        f = res.fit
+        out = [(f"FOG vibration analysis, level L = {res.level}",
+                ["table", "row", "Q [arcsec]", "N [deg/sqrt(h)]", "B [deg/h]",
+                 "K [deg/h/sqrt(h)]", "R [deg/h^2]"], rows),
+               f"RBF: {f['rbf']['neurons']} neurons, train RMSE {f['rbf']['train_rmse']:.4g}, "
+               f"held-out RMSE {f['rbf']['heldout_rmse']:.4g} deg/h; polynomial: train RMSE "
+               f"{f['poly']['train_rmse']:.4g}, held-out {f['poly']['heldout_rmse']:.4g} deg/h"]
+        rb = res.residual_bias_dph
+        out.append(f"residual bias: RBF {rb['rbf']:.4g} deg/h, polynomial {rb['poly']:.4g} deg/h"
+                   if rb is not None else res.metrics["compensation_note"])
+        return out
+
+
+def run_fit(sweep_record, fixed_record, config: FitConfig, *, views: bool = True,
+            progress=None) -> FitResult:
+    """Phase-wise Allan terms, db4 separation and the RBF bias model on the sweep; the
+    fixed run compensated when given (``views``: also the multiscale figures' data)."""
+    from inertialab.workflows.vibration_record import prepare
+
+    c = config.validate()
+    cfg = c.vibration_config(views=views)
+    sweep = prepare(sweep_record)
+    fixed = prepare(fixed_record) if fixed_record is not None else None
+    return FitResult(fit(sweep, fixed, cfg, progress), sha256=sweep_record.sha256)
+
+
+@dataclass(frozen=True)
+class ApplyConfig(_Settings):
+    """Settings of ``vibration apply``."""
+
+    model: str = setting("rbf", help="rbf | poly")
+    apply_to: str = setting("denoised", help="denoised (A_L, seed) | raw")
+
+
+@dataclass
+class ApplyResult(ResultBase):
+    """``vibration apply``: the compensated record
+    (:class:`~inertialab.workflows.vibration.CompensatedRecord`) to write at ``out``."""
+
+    res: object
+    out: object
+    settings: dict
+    units = {"residual": "deg/h"}
+
+    def to_json(self) -> dict:
+        return {"output": str(self.out), "residual": self.res.residual}
+
+    def artifacts(self) -> dict:
+        return {"records": [(self.out, self.res.data, self.res.meta)]}
+
+    def summary_rows(self) -> list:
+        return [f"wrote {self.out}: residual bias {self.res.residual['delta_b']:.4g} deg/h"]
+
+
+def run_apply(model, record, config: ApplyConfig, *, out, model_path=None) -> ApplyResult:
+    """Apply a saved vibration-compensation model to a new record (spec 001 §3.10); the
+    record to write at ``out`` has rate_comp_dph (deg/h)."""
+    c = config.validate()
+    res = apply(model, record, model_name=c.model, apply_to=c.apply_to,
+                   model_path=None if model_path is None else str(model_path))
+    return ApplyResult(res=res, out=out, settings=c.to_dict())
