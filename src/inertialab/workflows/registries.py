@@ -57,10 +57,18 @@ def load_model(path, *, expected_type: str | None = None):
 
     Examples
     --------
+    >>> import tempfile, numpy as np
     >>> from pathlib import Path
-    >>> models = Path(__file__).resolve().parents[3] / "tests" / "data" / "models"
-    >>> type(load_model(models / "polynomial-v1.json")).__name__
+    >>> from inertialab.learn.poly import PolynomialRegressor
+    >>> x = np.c_[np.arange(6.0)]
+    >>> path = Path(tempfile.mkdtemp()) / "poly.json"
+    >>> _ = save_model(PolynomialRegressor(degree=2).fit(x, x[:, 0] ** 2), path)
+    >>> type(load_model(path)).__name__
     'PolynomialRegressor'
+    >>> load_model(path, expected_type="vibration-compensation")
+    Traceback (most recent call last):
+    ...
+    inertialab.errors.InputError: ...
     """
     from inertialab.calib.model_types import load_model as _load
 
