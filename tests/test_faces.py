@@ -150,9 +150,6 @@ def test_public_functions_and_classes_of_the_faces_have_examples():
 #: shared by design. Only ever shrinks.
 PRIVATE_IMPORTS_LEFT = {
     "inertialab.studies.thermal -> inertialab._blas.single_threaded_blas",
-    "inertialab.workflows.allan -> inertialab.noise._phase.PageReleaser",
-    "inertialab.workflows.imu_drift -> inertialab.noise._gmwm_model.Process",
-    "inertialab.workflows.imu_drift -> inertialab.noise.gmwm._slow",
     "inertialab.workflows.thermal -> inertialab._blas.single_threaded_blas",
 }
 

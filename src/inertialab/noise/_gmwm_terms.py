@@ -2,7 +2,7 @@
 :mod:`inertialab.noise.gmwm`'s module docstring): Q, N, K and R from the quantisation,
 white, random-walk and drift processes, B from the Gauss–Markov processes that make the
 flat region, K also from a slow Gauss–Markov process (the wander of a significant rise,
-:func:`inertialab.noise.gmwm._slow`), with its correlation time where it alone is K."""
+:func:`inertialab.noise.gmwm.is_slow_process`), with its correlation time where it alone is K."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from inertialab.noise.gmwm import BI_FACTOR, GmwmFit, _slow, b_of, k_of, rise_start
+from inertialab.noise.gmwm import BI_FACTOR, GmwmFit, b_of, is_slow_process, k_of, rise_start
 
 
 def gmwm_noise_terms(fit: GmwmFit, conv, rate_hz: float, result=None):
@@ -55,7 +55,7 @@ def gmwm_noise_terms(fit: GmwmFit, conv, rate_hz: float, result=None):
             a = b_of(fit.processes, tau0, fit.tau_range_s, t_rise)
             lo_hi = fit.b_ci
             coeffs[2] = (a * BI_FACTOR) ** 2
-        elif name == "K" and any(_slow(p, fit.tau_range_s, t_rise) for p in fit.processes):
+        elif name == "K" and any(is_slow_process(p, fit.tau_range_s, t_rise) for p in fit.processes):
             kind = "GM"
             a = k_of(fit.processes, tau0, fit.tau_range_s, t_rise)
             lo_hi = fit.k_ci
@@ -112,7 +112,7 @@ def _k_time(processes, tau_range_s, t_rise) -> dict | None:
     other slow GM): the random walk it behaves as is held by its correlation time, as the
     five-term fit's ``k_gm``; else None (K a random walk, or a sum of processes that no
     single time describes)."""
-    slow = [p for p in processes if _slow(p, tau_range_s, t_rise)]
+    slow = [p for p in processes if is_slow_process(p, tau_range_s, t_rise)]
     if len(slow) != 1 or any(p.kind == "RW" for p in processes):
         return None
     return {"t_s": float(slow[0].params["tc_s"])}

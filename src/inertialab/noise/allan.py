@@ -48,6 +48,7 @@ from inertialab.noise._phase import (  # noqa: F401 - phase_window is public API
     BLOCK,
     CHECKPOINT,
     CHUNK,
+    PageReleaser,
     _chunked_mean,
     _LazyPhase,
     _make_source,
@@ -687,5 +688,5 @@ def oadev_chunked(data, *, rate_hz: float, taus="octave", confidence: float = 0.
                      progress=progress)
 
 
-__all__ = ["STATISTICS", "CorrectedResult", "DeviationResult", "adev", "deviation", "hdev", "mdev", "max_m",
+__all__ = ["STATISTICS", "CorrectedResult", "DeviationResult", "PageReleaser", "adev", "deviation", "hdev", "mdev", "max_m",
            "oadev", "oadev_chunked", "ohdev", "tau_grid", "tdev", "totdev"]

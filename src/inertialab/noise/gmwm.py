@@ -511,7 +511,7 @@ def _with_intervals(spec, theta, procs, wv, weights, n_boot, seed, confidence, a
     return out, b_ci, k_ci
 
 
-def _slow(p, tau_range_s, t_rise=None) -> bool:
+def is_slow_process(p, tau_range_s, t_rise=None) -> bool:
     """A GM read as random walk (K), not bias instability: its Allan peak (1.89 tc) is not
     followed by an octave of fitted scales (in the record it is indistinguishable from a
     random walk, its low-tau behaviour), or, where the curve rises significantly after its
@@ -537,13 +537,13 @@ def rise_start(wv) -> float | None:
 
 def k_of(processes, tau0: float, tau_range_s=None, t_rise=None) -> float:
     """Random-walk amplitude K (rate unit/sqrt(s)): ``gamma2/tau0`` of RW plus, for each
-    slow GM (:func:`_slow`), the random walk it behaves as below its correlation time,
+    slow GM (:func:`is_slow_process`), the random walk it behaves as below its correlation time,
     ``2 s2/tc`` (its driving-noise density)."""
     k2 = 0.0
     for p in processes:
         if p.kind == "RW":
             k2 += p.params["gamma2"] / tau0
-        elif _slow(p, tau_range_s, t_rise):
+        elif is_slow_process(p, tau_range_s, t_rise):
             k2 += 2.0 * p.params["s2"] / p.params["tc_s"]
     return math.sqrt(k2)
 
@@ -553,9 +553,9 @@ def b_of(processes, tau0: float, tau_range_s=None, t_rise=None) -> float:
     over 1024 log-spaced taus of ``tau_range_s`` (the fitted scales: a flat region must
     be seen in the data — a GM whose peak lies beyond the record, or that is the wander
     of a significant rise, is read as random walk, not as bias instability,
-    :func:`_slow`), else over ``[tau0, 1e3 max tc]``. Rate unit; 0 without GM."""
+    :func:`is_slow_process`), else over ``[tau0, 1e3 max tc]``. Rate unit; 0 without GM."""
     gms = [p for p in processes
-           if (p.kind == "GM" and not _slow(p, tau_range_s, t_rise)) or p.kind == "BL"]
+           if (p.kind == "GM" and not is_slow_process(p, tau_range_s, t_rise)) or p.kind == "BL"]
     if not gms:
         return 0.0
     if tau_range_s is None:
@@ -568,7 +568,7 @@ def b_of(processes, tau0: float, tau_range_s=None, t_rise=None) -> float:
     if t_rise is not None:
         # up to the curve's minimum a wander's Gauss-Markov is part of the floor B is read
         # from (it takes over as K only in the rise after it)
-        wander = [p for p in processes if p.kind == "GM" and _slow(p, tau_range_s, t_rise)]
+        wander = [p for p in processes if p.kind == "GM" and is_slow_process(p, tau_range_s, t_rise)]
         if wander:
             av = av + np.where(m * tau0 <= t_rise, sum(p.avar(m, tau0) for p in wander), 0.0)
     return float(math.sqrt(float(np.max(av))) / BI_FACTOR)

@@ -21,8 +21,7 @@ from inertialab import units
 from inertialab.config import DEFAULT_CONFIDENCE
 from inertialab.errors import DataQualityWarning, InputError
 from inertialab.noise import registry as stat_registry
-from inertialab.noise._phase import PageReleaser
-from inertialab.noise.allan import DeviationResult
+from inertialab.noise.allan import DeviationResult, PageReleaser
 from inertialab.noise.family import compute
 from inertialab.noise.terms import (
     CONFIDENCE,

@@ -226,15 +226,15 @@ def _processes(terms, tau0: float, n_samples: int):
     or, where the fit holds it by a correlation time ``terms.k_gm``, as that
     Gauss–Markov process), and the indices of the Gauss–Markov processes that are K
     (the five-term fit's K process; GMWM's slow GMs, :func:`inertialab.noise.gmwm.k_of`)."""
-    from inertialab.noise._gmwm_model import Process
+    from inertialab.noise.gmwm import Process
 
     gm = (terms.gmwm or {}).get("processes")
     if gm:
-        from inertialab.noise.gmwm import _slow
+        from inertialab.noise.gmwm import is_slow_process
 
         procs = [Process(d["process"], dict(d["params"])) for d in gm]
         t_rise = terms.gmwm.get("t_rise_s")
-        return procs, [i for i, p in enumerate(procs) if _slow(p, terms.tau_range_s, t_rise)]
+        return procs, [i for i, p in enumerate(procs) if is_slow_process(p, terms.tau_range_s, t_rise)]
     c = [0.0 if not np.isfinite(v) else float(v) for v in terms.coefficients]
     out, k_gm = [], []
     if c[1] > 0:
