@@ -174,6 +174,7 @@ FLAG_OF: dict[str, str] = {
     "t_init_s": "--t-init", "min_duration_s": "--min-duration", "window_s": "--window",
     "fish_visual": "--visual", "fish_step": "--step", "fish_try_number": "--try-number",
     "fish_crowd": "--crowd", "n_positions": "--positions", "inputs": "--inputs",
+    "force": "--force",
 }
 
 
