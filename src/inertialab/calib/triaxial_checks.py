@@ -221,7 +221,7 @@ def check_accel(fit: CalibrationFit, a, ref, g: float, *, counts: bool = False,
         out.append(Finding("implausible", tuple(s.split(" ")[0] for s in bad),
                            f"{'; '.join(bad)}{adc_note} beyond the bias limit "
                            f"±{bias_lim:.3g} m/s^2",
-                           "check the accelerometer unit and argument 'bias_limit'"))
+                           "check the accelerometer unit and argument 'bias_limit_mps2'"))
     lo, hi = lim.scale
     bad = [f"k{c} = {r:.4g}" for c, r in zip("xyz", rel) if not np.isfinite(r) or not lo <= r <= hi]
     if bad:
@@ -244,8 +244,8 @@ def check_accel(fit: CalibrationFit, a, ref, g: float, *, counts: bool = False,
                            f"{n_bad} of {err.size} poses off local gravity by more than "
                            f"{tol:.3g} m/s^2 after calibration (worst: pose {worst + 1}, "
                            f"{err[worst]:.3g} m/s^2)",
-                           "check that every detected interval is a rest (argument 't_init_s', "
-                           "'k_thr') and argument 'norm_tol'"))
+                           "check that every detected interval is a rest (argument 't_init_s', argument "
+                           "'k_thr') and argument 'norm_tol_mps2'"))
     return out
 
 
