@@ -12,7 +12,7 @@ SRC = Path(__file__).resolve().parent.parent / "src" / "inertialab"
 
 # rank: a module may import only modules of lower rank, or of its own package.
 RANK = {
-    "units": 0, "errors": 0, "seeding": 0, "__init__": 0, "jsonable": 0, "_blas": 0,
+    "units": 0, "errors": 0, "seeding": 0, "__init__": 0, "jsonable": 0, "blas": 0,
     "progress": 0, "estimator": 0, "config": 0, "limits": 0, "signals": 0, "result": 0,
     "io": 1,
     "metrics": 2, "regress": 2, "noise": 2,

@@ -82,23 +82,73 @@ class NotFittedError(RuntimeError, AttributeError):
 
 
 class MissingReferenceError(InputError):
-    """An objective or method needs reference directions/values the records lack."""
+    """An objective or method needs reference directions/values the records lack.
+
+    Examples
+    --------
+    >>> err = MissingReferenceError("needs the table's reference angles", path="r.csv",
+    ...                             column="angle_deg")
+    >>> str(err)
+    "r.csv: column 'angle_deg': needs the table's reference angles"
+    >>> isinstance(err, InputError), isinstance(err, ValueError)
+    (True, True)
+    """
 
 
 class UnderdeterminedError(InputError):
-    """Fewer independent observations than unknowns, or a degenerate design."""
+    """Fewer independent observations than unknowns, or a degenerate design.
+
+    Examples
+    --------
+    >>> str(UnderdeterminedError("3 positions for 12 unknowns", path="six.csv"))
+    'six.csv: 3 positions for 12 unknowns'
+    >>> issubclass(UnderdeterminedError, InputError)
+    True
+    """
 
 
 class NonIdentifiableWarning(UserWarning):
-    """Some parameters are not identifiable from the data (rank deficiency)."""
+    """Some parameters are not identifiable from the data (rank deficiency).
+
+    Examples
+    --------
+    >>> import warnings
+    >>> with warnings.catch_warnings(record=True) as caught:
+    ...     warnings.simplefilter("always")
+    ...     warnings.warn("g-sensitivity not identifiable", NonIdentifiableWarning)
+    >>> caught[0].category.__name__, issubclass(NonIdentifiableWarning, UserWarning)
+    ('NonIdentifiableWarning', True)
+    """
 
 
 class ShrinkageWarning(UserWarning):
-    """A shrinkage estimator leaned heavily on its prior."""
+    """A shrinkage estimator leaned heavily on its prior.
+
+    Examples
+    --------
+    >>> import warnings
+    >>> with warnings.catch_warnings(record=True) as caught:
+    ...     warnings.simplefilter("always")
+    ...     warnings.warn("posterior weight on the prior 0.97", ShrinkageWarning)
+    >>> str(caught[0].message), issubclass(ShrinkageWarning, UserWarning)
+    ('posterior weight on the prior 0.97', True)
+    """
 
 
 class ExtrapolationWarning(UserWarning):
-    """A model was applied outside the range it was trained on."""
+    """A model was applied outside the range it was trained on.
+
+    Examples
+    --------
+    >>> import warnings
+    >>> with warnings.catch_warnings():
+    ...     warnings.simplefilter("error", ExtrapolationWarning)
+    ...     try:
+    ...         warnings.warn("85 degC above the 70 degC trained", ExtrapolationWarning)
+    ...     except ExtrapolationWarning as w:
+    ...         print(w)
+    85 degC above the 70 degC trained
+    """
 
 
 class ConvergenceWarning(UserWarning):

@@ -16,7 +16,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from inertialab._blas import single_threaded_blas
+from inertialab.blas import single_threaded_blas
 from inertialab.calib.thermal import (
     FUZZY,
     METHODS,

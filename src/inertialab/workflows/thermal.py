@@ -41,7 +41,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from inertialab._blas import single_threaded_blas
+from inertialab.blas import single_threaded_blas
 from inertialab.config import Config as _Settings
 from inertialab.config import seed_setting, setting
 from inertialab.errors import InputError, MissingReferenceError
