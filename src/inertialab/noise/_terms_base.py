@@ -117,6 +117,22 @@ class NoiseTerm:
         Why a term is absent, bounded or not observable.
     upper_bound : float
         Upper end of the interval of a non-significant term (NaN otherwise).
+
+    Examples
+    --------
+    The N term of white rate noise of 0.1 deg/s at 100 Hz (0.6 deg/sqrt(h); per sample
+    0.1 deg/s, here in rad/s):
+
+    >>> import numpy as np
+    >>> y = np.random.default_rng(0).normal(0.0, 0.1, 20_000)
+    >>> from inertialab.noise import fit_noise_terms, oadev
+    >>> n = fit_noise_terms(oadev(y, rate_hz=100.0), unit="dps", n_boot=0).N
+    >>> n.significant, round(float(n.value), 1), n.per_sample_std["unit"]
+    (True, 0.6, 'rad/s')
+    >>> bool(np.isclose(n.per_sample_std["value"], np.deg2rad(0.1), rtol=0.05))
+    True
+    >>> bool(NoiseTerm.from_dict(n.to_dict()).value == n.value)
+    True
     """
 
     value: float
@@ -218,6 +234,23 @@ class NoiseTerms:
         correlation time ``t_s`` (:func:`rw_gm_shape`): K is its random-walk density below
         ``t_s``, and its Allan variance falls like white noise past ``~1.9 t_s``. None: a
         pure random walk (the IEEE five-term model).
+
+    Examples
+    --------
+    The model of white rate noise of 0.1 deg/s at 100 Hz reproduces its Allan deviation,
+    ``0.1 / sqrt(tau * 100)`` deg/s, and survives its JSON form:
+
+    >>> import numpy as np
+    >>> y = np.random.default_rng(0).normal(0.0, 0.1, 20_000)
+    >>> from inertialab.noise import fit_noise_terms, oadev
+    >>> terms = fit_noise_terms(oadev(y, rate_hz=100.0), unit="dps", n_boot=0)
+    >>> terms.kind, terms.unit
+    ('gyro', 'dps')
+    >>> taus = np.array([0.01, 1.0])
+    >>> bool(np.allclose(terms.model_dev(taus), 0.1 / np.sqrt(taus * 100.0), rtol=0.05))
+    True
+    >>> bool(NoiseTerms.from_dict(terms.to_dict()).N.value == terms.N.value)
+    True
     """
 
     MODEL_TYPE = "noise-terms"

@@ -107,6 +107,20 @@ def gap_deviation(statistic: str, data, *, rate_hz: float, taus="octave", input:
 
     ``alpha`` (noise type per tau) defaults to 0 (white FM / white rate) for the
     interval: the lag-1 identification needs contiguous data.
+
+    Examples
+    --------
+    A dropout of 500 samples (NaN) in white rate noise of sigma 1 at 100 Hz: the curve
+    still reads ``sigma / sqrt(m)`` and says what it skipped:
+
+    >>> import numpy as np
+    >>> y = np.random.default_rng(0).normal(0.0, 1.0, 10_000)
+    >>> y[3000:3500] = np.nan
+    >>> r = gap_deviation("oadev", y, rate_hz=100.0, taus=[0.01, 0.04, 0.16])
+    >>> r.n_gaps, r.n_missing
+    (1, 500)
+    >>> bool(np.allclose(r.dev * np.sqrt(r.m), 1.0, atol=0.03))
+    True
     """
     if statistic not in GAP_STATISTICS:
         raise InputError(f"statistic '{statistic}' has no gap-resistant form (use "

@@ -583,6 +583,19 @@ def fit_gmwm(y, rate_hz: float, *, max_gm: int = 3, n_boot: int = 50, seed: int 
     turns it into IEEE terms with :func:`inertialab.noise._gmwm_terms.gmwm_noise_terms`; ``fit_noise_terms(result,
     method="gmwm")`` does both from the record's octave overlapping-Allan curve, which
     holds the same wavelet variance.
+
+    Examples
+    --------
+    White rate noise of variance 0.01 (deg/s)^2: the model chosen is white noise alone,
+    with its variance:
+
+    >>> import numpy as np
+    >>> y = np.random.default_rng(0).normal(0.0, 0.1, 4000)
+    >>> fit = fit_gmwm(y, 100.0, max_gm=0, n_boot=0)
+    >>> [p.kind for p in fit.processes]
+    ['WN']
+    >>> bool(abs(fit.processes[0].params["sigma2"] - 0.01) < 0.0005)
+    True
     """
     from inertialab.noise.allan import oadev
 

@@ -205,7 +205,20 @@ def exact_information(n: int, sw2: float, gm=(), sr2: float = 0.0) -> tuple:
 def k_bound(n: int, sw2: float, gm=(), sr2: float = 0.0, *, exact: bool = False) -> KBound:
     """Cramér–Rao bounds on ``log K`` for a record of ``n`` samples of the model in the
     module docstring (arguments as :func:`whittle_information`; ``sr2 > 0``); ``exact``:
-    from :func:`exact_information` instead of Whittle's approximation."""
+    from :func:`exact_information` instead of Whittle's approximation.
+
+    Examples
+    --------
+    A random walk seen without white noise: its ``n`` increments are independent, so the
+    bound on ``log K`` is ``1 / sqrt(2 n)`` (Fisher information ``n/2`` of ``log sr2``);
+    with white noise to separate it from, the bound is wider:
+
+    >>> b = k_bound(4000, 1e-10, sr2=1.0)
+    >>> round(b.known * (2 * 4000) ** 0.5, 3)
+    1.0
+    >>> bool(k_bound(4000, 1.0, sr2=1e-4).known > 20 * b.known), bool(b.free >= b.known)
+    (True, True)
+    """
     if not sr2 > 0:
         raise InputError("K bound needs a random walk (sr2 > 0)")
     names, info = (exact_information if exact else whittle_information)(n, sw2, gm, sr2)

@@ -40,6 +40,14 @@ class Statistic:
     edf : str
         The model of the equivalent degrees of freedom behind the confidence interval
         (``"none"``: no interval).
+
+    Examples
+    --------
+    >>> first = STATISTICS[0]
+    >>> first.name, first.function is allan.adev, first.phase_unit, first.gaps
+    ('adev', True, False, True)
+    >>> [s.name for s in STATISTICS if s.phase_unit]
+    ['tdev', 'ttotdev', 'mtie', 'tierms']
     """
 
     name: str

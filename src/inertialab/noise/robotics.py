@@ -82,6 +82,24 @@ def robotics_values(gyro: dict | None = None, accel: dict | None = None, *,
         {"axes": {axis: {...}}, "worst_axis", "worst": {...}}, "kalibr", "openvins",
         "vins", "gtsam"}``; per axis ``noise_density, random_walk`` (continuous) and
         ``noise_discrete, random_walk_discrete`` (at ``rate_hz``).
+
+    Examples
+    --------
+    White gyro noise of 0.1 deg/s per sample at 100 Hz: the continuous noise density is
+    ``0.1 deg/s / sqrt(100 Hz)`` in rad/s/sqrt(Hz), its discrete value the per-sample std:
+
+    >>> import numpy as np
+    >>> from inertialab.noise import fit_noise_terms, oadev
+    >>> y = np.random.default_rng(0).normal(0.0, 0.1, 20_000)
+    >>> terms = fit_noise_terms(oadev(y, rate_hz=100.0), unit="dps", n_boot=0)
+    >>> v = robotics_values({"x": terms})
+    >>> x = v["gyro"]["axes"]["x"]
+    >>> bool(np.isclose(x["noise_density"], np.deg2rad(0.1) / 10.0, rtol=0.05))
+    True
+    >>> bool(np.isclose(x["noise_discrete"], x["noise_density"] * 10.0))
+    True
+    >>> v["kalibr"]["update_rate"], bool(v["kalibr"]["gyroscope_noise_density"] == x["noise_density"])
+    (100.0, True)
     """
     if not (math.isfinite(inflation) and inflation > 0):
         raise InputError(f"inflation must be positive, got {inflation}")

@@ -206,6 +206,24 @@ def detect_static_intervals(t, acc, *, window_s: float = 1.0, t_init_s: float = 
     ------
     InputError
         Non-increasing time, no initial rest.
+
+    Examples
+    --------
+    A minute at 100 Hz, level and at rest (noise 0.01 m/s^2 per axis) but for a shake
+    between 20 s and 30 s: two rests are found, on either side of it, with the true
+    gravity and noise:
+
+    >>> import numpy as np
+    >>> rng = np.random.default_rng(0)
+    >>> t = np.arange(6000) / 100.0
+    >>> acc = np.array([0.0, 0.0, 9.81]) + rng.normal(0.0, 0.01, (6000, 3))
+    >>> shake = (t >= 20) & (t < 30)
+    >>> acc[shake, 0] += 2.0 * np.sin(2 * np.pi * t[shake])
+    >>> s = detect_static_intervals(t, acc)
+    >>> bool(s.t_end[0] < 20.0 and s.t_start[1] > 30.0), s.n.size
+    (True, 2)
+    >>> bool(np.allclose(s.mean[:, 2], 9.81, atol=0.002)), bool(np.allclose(s.sd, 0.01, rtol=0.05))
+    (True, True)
     """
     t, fs = _time_checks(t)
     a = np.asarray(acc, dtype=float)

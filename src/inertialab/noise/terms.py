@@ -187,6 +187,20 @@ def fit_noise_terms(result, *, unit: str, kind: str | None = "gyro", method: str
     ------
     InputError
         Unknown unit or method, unit of the wrong dimension, fewer than 3 usable taus.
+
+    Examples
+    --------
+    White rate noise of 0.1 deg/s at 100 Hz is an angle random walk ``N = sigma /
+    sqrt(fs)`` = 0.01 deg/s/sqrt(Hz) = 0.6 deg/sqrt(h), and nothing else:
+
+    >>> import numpy as np
+    >>> y = np.random.default_rng(0).normal(0.0, 0.1, 20_000)
+    >>> from inertialab.noise.allan import oadev
+    >>> terms = fit_noise_terms(oadev(y, rate_hz=100.0), unit="dps", n_boot=0)
+    >>> terms.N.unit, bool(abs(terms.N.value - 0.6) < 0.03)
+    ('deg/sqrt(h)', True)
+    >>> float(terms.K.value), float(terms.R.value)
+    (0.0, 0.0)
     """
     conv = _Converter(unit, kind, g_local)
     if method not in ("wls", "ols", "slope", "gmwm"):

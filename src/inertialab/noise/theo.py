@@ -99,6 +99,19 @@ def theo1(data, *, rate_hz: float, taus="octave", input: str = "rate",
 
     ``taus`` as :func:`inertialab.noise.allan.tau_grid` for m (octave: m = 2, 4, 8 ...;
     explicit seconds are Theo1 taus, ``m = tau / (0.75 tau0)`` rounded to even).
+
+    Examples
+    --------
+    For white rate noise Theo1 at ``tau = 0.75 m tau0`` equals the Allan deviation at that
+    tau, ``sigma / sqrt(tau / tau0)``:
+
+    >>> import numpy as np
+    >>> y = np.random.default_rng(0).normal(0.0, 1.0, 4000)
+    >>> r = theo1(y, rate_hz=100.0, taus=4)
+    >>> r.m.tolist(), bool(np.allclose(r.taus_s, 0.75 * r.m / 100.0))
+    ([2, 26, 318, 4000], True)
+    >>> bool(np.allclose(r.dev[:3] * np.sqrt(r.taus_s[:3] * 100.0), 1.0, atol=0.05))
+    True
     """
     src, x = phase_source(data, rate_hz, input)
     tau0 = 1.0 / float(rate_hz)
@@ -135,7 +148,16 @@ def _br_ratio(x: np.ndarray, tau0: float, n: int | None = None) -> tuple[float, 
 
 def theobr(data, *, rate_hz: float, taus="octave", input: str = "rate",
            confidence: float = 0.683, alpha=None) -> DeviationResult:
-    """Bias-removed Theo1 (SP 1065 eq. 31)."""
+    """Bias-removed Theo1 (SP 1065 eq. 31).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> y = np.random.default_rng(0).normal(0.0, 1.0, 4000)
+    >>> r = theobr(y, rate_hz=100.0, taus=4)
+    >>> r.statistic, bool(np.allclose(r.dev[:3] * np.sqrt(r.taus_s[:3] * 100.0), 1.0, atol=0.05))
+    ('theobr', True)
+    """
     r = theo1(data, rate_hz=rate_hz, taus=taus, input=input, confidence=confidence,
               alpha=alpha)
     _, x = phase_source(data, rate_hz, input)
@@ -149,7 +171,19 @@ def theobr(data, *, rate_hz: float, taus="octave", input: str = "rate",
 def theoh(data, *, rate_hz: float, taus="octave", input: str = "rate",
           confidence: float = 0.683, alpha=None) -> DeviationResult:
     """TheoH (SP 1065 eq. 32): OADEV for ``tau < k``, TheoBR for ``tau >= k``, ``k`` the
-    largest octave OADEV tau within 10 % of the record length ``T = (N - 1) tau0``."""
+    largest octave OADEV tau within 10 % of the record length ``T = (N - 1) tau0``.
+
+    Examples
+    --------
+    White rate noise of sigma 1 at 100 Hz: about ``sigma / sqrt(tau / tau0)`` on both sides
+    of ``k``:
+
+    >>> import numpy as np
+    >>> y = np.random.default_rng(0).normal(0.0, 1.0, 4000)
+    >>> r = theoh(y, rate_hz=100.0)
+    >>> bool(np.allclose(r.dev * np.sqrt(r.taus_s * 100.0), 1.0, atol=0.1))
+    True
+    """
     from inertialab.noise.allan import oadev
 
     src, x = phase_source(data, rate_hz, input)

@@ -132,6 +132,19 @@ def mtotdev(data, *, rate_hz: float, taus="octave", input: str = "rate",
 
     Parameters as :func:`inertialab.noise.allan.deviation`; ``bias_correction`` divides
     the variance by :data:`MTOT_BIAS` of the noise type per tau.
+
+    Examples
+    --------
+    With Stable32's bias correction it estimates the modified Allan deviation (white rate
+    noise of sigma 1 at 100 Hz):
+
+    >>> import numpy as np
+    >>> y = np.random.default_rng(0).normal(0.0, 1.0, 4000)
+    >>> from inertialab.noise.allan import mdev
+    >>> mt = mtotdev(y[:2000], rate_hz=100.0, taus=[0.04, 0.16], bias_correction=True)
+    >>> md = mdev(y[:2000], rate_hz=100.0, taus=[0.04, 0.16])
+    >>> mt.bias.tolist(), bool(np.allclose(mt.dev, md.dev, rtol=0.1))
+    ([0.73, 0.73], True)
     """
     src, x = phase_source(data, rate_hz, input)
     tau0 = 1.0 / float(rate_hz)
@@ -157,7 +170,17 @@ def mtotdev(data, *, rate_hz: float, taus="octave", input: str = "rate",
 def ttotdev(data, *, rate_hz: float, taus="octave", input: str = "rate",
             confidence: float = 0.683, alpha=None, bias_correction: bool = False) -> TotalResult:
     """Time total deviation ``tau/sqrt(3) * MTOTDEV`` (SP 1065 eq. 28); unit of the rate
-    times seconds (s for fractional frequency)."""
+    times seconds (s for fractional frequency).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> y = np.random.default_rng(0).normal(0.0, 1.0, 4000)
+    >>> tt = ttotdev(y[:2000], rate_hz=100.0, taus=[0.04, 0.16])
+    >>> mt = mtotdev(y[:2000], rate_hz=100.0, taus=[0.04, 0.16])
+    >>> bool(np.allclose(tt.dev, tt.taus_s / np.sqrt(3) * mt.dev))
+    True
+    """
     return mtotdev(data, rate_hz=rate_hz, taus=taus, input=input, confidence=confidence,
                    alpha=alpha, bias_correction=bias_correction, _tdev=True)
 
@@ -165,7 +188,22 @@ def ttotdev(data, *, rate_hz: float, taus="octave", input: str = "rate",
 def htotdev(data, *, rate_hz: float, taus="octave", input: str = "rate",
             confidence: float = 0.683, alpha=None, bias_correction: bool = False) -> TotalResult:
     """Hadamard total deviation (SP 1065 eq. 29) on the frequency data; ``m <= M/3``
-    (M frequency points); ``m = 1`` is the overlapping Hadamard deviation."""
+    (M frequency points); ``m = 1`` is the overlapping Hadamard deviation.
+
+    Examples
+    --------
+    At ``m = 1`` the overlapping Hadamard deviation; for white rate noise of sigma 1 about
+    ``1/sqrt(m)`` (the Hadamard variance of white noise is the Allan variance):
+
+    >>> import numpy as np
+    >>> y = np.random.default_rng(0).normal(0.0, 1.0, 4000)
+    >>> from inertialab.noise.allan import ohdev
+    >>> h = htotdev(y, rate_hz=100.0, taus=[0.01, 0.16])
+    >>> bool(np.isclose(h.dev[0], ohdev(y, rate_hz=100.0, taus=[0.01]).dev[0], rtol=1e-12))
+    True
+    >>> bool(np.allclose(h.dev * np.sqrt(h.m), 1.0, atol=0.05))
+    True
+    """
     from inertialab.noise.allan import ohdev
 
     src, x = phase_source(data, rate_hz, input)
