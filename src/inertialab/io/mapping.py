@@ -542,6 +542,23 @@ class ReadOptions:
     resample_hz : float or None
         Resample a jittery log onto a uniform grid at this rate (linear interpolation);
         only when asked, recorded in ``meta["resampled"]``.
+
+    Examples
+    --------
+    A headerless one-column file in deg/s, logged at 200 Hz: the map names the column and
+    its unit (converted to the canonical deg/h), the rate builds the time column:
+
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> folder = Path(tmp.name)
+    >>> _ = (folder / "raw.csv").write_text("0.5\\n0.7\\n0.6\\n")
+    >>> from inertialab.io import read_record
+    >>> opts = ReadOptions.from_cli("rate_dph=col1:dps", rate=200.0)
+    >>> rec = read_record(folder / "raw.csv", "gyro_log", options=opts)
+    >>> rec.column("rate_dph").tolist(), rec.column("t_s").tolist()
+    ([1800.0, 2520.0, 2160.0], [0.0, 0.005, 0.01])
+    >>> tmp.cleanup()
     """
 
     column_map: ColumnMap = field(default_factory=ColumnMap)

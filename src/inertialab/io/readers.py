@@ -100,6 +100,27 @@ def read_record(path, kind: str, *, unit=None, rate_hz: float | None = None,
     InputError
         Missing or empty file, unreadable format, missing column, non-numeric or
         non-finite value, bad time order, too few rows, unknown unit suffix.
+
+    Examples
+    --------
+    A CSV with a unit-suffixed column and a sidecar giving the rate:
+
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> folder = Path(tmp.name)
+    >>> import numpy as np
+    >>> import pandas as pd
+    >>> from inertialab.io import write_record
+    >>> rate = np.random.default_rng(0).normal(0.0, 1.0, 200)
+    >>> frame = pd.DataFrame({"t_s": np.arange(200) / 100.0, "rate_dph": rate})
+    >>> path = write_record(frame, folder / "gyro.csv", {"fs_hz": 100.0})
+    >>> rec = read_record(path, "gyro_log")
+    >>> rec.n, rec.timebase.rate_hz, rec.timebase.source
+    (200, 100.0, 'sidecar')
+    >>> bool(np.array_equal(rec.column("rate_dph"), rate))
+    True
+    >>> tmp.cleanup()
     """
     if kind not in SCHEMAS:
         raise InputError(f"unknown record kind '{kind}' (known: {', '.join(SCHEMAS)})")
@@ -162,7 +183,19 @@ def peek_columns(path, options=None) -> list[str]:
     lower-case, BOM dropped, the column map's targets in place of their sources, a time
     column given by the options as ``t_s``. Reads a few rows of a text file (after the
     size and content checks), so a CLI can choose a record kind (``t_s`` present: a raw
-    log) without reading the file twice or sniffing headers itself."""
+    log) without reading the file twice or sniffing headers itself.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> folder = Path(tmp.name)
+    >>> _ = (folder / "log.csv").write_text("Time_s,Rate_DPH\\n0,1\\n0.01,2\\n")
+    >>> peek_columns(folder / "log.csv")
+    ['time_s', 'rate_dph']
+    >>> tmp.cleanup()
+    """
     from inertialab.io.mapping import ReadOptions
 
     try:
@@ -531,7 +564,20 @@ def _resample(df, rate_hz, schema, units, meta, *, path):
 def hash_frame(df: pd.DataFrame) -> str:
     """SHA-256 of a frame's columns in sorted-name order, values canonicalised (float64
     bytes for numbers, int64 ns for times, UTF-8 for text), so CSV and Parquet of the same
-    data give the same hash."""
+    data give the same hash.
+
+    Examples
+    --------
+    Column order and the number's dtype do not change the hash; a value does:
+
+    >>> import pandas as pd
+    >>> a = pd.DataFrame({"t_s": [0.0, 0.1], "rate_dph": [1, 2]})
+    >>> b = pd.DataFrame({"rate_dph": [1.0, 2.0], "t_s": [0.0, 0.1]})
+    >>> hash_frame(a) == hash_frame(b), hash_frame(a) == hash_frame(b.assign(t_s=[0.0, 0.2]))
+    (True, False)
+    >>> len(hash_frame(a))
+    64
+    """
     h = hashlib.sha256()
     for name in sorted(df.columns):
         s = df[name]
@@ -573,6 +619,18 @@ def validate_frame(df: pd.DataFrame, kind: str, *, path="<frame>", meta: dict | 
     ``rate_hz`` is the caller's sample rate (first in the time base's precedence, see
     :func:`inertialab.io.timestamps.decide_timebase`); the record's
     :attr:`~Record.timebase` is decided here, once.
+
+    Examples
+    --------
+    >>> import pandas as pd
+    >>> frame = pd.DataFrame({"t_s": [0.0, 0.5, 1.0], "rate_dps": [0.1, 0.2, 0.3]})
+    >>> rec = validate_frame(frame, "gyro_log")
+    >>> rec.kind, rec.timebase.rate_hz, rec.units
+    ('gyro_log', 2.0, {'rate_dps': 'dps'})
+    >>> validate_frame(frame.drop(columns="rate_dps"), "gyro_log", path="g.csv")
+    Traceback (most recent call last):
+    ...
+    inertialab.errors.InputError: g.csv: needs at least one of the columns ...
     """
     from inertialab.io.mapping import normalise_time_columns
 

@@ -31,6 +31,18 @@ class Record:
         samples, source), decided once on reading
         (:func:`inertialab.io.timestamps.decide_timebase`); None for a record that is not
         a continuous log, or a log with neither time stamps nor a rate
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import pandas as pd
+    >>> from inertialab.io import validate_frame
+    >>> frame = pd.DataFrame({"t_s": np.arange(5) / 100.0, "rate_dph": [1.0, 2.0, 3.0, 2.0, 1.0]})
+    >>> rec = validate_frame(frame, "gyro_log")
+    >>> rec.kind, rec.n, rec.units, rec.timebase.rate_hz
+    ('gyro_log', 5, {'rate_dph': 'dph'}, 100.0)
+    >>> float(rec.column("rate_dph").mean())
+    1.8
     """
 
     kind: str

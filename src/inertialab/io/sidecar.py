@@ -23,7 +23,15 @@ def data_stem(path: str | Path) -> Path:
 
 
 def sidecar_path(path: str | Path) -> Path:
-    """Path of the JSON sidecar of a data file: ``<stem>.meta.json``."""
+    """Path of the JSON sidecar of a data file: ``<stem>.meta.json``.
+
+    Examples
+    --------
+    >>> sidecar_path("runs/gyro.csv").as_posix()
+    'runs/gyro.meta.json'
+    >>> sidecar_path("runs/log.parquet").name
+    'log.meta.json'
+    """
     s = data_stem(path)
     return s.with_name(s.name + ".meta.json")
 
@@ -111,6 +119,21 @@ def read_sidecar(path: str | Path) -> dict:
     large (:data:`MAX_SIDECAR_BYTES`), nested too deep, holds ``NaN``/``Infinity`` or an
     integer too long to convert, or when a known numeric key (:data:`NUMERIC_KEYS`) is not
     a finite number in range.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> folder = Path(tmp.name)
+    >>> import pandas as pd
+    >>> from inertialab.io import write_record
+    >>> path = write_record(pd.DataFrame({"t_s": [0.0, 0.1]}), folder / "a.csv", {"fs_hz": 10.0})
+    >>> sorted(read_sidecar(path).items())
+    [('fs_hz', 10.0), ('schema_version', 1)]
+    >>> read_sidecar(folder / "none.csv")
+    {}
+    >>> tmp.cleanup()
     """
     sp = sidecar_path(path)
     if not sp.exists():

@@ -69,7 +69,23 @@ def format_of(p: Path) -> str:
 
 
 def load_frame(path, *, parse=None, options=None) -> Loaded:
-    """Read ``path`` into a :class:`Loaded` (see the module docstring)."""
+    """Read ``path`` into a :class:`Loaded` (see the module docstring).
+
+    Examples
+    --------
+    The columns as the file has them, before any mapping or validation; ``# key=value``
+    lines become metadata:
+
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> folder = Path(tmp.name)
+    >>> _ = (folder / "log.txt").write_text("# fs_hz=200\\nrate_dps\\n0.5\\n0.7\\n")
+    >>> loaded = load_frame(folder / "log.txt")
+    >>> loaded.frame["rate_dps"].tolist(), loaded.meta
+    ([0.5, 0.7], {'fs_hz': 200})
+    >>> tmp.cleanup()
+    """
     from inertialab.io.mapping import ReadOptions
 
     p = regular_input(path, allow_dir=is_bag_folder(Path(path)))

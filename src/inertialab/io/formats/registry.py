@@ -28,6 +28,14 @@ class FileFormat:
                          choose what is read from it (beyond the column map, units,
                          time column, rate and resampling, which apply to every format)
     extra : str or None  the pip extra it needs (``inertialab[formats]``)
+
+    Examples
+    --------
+    >>> ulog = next(f for f in FORMATS if ".ulg" in f.suffixes)
+    >>> ulog.name, "topic" in ulog.options
+    ('ulog', True)
+    >>> [f.name for f in FORMATS if ".mat" in f.suffixes]
+    ['mat5', 'mat4', 'hdf5']
     """
 
     name: str
