@@ -48,6 +48,27 @@ class DirectNARForecaster(Estimator):
     lm : dict, optional
         Extra :class:`MLPRegressorLM` settings.
     rng : int | SeedSequence | Generator | None (= seed 0)
+
+    Examples
+    --------
+    An AR(2) series ``y_k = 0.9 y_(k-1) - 0.2 y_(k-2) + 0.1 + e_k`` (noise sd 0.01): the
+    forecast follows the series' exact conditional mean, which its 95 % band holds:
+
+    >>> import numpy as np
+    >>> rng = np.random.default_rng(0)
+    >>> y, e = np.zeros(80), rng.normal(0.0, 0.01, 80)
+    >>> for k in range(2, 80):
+    ...     y[k] = 0.9 * y[k - 1] - 0.2 * y[k - 2] + 0.1 + e[k]
+    >>> exact, (a, b) = [], (y[-1], y[-2])
+    >>> for _ in range(3):
+    ...     a, b = 0.9 * a - 0.2 * b + 0.1, a
+    ...     exact.append(a)
+    >>> direct = DirectNARForecaster(horizon=3, order=2, hidden=2, restarts=1, rng=0).fit(y)
+    >>> fc = direct.forecast(3)
+    >>> bool(np.all(np.abs(fc.values - exact) < 0.04))
+    True
+    >>> bool(np.all((fc.lo95 < exact) & (exact < fc.hi95)))
+    True
     """
 
     name = "nar_direct"

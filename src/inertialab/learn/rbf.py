@@ -144,6 +144,17 @@ class RBFNetwork(Estimator):
         Training MSE after 0, 1, ..., M neurons.
     mse_ : float
         Final training MSE.
+
+    Examples
+    --------
+    One period of a sine from 40 points, read back between them:
+
+    >>> import numpy as np
+    >>> x = np.linspace(0.0, 1.0, 40)
+    >>> net = RBFNetwork(spread=0.2, goal=1e-6).fit(x, np.sin(2 * np.pi * x))
+    >>> x_new = np.array([0.25, 0.6])
+    >>> bool(np.allclose(net.predict(x_new), np.sin(2 * np.pi * x_new), atol=1e-3))
+    True
     """
 
     MODEL_TYPE = "rbf"
