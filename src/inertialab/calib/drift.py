@@ -419,6 +419,30 @@ class DriftModel:
     ``entries[unit_id][quantity]`` holds the fitted :class:`NARForecaster` and the
     origin day, grid step, working unit (µg / ppm), k_ref, the calibrated value and
     the tolerance.
+
+    Examples
+    --------
+    One unit's bias (an AR(2) series settling at 1/3 ug) with its NAR: three daily steps
+    forecast past day 79; against a calibrated 0 ug, a tolerance of 0.5 ug holds over the
+    horizon, one of 0.3 ug is passed on the first day:
+
+    >>> import numpy as np
+    >>> from inertialab.learn import NARForecaster
+    >>> rng = np.random.default_rng(0)
+    >>> y, e = np.zeros(80), rng.normal(0.0, 0.01, 80)
+    >>> for k in range(2, 80):
+    ...     y[k] = 0.9 * y[k - 1] - 0.2 * y[k - 2] + 0.1 + e[k]
+    >>> nar = NARForecaster(order=2, hidden=2, restarts=1, n_paths=20, rng=0).fit(y)
+    >>> entry = {"nar": nar, "origin_day": 79, "step_days": 1, "unit": "ug", "k_ref": 1.0,
+    ...          "y_cal": 0.0, "tolerance": 0.5}
+    >>> out = DriftModel({"u1": {"bias": entry}}, {"horizon": 3}).forecast()["u1"]["bias"]
+    >>> out["forecast"]["day"], out["recalibration_day"]
+    ([80, 81, 82], None)
+    >>> bool(np.allclose(out["forecast"]["value"], 1 / 3, atol=0.03))
+    True
+    >>> tight = DriftModel({"u1": {"bias": {**entry, "tolerance": 0.3}}}, {"horizon": 3})
+    >>> tight.forecast()["u1"]["bias"]["recalibration_day"]
+    80
     """
 
     MODEL_TYPE = "storage-drift"

@@ -484,7 +484,27 @@ def design_dual(n_positions: int = 20, *, range_deg=(0.0, 360.0), step_deg: floa
 # ------------------------------------------------------------------------------- model
 
 class DualCalibration:
-    """Calibrated dual-meter coefficients (model file type ``dual-calibration``)."""
+    """Calibrated dual-meter coefficients (model file type ``dual-calibration``).
+
+    Examples
+    --------
+    The outputs the coefficients predict: at a head angle of 0 meter A senses no input
+    (its bias KA0), at 90 deg one g with its scale-factor error kA1 and second-order term
+    KA2:
+
+    >>> import numpy as np
+    >>> coef = dict(KA0=1e-4, KB0=-2e-4, kA1=2e-4, kB1=-3e-4, eta=0.0, KA2=5e-6, KB2=0.0,
+    ...             KAx=0.0, KBx=0.0)
+    >>> cal = DualCalibration(method="ls", coef=coef, sd=dict.fromkeys(coef, 1e-6), s_a=1,
+    ...                       s_b=1, g_local_mps2=9.80)
+    >>> u_a, u_b = cal.predict_outputs(np.array([0.0, np.pi / 2]))
+    >>> bool(np.allclose(u_a, [1e-4, 1e-4 + (1 + 2e-4) + 5e-6]))
+    True
+    >>> bool(np.isclose(u_b[0], -2e-4 + (1 - 3e-4)))  # meter B sees cos(0) = 1 g
+    True
+    >>> DualCalibration.from_dict(cal.to_dict()).coef == cal.coef
+    True
+    """
 
     MODEL_TYPE = "dual-calibration"
     #: Payload format of this type (bump when ``to_dict`` changes; old versions keep loading).

@@ -128,7 +128,35 @@ def serves(tag: str, expected_type: str) -> bool:
 def load_model(path, *, expected_type: str | None = None):
     """Load a model file of any registered type (:func:`inertialab.io.modelfile.load_model`
     with this registry); ``expected_type`` refuses a model of another type (a subtype,
-    :func:`serves`, is accepted)."""
+    :func:`serves`, is accepted).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from inertialab.calib.triaxial_session import StaticData, calibrate_record_data
+    >>> from inertialab.sensors import triaxial as tx
+    >>> u = np.random.default_rng(0).normal(size=(12, 3))
+    >>> a_true = 9.81 * u / np.linalg.norm(u, axis=1, keepdims=True)  # 12 static attitudes
+    >>> x = [0.1, -0.05, 0.2, 1.02, 0.98, 1.01, 0.002, -0.001, 0.003]  # b, k, theta
+    >>> raw = tx.forward(x, a_true)
+    >>> data = StaticData(a=raw, ref=None, g=9.81, raw_unit="mps2", raw_scale=1.0,
+    ...                   raw_offset=0.0, counts=False)
+    >>> model = calibrate_record_data(data).model
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> folder = Path(tmp.name)
+    >>> _ = save_model(model, folder / "acc.json")
+    >>> loaded = load_model(folder / "acc.json", expected_type="triaxial-calibration")
+    >>> type(loaded).__name__, bool(np.array_equal(loaded.correction_matrix,
+    ...                                            model.correction_matrix))
+    ('TriaxialCalibration', True)
+    >>> load_model(folder / "acc.json", expected_type="thermal-compensation")
+    Traceback (most recent call last):
+    ...
+    inertialab.errors.InputError: ...: model file holds a 'triaxial-calibration' model, ...
+    >>> tmp.cleanup()
+    """
     if expected_type is not None and any(serves(t, expected_type) for t in TYPES
                                          if t != expected_type):
         tag = modelfile.read_envelope(path, types=TYPES)["type"]
@@ -138,7 +166,30 @@ def load_model(path, *, expected_type: str | None = None):
 
 
 def save_model(obj, path, **kw):
-    """Write a registered model (:func:`inertialab.io.modelfile.save_model`)."""
+    """Write a registered model (:func:`inertialab.io.modelfile.save_model`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from inertialab.calib.triaxial_session import StaticData, calibrate_record_data
+    >>> from inertialab.sensors import triaxial as tx
+    >>> u = np.random.default_rng(0).normal(size=(12, 3))
+    >>> a_true = 9.81 * u / np.linalg.norm(u, axis=1, keepdims=True)  # 12 static attitudes
+    >>> x = [0.1, -0.05, 0.2, 1.02, 0.98, 1.01, 0.002, -0.001, 0.003]  # b, k, theta
+    >>> raw = tx.forward(x, a_true)
+    >>> data = StaticData(a=raw, ref=None, g=9.81, raw_unit="mps2", raw_scale=1.0,
+    ...                   raw_offset=0.0, counts=False)
+    >>> model = calibrate_record_data(data).model
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> folder = Path(tmp.name)
+    >>> save_model(model, folder / "acc.json").name
+    'acc.json'
+    >>> bool(np.allclose(load_model(folder / "acc.json").apply(raw), a_true))
+    True
+    >>> tmp.cleanup()
+    """
     if type(obj) not in TYPES.values():
         raise TypeError(f"{type(obj).__name__} is not a registered model type")
     return modelfile.save_model(obj, path, **kw)

@@ -300,6 +300,27 @@ class ThermalModel:
     unit_id : the training unit
     raw_drift_max_mv : the largest |N - Nc| of the training samples, mV (its span with
         t_range_c, n_range_mv; re-checked on apply, :mod:`inertialab.calib.model_checks`)
+
+    Examples
+    --------
+    A unit whose output drifts by 0.5 mV per degree away from 55 degC: a POLY-2D map fitted
+    on (T, N) -> Nc takes the drift off exactly, and survives its JSON form:
+
+    >>> import numpy as np
+    >>> from inertialab.learn.poly import PolynomialRegressor
+    >>> from inertialab.sensors.pendulous import SingleAxisCoefficients
+    >>> rng = np.random.default_rng(0)
+    >>> T, Nc = rng.uniform(-40.0, 70.0, 200), rng.uniform(-900.0, 900.0, 200)
+    >>> N = Nc + 0.5 * (T - 55.0)
+    >>> reg = PolynomialRegressor(degrees=(1, 1), warn_extrapolation=False).fit(
+    ...     np.column_stack([T, N]), Nc)
+    >>> model = ThermalModel(method="poly-2d", ref=SingleAxisCoefficients(k0=0.0, k1=1000.0),
+    ...                      regressor=reg)
+    >>> np.round(model.predict_nc([25.0, 60.0], [100.0, -300.0]), 6).tolist()  # +15, -2.5
+    [115.0, -302.5]
+    >>> again = ThermalModel.from_dict(model.to_dict())
+    >>> bool(np.isclose(again.predict_nc([25.0], [100.0])[0], 115.0))
+    True
     """
 
     MODEL_TYPE = "thermal-compensation"

@@ -207,6 +207,30 @@ def read_envelope(path, *, types=None) -> dict:
     The file must be a regular file of at most :data:`MAX_MODEL_BYTES`; its JSON is
     parsed by :func:`parse_json_strict`; its type must be one of ``types`` (tag ->
     class; default: the tags with a payload schema).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from inertialab.calib.triaxial_session import StaticData, calibrate_record_data
+    >>> from inertialab.sensors import triaxial as tx
+    >>> u = np.random.default_rng(0).normal(size=(12, 3))
+    >>> a_true = 9.81 * u / np.linalg.norm(u, axis=1, keepdims=True)  # 12 static attitudes
+    >>> x = [0.1, -0.05, 0.2, 1.02, 0.98, 1.01, 0.002, -0.001, 0.003]  # b, k, theta
+    >>> raw = tx.forward(x, a_true)
+    >>> data = StaticData(a=raw, ref=None, g=9.81, raw_unit="mps2", raw_scale=1.0,
+    ...                   raw_offset=0.0, counts=False)
+    >>> model = calibrate_record_data(data).model
+    >>> from inertialab.calib import save_model
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> folder = Path(tmp.name)
+    >>> env = read_envelope(save_model(model, folder / "acc.json"))
+    >>> env["format"], env["type"], env["format_version"]
+    ('inertialab-model', 'triaxial-calibration', 1)
+    >>> sorted(env["payload"])[:3]
+    ['correction_matrix', 'flags', 'g_local']
+    >>> tmp.cleanup()
     """
     known = SCHEMAS if types is None else types
     p = Path(path)

@@ -98,7 +98,8 @@ def robotics_values(gyro: dict | None = None, accel: dict | None = None, *,
     True
     >>> bool(np.isclose(x["noise_discrete"], x["noise_density"] * 10.0))
     True
-    >>> v["kalibr"]["update_rate"], bool(v["kalibr"]["gyroscope_noise_density"] == x["noise_density"])
+    >>> kalibr = v["kalibr"]
+    >>> kalibr["update_rate"], bool(kalibr["gyroscope_noise_density"] == x["noise_density"])
     (100.0, True)
     """
     if not (math.isfinite(inflation) and inflation > 0):
