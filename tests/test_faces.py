@@ -37,18 +37,6 @@ WITHOUT_EXAMPLES = {
     "inertialab.io.exporters.noise_text",
     "inertialab.io.exporters.targets",
     "inertialab.io.exporters.yaml_number",
-    "inertialab.optim.OptimResult",
-    "inertialab.optim.Target",
-    "inertialab.regress.EmpiricalBayesRidge",
-    "inertialab.regress.d_optimal_design",
-    "inertialab.report.write_report",
-    "inertialab.sensors.GyroNoiseParams",
-    "inertialab.sensors.preset",
-    "inertialab.sensors.simulate_gyro_noise",
-    "inertialab.sim.simulate_ferraris",
-    "inertialab.sim.simulate_storage_batch",
-    "inertialab.sim.simulate_two_orientation",
-    "inertialab.studies.study_modules",
 }
 
 

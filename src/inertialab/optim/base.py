@@ -24,6 +24,14 @@ class Target:
     """Convergence target of spec 002 §3.9: ``J* + tol_abs + tol_rel*|J*|``.
 
     Defaults ``tol_abs = 1e-10`` and ``tol_rel = 1e-6`` are spec 002 §3.9's.
+
+    Examples
+    --------
+    >>> t = Target(2.0)
+    >>> t.threshold == 2.0 + 1e-10 + 1e-6 * 2.0
+    True
+    >>> t.reached(2.000001), t.reached(2.00001)
+    (True, False)
     """
 
     value: float
@@ -64,6 +72,20 @@ class OptimResult:
         or no target).
     extra : dict
         Method-specific diagnostics (e.g. adaptive step sizes).
+
+    Examples
+    --------
+    Particle swarm on a sphere centred at (0.3, 0.3), asked to get within 1e-8 of its
+    minimum 0:
+
+    >>> import numpy as np
+    >>> from inertialab.optim.pso import pso
+    >>> res = pso(lambda x: float(np.sum((x - 0.3) ** 2)), [(-1.0, 1.0)] * 2, rng=0,
+    ...           target=Target(0.0, tol_abs=1e-8))
+    >>> res.success, res.converged_at == res.nit, bool(res.fun <= 1e-8)
+    (True, True, True)
+    >>> bool(np.allclose(res.x, 0.3, atol=1e-3)), bool(np.all(np.diff(res.history) <= 0))
+    (True, True)
     """
 
     x: np.ndarray

@@ -205,6 +205,28 @@ def write_report(results: list[StudyResult], out_dir, *, quick: bool = False,
 
     ``jobs``: processes that draw the figures (:func:`report_jobs`). Returns the written
     paths (``index``, ``results``) and the summary ``rows``.
+
+    Examples
+    --------
+    One study's result: its headline line becomes the summary row, its tables and wall
+    time go to ``results.json``:
+
+    >>> import json
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> from inertialab.studies.base import Headline, StudyResult
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> result = StudyResult(name="demo", title="A demo", settings={"seed": 0},
+    ...                      headline=[Headline("ARW", 0.101, 0.1, "deg/sqrt(h)", "virtual lab")],
+    ...                      tables={"arw": 0.101}, wall_s=0.5)
+    >>> out = write_report([result], Path(tmp.name), jobs=1)
+    >>> out["rows"]
+    [['demo', 'virtual lab', 'ARW', 0.101, 0.1, 'deg/sqrt(h)']]
+    >>> json.loads(out["results"].read_text())["studies"]["demo"]["results"]
+    {'arw': 0.101, 'wall_s': 0.5}
+    >>> out["index"].name
+    'index.html'
+    >>> tmp.cleanup()
     """
     sections = draw_sections(results, jobs=jobs)
     rows = summary_rows(results)

@@ -80,6 +80,15 @@ class GyroNoiseParams:
         Gauss–Markov correlation times in s.
     gm_std_factor : float, default 0.84
         Stationary std of each GM process in units of B.
+
+    Examples
+    --------
+    >>> mid = GyroNoiseParams()
+    >>> mid.arw_deg_rth, mid.bias_instability_dph
+    (0.01, 0.15)
+    >>> white = mid.with_(bias_instability_dph=0.0, rrw_dph_rth=0.0, ramp_dph_per_h=0.0)
+    >>> GyroNoiseParams.from_dict(white.to_dict()) == white
+    True
     """
 
     arw_deg_rth: float = 0.01
@@ -131,7 +140,17 @@ PRESETS: dict[str, GyroNoiseParams] = {
 
 
 def preset(name: str) -> GyroNoiseParams:
-    """The named preset (:data:`PRESETS`); unknown names are an InputError."""
+    """The named preset (:data:`PRESETS`); unknown names are an InputError.
+
+    Examples
+    --------
+    >>> preset("nav").arw_deg_rth, preset("tactical").bias_instability_dph
+    (0.002, 1.0)
+    >>> preset("best")
+    Traceback (most recent call last):
+    ...
+    inertialab.errors.InputError: unknown gyro preset 'best' (use mid, nav, tactical, ...)
+    """
     try:
         return PRESETS[name]
     except KeyError:
@@ -292,7 +311,22 @@ def simulate_gyro_components(n: int, fs_hz: float, params: GyroNoiseParams | str
 def simulate_gyro_noise(n: int, fs_hz: float, params: GyroNoiseParams | str = "mid", rng=None,
                         *, input_rate_dph=0.0, multipliers=None) -> np.ndarray:
     """Static FOG rate output in deg/h, shape (n,) (stable signature; see
-    :func:`simulate_gyro_components` for the parameters and the truth components)."""
+    :func:`simulate_gyro_components` for the parameters and the truth components).
+
+    Examples
+    --------
+    Angle random walk alone, N = 0.1 deg/sqrt(h) at 10 Hz: white rate noise of std
+    ``N * 60 * sqrt(fs)`` deg/h about the constant bias b0 = 0.5 deg/h:
+
+    >>> import numpy as np
+    >>> arw = GyroNoiseParams(arw_deg_rth=0.1, bias_instability_dph=0.0, rrw_dph_rth=0.0,
+    ...                       ramp_dph_per_h=0.0, q_arcsec=0.0, b0_dph=0.5)
+    >>> rate = simulate_gyro_noise(20_000, 10.0, arw, rng=0)
+    >>> bool(np.isclose(rate.std(), 0.1 * 60 * np.sqrt(10.0), rtol=0.02))
+    True
+    >>> bool(abs(rate.mean() - 0.5) < 3 * rate.std() / np.sqrt(rate.size))
+    True
+    """
     return simulate_gyro_components(n, fs_hz, params, rng, input_rate_dph=input_rate_dph,
                                     multipliers=multipliers).rate_dph
 

@@ -206,6 +206,23 @@ def simulate_storage_batch(n_units: int = 12, n_days: int = 120, preset: str = "
     Returns
     -------
     StorageBatch
+
+    Examples
+    --------
+    Two units over 30 days; each measured bias is its truth plus the turn-on, measurement
+    and outlier parts the record also carries:
+
+    >>> import numpy as np
+    >>> batch = simulate_storage_batch(n_units=2, n_days=30, rng=0)
+    >>> sorted(batch.frame["unit_id"].unique()), int(batch.frame["day"].max()) <= 29
+    (['QA001', 'QA002'], True)
+    >>> f = batch.frame
+    >>> parts = f.true_bias_mg + f.bias_turnon_mg + f.bias_meas_mg + f.bias_outlier_mg
+    >>> bool(np.allclose(f.bias_mg, parts))
+    True
+    >>> outlier = (f.bias_outlier_mg != 0) | (f.sf_outlier_ppm != 0)
+    >>> bool(np.all(outlier == f.is_outlier_true)), bool(outlier.any())
+    (True, True)
     """
     if preset not in PRESETS:
         raise InputError(f"unknown preset {preset!r} (known: {', '.join(PRESETS)})")

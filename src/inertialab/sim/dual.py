@@ -362,6 +362,19 @@ def simulate_two_orientation(config: DualLabConfig | None = None, rng=None, *,
     Run 1 as configured; run 2 with both meters turned 180 deg about their IA (OA signs
     flipped) and its own K0, k1 and eta (redrawn with the turn-on repeatability TAU);
     K2 and Kx are shared. Run 2 uses a child generator of ``rng``.
+
+    Examples
+    --------
+    The second run has both meters' output axes turned over and its own turn-on terms;
+    the second-order terms are the unit's and shared:
+
+    >>> run1, run2 = simulate_two_orientation(rng=0)
+    >>> run1.run_id, run2.run_id
+    ('orient1', 'orient2')
+    >>> run1.meta["meter_a"]["oa_sign"], run2.meta["meter_a"]["oa_sign"]
+    (1, -1)
+    >>> run1.truth["KA2"] == run2.truth["KA2"], run1.truth["KA0"] == run2.truth["KA0"]
+    (True, False)
     """
     cfg = config or scenario_config("S5")
     g = as_generator(DEFAULT_SEED if rng is None else rng)

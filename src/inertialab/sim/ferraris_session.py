@@ -223,6 +223,21 @@ def simulate_ferraris(*, seed=0, fs: float = FS_HZ, g: float = G_LOCAL,
         Turning sense of x_rot, y_rot, z_rot (+1 counterclockwise from above); default random.
     counts : bool
         Write 16-bit counts (16384 LSB/g, 131 LSB/(deg/s)) instead of m/s^2 and deg/s.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> session = simulate_ferraris(seed=0)
+    >>> session.kind, session.meta["fs_hz"], list(session.data.columns)[:4]
+    ('triaxial_raw', 102.4, ['t_s', 'ax_mps2', 'ay_mps2', 'az_mps2'])
+    >>> sorted(session.truth["sections"])[:3]
+    ['x_a', 'x_p', 'x_rot']
+    >>> face = session.truth["sections"]["z_p"]
+    >>> raw = session.data[["ax_mps2", "ay_mps2", "az_mps2"]].to_numpy()
+    >>> acc = raw[face["start"]:face["end"]].mean(axis=0)
+    >>> true = np.linalg.solve(session.truth["T_a"], acc - session.truth["b_a"])
+    >>> round(float(np.linalg.norm(true)), 2)  # at rest the true specific force is g
+    9.81
     """
     _check_session(fs, g, placement_deg, angle_sigma_deg, rest_s, first_rest_s, move_s, turn_s,
                    shake_mps2)

@@ -9,7 +9,13 @@ full settings, the virtual-lab run, Monte Carlo, bootstrap and sweeps, and the
 
 def study_modules() -> tuple:
     """The study modules the demo runs (each defines ``STUDY``), imported here
-    explicitly when asked for."""
+    explicitly when asked for.
+
+    Examples
+    --------
+    >>> [m.STUDY.name for m in study_modules()]
+    ['allan', 'vibration', 'thermal', 'triaxial', 'dual', 'drift']
+    """
     from inertialab.studies import allan, drift, dual, thermal, triaxial, vibration
 
     return (allan, vibration, thermal, triaxial, dual, drift)
