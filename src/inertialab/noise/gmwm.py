@@ -590,7 +590,7 @@ def fit_gmwm(y, rate_hz: float, *, max_gm: int = 3, n_boot: int = 50, seed: int 
     with its variance:
 
     >>> import numpy as np
-    >>> y = np.random.default_rng(0).normal(0.0, 0.1, 4000)
+    >>> y = np.random.default_rng(0).normal(0.0, 0.1, 2000)
     >>> fit = fit_gmwm(y, 100.0, max_gm=0, n_boot=0)
     >>> [p.kind for p in fit.processes]
     ['WN']

@@ -209,9 +209,8 @@ def detect_static_intervals(t, acc, *, window_s: float = 1.0, t_init_s: float = 
 
     Examples
     --------
-    A minute at 100 Hz, level and at rest (noise 0.01 m/s^2 per axis) but for a shake
-    between 20 s and 30 s: two rests are found, on either side of it, with the true
-    gravity and noise:
+    A minute at 100 Hz at rest (noise 0.01 m/s^2 per axis) but for a shake from 20 s to
+    30 s: two rests, on either side of it, with the true gravity and noise:
 
     >>> import numpy as np
     >>> rng = np.random.default_rng(0)
