@@ -8,7 +8,7 @@ estimators (ANN, FIS, ANFIS on a grid, SCM-ANFIS, IAFSA-SCM-ANFIS, POLY-SEP,
 POLY-2D; :func:`fit_model`), the metrics of §5 (:func:`score`), the fitted artefact
 (:class:`ThermalModel`, model-file type ``thermal-compensation``, format version 1) and
 its use: :func:`compensate` with the status codes shared with the C export
-(:mod:`inertialab.io.exporters.thermal_c`), the drift against the reference temperature
+(:mod:`inertialab.export.thermal_c`), the drift against the reference temperature
 and the §3.7 transfer to another unit (:func:`drift`), few-point recalibration
 (:func:`recalibrate`).
 
