@@ -27,6 +27,7 @@ from dataclasses import asdict, dataclass, field, replace
 import numpy as np
 
 from inertialab.errors import ExtrapolationWarning, InputError, MissingReferenceError
+from inertialab.io.model_schemas import check_own_payload
 from inertialab.learn.anfis import ANFIS
 from inertialab.learn.mlp_lm import MLPRegressorLM
 from inertialab.learn.poly import PolynomialRegressor, SeparatePolynomials, monomials
@@ -348,6 +349,7 @@ class ThermalModel:
 
     @classmethod
     def from_dict(cls, d: dict) -> ThermalModel:
+        check_own_payload(cls.MODEL_TYPE, d)  # types, shapes, ranges: one line naming the key
         model = cls._from_dict(d)
         model.check()
         return model

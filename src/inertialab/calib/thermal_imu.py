@@ -32,6 +32,7 @@ import numpy as np
 
 from inertialab.calib import thermal_imu_fit as tf
 from inertialab.errors import InputError
+from inertialab.io.model_schemas import check_own_payload
 
 __all__ = ["AXES", "FORMS", "METHODS", "FitSettings", "ImuFit", "ThermalImuModel",
            "fit_imu_model"]
@@ -97,6 +98,7 @@ class ThermalImuModel:
 
     @classmethod
     def from_dict(cls, d: dict) -> ThermalImuModel:
+        check_own_payload(cls.MODEL_TYPE, d)  # types, shapes, ranges: one line naming the key
         try:
             sensors = d["sensors"]
             for s in sensors:

@@ -42,12 +42,12 @@ from inertialab.export import (
     thermal_c,
     thermal_params,
 )
+from inertialab.export import noise_params as _values  # the module (its function shares the name)
 from inertialab.export.noise_params import (
     AxisValues,
     NoiseParams,
     NoiseValues,
     imu_utils_axes,
-    noise_params,
     per_axis,
     span_notes,
 )
@@ -231,7 +231,7 @@ def noise_text(noise: IMUNoise | NoiseValues, target: str, **options) -> str:
         raise TypeError(f"unknown export options {sorted(unknown)}")
     o = {**_NOISE_DEFAULTS, **{k: v for k, v in options.items() if v is not None}}
     values = NoiseValues.of(noise)
-    return get("noise", target).text(noise_params(values), values, o)
+    return get("noise", target).text(_values.noise_params(values), values, o)
 
 
 def export_noise(noise: IMUNoise | NoiseValues, target: str, path, **options) -> list[str]:

@@ -34,6 +34,7 @@ import numpy as np
 
 from inertialab.errors import InputError, NotFittedError
 from inertialab.estimator import Estimator
+from inertialab.io.model_schemas import check_own_payload
 from inertialab.learn.fis import TSKFIS, _as_2d, genfis, grid_fis, solve_lstsq
 
 
@@ -373,6 +374,7 @@ class ANFIS(Estimator):
 
     @classmethod
     def from_dict(cls, d: dict) -> ANFIS:
+        check_own_payload(cls.MODEL_TYPE, d)  # types, shapes, ranges: one line naming the key
         try:
             obj = cls(**d["params"])
             obj.x_lo_ = np.asarray(d["x_lo"], dtype=float)
