@@ -24,7 +24,7 @@ that is not static keeps its deviation and gets no terms; the others go on), and
 the record-length plan.
 
 :func:`export_yaml` writes these for any noise target of
-:data:`inertialab.io.exporters.EXPORTERS` (Kalibr, ROS, OpenVINS, VINS, imu_utils,
+:data:`inertialab.export.EXPORTERS` (Kalibr, ROS, OpenVINS, VINS, imu_utils,
 GTSAM): one value per sensor, the largest of its three axes (the conservative choice
 for an estimator that takes one number); the continuous/discrete convention and any
 bound are stated in the file's comments.
