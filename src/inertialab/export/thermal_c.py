@@ -27,10 +27,10 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from inertialab.errors import InputError
-from inertialab.learn.anfis import ANFIS, ScaledRules
 
 if TYPE_CHECKING:
     from inertialab.calib.thermal import ThermalModel
+    from inertialab.learn.anfis import ScaledRules
 
 __all__ = ["CExport", "MAX_RULES", "export_c", "write_c"]
 
@@ -107,6 +107,8 @@ def export_c(model: ThermalModel, *, prefix: str = "qfa", unit_ref=None, unit_id
     """
     if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]{0,30}", prefix):
         raise InputError(f"C prefix must be a C identifier, got {prefix!r}")
+    from inertialab.learn.anfis import ANFIS  # imported on use: the registry stays light
+
     reg = getattr(model, "regressor", None)
     if not isinstance(reg, ANFIS):
         raise InputError(
