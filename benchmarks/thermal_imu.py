@@ -30,7 +30,7 @@ def _drift(err: np.ndarray) -> float:
 def _one(seed: int, rate_hz: float, cal_ramp: str = "calibration") -> list:
     from inertialab.calib.thermal_imu import fit_imu_model
     from inertialab.calib.thermal_imu_fit import px4_script_fit
-    from inertialab.io.exporters import thermal_params as tp
+    from inertialab.export import thermal_params as tp
     from inertialab.io.formats.thermal_logs import streams_from_frame
     from inertialab.sim.thermal_imu import AXES, simulate
 

@@ -29,20 +29,6 @@ def _all_of(package: str):
     return None
 
 
-#: Face names whose examples are written where the export floor moves the exporters
-#: (``inertialab.export``); only ever shrinks, and the test says when a name can leave.
-WITHOUT_EXAMPLES = {
-    "inertialab.io.exporters.Exporter",
-    "inertialab.io.exporters.NoiseParams",
-    "inertialab.io.exporters.export_calibration",
-    "inertialab.io.exporters.export_noise",
-    "inertialab.io.exporters.get",
-    "inertialab.io.exporters.noise_text",
-    "inertialab.io.exporters.targets",
-    "inertialab.io.exporters.yaml_number",
-}
-
-
 def test_every_package_declares_all():
     missing = [p for p in _packages() if _all_of(p) is None]
     assert not missing, f"packages without __all__: {missing}"
@@ -77,10 +63,7 @@ def _lacks_example(obj) -> bool:
 def test_public_functions_and_classes_of_the_faces_have_examples():
     lacking = {f"{package}.{name}" for package, name, obj in _face_objects()
                if (inspect.isfunction(obj) or inspect.isclass(obj)) and _lacks_example(obj)}
-    new = sorted(lacking - WITHOUT_EXAMPLES)
-    assert not new, f"public names without a doctested Examples section: {new}"
-    gained = sorted(WITHOUT_EXAMPLES - lacking)
-    assert not gained, f"these have examples now; remove them from WITHOUT_EXAMPLES: {gained}"
+    assert not lacking, f"public names without a doctested Examples section: {sorted(lacking)}"
 
 
 def _private_imports():

@@ -90,7 +90,6 @@ def test_the_rule_sees_a_derivation():
 #: workflow still spells 0.95 itself (owned by the noise work; it should take
 #: DEFAULT_CONFIDENCE). Only shrinks.
 CONFIDENCE_SITES_LEFT = {
-    "workflows/imu_noise.py:term_confidence",
     "workflows/imu_noise.py:analyse_imu",
     "workflows/imu_noise.py:analyse_record",
     "workflows/imu_noise.py:analyse_file",

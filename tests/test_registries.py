@@ -1,5 +1,5 @@
 """Conformance over everything registered: statistics (noise.registry), model types
-(calib.model_types), file formats (io.formats.registry). Exporters: tests/io/exporters/
+(calib.model_types), file formats (io.formats.registry). Exporters: tests/export/
 test_registry.py."""
 
 from pathlib import Path

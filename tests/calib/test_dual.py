@@ -209,9 +209,9 @@ def test_model_payload_validation():
             DualCalibration.from_dict(d)
     d = json.loads(json.dumps(good))
     d["coef"]["KA2"] = float("inf")
-    with pytest.raises(InputError, match="non-finite KA2"):
+    with pytest.raises(InputError, match=r"payload\.coef\.KA2: must be finite"):
         DualCalibration.from_dict(d)
     d = json.loads(json.dumps(good))
     d["sd"]["KA2"] = -1.0
-    with pytest.raises(InputError, match="sd must be"):
+    with pytest.raises(InputError, match=r"payload\.sd\.KA2: must be in \[0, inf\]"):
         DualCalibration.from_dict(d)

@@ -76,7 +76,7 @@ def held_k():
 
 
 def test_a_held_random_walk_is_planned_and_exported_with_its_time(held_k, tmp_path):
-    from inertialab.io import exporters as ex
+    import inertialab.export as ex
 
     res = analyse_imu(held_k, rate_hz=FS, drift=DriftOptions(horizons_s=(1.0,), plan=True))
     for a in res.axes:

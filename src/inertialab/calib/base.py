@@ -7,9 +7,11 @@ A model type (a calibration of ``calib/``, a learner of ``learn/``, the noise te
 * ``MODEL_TYPE``: its tag in the model file (``"triaxial-calibration"``);
 * ``FORMAT_VERSION``: the version of its payload layout (1 when the class declares none);
 * ``to_dict()``: a plain-JSON payload (numbers, strings, lists, dicts), and
-* ``from_dict(payload)``: the class method that rebuilds an equal model from it, raising
-  :class:`~inertialab.errors.InputError` (or ``KeyError/TypeError/ValueError``) on a
-  payload it cannot use.
+* ``from_dict(payload)``: the class method that rebuilds an equal model from it, first
+  checking the payload against its type's schema
+  (:func:`inertialab.io.model_schemas.check_own_payload`: one
+  :class:`~inertialab.errors.InputError` line naming the key), and raising InputError
+  (or ``KeyError/TypeError/ValueError``) on a payload it cannot use.
 
 :class:`ModelContract` states it as a :class:`typing.Protocol`; the registry of model
 types (:mod:`inertialab.calib.model_types`) lists every class that follows it and

@@ -27,6 +27,7 @@ import numpy as np
 
 from inertialab import metrics
 from inertialab.errors import InputError
+from inertialab.io.model_schemas import check_own_payload
 from inertialab.learn.forecast_baselines import make_baseline
 from inertialab.learn.monitoring import cusum_alarms, first_passage
 from inertialab.learn.nar import MAX_ORDER, NARForecaster
@@ -508,6 +509,7 @@ class DriftModel:
         """Rebuild from :meth:`to_dict`, validating every field:
         types, finiteness and ranges, and a one-step forecast of every entry; anything
         else is an :class:`InputError`."""
+        check_own_payload(cls.MODEL_TYPE, d)  # types, shapes, ranges: one line naming the key
         try:
             settings = d.get("settings", {})
             if not isinstance(settings, dict):

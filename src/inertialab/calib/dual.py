@@ -36,6 +36,7 @@ from inertialab import units
 from inertialab.calib.dual_prior import CERT_LIMITS, DualPrior, resolve_prior
 from inertialab.calib.dual_reduce import HARMONIC_LABELS, Reduced, reduce_stops
 from inertialab.errors import InputError, NonIdentifiableWarning, ShrinkageWarning
+from inertialab.io.model_schemas import check_own_payload
 from inertialab.regress.design import d_optimal_design, design_criteria
 from inertialab.regress.ebr import EmpiricalBayesRidge
 from inertialab.regress.lstsq import lstsq, naive_normal_equations, null_space_text
@@ -531,6 +532,7 @@ class DualCalibration:
 
     @classmethod
     def from_dict(cls, d: dict) -> DualCalibration:
+        check_own_payload(cls.MODEL_TYPE, d)  # types, shapes, ranges: one line naming the key
         try:
             coef = {canonical_coef_name(k): float(v) for k, v in d["coef"].items()}
             missing = [n for n in COEF_NAMES if n not in coef]

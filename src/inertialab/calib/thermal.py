@@ -8,7 +8,7 @@ estimators (ANN, FIS, ANFIS on a grid, SCM-ANFIS, IAFSA-SCM-ANFIS, POLY-SEP,
 POLY-2D; :func:`fit_model`), the metrics of §5 (:func:`score`), the fitted artefact
 (:class:`ThermalModel`, model-file type ``thermal-compensation``, format version 1) and
 its use: :func:`compensate` with the status codes shared with the C export
-(:mod:`inertialab.io.exporters.thermal_c`), the drift against the reference temperature
+(:mod:`inertialab.export.thermal_c`), the drift against the reference temperature
 and the §3.7 transfer to another unit (:func:`drift`), few-point recalibration
 (:func:`recalibrate`).
 
@@ -27,6 +27,7 @@ from dataclasses import asdict, dataclass, field, replace
 import numpy as np
 
 from inertialab.errors import ExtrapolationWarning, InputError, MissingReferenceError
+from inertialab.io.model_schemas import check_own_payload
 from inertialab.learn.anfis import ANFIS
 from inertialab.learn.mlp_lm import MLPRegressorLM
 from inertialab.learn.poly import PolynomialRegressor, SeparatePolynomials, monomials
@@ -369,6 +370,7 @@ class ThermalModel:
 
     @classmethod
     def from_dict(cls, d: dict) -> ThermalModel:
+        check_own_payload(cls.MODEL_TYPE, d)  # types, shapes, ranges: one line naming the key
         model = cls._from_dict(d)
         model.check()
         return model

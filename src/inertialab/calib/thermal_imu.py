@@ -32,6 +32,7 @@ import numpy as np
 
 from inertialab.calib import thermal_imu_fit as tf
 from inertialab.errors import InputError
+from inertialab.io.model_schemas import check_own_payload
 
 __all__ = ["AXES", "FORMS", "METHODS", "FitSettings", "ImuFit", "ThermalImuModel",
            "fit_imu_model"]
@@ -97,6 +98,7 @@ class ThermalImuModel:
 
     @classmethod
     def from_dict(cls, d: dict) -> ThermalImuModel:
+        check_own_payload(cls.MODEL_TYPE, d)  # types, shapes, ranges: one line naming the key
         try:
             sensors = d["sensors"]
             for s in sensors:
@@ -136,14 +138,14 @@ class ThermalImuModel:
         return tf.vander(t_eff, s["center"], s["half"], ax["order"]) @ np.asarray(ax["coef"])
 
     def px4_sensors(self) -> list:
-        """The sensors as :func:`inertialab.io.exporters.thermal_params.px4_text` takes
+        """The sensors as :func:`inertialab.export.thermal_params.px4_text` takes
         them (TC slot = the instance; PX4 matches the device id)."""
         return [{"kind": s["kind"], "slot": s["instance"], "device_id": s["device_id"],
                  "t_ref": s["t_ref"], "t_min": s["t_min"], "t_max": s["t_max"],
                  "x": np.asarray(s["px4"]["x"])} for s in self.sensors]
 
     def ardupilot_sensors(self, *, caltemp_c: float | None = None) -> list:
-        """One dict per IMU for :func:`~inertialab.io.exporters.thermal_params.
+        """One dict per IMU for :func:`~inertialab.export.thermal_params.
         ardupilot_text`: the PX4 cubic re-expanded about ArduPilot's fixed 35 °C, its
         constant dropped (the firmware's correction is relative to the calibration
         temperature); the range is the union of the IMU's accel and gyro ranges."""

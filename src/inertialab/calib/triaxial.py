@@ -29,6 +29,7 @@ from inertialab.errors import (
     NonIdentifiableWarning,
     UnderdeterminedError,
 )
+from inertialab.io.model_schemas import check_own_payload
 from inertialab.jsonable import to_jsonable
 from inertialab.limits import MAX_MAGNITUDE, finite
 from inertialab.optim.base import Target
@@ -180,6 +181,7 @@ class TriaxialCalibration:
 
     @classmethod
     def from_dict(cls, d: dict) -> TriaxialCalibration:
+        check_own_payload(cls.MODEL_TYPE, d)  # types, shapes, ranges: one line naming the key
         try:
             cm = np.asarray(d["correction_matrix"], dtype=float)
             off = np.asarray(d["offset"], dtype=float)

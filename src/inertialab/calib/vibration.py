@@ -21,6 +21,7 @@ import numpy as np
 
 from inertialab.errors import ExtrapolationWarning, InputError, NotFittedError
 from inertialab.estimator import Estimator
+from inertialab.io.model_schemas import check_own_payload
 from inertialab.learn.poly import PolynomialRegressor
 from inertialab.learn.rbf import RBFNetwork
 from inertialab.noise import wavelet as wv
@@ -315,6 +316,7 @@ class VibrationModel(Estimator):
 
     @classmethod
     def from_dict(cls, d: dict) -> VibrationModel:
+        check_own_payload(cls.MODEL_TYPE, d)  # types, shapes, ranges: one line naming the key
         if not isinstance(d, dict):
             raise InputError("vibration-compensation model: payload is not an object")
         version = d.get("format_version", 1)

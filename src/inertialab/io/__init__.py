@@ -4,8 +4,8 @@
 CSV/Parquet plus the JSON sidecar atomically; ``save_model`` writes the JSON model-file
 envelope (docs/model-files.md). Models are loaded with
 :func:`inertialab.calib.model_types.load_model`, which holds the registry of model types
-(this floor cannot import the model classes); exporters to other tools are in
-:mod:`inertialab.io.exporters`.
+(this floor cannot import the model classes); exporters to other tools are on their own
+floor, :mod:`inertialab.export` (``inertialab.io.exporters`` is its deprecated alias).
 
 The public face is imported on first use, so ``import inertialab.io.<module>`` stays
 light (the command line starts without pandas)::

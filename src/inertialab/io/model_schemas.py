@@ -1,9 +1,10 @@
 """Per-type payload schemas of model files (docs/model-files.md).
 
-:func:`inertialab.io.modelfile.load_model` checks a payload here before the class's
-``from_dict`` sees it: types, shapes, finiteness and ranges, so that a wrong-typed or
-edited payload is one :class:`~inertialab.errors.InputError` naming the key, and no
-model built from a file can produce NaN from finite input. The schemas were written by
+Every registered model class checks its own payload here, first thing in its
+``from_dict`` (:func:`check_own_payload`): types, shapes, finiteness and ranges, so that
+a wrong-typed or edited payload is one :class:`~inertialab.errors.InputError` naming the
+model and the key, and no model built from a file (or from a dict in memory) can produce
+NaN from finite input. The schemas were written by
 reading each type's ``to_dict`` (and the fixtures under ``tests/data/models/``); keys a
 schema does not name are allowed (newer writers may add some) but still pass the
 generic checks of the loader (finite numbers, bounded nesting and integers).
@@ -18,7 +19,8 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 
-from inertialab.errors import SchemaError
+from inertialab.errors import InputError, SchemaError
+from inertialab.jsonable import to_jsonable
 
 Check = Callable[[object, str], None]
 
@@ -260,7 +262,7 @@ NOISE_TERMS = obj({
 
 VIBRATION = obj({
     "level": integer(0, 64), "wavelet": text(), "wavelet_level": integer(0, 64),
-    "f_range_hz": array(2, item=num(0)), "rbf": RBF, "poly": maybe(POLYNOMIAL),
+    "f_range_hz": array(2, item=num(0)), "rbf": RBF, "poly": POLYNOMIAL,
     "centers": either(text(), integer(0, 10**6)), "goal": num(0),
     "max_neurons": integer(0, 10**6, nullable=True), "poly_degree": integer(0, 50),
     "rng": integer(0, 2**64, nullable=True), "spread": num(positive=True),
@@ -369,6 +371,41 @@ SCHEMAS: dict[str, Check] = {
     "dual-calibration": DUAL,
     "storage-drift": DRIFT,
 }
+
+
+#: Type tag -> the name a user knows the model by (messages).
+MODEL_NAMES = {"thermal-compensation": "thermal", "thermal-imu": "drone IMU thermal",
+               "triaxial-calibration": "triaxial", "ferraris-calibration": "ferraris",
+               "vibration-compensation": "vibration", "dual-calibration": "dual",
+               "storage-drift": "drift"}
+
+
+def model_name(tag) -> str:
+    """``"<name> model"`` of a type tag, for messages (``"model"`` when not a string)."""
+    return f"{MODEL_NAMES.get(tag, tag)} model" if isinstance(tag, str) else "model"
+
+
+def check_own_payload(tag: str, payload) -> None:
+    """What a model class's ``from_dict`` runs first: ``payload`` (a file's, or a
+    ``to_dict`` in memory, taken as a file would hold it: NaN as null, arrays as lists)
+    checked against the schema of ``tag``; a mismatch is one :class:`InputError` naming
+    the model and the key.
+
+    Examples
+    --------
+    >>> check_own_payload("polynomial", {"degree": 1})
+    Traceback (most recent call last):
+    ...
+    inertialab.errors.InputError: polynomial model payload: lacks 'interaction'
+    """
+    nulls: list[str] = []  # the keys of NaN/infinite numbers, null as in a file
+    plain = to_jsonable(payload, nulls=nulls)
+    try:
+        check_payload(tag, plain)
+    except SchemaError as exc:
+        if exc.where.lstrip(".") in nulls:
+            exc = SchemaError(exc.where, "must be finite, got NaN or infinity")
+        raise InputError(f"{model_name(tag)} {exc}") from None
 
 
 def check_payload(tag: str, payload: dict) -> None:

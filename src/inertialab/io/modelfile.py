@@ -11,12 +11,12 @@ Loading never executes code from the file: the type tag is looked up in an allow
 of classes that the caller gives (``types``: the registry of model types,
 :data:`inertialab.calib.model_types.TYPES`, which lives on the floor that may import
 the model classes; call :func:`inertialab.calib.model_types.load_model`) and the class
-rebuilds itself from the plain-JSON payload with ``from_dict``. The file is parsed
-strictly (:func:`parse_json_strict`: no NaN/Infinity, bounded size, nesting and
-integers) and the payload checked against its type's schema
-(:mod:`inertialab.io.model_schemas`: types, shapes, finiteness, ranges) before
-``from_dict`` runs. An unknown tag, a newer format version, a malformed envelope or a
-payload the schema or the class rejects is an :class:`~inertialab.errors.InputError`.
+rebuilds itself from the plain-JSON payload with ``from_dict``, which checks the payload
+against its type's schema first (:func:`inertialab.io.model_schemas.check_own_payload`:
+types, shapes, finiteness, ranges). The file is parsed strictly
+(:func:`parse_json_strict`: no NaN/Infinity, bounded size, nesting and integers). An
+unknown tag, a newer format version, a malformed envelope or a payload the class
+rejects is an :class:`~inertialab.errors.InputError`.
 Writes are atomic (temporary file + rename). Never pickle. The format is described in
 docs/model-files.md.
 """
@@ -30,8 +30,9 @@ import math
 import stat
 from pathlib import Path
 
-from inertialab.errors import InputError, SchemaError
-from inertialab.io.model_schemas import SCHEMAS, check_payload
+from inertialab.errors import InputError
+from inertialab.io.model_schemas import SCHEMAS
+from inertialab.io.model_schemas import model_name as _model_name
 from inertialab.jsonable import to_jsonable
 
 FORMAT = "inertialab-model"
@@ -139,16 +140,6 @@ def _walk(obj) -> tuple[int, str | None, _NonFinite | None]:
                 stack.append((x, d + 1, f"{where}.{k}" if isinstance(k, str) else
                               f"{where}[{k}]"))
     return deepest, (first[0] if first else None), (first[1] if first else None)
-
-
-#: Type tag -> the name a user knows the model by (messages).
-MODEL_NAMES = {"thermal-compensation": "thermal", "thermal-imu": "drone IMU thermal", "triaxial-calibration": "triaxial",
-               "ferraris-calibration": "ferraris", "vibration-compensation": "vibration",
-               "dual-calibration": "dual", "storage-drift": "drift"}
-
-
-def _model_name(tag) -> str:
-    return f"{MODEL_NAMES.get(tag, tag)} model" if isinstance(tag, str) else "model"
 
 
 class DuplicateKeyError(ValueError):
@@ -289,11 +280,7 @@ def load_model(path, *, types: dict, expected_type: str | None = None):
     tag = env["type"]
     if expected_type is not None and tag != expected_type:
         raise InputError(f"model file holds a '{tag}' model, expected '{expected_type}'", path=path)
-    try:
-        check_payload(tag, env["payload"])
-    except SchemaError as exc:
-        raise InputError(f"{_model_name(tag)} {exc}", path=path) from None
-    cls = types[tag]
+    cls = types[tag]  # its from_dict checks the payload against the schema of its tag
     try:
         obj = cls.from_dict(env["payload"])
     except (KeyError, TypeError, ValueError, IndexError, AttributeError, OverflowError,

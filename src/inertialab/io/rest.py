@@ -10,7 +10,7 @@ floor ``s0`` is the median of ``s`` over the initial rest, and more than 5 % of 
 initial samples above ``3 s0`` means the log does not start at rest.
 
 The detector and ``inertialab validate FILE --kind triaxial``
-(:mod:`inertialab.io.preflight`) both call :func:`initial_rest`, so they cannot
+(:mod:`inertialab.workflows.preflight`) both call :func:`initial_rest`, so they cannot
 disagree and give the same one-line error.
 """
 

@@ -12,7 +12,7 @@
 
 Analysis-specific checks (24 positions per set point, phases of a vibration run ...)
 belong to the workflow that needs them (its checks before computing are
-:mod:`inertialab.io.preflight`), not here.
+:mod:`inertialab.workflows.preflight`), not here.
 """
 
 from __future__ import annotations

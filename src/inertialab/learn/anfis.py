@@ -34,6 +34,7 @@ import numpy as np
 
 from inertialab.errors import InputError, NotFittedError
 from inertialab.estimator import Estimator
+from inertialab.io.model_schemas import check_own_payload
 from inertialab.learn.fis import TSKFIS, _as_2d, genfis, grid_fis, solve_lstsq
 
 
@@ -164,6 +165,45 @@ def train_hybrid(fis: TSKFIS, X, y, *, epochs: int = 150, validation=None,
         best = (0, cur)
     trace = HybridTrace(np.asarray(tr), np.asarray(va), np.asarray(ks), int(best[0]))
     return best[1], trace
+
+
+@dataclass(frozen=True)
+class ScaledRules:
+    """A fitted ANFIS as plain numbers (read-only copies), for code that evaluates it
+    elsewhere (:mod:`inertialab.export.thermal_c`): per rule ``i`` and input ``j`` the
+    Gaussian premise ``exp(-((x_j - centers[i, j]) / sigmas[i, j])^2 / 2)`` and the
+    consequent ``consequents[i] . (x_1 .. x_n, 1)``, in scaled units ``x = (X - x_lo) /
+    x_span``; the output is ``y_lo + y_span * (normalised sum)`` in the training units.
+
+    Attributes
+    ----------
+    centers, sigmas : ndarray (n_rules, n_inputs)
+    consequents : ndarray (n_rules, n_inputs + 1)
+    x_lo, x_span : ndarray (n_inputs,)
+    y_lo, y_span : float
+    """
+
+    centers: np.ndarray
+    sigmas: np.ndarray
+    consequents: np.ndarray
+    x_lo: np.ndarray
+    x_span: np.ndarray
+    y_lo: float
+    y_span: float
+
+    @property
+    def n_rules(self) -> int:
+        return int(self.centers.shape[0])
+
+    @property
+    def n_inputs(self) -> int:
+        return int(self.centers.shape[1])
+
+
+def _frozen(a) -> np.ndarray:
+    out = np.array(a, dtype=float)
+    out.flags.writeable = False
+    return out
 
 
 class ANFIS(Estimator):
@@ -321,6 +361,15 @@ class ANFIS(Estimator):
             raise InputError(f"expected {self.n_features_in_} input columns, got {X.shape[1]}")
         return self.y_lo_ + self.y_span_ * self.fis_.predict(self._sx(X))
 
+    def rules(self) -> ScaledRules:
+        """The fitted system as :class:`ScaledRules` (read-only copies)."""
+        if not hasattr(self, "fis_"):
+            raise NotFittedError("ANFIS.rules called before fit")
+        fis = self.fis_
+        return ScaledRules(_frozen(fis.mf_center[fis.rule_mf]), _frozen(fis.mf_sigma[fis.rule_mf]),
+                           _frozen(fis.consequents), _frozen(self.x_lo_), _frozen(self.x_span_),
+                           float(self.y_lo_), float(self.y_span_))
+
     # model-file support --------------------------------------------------------------
     def to_dict(self) -> dict:
         if not hasattr(self, "fis_"):
@@ -341,6 +390,7 @@ class ANFIS(Estimator):
 
     @classmethod
     def from_dict(cls, d: dict) -> ANFIS:
+        check_own_payload(cls.MODEL_TYPE, d)  # types, shapes, ranges: one line naming the key
         try:
             obj = cls(**d["params"])
             obj.x_lo_ = np.asarray(d["x_lo"], dtype=float)

@@ -35,6 +35,7 @@ import numpy as np
 
 from inertialab.errors import DataQualityWarning, InputError, NotFittedError
 from inertialab.estimator import Estimator
+from inertialab.io.model_schemas import check_own_payload
 from inertialab.seeding import as_generator
 
 __all__ = [
@@ -495,6 +496,7 @@ class MLPRegressorLM(Estimator):
 
     @classmethod
     def from_dict(cls, d: dict) -> MLPRegressorLM:
+        check_own_payload(cls.MODEL_TYPE, d)  # types, shapes, ranges: one line naming the key
         try:
             obj = cls(**d["params"])
             obj.n_features_in_ = int(d["n_features_in"])

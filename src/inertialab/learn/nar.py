@@ -29,6 +29,7 @@ import numpy as np
 from inertialab import metrics
 from inertialab.errors import DataQualityWarning, ExtrapolationWarning, InputError, NotFittedError
 from inertialab.estimator import Estimator
+from inertialab.io.model_schemas import check_own_payload
 from inertialab.learn.forecast_baselines import Forecast
 from inertialab.learn.mlp_lm import MLPRegressorLM, forward, n_params
 from inertialab.learn.order_cv import OrderSelection, select_order_cv
@@ -563,6 +564,7 @@ class NARForecaster(Estimator):
     @classmethod
     def from_dict(cls, d: dict) -> NARForecaster:
         """Rebuild a fitted forecaster (forecasting only; no training data)."""
+        check_own_payload(cls.MODEL_TYPE, d)  # types, shapes, ranges: one line naming the key
         try:
             s = d["settings"]
             obj = cls(**s)

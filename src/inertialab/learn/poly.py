@@ -20,6 +20,7 @@ import numpy as np
 
 from inertialab.errors import ExtrapolationWarning, InputError, NotFittedError
 from inertialab.estimator import Estimator
+from inertialab.io.model_schemas import check_own_payload
 
 
 def monomials(n_features: int, degree: int, *, interaction: bool,
@@ -174,6 +175,7 @@ class PolynomialRegressor(Estimator):
 
     @classmethod
     def from_dict(cls, d: dict) -> PolynomialRegressor:
+        check_own_payload(cls.MODEL_TYPE, d)  # types, shapes, ranges: one line naming the key
         degrees = d.get("degrees")
         obj = cls(degree=int(d["degree"]), interaction=bool(d["interaction"]),
                   degrees=None if degrees is None else tuple(int(v) for v in degrees))

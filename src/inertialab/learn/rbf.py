@@ -35,6 +35,7 @@ import numpy as np
 
 from inertialab.errors import InputError, NotFittedError
 from inertialab.estimator import Estimator
+from inertialab.io.model_schemas import check_own_payload
 from inertialab.seeding import as_generator
 
 __all__ = ["RBFNetwork"]
@@ -286,6 +287,7 @@ class RBFNetwork(Estimator):
 
     @classmethod
     def from_dict(cls, d: dict) -> RBFNetwork:
+        check_own_payload(cls.MODEL_TYPE, d)  # types, shapes, ranges: one line naming the key
         obj = cls(spread=float(d["spread"]), goal=float(d["goal"]), centers=d["centers"],
                   max_neurons=d.get("max_neurons"))
         obj.b_ = float(d["b"])

@@ -16,6 +16,7 @@ import numpy as np
 
 from inertialab import units
 from inertialab.errors import InputError
+from inertialab.io.model_schemas import check_own_payload
 from inertialab.noise._band import band_shape, rw_gm_shape
 from inertialab.noise.lines import Line, line_avar
 
@@ -363,6 +364,7 @@ class NoiseTerms:
 
     @classmethod
     def from_dict(cls, d: dict) -> NoiseTerms:
+        check_own_payload(cls.MODEL_TYPE, d)  # types, shapes, ranges: one line naming the key
         return cls(**{k: NoiseTerm.from_dict(d[k]) for k in _NAMES},
                    kind=d["kind"], unit=d["unit"], method=d["method"],
                    coefficients=tuple(_nan(v) for v in d["coefficients"]),

@@ -82,8 +82,8 @@ def prepare(record: Record, *, sections=None, g_local: float | None = None) -> F
     detects them from the accelerometer and the gyro.
     """
     from inertialab.calib import ferraris as fr
-    from inertialab.io.preflight import preflight
     from inertialab.io.record import naming
+    from inertialab.workflows.preflight import preflight
 
     preflight(record, "ferraris")  # the checks `validate --kind ferraris` runs
     acols = _acc_cols(record)

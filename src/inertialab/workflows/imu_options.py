@@ -77,7 +77,7 @@ def check_options(file, method=None, rostopic=None, *, predict_drift=None, check
         raise InputError(f"argument 'method' must be one of {', '.join(METHODS)}, got "
                          f"'{str(method)[:40]}'")
     if export and rostopic is not None:
-        from inertialab.io.exporters import check_topic
+        from inertialab.export import check_topic
 
         check_topic(rostopic)
     return horizons

@@ -9,15 +9,17 @@ what remains is the same noise throughout.
   fitted on; its measured between-segment spread widens the drift interval
   (:func:`inertialab.workflows.imu_drift.axis_drift`); a warning names an axis that is
   not stationary.
-* :func:`stationarity_text`: the table's column.
+* :func:`stationarity_text`: the table's column (:mod:`inertialab.noise.imu_result`, with
+  the table it fills).
 """
 
 from __future__ import annotations
 
-import math
 import warnings
 
 import numpy as np
+
+from inertialab.noise.imu_result import stationarity_text
 
 #: the settings' default: the warm-up found in the data
 WARMUP_DEFAULT = "auto"
@@ -78,17 +80,6 @@ def axis_stationarity(y, rate_hz: float, column: str | None = None):
                       f"{st.p_value:.2g}); its drift interval is widened by the measured "
                       f"spread", DataQualityWarning, stacklevel=3)
     return st
-
-
-def stationarity_text(d: dict | None) -> str:
-    """The table's stationarity cell: ``yes``, ``NO (p, tau)`` or ``-``."""
-    if not d or d.get("p_value") is None:
-        return "-"
-    if d["verdict"] == "stationary":
-        return "yes"
-    tau = d.get("worst_tau_s")
-    at = f", {tau:g} s" if tau is not None and math.isfinite(tau) else ""
-    return f"NO (p={d['p_value']:.2g}{at})"
 
 
 __all__ = ["WARMUP_DEFAULT", "apply_warmup", "axis_stationarity", "axis_warmup",

@@ -1,5 +1,5 @@
 """What the command line and the batch runner read from the registries: the statistics
-(:mod:`inertialab.noise.registry`), the export targets (:mod:`inertialab.io.exporters`)
+(:mod:`inertialab.noise.registry`), the export targets (:mod:`inertialab.export`)
 and the model types (:mod:`inertialab.calib.model_types`, imported when a model is
 loaded: it imports every model class).
 
@@ -39,16 +39,16 @@ def export_targets(kind: str) -> tuple[str, ...]:
     >>> "kalibr" in export_targets("noise")
     True
     """
-    from inertialab.io import exporters
+    from inertialab import export
 
-    return exporters.targets(kind)
+    return export.targets(kind)
 
 
 def export_help(kind: str) -> str:
     """Help text listing the export targets of ``kind`` and their tools."""
-    from inertialab.io import exporters
+    from inertialab import export
 
-    return " | ".join(f"{e.target} ({e.tool})" for e in exporters.EXPORTERS if e.kind == kind)
+    return " | ".join(f"{e.target} ({e.tool})" for e in export.EXPORTERS if e.kind == kind)
 
 
 def load_model(path, *, expected_type: str | None = None):

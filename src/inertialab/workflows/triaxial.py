@@ -1102,8 +1102,8 @@ class ExportResult(ResultBase):
 
 def run_export(model, to: str, out, config: ExportConfig) -> ExportResult:
     """Write a triaxial calibration at ``out`` for the tool of target ``to`` (one of the
-    registered calibration exporters, :data:`inertialab.io.exporters.EXPORTERS`)."""
-    from inertialab.io.exporters import export_calibration, get
+    registered calibration exporters, :data:`inertialab.export.EXPORTERS`)."""
+    from inertialab.export import export_calibration, get
 
     c = config.validate()
     fmt = get("calibration", to).target

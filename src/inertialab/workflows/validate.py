@@ -1,6 +1,6 @@
 """``validate FILE --kind KIND`` as one call: read a file as a record of a kind (or for
 an analysis: ``allan``, ``imu``, ``vibration``, ``ferraris``), run the checks its
-commands run before computing (:func:`inertialab.io.preflight.read_for`) and report its
+commands run before computing (:func:`inertialab.workflows.preflight.read_for`) and report its
 columns, units, size, time base (Hz, s) and time stamps, or the first problem as one
 line naming the file, column and row.
 """
@@ -68,7 +68,7 @@ class ValidationResult(ResultBase):
 def run(file, kind: str, read) -> ValidationResult:
     """Read ``file`` as ``kind`` with the reading options ``read``
     (:class:`~inertialab.io.mapping.ReadOptions`) and check it."""
-    from inertialab.io.preflight import read_for
+    from inertialab.workflows.preflight import read_for
 
     rec = read_for(file, kind, options=read)
     return ValidationResult(rec=rec, file=str(file), kind=kind, settings={

@@ -10,8 +10,8 @@ import pytest
 
 from inertialab.calib.thermal_imu import fit_imu_model
 from inertialab.errors import InputError
-from inertialab.io.exporters import get, targets
-from inertialab.io.exporters import thermal_params as tp
+from inertialab.export import get, targets
+from inertialab.export import thermal_params as tp
 from inertialab.io.formats.thermal_logs import streams_from_frame
 from inertialab.sim.thermal_imu import simulate
 

@@ -6,8 +6,8 @@ from types import SimpleNamespace
 import pytest
 import yaml
 
-from inertialab.io import exporters as ex
-from inertialab.io.exporters.noise import noise_params
+import inertialab.export as ex
+from inertialab.export.noise_params import noise_params
 
 
 def _axis(name, kind, rw, t_s=None):

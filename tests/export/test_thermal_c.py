@@ -1,4 +1,4 @@
-"""Tests of inertialab.io.exporters.thermal_c, the C99 export (spec 000 §8.4)."""
+"""Tests of inertialab.export.thermal_c, the C99 export (spec 000 §8.4)."""
 
 from __future__ import annotations
 
@@ -13,7 +13,7 @@ import pytest
 
 from inertialab.calib.thermal import ThermalConfig, compensate, fit_model
 from inertialab.errors import ExtrapolationWarning, InputError
-from inertialab.io.exporters.thermal_c import export_c
+from inertialab.export.thermal_c import export_c
 from inertialab.sim.thermal_tumble import simulate
 from inertialab.workflows.thermal import make_splits, prepare_samples
 

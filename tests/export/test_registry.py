@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 import yaml
 
+import inertialab.export as ex
 from inertialab.errors import InputError
-from inertialab.io import exporters as ex
-from inertialab.io.exporters._common import comment_lines, dump_yaml
+from inertialab.export.yaml_text import comment_lines, dump_yaml
 
 
 def _axis(name, kind, nd, rw, bound=False):

@@ -8,11 +8,11 @@ import numpy as np
 import pytest
 
 from inertialab.errors import InputError
-from inertialab.io.exporters import NoiseParams, yaml_number
-from inertialab.io.exporters.gtsam import gtsam_params, gtsam_preintegration_yaml
-from inertialab.io.exporters.imu_utils import imu_utils_yaml, vins_imu_yaml, write_vins_imu
-from inertialab.io.exporters.kalibr import kalibr_imu_yaml, write_kalibr_imu
-from inertialab.io.exporters.openvins import openvins_imu_chain_yaml
+from inertialab.export import NoiseParams, yaml_number
+from inertialab.export.gtsam import gtsam_params, gtsam_preintegration_yaml
+from inertialab.export.imu_utils import imu_utils_yaml, vins_imu_yaml, write_vins_imu
+from inertialab.export.kalibr import kalibr_imu_yaml, write_kalibr_imu
+from inertialab.export.openvins import openvins_imu_chain_yaml
 
 # an ADIS-class MEMS IMU, continuous-time SI values (awkward digits on purpose)
 P = dict(gyro_noise_density=1.8745e-04, gyro_random_walk=2.663e-05,

@@ -1,9 +1,9 @@
-"""io.exporters.kalibr: Kalibr's scale-misalignment intrinsics block."""
+"""export.kalibr: Kalibr's scale-misalignment intrinsics block."""
 
 import numpy as np
 import yaml
 
-from inertialab.io.exporters.kalibr import write_kalibr
+from inertialab.export.kalibr import write_kalibr
 
 
 def test_yaml_reproduces_our_model(ferraris_model, tmp_path):

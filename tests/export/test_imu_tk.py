@@ -1,10 +1,10 @@
-"""io.exporters.imu_tk: 21 numbers per triad, X' = T K (X - B)."""
+"""export.imu_tk: 21 numbers per triad, X' = T K (X - B)."""
 
 import numpy as np
 import pytest
 
 from inertialab.errors import InputError
-from inertialab.io.exporters.imu_tk import read_imu_tk, to_imu_tk, write_imu_tk
+from inertialab.export.imu_tk import read_imu_tk, to_imu_tk, write_imu_tk
 
 
 def test_grammar_round_trip_gives_our_numbers(field_model, tmp_path):

@@ -1,4 +1,4 @@
-"""io.exporters.imucal: imucal's v2 JSON, read back by imucal itself when installed and by
+"""export.imucal: imucal's v2 JSON, read back by imucal itself when installed and by
 its documented formulas always."""
 
 import json
@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from inertialab.errors import InputError
-from inertialab.io.exporters.imucal import imucal_apply, to_imucal, write_imucal
+from inertialab.export.imucal import imucal_apply, to_imucal, write_imucal
 
 
 def ours(model, acc, gyr):
