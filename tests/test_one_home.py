@@ -93,7 +93,6 @@ CONFIDENCE_SITES_LEFT = {
     "workflows/imu_noise.py:term_confidence",
     "workflows/imu_noise.py:analyse_imu",
     "workflows/imu_noise.py:analyse_record",
-    "workflows/imu_noise.py:analyse_file",
     "workflows/imu_noise.py:_axis",
 }
 
