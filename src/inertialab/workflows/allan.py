@@ -21,6 +21,7 @@ import math
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -30,15 +31,11 @@ from inertialab.errors import DataQualityWarning, InputError
 from inertialab.noise import registry as stat_registry
 from inertialab.noise.allan import DeviationResult, PageReleaser
 from inertialab.noise.family import compute
-from inertialab.noise.terms import (
-    CONFIDENCE,
-    NoiseTerms,
-    fit_noise_terms,
-    model_intervals,
-    not_static_reason,
-)
 from inertialab.result import ResultBase
 from inertialab.workflows.registries import stat_help
+
+if TYPE_CHECKING:  # scipy; loaded when terms are fitted
+    from inertialab.noise.terms import NoiseTerms
 
 #: Largest magnitude accepted in a record: squares and sums of larger values overflow
 #: float64 (1e154 squared is 1e308); no sensor output comes near it.
@@ -519,6 +516,8 @@ def _check_finite(results, column) -> None:
 def _noise_terms(oad, log: LogData, *, kind, method: str, confidence: float):
     """The five noise terms fitted on the OADEV ``oad`` of ``log``; None (with a warning)
     when the curve is too short for them; a warning too when the record is not static."""
+    from inertialab.noise.terms import fit_noise_terms, not_static_reason  # scipy: when run
+
     why = not_static_reason(oad.taus_s, oad.dev)
     try:
         terms = fit_noise_terms(oad, unit=log.unit, kind=kind, method=method,
@@ -624,6 +623,8 @@ def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: st
         chunked = isinstance(log.values, np.memmap) and log.values.size > CHUNKED_MIN
     # one confidence for the curves and the terms when given (the command's); else the
     # curves at 0.683 (1 sigma, Stable32's) and the terms at their benchmarked 0.95
+    from inertialab.noise.terms import CONFIDENCE, model_intervals  # scipy: when run
+
     terms_conf = CONFIDENCE if confidence is None else confidence
     confidence = DEFAULT_CONFIDENCE["clock"] if confidence is None else confidence
     results = []
