@@ -745,7 +745,7 @@ class AllanConfig(Config):
                                           "samples as gaps, with a warning).")
 
     def drift_settings(self) -> dict:
-        """The six-axis drift settings (:func:`inertialab.workflows.imu_noise.analyse_file`);
+        """The six-axis drift settings (:func:`inertialab.workflows.imu_noise.run`);
         ``bias_window`` only where a prediction is asked for, ``warmup`` where not the
         default."""
         d = {"predict_drift": self.predict_drift, "check_on": self.check_on,
