@@ -1,7 +1,8 @@
 """``inertialab allan FILE``.
 
 One ``allan`` command with every option, each mode one call through the runner
-(:meth:`inertialab.cli.runner.Run.execute`): one series (:func:`inertialab.workflows.allan.run`)
+(:meth:`inertialab.cli.runner.Run.execute`): one series (the runner reads the record
+:func:`inertialab.workflows.allan.reading` names; :func:`inertialab.workflows.allan.run`)
 or, with ``--imu``, six IMU axes (:func:`inertialab.workflows.imu_noise.run`: the runner
 reads the log and a ``--check-on`` log; the workflow writes every ``--export`` once the
 result is complete), or with ``--pool`` several logs as one model
@@ -103,8 +104,11 @@ def _allan_command():
                 figs.append(allan_terms_figure(res.res.oadev, res.res.terms))
             return figs
 
-        run.execute("allan", lambda bar: wa.run(file, config, options=read, progress=bar),
-                    inputs=[file], figures=figures)
+        def produce(bar):
+            kind, kw = wa.reading(file, config, read)
+            return wa.run(read_record(file, kind, **kw), config, progress=bar)
+
+        run.execute("allan", produce, inputs=[file], figures=figures)
 
     return allan
 

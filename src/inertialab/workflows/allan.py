@@ -18,6 +18,7 @@ as a model) and ``summary_rows()``. The six-axis mode (``--imu``) is
 from __future__ import annotations
 
 import math
+import os
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -861,37 +862,48 @@ def lone_series(path, input: str, options=None):
     return dataclasses.replace(ro, column_map=parse_map(f"{target}={data[0]}"))
 
 
-def run(path, config: AllanConfig, *, options=None, progress=None) -> AllanRun:
-    """Read ``path`` (a ``gyro_log``, or a ``clock_log`` for phase/frequency input) and
-    compute the requested statistics and noise terms."""
-    from inertialab.io import read_record
+def reading(path, config: AllanConfig, options=None) -> tuple[str, dict]:
+    """What ``allan FILE`` reads: the record kind (``gyro_log``, or ``clock_log`` for
+    phase/frequency input) and the keywords of :func:`inertialab.io.read_record`
+    (``read_record(path, kind, **keywords)``); a one-series text file gets its column
+    mapped (:func:`lone_series`)."""
+    c = config
+    if c.input in ("phase", "frequency"):
+        return "clock_log", {"options": options}
+    npy_col = None
+    if Path(path).suffix.lower() == ".npy" and c.unit is not None and c.column is None \
+            and c.input == "angle":
+        npy_col = f"theta_{c.unit.strip().lower()}"
+    if npy_col is None and c.column is None:
+        options = lone_series(path, c.input, options)
+    return "gyro_log", {"unit": c.unit, "rate_hz": c.rate, "column": c.column or npy_col,
+                        "g_local": c.g_local, "gaps": c.gaps, "options": options}
 
+
+def run(record, config: AllanConfig, *, options=None, progress=None) -> AllanRun:
+    """``allan FILE`` (one series) on ``record``, read as :func:`reading` says (a path is
+    read here with the reading ``options``): the requested statistics and noise terms."""
     c = config.check()
+    if isinstance(record, (str, os.PathLike)):
+        from inertialab.io import read_record
+
+        kind, kw = reading(record, c, options)
+        record = read_record(record, kind, **kw)
     clock = c.input in ("phase", "frequency")
     if clock:
-        log = read_clock(path, input=c.input, column=c.column, unit=c.unit, rate_hz=c.rate,
-                            nominal_hz=c.nominal, options=options)
-        sha = log.sha256
+        log = prepare_clock(record.data, record.meta, input=c.input, column=c.column,
+                            unit=c.unit, rate_hz=c.rate, nominal_hz=c.nominal,
+                            path=str(record.path), sha256=record.sha256)
     else:
-        npy_col = None
-        if Path(path).suffix.lower() == ".npy" and c.unit is not None and c.column is None \
-                and c.input == "angle":
-            npy_col = f"theta_{c.unit.strip().lower()}"
-        if npy_col is None and c.column is None:
-            options = lone_series(path, c.input, options)
-        rec = read_record(path, "gyro_log", unit=c.unit, rate_hz=c.rate,
-                          column=c.column or npy_col, g_local=c.g_local, gaps=c.gaps,
-                          options=options)
-        log = prepare_log(rec, column=c.column, rate_hz=c.rate, input=c.input,
-                             g_local=c.g_local)
-        sha = rec.sha256
+        log = prepare_log(record, column=c.column, rate_hz=c.rate, input=c.input,
+                          g_local=c.g_local)
     stats = parse_stats(c.stat)
     conf = c.confidence if c.confidence is not None else \
         DEFAULT_CONFIDENCE["clock" if clock else "imu"]
     alpha = parse_noise_type(c.noise_type, stats)
     res = analyze(log, stats=stats, taus=parse_taus(c.taus), confidence=conf,
-                     method=c.method, fit_terms=c.terms, bias_correction=c.bias_correction,
-                     alpha=alpha, progress=progress)
+                  method=c.method, fit_terms=c.terms, bias_correction=c.bias_correction,
+                  alpha=alpha, progress=progress)
     settings = {"column": log.column, "rate_hz": log.rate_hz, "input": log.input,
                 "stat": list(stats), "taus": c.taus, "confidence": conf,
                 "method": c.method, "unit": log.unit, "n_samples": res.n_samples,
@@ -900,9 +912,10 @@ def run(path, config: AllanConfig, *, options=None, progress=None) -> AllanRun:
         settings.update({"input": c.input, "nominal_hz": c.nominal,
                          "bias_correction": res.settings.get("bias_correction"),
                          "noise_terms": res.settings.get("fit_terms")})
-    return AllanRun(res=res, log=log, settings=settings, sha256=sha)
+    return AllanRun(res=res, log=log, settings=settings, sha256=record.sha256)
 
 
 __all__ = ["AllanAnalysis", "AllanConfig", "AllanRun", "CLOCK_RATIO", "CLOCK_TIME", "IMU_CONFIDENCE",
            "LogData", "T_JITTER_TOL", "analyze", "clock_log", "fit", "lone_series", "parse_stats",
-           "parse_taus", "prepare", "prepare_clock", "prepare_log", "read_clock", "run"]
+           "parse_taus", "prepare", "prepare_clock", "prepare_log", "read_clock", "reading",
+           "run"]
