@@ -1,6 +1,7 @@
 """``allan --imu`` through the one runner: the six-axis result is a Result, its JSON
-envelope keeps its keys (pinned here), ``--out DIR/result.json`` is the printed envelope,
-and a ``--check-on LOG`` is read by the runner and checked by the workflow."""
+envelope keeps its keys (pinned here), and a ``--check-on LOG`` is read by the runner
+and checked by the workflow (``--out DIR/result.json`` is the printed envelope:
+tests/cli/test_imu_noise.py)."""
 
 import json
 
@@ -22,7 +23,7 @@ SETTINGS = {"confidence", "export", "export_file", "exports", "fitted_on", "forc
 IMU = ["rate_hz", "n_samples", "fitted_on", "axes", "kalibr"]
 
 
-def _six_axis_log(path, n=3000, seed=3):
+def _six_axis_log(path, n=2000, seed=3):
     """A static six-axis log: white rate noise 1e-3 rad/s and 2e-3 m/s^2 per sample at
     100 Hz, gravity on z."""
     rng = np.random.default_rng(seed)
@@ -56,10 +57,9 @@ def seen(monkeypatch):
 
 
 @pytest.mark.filterwarnings("ignore")
-def test_the_envelope_keys_are_pinned_and_result_json_is_the_same(log, tmp_path, seen):
+def test_the_envelope_keys_are_pinned(log, tmp_path, seen):
     k = tmp_path / "imu.yaml"
-    res = run_cli("allan", "--imu", log, "--export", "kalibr", k, "--json", "--out",
-                  tmp_path / "o")
+    res = run_cli("allan", "--imu", log, "--export", "kalibr", k, "--json")
     assert res.returncode == 0, res.stderr
     env = json.loads(res.stdout)
     assert [key for key in env if key != "non_estimable"] == ENVELOPE
@@ -70,11 +70,9 @@ def test_the_envelope_keys_are_pinned_and_result_json_is_the_same(log, tmp_path,
     assert env["settings"]["export_file"] == str(k) and k.is_file()
     assert len(env["sha256_canonical"]) == 64
     assert set(env["meta"]["timestamps"]) == {"started_utc", "finished_utc", "wall_s"}
-    assert json.loads((tmp_path / "o" / "result.json").read_text()) == env
-    assert (tmp_path / "o" / "imu_allan.png").stat().st_size > 1000
     result = seen["allan"]
     assert isinstance(result, Result) and type(result).__name__ == "SixAxisRun"
-    assert result.to_json()["imu"]["n_samples"] == 3000 and result.artifacts() == {}
+    assert result.to_json()["imu"]["n_samples"] == 2000 and result.artifacts() == {}
     rows = result.summary_rows()
     assert rows[0][1][:3] == ["axis", "column", "status"] and isinstance(rows[-1], str)
 
