@@ -1,9 +1,10 @@
 """``batch``'s units run the single commands' own workflow calls: on a batch of two
-simulated files, each unit's key figures are the ones the single command's JSON gives on
-that file alone (``allan FILE``, ``triaxial fit FILE``)."""
+simulated files, each unit's key figures are the ones the single command gives on that
+file alone (``allan FILE``, ``triaxial fit FILE``, ``thermal apply MODEL FILE``)."""
 
 import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -85,3 +86,30 @@ def test_units_take_every_reading_option(gyros, tmp_path):
     assert batch["units"][0]["status"] == "pass", batch["units"][0]["reason"]
     assert f["rate_hz"] == one["settings"]["rate_hz"] == 10.0
     assert f["adev_min"] == min(one["dev"])
+
+
+MODEL = Path(__file__).resolve().parents[1] / "data" / "models" / "thermal-compensation-v1.json"
+
+
+@pytest.mark.filterwarnings("ignore")
+def test_thermal_units_equal_the_single_command(tmp_path):
+    """Units 0 and 3 of a lot against one model: each unit's figures are those of
+    ``thermal apply MODEL FILE`` (for unit 3, another unit than the model's, that is the
+    transfer to its own 55 °C tumble, as the single command does by default)."""
+    import pandas as pd
+
+    for unit in (0, 3):
+        _json(run("simulate", "thermal-tumble", "--unit", unit, "--out",
+                  tmp_path / "lot" / f"t{unit}.csv", "--json"))
+    batch = _json(run("batch", "thermal", "apply", "--model", MODEL, "--inputs",
+                      tmp_path / "lot" / "t*.csv", "--scheduler", "serial", "--json"))
+    assert [u["status"] for u in batch["units"]] == ["pass", "pass"]
+    for unit in batch["units"]:
+        out = tmp_path / f"{unit['unit']}_comp.csv"
+        one = _json(run("thermal", "apply", MODEL, unit["path"], "--out", out, "--json"))
+        d = pd.read_csv(out)
+        err = (d["comp_a_g"].to_numpy() - d["a_in_g"].to_numpy()) * 1e6
+        f = unit["figures"]
+        assert f["n_clamped"] == one["n_clamped"]
+        assert f["resid_rms_ug"] == pytest.approx(float(np.sqrt(np.mean(err ** 2))), rel=1e-9)
+        assert f["resid_max_ug"] == pytest.approx(float(np.max(np.abs(err))), rel=1e-9)
