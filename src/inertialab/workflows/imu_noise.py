@@ -570,10 +570,10 @@ def check_settings(config, exports=()) -> None:
     """Refuse, before any record is read, the six-axis settings of ``config`` (an
     :class:`~inertialab.workflows.allan.AllanConfig`) that cannot go together, and an
     unknown export target of ``exports`` (:func:`export_pairs`)."""
+    from inertialab.io.exporters import get
+
     c = config
     for target, _ in exports:
-        from inertialab.io.exporters import get
-
         get("noise", target)  # an unknown target before anything is read
     if c.inflate not in (None, "auto", "none"):
         raise InputError(f"argument 'inflate' must be 'auto' or 'none', got '{c.inflate}'")
