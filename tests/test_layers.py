@@ -282,28 +282,48 @@ def test_no_function_above_100_lines():
 
 def test_cli_reads_inputs_only_through_the_runner():
     """In cli/, only runner.py reads a record or a model file (read_record, load_model)
-    or parses JSON; the command modules ask the runner. (cli/imu_noise.py, the six-axis
-    mode, still runs on its own until it moves onto the runner; main.py reads the --config
-    TOML of a run, not an input.)"""
-    readers = {"read_record", "load_model", "read_envelope", "loads", "load"}
+    or parses JSON; the command modules ask the runner (main.py reads the --config TOML
+    of a run, not an input). No command module reads a table itself (pandas/numpy
+    readers) or calls a reader by attribute (``io.read_record``)."""
     bad = []
     for path in sorted((SRC / "cli").glob("*.py")):
-        if path.name in ("runner.py", "imu_noise.py", "main.py"):
-            continue
-        for node in ast.walk(ast.parse(path.read_text())):
-            if isinstance(node, ast.ImportFrom) and node.module and \
-                    node.module.startswith("inertialab.") and node.module != "inertialab.cli.runner":
-                bad += [f"{path.name}: {node.module}.{a.name}" for a in node.names
-                        if a.name in readers]
-            if isinstance(node, ast.Attribute) and node.attr in ("loads", "load") and \
-                    getattr(node.value, "id", "") == "json":
-                bad.append(f"{path.name}:{node.lineno}: json.{node.attr}")
+        if path.name not in ("runner.py", "main.py"):
+            bad += _cli_readings(path.name, ast.parse(path.read_text()))
     assert not bad, bad
+
+
+_CLI_READERS = {"read_record", "load_model", "read_envelope", "loads", "load", "read_csv",
+                "read_parquet", "read_clock", "read_imu_thermal_log", "read_table", "read_r"}
+
+
+def _cli_readings(name: str, tree) -> list[str]:
+    bad = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom) and node.module and \
+                node.module.startswith("inertialab.") and node.module != "inertialab.cli.runner":
+            bad += [f"{name}: {node.module}.{a.name}" for a in node.names
+                    if a.name in _CLI_READERS]
+        if isinstance(node, ast.Attribute) and node.attr in ("loads", "load") and \
+                getattr(node.value, "id", "") == "json":
+            bad.append(f"{name}:{node.lineno}: json.{node.attr}")
+        elif isinstance(node, ast.Attribute) and node.attr in _CLI_READERS - {"loads", "load"}:
+            bad.append(f"{name}:{node.lineno}: .{node.attr}")
+    return bad
+
+
+def test_the_cli_rule_sees_a_reading():
+    """The rule above is not blind: a command module reading a record through io, a
+    table through pandas, or parsing JSON, is caught."""
+    code = ("from inertialab.io import read_record\nimport json, pandas as pd\n"
+            "def f(p):\n    return json.loads(p), pd.read_csv(p)\n")
+    found = _cli_readings("x.py", ast.parse(code))
+    assert sorted(found) == ["x.py: inertialab.io.read_record", "x.py:4: .read_csv",
+                             "x.py:4: json.loads"]
 
 
 #: ``workflows/*_run.py`` modules that still hold their commands (not yet merged into
 #: their study's module).
-_RUN_MODULES_NOT_MERGED = {"allan_run.py"}
+_RUN_MODULES_NOT_MERGED: set[str] = set()
 
 
 def test_one_workflow_module_per_study():

@@ -92,7 +92,6 @@ def test_the_rule_sees_a_derivation():
 CONFIDENCE_SITES_LEFT = {
     "workflows/imu_noise.py:analyse_imu",
     "workflows/imu_noise.py:analyse_record",
-    "workflows/imu_noise.py:analyse_file",
     "workflows/imu_noise.py:_axis",
 }
 

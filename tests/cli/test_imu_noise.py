@@ -33,6 +33,8 @@ def test_vendor_file_six_axes_kalibr_export(tmp_path):
         assert float(vals[key]) == pytest.approx(k[key], rel=1e-6)
     assert (tmp_path / "o" / "imu_allan.png").stat().st_size > 1000
     assert obj["settings"]["map"].startswith("t_s=SampleTimeFine:100.0us")
+    # the runner writes the envelope it prints (timestamps and all)
+    assert json.loads((tmp_path / "o" / "result.json").read_text()) == obj
 
 
 def _gappy(tmp_path):

@@ -1,22 +1,26 @@
 """``inertialab allan FILE``.
 
-One ``allan`` command with every option: one series
-(:mod:`inertialab.workflows.allan`) or, with ``--imu``, six IMU axes
-(:mod:`inertialab.workflows.imu_noise`, Kalibr/ROS export). Thin: parse the options, read the record, call
-the workflow, print the table and the noise terms (or its JSON object), write
-the figure, ``result.json`` and ``model.json`` with ``--out``.
+One ``allan`` command with every option, each mode one call through the runner
+(:meth:`inertialab.cli.runner.Run.execute`): one series (the runner reads the record
+:func:`inertialab.workflows.allan.reading` names; :func:`inertialab.workflows.allan.run`)
+or, with ``--imu``, six IMU axes (:func:`inertialab.workflows.imu_noise.run`: the runner
+reads the log and a ``--check-on`` log; the workflow writes every ``--export`` once the
+result is complete), or with ``--pool`` several logs as one model
+(:func:`inertialab.workflows.imu_pool.run_pool`). The runner prints the tables (or the
+JSON object) and writes the figures and ``result.json`` (and ``model.json``) with ``--out``.
 """
 
 # no "from __future__ import annotations": typer must see the Annotated shared options
 from pathlib import Path
 
 import typer
+from typer.core import TyperCommand
 
 from inertialab.cli.options import reading_options
-from inertialab.cli.runner import config_command
+from inertialab.cli.runner import config_command, read_record
 from inertialab.errors import InputError
 from inertialab.io.mapping import ReadOptions
-from inertialab.workflows import allan_run as wa
+from inertialab.workflows import allan as wa
 from inertialab.workflows.imu_options import check_options
 from inertialab.workflows.registries import export_targets
 
@@ -24,6 +28,38 @@ _EXPORT_HELP = ("TARGET FILE (six-axis mode, repeatable): write the noise densit
                 "random walks (continuous time, SI) for " + " | ".join(export_targets("noise")))
 _IMU_HELP = ("Analyse gyro x/y/z and accelerometer x/y/z together (one table, one figure, "
              "noise densities and random walks).")
+
+
+class RepeatedExport(TyperCommand):
+    """``allan``'s parser, every ``--export TARGET FILE`` kept (click keeps the last)."""
+
+    seen: tuple = ()
+
+    def parse_args(self, ctx, args):
+        RepeatedExport.seen = tuple((args[i + 1], args[i + 2]) for i in range(len(args) - 2)
+                                    if args[i] == "--export")
+        return super().parse_args(ctx, args)
+
+
+def _six_axes(run, file: Path, config, *, export, rostopic, force, read):
+    """``allan --imu FILE``: the settings and every export checked, then one call through
+    the runner (the log, and a ``--check-on`` log, read there)."""
+    from inertialab.report.figures.imu_noise import imu_figures
+    from inertialab.workflows import imu_noise as wn
+
+    check_options(file, config.method, export and rostopic, **config.drift_settings())
+    pairs = wn.export_pairs(export, seen=RepeatedExport.seen)
+    wn.check_settings(config, pairs)
+
+    def produce(bar):
+        rec = read_record(file, "gyro_log", **wn.reading(config), options=read)
+        other = wn.check_log(config)
+        check = None if other is None else read_record(other, "gyro_log",
+                                                       **wn.reading(config), options=read)
+        return wn.run(rec, config, check=check, exports=pairs, rostopic=rostopic,
+                      force=force, read=read, progress=bar)
+
+    return run.execute("allan", produce, inputs=[file], figures=lambda r: imu_figures(r.imu))
 
 
 def _allan_command():
@@ -43,26 +79,18 @@ def _allan_command():
     ):
         """Allan family with confidence intervals and the Q N B K R noise terms; --imu:
         six IMU axes in one table and figure, with Kalibr/ROS export."""
-        command, file = "allan", files[0]
+        file = files[0]
         if len(files) > 1 or config.pool:  # several logs as one model
             from inertialab.report.figures.imu_noise import imu_figures
             from inertialab.workflows.imu_pool import run_pool
-            return run.execute(command, lambda bar: run_pool(
+            return run.execute("allan", lambda bar: run_pool(
                 files, config, imu=imu, export=export, read=read, progress=bar),
                 inputs=[str(f) for f in files], figures=lambda r: imu_figures(r.imu))
         if imu or export:
-            from inertialab.cli.imu_noise import run_six_axes
-
             if not imu:
                 raise InputError("--export needs --imu (six-axis noise parameters)")
-            c = config
-            check_options(file, c.method, export and rostopic, **c.drift_settings())
-            return run_six_axes(file=file, export=export, rostopic=rostopic, read=read,
-                                unit=c.unit, rate=c.rate, gaps=c.gaps, g_local=c.g_local,
-                                method=c.method, out=run.out, as_json=run.as_json,
-                                quiet=run.quiet, command=command, terms=c.terms is not False,
-                                drift=c.drift_settings() | {"warmup": c.warmup},
-                                confidence=c.confidence, force=force)
+            return _six_axes(run, file, config, export=export, rostopic=rostopic, force=force,
+                             read=read)
         if any(v not in (None, False) for v in config.drift_settings().values()):
             raise InputError("--predict-drift, --check-on, --plan, --inflate, --warmup need --imu")
         config.check()  # refuse bad settings before reading
@@ -76,12 +104,14 @@ def _allan_command():
                 figs.append(allan_terms_figure(res.res.oadev, res.res.terms))
             return figs
 
-        run.execute("allan", lambda bar: wa.run(file, config, options=read, progress=bar),
-                    inputs=[file], figures=figures)
+        def produce(bar):
+            kind, kw = wa.reading(file, config, read)
+            return wa.run(read_record(file, kind, **kw), config, progress=bar)
+
+        run.execute("allan", produce, inputs=[file], figures=figures)
 
     return allan
 
 
 def register(app: typer.Typer, groups: dict) -> None:
-    from inertialab.cli.imu_noise import RepeatedExport as Cls
-    app.command("allan", cls=Cls)(_allan_command())
+    app.command("allan", cls=RepeatedExport)(_allan_command())

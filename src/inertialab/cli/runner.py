@@ -59,7 +59,7 @@ from inertialab.cli.options import FLAG_OF, JsonOpt, OutDirOpt, OutFileOpt, Quie
 from inertialab.errors import InputError
 from inertialab.result import check_result
 
-__all__ = ["Run", "config_command", "load_model", "read_record"]
+__all__ = ["Run", "config_command", "load_model", "read_imu_thermal_log", "read_record"]
 
 _COMMON = {name: inspect.Parameter(name, inspect.Parameter.KEYWORD_ONLY, default=False,
                                    annotation=ann)
@@ -118,7 +118,7 @@ class Run:
             return env
         for item in result.summary_rows():
             if isinstance(item, str):
-                print(item)
+                print(flagged(item))  # library lines name arguments; users see flags
             else:
                 title, columns, rows = item
                 print_table(columns, rows, title=title)
@@ -164,6 +164,15 @@ def read_record(path, kind, **kw):
     from inertialab.io import readers
 
     return readers.read_record(path, kind, **kw)
+
+
+def read_imu_thermal_log(path):
+    """A drone IMU temperature-ramp log (:mod:`inertialab.io.formats.thermal_logs`), the
+    input of ``thermal fit --imu`` and ``thermal apply`` with a six-axis model, loaded
+    when the command runs."""
+    from inertialab.io.formats.thermal_logs import read_imu_thermal_log as _read
+
+    return _read(path)
 
 
 def load_model(path, *, expected_type: str | None = None):

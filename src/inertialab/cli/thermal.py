@@ -8,7 +8,7 @@ import typer
 
 from inertialab.cli.common import prepare_out_dir, write_figures
 from inertialab.cli.options import reading_options
-from inertialab.cli.runner import config_command, load_model, read_record
+from inertialab.cli.runner import config_command, load_model, read_imu_thermal_log, read_record
 from inertialab.errors import InputError
 from inertialab.io.mapping import ReadOptions
 from inertialab.report import commands
@@ -117,8 +117,5 @@ __all__ = ["register"]
 
 
 def _read_imu(path):
-    """A drone IMU temperature-ramp log (:mod:`inertialab.io.formats.thermal_logs`),
-    loaded when the command runs."""
-    from inertialab.io.formats.thermal_logs import read_imu_thermal_log
-
+    """A drone IMU temperature-ramp log, read by the runner."""
     return read_imu_thermal_log(path)

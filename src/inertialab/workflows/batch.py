@@ -86,36 +86,37 @@ class Check:
 
 
 # ----------------------------------------------------------------------------- per unit
+#
+# Each unit runs the single command's own workflow call on its file (the same reading,
+# with the batch's full reading options, and the same ``run*`` function), then takes its
+# key figures from that command's result: a unit's figures are what the command gives on
+# the file alone.
 
-def _read_options(options: dict) -> dict:
+def _reading(options: dict, read=None):
+    """The reading options of a unit: ``read`` (the batch command's, every reading flag)
+    or, for a caller that gives only plain ``options``, those built from them."""
+    if read is not None:
+        return read
     from inertialab.io.mapping import ReadOptions
 
-    ro = ReadOptions.from_cli(options.get("map"), options.get("map_file"),
-                              sep=options.get("sep"), decimal=options.get("decimal"),
-                              skip_rows=options.get("skip_rows"))
-    return {"column_map": ro.column_map or None, "parse": ro.parse,
-            "unit": options.get("unit"), "g_local": options.get("g_local")}
+    return ReadOptions.from_cli(options.get("map"), options.get("map_file"),
+                                sep=options.get("sep"), decimal=options.get("decimal"),
+                                skip_rows=options.get("skip_rows"))
 
 
-def _unit_allan(path: Path, options: dict) -> dict:
-    """Key figures of one gyro/IMU log: ADEV at 1 s and 100 s (log-log interpolation of
-    the octave OADEV), its minimum and where (bias-instability floor), in the log's
-    unit; plus the noise terms N, B, K of the noise core when they fit."""
-    from inertialab.io import read_record
-    from inertialab.noise.allan import oadev
+def _unit_allan(path: Path, options: dict, read=None) -> dict:
+    """Key figures of one gyro/IMU log from ``allan FILE`` (one series,
+    :func:`inertialab.workflows.allan.run`, noise terms off: the figures are the
+    curve's): ADEV at 1 s and 100 s (log-log interpolation of the octave OADEV), its
+    minimum and where (bias-instability floor), in the log's unit."""
+    from inertialab.workflows import allan as wa
 
-    rec = read_record(path, "gyro_log", rate_hz=options.get("rate"), gaps=options.get("gaps"),
-                      **_read_options(options))
-    col = options.get("column") or next(
-        (c for base in ("rate", "gx", "gy", "gz", "accel", "ax", "ay", "az")
-         if (c := rec.find(base)) is not None), None)
-    if col is None:
-        raise InputError("no rate or acceleration column to analyse", path=path)
-    if rec.timebase is None:
-        raise InputError("needs a t_s column or argument 'rate_hz'", path=path)
-    fs = rec.timebase.rate_hz  # the record's one time base (io.timestamps)
-    y = rec.timebase.place(rec.column(col))
-    res = oadev(y, rate_hz=fs, taus=options.get("taus", "octave"))
+    cfg = wa.AllanConfig(column=options.get("column"), rate=options.get("rate"),
+                         unit=options.get("unit"), gaps=options.get("gaps"),
+                         g_local=options.get("g_local"), taus=options.get("taus", "octave"),
+                         terms=False)
+    run = wa.run(path, cfg, options=_reading(options, read))
+    res = run.res.result("oadev")
     lt, ld = np.log(res.taus_s), np.log(res.dev)
 
     def at(tau):
@@ -124,77 +125,65 @@ def _unit_allan(path: Path, options: dict) -> dict:
         return float(np.exp(np.interp(math.log(tau), lt, ld)))
 
     k = int(np.argmin(res.dev))
-    unit = rec.units.get(col, "")
-    out = {"column": col, "column_unit": unit, "rate_hz": fs, "n_samples": int(res.n_samples),
-           "adev_1s": at(1.0), "adev_100s": at(100.0), "adev_min": float(res.dev[k]),
-           "tau_min_s": float(res.taus_s[k]), "sha256": rec.sha256}
-    return out
+    return {"column": run.log.column, "column_unit": run.log.unit, "rate_hz": run.log.rate_hz,
+            "n_samples": int(res.n_samples), "adev_1s": at(1.0), "adev_100s": at(100.0),
+            "adev_min": float(res.dev[k]), "tau_min_s": float(res.taus_s[k]),
+            "sha256": run.sha256}
 
 
-def _unit_triaxial(path: Path, options: dict) -> dict:
-    """Calibration of one triaxial unit's static record with the triaxial workflow
-    (:func:`inertialab.calib.triaxial.calibrate`, spec 002; default
-    Levenberg-Marquardt on the norm objective, ``options["method"]``/``["objective"]``
-    choose others): bias b (working unit), scale k, non-orthogonality theta (rad), the
-    residual RMS and whether the solver converged."""
+def _unit_triaxial(path: Path, options: dict, read=None) -> dict:
+    """Calibration of one triaxial unit's record from ``triaxial fit FILE``
+    (:func:`inertialab.workflows.triaxial.run_fit_file`: default Levenberg-Marquardt on
+    the norm objective, ``options["method"]``/``["objective"]`` choose others): bias b
+    (working unit), scale k, non-orthogonality theta (rad), the residual RMS and whether
+    the solver converged."""
     import warnings
 
-    from inertialab.io import read_record
-    from inertialab.workflows import triaxial as fc
+    from inertialab.workflows import triaxial as wt
 
-    rec = read_record(path, "triaxial_static", **_read_options(options))
+    cfg = wt.FitConfig(method=options.get("method", "lm"), objective=options.get("objective"),
+                       unit=options.get("unit"), g_local=options.get("g_local"))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # per-unit warnings would flood a lot's stderr
-        data = fc.static_data_from_frame(rec.data, rec.meta, g=options.get("g_local"),
-                                         path=path)
-    fit = fc.calibrate(data.a, ref=data.ref, method=options.get("method", "lm"),
-                       objective=options.get("objective", "norm"), g=data.g, rng=0,
-                       counts=data.counts)
-    out = {k: float(v) for k, v in fit.params.items()}
-    out["resid_rms"] = float(fit.residual_rms)
-    out["converged"] = bool(fit.converged)
-    out["method"] = f"{fit.method}/{fit.objective}"
-    out["n_positions"] = int(fit.n_records)
-    out["sha256"] = rec.sha256
+        res = wt.run_fit_file(path, cfg, options=_reading(options, read))
+    if not isinstance(res, wt.FitResult):
+        raise InputError("the file holds several units; give one unit per file", path=path)
+    p = res.to_json()
+    out = {k: float(v) for k, v in p["params"].items()}
+    out["resid_rms"] = float(p["residual_rms"])
+    out["converged"] = bool(p["converged"])
+    out["method"] = f"{p['method']}/{p['objective']}"
+    out["n_positions"] = int(p["n_records"])
+    out["sha256"] = res.sha256
     return out
 
 
-def _unit_thermal(path: Path, options: dict) -> dict:
-    """Thermal compensation of one unit's tumble record with a saved model: RMS of the
-    compensated residual against the nominal input (ug) before and after."""
+def _unit_thermal(path: Path, options: dict, read=None) -> dict:
+    """Thermal compensation of one unit's tumble record from ``thermal apply MODEL FILE``
+    (:func:`inertialab.workflows.thermal.run_apply`): RMS and largest error of the
+    compensated acceleration against the nominal input (ug), and the clamped rows."""
     from inertialab.io import read_record
+    from inertialab.workflows import thermal as wt
     from inertialab.workflows.registries import load_model
 
     model_path = options.get("model")
     if not model_path:
         raise InputError("thermal-compensate needs argument 'model' (a model file)")
-    try:
-        from inertialab.workflows.thermal import compensate
-    except ImportError:  # pragma: no cover - the thermal workflow ships with inertialab
-        raise InputError("the thermal workflow is not available in this installation") from None
-    model = load_model(model_path)
-    rec = read_record(path, "thermal_tumble", **_read_options(options))
-    d = rec.data
-    comp = compensate(model, d["temp_meas_c"].to_numpy(), d["output_mv"].to_numpy(),
-                      d["a_pend_g"].to_numpy() if "a_pend_g" in d else None)
-    out = {"sha256": rec.sha256}
-    for name in ("a_in_g", "a_g", "output_g", "value"):
-        v = getattr(comp, name, None)
-        if v is not None:
-            v = np.asarray(v, dtype=float)
-            if "a_in_g" in d:
-                err = (v - d["a_in_g"].to_numpy()) * 1e6
-                out["resid_rms_ug"] = float(np.sqrt(np.mean(err ** 2)))
-                out["resid_max_ug"] = float(np.max(np.abs(err)))
-            break
-    status = getattr(comp, "status", None)
-    if status is not None:
-        out["n_clamped"] = int(np.count_nonzero(np.asarray(status)))
+    model = load_model(model_path, expected_type="thermal-compensation")
+    rec = read_record(path, "thermal_tumble", options=_reading(options, read))
+    res = wt.run_apply(model, rec, wt.ApplyConfig(), out=None, source=str(model_path))
+    frame = res.res.frame
+    out = {"sha256": res.sha256}
+    if "a_in_g" in frame:
+        err = (frame["comp_a_g"].to_numpy(dtype=float) - frame["a_in_g"].to_numpy()) * 1e6
+        out["resid_rms_ug"] = float(np.sqrt(np.mean(err ** 2)))
+        out["resid_max_ug"] = float(np.max(np.abs(err)))
+    out["n_clamped"] = int(res.to_json()["n_clamped"])
     return out
 
 
-#: command -> per-unit function(path, options) -> dict of key figures
-COMMANDS: dict[str, Callable[[Path, dict], dict]] = {
+#: command -> per-unit function(path, options, read) -> dict of key figures
+COMMANDS: dict[str, Callable[..., dict]] = {
     "allan": _unit_allan,
     "calibrate-triaxial": _unit_triaxial,
     "thermal-compensate": _unit_thermal,
@@ -224,8 +213,10 @@ class UnitResult:
 
 
 def run_unit(command: str, path, options: dict | None = None,
-             checks: Sequence[Check] = ()) -> UnitResult:
-    """Process one file; never raises for a bad file (the row says why)."""
+             checks: Sequence[Check] = (), read=None) -> UnitResult:
+    """Process one file (read with ``read``, the command's
+    :class:`~inertialab.io.mapping.ReadOptions`, else the reading keys of ``options``);
+    never raises for a bad file (the row says why)."""
     p = Path(path)
     unit = p.stem
     t0 = time.perf_counter()
@@ -233,7 +224,7 @@ def run_unit(command: str, path, options: dict | None = None,
     if fn is None:
         raise InputError(f"batch command must be one of {', '.join(COMMANDS)}, got '{command}'")
     try:
-        figs = fn(p, dict(options or {}))
+        figs = fn(p, dict(options or {}), read)
     except InputError as exc:
         return UnitResult(unit, str(p), "error", reason=" ".join(str(exc).split()),
                           wall_s=time.perf_counter() - t0)
@@ -252,8 +243,8 @@ def run_unit(command: str, path, options: dict | None = None,
 
 
 def _run_units(command: str, paths: Sequence[str], options: dict,
-               checks: Sequence[Check]) -> list[UnitResult]:
-    return [run_unit(command, p, options, checks) for p in paths]
+               checks: Sequence[Check], read=None) -> list[UnitResult]:
+    return [run_unit(command, p, options, checks, read) for p in paths]
 
 
 # ----------------------------------------------------------------------------- result
@@ -498,7 +489,8 @@ def _local_client(scheduler: str, workers: int):
 
 def run_batch(command: str, paths: Sequence, *, options: dict | None = None,
               checks: Sequence[Check] = (), scheduler: str = "local", workers: int = 2,
-              client=None, progress=None, per_task: int | None = None) -> BatchResult:
+              client=None, progress=None, per_task: int | None = None,
+              read=None) -> BatchResult:
     """Run ``command`` on every path and collect a :class:`BatchResult`.
 
     Parameters
@@ -506,8 +498,11 @@ def run_batch(command: str, paths: Sequence, *, options: dict | None = None,
     command : {"allan", "calibrate-triaxial", "thermal-compensate"}
     paths : sequence of paths (see :func:`expand_inputs`)
     options : dict
-        Per-unit options: reading (``map``, ``map_file``, ``unit``, ``rate``, ``gaps``,
-        ``g_local`` ...) and the command's own (``taus``, ``model``).
+        Per-unit options: the command's settings (``unit``, ``rate``, ``gaps``,
+        ``g_local``, ``taus``, ``method``, ``model`` ...) and, without ``read``, the
+        reading (``map``, ``map_file``, ``sep``, ``decimal``, ``skip_rows``).
+    read : ReadOptions, optional
+        The reading options of every unit (all of the single command's reading flags).
     checks : sequence of Check
         Pass/fail rules (``--tolerance``).
     scheduler : {"local", "serial"} or address, default "local"
@@ -533,7 +528,7 @@ def run_batch(command: str, paths: Sequence, *, options: dict | None = None,
     if client is None and scheduler == "serial":
         rows = []
         for i, p in enumerate(paths):
-            rows.append(run_unit(command, p, opts, checks))
+            rows.append(run_unit(command, p, opts, checks, read))
             progress.update(i + 1, n, p.name)
         return BatchResult(command, tuple(rows), checks, "serial", 1, time.perf_counter() - t0)
     ctx = contextlib.nullcontext(client) if client is not None else _local_client(scheduler,
@@ -546,7 +541,7 @@ def run_batch(command: str, paths: Sequence, *, options: dict | None = None,
         size = max(1, min(per_task or math.ceil(n / (4 * nw)), n))
         groups = [list(range(a, min(a + size, n))) for a in range(0, n, size)]
         futs = [cl.submit(_run_units, command, [str(paths[i]) for i in g], opts, checks,
-                          pure=False) for g in groups]
+                          read, pure=False) for g in groups]
         index = {f.key: g for f, g in zip(futs, groups)}
         rows: list = [None] * n
         done = 0
@@ -640,13 +635,16 @@ class BatchConfig(_Settings):
 @dataclass(frozen=True)
 class BatchJob:
     """A checked batch: the command's name, the files, the rules and the per-unit
-    options (the reading options in their plain-text form, for the workers)."""
+    options (the settings and reading options in their plain-text form, for the JSON
+    settings) and ``read``, the :class:`~inertialab.io.mapping.ReadOptions` every unit is
+    read with."""
 
     name: str
     paths: list
     checks: tuple
     options: dict
     config: BatchConfig
+    read: object = None
 
 
 def prepare(command: Sequence[str], inputs, config: BatchConfig, read) -> BatchJob:
@@ -679,7 +677,8 @@ def prepare(command: Sequence[str], inputs, config: BatchConfig, read) -> BatchJ
         model = load_model(c.model, expected_type="thermal-compensation")
         refuse_or_flag(thermal_findings(model), "thermal", force=False, path=c.model,
                        forceable=False)
-    return BatchJob(name=name, paths=paths, checks=checks, options=options, config=c)
+    return BatchJob(name=name, paths=paths, checks=checks, options=options, config=c,
+                    read=read)
 
 
 @dataclass
@@ -716,7 +715,8 @@ def run(job: BatchJob, *, progress=None) -> BatchRun:
     that could not be processed fails the whole batch (one line)."""
     c = job.config
     res = run_batch(job.name, job.paths, options=job.options, checks=job.checks,
-                       scheduler=c.scheduler, workers=c.workers, progress=progress)
+                    scheduler=c.scheduler, workers=c.workers, progress=progress,
+                    read=job.read)
     errors = [u for u in res.units if u.status == "error"]
     if errors and c.strict:
         raise InputError(f"{len(errors)} of {len(res.units)} units could not be processed "

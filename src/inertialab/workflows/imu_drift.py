@@ -308,9 +308,10 @@ def axis_columns(rec) -> dict:
 
 
 def drift_options(predict_drift, bias_window, check_on, plan, rec, *, rate, unit, g_local,
-                   gaps, ro, warmup="auto"):
+                   gaps, ro, warmup="auto", check_record=None):
     """The :class:`DriftOptions` of the command's settings (``check_on``: ``half`` or
-    another log, read like the main one), or None without a prediction or plan."""
+    another log, read like the main one, or already read: ``check_record``), or None
+    without a prediction or plan."""
     if not predict_drift and not plan:
         return None
     from inertialab.workflows.imu_options import parse_horizons
@@ -321,9 +322,11 @@ def drift_options(predict_drift, bias_window, check_on, plan, rec, *, rate, unit
         if str(check_on).strip().lower() == "half":
             mode = "half"
         else:
-            from inertialab.io import read_record
-            rec2 = read_record(check_on, "gyro_log", unit=unit, rate_hz=rate,
-                               g_local=g_local, gaps=gaps, options=ro)
+            rec2 = check_record
+            if rec2 is None:
+                from inertialab.io import read_record
+                rec2 = read_record(check_on, "gyro_log", unit=unit, rate_hz=rate,
+                                   g_local=g_local, gaps=gaps, options=ro)
             tb1, tb2 = rec.timebase, rec2.timebase
             fs1 = rate or (tb1.rate_hz if tb1 is not None else None)
             fs2 = rate or (tb2.rate_hz if tb2 is not None else None)

@@ -322,40 +322,104 @@ def filtered_source_note(rec) -> str | None:
     return note
 
 
-def analyse_file(file, *, read=None, unit=None, rate=None, gaps=None, g_local=None,
-                 method="wls", terms=True, predict_drift=None, bias_window=10.0,
-                 check_on=None, plan=False, inflate=None, export=None, progress=None,
-                 confidence=None, warmup="auto"):
-    """``(record, IMUNoise)`` of a log file: the settings checked, the record read (and
-    the check log, :func:`inertialab.workflows.imu_drift.drift_options`), the axes
-    analysed."""
-    from inertialab.io import read_record
-    from inertialab.workflows.imu_drift import drift_options
+# ----------------------------------------------------- the command ``allan --imu``
 
-    if export:
-        from inertialab.io.exporters import get
+from inertialab.result import ResultBase  # noqa: E402  (the command's part of this module)
 
-        for target, _ in export_pairs(export):
-            get("noise", target)  # an unknown target before anything is read
-    if inflate not in (None, "auto", "none"):
-        raise InputError(f"argument 'inflate' must be 'auto' or 'none', got '{inflate}'")
-    if inflate == "auto" and not (export and check_on and predict_drift):
+__all__ += ["SixAxisRun", "check_log", "check_settings", "export_pairs", "reading", "run",
+            "write_exports"]
+
+
+def check_settings(config, exports=()) -> None:
+    """Refuse, before any record is read, the six-axis settings of ``config`` (an
+    :class:`~inertialab.workflows.allan.AllanConfig`) that cannot go together, and an
+    unknown export target of ``exports`` (:func:`export_pairs`)."""
+    from inertialab.io.exporters import get
+
+    c = config
+    for target, _ in exports:
+        get("noise", target)  # an unknown target before anything is read
+    if c.inflate not in (None, "auto", "none"):
+        raise InputError(f"argument 'inflate' must be 'auto' or 'none', got '{c.inflate}'")
+    if c.inflate == "auto" and not (exports and c.check_on and c.predict_drift):
         raise InputError("argument 'inflate' auto needs an export, a drift prediction and a "
                          "check log (the inflation comes from the observed drift)")
-    if gaps not in (None, "error", "split"):
-        raise InputError(f"argument 'gaps' must be 'error' or 'split', got '{gaps}'")
-    if check_on and not predict_drift:
+    if c.gaps not in (None, "error", "split"):
+        raise InputError(f"argument 'gaps' must be 'error' or 'split', got '{c.gaps}'")
+    if c.check_on and not c.predict_drift:
         raise InputError("argument 'check_on' needs argument 'predict_drift'")
-    if not terms and (predict_drift or plan):
+    if c.terms is False and (c.predict_drift or c.plan):
         raise InputError("a drift prediction or plan needs the noise terms")
-    rec = read_record(file, "gyro_log", unit=unit, rate_hz=rate, g_local=g_local, gaps=gaps,
-                      options=read)
-    drift = drift_options(predict_drift, bias_window, check_on, plan, rec, rate=rate,
-                          unit=unit, g_local=g_local, gaps=gaps, ro=read, warmup=warmup)
-    return rec, analyse_record(rec, rate_hz=rate, method=method, g_local=g_local,
-                               progress=progress, terms=terms, drift=drift,
-                               confidence=0.95 if confidence is None else confidence,
-                               warmup=warmup)
+
+
+def reading(config) -> dict:
+    """The keywords with which ``allan --imu`` reads a log (the analysed one, and a check
+    log): :func:`inertialab.io.read_record` ``(path, "gyro_log", **reading(config),
+    options=...)``."""
+    return {"unit": config.unit, "rate_hz": config.rate, "g_local": config.g_local,
+            "gaps": config.gaps}
+
+
+def check_log(config) -> str | None:
+    """The other log a drift prediction is checked on (``--check-on LOG``), which the
+    runner reads like the analysed one; None for ``half`` or no check."""
+    c = config.check_on
+    return None if not c or str(c).strip().lower() == "half" else str(c)
+
+
+@dataclass
+class SixAxisRun(ResultBase):
+    """``allan --imu``: the six axes' :class:`IMUNoise` (``imu``), the log it came from
+    (``file``) and the canonical hash of its record (``record_sha256``); ``settings``
+    are the analysis's, the reading's (``map``, ``parse``, ``gaps``) and the exports'
+    (:func:`write_exports`)."""
+
+    imu: IMUNoise
+    file: str
+    record_sha256: str | None
+    settings: dict
+    units = {"rate_hz": "Hz"}
+
+    def to_json(self) -> dict:
+        return {"imu": self.imu.to_dict(), "sha256_canonical": self.record_sha256}
+
+    def artifacts(self) -> dict:
+        return {}  # the figures are the command's; the exports are written by run()
+
+    def summary_rows(self) -> list:
+        from inertialab.workflows.imu_drift import display_tables
+
+        return [*display_tables(self.imu, self.file), "\n".join(self.imu.notes())]
+
+
+def run(record, config, *, check=None, exports=(), rostopic=None, force: bool = False,
+        read=None, progress=None) -> SixAxisRun:
+    """``allan --imu`` on a ``gyro_log`` ``record`` (read with :func:`reading`) and its
+    ``config`` (:class:`~inertialab.workflows.allan.AllanConfig`): the six axes analysed
+    (:func:`analyse_record`; a drift prediction checked on ``check``, the record of
+    :func:`check_log`), then, with the result complete, every ``(target, file)`` of
+    ``exports`` written (:func:`write_exports`: all refused, nothing written, while an
+    axis is not usable unless ``force``). ``read``: the reading options, named in the
+    settings."""
+    from inertialab.config import DEFAULT_CONFIDENCE
+    from inertialab.io.mapping import ReadOptions
+    from inertialab.workflows.imu_drift import drift_options
+
+    c, exports = config, list(exports)
+    check_settings(c, exports)
+    ro = read if read is not None else ReadOptions()
+    drift = drift_options(c.predict_drift, c.bias_window, c.check_on, c.plan, record,
+                          rate=c.rate, unit=c.unit, g_local=c.g_local, gaps=c.gaps, ro=ro,
+                          warmup=c.warmup, check_record=check)
+    res = analyse_record(record, rate_hz=c.rate, method=c.method, g_local=c.g_local,
+                         progress=progress, terms=c.terms is not False, drift=drift,
+                         confidence=DEFAULT_CONFIDENCE["imu"] if c.confidence is None
+                         else c.confidence, warmup=c.warmup)
+    written = write_exports(res, exports, rostopic=rostopic or record.topic, force=force,
+                            drift={"inflate": c.inflate})
+    settings = {**res.settings, "map": ro.column_map.to_text() or None,
+                "parse": ro.parse.to_dict(), "gaps": c.gaps, **written}
+    return SixAxisRun(res, str(record.path), record.sha256, settings)
 
 
 def export_pairs(export, *, seen=()) -> list[tuple[str, str]]:
