@@ -33,7 +33,7 @@ bound are stated in the file's comments.
 from __future__ import annotations
 
 import math
-from dataclasses import replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -41,10 +41,12 @@ from inertialab import units as U
 from inertialab.errors import InputError
 from inertialab.noise.imu_result import SI_UNITS as _SI
 from inertialab.noise.imu_result import AxisNoise, IMUNoise, term_text
+from inertialab.result import ResultBase
 from inertialab.workflows.imu_drift import AXES, axis_columns
 
-__all__ = ["AXES", "AxisNoise", "IMUNoise", "analyse_imu", "analyse_record", "export_refusal",
-           "export_yaml", "term_text"]
+__all__ = ["AXES", "AxisNoise", "IMUNoise", "SixAxisRun", "analyse_imu", "analyse_record",
+           "check_log", "check_settings", "export_pairs", "export_refusal", "export_yaml",
+           "reading", "run", "term_text", "write_exports"]
 
 # AxisNoise, IMUNoise and term_text live in inertialab.noise.imu_result (the result is the
 # noise floor's; the exporters above read it typed); imported here, the workflow's face.
@@ -323,11 +325,6 @@ def filtered_source_note(rec) -> str | None:
 
 
 # ----------------------------------------------------- the command ``allan --imu``
-
-from inertialab.result import ResultBase  # noqa: E402  (the command's part of this module)
-
-__all__ += ["SixAxisRun", "check_log", "check_settings", "export_pairs", "reading", "run",
-            "write_exports"]
 
 
 def check_settings(config, exports=()) -> None:
