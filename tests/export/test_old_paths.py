@@ -77,10 +77,7 @@ def test_the_six_axis_result_has_one_class_in_two_faces():
 #: Modules of the package still importing a deprecated path (their owners move them to
 #: inertialab.export / inertialab.workflows.preflight). Only shrinks.
 DEPRECATED_IMPORTS_LEFT = {
-    "workflows/allan.py",
-    "workflows/imu_noise.py",
     "workflows/thermal.py",
-    "workflows/thermal_imu.py",
     "workflows/vibration_record.py",
 }
 

@@ -123,7 +123,7 @@ def prepare_log(record, *, column: str | None = None, rate_hz: float | None = No
     if input not in ("rate", "angle"):
         raise InputError(f"argument 'input' must be rate or angle, got '{input}'")
     if rate_hz is None:
-        from inertialab.io.preflight import preflight
+        from inertialab.workflows.preflight import preflight
 
         preflight(record, "allan")  # the checks `validate --kind allan` runs
     names = list(record.arrays) + [c for c in record.data.columns if c not in record.arrays]

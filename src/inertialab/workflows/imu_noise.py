@@ -263,11 +263,11 @@ def analyse_record(rec, *, rate_hz: float | None = None, taus="octave", method: 
     """:func:`analyse_imu` on the ``gx gy gz ax ay az`` columns of a ``gyro_log`` record
     (rate from ``rate_hz``, else the record's time base)."""
     if rate_hz is None:
-        from inertialab.io.preflight import preflight
+        from inertialab.workflows.preflight import preflight
 
         preflight(rec, "imu")  # the checks `validate --kind imu` runs
     else:
-        from inertialab.io.preflight import check_length, check_varying
+        from inertialab.workflows.preflight import check_length, check_varying
         from inertialab.io.unit_check import check_static_units
 
         check_length(rec, "imu")  # preflight's length and unit checks, with the rate given
@@ -331,7 +331,7 @@ def check_settings(config, exports=()) -> None:
     """Refuse, before any record is read, the six-axis settings of ``config`` (an
     :class:`~inertialab.workflows.allan.AllanConfig`) that cannot go together, and an
     unknown export target of ``exports`` (:func:`export_pairs`)."""
-    from inertialab.io.exporters import get
+    from inertialab.export import get
 
     c = config
     for target, _ in exports:
@@ -423,7 +423,7 @@ def export_pairs(export, *, seen=()) -> list[tuple[str, str]]:
     """``[(target, file), ...]`` of one ``(target, file)`` pair or a list of them;
     ``seen``: every pair of a command line where the option was repeated (taken when its
     last pair is ``export``). Two exports to one file are refused."""
-    from inertialab.io.exporters import get
+    from inertialab.export import get
 
     if export and seen and tuple(seen[-1]) == tuple(export):
         export = list(seen)
@@ -478,10 +478,10 @@ def write_exports(res: IMUNoise, pairs, *, rostopic, drift=None, force=False) ->
 def export_noise_file(res: IMUNoise, target: str, path, *, rostopic: str, inflate=None,
                       force: bool = False) -> str:
     """Write the noise parameters for ``target`` (an exporter of
-    :data:`inertialab.io.exporters.EXPORTERS`), inflated where ``inflate`` is ``auto``
+    :data:`inertialab.export.EXPORTERS`), inflated where ``inflate`` is ``auto``
     (:func:`inertialab.workflows.imu_drift.inflated`); returns the target's name.
     Refused while an axis is not usable unless ``force`` (:func:`export_refusal`)."""
-    from inertialab.io.exporters import export_noise, get
+    from inertialab.export import export_noise, get
     from inertialab.workflows.imu_drift import inflated
 
     target = get("noise", target).target
@@ -494,8 +494,8 @@ def export_noise_file(res: IMUNoise, target: str, path, *, rostopic: str, inflat
 def export_yaml(result: IMUNoise, style: str = "kalibr", *, rostopic: str = "/imu0",
                  namespace: str = "imu") -> str:
     """The text of a noise-parameter file for ``style`` (any noise target of
-    :data:`inertialab.io.exporters.EXPORTERS`: kalibr, ros, openvins, vins, imu_utils,
+    :data:`inertialab.export.EXPORTERS`: kalibr, ros, openvins, vins, imu_utils,
     gtsam), continuous-time values, each sensor's largest axis."""
-    from inertialab.io.exporters import noise_text
+    from inertialab.export import noise_text
 
     return noise_text(result, style, rostopic=rostopic, namespace=namespace)

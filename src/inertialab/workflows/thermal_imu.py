@@ -173,7 +173,7 @@ def run_imu_fit(log, settings: FitSettings, *, exports=(), caltemp_c: float | No
 
 def write_exports(model, pairs, *, caltemp_c: float | None = None) -> list:
     """Write each ``(target, path)`` through the exporter registry; returns the paths."""
-    from inertialab.io.exporters import get
+    from inertialab.export import get
 
     out = []
     for target, path in pairs:
