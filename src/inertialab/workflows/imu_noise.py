@@ -267,8 +267,8 @@ def analyse_record(rec, *, rate_hz: float | None = None, taus="octave", method: 
 
         preflight(rec, "imu")  # the checks `validate --kind imu` runs
     else:
-        from inertialab.workflows.preflight import check_length, check_varying
         from inertialab.io.unit_check import check_static_units
+        from inertialab.workflows.preflight import check_length, check_varying
 
         check_length(rec, "imu")  # preflight's length and unit checks, with the rate given
         check_varying(rec, "imu")
