@@ -206,13 +206,13 @@ def _ferraris(made_by):
 
 
 def _thermal(made_by):
-    from inertialab.calib.thermal import ThermalConfig, compensate
+    from inertialab.calib.thermal import compensate
     from inertialab.sim.thermal_tumble import simulate
-    from inertialab.workflows.thermal import make_splits, prepare_samples
+    from inertialab.workflows.thermal import FitConfig, make_splits, prepare_samples
 
     f = simulate("paper", 0, 0).frame
     samples = prepare_samples(f)
-    cfg = ThermalConfig(methods=("poly-2d",))
+    cfg = FitConfig(method=("poly-2d",))
     split = make_splits(samples, cfg, rng=0)[0]
     model = made_by(samples, split, "poly-2d", cfg)
     # the compensated acceleration against the tumble's true input (g); measured max
