@@ -14,14 +14,14 @@ import warnings
 
 import numpy as np
 
-from inertialab.calib.drift import DEFAULT_BASELINES, DriftSettings
+from inertialab.calib.drift import DEFAULT_BASELINES
 from inertialab.calib.drift_eval import evaluate_rolling_origin
 from inertialab.learn.forecast_baselines import ARLeastSquares, Persistence
 from inertialab.learn.nar import SPEC_H, NARForecaster
 from inertialab.learn.order_cv import select_order_cv
 from inertialab.sim.drift import benchmark_process, mackey_glass, simulate_storage_batch
 from inertialab.studies.drift import summarise
-from inertialab.workflows.drift import fit_drift, to_daily_grid
+from inertialab.workflows.drift import FitConfig, fit_drift, to_daily_grid
 
 
 def _a1(n_seeds):
@@ -135,7 +135,7 @@ def restart_spread(order, origins=(500, 520, 540, 560, 580), n_train=500, horizo
 
 def _a8(n_units, arima_units):
     batch = simulate_storage_batch(n_units, 100, "paper", rng=np.random.SeedSequence(0))
-    st = DriftSettings(preset="paper", baselines=DEFAULT_BASELINES, seed=0)
+    st = FitConfig(preset="paper", baselines=DEFAULT_BASELINES, seed=0)
     fit = fit_drift(batch.frame, meta=batch.meta, settings=st, origin_day=79)
     summ = summarise(fit)
     res = {"units": n_units, "preset": "paper", "seed": "SeedSequence(0).spawn(n_units)",
@@ -145,7 +145,7 @@ def _a8(n_units, arima_units):
         sub = batch.frame[batch.frame["unit_id"].isin(sorted(batch.frame["unit_id"].unique())
                                                       [:arima_units])]
         fa = fit_drift(sub, meta=batch.meta, origin_day=79,
-                       settings=DriftSettings(restarts=10, baselines=("persistence", "ar_ls",
+                       settings=FitConfig(restarts=10, baselines=("persistence", "ar_ls",
                                                                       "arima"), seed=0))
         med = {}
         for q in ("bias", "sf"):
@@ -160,7 +160,7 @@ def _a8(n_units, arima_units):
     for q in ("bias", "sf"):
         grid = to_daily_grid(batch.frame, quantity=q, meta=batch.meta)
         for uid in sorted(grid)[:2]:
-            rr = evaluate_rolling_origin(grid[uid], DriftSettings(
+            rr = evaluate_rolling_origin(grid[uid], FitConfig(
                 restarts=10, baselines=("persistence", "ar_ls", "exp_ar1")), first=50, step=5,
                 rng=0)
             ro[f"{uid}/{q}"] = {"origins": list(rr.origins), "summary": rr.summary,
@@ -171,7 +171,7 @@ def _a8(n_units, arima_units):
 
 def _a13(n_units):
     batch = simulate_storage_batch(n_units, 100, "nav", rng=np.random.SeedSequence(0))
-    st = DriftSettings(preset="strict", baselines=("persistence",), seed=0)
+    st = FitConfig(preset="strict", baselines=("persistence",), seed=0)
     fit = fit_drift(batch.frame, meta=batch.meta, settings=st, origin_day=79)
     cov, cov_truth, exc, rec_len = [], [], [], []
     for _, _, r in fit.iter():

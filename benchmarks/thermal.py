@@ -71,7 +71,7 @@ def _checks(runs: list[dict]) -> dict:
 
 
 def run(quick: bool = False) -> dict:
-    from inertialab.calib.thermal import ThermalConfig
+    from inertialab.workflows.thermal import FitConfig
 
     if quick:
         seeds, splits = (0,), ("random",)
@@ -84,7 +84,7 @@ def run(quick: bool = False) -> dict:
         for seed in seeds:
             runs.append(_one("paper", seed, split, cfg_kw))
     realistic = [_one("realistic", 0, "random", cfg_kw)]
-    defaults = replace(ThermalConfig(), **cfg_kw)
+    defaults = replace(FitConfig(), **cfg_kw)
     return {"settings": {"lot_seed": 0, "train_unit": 0, "transfer_unit": 1, "run_seeds": list(seeds),
                          "transfer_seed": "run seed + 1000", "splits": list(splits),
                          "fish": defaults.fish, "generations": defaults.generations,

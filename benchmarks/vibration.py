@@ -38,12 +38,12 @@ def _max_finite(*values) -> float:
 
 def _per_seed(seed: int) -> dict:
     from inertialab.studies.vibration import simulate_pair
-    from inertialab.workflows.vibration import VibrationConfig, analyse
+    from inertialab.workflows.vibration import FitConfig, analyse
 
     sweep, fixed = simulate_pair(seed)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        res = analyse(sweep, fixed, VibrationConfig(views=False))
+        res = analyse(sweep, fixed, FitConfig(views=False))
     ph, dec, comp = (res.tables[k] for k in ("phases", "decomposition", "compensation"))
     L = res.level
     out = {"seed": seed, "level_rule": res.level_selection.level,
@@ -86,7 +86,7 @@ def _timing() -> dict:
     """Check 16: write both default records, read them back, full pipeline with views."""
     from inertialab.io import write_record
     from inertialab.sim.fog_vibration import simulate
-    from inertialab.workflows.vibration import VibrationConfig, analyse, load_run
+    from inertialab.workflows.vibration import FitConfig, analyse, load_run
 
     with tempfile.TemporaryDirectory() as d:
         paths = {}
@@ -99,7 +99,7 @@ def _timing() -> dict:
         c1, w1 = time.process_time(), time.perf_counter()
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            res = analyse(sweep, fixed, VibrationConfig(views=True))
+            res = analyse(sweep, fixed, FitConfig(views=True))
         c2, w2 = time.process_time(), time.perf_counter()
     return {"read_cpu_s": c1 - c0, "read_wall_s": w1 - w0, "pipeline_cpu_s": c2 - c1,
             "pipeline_wall_s": w2 - w1, "total_cpu_s": c2 - c0, "total_wall_s": w2 - w0,

@@ -206,13 +206,13 @@ def _ferraris(made_by):
 
 
 def _thermal(made_by):
-    from inertialab.calib.thermal import ThermalConfig, compensate
+    from inertialab.calib.thermal import compensate
     from inertialab.sim.thermal_tumble import simulate
-    from inertialab.workflows.thermal import make_splits, prepare_samples
+    from inertialab.workflows.thermal import FitConfig, make_splits, prepare_samples
 
     f = simulate("paper", 0, 0).frame
     samples = prepare_samples(f)
-    cfg = ThermalConfig(methods=("poly-2d",))
+    cfg = FitConfig(method=("poly-2d",))
     split = make_splits(samples, cfg, rng=0)[0]
     model = made_by(samples, split, "poly-2d", cfg)
     # the compensated acceleration against the tumble's true input (g); measured max
@@ -254,13 +254,13 @@ def _dual(made_by):
 def _drift(made_by):
     import pandas as pd
 
-    from inertialab.calib.drift import DriftSettings, fit_series
-    from inertialab.workflows.drift import to_daily_grid
+    from inertialab.calib.drift import fit_series
+    from inertialab.workflows.drift import FitConfig, to_daily_grid
 
     y = 5.0 + np.cumsum(np.random.default_rng(3).normal(0, 0.1, 120))
     s = to_daily_grid(pd.DataFrame({"unit_id": "U1", "day": np.arange(120), "bias_ug": y}),
                       quantity="bias")["U1"]
-    st = DriftSettings(restarts=2, n_paths=50, horizon=5, baselines=("persistence",))
+    st = FitConfig(restarts=2, n_paths=50, horizon=5, baselines=("persistence",))
     r = fit_series(s, st, origin_day=119, rng=1)
     model = made_by({"U1": {"bias": r}}, {"horizon": 5})
     return model, lambda m: np.asarray(m.forecast()["U1"]["bias"]["forecast"]["value"]), \

@@ -495,15 +495,15 @@ def test_signal_handler_installs_raises_and_restores():
 
 
 def test_library_bounds_hold_without_the_command_line():
-    from inertialab.calib.drift import DriftSettings
     from inertialab.seeding import as_generator
     from inertialab.sim import gyro_static
     from inertialab.workflows.batch import run_batch
+    from inertialab.workflows.drift import FitConfig
 
     with pytest.raises(InputError, match="argument 'tol_bias_ug'"):
-        DriftSettings(tol_bias_ug=float("nan"))
+        FitConfig(tol_bias_ug=float("nan")).validate()
     with pytest.raises(InputError, match="argument 'order'"):
-        DriftSettings(order=10**9)
+        FitConfig(order=10**9).validate()
     with pytest.raises(InputError, match="argument 'seed' must be >= 0"):
         as_generator(-1)
     with pytest.raises(InputError, match="memory budget"):

@@ -9,14 +9,14 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from inertialab.calib.drift import DriftModel, DriftSettings, fit_series
+from inertialab.calib.drift import DriftModel, fit_series
 from inertialab.calib.drift_eval import evaluate_rolling_origin
 from inertialab.calib.model_types import load_model
 from inertialab.errors import DataQualityWarning, InputError
 from inertialab.sim.drift import benchmark_process
-from inertialab.workflows.drift import to_daily_grid
+from inertialab.workflows.drift import FitConfig, to_daily_grid
 
-FAST = DriftSettings(restarts=2, n_paths=50, baselines=("persistence", "ar_ls"))
+FAST = FitConfig(restarts=2, n_paths=50, baselines=("persistence", "ar_ls"))
 
 
 def _s1_record(seed, drop_frac=0.0, n=120):

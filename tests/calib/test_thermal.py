@@ -13,7 +13,6 @@ from inertialab.calib.model_types import load_model
 from inertialab.calib.thermal import (
     STATUS_N_CLAMPED,
     STATUS_T_CLAMPED,
-    ThermalConfig,
     compensate,
     drift,
     fit_model,
@@ -23,9 +22,10 @@ from inertialab.calib.thermal import (
 from inertialab.errors import ExtrapolationWarning, InputError
 from inertialab.io.modelfile import save_model
 from inertialab.sim.thermal_tumble import simulate
-from inertialab.workflows.thermal import fit_thermal, make_splits, prepare_samples
+from inertialab.workflows.thermal import FitConfig, fit_thermal, make_splits, prepare_samples
 
-FAST = ThermalConfig(fish=4, generations=2, search_epochs=5, epochs=30, ann_max_epochs=60)
+FAST = FitConfig(method="all", fish=4, generations=2, search_epochs=5, epochs=30,
+                 ann_max_epochs=60)
 
 
 @pytest.fixture(scope="module")
@@ -45,7 +45,7 @@ def samples(run_a):
 
 @pytest.fixture(scope="module")
 def quick_fit(samples):
-    cfg = replace(FAST, methods=("fis", "scm-anfis", "iafsa-scm-anfis", "poly-sep", "poly-2d"))
+    cfg = replace(FAST, method=("fis", "scm-anfis", "iafsa-scm-anfis", "poly-sep", "poly-2d"))
     return fit_thermal(samples, cfg)
 
 
@@ -66,7 +66,7 @@ def test_reference_fit_recovers_the_unit_constants(samples, run_a):
 
 # -- splits --------------------------------------------------------------------------------
 def test_random_split_is_stratified(samples):
-    (sp,) = make_splits(samples, ThermalConfig(), rng=0)
+    (sp,) = make_splits(samples, FitConfig(), rng=0)
     assert np.intersect1d(sp.train, sp.test).size == 0
     assert sp.train.size + sp.test.size == samples.n
     counts = np.unique(samples.set_point_c[sp.test], return_counts=True)[1]
@@ -77,11 +77,11 @@ def test_random_split_is_stratified(samples):
 
 
 def test_interp_and_leave_one_out_splits(samples):
-    (sp,) = make_splits(samples, ThermalConfig(split="interp_T"), rng=0)
+    (sp,) = make_splits(samples, FitConfig(split="interp_T"), rng=0)
     test_T = np.unique(samples.set_point_c[sp.test])
     np.testing.assert_array_equal(test_T, [-35, -25, -15, -5, 5, 15, 25, 35, 45, 65])
     assert 55.0 in samples.set_point_c[sp.train]
-    folds = make_splits(samples, ThermalConfig(split="leave_one_T_out"), rng=0)
+    folds = make_splits(samples, FitConfig(split="leave_one_T_out"), rng=0)
     assert len(folds) == 22
     assert all(55.0 not in samples.set_point_c[f.test] for f in folds)
 
@@ -131,11 +131,11 @@ def test_metrics_match_a_hand_computed_example(samples):
 
 
 def test_learn_drift_and_raw_input_variants(samples, run_a):
-    (sp,) = make_splits(samples, ThermalConfig(), rng=0)
+    (sp,) = make_splits(samples, FitConfig(), rng=0)
     base = score(fit_model(samples, sp, "scm-anfis", FAST), samples, sp.test).rmse_ug
     cfg = replace(FAST, learn_drift=True)
     ld = score(fit_model(samples, sp, "scm-anfis", cfg), samples, sp.test).rmse_ug
-    raw_s = prepare_samples(run_a.frame, ThermalConfig(input="raw"))
+    raw_s = prepare_samples(run_a.frame, FitConfig(input="raw"))
     raw = score(fit_model(raw_s, sp, "scm-anfis", replace(FAST, input="raw")), raw_s, sp.test)
     # same model class and data: all within 3x of each other and far below the raw drift
     for v in (ld, raw.rmse_ug):
@@ -191,8 +191,8 @@ def test_transfer_meets_the_spec_bound():
     for seed in (0, 1, 2):
         sa = prepare_samples(simulate("paper", 0, 0, seed=seed).frame)
         sb = prepare_samples(simulate("paper", 0, 1, seed=seed + 1000).frame)
-        cfg = ThermalConfig(methods=("iafsa-scm-anfis",), fish=4, generations=3,
-                            search_epochs=5, epochs=150, seed=seed)
+        cfg = FitConfig(method=("iafsa-scm-anfis",), fish=4, generations=3,
+                        search_epochs=5, epochs=150, seed=seed)
         d = drift(fit_thermal(sa, cfg).models["iafsa-scm-anfis"], sb)
         comp.append(d.comp_max_ug)
         raw.append(d.raw_max_ug)
@@ -201,7 +201,7 @@ def test_transfer_meets_the_spec_bound():
 
 
 def test_same_seed_same_numbers(samples):
-    cfg = replace(FAST, methods=("fis", "ann"))
+    cfg = replace(FAST, method=("fis", "ann"))
     a = fit_thermal(samples, cfg).table()
     b = fit_thermal(samples, cfg).table()
     for k in a:
@@ -244,7 +244,7 @@ def test_model_fixtures_v1_still_load_and_predict():
 def test_few_point_recalibration_helps_on_the_realistic_preset():
     sa = prepare_samples(simulate("realistic", 0, 0).frame)
     sb = prepare_samples(simulate("realistic", 0, 1, seed=1000).frame)
-    (sp,) = make_splits(sa, ThermalConfig(), rng=0)
+    (sp,) = make_splits(sa, FitConfig(), rng=0)
     m = fit_model(sa, sp, "scm-anfis", replace(FAST, epochs=60))
     direct = drift(m, sb).comp_max_ug
     recal = drift(recalibrate(m, sb), sb).comp_max_ug
@@ -262,7 +262,7 @@ def test_up_down_split_trains_on_one_pass_and_tests_on_the_other():
     run = run_tumble(make_lot(0, "realistic"), 0, schedule=replace(Schedule(), ramp="up_down"))
     s = prepare_samples(run.frame)
     assert s.n == (23 + 22) * 24
-    (sp,) = make_splits(s, ThermalConfig(split="up_down"), rng=0)
+    (sp,) = make_splits(s, FitConfig(split="up_down"), rng=0)
     assert set(s.ramp_dir[sp.train]) == {"up"} and set(s.ramp_dir[sp.test]) == {"down"}
     m = fit_model(s, sp, "scm-anfis", FAST)
     down = score(m, s, sp.test)
@@ -271,4 +271,4 @@ def test_up_down_split_trains_on_one_pass_and_tests_on_the_other():
     assert down.rmse_ug < raw_drift_rms_ug(s, sp.test) / 10
     with pytest.raises(InputError, match="up and a down pass"):
         make_splits(prepare_samples(simulate("paper", 0, 0).frame),
-                    ThermalConfig(split="up_down"), rng=0)
+                    FitConfig(split="up_down"), rng=0)

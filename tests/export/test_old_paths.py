@@ -76,10 +76,7 @@ def test_the_six_axis_result_has_one_class_in_two_faces():
 
 #: Modules of the package still importing a deprecated path (their owners move them to
 #: inertialab.export / inertialab.workflows.preflight). Only shrinks.
-DEPRECATED_IMPORTS_LEFT = {
-    "workflows/thermal.py",
-    "workflows/vibration_record.py",
-}
+DEPRECATED_IMPORTS_LEFT: set[str] = set()
 
 
 def test_the_package_itself_leaves_the_old_paths():

@@ -11,11 +11,11 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from inertialab.calib.thermal import ThermalConfig, compensate, fit_model
+from inertialab.calib.thermal import compensate, fit_model
 from inertialab.errors import ExtrapolationWarning, InputError
 from inertialab.export.thermal_c import export_c
 from inertialab.sim.thermal_tumble import simulate
-from inertialab.workflows.thermal import make_splits, prepare_samples
+from inertialab.workflows.thermal import FitConfig, make_splits, prepare_samples
 
 CC = shutil.which("cc") or shutil.which("gcc")
 
@@ -39,8 +39,8 @@ int main(void) {
 def models():
     frame = simulate("paper", 0, 0).frame
     s = prepare_samples(frame)
-    (sp,) = make_splits(s, ThermalConfig(), rng=0)
-    cfg = ThermalConfig(epochs=20)
+    (sp,) = make_splits(s, FitConfig(), rng=0)
+    cfg = FitConfig(epochs=20)
     raw_cfg = replace(cfg, input="raw")
     out = {"plain": fit_model(s, sp, "scm-anfis", cfg),
            "drift": fit_model(s, sp, "scm-anfis", replace(cfg, learn_drift=True)),

@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from inertialab.calib.drift import DriftSettings
 from inertialab.learn.monitoring import cusum_alarms, first_passage
+from inertialab.workflows.drift import FitConfig
 
-FAST = DriftSettings(restarts=2, n_paths=50, baselines=("persistence", "ar_ls"))
+FAST = FitConfig(restarts=2, n_paths=50, baselines=("persistence", "ar_ls"))
 
 
 def test_recalibration_first_passage_quantile():

@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import pytest
 
-from inertialab.calib.drift import DriftSettings
 from inertialab.studies.drift import STUDY
+from inertialab.workflows.drift import FitConfig
 
-FAST = DriftSettings(restarts=2, n_paths=50, baselines=("persistence", "ar_ls"))
+FAST = FitConfig(restarts=2, n_paths=50, baselines=("persistence", "ar_ls"))
 
 
 def test_study_registered_with_budgeted_settings():
@@ -28,7 +28,7 @@ def test_a13_interval_coverage_over_the_spec_unit_count():
     from inertialab.workflows.drift import fit_drift
 
     batch = simulate_storage_batch(20, 100, "nav", rng=np.random.SeedSequence(0))
-    st = DriftSettings(preset="strict", baselines=("persistence",), seed=0)
+    st = FitConfig(preset="strict", baselines=("persistence",), seed=0)
     fit = fit_drift(batch.frame, meta=batch.meta, settings=st, origin_day=79)
     cov = []
     for _, _, r in fit.iter():

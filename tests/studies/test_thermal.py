@@ -6,14 +6,15 @@ from dataclasses import replace
 
 import numpy as np
 
-from inertialab.calib.thermal import ThermalConfig, drift
+from inertialab.calib.thermal import drift
 from inertialab.report.figures.thermal import section
 from inertialab.sim.thermal_tumble import simulate
 from inertialab.studies.base import discover_studies
 from inertialab.studies.thermal import STUDY, bootstrap
-from inertialab.workflows.thermal import fit_thermal, prepare_samples
+from inertialab.workflows.thermal import FitConfig, fit_thermal, prepare_samples
 
-FAST = ThermalConfig(fish=4, generations=2, search_epochs=5, epochs=30, ann_max_epochs=60)
+FAST = FitConfig(method="all", fish=4, generations=2, search_epochs=5, epochs=30,
+                 ann_max_epochs=60)
 
 
 def test_quick_study_runs_and_builds_its_section():
@@ -36,7 +37,7 @@ def test_quick_study_runs_and_builds_its_section():
 
 def test_bootstrap_bands_contain_the_point_estimate():
     samples = prepare_samples(simulate("paper", 0, 0).frame)
-    model = fit_thermal(samples, replace(FAST, methods=("scm-anfis",))).models["scm-anfis"]
+    model = fit_thermal(samples, replace(FAST, method=("scm-anfis",))).models["scm-anfis"]
     b = bootstrap(samples, model, FAST, n_boot=4, epochs=5, rng=1)
     own = drift(model, samples, own_unit=True)
     assert b.std_ug.shape == (samples.n,)

@@ -7,7 +7,7 @@ import pytest
 from inertialab.errors import DataQualityWarning, InputError
 from inertialab.sensors.gyro_vibration import bias_shift_dph
 from inertialab.studies.vibration import STUDY, simulate_pair
-from inertialab.workflows.vibration import TERMS, VibrationConfig, analyse
+from inertialab.workflows.vibration import TERMS, FitConfig, analyse
 
 
 @pytest.fixture(scope="module")
@@ -21,7 +21,7 @@ def short_result(short_pair):
     sweep, fixed = short_pair
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        return analyse(sweep, fixed, VibrationConfig(views=False))
+        return analyse(sweep, fixed, FitConfig(views=False))
 
 
 def test_pipeline_json_shape(short_result):
@@ -64,7 +64,7 @@ def test_sweep_alone_omits_compensation(short_pair):
     sweep, _ = short_pair
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        r = analyse(sweep, None, VibrationConfig(views=False, level="auto"))
+        r = analyse(sweep, None, FitConfig(views=False, level="auto"))
     assert r.residual_bias_dph is None and r.tables["compensation"] == {}
     assert r.level == r.level_selection.level
     assert set(r.tables["phases"]) == {"sweep/P1", "sweep/P2", "sweep/P3"}
@@ -75,7 +75,7 @@ def test_short_record_lowers_the_level_with_a_warning():
     sweep, fixed = simulate_pair(1, p1_s=7.5, p3_s=7.5, p2_fixed_s=25.0,
                                  sweep_oct_per_min=60.0)
     with pytest.warns(DataQualityWarning, match="levels"):
-        r = analyse(sweep, fixed, VibrationConfig(views=False, goal=1e-2))
+        r = analyse(sweep, fixed, FitConfig(views=False, goal=1e-2))
     assert r.metrics["level_rule"]["wavelet_level"] < 10
 
 
@@ -83,7 +83,7 @@ def test_bad_level():
     sweep, fixed = simulate_pair(1, p1_s=30.0, p3_s=30.0, p2_fixed_s=30.0,
                                  sweep_oct_per_min=60.0)
     with pytest.raises(InputError, match="level"):
-        analyse(sweep, fixed, VibrationConfig(level=12, views=False))
+        analyse(sweep, fixed, FitConfig(level=12, views=False))
 
 
 
@@ -101,9 +101,8 @@ def test_spread_by_validation_and_raw_phase_figures(short_pair):
     sweep, fixed = short_pair
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        r = analyse(sweep, fixed, VibrationConfig(spread="validate",
-                                                  spread_grid=(0.6, 1.2, 20.0),
-                                                  scalogram_phase_s=20.0))
+        r = analyse(sweep, fixed, FitConfig(spread="validate", spread_grid=(0.6, 1.2, 20.0),
+                                            scalogram_phase_s=20.0))
     sel = r.fit["rbf"]["spread_selection"]
     assert r.fit["rbf"]["spread"] == sel["chosen"] == sel["grid"][
         int(sel["heldout_rmse"].index(min(sel["heldout_rmse"])))]
@@ -118,4 +117,4 @@ def test_spread_by_validation_and_raw_phase_figures(short_pair):
     titles = [t.title for t in tables(r)]
     assert any("Raw records" in t for t in titles) and any("spread" in t for t in titles)
     with pytest.raises(InputError, match="spread"):
-        analyse(sweep, None, VibrationConfig(spread="auto", views=False))
+        analyse(sweep, None, FitConfig(spread="auto", views=False))

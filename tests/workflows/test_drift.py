@@ -6,15 +6,15 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from inertialab.calib.drift import DriftModel, DriftSettings
+from inertialab.calib.drift import DriftModel
 from inertialab.calib.model_types import load_model
 from inertialab.errors import DataQualityWarning, InputError
 from inertialab.io import validate_frame
 from inertialab.io.modelfile import save_model
 from inertialab.sim.drift import benchmark_process, simulate_storage_batch
-from inertialab.workflows.drift import fit_drift, to_daily_grid
+from inertialab.workflows.drift import FitConfig, fit_drift, to_daily_grid
 
-FAST = DriftSettings(restarts=2, n_paths=50, baselines=("persistence", "ar_ls"))
+FAST = FitConfig(restarts=2, n_paths=50, baselines=("persistence", "ar_ls"))
 
 
 def _frame(days, bias_mg, unit="U1", sf=None, **extra):
@@ -228,15 +228,27 @@ def test_apply_compensates_a_later_record_with_the_forecast():
 
 def test_the_study_in_one_module_and_the_old_name_warns():
     """workflows/drift.py holds the commands' settings and calls; drift_run still answers,
-    with a DeprecationWarning; the estimator's names load on first use."""
+    with a DeprecationWarning; the estimator's names load on first use; FitConfig is the
+    estimator's settings (order and hidden_grid read as the flags give them) and
+    DriftSettings its deprecated former name."""
     import importlib
     import sys
     import warnings
 
-    from inertialab.calib.drift import DriftSettings
+    from inertialab.calib.drift import DEFAULT_BASELINES
     from inertialab.workflows import drift
 
-    assert drift.DriftSettings is DriftSettings
+    assert drift.DEFAULT_BASELINES is DEFAULT_BASELINES
+    cfg = drift.FitConfig(order="4", hidden_grid="2, 4")
+    assert (cfg.nar_order, cfg.hidden_sizes, cfg.tolerance("sf")) == (4, (2, 4), 50.0)
+    assert drift.FitConfig(order=None).nar_order is None
+    with pytest.warns(DeprecationWarning, match="FitConfig"):
+        old = drift.DriftSettings(order=4, hidden_grid=(2, 4))
+    assert (old.nar_order, old.hidden_sizes) == (4, (2, 4))
+    for kw, name in (({"order": "0"}, "'order'"), ({"hidden_grid": "2,x"}, "'hidden_grid'"),
+                     ({"recal_quantile": 0.0}, "'recal_quantile'")):
+        with pytest.raises(InputError, match=name):
+            drift.FitConfig(**kw).validate()
     sys.modules.pop("inertialab.workflows.drift_run", None)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")

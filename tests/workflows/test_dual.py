@@ -108,7 +108,8 @@ def test_unsorted_rows_are_sorted_with_warning(tmp_path):
 
 def test_the_study_in_one_module_and_the_old_name_warns():
     """workflows/dual.py holds the commands' settings and calls; dual_run still answers,
-    with a DeprecationWarning; the default methods are calib's."""
+    with a DeprecationWarning; the default methods are calib's; FitConfig is the fit's
+    settings too and DualConfig (methods) its deprecated former spelling."""
     import importlib
     import sys
     import warnings
@@ -116,7 +117,13 @@ def test_the_study_in_one_module_and_the_old_name_warns():
     from inertialab.calib.dual import METHODS
     from inertialab.workflows import dual
 
-    assert dual.DualConfig().methods == METHODS == dual.parse_methods("all")
+    assert dual.FitConfig().methods == METHODS == dual.parse_methods("all")
+    with pytest.warns(DeprecationWarning, match="FitConfig"):
+        old = dual.DualConfig(methods=("ls", "ebr"), prior="certificate")
+    assert old == dual.FitConfig(method=("ls", "ebr"), prior="certificate")
+    assert old.methods == ("ls", "ebr")
+    with pytest.raises(InputError, match="'method'"):
+        dual.FitConfig(method="lsq").validate()
     sys.modules.pop("inertialab.workflows.dual_run", None)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")

@@ -13,7 +13,7 @@ from inertialab.errors import InputError, MissingReferenceError
 from inertialab.io import read_record, write_record
 from inertialab.sim.thermal_tumble import simulate
 from inertialab.workflows.thermal import (
-    ThermalConfig,
+    FitConfig,
     apply,
     drift,
     fit,
@@ -37,8 +37,8 @@ def run_b():
 @pytest.fixture(scope="module")
 def model(run_a):
     s = prepare_samples(run_a.frame)
-    (sp,) = make_splits(s, ThermalConfig(), rng=0)
-    return fit_model(s, sp, "scm-anfis", ThermalConfig(epochs=20))
+    (sp,) = make_splits(s, FitConfig(), rng=0)
+    return fit_model(s, sp, "scm-anfis", FitConfig(epochs=20))
 
 
 # -- prepare -------------------------------------------------------------------------------
@@ -81,7 +81,7 @@ def test_prepare_takes_the_reference_temperature_from_the_sidecar(run_a, tmp_pat
 
 def test_fit_verb_scores_the_requested_models(run_a):
     s = prepare_samples(run_a.frame)
-    res = fit(s, ThermalConfig(methods=("fis", "poly-2d")))
+    res = fit(s, FitConfig(method=("fis", "poly-2d")))
     assert list(res.metrics) == ["fis", "poly-2d"]
     summ = res.summary()
     assert summ["model_method"] == "fis" and summ["n_samples"] == 552
@@ -93,18 +93,18 @@ def test_random_streams_are_keyed_by_method_name_not_position(run_a):
     beside it or in which order (before: IAFSA on interp_T seed 2 gave 4.15 µg alone and
     26.8 µg with all methods)."""
     s = prepare_samples(run_a.frame)
-    cfg = ThermalConfig(fish=3, generations=2, search_epochs=3, epochs=10, ann_max_epochs=30,
-                        seed=2)
-    alone = fit(s, replace(cfg, methods=("iafsa-scm-anfis",)))
-    mixed = fit(s, replace(cfg, methods=("ann", "fis", "iafsa-scm-anfis")))
-    swapped = fit(s, replace(cfg, methods=("iafsa-scm-anfis", "fis", "ann")))
+    cfg = FitConfig(fish=3, generations=2, search_epochs=3, epochs=10, ann_max_epochs=30,
+                    seed=2)
+    alone = fit(s, replace(cfg, method=("iafsa-scm-anfis",)))
+    mixed = fit(s, replace(cfg, method=("ann", "fis", "iafsa-scm-anfis")))
+    swapped = fit(s, replace(cfg, method=("iafsa-scm-anfis", "fis", "ann")))
     a = alone.metrics["iafsa-scm-anfis"].rmse_ug
     assert mixed.metrics["iafsa-scm-anfis"].rmse_ug == a
     assert swapped.metrics["iafsa-scm-anfis"].rmse_ug == a
     assert mixed.search["params"] == alone.search["params"]
     assert mixed.metrics["ann"].rmse_ug == swapped.metrics["ann"].rmse_ug
     # different methods still draw different streams, and the seed still matters
-    other = fit(s, replace(cfg, methods=("iafsa-scm-anfis",), seed=3))
+    other = fit(s, replace(cfg, method=("iafsa-scm-anfis",), seed=3))
     assert other.search["params"] != alone.search["params"]
 
 
@@ -228,16 +228,21 @@ def test_apply_with_a_1e308_cell_is_an_error_naming_the_row(model, run_b, tmp_pa
 def test_the_study_in_one_module_and_the_old_name_warns():
     """workflows/thermal.py holds the commands' settings and calls and starts without the
     estimator floor; thermal_run still answers, with a DeprecationWarning; the command's
-    spelling (visual, step, try_number, crowd) reaches the estimator's settings."""
+    spelling (visual, step, try_number, crowd) is the estimator's; the former class
+    ThermalConfig (fish_visual ...) warns and gives the same settings."""
     import importlib
     import sys
     import warnings
 
+    from inertialab.calib.thermal import fish_params
     from inertialab.workflows import thermal
 
     cfg = thermal.FitConfig(method="fis", visual=0.5, step=0.2, try_number=7, crowd=0.5)
-    assert cfg.thermal_config().fish_params() == {"visual": 0.5, "step": 0.2,
-                                                  "try_number": 7, "crowd": 0.5}
+    assert fish_params(cfg) == {"visual": 0.5, "step": 0.2, "try_number": 7, "crowd": 0.5}
+    with pytest.warns(DeprecationWarning, match="FitConfig"):
+        old_cfg = thermal.ThermalConfig(methods=("fis",), fish_visual=0.5, fish_step=0.2,
+                                        fish_try_number=7, fish_crowd=0.5)
+    assert old_cfg.methods == ("fis",) and replace(old_cfg, method="fis") == cfg
     sys.modules.pop("inertialab.workflows.thermal_run", None)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")

@@ -144,3 +144,20 @@ def test_the_study_in_one_module_and_the_old_name_warns():
         old = importlib.import_module("inertialab.workflows.vibration_run")
     assert old.run_fit is vibration.run_fit and old.FitConfig is vibration.FitConfig
     assert any(issubclass(w.category, DeprecationWarning) for w in caught)
+
+
+def test_one_settings_class_with_the_flags_names():
+    """FitConfig is the pipeline's settings too: the seed reaches the RBF by that name,
+    level and spread are read as the flags give them; VibrationConfig (rng) warns and
+    gives the same settings; a bad level or spread is one error naming the argument."""
+    from inertialab.workflows import vibration
+
+    cfg = vibration.FitConfig(level="auto", spread="validate", seed=4)
+    assert (cfg.level_choice, cfg.spread_choice) == ("auto", "validate")
+    assert vibration.FitConfig(level=7, spread=0.8).validate().level_choice == 7
+    with pytest.warns(DeprecationWarning, match="FitConfig"):
+        old = vibration.VibrationConfig(level="auto", spread="validate", rng=4)
+    assert old == cfg
+    for kw, name in (({"level": "12"}, "'level'"), ({"spread": "wide"}, "'spread'")):
+        with pytest.raises(InputError, match=name):
+            vibration.FitConfig(**kw).validate()

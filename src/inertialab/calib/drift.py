@@ -30,11 +30,11 @@ from inertialab.errors import InputError
 from inertialab.io.model_schemas import check_own_payload
 from inertialab.learn.forecast_baselines import make_baseline
 from inertialab.learn.monitoring import cusum_alarms, first_passage
-from inertialab.learn.nar import MAX_ORDER, NARForecaster
+from inertialab.learn.nar import NARForecaster
 from inertialab.learn.nar_direct import DirectNARForecaster
-from inertialab.limits import MAX_HORIZON, bounded, bounded_int, check_horizon
+from inertialab.limits import MAX_HORIZON, check_horizon
 
-__all__ = ["DEFAULT_BASELINES", "DIRECT", "MAX_HORIZON", "QUANTITIES", "check_horizon", "DailySeries", "DriftModel", "DriftSettings",
+__all__ = ["DEFAULT_BASELINES", "DIRECT", "MAX_HORIZON", "QUANTITIES", "check_horizon", "DailySeries", "DriftModel", "baselines_of",
            "SeriesResult", "error_metrics", "fill_gaps", "fit_series"]
 
 #: quantity -> working unit (bias µg, scale factor ppm; docs/drift.md)
@@ -137,62 +137,17 @@ def fill_gaps(values, observed, max_gap):
     return v, imputed, segment
 
 
-@dataclass(frozen=True)
-class DriftSettings:
-    """Settings of :func:`fit_drift` / :func:`fit_series` (spec 004 defaults).
-
-    horizon K = 20 steps; order None = kernel CV with H = 6 (spec §3.1 [R-2]; passed
-    explicitly, so the study does not follow the NAR learner's generic ``H="auto"``
-    default for long series, :func:`inertialab.learn.nar.auto_lag_bound`); hidden S = 10 (or chosen from
-    ``hidden_grid`` by validation, §3.2); restarts
-    R = 10; preset "paper" (best member, random split) or "strict" (median, block split);
-    n_paths B = 200; max_gap 3; Hampel screen off; tolerances 50 µg and 50 ppm
-    (docs/drift.md); re-calibration at the 10 % quantile of the first passage.
-    """
-
-    horizon: int = 20
-    order: int | None = None
-    H: int = 6
-    hidden: int = 10
-    hidden_grid: tuple | None = None
-    restarts: int = 10
-    preset: str = "paper"
-    combine: str | None = None
-    split: str | None = None
-    n_paths: int = 200
-    max_gap: int = 3
-    hampel: bool = False
-    baselines: tuple = DEFAULT_BASELINES
-    tol_bias_ug: float = 50.0
-    tol_sf_ppm: float = 50.0
-    recal_quantile: float = 0.1
-    seed: int = 0
-
-    def __post_init__(self):
-        """Every setting bounded before any work (a NaN tolerance would silently
-        disable the re-calibration alarm; an order of 1e9 would never end)."""
-        check_horizon(self.horizon)
-        bounded_int("order", self.order, 1, MAX_ORDER)
-        bounded_int("H", self.H, 1, MAX_ORDER)
-        bounded_int("hidden", self.hidden, 1, 10_000)
-        bounded_int("restarts", self.restarts, 1, 1_000)
-        bounded_int("n_paths", self.n_paths, 1, 100_000)
-        bounded_int("max_gap", self.max_gap, 0, 36_500)
-        bounded("tol_bias_ug", self.tol_bias_ug, 0.0, 1e9, lo_open=True)
-        bounded("tol_sf_ppm", self.tol_sf_ppm, 0.0, 1e9, lo_open=True)
-        bounded("recal_quantile", self.recal_quantile, 0.0, 1.0, lo_open=True)
-        bounded_int("seed", self.seed, 0, 2**63 - 1)
-
-    def tolerance(self, quantity: str) -> float:
-        return float(self.tol_bias_ug if quantity == "bias" else self.tol_sf_ppm)
+def baselines_of(settings) -> tuple:
+    """The baselines ``settings`` asks for (None: :data:`DEFAULT_BASELINES`)."""
+    return DEFAULT_BASELINES if settings.baselines is None else tuple(settings.baselines)
 
 
 #: The direct-strategy NAR (one net per step, :mod:`inertialab.learn.nar_direct`) is asked
-#: for like a baseline: add this name to ``DriftSettings.baselines`` (spec 004 §3.8 ablation).
+#: for like a baseline: add this name to the settings' ``baselines`` (spec 004 §3.8 ablation).
 DIRECT = "nar_direct"
 
 
-def _baseline(name: str, nar: NARForecaster, settings: DriftSettings, K: int):
+def _baseline(name: str, nar: NARForecaster, settings, K: int):
     """A baseline forecaster; ``"nar_direct"`` is the direct NAR with the recursive NAR's
     order, hidden size, restarts and preset, seeded from the NAR's stream."""
     if name != DIRECT:
@@ -312,14 +267,13 @@ def _origin_index(series: DailySeries, origin_day) -> int:
     return int(obs[-1] if obs.size else fin[-1])
 
 
-def fit_series(series: DailySeries, settings: DriftSettings = DriftSettings(), *,
-               origin_day: int | None = None, rng=None) -> SeriesResult:
-    """NAR fit, forecast, baselines, holdout metrics and re-calibration for one series.
-
-    In-sample = grid steps up to the origin (the last observed step on or before
-    ``origin_day``; default the last observed step). Steps after it, up to the horizon,
-    are the holdout, scored on observed, non-imputed, non-screened steps only.
-    """
+def fit_series(series: DailySeries, settings, *, origin_day: int | None = None,
+               rng=None) -> SeriesResult:
+    """NAR fit, forecast, baselines, holdout metrics and re-calibration for one series
+    (``settings``: :class:`inertialab.workflows.drift.FitConfig`, read by name). In-sample
+    = grid steps up to the origin (the last observed step on or before ``origin_day``;
+    default the last observed step). Steps after it, up to the horizon, are the holdout,
+    scored on observed, non-imputed, non-screened steps only."""
     K = check_horizon(settings.horizon)
     T = _origin_index(series, origin_day)
     y = series.values[: T + 1]
@@ -328,8 +282,8 @@ def fit_series(series: DailySeries, settings: DriftSettings = DriftSettings(), *
     # use only the last segment when an earlier one is separated by a long gap? No:
     # the NAR skips samples touching gaps; all segments contribute (spec §2.2 item 4).
     del seg
-    nar = NARForecaster(order=settings.order, H=settings.H, hidden=settings.hidden,
-                        hidden_grid=settings.hidden_grid,
+    nar = NARForecaster(order=settings.nar_order, H=settings.H, hidden=settings.hidden,
+                        hidden_grid=settings.hidden_sizes,
                         restarts=settings.restarts, preset=settings.preset,
                         combine=settings.combine, split=settings.split,
                         n_paths=settings.n_paths, rng=rng)
@@ -368,7 +322,7 @@ def fit_series(series: DailySeries, settings: DriftSettings = DriftSettings(), *
             exceeded = bool(k_rec is None or first < k_rec)
         else:
             exceeded = False
-    for name in settings.baselines:
+    for name in baselines_of(settings):
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")

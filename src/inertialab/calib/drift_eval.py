@@ -10,7 +10,7 @@ from dataclasses import asdict, dataclass, replace
 
 import numpy as np
 
-from inertialab.calib.drift import DailySeries, DriftSettings, fit_series
+from inertialab.calib.drift import DailySeries, baselines_of, fit_series
 from inertialab.errors import InputError
 
 __all__ = ["RollingResult", "evaluate_rolling_origin"]
@@ -48,12 +48,14 @@ class RollingResult:
         return asdict(self)
 
 
-def evaluate_rolling_origin(series: DailySeries, settings: DriftSettings = DriftSettings(), *,
+def evaluate_rolling_origin(series: DailySeries, settings, *,
                             first: int = 50, step: int = 5, rng=0,
                             refit_order: bool = True) -> RollingResult:
     """Refit NAR and the baselines at origins first, first+step, ..., N-K (spec 004 §5).
 
-    ``refit_order=False`` keeps the order chosen at the first origin.
+    ``settings``: as :func:`~inertialab.calib.drift.fit_series` reads them (the
+    workflow's ``EvaluateConfig``). ``refit_order=False`` keeps the order chosen at the
+    first origin.
     """
     from scipy.stats import wilcoxon
 
@@ -64,13 +66,13 @@ def evaluate_rolling_origin(series: DailySeries, settings: DriftSettings = Drift
         raise InputError(f"series of {N} steps too short for origins from {first} with K = {K}")
     seeds = np.random.SeedSequence(int(rng) if not isinstance(rng, np.random.SeedSequence)
                                    else 0).spawn(len(origins))
-    names = ["nar", *settings.baselines]
+    names = ["nar", *baselines_of(settings)]
     rm = {n: [] for n in names}
     mx = {n: [] for n in names}
     abs_sum = {n: np.zeros(K) for n in names}
     abs_cnt = {n: np.zeros(K, dtype=int) for n in names}
     orders = []
-    order = settings.order
+    order = settings.nar_order
     for T, sd in zip(origins, seeds):
         st = replace(settings, order=order)
         r = fit_series(series, st, origin_day=int(series.day[T - 1]), rng=sd)
@@ -85,7 +87,7 @@ def evaluate_rolling_origin(series: DailySeries, settings: DriftSettings = Drift
             actual = np.asarray(r.holdout["actual"])
             np.add.at(abs_sum["nar"], k, np.asarray(r.holdout["abs_error"]))
             np.add.at(abs_cnt["nar"], k, 1)
-        for b in settings.baselines:
+        for b in baselines_of(settings):
             e = r.baselines.get(b, {})
             rm[b].append(e.get("rmse", np.nan))
             mx[b].append(e.get("max_ae", np.nan))

@@ -1,7 +1,7 @@
 """The thermal-compensation product model of study 000 (quartz flexure accelerometer).
 
-On arrays, no files and no records: the settings of a fit (:class:`ThermalConfig`), the
-(T, N) -> Nc samples of one unit (:class:`ThermalSamples`, built from a record by
+On arrays, no files and no records: the (T, N) -> Nc samples of one unit
+(:class:`ThermalSamples`, built from a record by
 :func:`inertialab.workflows.thermal.prepare`), a split of the samples (:class:`Split`; the splits
 of §3.1 step 4 are made by :func:`inertialab.workflows.thermal.make_splits`), the seven
 estimators (ANN, FIS, ANFIS on a grid, SCM-ANFIS, IAFSA-SCM-ANFIS, POLY-SEP,
@@ -31,9 +31,9 @@ from inertialab.io.model_schemas import check_own_payload
 from inertialab.learn.anfis import ANFIS
 from inertialab.learn.mlp_lm import MLPRegressorLM
 from inertialab.learn.poly import PolynomialRegressor, SeparatePolynomials, monomials
-from inertialab.learn.scm_search import FISH_DEFAULTS, search_scm
+from inertialab.learn.scm_search import search_scm
 from inertialab.learn.subclust import DEFAULTS as SCM_DEFAULTS
-from inertialab.limits import MAX_MAGNITUDE, bounded_int
+from inertialab.limits import MAX_MAGNITUDE
 from inertialab.optim.fish_swarm import iafsa
 from inertialab.sensors.pendulous import (
     SingleAxisCoefficients,
@@ -51,114 +51,6 @@ PROPOSED = "iafsa-scm-anfis"
 SPLITS = ("random", "interp_T", "leave_one_T_out", "up_down")
 #: Status codes of compensated output (docs/thermal.md; same in the C export).
 STATUS_OK, STATUS_T_CLAMPED, STATUS_N_CLAMPED = 0, 1, 2
-
-
-# ---------------------------------------------------------------------------------------
-# configuration
-# ---------------------------------------------------------------------------------------
-@dataclass(frozen=True)
-class ThermalConfig:
-    """Settings of a thermal fit (defaults: spec 000 §3-§4).
-
-    Attributes
-    ----------
-    methods : models to fit (subset of :data:`METHODS`)
-    split : "random" | "interp_T" | "leave_one_T_out" (§3.1 step 4) | "up_down" (train on
-        the up pass, test on the down pass: hysteresis, §8.4)
-    test_positions : positions per set point in the test set of the random split (7 of 24)
-    val_fraction : stratified validation share of the training set (0.2)
-    target : "linear55" (eq. 6) | "measured55" (the 55 °C Ua at the same position)
-    input : "ua" (eq. 5) | "raw" (N = U; the target keeps the fitted 55 °C terms)
-    learn_drift : learn ``Nc - N`` instead of ``Nc`` (§3.1 step 5)
-    include_kp : fit Kp in the reference fit (§3.1 step 1)
-    reference_temp_c : 55 °C; temp_tolerance_c : ±2 °C around each set point (§2.3)
-    epochs : final ANFIS epochs (150); search_epochs : ANFIS epochs inside IAFSA (20)
-    fish, generations : IAFSA N_fish (10) and G_max (30); r_max : rule cap (40)
-    fish_visual, fish_step : initial visual range (0.30) and step (0.10) of the fish, in
-        unit-cube coordinates; fish_try_number : prey attempts (5); fish_crowd : crowd
-        factor (0.618). Spec 000 §3.5's values (the seed's Table 1 is lost); the floors
-        Visual_min = 0.02, Step_min = 0.005 and the exponent s = 3 stay fixed.
-    radii : "scalar" (4-D search) | "per_dim" (6-D: r_T, r_N, r_y)
-    ann_hidden, ann_max_epochs : MLP 2-10-1, up to 500 LM iterations (§4)
-    poly_sep_degree : cubic K0(T), K1(T) (§4); poly2d_degrees : (m, n) = (3, 1) (§4)
-    range_margin_c, range_margin_frac : the calibrated range used for clamping is the
-        training range of T widened by 0.5 °C (chamber wander) and of N widened by 5 % of
-        its span on each side [ours]. Clamping N exactly at the training maximum would
-        saturate a +1 g reading whose position happened to fall in the test set (measured:
-        400 µg at 70 °C, +1 g), while the first-order consequents extrapolate benignly.
-    seed : master seed (split stream, then one stream per fold and method name)
-    """
-
-    methods: tuple[str, ...] = METHODS
-    split: str = "random"
-    test_positions: int = 7
-    val_fraction: float = 0.2
-    target: str = "linear55"
-    input: str = "ua"
-    learn_drift: bool = False
-    include_kp: bool = True
-    reference_temp_c: float = 55.0
-    temp_tolerance_c: float = 2.0
-    epochs: int = 150
-    search_epochs: int = 20
-    fish: int = 10
-    generations: int = 30
-    r_max: int = 40
-    radii: str = "scalar"
-    ann_hidden: int = 10
-    ann_max_epochs: int = 500
-    poly_sep_degree: int = 3
-    poly2d_degrees: tuple[int, int] = (3, 1)
-    range_margin_c: float = 0.5
-    range_margin_frac: float = 0.05
-    seed: int = 0
-    fish_visual: float = 0.30
-    fish_step: float = 0.10
-    fish_try_number: int = 5
-    fish_crowd: float = 0.618
-
-    def validate(self) -> ThermalConfig:
-        bad = [m for m in self.methods if m not in METHODS]
-        if bad:
-            raise InputError(f"unknown method(s) {bad}; choose from {', '.join(METHODS)} or all")
-        if self.split not in SPLITS:
-            raise InputError(f"unknown split {self.split!r}; choose one of {', '.join(SPLITS)}")
-        if self.target not in ("linear55", "measured55"):
-            raise InputError(f"target must be linear55 or measured55, got {self.target!r}")
-        if self.input not in ("ua", "raw"):
-            raise InputError(f"input must be ua or raw, got {self.input!r}")
-        if self.radii not in ("scalar", "per_dim"):
-            raise InputError(f"radii must be scalar or per_dim, got {self.radii!r}")
-        if not 0 < self.val_fraction < 1:
-            raise InputError(f"val_fraction must be in (0, 1), got {self.val_fraction}")
-        for name in ("fish_visual", "fish_step"):
-            v = getattr(self, name)
-            if not (np.isfinite(v) and 0 < v <= 1):
-                raise InputError(f"argument '{name}' must be in (0, 1] (unit-cube "
-                                 f"coordinates), got {v}")
-        # each try is a model evaluation per fish and generation: bounded
-        bounded_int("fish_try_number", self.fish_try_number, 1, 1000)
-        if not (np.isfinite(self.fish_crowd) and 0 < self.fish_crowd <= 1):
-            raise InputError(f"argument 'fish_crowd' must be in (0, 1], got {self.fish_crowd}")
-        bounded_int("fish", self.fish, 1, 10_000)
-        bounded_int("generations", self.generations, 1, 100_000)
-        return self
-
-    def fish_params(self) -> dict:
-        """The settable fish-swarm parameters as :func:`~inertialab.optim.fish_swarm.iafsa`
-        takes them."""
-        return {"visual": float(self.fish_visual), "step": float(self.fish_step),
-                "try_number": int(self.fish_try_number), "crowd": float(self.fish_crowd)}
-
-    def fish_table(self) -> dict:
-        """Table 1 of the paper (fish-swarm parameters), with the values used."""
-        return {"n_fish": int(self.fish), "max_generations": int(self.generations),
-                "visual": float(self.fish_visual), "step": float(self.fish_step),
-                "visual_min": FISH_DEFAULTS["visual_min"],
-                "step_min": FISH_DEFAULTS["step_min"],
-                "try_number": int(self.fish_try_number), "crowd": float(self.fish_crowd),
-                "adaptive_exponent": FISH_DEFAULTS["s"],
-                "search_epochs": int(self.search_epochs), "r_max": int(self.r_max)}
 
 
 # ---------------------------------------------------------------------------------------
@@ -292,7 +184,7 @@ class ThermalModel:
     ref : 55 °C coefficients of the training unit (mV/g^k)
     regressor : the fitted map (ANFIS, MLPRegressorLM, PolynomialRegressor with
         ``degrees`` (POLY-2D), SeparatePolynomials)
-    input, target, learn_drift : sample construction (see :class:`ThermalConfig`)
+    input, target, learn_drift : sample construction (see :class:`inertialab.workflows.thermal.FitConfig`)
     t_range_c, n_range_mv : calibrated input range (training min/max) used for clamping
     reference_temp_c : 55 °C
     scm : SCM parameters of the fuzzy models (radius, squash, accept, reject)
@@ -429,10 +321,19 @@ def _target(s: ThermalSamples, learn_drift: bool) -> np.ndarray:
     return s.y_mv - s.n_mv if learn_drift else s.y_mv
 
 
-def fit_model(samples: ThermalSamples, split: Split, method: str, config: ThermalConfig, *,
+def fish_params(config) -> dict:
+    """The settable fish-swarm parameters of ``config`` as
+    :func:`~inertialab.optim.fish_swarm.iafsa` takes them (the same names)."""
+    return {"visual": float(config.visual), "step": float(config.step),
+            "try_number": int(config.try_number), "crowd": float(config.crowd)}
+
+
+def fit_model(samples: ThermalSamples, split: Split, method: str, config, *,
               rng=None, progress=None, scm_params: dict | None = None) -> ThermalModel:
-    """Fit one model on a split (spec 000 §3.6, §4). ``scm_params`` skips the IAFSA search
-    of ``iafsa-scm-anfis`` (bootstrap replicas reuse the parameters found)."""
+    """Fit one model on a split (spec 000 §3.6, §4). ``config``: the settings of the fit,
+    :class:`inertialab.workflows.thermal.FitConfig` (read by name: ``epochs``, ``visual``,
+    ``ann_hidden`` ...). ``scm_params`` skips the IAFSA search of ``iafsa-scm-anfis``
+    (bootstrap replicas reuse the parameters found)."""
     cfg = config
     X = samples.X
     y = _target(samples, cfg.learn_drift)
@@ -455,7 +356,7 @@ def fit_model(samples: ThermalSamples, split: Split, method: str, config: Therma
             sr = search_scm(X[fi], y[fi], X[va], y[va], k1=samples.k1, bounds_x=bx, bounds_y=by,
                             optimizer=iafsa, radii=cfg.radii, fish=cfg.fish,
                             generations=cfg.generations, search_epochs=cfg.search_epochs,
-                            r_max=cfg.r_max, fish_params=cfg.fish_params(), rng=rng,
+                            r_max=cfg.r_max, fish_params=fish_params(cfg), rng=rng,
                             progress=progress)
             scm, search = sr.params, sr.to_dict()
         else:
@@ -715,7 +616,7 @@ def recalibrate(model: ThermalModel, samples_b: ThermalSamples, *,
 
 __all__ = [
     "FUZZY", "METHODS", "PROPOSED", "SPLITS", "STATUS_N_CLAMPED", "STATUS_OK",
-    "STATUS_T_CLAMPED", "Compensation", "DriftResult", "ModelMetrics", "Split", "ThermalConfig",
+    "STATUS_T_CLAMPED", "Compensation", "DriftResult", "ModelMetrics", "Split", "fish_params",
     "ThermalModel", "ThermalSamples", "compensate", "drift", "fit_model",
     "model_input", "raw_drift_rms_ug", "recalibrate", "score",
 ]

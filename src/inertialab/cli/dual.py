@@ -27,7 +27,7 @@ def dual_fit(
     """Calibrate two accelerometers tumbled on a dividing head (g^2 model, LS, EBR)."""
     if len(files) > 2:
         raise InputError("give one record, or two for the two-orientation fit")
-    config.dual_config(sensitivity=False)  # refuse bad settings before reading
+    config.validate()  # refuse bad settings before reading
 
     def produce(bar):
         records = [read_record(f, "dual_tumble", g_local=config.g_local, options=read)

@@ -33,16 +33,12 @@ from inertialab import signals as _signals  # noqa: E402
 from inertialab.cli.options import check_out_targets, flagged  # noqa: E402
 from inertialab.config import read_run_config  # noqa: E402
 from inertialab.errors import InputError  # noqa: E402
+from inertialab.studies import STUDIES  # noqa: E402
 
-_GROUP_HELP = {
-    "simulate": "Write a record from the virtual lab (one rig per study).",
-    "vibration": "FOG under vibration: wavelet bias separation, RBF bias model (spec 001).",
-    "thermal": "Temperature-drift compensation of quartz accelerometers (spec 000).",
-    "triaxial": "Triaxial accelerometer + gyro calibration: field poses, Ferraris "
-                "protocol, apply (spec 002).",
-    "dual": "Dual-accelerometer dividing-head calibration, EBR, design (spec 003).",
-    "drift": "Long-term storage drift forecasting and compensation (spec 004).",
-}
+#: The command groups: ``simulate`` and every study of :data:`inertialab.studies.STUDIES`
+#: with a group of its own, with the group's help.
+_GROUP_HELP = {"simulate": "Write a record from the virtual lab (one rig per study).",
+               **{s.name: s.group for s in STUDIES if s.group is not None}}
 #: Groups whose bare form ``inertialab GROUP FILE ...`` runs ``GROUP fit FILE ...``
 #: (the old ``inertialab vibration SWEEP [FIXED]`` spelling).
 _DEFAULT_FIT_GROUPS = {"vibration"}
@@ -50,10 +46,12 @@ _DEFAULT_FIT_GROUPS = {"vibration"}
 #: modules that register into it. The command line imports only the modules of the one
 #: name it runs, so a command loads its floors when it runs (tests/cli/test_main.py holds
 #: this table against a build of every module).
+#: (``allan`` and the study groups come from :data:`inertialab.studies.STUDIES`; each
+#: study's command module has the study's name.)
 TOP_LEVEL: dict[str, tuple[str, ...]] = {
     "allan": ("allan",), "batch": ("batch",), "demo": ("demo",), "validate": ("validate",),
-    "simulate": ("simulate",), "vibration": ("vibration",), "thermal": ("thermal",),
-    "triaxial": ("triaxial",), "dual": ("dual",), "drift": ("drift",),
+    "simulate": ("simulate",),
+    **{s.name: (s.name,) for s in STUDIES if s.group is not None},
 }
 
 

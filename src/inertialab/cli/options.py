@@ -172,8 +172,7 @@ FLAG_OF: dict[str, str] = {
     "stats": "--stat", "export": "--export", "to": "--to", "rostopic": "--rostopic",
     "imu_topic": "--rostopic", "nominal_hz": "--nominal", "fit_terms": "--terms",
     "t_init_s": "--t-init", "min_duration_s": "--min-duration", "window_s": "--window",
-    "fish_visual": "--visual", "fish_step": "--step", "fish_try_number": "--try-number",
-    "fish_crowd": "--crowd", "n_positions": "--positions", "inputs": "--inputs",
+    "n_positions": "--positions", "inputs": "--inputs",
     "force": "--force",
 }
 

@@ -80,7 +80,7 @@ def thermal_fit(
         return run.execute("thermal fit --imu", lambda bar: wi.run_imu_fit(_read_imu(file), wi.fit_settings(
             config, given), exports=pairs), inputs=lambda res: [{"path": str(file), "sha256": res.sha256}],
             figures=commands.thermal_imu_fit)
-    config.thermal_config()  # refuse bad settings before reading the record
+    config.validate()  # refuse bad settings before reading the record
 
     run.execute("thermal fit", lambda bar: wt.run_fit(_read(file, read), config, progress=bar),
                 inputs=lambda res: [{"path": str(file), "sha256": res.sha256}],

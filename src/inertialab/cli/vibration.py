@@ -25,7 +25,7 @@ def vibration_fit(
 ):
     """FOG under vibration: phase-wise Allan terms, db4 separation, RBF bias compensation
     (fit the bias model on the sweep; compensate the fixed run when given)."""
-    config.vibration_config(views=False)  # refuse bad settings before reading
+    config.validate()  # refuse bad settings before reading
 
     def produce(bar):
         sweep, fixed = (None if f is None else read_record(f, "gyro_log", options=read)

@@ -159,7 +159,7 @@ class NARForecaster(Estimator):
     H : int or "auto", default="auto"
         Upper bound of the order search. ``"auto"`` = :func:`auto_lag_bound` of the
         number of usable values (6 for short records, up to 40 for long series); the
-        spec 004 study passes the spec's H = 6 (§3.1 [R-2], ``DriftSettings.H``).
+        spec 004 study passes the spec's H = 6 (§3.1 [R-2], ``workflows.drift.FitConfig.H``).
     c : float, default=0.5
         Bandwidth constant of the order search.
     bandwidth : {"rule", "cv"}, default="rule"

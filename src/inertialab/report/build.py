@@ -18,27 +18,40 @@ from inertialab.studies.base import StudyResult
 from inertialab.studies.demo import summary_rows
 
 
+def figure_module(name: str):
+    """The figure module ``inertialab.report.figures.<name>`` (imported here, explicitly:
+    matplotlib loads when a report is drawn, not when the package is imported)."""
+    if name == "allan":
+        from inertialab.report.figures import allan as mod
+    elif name == "vibration":
+        from inertialab.report.figures import vibration as mod
+    elif name == "thermal":
+        from inertialab.report.figures import thermal as mod
+    elif name == "triaxial":
+        from inertialab.report.figures import triaxial as mod
+    elif name == "dual":
+        from inertialab.report.figures import dual as mod
+    elif name == "drift":
+        from inertialab.report.figures import drift as mod
+    elif name == "batch":
+        from inertialab.report.figures import batch as mod
+    else:
+        raise KeyError(f"no figure module {name!r}")
+    return mod
+
+
 def figure_modules() -> dict:
-    """Study name -> its figure module (imported here, explicitly: matplotlib loads
-    when a report is drawn, not when the package is imported).
+    """Study name -> its figure module: one per :data:`inertialab.studies.STUDIES` entry,
+    in that order, then ``batch`` (the fleet report).
 
     Examples
     --------
     >>> sorted(figure_modules())
     ['allan', 'batch', 'drift', 'dual', 'thermal', 'triaxial', 'vibration']
     """
-    from inertialab.report.figures import (
-        allan,
-        batch,
-        drift,
-        dual,
-        thermal,
-        triaxial,
-        vibration,
-    )
+    from inertialab.studies import STUDIES
 
-    return {"allan": allan, "vibration": vibration, "thermal": thermal,
-            "triaxial": triaxial, "dual": dual, "drift": drift, "batch": batch}
+    return {name: figure_module(name) for name in [s.name for s in STUDIES] + ["batch"]}
 
 
 def section_for(result: StudyResult) -> Section:

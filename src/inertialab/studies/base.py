@@ -2,7 +2,7 @@
 
 A module ``inertialab/studies/<name>.py`` that takes part in ``inertialab demo`` defines
 a module-level ``STUDY = Study(...)`` and is listed in
-:func:`inertialab.studies.study_modules`. The demo finds them (:func:`discover_studies`), runs
+:data:`inertialab.studies.STUDIES`. The demo finds them (:func:`discover_studies`), runs
 ``study.run(settings, progress)`` with the study's ``quick`` or ``full`` settings
 and hands the :class:`StudyResult` to the report, which turns it into a section with
 ``inertialab.report.figures.<name>.section(result)``. Workflows never draw.
@@ -15,9 +15,10 @@ from dataclasses import asdict, dataclass, field, is_dataclass
 from typing import Any
 
 from inertialab.progress import NullProgress, Progress  # noqa: F401 - re-exported
+from inertialab.studies import STUDIES
 
-#: Canonical order of the studies in the demo and the report.
-STUDY_ORDER = ("allan", "vibration", "thermal", "triaxial", "dual", "drift")
+#: Canonical order of the studies in the demo and the report (:data:`inertialab.studies.STUDIES`).
+STUDY_ORDER = tuple(s.name for s in STUDIES)
 
 
 @dataclass(frozen=True)

@@ -13,10 +13,10 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from inertialab.calib.drift import DEFAULT_BASELINES, QUANTITIES, DriftSettings
+from inertialab.calib.drift import DEFAULT_BASELINES, QUANTITIES
 from inertialab.progress import NullProgress
 from inertialab.studies.base import Headline, Study, StudyResult, settings_dict
-from inertialab.workflows.drift import DriftFit, fit_drift
+from inertialab.workflows.drift import DriftFit, FitConfig, fit_drift
 
 __all__ = ["STUDY", "FullSettings", "QuickSettings", "run_demo", "summarise"]
 
@@ -98,8 +98,8 @@ def run_demo(settings, progress=None) -> StudyResult:
     t0 = time.perf_counter()
     batch = simulate_storage_batch(settings.n_units, settings.n_days, "paper",
                                    rng=np.random.SeedSequence(settings.seed))
-    ds = DriftSettings(restarts=settings.restarts, n_paths=settings.n_paths,
-                       baselines=tuple(settings.baselines), seed=settings.seed)
+    ds = FitConfig(restarts=settings.restarts, n_paths=settings.n_paths,
+                   baselines=tuple(settings.baselines), seed=settings.seed)
 
     class _P:
         def update(self, done, total, note=""):

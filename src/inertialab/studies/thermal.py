@@ -21,7 +21,6 @@ from inertialab.calib.thermal import (
     FUZZY,
     METHODS,
     Split,
-    ThermalConfig,
     ThermalModel,
     ThermalSamples,
     drift,
@@ -31,6 +30,7 @@ from inertialab.progress import NullProgress
 from inertialab.seeding import as_generator
 from inertialab.studies.base import Headline, Study, StudyResult, settings_dict
 from inertialab.workflows.thermal import (
+    FitConfig,
     fit_thermal,
     prepare_samples,
     strata_of,
@@ -62,7 +62,7 @@ class BootstrapResult:
                 "max_band_halfwidth_ug": float(np.max(self.band_hi_ug - self.band_lo_ug) / 2)}
 
 
-def bootstrap(samples: ThermalSamples, model: ThermalModel, config: ThermalConfig, *,
+def bootstrap(samples: ThermalSamples, model: ThermalModel, config: FitConfig, *,
               n_boot: int = 50, epochs: int | None = None, rng=None) -> BootstrapResult:
     """Resample the temperature blocks (set points, the reference always kept) with
     replacement, refit ``model.method`` with its SCM parameters fixed, and collect the
@@ -105,7 +105,7 @@ def virtual_lab_run(preset: str, seed: int, split: str, config_kw: dict | None =
 
     run_a = simulate(preset, lot_seed, 0, seed=seed)
     run_b = simulate(preset, lot_seed, 1, seed=seed + 1000)
-    cfg = ThermalConfig(split=split, seed=seed, **(config_kw or {}))
+    cfg = FitConfig(method="all", split=split, seed=seed, **(config_kw or {}))
     sa = prepare_samples(run_a.frame, cfg)
     sb = prepare_samples(run_b.frame, cfg)
     t0, c0 = time.perf_counter(), time.process_time()
@@ -172,9 +172,9 @@ def run_demo(settings=None, progress=None) -> StudyResult:
     t0 = time.perf_counter()
     run_a = simulate(st.preset, st.lot_seed, 0, seed=st.run_seed)
     run_b = simulate(st.preset, st.lot_seed, 1, seed=st.run_seed + 1000)
-    cfg = ThermalConfig(methods=tuple(st.methods), split=st.split, fish=st.fish,
-                        generations=st.generations, search_epochs=st.search_epochs,
-                        epochs=st.epochs, ann_max_epochs=st.ann_max_epochs, seed=st.run_seed)
+    cfg = FitConfig(method=tuple(st.methods), split=st.split, fish=st.fish,
+                    generations=st.generations, search_epochs=st.search_epochs,
+                    epochs=st.epochs, ann_max_epochs=st.ann_max_epochs, seed=st.run_seed)
     sa = prepare_samples(run_a.frame, cfg)
     sb = prepare_samples(run_b.frame, cfg)
     fit = fit_thermal(sa, cfg, progress=progress)

@@ -14,7 +14,7 @@ import numpy as np
 
 from inertialab.calib.vibration import VibrationRun
 from inertialab.studies.base import Headline, Study, StudyResult
-from inertialab.workflows.vibration import VibrationConfig, analyse, run_from_frame
+from inertialab.workflows.vibration import FitConfig, analyse, run_from_frame
 
 __all__ = ["STUDY", "FullSettings", "QuickSettings", "run_demo", "simulate_pair"]
 
@@ -68,8 +68,8 @@ def run_demo(settings, progress=None) -> StudyResult:
     s = settings
     sweep, fixed = simulate_pair(s.seed, p1_s=s.p1_s, p3_s=s.p3_s, p2_fixed_s=s.p2_fixed_s,
                                  sweep_oct_per_min=s.sweep_oct_per_min)
-    cfg = VibrationConfig(level=s.level, spread=s.spread, goal=s.goal,
-                          scalogram_phase_s=s.scalogram_phase_s)
+    cfg = FitConfig(level=s.level, spread=s.spread, goal=s.goal,
+                    scalogram_phase_s=s.scalogram_phase_s)
     res = analyse(sweep, fixed, cfg, progress)
     ph = res.tables["phases"]
     rb = res.residual_bias_dph or {}

@@ -22,7 +22,11 @@ Thin, one verb set over :mod:`inertialab.calib.drift`:
 
 The estimators (:mod:`inertialab.calib.drift`, scipy) and pandas are imported inside the
 functions that use them, so that ``drift fit --help`` starts light; their names
-re-exported here (``DriftSettings``, ``DEFAULT_BASELINES`` ...) load on first use.
+re-exported here (``DEFAULT_BASELINES``, ``DriftModel`` ...) load on first use.
+:class:`FitConfig` and :class:`EvaluateConfig` are the settings of the commands, of the
+verbs and of the estimator (:func:`~inertialab.calib.drift.fit_series` reads them by
+the flags' names); ``DriftSettings`` is the deprecated name of the former estimator
+class.
 
 Random streams: ``SeedSequence(seed).spawn(n_units)`` over units in sorted ``unit_id``
 order, then each unit's stream ``spawn(2)`` for (bias, sf); each is the NAR's seed.
@@ -32,7 +36,7 @@ from __future__ import annotations
 
 import time
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -54,7 +58,6 @@ if TYPE_CHECKING:
         QUANTITIES,
         DailySeries,
         DriftModel,
-        DriftSettings,
     )
 
 __all__ = ["DEFAULT_BASELINES", "MAX_HORIZON", "QUANTITIES", "UNITS", "DriftFit", "DriftSettings",
@@ -64,7 +67,7 @@ __all__ = ["DEFAULT_BASELINES", "MAX_HORIZON", "QUANTITIES", "UNITS", "DriftFit"
 
 #: Names of :mod:`inertialab.calib.drift` re-exported for callers of the workflow, loaded
 #: on first use.
-_CALIB = ("DEFAULT_BASELINES", "QUANTITIES", "DailySeries", "DriftModel", "DriftSettings", "check_span", "fill_gaps", "fit_series")
+_CALIB = ("DEFAULT_BASELINES", "QUANTITIES", "DailySeries", "DriftModel", "check_span", "fill_gaps", "fit_series")
 
 
 def __getattr__(name: str):
@@ -344,7 +347,7 @@ class DriftFit:
 
     results: dict
     model: DriftModel
-    settings: DriftSettings
+    settings: FitConfig
     wall_s: float = 0.0
 
     def iter(self):
@@ -358,7 +361,7 @@ class DriftFit:
 
 
 def fit_drift(frame: pd.DataFrame, *, meta: dict | None = None,
-              settings: DriftSettings | None = None, quantities=("bias", "sf"),
+              settings: FitConfig | None = None, quantities=("bias", "sf"),
               origin_day: int | None = None, path="<frame>", progress=None) -> DriftFit:
     """Fit and forecast every unit and quantity of a storage record.
 
@@ -367,14 +370,14 @@ def fit_drift(frame: pd.DataFrame, *, meta: dict | None = None,
     frame : validated ``storage_drift`` record (``Record.data``)
     meta : sidecar (``t0``, ``k_ref``, ``tol_bias_ug``/``tol_sf_ppm`` if the settings
         keep the defaults, see docs/drift.md)
-    settings : :class:`DriftSettings`
+    settings : :class:`FitConfig` (default: spec 004's)
     quantities : which of "bias", "sf" (a quantity absent from the record is skipped
         when both are asked for)
     origin_day : last in-sample programme day (default: the last test)
     """
-    from inertialab.calib.drift import QUANTITIES, DriftModel, DriftSettings, fit_series
+    from inertialab.calib.drift import QUANTITIES, DriftModel, fit_series
 
-    settings = settings or DriftSettings()
+    settings = (settings or FitConfig()).validate()
     progress = progress or NullProgress()
     meta = dict(meta or {})
     t0 = time.perf_counter()
@@ -421,20 +424,20 @@ def fit_drift(frame: pd.DataFrame, *, meta: dict | None = None,
     return DriftFit(results, model, settings, time.perf_counter() - t0)
 
 
-def prepare(record, *, settings: DriftSettings | None = None,
+def prepare(record, *, settings: FitConfig | None = None,
             quantities=("bias", "sf")) -> dict:
     """The grids of a validated ``storage_drift`` record: ``{quantity: {unit_id:
     DailySeries}}`` for each asked quantity the record holds (:func:`to_daily_grid`)."""
-    from inertialab.calib.drift import QUANTITIES, DriftSettings
+    from inertialab.calib.drift import QUANTITIES
 
-    settings = settings or DriftSettings()
+    settings = settings or FitConfig()
     frame = record.data
     present = [q for q in quantities if q in QUANTITIES and _find(frame, q) is not None]
     return {q: to_daily_grid(frame, quantity=q, meta=record.meta, max_gap=settings.max_gap,
                              hampel=settings.hampel, path=record.path) for q in present}
 
 
-def fit(record, settings: DriftSettings | None = None, *, quantities=("bias", "sf"),
+def fit(record, settings: FitConfig | None = None, *, quantities=("bias", "sf"),
         origin_day: int | None = None, progress=None) -> DriftFit:
     """:func:`fit_drift` on a validated ``storage_drift`` record."""
     return fit_drift(record.data, meta=record.meta, settings=settings, quantities=quantities,
@@ -447,15 +450,14 @@ def forecast(model: DriftModel, horizon: int | None = None) -> dict:
     return model.forecast(horizon)
 
 
-def evaluate(record, settings: DriftSettings | None = None, *, quantities=("bias", "sf"),
+def evaluate(record, settings: FitConfig | None = None, *, quantities=("bias", "sf"),
              first: int = 50, step: int = 5, units=None, progress=None) -> dict:
     """Rolling-origin evaluation (spec 004 §5) of every (or the named) unit and quantity of
     a record: ``{unit_id: {quantity: RollingResult}}``. Each series gets its own seed,
     spawned like :func:`fit_drift`'s (sorted units, then bias, sf)."""
-    from inertialab.calib.drift import DriftSettings
     from inertialab.calib.drift_eval import evaluate_rolling_origin
 
-    settings = settings or DriftSettings()
+    settings = (settings or EvaluateConfig()).validate()
     progress = progress or NullProgress()
     check_horizon(settings.horizon)
     if int(first) < 10 or int(step) < 1:
@@ -619,9 +621,17 @@ UNITS = {"bias": "ug", "sf": "ppm", "day": "day", "order": "1", "cv_scores": "1"
          "k_ref": "mA/g", "skill_vs_persistence": "1"}
 #: The forecast horizon check (1 .. 1000 grid steps), for callers that check first.
 _QUANTITIES = {"both": ("bias", "sf"), "bias": ("bias",), "sf": ("sf",)}
+#: The baselines ``drift evaluate`` compares NAR with (``direct`` adds the direct NAR).
+EVALUATED_BASELINES = ("persistence", "window_mean", "ar_ls", "ar_aic", "poly_trend",
+                       "kernel_nar")
 
 
-def _order(o: str):
+def _order(o):
+    """The NAR order of ``order``: None for ``auto`` (or None), else an integer 1..1000."""
+    from inertialab.learn.nar import MAX_ORDER
+
+    if o is None:
+        return None
     o = str(o).strip().lower()
     if o == "auto":
         return None
@@ -630,14 +640,17 @@ def _order(o: str):
     except ValueError:
         raise InputError(f"argument 'order' must be 'auto' or a positive integer, got "
                          f"'{o}'") from None
-    if p < 1:
-        raise InputError(f"argument 'order' must be >= 1, got {p}")
+    if not 1 <= p <= MAX_ORDER:
+        raise InputError(f"argument 'order' must be from 1 to {MAX_ORDER}, got {p}")
     return p
 
 
 def _hidden_grid(text):
+    """The hidden sizes of ``hidden_grid`` (a comma text or a tuple), or None."""
     if text is None:
         return None
+    if isinstance(text, (tuple, list)):
+        text = ",".join(str(v) for v in text)
     try:
         sizes = tuple(int(v) for v in str(text).replace(" ", "").split(",") if v)
     except ValueError:
@@ -648,8 +661,25 @@ def _hidden_grid(text):
     return sizes
 
 
+#: Fields that ``settings`` does not write as declared: the estimator's fixed choices
+#: (library only) and, for ``drift evaluate``, the baselines written as the run chose them.
+NOT_WRITTEN = ("H", "combine", "split", "n_paths", "recal_quantile", "baselines")
+
+
 @dataclass(frozen=True)
 class _Common(_Settings):
+    """The settings both commands share, which the estimator
+    (:func:`~inertialab.calib.drift.fit_series`) reads by these names; spec 004 defaults:
+    horizon K = 20 steps; ``order`` ``auto`` = kernel CV with H = 6 (spec §3.1 [R-2];
+    passed explicitly, so the study does not follow the NAR learner's generic
+    ``H="auto"`` default for long series, :func:`inertialab.learn.nar.auto_lag_bound`);
+    hidden S = 10 (or chosen from ``hidden_grid`` by validation, §3.2); restarts R = 10;
+    preset ``paper`` (best member, random split) or ``strict`` (median, block split).
+    Library only: ``H``; ``combine`` and ``split`` (None: the preset's); ``n_paths`` B =
+    200 bootstrap paths; ``recal_quantile`` 0.1 (re-calibration at the 10 % quantile of
+    the first passage); ``baselines`` (None: :data:`~inertialab.calib.drift.DEFAULT_BASELINES`;
+    ``nar_direct`` adds the direct NAR)."""
+
     quantity: str = setting("both", help="bias | sf | both", choices=tuple(_QUANTITIES))
     horizon: int = setting(20, help="Forecast horizon K in grid steps (1 to 1000).",
                            lo=1, hi=MAX_HORIZON)
@@ -661,11 +691,54 @@ class _Common(_Settings):
     preset: str = setting("paper", help="paper (best member, random split) | strict "
                                         "(median of the best half, block split)",
                           choices=("paper", "strict"))
+    H: int = setting(6, help="Largest order of the kernel CV.", lo=1, hi=1000, cli=False)
+    combine: str | None = setting(None, help="Member combination (default: the preset's).",
+                                  cli=False)
+    split: str | None = setting(None, help="Validation split (default: the preset's).",
+                                cli=False)
+    n_paths: int = setting(200, help="Bootstrap forecast paths.", lo=1, hi=100_000, cli=False)
+    recal_quantile: float = setting(0.1, help="Quantile of the first passage, in (0, 1].",
+                                    lo=0.0, hi=1.0, cli=False)
+    baselines: tuple | None = setting(None, help="Baselines (default: calib's).", cli=False)
+
+    @property
+    def nar_order(self) -> int | None:
+        """``order`` as the NAR takes it: None (kernel CV) or an integer."""
+        return _order(self.order)
+
+    @property
+    def hidden_sizes(self) -> tuple | None:
+        """``hidden_grid`` as a tuple of sizes, or None."""
+        return _hidden_grid(self.hidden_grid)
+
+    def tolerance(self, quantity: str) -> float:
+        """The re-calibration tolerance of ``quantity`` (µg or ppm; 50 when unset)."""
+        v = self.tol_bias_ug if quantity == "bias" else self.tol_sf_ppm
+        return 50.0 if v is None else float(v)
+
+    def validate(self):
+        """The declared bounds and choices, ``order``, ``hidden_grid`` and the open lower
+        bound of ``recal_quantile``; one :class:`InputError` naming the argument."""
+        super().validate()
+        _order(self.order)
+        _hidden_grid(self.hidden_grid)
+        if not self.recal_quantile > 0:
+            raise InputError(f"argument 'recal_quantile' must be in (0, 1], got "
+                             f"{self.recal_quantile}")
+        return self
+
+    def written(self, *drop) -> dict:
+        """The settings as ``settings`` writes them before the run fills in what it
+        decided: every field but :data:`NOT_WRITTEN` and ``drop``."""
+        return {k: v for k, v in self.to_dict().items() if k not in NOT_WRITTEN + drop}
 
 
 @dataclass(frozen=True)
 class FitConfig(_Common):
-    """Settings of ``drift fit``."""
+    """Settings of ``drift fit`` and of :func:`fit` / :func:`fit_drift` (one class: each
+    field's name is its JSON key in ``settings`` and its flag with ``-``). Tolerances
+    None: the sidecar's ``tol_bias_ug``/``tol_sf_ppm``, else 50 µg and 50 ppm
+    (docs/drift.md); max_gap 3 steps interpolated; Hampel screen off."""
 
     origin_day: int | None = setting(None, help="Last in-sample programme day (default: the "
                                                 "last test); later days are scored as holdout.",
@@ -682,7 +755,9 @@ class FitConfig(_Common):
 
 @dataclass(frozen=True)
 class EvaluateConfig(_Common):
-    """Settings of ``drift evaluate`` (rolling origin, spec 004 §5)."""
+    """Settings of ``drift evaluate`` (rolling origin, spec 004 §5) and of
+    :func:`evaluate`; the tolerances (50 µg, 50 ppm) and the Hampel screen (off) are
+    library only."""
 
     unit_id: list[str] | None = setting(None, help="Only this unit_id (repeatable).")
     first: int = setting(50, help="First origin (grid steps).", lo=1, hi=10**6)
@@ -691,6 +766,19 @@ class EvaluateConfig(_Common):
                                        "fits per origin).")
     max_gap: int = setting(3, help="Longest gap (steps) interpolated.", lo=0, hi=36_500)
     seed: int = seed_setting("Seed of the restarts.")
+    tol_bias_ug: float | None = setting(None, help="Bias tolerance.", unit="ug", lo=1e-9,
+                                        hi=1e9, cli=False)
+    tol_sf_ppm: float | None = setting(None, help="Scale-factor tolerance.", unit="ppm",
+                                       lo=1e-9, hi=1e9, cli=False)
+    hampel: bool = setting(False, help="Hampel outlier screen.", cli=False)
+
+
+def DriftSettings(**settings) -> FitConfig:
+    """Deprecated: :class:`FitConfig` (the estimator's settings have the commands' names;
+    ``order`` None is ``auto``), for one release."""
+    warnings.warn("DriftSettings is deprecated: use inertialab.workflows.drift.FitConfig",
+                  DeprecationWarning, stacklevel=2)
+    return FitConfig(**settings).validate()
 
 
 def _unit_payload(r) -> dict:
@@ -748,21 +836,17 @@ class FitResult(ResultBase):
 
 def run_fit(record, config: FitConfig, *, progress=None) -> FitResult:
     """Fit NAR models per unit and quantity, forecast, and schedule re-calibration."""
-    from inertialab.calib.drift import DEFAULT_BASELINES, DriftSettings
+    from inertialab.calib.drift import DEFAULT_BASELINES
 
     c = config.validate()
-    p, grid = _order(c.order), _hidden_grid(c.hidden_grid)
+    grid = c.hidden_sizes
     tb = c.tol_bias_ug if c.tol_bias_ug is not None else float(record.meta.get("tol_bias_ug", 50.0))
     ts = c.tol_sf_ppm if c.tol_sf_ppm is not None else float(record.meta.get("tol_sf_ppm", 50.0))
-    base = DEFAULT_BASELINES + (("arima",) if c.arima else ())
-    settings = DriftSettings(horizon=c.horizon, order=p, restarts=c.restarts,
-                                hidden=c.hidden, hidden_grid=grid, preset=c.preset,
-                                max_gap=c.max_gap, hampel=c.hampel, baselines=base,
-                                tol_bias_ug=tb, tol_sf_ppm=ts, seed=c.seed)
-    drift_fit = fit(record, settings, quantities=_QUANTITIES[c.quantity],
-                    origin_day=c.origin_day, progress=progress)
-    sett = {**c.to_dict(), "hidden_grid": None if grid is None else list(grid),
-            "tol_bias_ug": tb, "tol_sf_ppm": ts}
+    base = (c.baselines or DEFAULT_BASELINES) + (("arima",) if c.arima else ())
+    c = replace(c, baselines=base, tol_bias_ug=tb, tol_sf_ppm=ts)
+    drift_fit = fit(record, c, quantities=_QUANTITIES[c.quantity], origin_day=c.origin_day,
+                    progress=progress)
+    sett = c.written() | {"hidden_grid": None if grid is None else list(grid)}
     return FitResult(fit=drift_fit, settings=sett, sha256=record.sha256)
 
 
@@ -799,18 +883,14 @@ class EvaluateResult(ResultBase):
 def run_evaluate(record, config: EvaluateConfig, *, progress=None) -> EvaluateResult:
     """Rolling-origin evaluation: refit at origins FIRST, FIRST+STEP, ..., N-K and compare
     NAR with the baselines (spec 004 §5)."""
-    from inertialab.calib.drift import DriftSettings
-
     c = config.validate()
-    p, grid = _order(c.order), _hidden_grid(c.hidden_grid)
-    base = ("persistence", "window_mean", "ar_ls", "ar_aic", "poly_trend", "kernel_nar")
+    grid = c.hidden_sizes
+    base = c.baselines or EVALUATED_BASELINES
     base += (("nar_direct",) if c.direct else ())
-    settings = DriftSettings(horizon=c.horizon, order=p, restarts=c.restarts,
-                                hidden=c.hidden, hidden_grid=grid, preset=c.preset,
-                                max_gap=c.max_gap, baselines=base, seed=c.seed)
-    res = evaluate(record, settings, quantities=_QUANTITIES[c.quantity], first=c.first,
-                      step=c.step, units=c.unit_id or None, progress=progress)
-    sett = {k: v for k, v in c.to_dict().items() if k not in ("unit_id", "max_gap")}
+    c = replace(c, baselines=base)
+    res = evaluate(record, c, quantities=_QUANTITIES[c.quantity], first=c.first,
+                   step=c.step, units=c.unit_id or None, progress=progress)
+    sett = c.written("unit_id", "max_gap", "tol_bias_ug", "tol_sf_ppm", "hampel")
     sett.update({"hidden_grid": None if grid is None else list(grid), "baselines": list(base)})
     return EvaluateResult(per_unit=res, settings=sett)
 

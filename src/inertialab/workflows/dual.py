@@ -195,26 +195,6 @@ def prepare(record, *, g_local: float | None = None) -> Reduced:
 
 # ---------------------------------------------------------------------------------- fit
 
-@dataclass(frozen=True)
-class DualConfig:
-    """Settings of :func:`fit` (spec 003 defaults).
-
-    methods : tuple of :data:`METHODS` (default all); prior : none (paper: beta0 = 0,
-    W = I), "certificate", a prior file or a DualPrior; second_order : the [X]
-    correction of §1.5; ebr_rule E1 (Stein) | E2 | E3; lambda_combination star | max |
-    min; cross_fit : compute R_val (§4); sensitivity : also the head-error sensitivity
-    of single-ls/ls/ebr (the figure of ``--out``).
-    """
-
-    methods: tuple = _ALL_METHODS
-    prior: object = None
-    second_order: bool = False
-    ebr_rule: str = "E1"
-    lambda_combination: str = "star"
-    cross_fit: bool = True
-    sensitivity: bool = False
-
-
 @dataclass
 class DualResult:
     """What :func:`fit` returns: the fit of the first tumble, the two-orientation fit,
@@ -248,11 +228,11 @@ class DualResult:
         return out
 
 
-def fit(data: Reduced | Sequence[Reduced], config: DualConfig | None = None, *,
+def fit(data: Reduced | Sequence[Reduced], config: FitConfig | None = None, *,
         truth: dict | None = None) -> DualResult:
     """Fit one tumble, or two (opposite OA signs) for the two-orientation fit (spec §7.2).
 
-    ``config`` defaults to :class:`DualConfig` (spec 003 defaults); ``truth`` (the
+    ``config`` defaults to :class:`FitConfig` (spec 003 defaults); ``truth`` (the
     virtual lab's coefficients) adds the errors vs truth (spec §4).
     """
     from inertialab.calib.dual import (
@@ -263,7 +243,7 @@ def fit(data: Reduced | Sequence[Reduced], config: DualConfig | None = None, *,
     )
     from inertialab.calib.dual_reduce import Reduced
 
-    config = DualConfig() if config is None else config
+    config = (FitConfig() if config is None else config).validate()
     reds = [data] if isinstance(data, Reduced) else list(data)
     if not 1 <= len(reds) <= 2:
         raise InputError("give one record, or two for the two-orientation fit")
@@ -301,7 +281,18 @@ _SCALE = {"KA0": (1e6, "ug"), "KB0": (1e6, "ug"), "kA1": (1e6, "ppm"),
 
 @dataclass(frozen=True)
 class FitConfig(Config):
-    """Settings of ``dual fit``."""
+    """Settings of ``dual fit`` and of :func:`fit` (one class: each field's name is its
+    JSON key in ``settings`` and its flag with ``-``; spec 003 defaults).
+
+    ``method``: one of :data:`METHOD_CHOICES` (``all``: every method) or, from the
+    library, a tuple of method names (:attr:`methods`); ``prior``: ``none`` (paper:
+    beta0 = 0, W = I), ``certificate``, a prior file or, from the library, a
+    :class:`~inertialab.calib.dual_prior.DualPrior`; ``second_order``: the [X]
+    correction of §1.5; ``ebr_rule`` E1 (Stein) | E2 | E3; ``lambda_combination`` star
+    | max | min; ``g_local``: local gravity (m/s^2; default: the record's). Library only
+    (not written to ``settings``): ``cross_fit`` computes R_val (§4); ``sensitivity``
+    adds the head-error sensitivity of single-ls/ls/ebr (the figure of ``--out``).
+    """
 
     method: str = setting("all", help="ebr | ls | single-ls | ridge-hkb | ridge-gcv | all")
     prior: str = setting("none", help="none (paper: beta0 = 0, W = I) | certificate | FILE "
@@ -311,12 +302,41 @@ class FitConfig(Config):
     lambda_combination: str = setting("star", help="star | max | min of lambda* and lambda0")
     second_order: bool = setting(False, help="Iterated second-order correction of y (spec 003).")
     g_local: float | None = setting(None, help="Local gravity, m/s^2.", lo=1.0, hi=100.0)
+    cross_fit: bool = setting(True, help="Compute the cross-fitted R_val.", cli=False)
+    sensitivity: bool = setting(False, help="Add the head-error sensitivity.", cli=False)
 
-    def dual_config(self, *, sensitivity: bool) -> DualConfig:
-        return DualConfig(methods=parse_methods(self.method), prior=self.prior,
-                             second_order=self.second_order, ebr_rule=self.ebr_rule,
-                             lambda_combination=self.lambda_combination,
-                             sensitivity=sensitivity)
+    @property
+    def methods(self) -> tuple:
+        """The methods of ``method`` (:func:`parse_methods`; a tuple of names as given)."""
+        if isinstance(self.method, (tuple, list)):
+            return tuple(parse_methods(m)[0] for m in self.method)
+        return parse_methods(self.method)
+
+    def validate(self) -> FitConfig:
+        """The declared bounds and the methods; one :class:`InputError` naming the
+        argument."""
+        super().validate()
+        self.methods  # noqa: B018 - parsed to refuse
+        return self
+
+    def written(self) -> dict:
+        """The settings as ``settings`` writes them (spelled as the run read them)."""
+        return {"method": str(self.method).strip().lower(), "prior": self.prior,
+                "ebr_rule": self.ebr_rule.upper(),
+                "lambda_combination": self.lambda_combination.lower(),
+                "second_order": self.second_order, "g_local": self.g_local, "seed": None}
+
+
+def DualConfig(**settings) -> FitConfig:
+    """Deprecated: :class:`FitConfig` under its former spelling (``methods`` for
+    ``method``), for one release."""
+    import warnings
+
+    warnings.warn("DualConfig is deprecated: use inertialab.workflows.dual.FitConfig "
+                  "(method for methods)", DeprecationWarning, stacklevel=2)
+    if "methods" in settings:
+        settings["method"] = tuple(settings.pop("methods"))
+    return FitConfig(**settings)
 
 
 def _cell(v, sd, f) -> str:
@@ -379,13 +399,9 @@ def run_fit(records, config: FitConfig, *, sensitivity: bool = False) -> FitResu
     c = config.validate()
     if not 1 <= len(records) <= 2:
         raise InputError("give one record, or two for the two-orientation fit")
-    cfg = c.dual_config(sensitivity=sensitivity)
     reds = [prepare(r, g_local=c.g_local) for r in records]
-    res = fit(reds, cfg, truth=records[0].meta.get("truth"))
-    settings = {"method": c.method.strip().lower(), "prior": c.prior,
-                "ebr_rule": c.ebr_rule.upper(), "lambda_combination": c.lambda_combination.lower(),
-                "second_order": c.second_order, "g_local": c.g_local, "seed": None}
-    return FitResult(res=res, settings=settings, sha256=records[0].sha256)
+    res = fit(reds, replace(c, sensitivity=sensitivity), truth=records[0].meta.get("truth"))
+    return FitResult(res=res, settings=c.written(), sha256=records[0].sha256)
 
 
 @dataclass(frozen=True)

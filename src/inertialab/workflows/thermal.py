@@ -19,15 +19,16 @@ The commands ``thermal fit|apply|export``, one call each: a
 :class:`ApplyConfig`, :class:`ExportConfig`) and ``run_*(record, config) -> result``
 whose result (:class:`inertialab.result.Result`) knows ``to_json()``, ``settings``,
 ``units``, ``artifacts()`` (the saved model, one model per method, Tables 1 and 2, the
-bias/scale-factor table) and ``summary_rows()``. ``FitConfig`` spells each setting as the
-command line and the JSON ``settings`` do (``visual``, ``step``, ``try_number``,
-``crowd``); :meth:`FitConfig.thermal_config` hands them to the estimator's
-:class:`~inertialab.calib.thermal.ThermalConfig` (``fish_visual`` ...).
+bias/scale-factor table) and ``summary_rows()``. ``FitConfig`` is the one settings class of the
+command, of :func:`prepare`, :func:`make_splits`, :func:`fit` and of the estimator
+(:func:`~inertialab.calib.thermal.fit_model` reads it): each setting has one name, its
+flag and its JSON key in ``settings`` (``visual``, ``step``, ``try_number``, ``crowd`` ...);
+``ThermalConfig`` is its deprecated former spelling (``fish_visual`` ...).
 
 The estimators, the model artefact and compensation live in
 :mod:`inertialab.calib.thermal`, imported (with pandas) inside the functions that use
 them so that ``thermal fit --help`` starts light; their names re-exported here
-(``ThermalConfig``, ``METHODS``, ``compensate`` ...) load on first use. This module never
+(``METHODS``, ``compensate`` ...) load on first use. This module never
 reads files, draws or imports the virtual lab.
 """
 
@@ -45,7 +46,7 @@ from inertialab.blas import single_threaded_blas
 from inertialab.config import Config as _Settings
 from inertialab.config import seed_setting, setting
 from inertialab.errors import InputError, MissingReferenceError
-from inertialab.io.exporters.thermal_c import export_c
+from inertialab.export.thermal_c import export_c
 from inertialab.progress import NullProgress
 from inertialab.result import ResultBase
 from inertialab.seeding import as_generator
@@ -68,7 +69,6 @@ if TYPE_CHECKING:
         Compensation,
         DriftResult,
         Split,
-        ThermalConfig,
         ThermalModel,
         ThermalSamples,
         compensate,
@@ -77,7 +77,7 @@ if TYPE_CHECKING:
 
 #: Names of :mod:`inertialab.calib.thermal` re-exported for callers of the workflow,
 #: loaded on first use.
-_CALIB = ("FUZZY", "METHODS", "PROPOSED", "STATUS_N_CLAMPED", "STATUS_OK", "STATUS_T_CLAMPED", "Compensation", "DriftResult", "ModelMetrics", "Split", "ThermalConfig", "ThermalModel", "ThermalSamples", "compensate", "drift", "fit_model", "raw_drift_rms_ug", "recalibrate", "score")
+_CALIB = ("FUZZY", "METHODS", "PROPOSED", "STATUS_N_CLAMPED", "STATUS_OK", "STATUS_T_CLAMPED", "Compensation", "DriftResult", "ModelMetrics", "Split", "ThermalModel", "ThermalSamples", "compensate", "drift", "fit_model", "raw_drift_rms_ug", "recalibrate", "score")
 
 
 def __getattr__(name: str):
@@ -101,7 +101,7 @@ def _positions_ok(frame: pd.DataFrame, n_positions: int, path) -> None:
                 path=path, column="pos_index")
 
 
-def prepare_samples(frame: pd.DataFrame, config: ThermalConfig | None = None, *,
+def prepare_samples(frame: pd.DataFrame, config: FitConfig | None = None, *,
                     path="<frame>", n_positions: int = 24) -> ThermalSamples:
     """Validate a thermal-tumble frame and build the (T, N) -> Nc samples (spec 000 §2.3,
     §3.1).
@@ -114,9 +114,9 @@ def prepare_samples(frame: pd.DataFrame, config: ThermalConfig | None = None, *,
         Fewer than ``n_positions`` positions at a set point; a measured temperature more
         than ``temp_tolerance_c`` from its set point (the row is named).
     """
-    from inertialab.calib.thermal import ThermalConfig, ThermalSamples
+    from inertialab.calib.thermal import ThermalSamples
 
-    cfg = (config or ThermalConfig()).validate()
+    cfg = (config or FitConfig()).validate()
     f = frame.copy()
     for col in ("temp_set_c", "temp_meas_c", "pos_index", "output_mv"):
         if col not in f.columns:
@@ -239,13 +239,11 @@ def reference_temperature(meta: dict, path=None, default: float = 55.0) -> float
     return default
 
 
-def prepare(record, config: ThermalConfig | None = None) -> ThermalSamples:
+def prepare(record, config: FitConfig | None = None) -> ThermalSamples:
     """Samples of a ``thermal_tumble`` record (:class:`inertialab.io.Record`): the
     reference temperature comes from the record's sidecar (``reference_temp_C``) when
     it has one, else from ``config`` (55 °C)."""
-    from inertialab.calib.thermal import ThermalConfig
-
-    cfg = config or ThermalConfig()
+    cfg = config or FitConfig()
     ref_t = reference_temperature(record.meta, record.path, default=cfg.reference_temp_c)
     return prepare_samples(record.data, replace(cfg, reference_temp_c=ref_t), path=record.path)
 
@@ -275,7 +273,7 @@ def validation_subset(train: np.ndarray, strata: np.ndarray, frac: float,
     return fit, val
 
 
-def make_splits(samples: ThermalSamples, config: ThermalConfig, rng=None) -> list[Split]:
+def make_splits(samples: ThermalSamples, config: FitConfig, rng=None) -> list[Split]:
     """The split(s) of spec 000 §3.1 step 4 (one for random/interp_T/up_down, one per set
     point for leave_one_T_out; the reference set point is always in training)."""
     from inertialab.calib.thermal import Split
@@ -342,7 +340,7 @@ class ThermalFit:
     predictions: dict
     test_index: np.ndarray
     raw_rms_ug: float
-    config: ThermalConfig
+    config: FitConfig
     search: dict | None = None
 
     def table(self) -> dict:
@@ -480,18 +478,19 @@ def method_stream(parent: np.random.SeedSequence, fold: int, method: str) -> np.
     return np.random.Generator(np.random.PCG64(child))
 
 
-def fit_thermal(samples: ThermalSamples, config: ThermalConfig | None = None, *,
+def fit_thermal(samples: ThermalSamples, config: FitConfig | None = None, *,
                 progress=None) -> ThermalFit:
     """Fit the requested models on the configured split and score them (spec 000 §3-§5).
 
     Random streams: ``SeedSequence(config.seed)`` spawns the split stream and a model
     stream; each (fold, method) draws from its own child of the model stream keyed by
     the fold index and the method's *name* (:func:`method_stream`), so a model gets the
-    same numbers whether it is fitted alone or beside others, in any order.
+    same numbers whether it is fitted alone or beside others, in any order. Without
+    ``config``: :class:`FitConfig` with every method (``method="all"``).
     """
-    from inertialab.calib.thermal import ThermalConfig, fit_model, raw_drift_rms_ug, score
+    from inertialab.calib.thermal import fit_model, raw_drift_rms_ug, score
 
-    cfg = (config or ThermalConfig()).validate()
+    cfg = (config or FitConfig(method="all")).validate()
     progress = progress or NullProgress()
     ss = np.random.SeedSequence(cfg.seed)
     split_ss, model_ss = ss.spawn(2)
@@ -548,7 +547,7 @@ class _FixedPrediction:
         return self._pred
 
 
-def fit(samples: ThermalSamples, config: ThermalConfig | None = None, *,
+def fit(samples: ThermalSamples, config: FitConfig | None = None, *,
         progress=None) -> ThermalFit:
     """The workflow's ``fit`` verb: :func:`fit_thermal`."""
     return fit_thermal(samples, config, progress=progress)
@@ -602,7 +601,7 @@ def apply(model: ThermalModel, record, *, reference: str = "auto",
         ``reference="record"`` without a usable tumble in the record; every reading
         outside the model's calibrated temperature range.
     """
-    from inertialab.calib.thermal import ThermalConfig, compensate, drift
+    from inertialab.calib.thermal import compensate, drift
 
     ref_mode = str(reference).strip().lower()
     if ref_mode not in REFERENCES:
@@ -611,8 +610,8 @@ def apply(model: ThermalModel, record, *, reference: str = "auto",
     samples = None
     if ref_mode in ("auto", "record"):
         try:
-            cfg = ThermalConfig(input=model.input, target=model.target,
-                                reference_temp_c=model.reference_temp_c)
+            cfg = FitConfig(input=model.input, target=model.target,
+                            reference_temp_c=model.reference_temp_c)
             samples = prepare_samples(d, cfg, path=record.path)
         except InputError:
             if ref_mode == "record":
@@ -640,15 +639,13 @@ def apply(model: ThermalModel, record, *, reference: str = "auto",
 
 
 def export(model: ThermalModel, *, prefix: str = "qfa", unit_record=None):
-    """C99 source of a fuzzy thermal model (:func:`inertialab.io.exporters.thermal_c.export_c`).
+    """C99 source of a fuzzy thermal model (:func:`inertialab.export.thermal_c.export_c`).
     ``unit_record``: a thermal-tumble record of the unit the code will run on, when it is
     another unit of the lot; its 55 °C tumble gives the coefficients of the §3.7 mapping."""
-    from inertialab.calib.thermal import ThermalConfig
-
     unit_ref, unit_id = None, ""
     if unit_record is not None:
-        cfg = ThermalConfig(input=model.input, target=model.target,
-                            reference_temp_c=model.reference_temp_c)
+        cfg = FitConfig(input=model.input, target=model.target,
+                        reference_temp_c=model.reference_temp_c)
         s = prepare_samples(unit_record.data, cfg, path=unit_record.path)
         unit_ref, unit_id = s.ref, s.unit_id
     return export_c(model, prefix=prefix, unit_ref=unit_ref, unit_id=unit_id)
@@ -658,11 +655,14 @@ _CHOICES = ("iafsa-scm-anfis", "scm-anfis", "anfis", "fis", "ann", "poly-sep", "
             "all")
 
 
-def methods_from(method: str) -> tuple[str, ...]:
-    """The methods of a ``method`` text: one name, a comma list, or ``all``."""
+def methods_from(method: str | tuple) -> tuple[str, ...]:
+    """The methods of a ``method`` text (one name, a comma list, or ``all``) or of a
+    tuple of names."""
     from inertialab.calib.thermal import METHODS
 
-    m = method.strip().lower()
+    if isinstance(method, (tuple, list)):
+        method = ",".join(str(p) for p in method)
+    m = str(method).strip().lower()
     if m == "all":
         return METHODS
     parts = tuple(p.strip() for p in m.split(",") if p.strip())
@@ -673,15 +673,61 @@ def methods_from(method: str) -> tuple[str, ...]:
     return parts
 
 
+#: The former spellings of the estimator's settings class (``ThermalConfig``), each mapped
+#: to the one name the command, the JSON ``settings`` and every layer now use.
+OLD_SPELLINGS = {"methods": "method", "fish_visual": "visual", "fish_step": "step",
+                 "fish_try_number": "try_number", "fish_crowd": "crowd"}
+
+#: Fields of :class:`FitConfig` that ``settings`` does not write (the paper's fixed
+#: choices, settable from the library only); ``reference_temp_c`` is written as the run
+#: decided it (the record's sidecar, else the setting).
+NOT_WRITTEN = ("test_positions", "val_fraction", "include_kp", "reference_temp_c",
+               "temp_tolerance_c", "r_max", "ann_hidden", "ann_max_epochs", "poly_sep_degree",
+               "poly2d_degrees", "range_margin_c", "range_margin_frac")
+
+#: Settings that lie in (0, 1] (a lower bound the field's closed ``lo`` cannot say).
+_UNIT_INTERVAL = ("visual", "step", "crowd")
+
+
 @dataclass(frozen=True)
 class FitConfig(_Settings):
-    """Settings of ``thermal fit``, in the order (and under the names) ``settings``
-    writes them (:func:`run_fit`: these, the methods as a list, and the reference
-    temperature the record gave)."""
+    """Settings of ``thermal fit`` and of :func:`prepare`, :func:`make_splits`,
+    :func:`fit` and the estimator :func:`~inertialab.calib.thermal.fit_model` (one class:
+    each field's name is its JSON key in ``settings`` and its flag with ``-``; defaults:
+    spec 000 §3-§4).
 
-    method: str = setting("iafsa-scm-anfis", help="iafsa-scm-anfis | scm-anfis | anfis | fis | "
-                                                  "ann | poly-sep | poly-2d | all (or a comma "
-                                                  "list)")
+    ``method``: one name of :data:`METHODS`, a comma list, ``all`` or a tuple of names
+    (:attr:`methods`). ``split``: ``random`` | ``interp_T`` | ``leave_one_T_out`` (§3.1
+    step 4) | ``up_down`` (train on the up pass, test on the down pass: hysteresis, §8.4).
+    ``target``: ``linear55`` (eq. 6) | ``measured55`` (the 55 °C Ua at the same position);
+    ``input``: ``ua`` (eq. 5) | ``raw`` (N = U; the target keeps the fitted 55 °C terms);
+    ``learn_drift``: learn ``Nc - N`` instead of ``Nc`` (§3.1 step 5). IAFSA: ``fish``
+    and ``generations`` (N_fish 10, G_max 30), ``visual`` and ``step`` (initial visual
+    range 0.30 and step 0.10 of the fish, unit-cube coordinates), ``try_number`` (prey
+    attempts, 5) and ``crowd`` (crowd factor 0.618): spec 000 §3.5's values (the seed's
+    Table 1 is lost); the floors Visual_min = 0.02, Step_min = 0.005 and the exponent
+    s = 3 stay fixed. ``radii``: ``scalar`` (4-D search) | ``per_dim`` (6-D: r_T, r_N,
+    r_y). ``epochs``: final ANFIS epochs (150); ``search_epochs``: ANFIS epochs inside
+    IAFSA (20). ``seed``: master seed (split stream, then one stream per fold and method
+    name).
+
+    Library only (:data:`NOT_WRITTEN`): ``test_positions`` (positions per set point in
+    the test set of the random split, 7 of 24); ``val_fraction`` (stratified validation
+    share of the training set, 0.2); ``include_kp`` (fit Kp in the reference fit, §3.1
+    step 1); ``reference_temp_c`` 55 °C and ``temp_tolerance_c`` ±2 °C around each set
+    point (§2.3); ``r_max`` (rule cap, 40); ``ann_hidden``, ``ann_max_epochs`` (MLP
+    2-10-1, up to 500 LM iterations, §4); ``poly_sep_degree`` (cubic K0(T), K1(T), §4);
+    ``poly2d_degrees`` ((m, n) = (3, 1), §4); ``range_margin_c``, ``range_margin_frac``:
+    the calibrated range used for clamping is the training range of T widened by 0.5 °C
+    (chamber wander) and of N widened by 5 % of its span on each side [ours]. Clamping N
+    exactly at the training maximum would saturate a +1 g reading whose position happened
+    to fall in the test set (measured: 400 µg at 70 °C, +1 g), while the first-order
+    consequents extrapolate benignly.
+    """
+
+    method: str = setting("iafsa-scm-anfis", help="iafsa-scm-anfis | scm-anfis | anfis "
+                                                          "| fis | ann | poly-sep | poly-2d | "
+                                                          "all (or a comma list)")
     split: str = setting("random", help="random | interp_T | leave_one_T_out | up_down",
                          choices=("random", "interp_T", "leave_one_T_out", "up_down"))
     target: str = setting("linear55", help="linear55 | measured55",
@@ -694,27 +740,86 @@ class FitConfig(_Settings):
     epochs: int = setting(150, help="Final ANFIS epochs (150).", lo=1, hi=1_000_000)
     search_epochs: int = setting(20, help="ANFIS epochs inside the IAFSA objective (20).",
                                  lo=1, hi=1_000_000)
-    # visual, step and crowd lie in (0, 1]: checked with that message by ThermalConfig
+    # visual, step and crowd lie in (0, 1] (_UNIT_INTERVAL, checked by validate)
     visual: float = setting(0.30, help="IAFSA initial visual range, unit-cube units (0.30).")
     step: float = setting(0.10, help="IAFSA initial step, unit-cube units (0.10).")
+    # each try is a model evaluation per fish and generation: bounded
     try_number: int = setting(5, help="IAFSA prey attempts (5).", lo=1, hi=1000)
     crowd: float = setting(0.618, help="IAFSA crowd factor (0.618).")
     seed: int = seed_setting("Random seed (same seed, same numbers).")
+    test_positions: int = setting(7, help="Test positions per set point (random split).",
+                                  lo=1, hi=10_000, cli=False)
+    val_fraction: float = setting(0.2, help="Validation share of the training set, in (0, 1).",
+                                  lo=0.0, hi=1.0, cli=False)
+    include_kp: bool = setting(True, help="Fit Kp in the reference fit.", cli=False)
+    reference_temp_c: float = setting(55.0, help="Reference temperature.", unit="degC",
+                                      cli=False)
+    temp_tolerance_c: float = setting(2.0, help="Largest |measured - set point| temperature.",
+                                      unit="degC", lo=0.0, hi=1000.0, cli=False)
+    r_max: int = setting(40, help="IAFSA rule cap.", lo=1, hi=10_000, cli=False)
+    ann_hidden: int = setting(10, help="ANN hidden neurons.", lo=1, hi=10_000, cli=False)
+    ann_max_epochs: int = setting(500, help="ANN LM iterations.", lo=1, hi=1_000_000, cli=False)
+    poly_sep_degree: int = setting(3, help="POLY-SEP degree of K0(T), K1(T).", lo=0, hi=20,
+                                   cli=False)
+    poly2d_degrees: tuple[int, int] = setting((3, 1), help="POLY-2D degrees (m, n) in T, N.",
+                                              lo=0, hi=20, cli=False)
+    range_margin_c: float = setting(0.5, help="Calibrated T range margin.", unit="degC",
+                                    lo=0.0, hi=1000.0, cli=False)
+    range_margin_frac: float = setting(0.05, help="Calibrated N range margin, share of the "
+                                                  "span.", lo=0.0, hi=10.0, cli=False)
 
-    def thermal_config(self) -> ThermalConfig:
-        from inertialab.calib.thermal import ThermalConfig
+    @property
+    def methods(self) -> tuple[str, ...]:
+        """The methods of ``method`` (:func:`methods_from`)."""
+        return methods_from(self.method)
 
-        methods = methods_from(self.method)
+    def validate(self) -> FitConfig:
+        """The declared bounds and choices, the methods, the (0, 1] settings and what
+        POLY-SEP needs; one :class:`InputError` naming the argument."""
+        super().validate()
+        methods = self.methods
+        for name in _UNIT_INTERVAL:
+            v = getattr(self, name)
+            if not (np.isfinite(v) and 0 < v <= 1):
+                raise InputError(f"argument '{name}' must be in (0, 1] (unit-cube "
+                                 f"coordinates), got {v}")
+        if not 0 < self.val_fraction < 1:
+            raise InputError(f"argument 'val_fraction' must be in (0, 1), got "
+                             f"{self.val_fraction}")
         if "poly-sep" in methods and (self.learn_drift or self.input == "raw"):
             raise InputError("poly-sep needs argument 'input' ua without argument "
                              "'learn_drift'")
-        return ThermalConfig(methods=methods, split=self.split, target=self.target,
-                                input=self.input, learn_drift=self.learn_drift,
-                                radii=self.radii, fish=self.fish, generations=self.generations,
-                                epochs=self.epochs, search_epochs=self.search_epochs,
-                                fish_visual=self.visual, fish_step=self.step,
-                                fish_try_number=self.try_number, fish_crowd=self.crowd,
-                                seed=self.seed).validate()
+        return self
+
+    def written(self) -> dict:
+        """The settings as ``settings`` writes them (every field but :data:`NOT_WRITTEN`)
+        before the run fills in the methods as a list and the reference temperature."""
+        return {k: v for k, v in self.to_dict().items() if k not in NOT_WRITTEN}
+
+    def fish_table(self) -> dict:
+        """Table 1 of the paper (fish-swarm parameters), with the values used."""
+        from inertialab.learn.scm_search import FISH_DEFAULTS
+
+        return {"n_fish": int(self.fish), "max_generations": int(self.generations),
+                "visual": float(self.visual), "step": float(self.step),
+                "visual_min": FISH_DEFAULTS["visual_min"],
+                "step_min": FISH_DEFAULTS["step_min"],
+                "try_number": int(self.try_number), "crowd": float(self.crowd),
+                "adaptive_exponent": FISH_DEFAULTS["s"],
+                "search_epochs": int(self.search_epochs), "r_max": int(self.r_max)}
+
+
+def ThermalConfig(**settings) -> FitConfig:
+    """Deprecated: :class:`FitConfig` under the estimator's former spellings
+    (:data:`OLD_SPELLINGS`: ``methods``, ``fish_visual`` ...), for one release."""
+    import warnings
+
+    warnings.warn("ThermalConfig is deprecated: use inertialab.workflows.thermal.FitConfig "
+                  "(method, visual, step, try_number, crowd)", DeprecationWarning, stacklevel=2)
+    renamed = {OLD_SPELLINGS.get(k, k): v for k, v in settings.items()}
+    if isinstance(renamed.get("method"), list):
+        renamed["method"] = tuple(renamed["method"])
+    return FitConfig(**renamed)
 
 
 @dataclass
@@ -769,10 +874,9 @@ class FitResult(ResultBase):
 def run_fit(record, config: FitConfig, *, progress=None) -> FitResult:
     """Fit integrated temperature-compensation models on a thermal tumble record."""
     c = config.validate()
-    cfg = c.thermal_config()
-    samples = prepare(record, cfg)
-    result = fit(samples, cfg, progress=progress)
-    settings = c.to_dict() | {"method": list(cfg.methods),
+    samples = prepare(record, c)
+    result = fit(samples, c, progress=progress)
+    settings = c.written() | {"method": list(c.methods),
                               "reference_temp_c": samples.reference_temp_c}
     return FitResult(result=result, samples=samples, own=result.own_drift(),
                      bsf=bias_scale_factor(samples), settings=settings,
@@ -862,7 +966,7 @@ class ExportResult(ResultBase):
     units = {}
 
     def write(self, directory) -> list:
-        from inertialab.io.exporters import get
+        from inertialab.export import get
 
         self.files = get("thermal", "c99").write(self.ex, directory)
         return self.files

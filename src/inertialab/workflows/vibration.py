@@ -20,8 +20,9 @@ optionally, a fixed-frequency record (E2), both in the ``gyro_log`` schema with
    polynomial-compensated E2 (seed Table 3, "wls", ``tau >= 2^(L+1) tau0`` for
    ``A_L``-derived rows), the residual bias and the edge metrics of §4.
 
-The commands ``vibration fit|apply``, one call each: :class:`FitConfig` (its
-:meth:`~FitConfig.vibration_config` the pipeline's :class:`VibrationConfig`) and
+The commands ``vibration fit|apply``, one call each: :class:`FitConfig` (the one
+settings class of the command and the pipeline: each setting named as its flag and its
+JSON key; ``VibrationConfig`` its deprecated former name) and
 ``run_fit(sweep, fixed, config) -> FitResult``, :class:`ApplyConfig` and
 ``run_apply(model, record, config) -> ApplyResult`` (:class:`inertialab.result.Result`).
 The estimator (:mod:`inertialab.calib.vibration`), the wavelets (PyWavelets) and the
@@ -38,7 +39,7 @@ from __future__ import annotations
 
 import time
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -158,68 +159,6 @@ def _ratios(row: dict, ref: dict) -> dict:
 
 
 @dataclass(frozen=True)
-class VibrationConfig:
-    """Settings of the pipeline (spec 001 §3; seed values as defaults).
-
-    Attributes
-    ----------
-    level : int or "auto", default=6
-        Approximation level L (seed: 6) or the §3.6 rule.
-    wavelet_level : int, default=10
-        J (seed: 10).
-    spread, goal : float, default 1.2 and 1e-4
-        RBF settings of the seed; ``spread="validate"`` picks it from ``spread_grid`` by
-        the held-out RMSE on the even bins (the seed "tuned 1.2 after many
-        validations"), reported in ``fit["rbf"]["spread_selection"]``.
-    centers : str, default="max_error"
-        RBF centre selection (seed wording "random fixed"; spec default newrb's).
-    max_neurons : int or None
-    spread_grid : tuple of float, default None (calib's ``SPREAD_GRID``)
-        Candidate spreads (Hz) for ``spread="validate"``.
-    target_guard_s : float, default=2.0
-        Guards of the E1 targets (§3.7).
-    level_guard_s : float, default=5.0
-        Guards of the level-rule window (§3.6).
-    residual_guard_s, edge_s : float, default 10.0
-        Guards of the residual bias and the edge window (§4).
-    delta_threshold : float, default=0.14
-    bin_width_hz : float, default=1.0
-    min_bin_count : int, default=8
-    targets : {"bins", "samples"}, default="bins"
-        1-Hz bin means, or every 2^L-th sample (spec §3.7 option).
-    rng : int, default=0
-        Seed of the random-fixed centre order.
-    views : bool, default=True
-        Compute the spectral views (Welch, scalogram, EMD).
-    scalogram_phase_s : float or None, default=None
-        Crop each phase to at most this many seconds around the vibration edges for
-        the scalogram (None: whole record; the CWT of 10^6 samples costs ~20 s).
-    emd_window_s : float, default=20.0
-        Length of the window around ``t_on`` shown with EMD.
-    """
-
-    level: int | str = 6
-    wavelet_level: int = 10
-    spread: float | str = 1.2
-    goal: float = 1e-4
-    centers: str = "max_error"
-    max_neurons: int | None = None
-    spread_grid: tuple | None = None
-    target_guard_s: float = 2.0
-    level_guard_s: float = 5.0
-    residual_guard_s: float = 10.0
-    edge_s: float = 10.0
-    delta_threshold: float = 0.14
-    bin_width_hz: float = 1.0
-    min_bin_count: int = 8
-    targets: str = "bins"
-    rng: int = 0
-    views: bool = True
-    scalogram_phase_s: float | None = None
-    emd_window_s: float = 20.0
-
-
-@dataclass(frozen=True)
 class VibrationResult:
     """Everything the pipeline produced.
 
@@ -271,7 +210,7 @@ class VibrationResult:
         return d
 
 
-def _level_selection(run: VibrationRun, dec, cfg: VibrationConfig):
+def _level_selection(run: VibrationRun, dec, cfg: FitConfig):
     from inertialab.noise import wavelet as wv
 
     w = run.guarded(run.p2, cfg.level_guard_s)
@@ -294,25 +233,25 @@ def _true_curve(run: VibrationRun, f_hz: np.ndarray):
     return bias_shift_dph(f_hz, float(run.meta.get("acc_g", 5.0)), e)
 
 
-def _fit_block(targets: BiasTargets, cfg: VibrationConfig, level: int, run: VibrationRun):
+def _fit_block(targets: BiasTargets, cfg: FitConfig, level: int, run: VibrationRun):
     from inertialab.calib.vibration import SPREAD_GRID, VibrationModel, select_spread
 
     f, e = targets.f_hz, targets.e_dph
     odd = targets.bin_index % 2 == 1
     selection = None
-    spread = cfg.spread
+    spread = cfg.spread_choice
     if spread == "validate":  # the spread with the least held-out RMSE
         selection = select_spread(f, e, odd, grid=SPREAD_GRID if cfg.spread_grid is None else cfg.spread_grid,
                                   goal=cfg.goal,
                                   centers=cfg.centers, max_neurons=cfg.max_neurons,
-                                  rng=cfg.rng)
+                                  rng=cfg.seed)
         spread = selection["chosen"]
     model = VibrationModel(level=level, wavelet_level=cfg.wavelet_level, spread=spread,
                            goal=cfg.goal, centers=cfg.centers, max_neurons=cfg.max_neurons,
-                           rng=cfg.rng).fit(targets.f_hz, targets.e_dph)
+                           rng=cfg.seed).fit(targets.f_hz, targets.e_dph)
     held = VibrationModel(level=level, wavelet_level=cfg.wavelet_level, spread=spread,
                           goal=cfg.goal, centers=cfg.centers, max_neurons=cfg.max_neurons,
-                          rng=cfg.rng).fit(f[odd], e[odd])
+                          rng=cfg.seed).fit(f[odd], e[odd])
     truth = _true_curve(run, f)
     fit = {}
     for name, est in (("rbf", model.rbf_), ("poly", model.poly_)):
@@ -336,7 +275,7 @@ def _fit_block(targets: BiasTargets, cfg: VibrationConfig, level: int, run: Vibr
     return model, fit, truth
 
 
-def _views(run: VibrationRun, cfg: VibrationConfig) -> dict:
+def _views(run: VibrationRun, cfg: FitConfig) -> dict:
     from inertialab.noise.emd import emd, hilbert_frequency
     from inertialab.noise.spectra import alias_frequency, cwt_scalogram, welch_asd
 
@@ -371,16 +310,16 @@ def _views(run: VibrationRun, cfg: VibrationConfig) -> dict:
     return out
 
 
-def _settings(cfg: VibrationConfig) -> dict:
+def _settings(cfg: FitConfig) -> dict:
     """The settings :func:`analyse` reports."""
     return {
-        "level": cfg.level, "wavelet": "db4", "wavelet_level": cfg.wavelet_level,
-        "spread": cfg.spread, "goal": cfg.goal, "centers": cfg.centers,
+        "level": cfg.level_choice, "wavelet": "db4", "wavelet_level": cfg.wavelet_level,
+        "spread": cfg.spread_choice, "goal": cfg.goal, "centers": cfg.centers,
         "max_neurons": cfg.max_neurons, "target_guard_s": cfg.target_guard_s,
         "level_guard_s": cfg.level_guard_s, "residual_guard_s": cfg.residual_guard_s,
         "edge_s": cfg.edge_s, "delta_threshold": cfg.delta_threshold,
         "bin_width_hz": cfg.bin_width_hz, "min_bin_count": cfg.min_bin_count,
-        "targets": cfg.targets, "seed": cfg.rng,
+        "targets": cfg.targets, "seed": cfg.seed,
         "methods": {"phases": "wls", "decomposition": "ols", "compensation": "wls"},
     }
 
@@ -437,15 +376,9 @@ def _compensate_fixed(fixed, a_fix, level: int, model, cfg, tmin_phys: float, ta
 
 
 def _checked_runs(sweep: VibrationRun, fixed: VibrationRun | None,
-                  cfg: VibrationConfig) -> dict:
+                  cfg: FitConfig) -> dict:
     """Step 0 of :func:`analyse`: the settings and records checked; ``{"sweep", "fixed"}``."""
-    if not (cfg.spread == "validate" or (isinstance(cfg.spread, (int, float, np.number))
-                                         and np.isfinite(cfg.spread) and cfg.spread > 0)):
-        raise InputError(f"spread must be a positive number (Hz) or 'validate', "
-                         f"got {cfg.spread!r}")
-    if cfg.level != "auto" and not (isinstance(cfg.level, (int, np.integer))
-                                    and 1 <= int(cfg.level) <= 9):
-        raise InputError(f"level must be an integer in 1..9 or 'auto', got {cfg.level!r}")
+    cfg.validate()
     runs = {"sweep": sweep}
     if fixed is not None:
         runs["fixed"] = fixed
@@ -471,7 +404,7 @@ def _phase_tables(runs: dict, tables: dict, metrics: dict) -> None:
             metrics["ratios"][key + "/P1"] = _ratios(row, ref)
 
 
-def _decompose(runs: dict, cfg: VibrationConfig, metrics: dict):
+def _decompose(runs: dict, cfg: FitConfig, metrics: dict):
     """Step 4: the db4 decomposition of each record and the level L (the fixed run's
     §3.6 rule, or the sweep's); returns ``(decompositions, rule record, selection, L)``."""
     from inertialab.noise import wavelet as wv
@@ -479,7 +412,7 @@ def _decompose(runs: dict, cfg: VibrationConfig, metrics: dict):
     decs = {name: wv.decompose(r.rate_dph, level=cfg.wavelet_level) for name, r in runs.items()}
     sel_run = "fixed" if "fixed" in runs else "sweep"
     sel = _level_selection(runs[sel_run], decs[sel_run], cfg)
-    level = sel.level if cfg.level == "auto" else int(cfg.level)
+    level = sel.level if cfg.level_choice == "auto" else int(cfg.level_choice)
     J = min(d.level for d in decs.values())
     if level > J:
         warnings.warn(f"level {level} exceeds the decomposition depth {J}; using {J}",
@@ -518,7 +451,7 @@ def _decomposition_tables(runs: dict, decs: dict, level: int, tmin_phys: float,
     metrics["raw_phases"] = {rname: phase_stats(r.rate_dph, r) for rname, r in runs.items()}
 
 
-def _bias_model(sweep: VibrationRun, dec, level: int, cfg: VibrationConfig, views: dict):
+def _bias_model(sweep: VibrationRun, dec, level: int, cfg: FitConfig, views: dict):
     """Step 6: the sweep's bias targets, the RBF model and the polynomial baseline (their
     curves into ``views``); returns ``(model, fit block)``."""
     from inertialab.calib.vibration import bias_targets
@@ -540,13 +473,13 @@ def _bias_model(sweep: VibrationRun, dec, level: int, cfg: VibrationConfig, view
 
 
 def analyse(sweep: VibrationRun, fixed: VibrationRun | None = None,
-            config: VibrationConfig | None = None, progress=None) -> VibrationResult:
+            config: FitConfig | None = None, progress=None) -> VibrationResult:
     """Run the spec 001 pipeline (§3.11) on a sweep record and an optional fixed one.
 
     With the sweep alone, the phase tables, decomposition and level rule run on it and
     the compensation rows are omitted (``residual_bias_dph`` is None).
     """
-    cfg = config or VibrationConfig()
+    cfg = config or FitConfig()
     prog = progress or NullProgress()
     total = 8.0
     t_start = time.perf_counter()
@@ -585,7 +518,7 @@ def analyse(sweep: VibrationRun, fixed: VibrationRun | None = None,
 
 
 def fit(sweep: VibrationRun, fixed: VibrationRun | None = None,
-        config: VibrationConfig | None = None, progress=None) -> VibrationResult:
+        config: FitConfig | None = None, progress=None) -> VibrationResult:
     """The workflow's ``fit`` verb: :func:`analyse` (the model is ``result.model``)."""
     return analyse(sweep, fixed, config, progress)
 
@@ -675,9 +608,37 @@ def _spread(spread: str):
     return x
 
 
+#: Fields of :class:`FitConfig` that ``settings`` does not write (how much of the views
+#: to compute, the validation grid).
+NOT_WRITTEN = ("spread_grid", "views", "scalogram_phase_s", "emd_window_s")
+
+
 @dataclass(frozen=True)
 class FitConfig(_Settings):
-    """Settings of ``vibration fit``."""
+    """Settings of ``vibration fit`` and of the pipeline :func:`analyse` (one class: each
+    field's name is its JSON key in ``settings`` and its flag with ``-``; spec 001 §3,
+    the paper's values as defaults).
+
+    ``level``: the approximation level L, an integer 1..9 (the paper's 6) or ``auto``
+    (the §3.6 rule); ``spread``: the RBF spread in Hz (the paper's 1.2) or ``validate``,
+    the spread of ``spread_grid`` (default: calib's ``SPREAD_GRID``) with the least
+    held-out RMSE on the even bins (the paper "tuned 1.2 after many validations"),
+    reported in ``fit["rbf"]["spread_selection"]``; :attr:`level_choice` and
+    :attr:`spread_choice` read them (a number or the word). ``goal``: the RBF MSE goal
+    (1e-4); ``centers``: RBF centre selection (the paper's wording "random fixed"; spec
+    default newrb's ``max_error``); ``targets``: ``bins`` (1-Hz bin means) or ``samples``
+    (every 2^L-th sample, spec §3.7 option); ``seed``: the random-fixed centre order.
+
+    Library only: ``wavelet_level`` J (10); ``max_neurons`` (None: as many as the
+    targets); guards ``target_guard_s`` (2 s, the E1 targets, §3.7), ``level_guard_s``
+    (5 s, the level-rule window, §3.6), ``residual_guard_s`` and ``edge_s`` (10 s, the
+    residual bias and the edge window, §4); ``delta_threshold`` (0.14), ``bin_width_hz``
+    (1 Hz), ``min_bin_count`` (8); ``views``: compute the spectral views (Welch,
+    scalogram, EMD); ``scalogram_phase_s``: crop each phase to at most this many seconds
+    around the vibration edges for the scalogram (None: whole record; the CWT of 10^6
+    samples costs ~20 s); ``emd_window_s``: the window around ``t_on`` shown with EMD
+    (20 s). :data:`NOT_WRITTEN` stay out of ``settings``.
+    """
 
     level: str = setting("6", help="Approximation level L (the paper's 6) or 'auto' (the paper's "
                                    "rule).")
@@ -691,11 +652,55 @@ class FitConfig(_Settings):
     targets: str = setting("bins", help="E1 training pairs: bins (1-Hz bin means) | samples "
                                         "(every 2^L-th sample).", choices=("bins", "samples"))
     seed: int = seed_setting("Random seed (same seed, same numbers).")
+    wavelet_level: int = setting(10, help="Decomposition depth J.", lo=1, hi=30, cli=False)
+    max_neurons: int | None = setting(None, help="RBF neuron cap.", lo=1, hi=100_000, cli=False)
+    spread_grid: tuple | None = setting(None, help="Candidate spreads of 'validate'.", unit="Hz",
+                                        lo=1e-12, hi=1e12, cli=False)
+    target_guard_s: float = setting(2.0, help="Guards of the E1 targets.", unit="s", lo=0.0,
+                                    hi=1e6, cli=False)
+    level_guard_s: float = setting(5.0, help="Guards of the level-rule window.", unit="s",
+                                   lo=0.0, hi=1e6, cli=False)
+    residual_guard_s: float = setting(10.0, help="Guards of the residual bias.", unit="s",
+                                      lo=0.0, hi=1e6, cli=False)
+    edge_s: float = setting(10.0, help="Edge window.", unit="s", lo=0.0, hi=1e6, cli=False)
+    delta_threshold: float = setting(0.14, help="Level-rule threshold.", lo=0.0, hi=1e6,
+                                     cli=False)
+    bin_width_hz: float = setting(1.0, help="Target bin width.", unit="Hz", lo=1e-9, hi=1e6,
+                                  cli=False)
+    min_bin_count: int = setting(8, help="Fewest samples of a target bin.", lo=1, hi=10**9,
+                                 cli=False)
+    views: bool = setting(True, help="Compute the spectral views.", cli=False)
+    scalogram_phase_s: float | None = setting(None, help="Scalogram crop per phase.", unit="s",
+                                              lo=0.0, hi=1e9, cli=False)
+    emd_window_s: float = setting(20.0, help="EMD window.", unit="s", lo=0.0, hi=1e9, cli=False)
 
-    def vibration_config(self, *, views: bool) -> VibrationConfig:
-        return VibrationConfig(level=_level(self.level), spread=_spread(self.spread),
-                                  goal=self.goal, centers=self.centers, targets=self.targets,
-                                  rng=self.seed, views=views)
+    @property
+    def level_choice(self) -> int | str:
+        """``level`` as an integer 1..9 or ``"auto"``."""
+        return _level(self.level)
+
+    @property
+    def spread_choice(self) -> float | str:
+        """``spread`` as a positive number (Hz) or ``"validate"``."""
+        return _spread(self.spread)
+
+    def validate(self) -> FitConfig:
+        """The declared bounds and choices, ``level`` and ``spread``; one
+        :class:`InputError` naming the argument."""
+        super().validate()
+        _level(self.level)
+        _spread(self.spread)
+        return self
+
+
+def VibrationConfig(**settings) -> FitConfig:
+    """Deprecated: :class:`FitConfig` under its former spelling (``rng`` for ``seed``),
+    for one release."""
+    warnings.warn("VibrationConfig is deprecated: use inertialab.workflows.vibration."
+                  "FitConfig (seed for rng)", DeprecationWarning, stacklevel=2)
+    if "rng" in settings:
+        settings["seed"] = settings.pop("rng")
+    return FitConfig(**settings)
 
 
 @dataclass
@@ -741,11 +746,10 @@ def run_fit(sweep_record, fixed_record, config: FitConfig, *, views: bool = True
     fixed run compensated when given (``views``: also the multiscale figures' data)."""
     from inertialab.workflows.vibration_record import prepare
 
-    c = config.validate()
-    cfg = c.vibration_config(views=views)
+    c = replace(config, views=views).validate()
     sweep = prepare(sweep_record)
     fixed = prepare(fixed_record) if fixed_record is not None else None
-    return FitResult(fit(sweep, fixed, cfg, progress), sha256=sweep_record.sha256)
+    return FitResult(fit(sweep, fixed, c, progress), sha256=sweep_record.sha256)
 
 
 @dataclass(frozen=True)

@@ -159,7 +159,7 @@ def run_from_frame(df, meta: dict | None = None, *, path="<frame>", sha256: str 
 def prepare(record) -> VibrationRun:
     """A ``gyro_log`` :class:`~inertialab.io.Record` validated and segmented for the
     pipeline (:func:`run_from_frame`)."""
-    from inertialab.io.preflight import preflight
+    from inertialab.workflows.preflight import preflight
 
     preflight(record, "vibration")  # the checks `validate --kind vibration` runs
     return run_from_frame(record.data, record.meta, path=record.path, sha256=record.sha256,
