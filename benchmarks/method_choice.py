@@ -106,7 +106,7 @@ def score(method: str, out=sys.stdout, candidates=None, presets: bool = True) ->
     for log, part, axis, y, unit, fs in _records(presets):
         res = oadev(y, rate_hz=fs, taus="octave", confidence=0.95)
         kind = "gyro" if unit in ("dps", "dph", "rps") else "accel"
-        ln = spectral_lines(y, fs) if method == "wls" else ()
+        ln = spectral_lines(y, fs)  # as benchmarks.real_logs and the workflows pass them
         for cand in names:
             setting = CANDIDATES[method][cand]
             with _applied(setting):
