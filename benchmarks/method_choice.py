@@ -175,6 +175,8 @@ def run(quick: bool = False, methods=("wls", "gmwm"), candidates=None,
 
     if not SHARED.exists():
         return {"skipped": f"no real logs at {SHARED}"}
+    if quick:  # smoke run: WLS only, the logs without the presets
+        methods, presets = ("wls",), False
     out = {}
     for m in methods:
         rows = score(m, candidates=[c for c in candidates or CANDIDATES[m]
