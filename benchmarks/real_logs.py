@@ -28,6 +28,8 @@ repository. Any other static log (CSV with the usual columns) can be checked wit
     python -m benchmarks.real_logs --method wls --log imu3
     python -m benchmarks.real_logs --csv my_log.csv --rate 100
     python -m benchmarks.real_logs --halves         # and each 1.4-h half (held out)
+    python -m benchmarks.real_logs --loo            # settings by leave-one-log-out
+                                                    # (benchmarks.method_choice)
 
 The same checks run on the MEMS presets (``--preset consumer-100hz --seeds 5``), so a
 method is judged on both.
@@ -248,7 +250,15 @@ def main(argv=None) -> int:
     ap.add_argument("--json", help="write the rows here")
     ap.add_argument("--halves", action="store_true",
                     help="also check each half of each log (held-out halves)")
+    ap.add_argument("--loo", action="store_true",
+                    help="choose the method settings by leave-one-log-out and by halves "
+                         "(benchmarks.method_choice)")
     a = ap.parse_args(argv)
+    if a.loo:
+        from benchmarks import method_choice
+
+        return method_choice.main([f"--method={m}" for m in a.method or ()]
+                                  + ([f"--json={a.json}"] if a.json else []))
     methods = a.method or ["wls", "gmwm"]
     rows = []
     if a.preset:

@@ -214,4 +214,24 @@ def test_rate_record_identified_as_its_phase_by_every_branch():
         np.testing.assert_array_equal(r.alpha, ref.alpha)
         assert r.alpha_source == ref.source
         branches |= set(r.alpha_source)
-    assert {"acf", "b1", "b1+rn", "carried"} <= branches
+    # the B1 + R(n) branch's angle verdicts on these white-rate records follow rate-noise
+    # verdicts, so rule 5 reports them "rate-carried"
+    assert {"acf", "b1", "rate-carried", "carried"} <= branches
+
+
+def test_no_angle_noise_after_rate_noise_in_rate_records():
+    """Rule 5: on white-rate records no tau past a rate-noise verdict is called angle
+    noise (B1 + R(n) called angle noise at m = 4096 on seeds 2 and 3); each such tau
+    takes the type of the nearest shorter one."""
+    from inertialab.noise.allan import deviation
+
+    hits = 0
+    for seed in (2, 3):
+        y = np.random.default_rng(seed).standard_normal(100_000)
+        r = deviation("adev", y, rate_hz=1.0)
+        assert max(r.alpha.tolist()) <= 0, r.alpha
+        for i, s in enumerate(r.alpha_source):
+            if s == "rate-carried":
+                hits += 1
+                assert r.alpha[i] == r.alpha[i - 1]
+    assert hits >= 2

@@ -30,12 +30,22 @@ The rules of W. J. Riley's *Handbook of Frequency Stability Analysis* (NIST SP 1
    A run whose every m lies beyond takes the type identified at the largest identifiable
    m; a record too short for any is ``"none"`` (white FM assumed).
 
+5. **No angle noise after rate noise** (rate records, ``data="freq"``; a departure from
+   Stable32): an angle-noise verdict (alpha >= +1) at a longer tau than a rate-noise
+   verdict (alpha <= 0) takes the nearest shorter rate-noise type, source
+   ``"rate-carried"`` (:func:`_no_angle_after_rate`). On the simulated ``allan-bi``
+   gyro (10 h, 10 Hz, band-limited flicker) seed 1's B1 + R(n) called flicker angle at
+   3,277 s (N/m = 11), carried to 13,107 s: OADEV EDF 237, 114, 47 where the flicker
+   rate the curve carries has 11, 4.7, 1.5 (benchmarks/edf_coverage.py measures which
+   EDF covers the long-tau scatter).
+
 Measured against Stable32's own tables (1.5x-1.60; 70 tables, 7,120 rows of six records,
 phase and frequency data; third-party data, not committed; docs/allan.md "Against
-Stable32"): the identified alpha equals Stable32's on 99.8 % of the rows.
+Stable32"): the identified alpha equals Stable32's on 99.8 % of the rows (rules 1-4;
+rule 5 came later and applies to rate records only).
 
 The source of each verdict is reported per tau: ``"acf"``, ``"b1"``, ``"b1+rn"``,
-``"carried"`` or ``"none"``.
+``"carried"``, ``"rate-carried"`` or ``"none"``.
 """
 
 from __future__ import annotations
@@ -65,7 +75,7 @@ MIN_SPAN = {"adev": 10, "hdev": 10, "oadev": 8, "ohdev": 8, "mdev": 8, "tdev": 8
             "totdev": 4, "mtotdev": 6, "ttotdev": 6, "htotdev": 6}
 
 #: Verdicts that count as identified with confidence (a bias correction is applied).
-CONFIDENT = ("acf", "b1", "b1+rn", "carried", "user", "model")
+CONFIDENT = ("acf", "b1", "b1+rn", "carried", "rate-carried", "user", "model")
 
 _MUS = (1.0, 0.0, -1.0, -2.0)  # B1 tau-exponents, largest first (alpha = -mu - 1)
 
@@ -359,6 +369,8 @@ def identify_alpha(src, ms, *, statistic: str = "oadev", data: str = "phase",
                                       int(freq), np.asarray(acf[0], dtype=np.bool_),
                                       np.asarray(acf[1], dtype=np.int64), lo, hi, alphas,
                                       codes):
+            if freq:
+                _no_angle_after_rate(ms, alphas, codes)
             return NoiseIdentification(ms, alphas, tuple(_SOURCES[c] for c in codes.tolist()))
         alphas[:], codes[:] = 0, 0
     own = ms * MIN_SPAN.get(statistic, 8) <= N
@@ -378,12 +390,32 @@ def identify_alpha(src, ms, *, statistic: str = "oadev", data: str = "phase",
     np.minimum(np.maximum(alphas, lo, out=alphas), hi, out=alphas)
     if not own.all():
         _carry(src, ms, own, alphas, codes, statistic, data, max_points, min_points)
+    if freq:
+        _no_angle_after_rate(ms, alphas, codes)
     return NoiseIdentification(ms, alphas, tuple(_SOURCES[c] for c in codes.tolist()))
 
 
 #: Source names by code (:func:`identify_alpha`'s bookkeeping).
-_SOURCES = ("carried", "acf", "b1", "b1+rn", "none")
-_ACF, _B1, _B1RN, _NONE = 1, 2, 3, 4
+_SOURCES = ("carried", "acf", "b1", "b1+rn", "none", "rate-carried")
+_ACF, _B1, _B1RN, _NONE, _RATE = 1, 2, 3, 4, 5
+
+
+def _no_angle_after_rate(ms, alphas, codes) -> None:
+    """Rule 5 (rate records): an angle-noise verdict (alpha >= +1) at a longer tau than a
+    rate-noise verdict (alpha <= 0) takes the type of the nearest shorter rate-noise
+    verdict (source ``"rate-carried"``). The dominant type of a sum of power-law rate
+    noises only falls with tau, and a band-limited one (Gauss–Markov) rolls off to white
+    rate, never steeper; an angle verdict there is the scatter of a statistic read on a
+    few points (B1 on ~10 averages, R(n)), and its EDF (flicker angle ~240, white angle
+    ~10^5 at N/m = 11) would be ~20-10^4 times that of the rate noise the curve carries."""
+    last = None
+    for i in np.argsort(ms, kind="stable").tolist():
+        if codes[i] == _NONE:
+            continue
+        if alphas[i] <= 0:
+            last = int(alphas[i])
+        elif last is not None:
+            alphas[i], codes[i] = last, _RATE
 
 
 def _identify_left(sh, ms, rows, lagged, nt, freq, dmax, max_points, decimated, alphas,
