@@ -199,6 +199,7 @@ class DriftPrediction:
     rms: np.ndarray
     band_95: np.ndarray
     by_term: dict
+    components: tuple = ()
 
     def to_dict(self, scale: float = 1.0, unit: str = "") -> dict:
         return {"horizons_s": [float(v) for v in self.horizons_s],
@@ -230,7 +231,7 @@ def predict(components, horizons_s, bias_window_s: float, rate_hz: float) -> Dri
     var = np.sum([np.asarray(v) for v in by.values()], axis=0) if by else np.zeros(h.size)
     rms = np.sqrt(var)
     return DriftPrediction(tuple(float(t) for t in h), float(bias_window_s), rms, Z95 * rms,
-                           {k: np.asarray(v) for k, v in by.items()})
+                           {k: np.asarray(v) for k, v in by.items()}, tuple(components))
 
 
 def predict_terms(terms, horizons_s, bias_window_s: float = 10.0,
@@ -277,11 +278,96 @@ def effective_windows(e) -> float:
     return float(n) / max(v_b / v_ind, 1.0)
 
 
+def _gm_cross(tc, t: float, w: float, lags) -> np.ndarray:
+    """``Cov(e_0, e_k)`` (per unit variance) of a Gauss-Markov rate of correlation time
+    ``tc`` (s, array) between windows ``k >= 1`` apart (``lags``), windows of ``w + t`` s
+    back to back: the windows do not overlap, so the covariance ``exp(-|s|/tc)`` factors,
+    ``exp(-(k-1)(t+w)/tc) A B`` with ``A = int h(s) e^{(s-t)/tc} ds`` and
+    ``B = int h(s) e^{-(s+w)/tc} ds`` (``h`` of the module docstring). Shape
+    ``(len(tc), len(lags))``."""
+    tc = np.asarray(tc, dtype=float)[:, None]
+    k = np.asarray(lags, dtype=float)[None, :]
+    r = t / w
+    et = np.exp(-t / tc)
+    a = -tc * np.expm1(-t / tc) + r * tc * et * np.expm1(-w / tc)
+    b = tc * np.exp(-w / tc) * (-np.expm1(-t / tc)) + r * tc * np.expm1(-w / tc)
+    return np.exp(-(k - 1.0) * (t + w) / tc) * a * b
+
+
+def _band_cross(comp: Component, t: float, w: float, lags) -> np.ndarray:
+    """:func:`_gm_cross` of the band: a log-uniform mixture of Gauss-Markov processes of
+    variance ``q`` per unit ``ln T`` between its corners (an open corner cut where the
+    integrand has vanished: 1e-4 min(t, w) below, 1e3 windows' span above)."""
+    span = (t + w) * max(float(np.max(lags)), 1.0)
+    lo = comp.b if comp.b > 0 else 1e-4 * min(t, w)
+    hi = comp.c if math.isfinite(comp.c) else 1e3 * span
+    if not hi > lo:
+        return np.zeros(len(lags))
+    lt = np.linspace(math.log(lo), math.log(hi), max(int(60 * math.log10(hi / lo)), 32))
+    y = _gm_cross(np.exp(lt), t, w, lags)
+    return comp.a * np.sum(0.5 * (y[1:] + y[:-1]) * np.diff(lt)[:, None], axis=0)
+
+
+def window_covariances(components, t: float, w: float, n_lags: int) -> np.ndarray:
+    """``Cov(e_0, e_k)``, ``k = 1 .. n_lags`` ((u s)^2), of the back-to-back windows of
+    :func:`observed_error` under the components: white noise and the random walk give
+    none (disjoint windows see disjoint increments, ``int h = 0``); a Gauss-Markov
+    process and the band decay with the lag (:func:`_gm_cross`); quantisation shares the
+    angle sample at each window's joint (``r Q^2`` at lag 1); a line keeps its phase,
+    ``A^2 |H(f0)|^2 cos(2 pi f0 k (t + w)) / 2``. The ramp is handled apart (it is the
+    same in every window)."""
+    lags = np.arange(1, max(int(n_lags), 0) + 1, dtype=float)
+    out = np.zeros(lags.size)
+    if lags.size == 0:
+        return out
+    for comp in components:
+        if comp.kind == "gm":
+            out += comp.a * _gm_cross([comp.b], t, w, lags)[0]
+        elif comp.kind == "band":
+            out += _band_cross(comp, t, w, lags)
+        elif comp.kind == "quant":
+            out[0] += comp.a * t / w
+        elif comp.kind == "line":
+            h2 = float(_h2(np.asarray(comp.b), t, w))
+            out += 0.5 * comp.a ** 2 * h2 * np.cos(2 * np.pi * comp.b * lags * (t + w))
+    return out
+
+
+def model_effective_windows(pred: DriftPrediction, n_windows) -> np.ndarray:
+    """Per horizon, the independent windows the mean square of ``n_windows`` back-to-back
+    window errors is worth under the predicted model: ``2 V^2 / Var(mean e^2)`` with, for
+    Gaussian errors of covariances ``c_k`` (:func:`window_covariances`) about the ramp's
+    common part ``m`` (``m^2`` the ramp's variance), ``Var(mean e^2) = (2/n^2) sum_ij
+    c_|i-j|^2 + 4 m^2 (1/n^2) sum_ij c_|i-j|``. The sampling the check's RMS has where the
+    model is right; unlike :func:`effective_windows` it is not itself a noisy estimate
+    from the few windows of a long horizon (34 at 300 s in 3 h), and it does not count
+    the data's non-stationarity, which the interval carries apart. Needs ``pred`` from
+    :func:`predict` (its components)."""
+    nw = np.asarray(n_windows, dtype=float)
+    out = np.zeros(len(pred.horizons_s))
+    for i, t in enumerate(pred.horizons_s):
+        n = int(nw[i])
+        v = float(pred.rms[i]) ** 2
+        if n < 1 or not v > 0:
+            out[i] = float(n)
+            continue
+        m2 = float(pred.by_term.get("R", np.zeros(i + 1))[i])
+        c0 = v - m2
+        ck = window_covariances(pred.components, float(t), pred.bias_window_s, n - 1)
+        wk = 2.0 * (n - np.arange(1, n))
+        var_sq = 2.0 * (n * c0 * c0 + float(np.sum(wk * ck * ck))) / n**2
+        var_sq += 4.0 * m2 * (n * c0 + float(np.sum(wk * ck))) / n**2
+        out[i] = 2.0 * v * v / var_sq if var_sq > 0 else float(n)
+    return out
+
+
 def check_prediction(pred: DriftPrediction, y, rate_hz: float) -> dict:
     """Prediction against the record ``y`` (the other half, or another log): per horizon
     the observed RMS (u s), the number of windows, observed/predicted, the coverage of
-    the 95 % band, the effective number of independent windows
-    (:func:`effective_windows`), and per term the inflation of its amplitude that would make the
+    the 95 % band, the effective number of independent windows measured on the windows
+    (:func:`effective_windows`, ``n_effective``) and under the predicted model
+    (:func:`model_effective_windows`, ``n_effective_model``: the one the RMS interval's
+    sampling uses), and per term the inflation of its amplitude that would make the
     predicted RMS equal the observed one (NaN where that term alone cannot)."""
     obs, n_win, cover, n_eff = [], [], [], []
     infl: dict[str, list] = {k: [] for k in pred.by_term}
@@ -299,6 +385,7 @@ def check_prediction(pred: DriftPrediction, y, rate_hz: float) -> dict:
             infl[k].append(math.sqrt(need / vk) if vk > 0 and need > 0 else float("nan"))
     obs_a = np.asarray(obs)
     return {"observed_rms": obs_a, "n_windows": n_win, "n_effective": n_eff,
+            "n_effective_model": model_effective_windows(pred, n_win).tolist(),
             "ratio": obs_a / np.asarray(pred.rms), "coverage_95": cover, "inflation": infl}
 
 
@@ -428,4 +515,4 @@ def predicted_rms_ci(pred: DriftPrediction, terms=None, *, extra_log_var=None,
 
 __all__ = ["Component", "DriftPrediction", "Z95", "check_prediction", "component_variance",
            "components_of", "kalibr_components", "kalibr_reading", "observed_error",
-           "effective_windows", "misfit_log_var", "predict", "predict_terms", "predicted_rms_ci"]
+           "effective_windows", "misfit_log_var", "model_effective_windows", "window_covariances", "predict", "predict_terms", "predicted_rms_ci"]
