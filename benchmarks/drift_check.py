@@ -119,7 +119,8 @@ def _ci_check(pred, terms, extra, n, obs) -> dict:
         z = 2.0 * np.log(np.asarray(obs, float) / np.asarray(pred.rms, float)) / sd
     return {"ci_inside": inside.astype(int).tolist(), "ci_edge": edge.tolist(),
             "ci_high_over_low": (hi / np.where(lo > 0, lo, np.nan)).tolist(),
-            "ci_z": z.tolist()}
+            "ci_z": z.tolist(),
+            "ci_log_sd": {k: np.asarray(v, float).tolist() for k, v in ci["log_sd"].items()}}
 
 
 def summarise(rows) -> dict:
@@ -146,6 +147,8 @@ def summarise(rows) -> dict:
                      "high_over_low_p10": np.nanquantile(hl, 0.1, axis=0).tolist(),
                      "high_over_low_p90": np.nanquantile(hl, 0.9, axis=0).tolist()}
     out["seeds"] = len(rows)
+    out["rows"] = [{k: r[k] for k in ("seed", "ci_inside", "ci_z", "ci_log_sd")}
+                   for r in rows]
     out["windows_per_seed"] = n[0].tolist()
     return out
 

@@ -12,6 +12,7 @@ from scipy.special import exp1, polygamma
 
 from inertialab.noise.drift_prediction import (
     Component,
+    component_variance,
     effective_windows,
     misfit_log_var,
     model_effective_windows,
@@ -126,7 +127,28 @@ def test_model_windows_white_and_random_walk_are_independent_and_a_line_is_one()
     pred = predict(comps, H, 10.0, 100.0)
     np.testing.assert_allclose(model_effective_windows(pred, [500, 80, 20]),
                                [500, 80, 20], rtol=1e-12)
-    # a line of period 2 (t + W): every window sees the same |e|, so n windows are one
+    # a line of period 2 (t + W): every window sees the same a^2 cos^2(phase), so the
+    # mean square does not average over windows: Var(cos^2)/E(cos^2)^2 = 1/2, n_eff = 4
     f0 = 1.0 / (2 * (60.0 + 10.0))
     pred = predict([Component("line", "S", 1.0, f0)], [60.0], 10.0, 100.0)
-    assert model_effective_windows(pred, [40])[0] == pytest.approx(1.0, rel=1e-9)
+    assert model_effective_windows(pred, [40])[0] == pytest.approx(4.0, rel=1e-9)
+    # the same line under white noise, at a phase step that averages: n_eff ~ n
+    f0 = 0.3183 / 70.0
+    comps = [Component("white", "N", 0.04), Component("line", "S", 0.3, f0)]
+    pred = predict(comps, [60.0], 10.0, 100.0)
+    assert model_effective_windows(pred, [400])[0] > 300
+
+
+def test_model_windows_of_a_line_match_a_monte_carlo_of_its_phase():
+    rng = np.random.default_rng(3)
+    t, w, n, f0, amp, nd = 60.0, 10.0, 30, 1.07 / 70.0, 0.5, 0.04
+    comps = [Component("white", "N", nd), Component("line", "S", amp, f0)]
+    pred = predict(comps, [t], w, 100.0)
+    a = math.sqrt(2.0 * component_variance(comps[1], t, w, 100.0))  # m2 = a^2 / 2
+    k = np.arange(n)
+    phi = rng.uniform(0, 2 * np.pi, (20000, 1))
+    e = a * np.cos(phi + 2 * np.pi * f0 * (t + w) * k) + rng.standard_normal(
+        (20000, n)) * math.sqrt(nd * (t + t * t / w))
+    ms = np.mean(e * e, axis=1)
+    n_mc = 2 * np.mean(ms) ** 2 / np.var(ms)
+    assert model_effective_windows(pred, [n])[0] == pytest.approx(n_mc, rel=0.05)

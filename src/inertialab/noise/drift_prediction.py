@@ -313,9 +313,9 @@ def window_covariances(components, t: float, w: float, n_lags: int) -> np.ndarra
     :func:`observed_error` under the components: white noise and the random walk give
     none (disjoint windows see disjoint increments, ``int h = 0``); a Gauss-Markov
     process and the band decay with the lag (:func:`_gm_cross`); quantisation shares the
-    angle sample at each window's joint (``r Q^2`` at lag 1); a line keeps its phase,
-    ``A^2 |H(f0)|^2 cos(2 pi f0 k (t + w)) / 2``. The ramp is handled apart (it is the
-    same in every window)."""
+    angle sample at each window's joint (``r Q^2`` at lag 1). The ramp and the lines are
+    not Gaussian (a fixed slope, a fixed amplitude): :func:`model_effective_windows`
+    handles them apart."""
     lags = np.arange(1, max(int(n_lags), 0) + 1, dtype=float)
     out = np.zeros(lags.size)
     if lags.size == 0:
@@ -327,22 +327,42 @@ def window_covariances(components, t: float, w: float, n_lags: int) -> np.ndarra
             out += _band_cross(comp, t, w, lags)
         elif comp.kind == "quant":
             out[0] += comp.a * t / w
-        elif comp.kind == "line":
-            h2 = float(_h2(np.asarray(comp.b), t, w))
-            out += 0.5 * comp.a ** 2 * h2 * np.cos(2 * np.pi * comp.b * lags * (t + w))
     return out
+
+
+def _fixed_parts(pred: DriftPrediction, t: float, n: int, ck, c0: float) -> float:
+    """The part of ``Var(mean e^2)`` the ramp and the lines at horizon ``t`` over
+    ``n`` windows about Gaussian errors of covariances ``c0, ck``: a part ``s_i`` fixed by
+    the log (the ramp's slope; a line's amplitude, its phase ``phi + i theta``,
+    ``theta = 2 pi f0 (t + W)``) adds ``4 (1/n^2) sum_ij <s_i s_j> c_|i-j|`` and, a
+    line, the phase's ``Var(mean s_i^2) = (m^2/2) |mean_i exp(2 i i theta)|^2``."""
+    w = pred.bias_window_s
+    k = np.arange(1, n)
+    wk = 2.0 * (n - k)
+    var = 0.0
+    for comp in pred.components:
+        if comp.kind not in ("ramp", "line"):
+            continue
+        m2 = component_variance(comp, t, w, 1.0)
+        cos_k = np.ones(k.size)
+        if comp.kind == "line":
+            theta = 2.0 * np.pi * comp.b * (t + w)
+            cos_k = np.cos(theta * k)
+            var += 0.5 * m2 * m2 * abs(np.mean(np.exp(2j * theta * np.arange(n)))) ** 2
+        var += 4.0 * m2 * (n * c0 + float(np.sum(wk * ck * cos_k))) / n**2
+    return var
 
 
 def model_effective_windows(pred: DriftPrediction, n_windows) -> np.ndarray:
     """Per horizon, the independent windows the mean square of ``n_windows`` back-to-back
-    window errors is worth under the predicted model: ``2 V^2 / Var(mean e^2)`` with, for
-    Gaussian errors of covariances ``c_k`` (:func:`window_covariances`) about the ramp's
-    common part ``m`` (``m^2`` the ramp's variance), ``Var(mean e^2) = (2/n^2) sum_ij
-    c_|i-j|^2 + 4 m^2 (1/n^2) sum_ij c_|i-j|``. The sampling the check's RMS has where the
-    model is right; unlike :func:`effective_windows` it is not itself a noisy estimate
-    from the few windows of a long horizon (34 at 300 s in 3 h), and it does not count
-    the data's non-stationarity, which the interval carries apart. Needs ``pred`` from
-    :func:`predict` (its components)."""
+    window errors is worth under the predicted model: ``2 V^2 / Var(mean e^2)``, with
+    ``(2/n^2) sum_ij c_|i-j|^2`` from the Gaussian terms (covariances ``c_k``,
+    :func:`window_covariances`) and the parts the ramp and the lines add
+    (:func:`_fixed_parts`). It is the sampling the check's RMS has where the model is
+    right; unlike :func:`effective_windows` it is not itself a noisy estimate from the
+    few windows of a long horizon (34 at 300 s in 3 h), and it leaves the data's
+    non-stationarity to the interval's own part. ``n`` for white noise and random walks;
+    more where a ramp or a line, the same in every window, makes part of ``V`` fixed."""
     nw = np.asarray(n_windows, dtype=float)
     out = np.zeros(len(pred.horizons_s))
     for i, t in enumerate(pred.horizons_s):
@@ -351,12 +371,13 @@ def model_effective_windows(pred: DriftPrediction, n_windows) -> np.ndarray:
         if n < 1 or not v > 0:
             out[i] = float(n)
             continue
-        m2 = float(pred.by_term.get("R", np.zeros(i + 1))[i])
-        c0 = v - m2
-        ck = window_covariances(pred.components, float(t), pred.bias_window_s, n - 1)
-        wk = 2.0 * (n - np.arange(1, n))
-        var_sq = 2.0 * (n * c0 * c0 + float(np.sum(wk * ck * ck))) / n**2
-        var_sq += 4.0 * m2 * (n * c0 + float(np.sum(wk * ck))) / n**2
+        gauss = [c for c in pred.components if c.kind not in ("ramp", "line")]
+        ck = window_covariances(gauss, float(t), pred.bias_window_s, n - 1)
+        c0 = v - sum(component_variance(c, float(t), pred.bias_window_s, 1.0)
+                     for c in pred.components if c.kind in ("ramp", "line"))
+        var_fixed = _fixed_parts(pred, float(t), n, ck, c0)
+        var_sq = 2.0 * (n * c0 * c0 + float(np.sum(2.0 * (n - np.arange(1, n)) * ck * ck)))
+        var_sq = var_sq / n**2 + var_fixed
         out[i] = 2.0 * v * v / var_sq if var_sq > 0 else float(n)
     return out
 
