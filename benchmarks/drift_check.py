@@ -13,7 +13,8 @@ half, check on the second, per axis.
 
 Each preset seed also checks the predicted RMS's 95 % interval
 (:func:`inertialab.noise.drift_prediction.predicted_rms_ci`, with the fitted log's
-measured non-stationarity and local misfit, widened by the observed RMS's own sampling):
+measured non-stationarity and local misfit, widened by the observed RMS's own sampling
+under the predicted model):
 its coverage and median high/low per horizon (``rms_ci``). ``--pooled`` pools three
 independent logs of a preset (:mod:`inertialab.noise.pooled`) and checks the pooled
 interval on a fourth; ``--real-intervals`` checks it on the shared logs by halves after
