@@ -13,7 +13,8 @@ half, check on the second, per axis.
 
 Each preset seed also checks the predicted RMS's 95 % interval
 (:func:`inertialab.noise.drift_prediction.predicted_rms_ci`, with the fitted log's
-measured non-stationarity and local misfit, widened by the observed RMS's own sampling):
+measured non-stationarity and local misfit, widened by the observed RMS's own sampling
+under the predicted model):
 its coverage and median high/low per horizon (``rms_ci``). ``--pooled`` pools three
 independent logs of a preset (:mod:`inertialab.noise.pooled`) and checks the pooled
 interval on a fourth; ``--real-intervals`` checks it on the shared logs by halves after
@@ -25,6 +26,7 @@ Commands::
     python -m benchmarks.drift_check --seeds 50 --hours 3 --json benchmarks/results/drift_check.json
     python -m benchmarks.drift_check --real
     python -m benchmarks.drift_check --seeds 40 --hours 3          # with the RMS interval
+    python -m benchmarks.drift_check --seeds 40 --first-seed 100000 --preset industrial-400hz
     python -m benchmarks.drift_check --pooled --seeds 20 --hours 2
     python -m benchmarks.drift_check --real-intervals
 
@@ -65,6 +67,7 @@ def seed_row(preset: str, seed: int, hours: float) -> dict:
         effective_windows,
         kalibr_components,
         misfit_log_var,
+        model_effective_windows,
         observed_error,
         predict,
         predict_terms,
@@ -87,7 +90,8 @@ def seed_row(preset: str, seed: int, hours: float) -> dict:
         row["in_band"].append(int(np.sum(np.abs(e) <= pred.band_95[i])))
         row["in_kalibr"].append(int(np.sum(np.abs(e) <= kal.band_95[i])))
     obs = np.sqrt(np.asarray(row["obs_sq"]) / np.maximum(row["n"], 1))
-    row |= _ci_check(pred, terms, extra, row["n_eff"], obs)
+    row["n_model"] = model_effective_windows(pred, row["n"]).tolist()
+    row |= _ci_check(pred, terms, extra, row["n_model"], obs)
     return row
 
 
@@ -111,8 +115,14 @@ def _ci_check(pred, terms, extra, n, obs) -> dict:
     inside = (obs >= lo) & (obs <= hi)
     with np.errstate(divide="ignore", invalid="ignore"):
         edge = np.where(obs > hi, obs / hi, np.where(obs < lo, lo / obs, 1.0))
+        # the standardised log ratio: ln(obs^2/pred^2) over the interval's total log-sd
+        # (upper-bound terms aside); its variance over seeds is 1 for a calibrated interval
+        sd = np.sqrt(sum(np.asarray(v, float) ** 2 for v in ci["log_sd"].values()))
+        z = 2.0 * np.log(np.asarray(obs, float) / np.asarray(pred.rms, float)) / sd
     return {"ci_inside": inside.astype(int).tolist(), "ci_edge": edge.tolist(),
-            "ci_high_over_low": (hi / np.where(lo > 0, lo, np.nan)).tolist()}
+            "ci_high_over_low": (hi / np.where(lo > 0, lo, np.nan)).tolist(),
+            "ci_z": z.tolist(),
+            "ci_log_sd": {k: np.asarray(v, float).tolist() for k, v in ci["log_sd"].items()}}
 
 
 def summarise(rows) -> dict:
@@ -132,20 +142,28 @@ def summarise(rows) -> dict:
                      "ratio_pooled": pooled.tolist(), "coverage_95": cover.tolist()}
     ins = np.array([r["ci_inside"] for r in rows])
     hl = np.array([r["ci_high_over_low"] for r in rows], dtype=float)
-    out["rms_ci"] = {"coverage": ins.mean(axis=0).tolist(),
+    z = np.array([r["ci_z"] for r in rows], dtype=float)
+    out["rms_ci"] = {"coverage": ins.mean(axis=0).tolist(), "cases": int(ins.shape[0]),
+                     "z_variance": np.nanvar(z, axis=0).tolist(),
                      "high_over_low_median": np.nanmedian(hl, axis=0).tolist(),
                      "high_over_low_p10": np.nanquantile(hl, 0.1, axis=0).tolist(),
                      "high_over_low_p90": np.nanquantile(hl, 0.9, axis=0).tolist()}
     out["seeds"] = len(rows)
+    out["rows"] = [{k: r[k] for k in ("seed", "ci_inside", "ci_z", "ci_log_sd")}
+                   for r in rows]
     out["windows_per_seed"] = n[0].tolist()
     return out
 
 
-def run_presets(seeds: int, hours: float, presets=PRESETS) -> dict:
+def run_presets(seeds: int, hours: float, presets=PRESETS, first_seed: int = 0) -> dict:
+    """Per preset, seeds ``first_seed .. first_seed + seeds - 1`` (:func:`seed_row`). A
+    seed's first stream is the white noise of every preset, so presets run on one block
+    of seeds share their white-noise draws; give each preset its own block
+    (``--first-seed``) for independent cases across presets."""
     out = {}
     for p in presets:
         t0 = time.process_time()
-        rows = [seed_row(p, s, hours) for s in range(seeds)]
+        rows = [seed_row(p, s, hours) for s in range(first_seed, first_seed + seeds)]
         out[p] = summarise(rows) | {"cpu_s": time.process_time() - t0}
         print(p, _fmt(out[p]), flush=True)
     return out
@@ -212,7 +230,7 @@ def _axis_prediction(y_fit, rate_hz, unit, y_check, *, extra_between=None):
     if extra_between is not None:
         extra = extra + extra_between
     c = check_prediction(pred, y_check, rate_hz)
-    chk = _ci_check(pred, terms, extra, c["n_effective"], c["observed_rms"])
+    chk = _ci_check(pred, terms, extra, c["n_effective_model"], c["observed_rms"])
     return c["ratio"], chk, terms, st
 
 
@@ -309,7 +327,7 @@ def pooled_row(preset: str, seed: int, hours: float, n_logs: int = 3) -> dict:
     extra = extra + misfit_log_var(pooled, terms, HORIZONS)
     pred = predict_terms(terms, HORIZONS, WINDOW, fs)
     c = check_prediction(pred, runs[-1].y, fs)
-    return _ci_check(pred, terms, extra, c["n_effective"], c["observed_rms"])
+    return _ci_check(pred, terms, extra, c["n_effective_model"], c["observed_rms"])
 
 
 def run_pooled(seeds: int, hours: float, presets=PRESETS) -> dict:
@@ -318,10 +336,23 @@ def run_pooled(seeds: int, hours: float, presets=PRESETS) -> dict:
         rows = [pooled_row(p, s, hours) for s in range(seeds)]
         ins = np.array([r["ci_inside"] for r in rows])
         hl = np.array([r["ci_high_over_low"] for r in rows], dtype=float)
-        out[p] = {"seeds": seeds, "coverage": ins.mean(axis=0).tolist(),
-                  "high_over_low_median": np.nanmedian(hl, axis=0).tolist()}
+        z = np.array([r["ci_z"] for r in rows], dtype=float)
+        out[p] = {"seeds": seeds, "rms_ci": {
+            "coverage": ins.mean(axis=0).tolist(), "cases": int(ins.shape[0]),
+            "z_variance": np.nanvar(z, axis=0).tolist(),
+            "high_over_low_median": np.nanmedian(hl, axis=0).tolist()}}
         print("pooled", p, out[p], flush=True)
     return out
+
+
+def across_presets(by_preset: dict) -> dict:
+    """The RMS interval's coverage over all presets' cases per horizon, and the median,
+    least and greatest of the presets' own coverages."""
+    cov = np.array([v["rms_ci"]["coverage"] for v in by_preset.values()], dtype=float)
+    n = np.array([v["rms_ci"]["cases"] for v in by_preset.values()], dtype=float)
+    return {"coverage": (cov * n[:, None]).sum(axis=0) / n.sum(), "cases": int(n.sum()),
+            "preset_median": np.median(cov, axis=0), "preset_min": cov.min(axis=0),
+            "preset_max": cov.max(axis=0)}
 
 
 def _fmt(s) -> str:
@@ -387,9 +418,17 @@ def markdown(result: dict) -> str:
     return "\n".join(out)
 
 
+def _listed(d: dict) -> dict:
+    return {k: (np.round(v, 4).tolist() if isinstance(v, np.ndarray) else v)
+            for k, v in d.items()}
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--seeds", type=int, default=10)
+    ap.add_argument("--first-seed", type=int, default=0,
+                    help="presets: the first seed (a preset run on its own block of seeds "
+                         "shares no noise stream with another preset's block)")
     ap.add_argument("--hours", type=float, default=3.0)
     ap.add_argument("--preset", action="append")
     ap.add_argument("--real", action="store_true")
@@ -410,8 +449,14 @@ def main(argv=None) -> int:
         result["real_intervals"] = run_real_intervals()
     elif a.pooled:
         result["pooled"] = run_pooled(a.seeds, a.hours, a.preset or PRESETS)
+        result["pooled_all"] = _listed(across_presets(result["pooled"]))
+        print("pooled, all presets", result["pooled_all"], flush=True)
     else:
-        result["presets"] = run_presets(a.seeds, a.hours, a.preset or PRESETS)
+        result["presets"] = run_presets(a.seeds, a.hours, a.preset or PRESETS,
+                                        a.first_seed)
+        result["first_seed"] = a.first_seed
+        result["presets_all"] = _listed(across_presets(result["presets"]))
+        print("all presets", result["presets_all"], flush=True)
     result["machine"]["load_1min_end"] = os.getloadavg()[0]
     result["wall_s"] = time.time() - t0
     if a.json:

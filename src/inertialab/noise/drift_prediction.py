@@ -199,6 +199,7 @@ class DriftPrediction:
     rms: np.ndarray
     band_95: np.ndarray
     by_term: dict
+    components: tuple = ()
 
     def to_dict(self, scale: float = 1.0, unit: str = "") -> dict:
         return {"horizons_s": [float(v) for v in self.horizons_s],
@@ -230,7 +231,7 @@ def predict(components, horizons_s, bias_window_s: float, rate_hz: float) -> Dri
     var = np.sum([np.asarray(v) for v in by.values()], axis=0) if by else np.zeros(h.size)
     rms = np.sqrt(var)
     return DriftPrediction(tuple(float(t) for t in h), float(bias_window_s), rms, Z95 * rms,
-                           {k: np.asarray(v) for k, v in by.items()})
+                           {k: np.asarray(v) for k, v in by.items()}, tuple(components))
 
 
 def predict_terms(terms, horizons_s, bias_window_s: float = 10.0,
@@ -277,11 +278,117 @@ def effective_windows(e) -> float:
     return float(n) / max(v_b / v_ind, 1.0)
 
 
+def _gm_cross(tc, t: float, w: float, lags) -> np.ndarray:
+    """``Cov(e_0, e_k)`` (per unit variance) of a Gauss-Markov rate of correlation time
+    ``tc`` (s, array) between windows ``k >= 1`` apart (``lags``), windows of ``w + t`` s
+    back to back: the windows do not overlap, so the covariance ``exp(-|s|/tc)`` factors,
+    ``exp(-(k-1)(t+w)/tc) A B`` with ``A = int h(s) e^{(s-t)/tc} ds`` and
+    ``B = int h(s) e^{-(s+w)/tc} ds`` (``h`` of the module docstring). Shape
+    ``(len(tc), len(lags))``."""
+    tc = np.asarray(tc, dtype=float)[:, None]
+    k = np.asarray(lags, dtype=float)[None, :]
+    r = t / w
+    et = np.exp(-t / tc)
+    a = -tc * np.expm1(-t / tc) + r * tc * et * np.expm1(-w / tc)
+    b = tc * np.exp(-w / tc) * (-np.expm1(-t / tc)) + r * tc * np.expm1(-w / tc)
+    return np.exp(-(k - 1.0) * (t + w) / tc) * a * b
+
+
+def _band_cross(comp: Component, t: float, w: float, lags) -> np.ndarray:
+    """:func:`_gm_cross` of the band: a log-uniform mixture of Gauss-Markov processes of
+    variance ``q`` per unit ``ln T`` between its corners (an open corner cut where the
+    integrand has vanished: 1e-4 min(t, w) below, 1e3 windows' span above)."""
+    span = (t + w) * max(float(np.max(lags)), 1.0)
+    lo = comp.b if comp.b > 0 else 1e-4 * min(t, w)
+    hi = comp.c if math.isfinite(comp.c) else 1e3 * span
+    if not hi > lo:
+        return np.zeros(len(lags))
+    lt = np.linspace(math.log(lo), math.log(hi), max(int(60 * math.log10(hi / lo)), 32))
+    y = _gm_cross(np.exp(lt), t, w, lags)
+    return comp.a * np.sum(0.5 * (y[1:] + y[:-1]) * np.diff(lt)[:, None], axis=0)
+
+
+def window_covariances(components, t: float, w: float, n_lags: int) -> np.ndarray:
+    """``Cov(e_0, e_k)``, ``k = 1 .. n_lags`` ((u s)^2), of the back-to-back windows of
+    :func:`observed_error` under the components: white noise and the random walk give
+    none (disjoint windows see disjoint increments, ``int h = 0``); a Gauss-Markov
+    process and the band decay with the lag (:func:`_gm_cross`); quantisation shares the
+    angle sample at each window's joint (``r Q^2`` at lag 1). The ramp and the lines are
+    not Gaussian (a fixed slope, a fixed amplitude): :func:`model_effective_windows`
+    handles them apart."""
+    lags = np.arange(1, max(int(n_lags), 0) + 1, dtype=float)
+    out = np.zeros(lags.size)
+    if lags.size == 0:
+        return out
+    for comp in components:
+        if comp.kind == "gm":
+            out += comp.a * _gm_cross([comp.b], t, w, lags)[0]
+        elif comp.kind == "band":
+            out += _band_cross(comp, t, w, lags)
+        elif comp.kind == "quant":
+            out[0] += comp.a * t / w
+    return out
+
+
+def _fixed_parts(pred: DriftPrediction, t: float, n: int, ck, c0: float) -> float:
+    """The part of ``Var(mean e^2)`` the ramp and the lines at horizon ``t`` over
+    ``n`` windows about Gaussian errors of covariances ``c0, ck``: a part ``s_i`` fixed by
+    the log (the ramp's slope; a line's amplitude, its phase ``phi + i theta``,
+    ``theta = 2 pi f0 (t + W)``) adds ``4 (1/n^2) sum_ij <s_i s_j> c_|i-j|`` and, a
+    line, the phase's ``Var(mean s_i^2) = (m^2/2) |mean_i exp(2 i i theta)|^2``."""
+    w = pred.bias_window_s
+    k = np.arange(1, n)
+    wk = 2.0 * (n - k)
+    var = 0.0
+    for comp in pred.components:
+        if comp.kind not in ("ramp", "line"):
+            continue
+        m2 = component_variance(comp, t, w, 1.0)
+        cos_k = np.ones(k.size)
+        if comp.kind == "line":
+            theta = 2.0 * np.pi * comp.b * (t + w)
+            cos_k = np.cos(theta * k)
+            var += 0.5 * m2 * m2 * abs(np.mean(np.exp(2j * theta * np.arange(n)))) ** 2
+        var += 4.0 * m2 * (n * c0 + float(np.sum(wk * ck * cos_k))) / n**2
+    return var
+
+
+def model_effective_windows(pred: DriftPrediction, n_windows) -> np.ndarray:
+    """Per horizon, the independent windows the mean square of ``n_windows`` back-to-back
+    window errors is worth under the predicted model: ``2 V^2 / Var(mean e^2)``, with
+    ``(2/n^2) sum_ij c_|i-j|^2`` from the Gaussian terms (covariances ``c_k``,
+    :func:`window_covariances`) and the parts the ramp and the lines add
+    (:func:`_fixed_parts`). It is the sampling the check's RMS has where the model is
+    right; unlike :func:`effective_windows` it is not itself a noisy estimate from the
+    few windows of a long horizon (34 at 300 s in 3 h), and it leaves the data's
+    non-stationarity to the interval's own part. ``n`` for white noise and random walks;
+    more where a ramp or a line, the same in every window, makes part of ``V`` fixed."""
+    nw = np.asarray(n_windows, dtype=float)
+    out = np.zeros(len(pred.horizons_s))
+    for i, t in enumerate(pred.horizons_s):
+        n = int(nw[i])
+        v = float(pred.rms[i]) ** 2
+        if n < 1 or not v > 0:
+            out[i] = float(n)
+            continue
+        gauss = [c for c in pred.components if c.kind not in ("ramp", "line")]
+        ck = window_covariances(gauss, float(t), pred.bias_window_s, n - 1)
+        c0 = v - sum(component_variance(c, float(t), pred.bias_window_s, 1.0)
+                     for c in pred.components if c.kind in ("ramp", "line"))
+        var_fixed = _fixed_parts(pred, float(t), n, ck, c0)
+        var_sq = 2.0 * (n * c0 * c0 + float(np.sum(2.0 * (n - np.arange(1, n)) * ck * ck)))
+        var_sq = var_sq / n**2 + var_fixed
+        out[i] = 2.0 * v * v / var_sq if var_sq > 0 else float(n)
+    return out
+
+
 def check_prediction(pred: DriftPrediction, y, rate_hz: float) -> dict:
     """Prediction against the record ``y`` (the other half, or another log): per horizon
     the observed RMS (u s), the number of windows, observed/predicted, the coverage of
-    the 95 % band, the effective number of independent windows
-    (:func:`effective_windows`), and per term the inflation of its amplitude that would make the
+    the 95 % band, the effective number of independent windows measured on the windows
+    (:func:`effective_windows`, ``n_effective``) and under the predicted model
+    (:func:`model_effective_windows`, ``n_effective_model``: the one the RMS interval's
+    sampling uses), and per term the inflation of its amplitude that would make the
     predicted RMS equal the observed one (NaN where that term alone cannot)."""
     obs, n_win, cover, n_eff = [], [], [], []
     infl: dict[str, list] = {k: [] for k in pred.by_term}
@@ -299,6 +406,7 @@ def check_prediction(pred: DriftPrediction, y, rate_hz: float) -> dict:
             infl[k].append(math.sqrt(need / vk) if vk > 0 and need > 0 else float("nan"))
     obs_a = np.asarray(obs)
     return {"observed_rms": obs_a, "n_windows": n_win, "n_effective": n_eff,
+            "n_effective_model": model_effective_windows(pred, n_win).tolist(),
             "ratio": obs_a / np.asarray(pred.rms), "coverage_95": cover, "inflation": infl}
 
 
@@ -428,4 +536,4 @@ def predicted_rms_ci(pred: DriftPrediction, terms=None, *, extra_log_var=None,
 
 __all__ = ["Component", "DriftPrediction", "Z95", "check_prediction", "component_variance",
            "components_of", "kalibr_components", "kalibr_reading", "observed_error",
-           "effective_windows", "misfit_log_var", "predict", "predict_terms", "predicted_rms_ci"]
+           "effective_windows", "misfit_log_var", "model_effective_windows", "window_covariances", "predict", "predict_terms", "predicted_rms_ci"]

@@ -140,6 +140,7 @@ def axis_drift(axis, rate_hz: float, opts: DriftOptions, y_check=None, *,
             "on": opts.other_name if opts.check_on == "other" else "second half",
             "observed_rms": [float(v) * f for v in chk["observed_rms"]],
             "n_windows": chk["n_windows"], "n_effective": chk["n_effective"],
+            "n_effective_model": chk["n_effective_model"],
             "observed_over_predicted": [float(v) for v in chk["ratio"]],
             "coverage_95": chk["coverage_95"],
             "inflation": {k: [None if not math.isfinite(x) else float(x) for x in v]
@@ -147,7 +148,7 @@ def axis_drift(axis, rate_hz: float, opts: DriftOptions, y_check=None, *,
             "kalibr_observed_over_predicted": [float(v) for v in chk_k["ratio"]],
             "kalibr_coverage_95": chk_k["coverage_95"]}
         ci = predicted_rms_ci(pred, axis.terms, extra_log_var=extra,
-                              n_windows=chk["n_effective"])
+                              n_windows=chk["n_effective_model"])
         obs = np.asarray(chk["observed_rms"], dtype=float)
         out["check"] |= {"rms_ci_with_sampling": _ci_dict(ci, f),
                          "inside_rms_ci": [bool(lo <= o <= hi) for o, lo, hi
