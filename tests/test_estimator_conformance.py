@@ -96,11 +96,13 @@ def test_every_estimator_is_in_the_suite():
     import ast
     from pathlib import Path
 
+    from tests.source_trees import parsed
+
     src = Path(__file__).resolve().parents[1] / "src" / "inertialab"
     listed = {p.split(":")[1] for p, _, _ in ESTIMATORS} | {"_Base"}
     missing = []
     for path in src.rglob("*.py"):
-        for node in ast.parse(path.read_text()).body:
+        for node in parsed(path).body:
             if isinstance(node, ast.ClassDef) and any(
                     isinstance(m, ast.FunctionDef) and m.name == "fit" for m in node.body):
                 bases = {ast.unparse(b) for b in node.bases}

@@ -11,6 +11,8 @@ import importlib
 import inspect
 from pathlib import Path
 
+from tests.source_trees import parsed
+
 SRC = Path(__file__).resolve().parent.parent / "src" / "inertialab"
 
 
@@ -21,7 +23,7 @@ def _packages() -> list[str]:
 
 def _all_of(package: str):
     path = SRC.joinpath(*package.split(".")[1:], "__init__.py")
-    for node in ast.parse(path.read_text()).body:
+    for node in parsed(path).body:
         targets = node.targets if isinstance(node, ast.Assign) else (
             [node.target] if isinstance(node, ast.AnnAssign) else [])
         if any(getattr(t, "id", "") == "__all__" for t in targets):
@@ -72,7 +74,7 @@ def _private_imports():
         if parts[-1] == "__init__":
             parts = parts[:-1]
         here = parts[1] if len(parts) > 1 else ""
-        for node in ast.walk(ast.parse(path.read_text())):
+        for node in ast.walk(parsed(path)):
             if not (isinstance(node, ast.ImportFrom) and node.module
                     and node.module.startswith("inertialab.")):
                 continue

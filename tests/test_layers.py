@@ -8,6 +8,8 @@ import ast
 import re
 from pathlib import Path
 
+from tests.source_trees import parsed
+
 SRC = Path(__file__).resolve().parent.parent / "src" / "inertialab"
 
 # rank: a module may import only modules of lower rank, or of its own package.
@@ -59,7 +61,7 @@ def _layer(modname: str) -> str:
 
 
 def _imports(path: Path, modname: str, *, is_pkg: bool, submodules: bool = False):
-    tree = ast.parse(path.read_text(), filename=str(path))
+    tree = parsed(path)
     for node in ast.walk(tree):
         if isinstance(node, ast.Import):
             for a in node.names:
@@ -189,7 +191,7 @@ def test_no_cli_flag_names_below_cli():
     for path, modname in _modules():
         if _layer(modname) in ("cli", "__main__"):
             continue
-        tree = ast.parse(path.read_text())
+        tree = parsed(path)
         for node in _message_strings(tree):
             for m in _FLAG.findall(node.value):
                 bad.append(f"{modname}:{node.lineno}: {m}")
@@ -232,7 +234,7 @@ def test_no_project_module_imported_by_string():
     """Registries and discovery import their modules explicitly, so this test's import
     graph sees every edge (third-party extras may still be imported by name)."""
     bad = [f"{modname}:{line}: {text}" for path, modname in _modules()
-           for line, text in _string_imports(ast.parse(path.read_text()))]
+           for line, text in _string_imports(parsed(path))]
     assert not bad, "project modules imported by string:\n" + "\n".join(bad)
 
 
@@ -270,7 +272,7 @@ def test_no_function_above_100_lines():
     bad = []
     for path in sorted(SRC.rglob("*.py")):
         rel = path.relative_to(SRC).as_posix()
-        for node in ast.walk(ast.parse(path.read_text())):
+        for node in ast.walk(parsed(path)):
             if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
                 n = node.end_lineno - node.lineno + 1 - _docstring_lines(node)
                 limit = LONG_FUNCTIONS.get(f"{rel}:{node.name}", MAX_FUNCTION_LINES)
@@ -288,7 +290,7 @@ def test_cli_reads_inputs_only_through_the_runner():
     bad = []
     for path in sorted((SRC / "cli").glob("*.py")):
         if path.name not in ("runner.py", "main.py"):
-            bad += _cli_readings(path.name, ast.parse(path.read_text()))
+            bad += _cli_readings(path.name, parsed(path))
     assert not bad, bad
 
 
@@ -333,7 +335,7 @@ def test_one_workflow_module_per_study():
     for path in sorted((SRC / "workflows").glob("*_run.py")):
         if path.name in _RUN_MODULES_NOT_MERGED:
             continue
-        tree = ast.parse(path.read_text())
+        tree = parsed(path)
         study = path.name.removesuffix("_run.py")
         defines = [n.name for n in tree.body if isinstance(n, (ast.FunctionDef, ast.ClassDef))]
         sources = {n.module for n in tree.body if isinstance(n, ast.ImportFrom)}

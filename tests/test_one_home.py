@@ -12,6 +12,8 @@
 import ast
 from pathlib import Path
 
+from tests.source_trees import parsed
+
 SRC = Path(__file__).resolve().parent.parent / "src" / "inertialab"
 
 #: Rate or step derivations from time stamps outside io/, still to move onto the record's
@@ -49,7 +51,7 @@ def _rate_derivations():
         rel = path.relative_to(SRC).as_posix()
         if rel.startswith("io/"):
             continue
-        tree = ast.parse(path.read_text())
+        tree = parsed(path)
         for fn in ast.walk(tree):
             if not isinstance(fn, (ast.FunctionDef, ast.AsyncFunctionDef)):
                 continue
@@ -101,7 +103,7 @@ def _confidence_literals():
         rel = path.relative_to(SRC).as_posix()
         if rel.startswith("noise/"):
             continue
-        for fn in ast.walk(ast.parse(path.read_text())):
+        for fn in ast.walk(parsed(path)):
             if not isinstance(fn, (ast.FunctionDef, ast.AsyncFunctionDef)):
                 continue
             defaults = dict(zip([a.arg for a in fn.args.args][::-1], fn.args.defaults[::-1]))
@@ -134,7 +136,7 @@ def test_one_saturation_detector():
     ``at_rails``, used by ``detect_saturation`` and the triaxial workflow); no other module
     defines a saturation detector."""
     defs = sorted(f"{p.relative_to(SRC).as_posix()}:{n.name}" for p in SRC.rglob("*.py")
-                  for n in ast.walk(ast.parse(p.read_text()))
+                  for n in ast.walk(parsed(p))
                   if isinstance(n, ast.FunctionDef)
                   and any(w in n.name for w in ("saturat", "rails")))
     assert defs == ["io/gaps.py:at_rails", "io/gaps.py:detect_saturation", "io/gaps.py:rails"]

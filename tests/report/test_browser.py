@@ -77,12 +77,12 @@ def test_report_loads_in_chromium(tmp_path):
 
 
 @pytest.mark.skipif(CHROMIUM is None, reason="chromium not installed (.ci/run installs it as root)")
-def test_quick_demo_report_loads_in_chromium(tmp_path):
+def test_quick_demo_report_loads_in_chromium(tmp_path, quick_study):
     """The real report: every study's quick demo, rendered and loaded in chromium."""
     from inertialab.report.build import section_for
-    from inertialab.studies.demo import run_studies, summary_rows
+    from inertialab.studies.demo import select_studies, summary_rows
 
-    results = run_studies(quick=True)
+    results = [quick_study(s.name) for s in select_studies()]
     assert len(results) == 6
     sections = [section_for(r) for r in results]
     paths = render_report(sections, tmp_path / "rep", summary=summary_rows(results), quick=True)

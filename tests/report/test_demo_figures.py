@@ -10,14 +10,14 @@ import matplotlib.pyplot as plt
 import pytest
 
 from inertialab.report import layout
-from inertialab.studies.demo import run_studies
+from inertialab.studies.demo import select_studies
 
 
 @pytest.fixture(scope="module")
-def quick_results():
+def quick_results(quick_study):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        return run_studies(quick=True)
+        return [quick_study(s.name) for s in select_studies()]
 
 
 @pytest.mark.slow

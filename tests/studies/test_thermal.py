@@ -17,9 +17,9 @@ FAST = FitConfig(method="all", fish=4, generations=2, search_epochs=5, epochs=30
                  ann_max_epochs=60)
 
 
-def test_quick_study_runs_and_builds_its_section():
+def test_quick_study_runs_and_builds_its_section(quick_study):
     assert discover_studies()["thermal"] is STUDY
-    res = STUDY.run(STUDY.quick, None)
+    res = quick_study("thermal")
     t = res.tables
     assert set(t["models"]) == {"ann", "fis", "anfis", "scm-anfis", "iafsa-scm-anfis",
                                 "poly-sep", "poly-2d"}
