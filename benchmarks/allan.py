@@ -44,11 +44,11 @@ _CHILD = textwrap.dedent("""
         f = lambda: at.oadev(y, rate=rate, data_type="freq", taus="octave")
         at.oadev(warm, rate=rate, data_type="freq", taus="octave")
     elif lib == "inertialab-chunked":
-        from inertialab.noise.allan import oadev, oadev_chunked
+        from inertialab.noise.statistics.allan import oadev, oadev_chunked
         f = lambda: oadev_chunked(y, rate_hz=rate)
         oadev(warm, rate_hz=rate)
     else:
-        from inertialab.noise.allan import oadev
+        from inertialab.noise.statistics.allan import oadev
         f = lambda: oadev(y, rate_hz=rate)
         oadev(warm, rate_hz=rate)  # imports (scipy.stats) outside the timing
     import tracemalloc
@@ -144,7 +144,7 @@ def clock_speed(n: int = 10**5, repeats: int = 3, taus="octave",
     seed 12345, rate 1 Hz."""
     import allantools as at
 
-    from inertialab.noise.family import compute
+    from inertialab.noise.statistics.family import compute
 
     x = np.cumsum(np.random.default_rng(12345).standard_normal(n))
     rows = []
@@ -185,7 +185,7 @@ def _strip(d: dict) -> dict:
 
 
 def oracle() -> dict:
-    from inertialab.noise import allan as A
+    from inertialab.noise.statistics import allan as A
 
     n = [1234567890]
     for _ in range(999):
@@ -205,7 +205,7 @@ def oracle() -> dict:
 def allantools_agreement(n: int = 10**6) -> dict:
     import allantools as at
 
-    from inertialab.noise import allan as A
+    from inertialab.noise.statistics import allan as A
 
     y = np.random.default_rng(1).standard_normal(n)
     worst = {}
@@ -219,7 +219,7 @@ def allantools_agreement(n: int = 10**6) -> dict:
 
 
 def coverage(trials: int = 1000) -> dict:
-    from inertialab.noise.allan import oadev
+    from inertialab.noise.statistics.allan import oadev
 
     n = 2**14
     ms = [1, 64, n // 16]
@@ -275,8 +275,8 @@ def stat_speed(n: int, kind: str = "freq", repeats: int = 3, taus="octave",
     between our two kernel sets)."""
     import allantools as at
 
-    from inertialab.noise._octave import fast_kernels
-    from inertialab.noise.allan import deviation
+    from inertialab.noise.statistics._octave import fast_kernels
+    from inertialab.noise.statistics.allan import deviation
 
     fast = fast_kernels() is not None  # numba kernels in use (the [fast] extra)
     load0 = os.getloadavg()[0]
@@ -353,7 +353,7 @@ def stat_speed_seeds(n: int, seeds=range(5), repeats: int = 3, types=tuple(NOISE
     records, white PM as a phase record; seeds 0.. of ``numpy.random.default_rng``)."""
     import allantools as at
 
-    from inertialab.noise.allan import deviation
+    from inertialab.noise.statistics.allan import deviation
 
     load0 = os.getloadavg()
     _warm_heap()
@@ -398,7 +398,7 @@ def identification_cost(n: int = 10**5, repeats: int = 200, seed: int = 0,
     per-call work remain), so that ours minus the latter is the identification."""
     import allantools as at
 
-    from inertialab.noise.allan import deviation
+    from inertialab.noise.statistics.allan import deviation
 
     _warm_heap()
     load0 = os.getloadavg()
@@ -478,7 +478,7 @@ def stable32_tables(directory: str | None = None) -> dict:
     than uncorrected (allantools') values by more than 1e-4."""
     import gzip
 
-    from inertialab.noise.family import compute
+    from inertialab.noise.statistics.family import compute
 
     base = Path(directory or os.environ.get("STABLE32_TABLES", ""))
     if not (base / "phasedat" / "PHASE.DAT").exists():
@@ -546,7 +546,7 @@ _MEM_CHILD = textwrap.dedent("""
     import json, sys, time, tracemalloc
     import numpy as np
     n, stat, kind, path = int(sys.argv[1]), sys.argv[2], sys.argv[3], sys.argv[4]
-    from inertialab.noise.allan import deviation
+    from inertialab.noise.statistics.allan import deviation
     if path != "-":
         x = np.load(path, mmap_mode="r")
     else:
@@ -594,7 +594,7 @@ def out_of_core(n: int = 10**8, repeats: int = 2) -> dict:
     (``oadev_chunked``) and by the in-memory one, alternated in one process: every run's
     CPU and the load before it, the least and the median of each path, and their largest
     relative difference."""
-    from inertialab.noise.allan import oadev, oadev_chunked
+    from inertialab.noise.statistics.allan import oadev, oadev_chunked
 
     with tempfile.TemporaryDirectory() as d:
         p = Path(d) / "y.npy"
@@ -648,8 +648,8 @@ _HUGE_CHILD = textwrap.dedent("""
 
     path, mode = sys.argv[1], sys.argv[2]
     load = float(open("/proc/loadavg").read().split()[0])
-    from inertialab.noise.allan import oadev, oadev_chunked
-    from inertialab.noise._octave import fast_kernels
+    from inertialab.noise.statistics.allan import oadev, oadev_chunked
+    from inertialab.noise.statistics._octave import fast_kernels
     oadev_chunked(np.random.default_rng(0).standard_normal(100000), rate_hz=100.0)
     before = status()
     y = np.load(path, mmap_mode="r")

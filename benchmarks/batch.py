@@ -16,8 +16,8 @@ from pathlib import Path
 import numpy as np
 
 from inertialab.cli.batch import expand_inputs
-from inertialab.noise.allan import oadev
-from inertialab.noise.allan_dask import oadev_dask, open_client
+from inertialab.noise.statistics.allan import oadev
+from inertialab.noise.statistics.allan_dask import oadev_dask, open_client
 from inertialab.sim.triaxial_poses import simulate_line
 from inertialab.workflows.batch import run_batch
 

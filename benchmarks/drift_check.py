@@ -4,7 +4,7 @@ For each preset of :mod:`inertialab.sim.mems_presets` and seed ``s``: simulate t
 independent logs of the same sensor (seeds ``s`` and ``s + 10000``), fit the noise terms
 on the first (default WLS, spectral lines included, as ``allan --imu``), predict the
 error integrated over each horizon after a 10-s bias window
-(:mod:`inertialab.noise.drift_prediction`), and integrate the second log the same way
+(:mod:`inertialab.noise.terms.drift_prediction`), and integrate the second log the same way
 over non-overlapping windows. Reported per preset and horizon, over the seeds:
 observed/predicted RMS (median and 10-90 % spread of the per-seed ratios, and the ratio
 of the pooled RMS) and the coverage of the 95 % band (pooled windows); the same for the
@@ -12,11 +12,11 @@ Kalibr / imu_utils reading. On the real ADIS16405 logs (``--real``): fit on the 
 half, check on the second, per axis.
 
 Each preset seed also checks the predicted RMS's 95 % interval
-(:func:`inertialab.noise.drift_prediction.predicted_rms_ci`, with the fitted log's
+(:func:`inertialab.noise.terms.drift_prediction.predicted_rms_ci`, with the fitted log's
 measured non-stationarity and local misfit, widened by the observed RMS's own sampling
 under the predicted model):
 its coverage and median high/low per horizon (``rms_ci``). ``--pooled`` pools three
-independent logs of a preset (:mod:`inertialab.noise.pooled`) and checks the pooled
+independent logs of a preset (:mod:`inertialab.noise.terms.pooled`) and checks the pooled
 interval on a fourth; ``--real-intervals`` checks it on the shared logs by halves after
 the warm-up (and with none cut) and by leave-one-log-out, and records how much the
 warm-up cut moves each log's terms.
@@ -52,9 +52,9 @@ PRESETS = ("consumer-100hz", "industrial-400hz", "consumer-1khz", "accel-200hz")
 
 
 def _fit(y, rate_hz, unit):
-    from inertialab.noise.allan import oadev
-    from inertialab.noise.lines import spectral_lines
-    from inertialab.noise.terms import fit_noise_terms
+    from inertialab.noise.spectral.lines import spectral_lines
+    from inertialab.noise.statistics.allan import oadev
+    from inertialab.noise.terms.fit import fit_noise_terms
 
     res = oadev(y, rate_hz=rate_hz, taus="octave")
     terms = fit_noise_terms(res, unit=unit, kind=None, rate_hz=rate_hz,
@@ -63,7 +63,7 @@ def _fit(y, rate_hz, unit):
 
 
 def seed_row(preset: str, seed: int, hours: float) -> dict:
-    from inertialab.noise.drift_prediction import (
+    from inertialab.noise.terms.drift_prediction import (
         effective_windows,
         kalibr_components,
         misfit_log_var,
@@ -98,7 +98,7 @@ def seed_row(preset: str, seed: int, hours: float) -> dict:
 def _extra(y, rate_hz):
     """The log-variance the fitted log's measured non-stationarity adds at each horizon
     (as ``allan --imu``: :func:`inertialab.workflows.imu_drift.nonstationary_log_var`)."""
-    from inertialab.noise.stationarity import check_stationarity
+    from inertialab.noise.segments.stationarity import check_stationarity
     from inertialab.workflows.imu_drift import nonstationary_log_var
 
     return nonstationary_log_var(check_stationarity(y, rate_hz), HORIZONS)
@@ -108,7 +108,7 @@ def _ci_check(pred, terms, extra, n, obs) -> dict:
     """Whether each observed RMS lies inside the predicted RMS's 95 % interval widened by
     its own sampling over ``n`` windows, and by how much beyond an edge (obs/high or
     low/obs, 1 inside)."""
-    from inertialab.noise.drift_prediction import predicted_rms_ci
+    from inertialab.noise.terms.drift_prediction import predicted_rms_ci
 
     ci = predicted_rms_ci(pred, terms, extra_log_var=extra, n_windows=n)
     lo, hi = ci["low"], ci["high"]
@@ -173,7 +173,7 @@ def run_real() -> dict:
     from scipy.stats import chi2
 
     from benchmarks.real_logs import LOGS, RATE_HZ, load_shared
-    from inertialab.noise.drift_prediction import (
+    from inertialab.noise.terms.drift_prediction import (
         check_prediction,
         kalibr_components,
         predict,
@@ -215,12 +215,12 @@ def _axis_prediction(y_fit, rate_hz, unit, y_check, *, extra_between=None):
     """Fit ``y_fit``, predict with the RMS interval (as ``allan --imu``: terms, measured
     non-stationarity, local misfit; ``extra_between``: a pool's between-log part) and
     check on ``y_check``: ``(ratio, inside, edge, terms, stationarity)``."""
-    from inertialab.noise.drift_prediction import (
+    from inertialab.noise.segments.stationarity import check_stationarity
+    from inertialab.noise.terms.drift_prediction import (
         check_prediction,
         misfit_log_var,
         predict_terms,
     )
-    from inertialab.noise.stationarity import check_stationarity
     from inertialab.workflows.imu_drift import nonstationary_log_var
 
     res, terms = _fit(y_fit, rate_hz, unit)
@@ -235,7 +235,7 @@ def _axis_prediction(y_fit, rate_hz, unit, y_check, *, extra_between=None):
 
 
 def _warmup_span(axes: dict, rate_hz: float) -> dict:
-    from inertialab.noise.warmup import log_warmup
+    from inertialab.noise.segments.warmup import log_warmup
 
     return log_warmup({k: v[0] for k, v in axes.items()}, rate_hz)
 
@@ -246,7 +246,7 @@ def run_real_intervals() -> dict:
     leave-one-log-out (fitted on one whole log, checked on the other; the between-log part
     from the fitted log's own segments, as ``--pool`` with one log in the fit)."""
     from benchmarks.real_logs import LOGS, RATE_HZ, load_shared
-    from inertialab.noise.pooled import between_var
+    from inertialab.noise.terms.pooled import between_var
     from inertialab.workflows.imu_drift import nonstationary_log_var
 
     logs = {name: load_shared(name) for name in LOGS}
@@ -278,7 +278,7 @@ def run_real_intervals() -> dict:
             if chk_name == fit_name:
                 continue
             for axis, (y, unit) in cut[fit_name].items():
-                from inertialab.noise.stationarity import check_stationarity
+                from inertialab.noise.segments.stationarity import check_stationarity
 
                 st = check_stationarity(y, RATE_HZ)
                 prior = nonstationary_log_var(st, HORIZONS)
@@ -302,15 +302,15 @@ def run_real_intervals() -> dict:
 def pooled_row(preset: str, seed: int, hours: float, n_logs: int = 3) -> dict:
     """Pool ``n_logs`` independent logs of a preset (WLS), predict with the pooled RMS
     interval and check on one more log: ``{"inside", "edge", "high_over_low"}``."""
-    from inertialab.noise.allan import oadev
-    from inertialab.noise.drift_prediction import (
+    from inertialab.noise.segments.stationarity import check_stationarity
+    from inertialab.noise.statistics.allan import oadev
+    from inertialab.noise.terms.drift_prediction import (
         check_prediction,
         misfit_log_var,
         predict_terms,
     )
-    from inertialab.noise.pooled import pool_curves
-    from inertialab.noise.stationarity import check_stationarity
-    from inertialab.noise.terms import fit_noise_terms
+    from inertialab.noise.terms.fit import fit_noise_terms
+    from inertialab.noise.terms.pooled import pool_curves
     from inertialab.sim.mems_presets import simulate
     from inertialab.workflows.imu_drift import DriftOptions
     from inertialab.workflows.imu_pool import drift_between

@@ -55,8 +55,8 @@ def _truth(model: str, taus, avars):
 
 def coverage(model: str, reps: int) -> dict:
     """Coverage per long tau of the identified-type and true-type 95 % intervals."""
-    from inertialab.noise.allan import oadev
-    from inertialab.noise.edf import chi2_interval, edf
+    from inertialab.noise.statistics.allan import oadev
+    from inertialab.noise.statistics.edf import chi2_interval, edf
 
     rows = []
     for seed in range(reps):
@@ -89,7 +89,7 @@ def literal_minimum(seeds: int = 20) -> dict:
     simulator of ``inertialab simulate gyro-static``, 10 h at 10 Hz, seeds 0..) over its
     true B = 0.1 deg/h, where each curve's minimum lies and its EDF: what the literal rule
     "B <= 1.05 min(ADEV)/0.664" would leave of B."""
-    from inertialab.noise.allan import oadev
+    from inertialab.noise.statistics.allan import oadev
     from inertialab.sim.gyro_static import simulate
 
     rows = []

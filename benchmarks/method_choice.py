@@ -61,7 +61,9 @@ def _applied(setting: dict):
     """The module-level knobs of ``setting`` set for the duration (restored after)."""
     import functools
 
-    from inertialab.noise import _terms_ls, gmwm, terms
+    from inertialab.noise.gmwm import fit as gmwm
+    from inertialab.noise.terms import fit as terms
+    from inertialab.noise.terms import least_squares as _terms_ls
 
     saved = (_terms_ls.EDF_MIN, terms.fit_gmwm_curve)
     try:
@@ -97,9 +99,9 @@ def score(method: str, out=sys.stdout, candidates=None, presets: bool = True) ->
     """One row per (case, candidate) with the three checks (``candidates``: names of
     :data:`CANDIDATES` to score, default all; ``presets``: the simulated cases too)."""
     from benchmarks import real_logs as R
-    from inertialab.noise.allan import oadev
-    from inertialab.noise.lines import spectral_lines
-    from inertialab.noise.terms import fit_noise_terms
+    from inertialab.noise.spectral.lines import spectral_lines
+    from inertialab.noise.statistics.allan import oadev
+    from inertialab.noise.terms.fit import fit_noise_terms
 
     rows = []
     names = list(candidates or CANDIDATES[method])

@@ -123,7 +123,7 @@ def _fit_key(method: str, hours: float) -> str:
 
 def curve(preset: str, seed: int, hours: float = HOURS):
     """(DeviationResult, truth dict, unit, kind) of one seed, from the cache or simulated."""
-    from inertialab.noise.allan import DeviationResult, oadev
+    from inertialab.noise.statistics.allan import DeviationResult, oadev
 
     path = cache_dir() / preset / "curve" / f"{seed}.json"
     key = _curve_key(hours)
@@ -154,7 +154,7 @@ def fit_row(preset: str, seed: int, method: str, hours: float = HOURS) -> dict:
     d = _load(path, key)
     if d is not None:
         return d
-    from inertialab.noise.terms import fit_noise_terms
+    from inertialab.noise.terms.fit import fit_noise_terms
 
     r, truth, unit, kind = curve(preset, seed, hours)
     t0 = time.process_time()
@@ -271,10 +271,10 @@ EXACT_RATE_HZ = 0.1
 
 
 def k_bounds(preset: str, hours=BOUND_HOURS) -> dict:
-    """Whittle Cramér–Rao bounds on log K of the preset (:mod:`inertialab.noise.information`)
+    """Whittle Cramér–Rao bounds on log K of the preset (:mod:`inertialab.noise.terms.information`)
     per record length: what any unbiased method can reach (others known) and what one that
     also estimates the Gauss–Markov sum faces (all free)."""
-    from inertialab.noise.information import preset_k_bound
+    from inertialab.noise.terms.information import preset_k_bound
     from inertialab.sim.mems_presets import preset as get
 
     out = {f"{h:g}": preset_k_bound(get(preset), h).to_dict() for h in hours}
@@ -377,7 +377,7 @@ def markdown(result: dict) -> str:
               if "k_bound" in p]
     if bounds:
         lines += ["", "What a record can tell about K: the Whittle Cramér–Rao bound on log K "
-                  "(`noise.information`; 1-sigma, and the median |error| floor 0.674 sigma "
+                  "(`noise.terms.information`; 1-sigma, and the median |error| floor 0.674 sigma "
                   "it implies), with every other parameter known (an oracle) and with the "
                   "Gauss–Markov sum estimated too; WLS's measured median |error| beside it:",
                   "", "| preset | hours | oracle sd / median floor | all free sd / median "
@@ -425,10 +425,10 @@ def store(methods=METHODS, hours: float = HOURS) -> Path:
 
 def octave_correlation(n: int = 2**15, reps: int = 300, seed: int = 0) -> dict:
     """The one-octave correlation of log OADEV^2 per noise type that the bootstrap copula
-    of :mod:`inertialab.noise.terms` uses (``OCTAVE_RHO``): white, flicker (Kasdin) and
+    of :mod:`inertialab.noise.terms.fit` uses (``OCTAVE_RHO``): white, flicker (Kasdin) and
     random-walk rate, ``n`` samples, ``reps`` records, m = 1..1024. Measured (seed 0):
     adjacent-octave correlations 0.44-0.59 (white), 0.55-0.72 (flicker), 0.74-0.89 (RW)."""
-    from inertialab.noise.allan import oadev
+    from inertialab.noise.statistics.allan import oadev
     from inertialab.sensors.gyro import kasdin_flicker
 
     rng = np.random.default_rng(seed)

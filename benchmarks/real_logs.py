@@ -86,9 +86,9 @@ def load_csv(path: str) -> dict:
 def axis_checks(y, rate_hz: float, unit: str, method: str, *, seed: int = 0,
                 terms=None, lines: bool = True) -> dict:
     """Fit one axis and evaluate the checks; returns a flat row."""
-    from inertialab.noise.allan import oadev
-    from inertialab.noise.lines import spectral_lines
-    from inertialab.noise.terms import fit_noise_terms
+    from inertialab.noise.spectral.lines import spectral_lines
+    from inertialab.noise.statistics.allan import oadev
+    from inertialab.noise.terms.fit import fit_noise_terms
 
     kind = "gyro" if unit in ("dps", "dph", "rps") else "accel"
     t0 = time.process_time()
@@ -104,7 +104,7 @@ def axis_checks(y, rate_hz: float, unit: str, method: str, *, seed: int = 0,
 def check_terms(res, terms) -> dict:
     """The checks of the module docstring for a fitted :class:`NoiseTerms` on its curve
     ``res`` (a 95 % DeviationResult)."""
-    from inertialab.noise.edf import chi2_interval
+    from inertialab.noise.statistics.edf import chi2_interval
 
     taus = np.asarray(res.taus_s)
     dev = np.asarray(res.dev)
@@ -134,7 +134,7 @@ def check_terms(res, terms) -> dict:
                 and "not_observable" not in getattr(terms, k).flags
                 and getattr(terms, k).value > 0 for k in ("K", "R"))
     # the B the user is shown (its bound where it is one), against the textbook reading
-    # over every point of the curve (noise._terms_bounds: at most 1.05 x for a bound)
+    # over every point of the curve (noise.terms._bounds: at most 1.05 x for a bound)
     from inertialab.workflows.imu_noise_plan import report_factor
 
     shown = terms.B.upper_bound if "upper_bound" in terms.B.flags else terms.B.value

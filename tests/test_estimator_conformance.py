@@ -270,7 +270,7 @@ def _drift(made_by):
 
 
 def _noise(made_by):
-    from inertialab.noise.allan import oadev
+    from inertialab.noise.statistics.allan import oadev
 
     x = np.random.default_rng(0).standard_normal(2 ** 14) * 0.01
     return made_by(oadev(x, rate_hz=100.0), unit="rad/s"), None, None, None

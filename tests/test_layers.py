@@ -31,7 +31,30 @@ RANK = {
 #: module under the old path imports only its new home (which is why it may point up),
 #: defines no function or class and warns (``test_deprecated_aliases_only_point_home``).
 ALIASES = {"inertialab.io.exporters": "inertialab.export",
-           "inertialab.io.preflight": "inertialab.workflows.preflight"}
+           "inertialab.io.preflight": "inertialab.workflows.preflight",
+           "inertialab.noise.allan": "inertialab.noise.statistics",
+           "inertialab.noise.allan_dask": "inertialab.noise.statistics",
+           "inertialab.noise.drift_prediction": "inertialab.noise.terms",
+           "inertialab.noise.edf": "inertialab.noise.statistics",
+           "inertialab.noise.edf_clock": "inertialab.noise.statistics",
+           "inertialab.noise.emd": "inertialab.noise.spectral",
+           "inertialab.noise.family": "inertialab.noise.statistics",
+           "inertialab.noise.gaps": "inertialab.noise.statistics",
+           "inertialab.noise.identify": "inertialab.noise.statistics",
+           "inertialab.noise.imu_result": "inertialab.noise.terms",
+           "inertialab.noise.information": "inertialab.noise.terms",
+           "inertialab.noise.lines": "inertialab.noise.spectral",
+           "inertialab.noise.pooled": "inertialab.noise.terms",
+           "inertialab.noise.registry": "inertialab.noise.statistics",
+           "inertialab.noise.robotics": "inertialab.noise.terms",
+           "inertialab.noise.spectra": "inertialab.noise.spectral",
+           "inertialab.noise.static_intervals": "inertialab.noise.segments",
+           "inertialab.noise.stationarity": "inertialab.noise.segments",
+           "inertialab.noise.theo": "inertialab.noise.statistics",
+           "inertialab.noise.tie": "inertialab.noise.statistics",
+           "inertialab.noise.total": "inertialab.noise.statistics",
+           "inertialab.noise.warmup": "inertialab.noise.segments",
+           "inertialab.noise.wavelet": "inertialab.noise.spectral"}
 
 
 def _alias_home(modname: str):

@@ -21,7 +21,7 @@ SRC = Path(__file__).resolve().parent.parent / "src" / "inertialab"
 #: hand them stamps instead of the record's tau0 (moving them changes the last digits of
 #: their results on jittery logs: median step vs the time base's mean step).
 RATE_SITES_LEFT = {
-    "noise/static_intervals.py:_time_checks",
+    "noise/segments/static_intervals.py:_time_checks",
     "workflows/allan.py:on_grid",
     "sensors/gyro_triad.py:calibrate_gyro",
     "calib/triaxial_session.py:gyro_scale_from_data",

@@ -1,4 +1,4 @@
-"""Conformance over everything registered: statistics (noise.registry), model types
+"""Conformance over everything registered: statistics (noise.statistics.registry), model types
 (calib.model_types), file formats (io.formats.registry). Exporters: tests/export/
 test_registry.py."""
 
@@ -11,8 +11,8 @@ from inertialab.calib.base import ModelContract
 from inertialab.calib.model_types import MODEL_TYPES, TYPES, load_model, save_model
 from inertialab.errors import InputError
 from inertialab.io.model_schemas import SCHEMAS
-from inertialab.noise import family
-from inertialab.noise import registry as stats
+from inertialab.noise.statistics import family
+from inertialab.noise.statistics import registry as stats
 
 MODELS = Path(__file__).parent / "data" / "models"
 RNG = np.random.default_rng(7)
@@ -26,7 +26,7 @@ def test_statistics_are_declared_once_and_match_the_dispatcher():
     assert len(names) == len(set(names)) == 15
     assert names == tuple(family.ALL_STATISTICS)
     assert set(stats.phase_unit()) == set(family.PHASE_UNIT)
-    from inertialab.noise.gaps import GAP_STATISTICS
+    from inertialab.noise.statistics.gaps import GAP_STATISTICS
 
     assert set(stats.with_gaps()) == set(GAP_STATISTICS)
 

@@ -9,7 +9,7 @@ import pandas as pd
 import pytest
 
 from inertialab.cli.main import main
-from inertialab.noise.allan import oadev
+from inertialab.noise.statistics.allan import oadev
 from tests.helpers import run_inprocess as run
 
 ISSUE_KEYS = {"statistic", "tau0_s", "taus_s", "dev", "ci_low", "ci_high", "n_terms", "alpha",

@@ -1,8 +1,10 @@
 """The names that moved keep working from their old import paths for one release, with a
 DeprecationWarning on import: ``inertialab.io.exporters`` (and each of its submodules) is
 :mod:`inertialab.export`, ``inertialab.io.preflight`` is
-:mod:`inertialab.workflows.preflight`; the six-axis result imports from the workflow (its
-face) and from its home, noise/imu_result.py, as one class."""
+:mod:`inertialab.workflows.preflight`,
+each flat module of noise/ (``inertialab.noise.allan``) is its module in a subpackage
+(:mod:`inertialab.noise.statistics.allan`); the six-axis result imports from the workflow (its
+face) and from its home, noise/terms/imu_result.py, as one class."""
 
 import importlib
 import sys
@@ -25,6 +27,29 @@ OLD_TO_NEW = {
     "inertialab.io.exporters._triad": "inertialab.export.triad",
     "inertialab.io.exporters._common": "inertialab.export.yaml_text",
     "inertialab.io.preflight": "inertialab.workflows.preflight",
+    "inertialab.noise.allan": "inertialab.noise.statistics.allan",
+    "inertialab.noise.allan_dask": "inertialab.noise.statistics.allan_dask",
+    "inertialab.noise.drift_prediction": "inertialab.noise.terms.drift_prediction",
+    "inertialab.noise.edf": "inertialab.noise.statistics.edf",
+    "inertialab.noise.edf_clock": "inertialab.noise.statistics.edf_clock",
+    "inertialab.noise.emd": "inertialab.noise.spectral.emd",
+    "inertialab.noise.family": "inertialab.noise.statistics.family",
+    "inertialab.noise.gaps": "inertialab.noise.statistics.gaps",
+    "inertialab.noise.identify": "inertialab.noise.statistics.identify",
+    "inertialab.noise.imu_result": "inertialab.noise.terms.imu_result",
+    "inertialab.noise.information": "inertialab.noise.terms.information",
+    "inertialab.noise.lines": "inertialab.noise.spectral.lines",
+    "inertialab.noise.pooled": "inertialab.noise.terms.pooled",
+    "inertialab.noise.registry": "inertialab.noise.statistics.registry",
+    "inertialab.noise.robotics": "inertialab.noise.terms.robotics",
+    "inertialab.noise.spectra": "inertialab.noise.spectral.spectra",
+    "inertialab.noise.static_intervals": "inertialab.noise.segments.static_intervals",
+    "inertialab.noise.stationarity": "inertialab.noise.segments.stationarity",
+    "inertialab.noise.theo": "inertialab.noise.statistics.theo",
+    "inertialab.noise.tie": "inertialab.noise.statistics.tie",
+    "inertialab.noise.total": "inertialab.noise.statistics.total",
+    "inertialab.noise.warmup": "inertialab.noise.segments.warmup",
+    "inertialab.noise.wavelet": "inertialab.noise.spectral.wavelet",
 }
 
 
@@ -66,7 +91,7 @@ def test_the_old_names_callers_used_still_resolve():
 
 
 def test_the_six_axis_result_has_one_class_in_two_faces():
-    from inertialab.noise import imu_result
+    from inertialab.noise.terms import imu_result
     from inertialab.workflows import imu_noise
 
     assert imu_noise.IMUNoise is imu_result.IMUNoise
@@ -84,11 +109,13 @@ def test_the_package_itself_leaves_the_old_paths():
     from pathlib import Path
 
     src = Path(__file__).resolve().parents[2] / "src" / "inertialab"
-    old = ("inertialab.io.exporters", "inertialab.io.preflight")
+    old = ("inertialab.io.exporters", "inertialab.io.preflight",
+           *(o for o in OLD_TO_NEW if o.startswith("inertialab.noise.")))
     found = set()
     for path in src.rglob("*.py"):
         rel = path.relative_to(src).as_posix()
-        if rel.startswith("io/exporters/") or rel == "io/preflight.py":
+        if rel.startswith("io/exporters/") or rel == "io/preflight.py" or \
+                f"inertialab.{rel[:-3].replace('/', '.')}" in OLD_TO_NEW:
             continue  # the aliases themselves
         for node in ast.walk(ast.parse(path.read_text())):
             names = ([node.module] + [f"{node.module}.{a.name}" for a in node.names]

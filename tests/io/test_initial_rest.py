@@ -41,7 +41,7 @@ def test_a_log_at_rest_passes_and_a_moving_start_is_refused():
 
 
 def test_the_detector_runs_the_same_test():
-    from inertialab.noise.static_intervals import detect_static_intervals
+    from inertialab.noise.segments.static_intervals import detect_static_intervals
 
     t, acc = _log(2.0)
     with pytest.raises(InputError) as det:

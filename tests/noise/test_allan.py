@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from inertialab.errors import InputError
-from inertialab.noise import allan as A
+from inertialab.noise.statistics import allan as A
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 

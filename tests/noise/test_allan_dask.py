@@ -1,14 +1,14 @@
-"""Out-of-core Allan on Dask: parallel == in-memory (noise.allan_dask)."""
+"""Out-of-core Allan on Dask: parallel == in-memory (noise.statistics.allan_dask)."""
 
 import numpy as np
 import pytest
 
 from inertialab.errors import InputError
-from inertialab.noise.allan import oadev, oadev_chunked
+from inertialab.noise.statistics.allan import oadev, oadev_chunked
 
 pytest.importorskip("dask.distributed")
 
-from inertialab.noise.allan_dask import oadev_dask, open_client  # noqa: E402
+from inertialab.noise.statistics.allan_dask import oadev_dask, open_client  # noqa: E402
 
 
 @pytest.fixture(scope="module")

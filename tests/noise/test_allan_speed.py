@@ -11,12 +11,12 @@ import allantools as at
 import numpy as np
 import pytest
 
-from inertialab.noise import _octave as O
-from inertialab.noise import _phase as P
-from inertialab.noise import _stream as S
-from inertialab.noise import edf as E
-from inertialab.noise import identify as I
-from inertialab.noise.allan import STATISTICS, deviation
+from inertialab.noise.statistics import _octave as O
+from inertialab.noise.statistics import _phase as P
+from inertialab.noise.statistics import _stream as S
+from inertialab.noise.statistics import edf as E
+from inertialab.noise.statistics import identify as I
+from inertialab.noise.statistics.allan import STATISTICS, deviation
 
 
 def _vs_allantools(stat, data, kind, taus, rate=2.0):

@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 
 from inertialab.errors import InputError
-from inertialab.noise import allan as A
-from inertialab.noise.theo import theo1, theo1_variance, theobr, theoh
-from inertialab.noise.tie import mtie, tierms
-from inertialab.noise.total import htotdev, mtotdev, ttotdev
+from inertialab.noise.statistics import allan as A
+from inertialab.noise.statistics.theo import theo1, theo1_variance, theobr, theoh
+from inertialab.noise.statistics.tie import mtie, tierms
+from inertialab.noise.statistics.total import htotdev, mtotdev, ttotdev
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 NBS14_Y = np.array([892.0, 809.0, 823.0, 798.0, 671.0, 644.0, 883.0, 903.0, 677.0])
@@ -123,7 +123,7 @@ def test_intervals_and_edf_present():
 
 
 def test_family_dispatch_and_totdev_bias():
-    from inertialab.noise.family import ALL_STATISTICS, compute
+    from inertialab.noise.statistics.family import ALL_STATISTICS, compute
 
     y, x = _series(800)
     plain = compute("totdev", y, rate_hz=1.0, taus="octave", alpha=-2)

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from scipy.special import exp1, polygamma
 
-from inertialab.noise.drift_prediction import (
+from inertialab.noise.terms.drift_prediction import (
     Component,
     component_variance,
     effective_windows,

@@ -1,4 +1,4 @@
-"""Integrated error predicted from a noise model (noise.drift_prediction) against its
+"""Integrated error predicted from a noise model (noise.terms.drift_prediction) against its
 closed form and a Monte Carlo of each process."""
 
 import math
@@ -8,7 +8,7 @@ import pytest
 from scipy.signal import lfilter
 
 from inertialab.errors import InputError
-from inertialab.noise.drift_prediction import (
+from inertialab.noise.terms.drift_prediction import (
     Component,
     check_prediction,
     component_variance,
@@ -77,7 +77,7 @@ def test_ramp_and_check_inflation():
 
 def test_kalibr_reading():
     # sigma = N/sqrt(tau) + rising K sqrt(tau/3): N at 1 s, the +1/2 line at 3 s
-    from inertialab.noise.allan import DeviationResult
+    from inertialab.noise.statistics.allan import DeviationResult
 
     taus = np.geomspace(0.01, 1000, 21)
     dev = np.sqrt(0.04 / taus + 1e-4 * taus / 3)

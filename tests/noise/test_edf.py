@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 from scipy.stats import chi2
 
-from inertialab.noise import allan as A
-from inertialab.noise import edf as E
-from inertialab.noise import identify as I
-from inertialab.noise._phase import _PhaseArray
+from inertialab.noise.statistics import allan as A
+from inertialab.noise.statistics import edf as E
+from inertialab.noise.statistics import identify as I
+from inertialab.noise.statistics._phase import _PhaseArray
 from inertialab.sensors.gyro import kasdin_flicker
 
 

@@ -1,9 +1,9 @@
-"""Tests of inertialab.noise.emd (spec 001 §3.5): optional EMD view."""
+"""Tests of inertialab.noise.spectral.emd (spec 001 §3.5): optional EMD view."""
 
 import numpy as np
 import pytest
 
-from inertialab.noise.emd import emd, hilbert_frequency, pyemd_available
+from inertialab.noise.spectral.emd import emd, hilbert_frequency, pyemd_available
 
 
 def _two_tones(n=4000, fs=100.0):

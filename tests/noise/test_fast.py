@@ -13,10 +13,10 @@ import pytest
 pytest.importorskip("numba")
 
 from inertialab.errors import InputError  # noqa: E402
-from inertialab.noise import _octave as O  # noqa: E402
-from inertialab.noise import identify as I  # noqa: E402
-from inertialab.noise._phase import _PhaseArray  # noqa: E402
-from inertialab.noise.allan import STATISTICS, deviation  # noqa: E402
+from inertialab.noise.statistics import _octave as O  # noqa: E402
+from inertialab.noise.statistics import identify as I  # noqa: E402
+from inertialab.noise.statistics._phase import _PhaseArray  # noqa: E402
+from inertialab.noise.statistics.allan import STATISTICS, deviation  # noqa: E402
 
 
 def _both(monkeypatch, f):
@@ -163,7 +163,7 @@ def test_fast_equals_numpy_tiny_records(monkeypatch, kind):
 def test_level_pass_sums_and_compacts(order):
     # one level of the ADEV/HDEV kernel: the squared second (third) differences of the
     # level's points against their definition, and the next level's points x_{2j}
-    from inertialab.noise import _fast as F
+    from inertialab.noise.statistics import _fast as F
 
     rng = np.random.default_rng(11)
     for n in (2, 3, 4, 5, 6, 7, 17, 40, 1001, 4099, 20000):
@@ -221,7 +221,7 @@ def test_fast_lag1_rows_equal_numpy_rule():
     # against identify.lag1_alpha, unrounded, on every noise type it tells apart; 1e-9 on
     # alpha: the one-pass first round's sums err by ~n 1e-16 relative (n <= 9001 here),
     # far below the 0.5 that would change a rounded type
-    from inertialab.noise import _fast as F
+    from inertialab.noise.statistics import _fast as F
 
     rng = np.random.default_rng(5)
     e = rng.standard_normal(9001)

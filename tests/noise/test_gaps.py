@@ -1,4 +1,4 @@
-"""Gap-resistant OADEV/ADEV/MDEV/TDEV/HDEV/OHDEV (noise.gaps): allantools
+"""Gap-resistant OADEV/ADEV/MDEV/TDEV/HDEV/OHDEV (noise.statistics.gaps): allantools
 gradev, the gap-free path of every statistic, brute-force summands over gappy records,
 and the frequency-data rule (no integration across a gap)."""
 
@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from inertialab.errors import InputError
-from inertialab.noise.allan import adev, deviation, oadev
-from inertialab.noise.gaps import count_gaps, gap_deviation
+from inertialab.noise.statistics.allan import adev, deviation, oadev
+from inertialab.noise.statistics.gaps import count_gaps, gap_deviation
 
 
 def test_no_gaps_equals_the_core():

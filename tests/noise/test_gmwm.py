@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 from inertialab.errors import InputError
-from inertialab.noise import allan as A
-from inertialab.noise import gmwm as G
-from inertialab.noise.terms import fit_noise_terms
+from inertialab.noise.gmwm import fit as G
+from inertialab.noise.statistics import allan as A
+from inertialab.noise.terms.fit import fit_noise_terms
 
 
 def test_wavelet_variance_is_half_the_allan_variance_with_eta3_interval():
@@ -117,8 +117,8 @@ def test_slow_gm_counts_as_random_walk_not_bias_instability():
 def test_k_from_one_slow_gm_carries_its_correlation_time():
     # K read from one slow GM alone is a random walk held by that GM's time (the terms'
     # k_gm, as the five-term fit's): the K column's Allan shape is then the GM's own
-    from inertialab.noise._band import rw_gm_shape
-    from inertialab.noise._gmwm_terms import _k_time
+    from inertialab.noise.gmwm.terms import _k_time
+    from inertialab.noise.terms.band import rw_gm_shape
 
     rng_s = (0.3, 5000.0)
     fast = G.Process("GM", {"s2": 4.0, "tc_s": 20.0})

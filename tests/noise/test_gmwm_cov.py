@@ -8,10 +8,10 @@ import math
 import numpy as np
 import pytest
 
-from inertialab.noise import allan as A
-from inertialab.noise import gmwm as G
-from inertialab.noise._gmwm_cov import log_weights, wv_covariance
-from inertialab.noise.edf import edf_greenhall
+from inertialab.noise.gmwm import fit as G
+from inertialab.noise.gmwm.covariance import log_weights, wv_covariance
+from inertialab.noise.statistics import allan as A
+from inertialab.noise.statistics.edf import edf_greenhall
 
 
 @pytest.mark.parametrize("proc, alpha", [

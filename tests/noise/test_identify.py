@@ -13,9 +13,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from inertialab.noise import identify as I
-from inertialab.noise._phase import _PhaseArray
-from inertialab.noise.family import compute
+from inertialab.noise.statistics import identify as I
+from inertialab.noise.statistics._phase import _PhaseArray
+from inertialab.noise.statistics.family import compute
 from inertialab.sensors.gyro import kasdin_flicker
 
 DATA = Path(__file__).resolve().parents[1] / "data"
@@ -181,7 +181,7 @@ def test_theo1_stable32_correction():
 def test_rn_block_phase_from_the_rate_equals_the_phase(n, block):
     """R(n) of a rate record reads the phase at every block-th point and its block sums
     from the rate in one pass; they equal those of the in-memory phase (up to rounding)."""
-    from inertialab.noise._phase import _LazyPhase, _rate_to_phase
+    from inertialab.noise.statistics._phase import _LazyPhase, _rate_to_phase
 
     if block > n:
         pytest.skip("block longer than the record")
@@ -201,8 +201,8 @@ def test_rate_record_identified_as_its_phase_by_every_branch():
     """A rate record and its phase (the same data as frequency averages) get the same
     verdicts from the in-memory rate path (lag-1 in the octave kernel, R(n) from the rate)
     as from the general identification on the phase."""
-    from inertialab.noise._phase import _rate_to_phase
-    from inertialab.noise.allan import deviation
+    from inertialab.noise.statistics._phase import _rate_to_phase
+    from inertialab.noise.statistics.allan import deviation
 
     branches = set()
     for seed in range(6):  # seeds 2 and 3 take the B1 + R(n) branch at m = 4096
@@ -223,7 +223,7 @@ def test_no_angle_noise_after_rate_noise_in_rate_records():
     """Rule 5: on white-rate records no tau past a rate-noise verdict is called angle
     noise (B1 + R(n) called angle noise at m = 4096 on seeds 2 and 3); each such tau
     takes the type of the nearest shorter one."""
-    from inertialab.noise.allan import deviation
+    from inertialab.noise.statistics.allan import deviation
 
     hits = 0
     for seed in (2, 3):

@@ -1,4 +1,4 @@
-"""Whittle Cramér–Rao bounds (noise.information) against analytic truth and against the
+"""Whittle Cramér–Rao bounds (noise.terms.information) against analytic truth and against the
 exact Gaussian Fisher information of the differenced record."""
 
 
@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from inertialab.errors import InputError
-from inertialab.noise.information import (
+from inertialab.noise.terms.information import (
     exact_information,
     k_bound,
     preset_k_bound,
@@ -24,7 +24,7 @@ def test_white_noise_information_is_one_per_fourier_frequency():
 
 
 def test_block_sum_equals_one_pass(monkeypatch):
-    import inertialab.noise.information as inf
+    import inertialab.noise.terms.information as inf
 
     args = (10_000, 1.0, [(0.5, 30.0)], 1e-4)
     _, one = whittle_information(*args)
@@ -92,8 +92,8 @@ def test_bad_input_named():
 def test_bound_of_a_fitted_model_equals_the_preset_bound_for_its_truth():
     # a GMWM-style model holding the preset's own processes (and a drift, which the bound
     # leaves out) gives the preset's bound
-    from inertialab.noise.gmwm import Process
-    from inertialab.noise.information import processes_k_bound
+    from inertialab.noise.gmwm.fit import Process
+    from inertialab.noise.terms.information import processes_k_bound
 
     p = preset("accel-200hz")
     fs, hours = 20.0, 10.0
@@ -112,7 +112,7 @@ def test_bound_of_a_fitted_model_equals_the_preset_bound_for_its_truth():
 def test_whittle_sum_on_a_grid_matches_the_full_sum():
     # above SUM_EXACT Fourier indices the Whittle sum is integrated on a log grid: the
     # whole information matrix (white, a fast and a slow GM, random walk) within 1e-4
-    import inertialab.noise.information as info_mod
+    import inertialab.noise.terms.information as info_mod
 
     n = 2**22
     gm = [(0.02, 5.0), (0.01, 2000.0)]
@@ -127,7 +127,7 @@ def test_whittle_sum_on_a_grid_matches_the_full_sum():
 
 
 def _procs(*specs):
-    from inertialab.noise.gmwm import Process
+    from inertialab.noise.gmwm.fit import Process
 
     return [Process(kind, dict(params)) for kind, params in specs]
 
@@ -136,7 +136,7 @@ def test_b_of_a_dominant_band_has_half_a_unit_per_fourier_frequency():
     # a band-limited flicker that dominates every Fourier frequency: d log S / d log c0 = 1
     # at each of the n/2 - 1 ordinates, so sd(log c0) = 1/sqrt(n/2 - 1) and, B being
     # proportional to sqrt(c0), sd(log B) = 1/(2 sqrt(n/2 - 1)) with the white noise known
-    from inertialab.noise.information import processes_bounds
+    from inertialab.noise.terms.information import processes_bounds
 
     tau0 = 0.01
     for n in (4096, 2**20):
@@ -154,7 +154,7 @@ def test_b_bound_falls_like_one_over_root_n_past_the_band():
     # the band's slow corner, every added Fourier frequency carries the same information
     # on log c0, so four times the record halves sd(log B); K's bound gets there later
     # (the random walk dominates ever more frequencies first)
-    from inertialab.noise.information import processes_bounds
+    from inertialab.noise.terms.information import processes_bounds
 
     tau0 = 0.01
     procs = _procs(("WN", {"sigma2": 1.0}), ("BL", {"c0": 1e-3, "t_lo_s": 0.1, "t_hi_s": 50.0}),
@@ -169,7 +169,7 @@ def test_b_bound_falls_like_one_over_root_n_past_the_band():
 def test_b_of_one_gauss_markov_process_is_half_its_variance_bound():
     # IEEE 952's B of a lone GM is its Allan peak: proportional to sqrt(s2), whatever tc,
     # so sd(log B) = sd(log s2) / 2 straight from the information matrix
-    from inertialab.noise.information import processes_bounds
+    from inertialab.noise.terms.information import processes_bounds
 
     tau0, n = 0.01, 2**18
     for tc in (0.5, 5.0, 50.0):
@@ -182,8 +182,8 @@ def test_b_of_one_gauss_markov_process_is_half_its_variance_bound():
 def test_b_of_several_gauss_markov_processes_matches_gmwm_b_by_differences():
     # the gradient of log B (envelope theorem at the peak tau) against finite differences
     # of GMWM's own B (gmwm.b_of) in every log-parameter; the slow GM is K, not B
-    from inertialab.noise.gmwm import b_of
-    from inertialab.noise.information import processes_bounds
+    from inertialab.noise.gmwm.fit import b_of
+    from inertialab.noise.terms.information import processes_bounds
 
     tau0, n, rng = 0.01, 2**20, (0.01, 2000.0)
     gms = [(0.01, 0.5), (0.004, 20.0)]
@@ -221,7 +221,7 @@ def test_k_of_a_gauss_markov_random_walk_against_simulated_scatter():
     from scipy.optimize import minimize
     from scipy.signal import lfilter
 
-    from inertialab.noise.information import processes_bounds
+    from inertialab.noise.terms.information import processes_bounds
 
     n, sw2, s2, tc = 8192, 1.0, 5.0, 200.0
     phi = np.exp(-1.0 / tc)

@@ -1,13 +1,13 @@
-"""Spectral lines (noise.lines) and their place in the noise-term fit."""
+"""Spectral lines (noise.spectral.lines) and their place in the noise-term fit."""
 
 import math
 
 import numpy as np
 import pytest
 
-from inertialab.noise.allan import oadev
-from inertialab.noise.lines import Line, line_avar, spectral_lines
-from inertialab.noise.terms import NoiseTerms, fit_noise_terms
+from inertialab.noise.spectral.lines import Line, line_avar, spectral_lines
+from inertialab.noise.statistics.allan import oadev
+from inertialab.noise.terms.fit import NoiseTerms, fit_noise_terms
 
 
 def _record(n=400_000, fs=100.0, f0=0.54, amp=0.8, seed=0):

@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 from inertialab.errors import InputError
-from inertialab.noise import _stream
-from inertialab.noise._octave import fast_kernels
-from inertialab.noise.allan import deviation, oadev_chunked
+from inertialab.noise.statistics import _stream
+from inertialab.noise.statistics._octave import fast_kernels
+from inertialab.noise.statistics.allan import deviation, oadev_chunked
 
 
 @pytest.fixture
@@ -54,7 +54,7 @@ def test_progress_reaches_the_end(record, monkeypatch):
 @pytest.mark.skipif(fast_kernels() is None, reason="numba (the [fast] extra) not installed")
 @pytest.mark.parametrize("q", [2, 3])
 def test_compiled_taps_equal_numpy(q):
-    from inertialab.noise._octave import _Buffers
+    from inertialab.noise.statistics._octave import _Buffers
 
     x = np.cumsum(np.random.default_rng(q).standard_normal(5000))
     taps = [x[j * 700:j * 700 + 2000] for j in range(4)]
@@ -121,7 +121,7 @@ def test_no_temporary_file_on_the_compiled_path(record, monkeypatch):
 
 def _checkpoints(y, mean, S):
     """The windows' kernel with no level: ``(y - mean, checkpoints every S points)``."""
-    from inertialab.noise import _fast_stream as F
+    from inertialab.noise.statistics import _fast_stream as F
 
     z = np.zeros(0, dtype=np.int64)
     d, runsum = np.empty(y.size), np.empty((y.size + S - 1) // S)
@@ -140,7 +140,7 @@ def test_window_kernel_equals_octave_kernel(q, levels):
     # the fused windows' kernel (conversion, the low levels over tiles, the others in
     # place) against the in-memory lag-doubling kernel: the same sums to rounding, the
     # same gathered increments bit for bit, at most lim[l] summands per level
-    from inertialab.noise import _fast_stream as F
+    from inertialab.noise.statistics import _fast_stream as F
 
     K = fast_kernels()
     n = 100_003
@@ -174,8 +174,8 @@ def test_angle_blocks_are_the_angle(run):
     # at a time, the partial last run) is as close to a long-double cumulative sum as the
     # in-memory path's angle (both sum within runs: ~1e-11 here, where a plain running
     # sum drifts further), and a point has one value whichever window holds it
-    from inertialab.noise import _fast_stream as F
-    from inertialab.noise._phase import _rate_to_phase
+    from inertialab.noise.statistics import _fast_stream as F
+    from inertialab.noise.statistics._phase import _rate_to_phase
 
     rng = np.random.default_rng(run)
     y = (rng.standard_normal(50_001) * 2 + 3).astype(np.float32)
@@ -199,7 +199,7 @@ def test_angle_blocks_are_the_angle(run):
 @pytest.mark.parametrize("q", [2, 3])
 def test_sweep_equals_direct_sums(q):
     # the residue-class sweep against the squared differences of the whole angle
-    from inertialab.noise import _fast_stream as F
+    from inertialab.noise.statistics import _fast_stream as F
 
     S, n = 256, 60_000
     y = np.random.default_rng(q).standard_normal(n)
@@ -226,8 +226,8 @@ def test_sweep_equals_direct_sums(q):
 def test_rows_for_the_identification_equal_in_memory(monkeypatch):
     # the lag-m increments the windows gather are the in-memory kernel's, bit for bit;
     # those beyond the windows (from the checkpoints) agree to rounding
-    from inertialab.noise import _octave
-    from inertialab.noise import identify as ident
+    from inertialab.noise.statistics import _octave
+    from inertialab.noise.statistics import identify as ident
 
     y = np.random.default_rng(9).standard_normal(150_001).astype(np.float32)
     monkeypatch.setattr(_stream, "WINDOW", 1 << 13)

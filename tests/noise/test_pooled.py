@@ -9,8 +9,9 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from inertialab.noise.allan import oadev
-from inertialab.noise.pooled import (
+from inertialab.noise.statistics.allan import oadev
+from inertialab.noise.terms.fit import fit_noise_terms
+from inertialab.noise.terms.pooled import (
     QN_SPLIT_S,
     between_var,
     cv_score,
@@ -18,7 +19,6 @@ from inertialab.noise.pooled import (
     pool_curves,
     widen_term,
 )
-from inertialab.noise.terms import fit_noise_terms
 
 FS = 100.0
 

@@ -1,10 +1,10 @@
-"""Tests of inertialab.noise.spectra (spec 001 §3.5)."""
+"""Tests of inertialab.noise.spectral.spectra (spec 001 §3.5)."""
 
 import numpy as np
 import pytest
 
 from inertialab.errors import InputError
-from inertialab.noise.spectra import alias_frequency, cwt_scalogram, welch_asd
+from inertialab.noise.spectral.spectra import alias_frequency, cwt_scalogram, welch_asd
 
 
 def test_welch_floor_of_white_rate_noise_is_sqrt2_N():

@@ -11,11 +11,11 @@ import pytest
 from scipy import stats
 
 from inertialab.errors import InputError
-from inertialab.noise import allan as A
-from inertialab.noise import edf_clock as E
-from inertialab.noise.theo import theo1
-from inertialab.noise.tie import mtie, tierms
-from inertialab.noise.total import htotdev, mtotdev, ttotdev
+from inertialab.noise.statistics import allan as A
+from inertialab.noise.statistics import edf_clock as E
+from inertialab.noise.statistics.theo import theo1
+from inertialab.noise.statistics.tie import mtie, tierms
+from inertialab.noise.statistics.total import htotdev, mtotdev, ttotdev
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 FUNCS = {"adev": A.adev, "oadev": A.oadev, "mdev": A.mdev, "tdev": A.tdev, "hdev": A.hdev,
@@ -103,7 +103,7 @@ def test_theo1_edf_published_values():
 
 
 def test_htot_edf_switches_at_m16():
-    from inertialab.noise import edf as _edf
+    from inertialab.noise.statistics import edf as _edf
 
     N = 1001
     # m >= 16, FM noise: Howe et al. (2000) (N/m)/(b0 + b1 m/N)
@@ -166,7 +166,7 @@ def test_stable32_chi2_exact_up_to_edf_100():
         for q in (0.1585, 0.8415):
             assert E.chi2_stable32(q, nu)[()] == pytest.approx(stats.chi2.ppf(q, nu),
                                                                rel=1e-12)
-    from inertialab.noise.edf import chi2_interval
+    from inertialab.noise.statistics.edf import chi2_interval
 
     dev = np.array([1.0, 2.0, 3.0, 4.0])
     edf = np.array([3.7, 99.0, 0.0, -1.0])

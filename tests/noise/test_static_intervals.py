@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from inertialab.errors import InputError
-from inertialab.noise.static_intervals import (
+from inertialab.noise.segments.static_intervals import (
     detect_static_intervals,
     moving_variance,
     sweep_thresholds,

@@ -5,7 +5,7 @@ no between-segment spread beyond sampling; a log whose white noise doubles half-
 import numpy as np
 import pytest
 
-from inertialab.noise.stationarity import check_stationarity, excess_at
+from inertialab.noise.segments.stationarity import check_stationarity, excess_at
 from inertialab.sim.mems_presets import simulate
 
 

@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 from inertialab.errors import InputError
-from inertialab.noise import allan as A
-from inertialab.noise.allan import DeviationResult
-from inertialab.noise.terms import BI_FACTOR, NoiseTerms, fit_noise_terms
+from inertialab.noise.statistics import allan as A
+from inertialab.noise.statistics.allan import DeviationResult
+from inertialab.noise.terms.fit import BI_FACTOR, NoiseTerms, fit_noise_terms
 from inertialab.sensors import gyro as G
 
 # native-unit truth (deg/h): Q arcsec, N (deg/h)sqrt(s), B deg/h, K (deg/h)/sqrt(s), R (deg/h)/s
@@ -218,7 +218,7 @@ def test_filter_coloured_taus_cut_and_q_absent(mems_2h):
     # The internal LPF makes sigma rise over the first taus; the fit starts at 4x the peak
     # and reports Q as absent (signed c_-2 < 0), N within 2 % of the truth on a 2-h log.
     run, r = mems_2h
-    from inertialab.noise.terms import auto_tau_range
+    from inertialab.noise.terms.fit import auto_tau_range
 
     k = auto_tau_range(r.taus_s, r.dev)
     assert r.taus_s[k] >= 4 * r.taus_s[int(np.argmax(r.dev[:6]))] - 1e-12
@@ -282,7 +282,7 @@ def test_short_record_terms_not_observable_or_bounded():
 def test_model_intervals_never_angle_noise_where_white_rate_dominates(mems_2h):
     from dataclasses import replace
 
-    from inertialab.noise.terms import model_alpha, model_intervals
+    from inertialab.noise.terms.fit import model_alpha, model_intervals
 
     run, r = mems_2h
     t = fit_noise_terms(r, unit=run.unit)
@@ -310,7 +310,7 @@ def test_robotics_values_kalibr_vins_gtsam():
     # white gyro noise 0.01 deg/sqrt(h) + RW 1 deg/h/sqrt(h), known axis; SI conversions by
     # hand: N 0.01 deg/sqrt(h) = 0.01*pi/180/60 rad/s/sqrt(Hz); K 1 deg/h/sqrt(h) =
     # pi/180/3600/60 rad/s^2/sqrt(Hz); discrete: x sqrt(f), / sqrt(f)
-    from inertialab.noise.robotics import robotics_values
+    from inertialab.noise.terms.robotics import robotics_values
 
     r = _curve(np.geomspace(0.01, 1e4, 30), q=0.0, n=0.6, b=0.0, k=1 / 60, r=0.0)
     tx = fit_noise_terms(r, unit="dph", tau_range_s=(0.01, 1e4))
@@ -338,11 +338,11 @@ def test_robotics_values_kalibr_vins_gtsam():
 
 def test_band_shape_is_the_log_uniform_gauss_markov_mixture():
     # The shape against an independent sum: 400 discrete AR(1) processes (exact AVAR,
-    # noise.gmwm.avar_ar1) with correlation times log-uniform in [4, 400] s, equal
+    # noise.gmwm.fit.avar_ar1) with correlation times log-uniform in [4, 400] s, equal
     # variance each, at 100 Hz; over tau >= 0.5 s (m >= 50) the continuous mixture agrees
     # within 1.5 % once both are scaled to peak 1 (measured 1.1 %: the sum's discreteness).
-    from inertialab.noise._terms_base import band_shape
-    from inertialab.noise.gmwm import avar_ar1
+    from inertialab.noise.gmwm.fit import avar_ar1
+    from inertialab.noise.terms.base import band_shape
 
     tau0 = 0.01
     taus = np.geomspace(0.5, 1e5, 60)
@@ -361,7 +361,7 @@ def test_band_shape_is_the_log_uniform_gauss_markov_mixture():
 
 
 def _band_curve(taus, n, b, k, t_lo, t_hi, c_m2=0.0):
-    from inertialab.noise._terms_base import band_shape
+    from inertialab.noise.terms.base import band_shape
 
     taus = np.asarray(taus, float)
     av = c_m2 / taus**2 + n**2 / taus + (BI_FACTOR * b) ** 2 * band_shape(taus, t_lo, t_hi) \
@@ -428,7 +428,7 @@ def test_batched_nnls_equals_scipy_nnls():
     # the difference of two non-negative columns, is the independent reference
     from scipy.optimize import nnls
 
-    import inertialab.noise._terms_ls as L
+    import inertialab.noise.terms.least_squares as L
 
     rng = np.random.default_rng(7)
     taus = np.geomspace(0.01, 3e4, 18)
@@ -468,7 +468,7 @@ def test_batched_nnls_equals_scipy_nnls():
 def test_non_significant_ramp_widens_the_other_intervals_to_the_fit_without_it():
     # where R is only an upper bound the values stay the full fit's and
     # the Q N B K intervals span the fits with and without R (flag span_without_R)
-    import inertialab.noise._terms_ls as L
+    import inertialab.noise.terms.least_squares as L
 
     rng = np.random.default_rng(5)
     n, fs = 360_000, 10.0
@@ -494,7 +494,7 @@ def test_non_significant_ramp_widens_the_other_intervals_to_the_fit_without_it()
 def test_upper_bound_term_says_bound_in_json():
     # a term that is only a bound carries "bound": "upper" beside its upper_bound, so a
     # reader of the JSON never takes its value for a confident number
-    from inertialab.noise._terms_base import NoiseTerm
+    from inertialab.noise.terms.base import NoiseTerm
 
     t = NoiseTerm(value=3.0, unit="deg/h", ci=(0.0, 5.0), method="wls",
                   tau_range_s=(1.0, 10.0), flags=("upper_bound",), upper_bound=5.0)

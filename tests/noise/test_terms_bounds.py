@@ -1,4 +1,4 @@
-"""Bounds within physics (noise._terms_bounds): on short simulated records where B is
+"""Bounds within physics (noise.terms._bounds): on short simulated records where B is
 not resolved, every B (estimate or bound) is at most 1.05 min(ADEV)/0.664 of its curve
 (the analytic reading of a flicker floor), a bound's JSON value is the bound, and a term
 whose lower limit is below 1e-3 of its value is a bound."""
@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from inertialab.noise._terms_base import NoiseTerm
-from inertialab.noise._terms_bounds import _unresolved, b_ceiling
-from inertialab.noise.allan import oadev
-from inertialab.noise.terms import fit_noise_terms
+from inertialab.noise.statistics.allan import oadev
+from inertialab.noise.terms._bounds import _unresolved, b_ceiling
+from inertialab.noise.terms.base import NoiseTerm
+from inertialab.noise.terms.fit import fit_noise_terms
 
 BI = math.sqrt(2 * math.log(2) / math.pi)
 

@@ -1,5 +1,5 @@
 """The K term's Gauss–Markov correlation time and the short-end cut of the noise-term
-fit (:mod:`inertialab.noise._terms_ls`): analytic shape, recovery on simulated records,
+fit (:mod:`inertialab.noise.terms.least_squares`): analytic shape, recovery on simulated records,
 and nothing changed where the five-term model holds."""
 
 from __future__ import annotations
@@ -9,9 +9,9 @@ import math
 import numpy as np
 import pytest
 
-from inertialab.noise import allan as A
-from inertialab.noise._band import rw_gm_shape
-from inertialab.noise.terms import NoiseTerms, fit_noise_terms
+from inertialab.noise.statistics import allan as A
+from inertialab.noise.terms.band import rw_gm_shape
+from inertialab.noise.terms.fit import NoiseTerms, fit_noise_terms
 
 RATE = 100.0
 

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from inertialab.errors import InputError
-from inertialab.noise.warmup import block_means, detect_warmup, log_warmup
+from inertialab.noise.segments.warmup import block_means, detect_warmup, log_warmup
 from inertialab.sim.mems_presets import simulate
 
 

@@ -1,4 +1,4 @@
-"""Tests of inertialab.noise.wavelet (spec 001 §3.6, check 10)."""
+"""Tests of inertialab.noise.spectral.wavelet (spec 001 §3.6, check 10)."""
 
 import warnings
 
@@ -7,7 +7,7 @@ import pytest
 import pywt
 
 from inertialab.errors import DataQualityWarning, InputError
-from inertialab.noise.wavelet import (
+from inertialab.noise.spectral.wavelet import (
     approximation_band_hz,
     decompose,
     detail_band_hz,

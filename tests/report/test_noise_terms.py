@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from inertialab.noise import allan as A
-from inertialab.noise import gmwm as G
-from inertialab.noise.terms import fit_noise_terms
+from inertialab.noise.gmwm import fit as G
+from inertialab.noise.statistics import allan as A
+from inertialab.noise.terms.fit import fit_noise_terms
 from inertialab.report.figures.noise_terms import allan_terms_figure, gmwm_figure
 
 

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from inertialab.errors import InputError
-from inertialab.noise.allan import oadev
+from inertialab.noise.statistics.allan import oadev
 from inertialab.sensors import gyro as G
 
 

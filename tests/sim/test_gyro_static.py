@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from inertialab.errors import InputError
-from inertialab.noise.allan import oadev
+from inertialab.noise.statistics.allan import oadev
 from inertialab.sensors.gyro import model_avar, preset
 from inertialab.sim.gyro_static import simulate
 

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from inertialab.errors import InputError
-from inertialab.noise.allan import oadev
-from inertialab.noise.gmwm import avar_ar1, avar_rw
+from inertialab.noise.gmwm.fit import avar_ar1, avar_rw
+from inertialab.noise.statistics.allan import oadev
 from inertialab.sim import mems_presets as MP
 
 

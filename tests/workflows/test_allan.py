@@ -10,7 +10,7 @@ import pytest
 
 from inertialab.errors import InputError
 from inertialab.io import read_record, write_record
-from inertialab.noise.allan import oadev
+from inertialab.noise.statistics.allan import oadev
 from inertialab.workflows import allan as W
 
 ISSUE_KEYS = {"statistic", "tau0_s", "taus_s", "dev", "ci_low", "ci_high", "n_terms", "alpha",
@@ -145,7 +145,7 @@ def test_unknown_unit_and_bad_column(tmp_path):
 def test_auto_chunked_for_large_memmaps(tmp_path, monkeypatch):
     # A memory-mapped log above CHUNKED_MIN samples takes the out-of-core path; its
     # numbers equal the in-memory path to 1e-12 (same angle values, other summation).
-    from inertialab.noise import _phase as A
+    from inertialab.noise.statistics import _phase as A
 
     monkeypatch.setattr(W, "CHUNKED_MIN", 10_000)
     monkeypatch.setattr(A, "CHUNK", 8192)

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from inertialab.errors import InputError
-from inertialab.noise.family import compute
+from inertialab.noise.statistics.family import compute
 from inertialab.workflows.allan import parse_noise_type
 from tests.helpers import run_inprocess
 

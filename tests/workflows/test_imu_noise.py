@@ -136,8 +136,8 @@ def test_moving_record_is_flagged_and_a_static_one_is_not(imu):
     # the static simulated IMU of the fixture gives no not-static warning; a turning rig
     # rises up to ~2 s and is named as not static, per column, by both entry points
     from inertialab.errors import DataQualityWarning
-    from inertialab.noise.allan import oadev
-    from inertialab.noise.terms import not_static_reason
+    from inertialab.noise.statistics.allan import oadev
+    from inertialab.noise.terms.fit import not_static_reason
     from inertialab.workflows.allan import analyze, prepare_log
 
     for a in imu.axes:

@@ -11,8 +11,8 @@ import pandas as pd
 import pytest
 from scipy.signal import lfilter
 
-from inertialab.noise.gmwm import Process
-from inertialab.noise.information import processes_bounds
+from inertialab.noise.gmwm.fit import Process
+from inertialab.noise.terms.information import processes_bounds
 from inertialab.sim.mems_presets import preset
 from inertialab.workflows.imu_drift import PLAN_REL, PLAN_Z, DriftOptions, axis_plan
 from inertialab.workflows.imu_noise import analyse_imu

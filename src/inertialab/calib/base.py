@@ -37,7 +37,7 @@ arrays (``fit(f_hz, e_dph)``).
 :class:`~inertialab.calib.thermal_imu.ThermalImuModel`,
 :class:`~inertialab.calib.dual.DualCalibration`,
 :class:`~inertialab.calib.drift.DriftModel` and the noise terms
-(:class:`~inertialab.noise.terms.NoiseTerms`). Their fit needs the study's whole session
+(:class:`~inertialab.noise.terms.fit.NoiseTerms`). Their fit needs the study's whole session
 (static intervals with references, sections and turns, tumble samples with their splits,
 reduced tumbles with a prior, the daily grids of many units, an Allan curve) and gives
 diagnostics beside the model (fit statistics, checks, held-out scores) that a
@@ -51,7 +51,7 @@ instead:
    ``ferraris.to_model`` (of ``fit_ferraris``), ``thermal.fit_model``,
    ``thermal_imu.fit_imu_model`` (its ``model``), ``dual.calibrate``
    (its ``model``), :meth:`DriftModel.from_results <inertialab.calib.drift.DriftModel.from_results>`
-   (of ``fit_series``) and ``noise.terms.fit_noise_terms``;
+   (of ``fit_series``) and ``noise.terms.fit.fit_noise_terms``;
 2. it has no ``fit`` and no unfitted state: the constructor takes every fitted value by
    keyword, so the registered ``apply`` works at once and ``NotFittedError`` never
    arises;

@@ -39,7 +39,7 @@ from inertialab.calib.base import GyroBlock
 from inertialab.calib.triaxial import TriaxialCalibration
 from inertialab.errors import InputError, UnderdeterminedError
 from inertialab.io.modelfile import unique_keys
-from inertialab.noise.static_intervals import gyro_rest
+from inertialab.noise.segments.static_intervals import gyro_rest
 from inertialab.sensors import triaxial as tx
 from inertialab.sensors.triaxial_classic import PLACEMENT_RAD, FaceFit, face_fit
 

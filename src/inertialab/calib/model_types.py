@@ -36,7 +36,7 @@ from inertialab.learn.mlp_lm import MLPRegressorLM
 from inertialab.learn.nar import NARForecaster
 from inertialab.learn.poly import PolynomialRegressor
 from inertialab.learn.rbf import RBFNetwork
-from inertialab.noise.terms import NoiseTerms, fit_noise_terms
+from inertialab.noise.terms.fit import NoiseTerms, fit_noise_terms
 
 __all__ = ["MODEL_TYPES", "ModelType", "TYPES", "load_model", "save_model", "serves"]
 

@@ -15,7 +15,7 @@ import numpy as np
 from inertialab import units
 from inertialab.calib.triaxial import CalibrationFit, TriaxialCalibration, calibrate
 from inertialab.errors import InputError
-from inertialab.noise.static_intervals import StaticIntervals
+from inertialab.noise.segments.static_intervals import StaticIntervals
 from inertialab.sensors import triaxial as tx
 from inertialab.sensors.gyro_triad import GyroCalibration, calibrate_gyro
 

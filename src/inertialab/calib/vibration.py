@@ -24,7 +24,7 @@ from inertialab.estimator import Estimator
 from inertialab.io.model_schemas import check_own_payload
 from inertialab.learn.poly import PolynomialRegressor
 from inertialab.learn.rbf import RBFNetwork
-from inertialab.noise import wavelet as wv
+from inertialab.noise.spectral import wavelet as wv
 
 __all__ = ["SPREAD_GRID", "BiasTargets", "VibrationModel", "VibrationRun", "bias_targets",
            "phase_stats", "residual_metrics", "select_spread"]

@@ -2,7 +2,7 @@
 them (:data:`EXPORTERS`), each entry declared once with its target tool. It sits above
 the results it writes and takes them typed:
 
-* kind ``noise``: a six-axis analysis, :class:`inertialab.noise.imu_result.IMUNoise` or
+* kind ``noise``: a six-axis analysis, :class:`inertialab.noise.terms.imu_result.IMUNoise` or
   its values :class:`~inertialab.export.noise_params.NoiseValues`
   (:func:`export_noise`): ``kalibr`` (:mod:`.kalibr`), ``openvins`` (:mod:`.openvins`),
   ``vins`` and ``imu_utils`` (:mod:`.imu_utils`), ``gtsam`` (:mod:`.gtsam`), ``ros``
@@ -55,7 +55,7 @@ from inertialab.export.yaml_text import check_topic, yaml_number
 
 if TYPE_CHECKING:
     from inertialab.calib.triaxial import TriaxialCalibration
-    from inertialab.noise.imu_result import IMUNoise
+    from inertialab.noise.terms.imu_result import IMUNoise
 
 __all__ = ["EXPORTERS", "AxisValues", "Exporter", "NoiseParams", "NoiseValues", "check_topic",
            "export_calibration", "export_noise", "get", "noise_text", "targets", "yaml_number"]

@@ -1,7 +1,7 @@
 """The numbers a noise file holds: the four continuous-time noise parameters and the
 rate (:class:`NoiseParams`), and how they come from a six-axis analysis
 (:class:`NoiseValues`, the typed values of
-:class:`inertialab.noise.imu_result.IMUNoise`; :func:`noise_params`).
+:class:`inertialab.noise.terms.imu_result.IMUNoise`; :func:`noise_params`).
 
 Units (Kalibr's "IMU Noise Model", https://github.com/ethz-asl/kalibr/wiki/IMU-Noise-Model),
 continuous time, SI:
@@ -29,7 +29,7 @@ from typing import TYPE_CHECKING
 from inertialab.errors import InputError
 
 if TYPE_CHECKING:
-    from inertialab.noise.imu_result import IMUNoise
+    from inertialab.noise.terms.imu_result import IMUNoise
 
 __all__ = ["AxisValues", "NoiseParams", "NoiseValues", "imu_utils_axes", "noise_params",
            "per_axis", "span_notes", "units_comments"]
@@ -180,7 +180,7 @@ class NoiseValues:
 
     @classmethod
     def of(cls, result: IMUNoise | NoiseValues) -> NoiseValues:
-        """The values of a six-axis analysis (:class:`inertialab.noise.imu_result.IMUNoise`,
+        """The values of a six-axis analysis (:class:`inertialab.noise.terms.imu_result.IMUNoise`,
         read through its public fields ``rate_hz`` and ``axes``), or ``result`` itself."""
         if isinstance(result, cls):
             return result

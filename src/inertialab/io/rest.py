@@ -2,7 +2,7 @@
 
 A raw log calibrated by its static intervals (Tedaldi, Pretto & Menegatti, "A robust and
 easy to implement method for IMU calibration without external equipments", ICRA 2014;
-the detector of :mod:`inertialab.noise.static_intervals`) takes its noise floor from
+the detector of :mod:`inertialab.noise.segments.static_intervals`) takes its noise floor from
 the first ``t_init_s`` seconds, so the log must start with the sensor at rest. The
 statistic is the centred moving variance over ``window_s`` summed over the three axes,
 ``s(t) = var_x + var_y + var_z`` (any unit, raw counts too: the test is a ratio); its

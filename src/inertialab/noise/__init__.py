@@ -4,12 +4,15 @@ terms, GMWM, wavelet multiscale views, spectra, EMD.
 The public face (``from inertialab.noise import oadev, fit_noise_terms``) is imported on
 first use, so ``import inertialab.noise.<module>`` stays light::
 
-    oadev adev mdev tdev hdev ohdev totdev deviation DeviationResult   (allan)
-    mtotdev ttotdev htotdev (total)  theo1 theobr theoh (theo)  mtie tierms (tie)
-    compute (family: any statistic by name)  STATISTICS Statistic (registry)
-    gap_deviation (gaps)  fit_noise_terms NoiseTerms NoiseTerm (terms)
-    fit_gmwm (gmwm)  robotics_values (robotics)  k_bound (information)
-    detect_static_intervals (static_intervals)
+    oadev adev mdev tdev hdev ohdev totdev deviation DeviationResult   (statistics.allan)
+    mtotdev ttotdev htotdev (statistics.total)  theo1 theobr theoh (statistics.theo)  mtie tierms (statistics.tie)
+    compute (statistics.family: any statistic by name)  STATISTICS Statistic (statistics.registry)
+    gap_deviation (statistics.gaps)  fit_noise_terms NoiseTerms NoiseTerm (terms.fit)
+    fit_gmwm (gmwm.fit)  robotics_values (terms.robotics)  k_bound (terms.information)
+    detect_static_intervals (segments.static_intervals)
+
+Its modules live in subpackages by meaning: ``statistics``, ``terms``, ``gmwm``,
+``spectral``, ``segments`` (docs/architecture.md).
 """
 
 _ALLAN = ("oadev", "adev", "mdev", "tdev", "hdev", "ohdev", "totdev", "deviation",
@@ -26,29 +29,29 @@ __all__ = [*_ALLAN, *_TOTAL, *_THEO, *_TIE, *_TERMS, *_REGISTRY, "compute", "gap
 
 def __getattr__(name):  # PEP 562: the public face, imported on first use
     if name in _ALLAN:
-        from inertialab.noise import allan as mod
+        from inertialab.noise.statistics import allan as mod
     elif name in _TOTAL:
-        from inertialab.noise import total as mod
+        from inertialab.noise.statistics import total as mod
     elif name in _THEO:
-        from inertialab.noise import theo as mod
+        from inertialab.noise.statistics import theo as mod
     elif name in _TIE:
-        from inertialab.noise import tie as mod
+        from inertialab.noise.statistics import tie as mod
     elif name in _TERMS:
-        from inertialab.noise import terms as mod
+        from inertialab.noise.terms import fit as mod
     elif name in _REGISTRY:
-        from inertialab.noise import registry as mod
+        from inertialab.noise.statistics import registry as mod
     elif name == "compute":
-        from inertialab.noise import family as mod
+        from inertialab.noise.statistics import family as mod
     elif name == "gap_deviation":
-        from inertialab.noise import gaps as mod
+        from inertialab.noise.statistics import gaps as mod
     elif name == "fit_gmwm":
-        from inertialab.noise import gmwm as mod
+        from inertialab.noise.gmwm import fit as mod
     elif name == "robotics_values":
-        from inertialab.noise import robotics as mod
+        from inertialab.noise.terms import robotics as mod
     elif name == "k_bound":
-        from inertialab.noise import information as mod
+        from inertialab.noise.terms import information as mod
     elif name == "detect_static_intervals":
-        from inertialab.noise import static_intervals as mod
+        from inertialab.noise.segments import static_intervals as mod
     else:
         raise AttributeError(f"module 'inertialab.noise' has no attribute {name!r}")
     return getattr(mod, name)

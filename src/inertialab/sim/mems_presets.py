@@ -21,13 +21,13 @@ gyros, m/s^2 for accelerometers),
   quantisation Q, which stays 0).
 
 Ground truth (:attr:`MemsPreset.truth`, in the report units of
-:mod:`inertialab.noise.terms`):
+:mod:`inertialab.noise.terms.fit`):
 
 - ``N = sqrt(N_w^2 + Q_lsb^2 / (12 fs))`` (white noise seen at tau >> filter length);
 - ``B`` per IEEE Std 952-1997 (the flat region: sigma = 0.6643 B where the slope of the
   bias-instability part is 0): ``B = max_tau sigma_GM(tau) / 0.6643`` with
   ``sigma_GM^2(tau) = sum_i AVAR_AR1(tau; phi_i, s_i^2)`` the exact Allan variance of the
-  Gauss–Markov sum (:func:`inertialab.noise.gmwm.avar_ar1`), maximised on a dense tau
+  Gauss–Markov sum (:func:`inertialab.noise.gmwm.fit.avar_ar1`), maximised on a dense tau
   grid (4096 log-spaced points from tau0 to 1e6 s). The textbook reading
   ``min_tau sigma_total(tau)/0.6643`` is :meth:`MemsPreset.textbook_b` (it is larger,
   because N and K add to the minimum);
@@ -51,7 +51,7 @@ import pandas as pd
 from scipy.signal import butter, lfilter, sosfilt, sosfilt_zi
 
 from inertialab.errors import InputError
-from inertialab.noise.gmwm import avar_ar1, avar_rw, avar_white
+from inertialab.noise.gmwm.fit import avar_ar1, avar_rw, avar_white
 from inertialab.seeding import spawn
 
 GENERATOR_VERSION = "mems-presets/1"
@@ -221,7 +221,7 @@ class MemsRun:
     """A simulated static MEMS log.
 
     ``y``: samples in the report rate unit (deg/h or m/s^2); ``unit``: its suffix
-    ('dph' or 'mps2') for :func:`inertialab.noise.terms.fit_noise_terms`; ``truth``:
+    ('dph' or 'mps2') for :func:`inertialab.noise.terms.fit.fit_noise_terms`; ``truth``:
     the true terms; ``meta``: sidecar-style metadata; ``temperature_c``: the ramp.
     """
 

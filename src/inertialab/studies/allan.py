@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from inertialab.noise.terms import fit_noise_terms
+from inertialab.noise.terms.fit import fit_noise_terms
 from inertialab.progress import NullProgress
 from inertialab.studies.base import Headline, Study, StudyResult, settings_dict
 from inertialab.workflows.allan import analyze

@@ -3,8 +3,8 @@
 Verbs: :func:`prepare` (= :func:`prepare_log`) turns a validated ``gyro_log`` :class:`~inertialab.io.Record` into one
 rate series (column choice, units, sample rate from ``--rate``, the sidecar or a uniform
 ``t_s``); :func:`analyze` computes the requested statistics of the Allan family with
-their confidence intervals (:mod:`inertialab.noise.allan`) and the five noise terms
-(:mod:`inertialab.noise.terms`, fitted on the overlapping Allan deviation); the result
+their confidence intervals (:mod:`inertialab.noise.statistics.allan`) and the five noise terms
+(:mod:`inertialab.noise.terms.fit`, fitted on the overlapping Allan deviation); the result
 serialises to the JSON keys of :func:`fit` is :func:`analyze`. The virtual-lab
 study (``allan-test`` record, recovery over seeds) is :mod:`inertialab.studies.allan`.
 
@@ -29,14 +29,14 @@ import numpy as np
 from inertialab import units
 from inertialab.config import DEFAULT_CONFIDENCE, Config, setting
 from inertialab.errors import DataQualityWarning, InputError
-from inertialab.noise import registry as stat_registry
-from inertialab.noise.allan import DeviationResult, PageReleaser
-from inertialab.noise.family import compute
+from inertialab.noise.statistics import registry as stat_registry
+from inertialab.noise.statistics.allan import DeviationResult, PageReleaser
+from inertialab.noise.statistics.family import compute
 from inertialab.result import ResultBase
 from inertialab.workflows.registries import stat_help
 
 if TYPE_CHECKING:  # scipy; loaded when terms are fitted
-    from inertialab.noise.terms import NoiseTerms
+    from inertialab.noise.terms.fit import NoiseTerms
 
 #: Largest magnitude accepted in a record: squares and sums of larger values overflow
 #: float64 (1e154 squared is 1e308); no sensor output comes near it.
@@ -66,7 +66,7 @@ _MODEL_EDF_STATS = ("adev", "oadev", "mdev", "tdev", "hdev", "ohdev")
 #: Relative jitter of ``t_s`` above which a log is not uniform (spec 001 §2.2).
 T_JITTER_TOL = 1e-6
 
-#: Every statistic (names from :mod:`inertialab.noise.registry`), canonical order.
+#: Every statistic (names from :mod:`inertialab.noise.statistics.registry`), canonical order.
 STATISTICS = stat_registry.names()
 #: Statistics in the unit of the phase.
 PHASE_UNIT = stat_registry.phase_unit()
@@ -387,12 +387,12 @@ class AllanAnalysis:
                "dev": r.dev, "ci_low": r.ci_low, "ci_high": r.ci_high,
                "n_terms": r.n_terms, "alpha": r.alpha, "edf": r.edf,
                "unit": self.dev_unit(r.statistic), "noise_terms": terms}
-        if hasattr(r, "used_fraction"):  # a record with gaps (noise.gaps)
+        if hasattr(r, "used_fraction"):  # a record with gaps (noise.statistics.gaps)
             out.update({"n_gaps": r.n_gaps, "n_missing": r.n_missing,
                         "used_fraction": r.used_fraction})
         if getattr(r, "alpha_source", None):  # how each tau's noise type was identified
             out["alpha_source"] = list(r.alpha_source)
-        if hasattr(r, "bias"):  # Stable32 bias factors (noise.total)
+        if hasattr(r, "bias"):  # Stable32 bias factors (noise.statistics.total)
             out["bias_factor"] = r.bias
         return out
 
@@ -475,7 +475,7 @@ MAX_TAU_S = 1e10
 def parse_taus(taus: str):
     """The one grammar of the ``taus`` setting: ``"octave" | "decade" | "many" | "all" |
     "<count>" | "0.1,1,10"`` (seconds), with its bounds (:data:`MAX_TAU_COUNT`,
-    :data:`MAX_TAU_S`); the value :func:`inertialab.noise.allan.tau_grid` takes.
+    :data:`MAX_TAU_S`); the value :func:`inertialab.noise.statistics.allan.tau_grid` takes.
 
     Examples
     --------
@@ -517,7 +517,7 @@ def _check_finite(results, column) -> None:
 def _noise_terms(oad, log: LogData, *, kind, method: str, confidence: float):
     """The five noise terms fitted on the OADEV ``oad`` of ``log``; None (with a warning)
     when the curve is too short for them; a warning too when the record is not static."""
-    from inertialab.noise.terms import fit_noise_terms, not_static_reason  # scipy: when run
+    from inertialab.noise.terms.fit import fit_noise_terms, not_static_reason  # scipy: when run
 
     why = not_static_reason(oad.taus_s, oad.dev)
     try:
@@ -541,7 +541,7 @@ def _statistic_fn(log: LogData, names, common: dict, bias_correction):
     taus, confidence, alpha = common["taus"], common["confidence"], common["alpha"]
     gappy = not isinstance(log.values, np.memmap) and bool(np.isnan(log.values).any())
     if gappy:
-        from inertialab.noise.gaps import count_gaps, gap_deviation
+        from inertialab.noise.statistics.gaps import count_gaps, gap_deviation
 
         g, miss = count_gaps(log.values)
         warnings.warn(f"{log.path or 'data'}: {miss} missing sample(s) in {g} gap(s); "
@@ -579,7 +579,7 @@ def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: st
     log : LogData or ndarray
         A prepared log, or raw values (then ``rate_hz`` and ``unit`` are required).
     stats : str or sequence, default ("oadev",)
-    taus, alpha, edf_method : see :func:`inertialab.noise.allan.deviation`; ``alpha`` may
+    taus, alpha, edf_method : see :func:`inertialab.noise.statistics.allan.deviation`; ``alpha`` may
         also be ``{statistic: alpha}`` (the noise type fixed for some statistics,
         :func:`parse_noise_type`); a fixed type also replaces the noise-term model's
         intervals of that statistic
@@ -590,14 +590,14 @@ def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: st
         Out-of-core path; "auto" uses it for a memory-mapped input of more than
         :data:`CHUNKED_MIN` samples (the in-memory path needs one float64 copy).
     method : {"wls", "ols", "slope"}, default "wls"
-        Noise-term method (:func:`inertialab.noise.terms.fit_noise_terms`).
+        Noise-term method (:func:`inertialab.noise.terms.fit.fit_noise_terms`).
     fit_terms : bool or None, default None
         Fit the IMU noise terms (None: yes for gyro/accelerometer logs, no for a
         clock); a curve too short for them (fewer than 3 taus in [tau0, T/8])
         gives ``terms=None`` and a DataQualityWarning instead of an error.
     bias_correction : bool or None, default None
         Stable32's bias corrections of TOTDEV, MTOT, TTOT, HTOT and Theo1
-        (:mod:`inertialab.noise.family`); None: on for a clock, off otherwise.
+        (:mod:`inertialab.noise.statistics.family`); None: on for a clock, off otherwise.
     """
     if not isinstance(log, LogData):
         if rate_hz is None or unit is None:
@@ -624,7 +624,7 @@ def analyze(log: LogData | np.ndarray, *, rate_hz: float | None = None, unit: st
         chunked = isinstance(log.values, np.memmap) and log.values.size > CHUNKED_MIN
     # one confidence for the curves and the terms when given (the command's); else the
     # curves at 0.683 (1 sigma, Stable32's) and the terms at their benchmarked 0.95
-    from inertialab.noise.terms import CONFIDENCE, model_intervals  # scipy: when run
+    from inertialab.noise.terms.fit import CONFIDENCE, model_intervals  # scipy: when run
 
     terms_conf = CONFIDENCE if confidence is None else confidence
     confidence = DEFAULT_CONFIDENCE["clock"] if confidence is None else confidence

@@ -15,9 +15,9 @@ The command ``batch CMD --inputs GLOB`` is one prepared job and one call:
 work) and :func:`run` (:func:`run_batch`) -> :class:`BatchRun`, whose ``artifacts()``
 are ``units.csv`` and ``summary.json``.
 
-Checks are parsed from the rule text (:func:`parse_tolerance`) or built directly; :func:`~inertialab.noise.allan_dask.open_client` opens the Dask client and the
+Checks are parsed from the rule text (:func:`parse_tolerance`) or built directly; :func:`~inertialab.noise.statistics.allan_dask.open_client` opens the Dask client and the
 out-of-core Allan kernel of a single long log is
-:func:`inertialab.noise.allan_dask.oadev_dask`.
+:func:`inertialab.noise.statistics.allan_dask.oadev_dask`.
 """
 
 from __future__ import annotations
@@ -40,7 +40,7 @@ from inertialab.config import setting
 from inertialab.errors import InputError
 from inertialab.jsonable import to_jsonable
 from inertialab.limits import MAX_WORKERS, bounded_int
-from inertialab.noise.allan_dask import open_client
+from inertialab.noise.statistics.allan_dask import open_client
 from inertialab.progress import NullProgress
 from inertialab.result import ResultBase
 

@@ -2,7 +2,7 @@
 
 For each axis of ``allan --imu`` (:mod:`inertialab.workflows.imu_noise`):
 
-* **predicted drift** (:mod:`inertialab.noise.drift_prediction`): the RMS and 95 % band
+* **predicted drift** (:mod:`inertialab.noise.terms.drift_prediction`): the RMS and 95 % band
   of the error integrated over each horizon after removing a bias averaged over the
   preceding bias window — angle (deg) for a gyro, velocity (m/s) for an accelerometer —
   from the fitted model, and from the two values a Kalibr / imu_utils user reads off the
@@ -12,7 +12,7 @@ For each axis of ``allan --imu`` (:mod:`inertialab.workflows.imu_noise`):
   windows, observed/predicted, the coverage of the 95 % band, and per term the inflation
   of its amplitude that would make prediction and observation agree;
 * **plan**: the record length at which the Cramer-Rao bound (Whittle, every parameter
-  free; :mod:`inertialab.noise.information`) puts K, and B, within +-20 % at 95 %, for
+  free; :mod:`inertialab.noise.terms.information`) puts K, and B, within +-20 % at 95 %, for
   the fitted model, and whether this log is that long.
 """
 
@@ -82,12 +82,12 @@ NONSTATIONARY_FACTOR = 1.5
 
 def nonstationary_log_var(stationarity, horizons_s) -> np.ndarray:
     """Variance of the log drift variance the measured between-segment spread adds at
-    each horizon (:func:`inertialab.noise.stationarity.excess_at` at tau = horizon, times
+    each horizon (:func:`inertialab.noise.segments.stationarity.excess_at` at tau = horizon, times
     ``NONSTATIONARY_FACTOR``) where the test's verdict is "not stationary"; zeros without
     a test or where it passed (a spread the test cannot tell from sampling is sampling:
     the clipped estimate max(0, s^2 - psi') is positive on half the stationary logs, and
     widened the presets' 60-300 s intervals to 100 % coverage)."""
-    from inertialab.noise.stationarity import excess_at
+    from inertialab.noise.segments.stationarity import excess_at
 
     h = np.atleast_1d(np.asarray(horizons_s, dtype=float))
     if stationarity is None or stationarity.verdict != "not stationary":
@@ -107,7 +107,7 @@ def axis_drift(axis, rate_hz: float, opts: DriftOptions, y_check=None, *,
     RMS's 95 % interval (``predicted_rms_ci``: the terms' uncertainty, the
     ``stationarity`` test's measured spread and ``extra_log_var``, e.g. a pool's
     between-log spread) and, on a check, whether the observed RMS lies inside it."""
-    from inertialab.noise.drift_prediction import (
+    from inertialab.noise.terms.drift_prediction import (
         check_prediction,
         kalibr_components,
         kalibr_reading,
@@ -168,8 +168,8 @@ def axis_plan(axis, rate_hz: float, n_samples: int) -> dict:
     band-limited flicker (its amplitude free, its corners held), or the GMWM fit's
     Gauss–Markov and band processes other than those it reads as K (a GM whose Allan
     peak is not followed by an octave of fitted scales), read on the fitted scales as
-    GMWM reads B (:func:`inertialab.noise.information.processes_bounds`)."""
-    from inertialab.noise.information import processes_bounds
+    GMWM reads B (:func:`inertialab.noise.terms.information.processes_bounds`)."""
+    from inertialab.noise.terms.information import processes_bounds
 
     tau0 = 1.0 / rate_hz
     procs, k_gm = _processes(axis.terms, tau0, n_samples)
@@ -226,12 +226,12 @@ def _processes(terms, tau0: float, n_samples: int):
     five-term fit's white noise, band-limited B as a BL process, and K as a random walk
     or, where the fit holds it by a correlation time ``terms.k_gm``, as that
     Gauss–Markov process), and the indices of the Gauss–Markov processes that are K
-    (the five-term fit's K process; GMWM's slow GMs, :func:`inertialab.noise.gmwm.k_of`)."""
-    from inertialab.noise.gmwm import Process
+    (the five-term fit's K process; GMWM's slow GMs, :func:`inertialab.noise.gmwm.fit.k_of`)."""
+    from inertialab.noise.gmwm.fit import Process
 
     gm = (terms.gmwm or {}).get("processes")
     if gm:
-        from inertialab.noise.gmwm import is_slow_process
+        from inertialab.noise.gmwm.fit import is_slow_process
 
         procs = [Process(d["process"], dict(d["params"])) for d in gm]
         t_rise = terms.gmwm.get("t_rise_s")

@@ -1,8 +1,8 @@
 """Six IMU axes in one call, and noise parameters for Kalibr / ROS.
 
 :func:`analyse_imu` runs the noise core's overlapping Allan deviation
-(:func:`inertialab.noise.allan.oadev`) and five-term fit
-(:func:`inertialab.noise.terms.fit_noise_terms`) on gyro x/y/z and accelerometer x/y/z
+(:func:`inertialab.noise.statistics.allan.oadev`) and five-term fit
+(:func:`inertialab.noise.terms.fit.fit_noise_terms`) on gyro x/y/z and accelerometer x/y/z
 of one log and returns an :class:`IMUNoise`: per axis the curve, the terms and the
 two numbers visual-inertial estimators ask for, in SI units:
 
@@ -18,7 +18,7 @@ two numbers visual-inertial estimators ask for, in SI units:
   confidence limit of the longest tau) and the axis is flagged ``random_walk_bound``
   (JSON ``"bound": "upper"``).
 
-Per axis also: spectral lines (:mod:`inertialab.noise.lines`), a ``status`` (an axis
+Per axis also: spectral lines (:mod:`inertialab.noise.spectral.lines`), a ``status`` (an axis
 that is not static keeps its deviation and gets no terms; the others go on), and with
 :class:`inertialab.workflows.imu_drift.DriftOptions` the predicted drift, its check and
 the record-length plan.
@@ -39,8 +39,8 @@ import numpy as np
 
 from inertialab import units as U
 from inertialab.errors import InputError
-from inertialab.noise.imu_result import SI_UNITS as _SI
-from inertialab.noise.imu_result import AxisNoise, IMUNoise, term_text
+from inertialab.noise.terms.imu_result import SI_UNITS as _SI
+from inertialab.noise.terms.imu_result import AxisNoise, IMUNoise, term_text
 from inertialab.result import ResultBase
 from inertialab.workflows.imu_drift import AXES, axis_columns
 
@@ -48,14 +48,14 @@ __all__ = ["AXES", "AxisNoise", "IMUNoise", "SixAxisRun", "analyse_imu", "analys
            "check_log", "check_settings", "export_pairs", "export_refusal", "export_yaml",
            "reading", "run", "term_text", "write_exports"]
 
-# AxisNoise, IMUNoise and term_text live in inertialab.noise.imu_result (the result is the
+# AxisNoise, IMUNoise and term_text live in inertialab.noise.terms.imu_result (the result is the
 # noise floor's; the exporters above read it typed); imported here, the workflow's face.
 
 
 def _axis(name: str, column: str, y, unit: str, *, rate_hz: float, taus, method: str,
           g_local: float, tau_range_s, terms_on: bool = True, drift=None,
           confidence: float = 0.95, motion: str | None = None) -> AxisNoise:
-    from inertialab.noise.terms import not_static_reason
+    from inertialab.noise.terms.fit import not_static_reason
 
     kind = AXES[name]
     dim = U.lookup(unit).dimension
@@ -155,10 +155,10 @@ def _report_factor(terms, name: str) -> float:
 
 
 def _deviation(y, rate_hz, taus, confidence):
-    from inertialab.noise.allan import oadev
+    from inertialab.noise.statistics.allan import oadev
 
     if np.isnan(y).any():  # lost samples on the sensor's grid (analyse_record)
-        from inertialab.noise.gaps import gap_deviation
+        from inertialab.noise.statistics.gaps import gap_deviation
 
         return gap_deviation("oadev", y, rate_hz=rate_hz, taus=taus, confidence=confidence)
     return oadev(y, rate_hz=rate_hz, taus=taus, confidence=confidence)
@@ -166,8 +166,8 @@ def _deviation(y, rate_hz, taus, confidence):
 
 def _fit_terms(y, dev, unit, kind, method, rate_hz, tau_range_s, g_local, column, confidence):
     """The noise terms of one axis, with the record's spectral lines in the model."""
-    from inertialab.noise.lines import spectral_lines
-    from inertialab.noise.terms import fit_noise_terms
+    from inertialab.noise.spectral.lines import spectral_lines
+    from inertialab.noise.terms.fit import fit_noise_terms
 
     finite = y[np.isfinite(y)]
     lines = spectral_lines(finite, rate_hz) if finite.size == y.size else ()
@@ -192,8 +192,8 @@ def analyse_imu(columns: dict, *, rate_hz: float, taus="octave", method: str = "
     rate_hz : float
         Sample rate, Hz (the ``update_rate`` written to Kalibr/ROS files).
     taus, method, tau_range_s
-        As :func:`inertialab.noise.allan.oadev` and
-        :func:`inertialab.noise.terms.fit_noise_terms` (default octave taus, "wls").
+        As :func:`inertialab.noise.statistics.allan.oadev` and
+        :func:`inertialab.noise.terms.fit.fit_noise_terms` (default octave taus, "wls").
     g_local : float, default 9.80665
         Local gravity for g-based accelerometer units, m/s^2.
     terms : bool, default True

@@ -26,7 +26,7 @@ a real MEMS gyro's. Three tests, each independent of the noise-term fit:
   means change direction by more than :data:`TURN_DEG` (and 6 times their own noise
   angle): every accelerometer axis is not static.
 
-The curve-shape rule of :func:`inertialab.noise.terms.not_static_reason` (a rise that
+The curve-shape rule of :func:`inertialab.noise.terms.fit.not_static_reason` (a rise that
 reaches 1 s) is kept beside these. A narrow line (a fan, a pump, a 0.5-Hz wobble: its
 power within a few bins) is masked here and reported with the terms as a line, not as
 motion; a broad hump (a sway of a few tenths of a hertz) is motion.

@@ -26,7 +26,7 @@ from inertialab.errors import DataQualityWarning, InputError
 MAX_HORIZONS = 100
 #: Longest horizon, s (about 11.6 days; a horizon is also bounded by the record itself).
 MAX_HORIZON_S = 1e6
-#: Noise-term methods of :func:`inertialab.noise.terms.fit_noise_terms`.
+#: Noise-term methods of :func:`inertialab.noise.terms.fit.fit_noise_terms`.
 METHODS = ("wls", "ols", "slope", "gmwm")
 
 

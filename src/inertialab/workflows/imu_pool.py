@@ -5,14 +5,14 @@ axes converted to the first log's units, its warm-up cut
 (:func:`inertialab.workflows.imu_segments.apply_warmup`), and its octave overlapping
 Allan deviation computed. A log that cannot join (no IMU axis, axes the first log has
 missing, a column of another quantity, an axis that is not static) is refused in one
-line naming it before anything is fitted. Per axis then (:mod:`inertialab.noise.pooled`):
+line naming it before anything is fitted. Per axis then (:mod:`inertialab.noise.terms.pooled`):
 
 * the pooled curve on the first log's taus (logs of another rate only from
   ``QN_SPLIT_S``: Q and N pooled only across logs of one rate);
 * the model chosen among ``candidates`` (:data:`CANDIDATES` of the method: WLS with the
   band-limited B or with IEEE 952's flicker B; GMWM or WLS) by leave-one-log-out: each
   fitted on the other logs' pooled curve and scored on the left-out log's curve
-  (:func:`inertialab.noise.pooled.cv_score`); the pooled terms are the chosen model's;
+  (:func:`inertialab.noise.terms.pooled.cv_score`); the pooled terms are the chosen model's;
 * each log's own terms beside them (``logs[]``), and the near-stationarity test between
   the logs' curves;
 * the N, B and K intervals widened by the between-log spread of the logs' own terms
@@ -129,7 +129,7 @@ def read_pool(files, *, read=None, unit=None, rate=None, gaps=None, g_local=None
 
 def _curves(logs, confidence: float) -> None:
     """Each log's octave OADEV per axis, refusing an axis that is not static."""
-    from inertialab.noise.terms import not_static_reason
+    from inertialab.noise.terms.fit import not_static_reason
     from inertialab.workflows.imu_noise import _deviation
 
     for lg in logs:
@@ -148,8 +148,8 @@ CANDIDATES = {"wls": ("wls", "wls-flicker"), "gmwm": ("gmwm", "wls")}
 
 def _fit(dev, unit: str, kind: str, method: str, rate_hz: float, g: float, confidence: float):
     """The noise terms of a curve by ``method`` (``wls-flicker``: WLS with IEEE 952's
-    flicker B, :func:`inertialab.noise.terms.fit_noise_terms` ``b_shape="flicker"``)."""
-    from inertialab.noise.terms import fit_noise_terms
+    flicker B, :func:`inertialab.noise.terms.fit.fit_noise_terms` ``b_shape="flicker"``)."""
+    from inertialab.noise.terms.fit import fit_noise_terms
 
     shape = "flicker" if method == "wls-flicker" else "band"
     return fit_noise_terms(dev, unit=unit, kind=kind, method=method.replace("-flicker", ""),
@@ -160,7 +160,7 @@ def choose_model(curves, rates, unit, kind, candidates, g, confidence) -> dict:
     """Leave-one-log-out choice among ``candidates`` (module docstring):
     ``{"criterion", "scores": {method: mean score}, "chosen"}``; with one log (nothing to
     leave out) the first candidate."""
-    from inertialab.noise.pooled import cv_score, pool_curves
+    from inertialab.noise.terms.pooled import cv_score, pool_curves
 
     if len(curves) < 2 or len(candidates) < 2:
         return {"criterion": None, "scores": {}, "chosen": candidates[0],
@@ -188,7 +188,7 @@ def choose_model(curves, rates, unit, kind, candidates, g, confidence) -> dict:
 def _term_prior(stats, term) -> float:
     """Prior of a term's between-log log-variance: the logs' within-log segment spread
     of ln AVAR over the term's read range, over 4 (a term's amplitude is a square root)."""
-    from inertialab.noise.stationarity import excess_at
+    from inertialab.noise.segments.stationarity import excess_at
 
     lo, hi = term.tau_range_s if term.tau_range_s else (1.0, 1.0)
     t = math.sqrt(max(lo, 1e-9) * max(hi, 1e-9))
@@ -200,7 +200,7 @@ def widen_terms(pooled, own_terms, stats, same_rate, z) -> tuple[object, dict]:
     """The pooled terms with N, B and K intervals carrying the between-log spread of the
     logs' own terms (N and Q only over the logs of the reference rate), and the spreads
     ``{term: between-log variance of ln term}``."""
-    from inertialab.noise.pooled import between_var, widen_term
+    from inertialab.noise.terms.pooled import between_var, widen_term
 
     spread, new = {}, {}
     for name in ("N", "B", "K"):
@@ -255,8 +255,8 @@ def drift_between(own_terms, rates, stats, opts) -> np.ndarray:
     """Between-log variance of the log drift variance per horizon (each log's own model's
     prediction; its terms' uncertainty as sampling; the logs' within-log spread as the
     prior), times ``1 + 1/n`` (the next log, not the mean)."""
-    from inertialab.noise.drift_prediction import predict_terms, predicted_rms_ci
-    from inertialab.noise.pooled import between_var
+    from inertialab.noise.terms.drift_prediction import predict_terms, predicted_rms_ci
+    from inertialab.noise.terms.pooled import between_var
     from inertialab.workflows.imu_drift import nonstationary_log_var
 
     vals, samp, prior = [], [], []
@@ -277,7 +277,7 @@ def pool_axis(name, logs, *, candidates, confidence, drift=None, y_check=None,
     """``(AxisNoise, extras)`` of one axis pooled over ``logs`` (module docstring)."""
     from scipy.special import ndtri
 
-    from inertialab.noise.pooled import homogeneity, joins_at, pool_curves
+    from inertialab.noise.terms.pooled import homogeneity, joins_at, pool_curves
     from inertialab.workflows.imu_segments import axis_stationarity, stationarity_text
 
     kind = AXES[name]

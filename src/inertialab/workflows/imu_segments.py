@@ -1,15 +1,15 @@
 """The parts of one IMU log that ``allan --imu`` fits: its warm-up left out, and whether
 what remains is the same noise throughout.
 
-* :func:`apply_warmup`: one warm-up span per log (:func:`inertialab.noise.warmup.log_warmup`:
+* :func:`apply_warmup`: one warm-up span per log (:func:`inertialab.noise.segments.warmup.log_warmup`:
   the latest end over its axes and its temperature column where it has one; or the
   seconds given; or none), cut from the start of every axis before anything is fitted.
 * :func:`axis_stationarity`: the segments test of one axis
-  (:func:`inertialab.noise.stationarity.check_stationarity`), on the samples the terms are
+  (:func:`inertialab.noise.segments.stationarity.check_stationarity`), on the samples the terms are
   fitted on; its measured between-segment spread widens the drift interval
   (:func:`inertialab.workflows.imu_drift.axis_drift`); a warning names an axis that is
   not stationary.
-* :func:`stationarity_text`: the table's column (:mod:`inertialab.noise.imu_result`, with
+* :func:`stationarity_text`: the table's column (:mod:`inertialab.noise.terms.imu_result`, with
   the table it fills).
 """
 
@@ -19,7 +19,7 @@ import warnings
 
 import numpy as np
 
-from inertialab.noise.imu_result import stationarity_text
+from inertialab.noise.terms.imu_result import stationarity_text
 
 #: the settings' default: the warm-up found in the data
 WARMUP_DEFAULT = "auto"
@@ -28,9 +28,9 @@ WARMUP_DEFAULT = "auto"
 def apply_warmup(columns: dict, rate_hz: float, setting=WARMUP_DEFAULT, temperature=None):
     """``(columns, info)``: the axis columns (``{axis: (name, samples, unit)}``) with the
     log's warm-up span cut from their start, and the span with its evidence
-    (:func:`inertialab.noise.warmup.log_warmup`; ``temperature``: the log's temperature
+    (:func:`inertialab.noise.segments.warmup.log_warmup`; ``temperature``: the log's temperature
     samples, judged like an axis)."""
-    from inertialab.noise.warmup import log_warmup
+    from inertialab.noise.segments.warmup import log_warmup
 
     series = {k: v[1] for k, v in columns.items()}
     if temperature is not None:
@@ -66,7 +66,7 @@ def axis_stationarity(y, rate_hz: float, column: str | None = None):
     """The segments test of one axis's fitted samples (None where they hold NaN: lost
     samples, no equal segments), with a warning naming the column when the verdict is
     "not stationary"."""
-    from inertialab.noise.stationarity import check_stationarity
+    from inertialab.noise.segments.stationarity import check_stationarity
 
     y = np.asarray(y, dtype=float)
     if not np.isfinite(y).all():

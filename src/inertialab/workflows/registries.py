@@ -1,5 +1,5 @@
 """What the command line and the batch runner read from the registries: the statistics
-(:mod:`inertialab.noise.registry`), the export targets (:mod:`inertialab.export`)
+(:mod:`inertialab.noise.statistics.registry`), the export targets (:mod:`inertialab.export`)
 and the model types (:mod:`inertialab.calib.model_types`, imported when a model is
 loaded: it imports every model class).
 
@@ -21,7 +21,7 @@ def stat_names() -> tuple[str, ...]:
     >>> stat_names()[:3]
     ('adev', 'oadev', 'mdev')
     """
-    from inertialab.noise import registry
+    from inertialab.noise.statistics import registry
 
     return registry.names()
 

@@ -52,7 +52,7 @@ if TYPE_CHECKING:
     from inertialab.calib.triaxial import TriaxialCalibration
     from inertialab.calib.triaxial_session import CalibrationRun, StaticData
     from inertialab.io.readers import Record
-    from inertialab.noise.static_intervals import StaticIntervals
+    from inertialab.noise.segments.static_intervals import StaticIntervals
 
 __all__ = ["NOT_WRITTEN", "UNITS", "USES", "ApplyConfig", "ExportConfig",
            "FitConfig", "Session", "apply", "fit", "fit_methods", "gyro_applied", "is_batch",
@@ -84,7 +84,7 @@ def __getattr__(name: str):
         return FitConfig
     if name in _FLOORS:
         from inertialab.calib import triaxial, triaxial_batch, triaxial_checks, triaxial_session
-        from inertialab.noise import static_intervals
+        from inertialab.noise.segments import static_intervals
 
         floors = {"triaxial": triaxial, "triaxial_batch": triaxial_batch,
                   "triaxial_checks": triaxial_checks, "triaxial_session": triaxial_session,
@@ -297,13 +297,13 @@ def raw_log_data(t, acc_raw, meta: dict | None = None, *, suffix: str = "mps2",
     with a warning. A ``schedule`` (DataFrame with ``pitch_deg, heading_deg`` or
     ``face`` or ``ref_*``) is matched in time order; a count mismatch is an InputError.
     With ``gyro_raw`` (N, 3), any unit, a rest needs the gyro at rest as well
-    (:func:`~inertialab.noise.static_intervals.gyro_rest`): a turn about the vertical is
+    (:func:`~inertialab.noise.segments.static_intervals.gyro_rest`): a turn about the vertical is
     not taken for a rest.
     """
     from inertialab.calib.triaxial import fit_lm, initial_estimate
     from inertialab.calib.triaxial_session import StaticData
     from inertialab.io.gaps import at_rails, rails
-    from inertialab.noise.static_intervals import detect_static_intervals, sweep_thresholds
+    from inertialab.noise.segments.static_intervals import detect_static_intervals, sweep_thresholds
 
     meta = dict(meta or {})
     g = _g_from(meta, g)

@@ -59,7 +59,7 @@ if TYPE_CHECKING:
         bias_targets,
         residual_metrics,
     )
-    from inertialab.noise import wavelet as wv
+    from inertialab.noise.spectral import wavelet as wv
     from inertialab.workflows.vibration_record import load_run, prepare, run_from_frame
 
 __all__ = [
@@ -113,7 +113,7 @@ TERM_UNITS = {"Q": "arcsec", "N": "deg/sqrt(h)", "B": "deg/h", "K": "deg/h/sqrt(
 # ----------------------------------------------------------------------------- noise terms
 
 def _oadev(x: np.ndarray, fs: float):
-    from inertialab.noise.allan import oadev
+    from inertialab.noise.statistics.allan import oadev
 
     # alpha=0 before any model exists (spec §3.2); the WLS fit re-derives the edf
     return oadev(x, rate_hz=fs, taus="octave", alpha=0)
@@ -127,7 +127,7 @@ def noise_terms_row(x, fs_hz: float, *, method: str = "wls", tau_min_s: float | 
     (spec 001 §3.4) with ``method`` "wls" (default), "ols" (paper-compatible) or "slope".
     Each term is ``{"value", "unit", "ci", "method", "tau_range_s"}`` in the report unit.
     """
-    from inertialab.noise.terms import fit_noise_terms
+    from inertialab.noise.terms.fit import fit_noise_terms
 
     x = np.asarray(x, dtype=float)
     dev = _oadev(x, fs_hz)
@@ -211,7 +211,7 @@ class VibrationResult:
 
 
 def _level_selection(run: VibrationRun, dec, cfg: FitConfig):
-    from inertialab.noise import wavelet as wv
+    from inertialab.noise.spectral import wavelet as wv
 
     w = run.guarded(run.p2, cfg.level_guard_s)
     return wv.select_level(dec, window=w, reference=run.p1, threshold=cfg.delta_threshold)
@@ -276,8 +276,8 @@ def _fit_block(targets: BiasTargets, cfg: FitConfig, level: int, run: VibrationR
 
 
 def _views(run: VibrationRun, cfg: FitConfig) -> dict:
-    from inertialab.noise.emd import emd, hilbert_frequency
-    from inertialab.noise.spectra import alias_frequency, cwt_scalogram, welch_asd
+    from inertialab.noise.spectral.emd import emd, hilbert_frequency
+    from inertialab.noise.spectral.spectra import alias_frequency, cwt_scalogram, welch_asd
 
     out = {"welch": {}}
     for name, sl in run.phase_slices().items():
@@ -407,7 +407,7 @@ def _phase_tables(runs: dict, tables: dict, metrics: dict) -> None:
 def _decompose(runs: dict, cfg: FitConfig, metrics: dict):
     """Step 4: the db4 decomposition of each record and the level L (the fixed run's
     §3.6 rule, or the sweep's); returns ``(decompositions, rule record, selection, L)``."""
-    from inertialab.noise import wavelet as wv
+    from inertialab.noise.spectral import wavelet as wv
 
     decs = {name: wv.decompose(r.rate_dph, level=cfg.wavelet_level) for name, r in runs.items()}
     sel_run = "fixed" if "fixed" in runs else "sweep"

@@ -29,8 +29,8 @@ def allan_terms_figure(result, terms, *, unit_label: str | None = None, truth=No
                        name: str = "noise-terms") -> Figure:
     """Allan deviation, fitted sum, per-term lines over their read ranges, textbook B.
 
-    ``result``: the :class:`~inertialab.noise.allan.DeviationResult` the terms were
-    fitted on; ``terms``: its :class:`~inertialab.noise.terms.NoiseTerms`; ``truth``: an
+    ``result``: the :class:`~inertialab.noise.statistics.allan.DeviationResult` the terms were
+    fitted on; ``terms``: its :class:`~inertialab.noise.terms.fit.NoiseTerms`; ``truth``: an
     optional ``(taus_s, dev)`` curve (virtual lab).
     """
     fig, ax = plt.subplots(figsize=(7.5, 5.2))
@@ -80,7 +80,7 @@ def allan_terms_figure(result, terms, *, unit_label: str | None = None, truth=No
 def gmwm_figure(fit, *, unit_label: str = "", name: str = "gmwm") -> Figure:
     """Haar wavelet variance with intervals, the GMWM model and each latent process.
 
-    ``fit``: a :class:`~inertialab.noise.gmwm.GmwmFit`."""
+    ``fit``: a :class:`~inertialab.noise.gmwm.fit.GmwmFit`."""
     wv = fit.wv
     fig, ax = plt.subplots(figsize=(7.5, 5.2))
     lo = np.clip(wv.wv - wv.ci_low, 0, None)

@@ -1,0 +1,24 @@
+"""inertialab.noise.segments: Parts of one log: the static intervals of a raw
+accelerometer log, a start-of-log warm-up, and whether the noise stays the same
+throughout.
+
+Modules: static_intervals, stationarity, warmup.
+
+The face (imported on first use): detect_static_intervals.
+"""
+
+__all__ = [
+    "detect_static_intervals",
+]
+
+
+def __getattr__(name):  # PEP 562: imported on first use
+    if name == "detect_static_intervals":
+        from inertialab.noise.segments import static_intervals as mod
+    else:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    return getattr(mod, name)
+
+
+def __dir__():
+    return sorted(__all__)
