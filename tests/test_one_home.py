@@ -3,7 +3,8 @@
 - the sample rate of a record is decided once, by :class:`inertialab.io.Record`'s time
   base (:func:`inertialab.io.timestamps.decide_timebase`); no module outside ``io/``
   derives a rate or a step from time stamps (``median(diff(t))``, ``(n - 1) / (t[-1] -
-  t[0])``) but the listed ones, which only shrink;
+  t[0])``) but the listed one, a storage programme's day step, which is no sample rate;
+  array-level functions given bare stamps ask :func:`inertialab.io.timestamps.stamps_rate_hz`;
 - the default confidence of a record kind is written once
   (:data:`inertialab.config.DEFAULT_CONFIDENCE`);
 - the taus grammar is parsed once (:func:`inertialab.workflows.allan.parse_taus`).
@@ -16,16 +17,10 @@ from tests.source_trees import parsed
 
 SRC = Path(__file__).resolve().parent.parent / "src" / "inertialab"
 
-#: Rate or step derivations from time stamps outside io/, still to move onto the record's
-#: time base: noise/ (owned by the noise work) and three array-level helpers whose callers
-#: hand them stamps instead of the record's tau0 (moving them changes the last digits of
-#: their results on jittery logs: median step vs the time base's mean step).
+#: Step derivations from a time column outside io/ that are not a log's sample rate: a
+#: storage programme's day column (one grid step per unit, in whole days between
+#: measurement days, replicates of a day collapsed first) has no Record time base.
 RATE_SITES_LEFT = {
-    "noise/segments/static_intervals.py:_time_checks",
-    "workflows/allan.py:on_grid",
-    "sensors/gyro_triad.py:calibrate_gyro",
-    "calib/triaxial_session.py:gyro_scale_from_data",
-    # the grid step of a storage programme's day column (days, not a log's stamps)
     "workflows/drift.py:to_daily_grid",
 }
 

@@ -15,6 +15,7 @@ import numpy as np
 from inertialab import units
 from inertialab.calib.triaxial import CalibrationFit, TriaxialCalibration, calibrate
 from inertialab.errors import InputError
+from inertialab.io.timestamps import stamps_rate_hz
 from inertialab.noise.segments.static_intervals import StaticIntervals
 from inertialab.sensors import triaxial as tx
 from inertialab.sensors.gyro_triad import GyroCalibration, calibrate_gyro
@@ -80,7 +81,10 @@ def calibrate_record_data(data: StaticData, *, method="lm", objective="norm", rn
                           gyro_raw=None, t=None, gyro_suffix: str | None = None,
                           gyro_lsb_per_rps: float | None = None, meta: dict | None = None,
                           refine_gyro_bias: bool = False, **kw) -> CalibrationRun:
-    """Accelerometer calibration, then (with ``gyro_raw`` of a raw log) the gyro (§7.3)."""
+    """Accelerometer calibration, then (with ``gyro_raw`` of a raw log) the gyro (§7.3).
+
+    The gyro's sample interval is the one the static intervals were detected at
+    (``data.intervals.fs``: the record's time base when the workflow detected them)."""
     fit = calibrate(data.a, ref=data.ref, method=method, objective=objective, g=data.g, rng=rng,
                     counts=data.counts, **kw)
     gyro_block = None
@@ -90,6 +94,7 @@ def calibrate_record_data(data: StaticData, *, method="lm", objective="norm", rn
             raise InputError("gyro calibration needs a raw log (static records carry no motion)")
         meta = meta or {}
         graw = np.asarray(gyro_raw, dtype=float)
+        dt = 1.0 / float(data.intervals.fs)
         m0_from = "unit"
         if gyro_suffix == "lsb":
             lpr = gyro_lsb_per_rps if gyro_lsb_per_rps is not None else meta.get("gyro_lsb_per_rps")
@@ -98,7 +103,7 @@ def calibrate_record_data(data: StaticData, *, method="lm", objective="norm", rn
                 keep = np.zeros(iv.count, dtype=bool)
                 keep[np.asarray(data.pos_id, dtype=int) - 1] = True
                 M0 = np.eye(3) * gyro_scale_from_data(t, graw, iv.start[keep], iv.stop[keep],
-                                                      tx.correct(fit.x, iv.mean[keep]))
+                                                      tx.correct(fit.x, iv.mean[keep]), dt=dt)
                 m0_from = "data"
             else:
                 M0 = np.eye(3) / float(lpr)
@@ -111,7 +116,7 @@ def calibrate_record_data(data: StaticData, *, method="lm", objective="norm", rn
         v = tx.correct(fit.x, iv.mean)
         start, stop = iv.start[keep_mask], iv.stop[keep_mask]
         gfit = calibrate_gyro(t, graw, start, stop, v[keep_mask], matrix0=M0,
-                              refine_bias=refine_gyro_bias)
+                              refine_bias=refine_gyro_bias, dt=dt)
         gyro_block = {
             "method": "integration", "raw_unit": gyro_suffix or "rps",
             "correction_matrix": gfit.matrix, "offset": gfit.bias,
@@ -133,8 +138,8 @@ def calibrate_record_data(data: StaticData, *, method="lm", objective="norm", rn
 
 
 
-def gyro_scale_from_data(t, gyro_raw, start, stop, directions, *, min_angle_deg: float = 10.0
-                         ) -> float:
+def gyro_scale_from_data(t, gyro_raw, start, stop, directions, *, min_angle_deg: float = 10.0,
+                         dt: float | None = None) -> float:
     """Starting gyro sensitivity (rad/s per raw unit) from the data alone.
 
     For each motion between consecutive static intervals, the angle between the two
@@ -146,7 +151,9 @@ def gyro_scale_from_data(t, gyro_raw, start, stop, directions, *, min_angle_deg:
     ``min_angle_deg`` (measured on ``rawlog62-counts``: 1.1 % below the truth; the median
     was 14.5 % below, heading changes about the vertical being invisible to gravity) is
     the start of M_g = s I, which the LM of
-    :func:`~inertialab.sensors.gyro_triad.calibrate_gyro` then refines.
+    :func:`~inertialab.sensors.gyro_triad.calibrate_gyro` then refines. ``dt``: the
+    sample interval, s (the record's ``timebase.tau0_s``); default the one the stamps
+    ``t`` give (:func:`inertialab.io.timestamps.stamps_rate_hz`).
 
     Raises
     ------
@@ -160,7 +167,7 @@ def gyro_scale_from_data(t, gyro_raw, start, stop, directions, *, min_angle_deg:
     stop = np.asarray(stop, dtype=int)
     v = np.asarray(directions, dtype=float)
     v = v / np.linalg.norm(v, axis=1)[:, None]
-    dt = float(np.median(np.diff(t)))
+    dt = 1.0 / stamps_rate_hz(t) if dt is None else float(dt)
     b0 = g[start[0]:stop[0]].mean(axis=0)
     ratios = []
     for j in range(len(start) - 1):

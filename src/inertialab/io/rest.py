@@ -22,6 +22,7 @@ import numpy as np
 import pandas as pd
 
 from inertialab.errors import InputError
+from inertialab.io.timestamps import stamps_rate_hz
 
 __all__ = ["InitialRest", "initial_rest", "moving_variance"]
 
@@ -54,14 +55,16 @@ class InitialRest:
 
 
 def initial_rest(t, acc, *, window_s: float = 1.0, t_init_s: float = 10.0,
-                 check: bool = True, path=None) -> InitialRest:
+                 check: bool = True, path=None, rate_hz: float | None = None) -> InitialRest:
     """The statistic and floor of the initial rest of a raw log (module docstring).
 
-    ``t`` (N,) strictly increasing seconds, ``acc`` (N, 3) any unit. With ``check``,
-    a log that does not start at rest is an :class:`InputError` naming ``path``.
+    ``t`` (N,) strictly increasing seconds, ``acc`` (N, 3) any unit. ``rate_hz``: the
+    record's sample rate (``record.timebase.rate_hz``), which sizes the window; default
+    the rate the stamps give (:func:`inertialab.io.timestamps.stamps_rate_hz`). With
+    ``check``, a log that does not start at rest is an :class:`InputError` naming ``path``.
     """
     t = np.asarray(t, dtype=float)
-    fs = float(1.0 / np.median(np.diff(t)))
+    fs = stamps_rate_hz(t) if rate_hz is None else float(rate_hz)
     w = max(int(round(window_s * fs)), 2)
     s = moving_variance(acc, w).sum(axis=1)
     init = t < t[0] + t_init_s

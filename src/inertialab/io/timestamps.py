@@ -46,7 +46,8 @@ from inertialab.io.gaps import GAP_FACTOR, detect_gaps
 from inertialab.limits import check_budget
 
 __all__ = ["RATE_CONTRADICTION", "UNIFORM_TOL", "SampleSlots", "Timebase", "TimingAudit",
-           "audit", "decide_timebase", "on_slots", "resample_uniform", "sample_slots"]
+           "audit", "decide_timebase", "on_slots", "resample_uniform", "sample_slots",
+           "stamps_rate_hz"]
 
 #: Stamps whose every step is within this fraction of the median step are uniform.
 UNIFORM_TOL = 1e-6
@@ -265,6 +266,29 @@ def _from_stamps(t: np.ndarray):
     n_gaps = int(np.count_nonzero(np.diff(sl.index) > 1))
     return (1.0 / sl.tau0_s, sl.index if sl.n_missing else None, sl.jitter_rel,
             sl.jitter_max_rel, n_gaps, ())
+
+
+def stamps_rate_hz(t) -> float:
+    """The sample rate, Hz, that the time stamps ``t`` (s, at least two) alone give: the
+    rate :func:`decide_timebase` takes from stamps (step 3 of the module's text: uniform
+    stamps ``(n - 1) / span``; jittering or gappy ones the mean rate of the sensor's grid,
+    :func:`sample_slots`; stamps that go back ``1 / median`` positive step, NaN when no
+    step is positive). No warning. For an array-level call that has stamps and no record;
+    a record's rate is ``record.timebase.rate_hz``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> stamps_rate_hz(np.arange(101) / 100.0)
+    100.0
+    >>> t = np.r_[np.arange(50), np.arange(52, 100)] / 100.0  # two samples lost
+    >>> round(stamps_rate_hz(t), 9)
+    100.0
+    """
+    t = np.asarray(t, dtype=float)
+    if t.ndim != 1 or t.size < 2:
+        raise InputError(f"a rate needs at least two time stamps, got {t.size}", column="t_s")
+    return float(_from_stamps(t)[0])
 
 
 def decide_timebase(t, *, n: int, rate_hz: float | None = None,

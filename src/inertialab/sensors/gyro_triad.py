@@ -29,6 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from inertialab.errors import InputError, NonIdentifiableWarning, UnderdeterminedError
+from inertialab.io.timestamps import stamps_rate_hz
 from inertialab.regress.nlls import levenberg_marquardt
 from inertialab.sensors.triaxial import rotation
 
@@ -102,13 +103,14 @@ def integrate_pairs(omega_hat_pad, mask, dt: float) -> np.ndarray:
 
 
 def calibrate_gyro(t, gyro, start, stop, directions, *, bias=None, matrix0=None,
-                   refine_bias: bool = False, rest_index: int = 0) -> GyroCalibration:
+                   refine_bias: bool = False, rest_index: int = 0,
+                   dt: float | None = None) -> GyroCalibration:
     """Calibrate a gyro triad from the motions between static intervals (spec 002 §7.3).
 
     Parameters
     ----------
     t : array (N,)
-        Sample times, s (uniform rate assumed: dt = median step).
+        Sample times, s (the samples are taken on a uniform grid of step ``dt``).
     gyro : array (N, 3)
         Raw gyro samples (rad/s, or counts).
     start, stop : array (m,) int
@@ -123,6 +125,9 @@ def calibrate_gyro(t, gyro, start, stop, directions, *, bias=None, matrix0=None,
         (required there).
     refine_bias : bool, default False
         Estimate b_g in the LM as three more unknowns (9 + 3).
+    dt : float, optional
+        Sample interval, s: the record's (``record.timebase.tau0_s``); default the one
+        the stamps give (:func:`inertialab.io.timestamps.stamps_rate_hz`).
 
     Raises
     ------
@@ -145,7 +150,7 @@ def calibrate_gyro(t, gyro, start, stop, directions, *, bias=None, matrix0=None,
             f"gyro calibration needs at least {npar // 2 + 1} motions between static intervals "
             f"(2 equations each, {npar} unknowns); got {max(m - 1, 0)}")
     v = v / np.linalg.norm(v, axis=1)[:, None]
-    dt = float(np.median(np.diff(t)))
+    dt = 1.0 / stamps_rate_hz(t) if dt is None else float(dt)
     b0 = g[start[rest_index]:stop[rest_index]].mean(axis=0) if bias is None else np.asarray(bias, float)
     M0 = np.eye(3) if matrix0 is None else np.asarray(matrix0, dtype=float)
     W, mask = _pairs_rates(g, start, stop)

@@ -244,17 +244,24 @@ def clock_log(values, *, input: str, unit: str | None, rate_hz: float,
                    kind="clock", path=str(path), sha256=sha256)
 
 
-def on_grid(t: np.ndarray, values: np.ndarray, path="") -> tuple[float, np.ndarray]:
+def on_grid(t: np.ndarray, values: np.ndarray, path="", *,
+            rate_hz: float | None = None) -> tuple[float, np.ndarray]:
     """``(rate_hz, values on the nominal grid)``: time stamps that skip whole sample
     intervals (a gap) leave NaN at the missing samples (never interpolated); stamps off
-    the grid by more than :data:`T_JITTER_TOL` of a step are an InputError naming rows."""
+    the grid by more than :data:`T_JITTER_TOL` of a step are an InputError naming rows.
+
+    ``rate_hz``: the rate of the stamps as the record's time base found it
+    (``timebase.stamps_rate_hz``); default the rate the stamps give
+    (:func:`inertialab.io.timestamps.stamps_rate_hz`, the same rule)."""
+    from inertialab.io.timestamps import stamps_rate_hz
+
     t = np.asarray(t, dtype=float)
     if t.size < 2:
         raise InputError("needs at least two time stamps", path=path or None, column="t_s")
-    dt = np.diff(t)
-    step = float(np.median(dt))
-    if not step > 0:
+    rate = stamps_rate_hz(t) if rate_hz is None else float(rate_hz)
+    if not rate > 0 or not np.all(np.isfinite(t)) or not t[-1] > t[0]:
         raise InputError("time stamps do not increase", path=path or None, column="t_s")
+    step = 1.0 / rate
     k = np.round((t - t[0]) / step)
     off = np.abs((t - t[0]) - k * step)
     bad = np.flatnonzero((off > T_JITTER_TOL * step * np.maximum(1.0, k)) |
@@ -264,10 +271,10 @@ def on_grid(t: np.ndarray, values: np.ndarray, path="") -> tuple[float, np.ndarr
                          "number of missing steps)", path=path or None, column="t_s",
                          row=[int(i) + 1 for i in bad[:5]])
     if k[-1] == t.size - 1:
-        return (t.size - 1) / (float(t[-1]) - float(t[0])), values
+        return rate, values
     out = np.full(int(k[-1]) + 1, np.nan)
     out[k.astype(np.int64)] = values
-    return 1.0 / step, out
+    return rate, out
 
 
 def prepare_clock(frame, meta: dict | None = None, *, input: str, column: str | None = None,
@@ -318,7 +325,9 @@ def prepare_clock(frame, meta: dict | None = None, *, input: str, column: str | 
         fs = float(rate_hz)
     elif "t_s" in cols:  # the stamps place the samples; clocks allow no jitter
         t = np.asarray(frame[cols["t_s"]], dtype=float)
-        fs, vals = on_grid(t, vals, path)
+        stamps_hz = timebase.get("stamps_rate_hz")
+        fs, vals = on_grid(t, vals, path, rate_hz=stamps_hz if stamps_hz is not None
+                           and math.isfinite(stamps_hz) else None)
         fs = float(timebase.get("rate_hz", fs))
     elif meta.get("fs_hz") is not None:
         fs = float(meta["fs_hz"])

@@ -287,7 +287,7 @@ def raw_log_data(t, acc_raw, meta: dict | None = None, *, suffix: str = "mps2",
                  expected: int | None = None, k_thr: float | None = None,
                  threshold: float | None = None, window_s: float = 1.0, t_init_s: float = 10.0,
                  min_duration_s: float = 1.5, path=None, header_check: bool = True,
-                 gyro_raw=None) -> StaticData:
+                 gyro_raw=None, rate_hz: float | None = None) -> StaticData:
     """Raw log -> static records by the detector of spec 002 §2.4 (with the threshold sweep).
 
     The sweep keeps the k_thr whose LM-norm residual RMS is smallest among those giving the
@@ -298,7 +298,8 @@ def raw_log_data(t, acc_raw, meta: dict | None = None, *, suffix: str = "mps2",
     ``face`` or ``ref_*``) is matched in time order; a count mismatch is an InputError.
     With ``gyro_raw`` (N, 3), any unit, a rest needs the gyro at rest as well
     (:func:`~inertialab.noise.segments.static_intervals.gyro_rest`): a turn about the vertical is
-    not taken for a rest.
+    not taken for a rest. ``rate_hz``: the record's sample rate (``record.timebase``;
+    default the rate the stamps ``t`` give).
     """
     from inertialab.calib.triaxial import fit_lm, initial_estimate
     from inertialab.calib.triaxial_session import StaticData
@@ -314,7 +315,7 @@ def raw_log_data(t, acc_raw, meta: dict | None = None, *, suffix: str = "mps2",
     if schedule is not None and expected is None:
         expected = len(schedule)
     kw = dict(window_s=window_s, t_init_s=t_init_s, min_duration_s=min_duration_s,
-              gyro=None if gyro_raw is None else np.asarray(gyro_raw, dtype=float))
+              rate_hz=rate_hz, gyro=None if gyro_raw is None else np.asarray(gyro_raw, dtype=float))
 
     def score(iv: StaticIntervals) -> float:
         try:
@@ -437,7 +438,8 @@ def prepare(record: Record, config: FitConfig | None = None, *,
                                 k_thr=c.k_thr, threshold=c.threshold, window_s=c.window_s,
                                 t_init_s=c.t_init_s, min_duration_s=c.min_duration_s,
                                 path=record.path, header_check=header_check,
-                                gyro_raw=log_gyro)
+                                gyro_raw=log_gyro, rate_hz=None if record.timebase is None
+                                else record.timebase.rate_hz)
     else:
         data = static_data_from_frame(record.data, meta, lsb_per_g=c.lsb_per_g, path=record.path,
                                       header_check=header_check)

@@ -39,6 +39,7 @@ import numpy as np
 
 from inertialab.errors import InputError
 from inertialab.io.rest import initial_rest, moving_variance
+from inertialab.io.timestamps import stamps_rate_hz
 
 __all__ = ["GyroRest", "StaticIntervals", "ThresholdSweep", "detect_static_intervals",
            "gyro_rest", "moving_variance", "sweep_thresholds"]
@@ -65,7 +66,8 @@ class StaticIntervals:
     k_thr : float or None
         The multiplier used (None with an absolute threshold).
     fs : float
-        Sample rate, Hz (1 / median time step).
+        Sample rate, Hz: the caller's (the record's time base) or the stamps'
+        (:func:`inertialab.io.timestamps.stamps_rate_hz`).
     """
 
     start: np.ndarray
@@ -160,21 +162,28 @@ def gyro_rest(gyro, still, fs: float, *, k_gyro: float = 8.0, smooth_s: float = 
     return GyroRest(rest=dev_s < thr, bias=b, dev=dev_s, threshold=thr)
 
 
-def _time_checks(t):
+def _time_checks(t, rate_hz: float | None):
+    """``(t, fs)``: the stamps checked, and the caller's rate (the record's) or else the one
+    the stamps give (:func:`inertialab.io.timestamps.stamps_rate_hz`)."""
     t = np.asarray(t, dtype=float)
     if t.ndim != 1 or t.size < 10:
         raise InputError(f"a raw log needs at least 10 samples, got {t.size}", column="t_s")
-    dt = np.diff(t)
-    if np.any(dt <= 0):
-        bad = np.flatnonzero(dt <= 0)[:5] + 2
-        raise InputError("t_s must be strictly increasing", column="t_s", row=[int(b) for b in bad])
-    return t, float(1.0 / np.median(dt))
+    bad = np.flatnonzero(np.diff(t) <= 0)
+    if bad.size:
+        raise InputError("t_s must be strictly increasing", column="t_s",
+                         row=[int(b) + 2 for b in bad[:5]])
+    if rate_hz is None:
+        return t, stamps_rate_hz(t)
+    if not (np.isfinite(rate_hz) and rate_hz > 0):
+        raise InputError(f"argument 'rate_hz' must be positive, got {rate_hz}")
+    return t, float(rate_hz)
 
 
 def detect_static_intervals(t, acc, *, window_s: float = 1.0, t_init_s: float = 10.0,
                             k_thr: float = 6.0, threshold: float | None = None,
                             min_duration_s: float = 1.5, trim_s: float = 0.25,
-                            gyro=None, k_gyro: float = 8.0) -> StaticIntervals:
+                            gyro=None, k_gyro: float = 8.0,
+                            rate_hz: float | None = None) -> StaticIntervals:
     """Detect static intervals in a raw log (spec 002 §2.4).
 
     Parameters
@@ -201,6 +210,9 @@ def detect_static_intervals(t, acc, *, window_s: float = 1.0, t_init_s: float = 
         rests.
     k_gyro : float, default 8
         Gyro threshold in robust standard deviations (the Ferraris detector's default).
+    rate_hz : float, optional
+        Sample rate, Hz: the record's (``record.timebase.rate_hz``); default the rate
+        the stamps give (:func:`inertialab.io.timestamps.stamps_rate_hz`).
 
     Raises
     ------
@@ -224,14 +236,15 @@ def detect_static_intervals(t, acc, *, window_s: float = 1.0, t_init_s: float = 
     >>> bool(np.allclose(s.mean[:, 2], 9.81, atol=0.002)), bool(np.allclose(s.sd, 0.01, rtol=0.05))
     (True, True)
     """
-    t, fs = _time_checks(t)
+    t, fs = _time_checks(t, rate_hz)
     a = np.asarray(acc, dtype=float)
     if a.shape != (t.size, 3):
         raise InputError(f"accelerometer samples must have shape ({t.size}, 3), got {a.shape}")
     if not np.all(np.isfinite(a)):
         row = int(np.flatnonzero(~np.all(np.isfinite(a), axis=1))[0]) + 1
         raise InputError("non-finite accelerometer sample", row=row)
-    rest = initial_rest(t, a, window_s=window_s, t_init_s=t_init_s, check=threshold is None)
+    rest = initial_rest(t, a, window_s=window_s, t_init_s=t_init_s, check=threshold is None,
+                        rate_hz=fs)
     s, s0 = rest.s, rest.s0
     if threshold is None:
         tau = float(k_thr) * s0
@@ -316,7 +329,8 @@ def sweep_thresholds(t, acc, *, k_values: Sequence[float] = tuple(range(2, 11)),
         Lower is better (e.g. the calibration residual RMS). Without it the
         qualifying k closest to the default 6 is chosen.
     **detect_kw :
-        Passed to :func:`detect_static_intervals` (``window_s``, ``t_init_s`` ...).
+        Passed to :func:`detect_static_intervals` (``window_s``, ``t_init_s``,
+        ``rate_hz`` ...).
 
     Raises
     ------
