@@ -82,6 +82,30 @@ def test_the_rule_sees_a_derivation():
     assert calls and spans
 
 
+def test_bare_stamps_take_the_rate_the_record_would_decide():
+    """An array-level call without a rate takes the one io rule (``stamps_rate_hz``, the
+    rate ``decide_timebase`` gives the same stamps), not the median step; a given rate
+    wins; ``triaxial fit`` detects at the record's time base."""
+    import warnings
+
+    import numpy as np
+
+    from inertialab.io.timestamps import decide_timebase, stamps_rate_hz
+    from inertialab.noise.segments.static_intervals import detect_static_intervals
+
+    rng = np.random.default_rng(3)
+    t = np.arange(3000) / 100.0 + rng.normal(0.0, 2e-4, 3000)  # 2 % rms stamp jitter
+    t = np.delete(t, np.arange(1500, 1503))  # three samples lost
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        decided = decide_timebase(t, n=t.size).rate_hz
+    assert stamps_rate_hz(t) == decided and abs(decided - 100.0) < 1e-3
+    assert abs(1.0 / np.median(np.diff(t)) - decided) > 1e-3  # the rule that moved out differs
+    acc = np.array([0.0, 0.0, 9.81]) + rng.normal(0.0, 0.01, (t.size, 3))
+    assert detect_static_intervals(t, acc).fs == decided
+    assert detect_static_intervals(t, acc, rate_hz=99.0).fs == 99.0
+
+
 #: ``confidence`` defaults written as a number outside noise/ (whose functions default to
 #: Stable32's 0.683 for clocks) other than the one home, inertialab.config.DEFAULT_CONFIDENCE: the six-axis
 #: workflow still spells 0.95 itself (owned by the noise work; it should take

@@ -225,3 +225,16 @@ def test_the_study_in_one_module_one_config_and_the_old_names_warn():
         assert fc.Config is fc.FitConfig
     assert old.run_fit is fc.run_fit and old.FitConfig is fc.FitConfig
     assert sum(issubclass(w.category, DeprecationWarning) for w in caught) == 2
+
+
+def test_raw_log_detected_and_integrated_at_the_records_time_base():
+    # the record decides the rate (here the caller's 101 Hz over the stamps' 100 Hz);
+    # detection and the gyro integration take it from record.timebase
+    from inertialab.io import validate_frame
+
+    raw = tp.simulate("rawlog62-counts", seed=2)
+    rec = validate_frame(raw.data, "triaxial_raw", meta=raw.meta, rate_hz=101.0)
+    session = fc.prepare(rec, gyro=True, k_thr=6)
+    assert rec.timebase.rate_hz == session.data.intervals.fs == 101.0
+    plain = fc.prepare(validate_frame(raw.data, "triaxial_raw", meta=raw.meta), k_thr=6)
+    assert plain.data.intervals.fs == 100.0  # the sidecar's fs_hz
