@@ -2,10 +2,14 @@
 each command runs once here, in this process, on small virtual-lab records, and the test
 records what reached :func:`inertialab.result.check_result` (the runner refuses anything
 else with a TypeError). The run of every command is ``slow`` (CI's second step); every
-other CLI test passes through the same check."""
+other CLI test passes through the same check. ``allan``'s three modes (one series, six
+axes, several logs pooled), all reported as "allan", each reach the runner as one Result
+naming their inputs (a fast case per mode)."""
 
 import json
 
+import numpy as np
+import pandas as pd
 import pytest
 
 from inertialab.result import Result, ResultBase, check_result
@@ -121,3 +125,67 @@ def test_a_result_that_is_not_one_is_refused():
 
     with pytest.raises(TypeError, match="allan returned a dict, not a Result"):
         Run(quiet=True).execute("allan", lambda bar: {"adev": 1.0})
+
+
+def _imu_log(path, seed, axes="xyz", n=6000, accel=True):
+    """A static IMU log at 100 Hz on ``axes`` (gyro, and accelerometer with ``accel``):
+    white rate noise 1e-3 rad/s and 2e-3 m/s^2 per sample, gravity on z."""
+    rng = np.random.default_rng(seed)
+    cols = {"t_s": np.arange(n) / 100.0}
+    for ax in axes:
+        cols[f"g{ax}_rps"] = 1e-3 * rng.standard_normal(n)
+    for ax in axes if accel else ():
+        cols[f"a{ax}_mps2"] = 2e-3 * rng.standard_normal(n) + (9.80665 if ax == "z" else 0.0)
+    pd.DataFrame(cols).to_csv(path, index=False)
+    return str(path)
+
+
+@pytest.fixture(scope="module")
+def imu_logs(tmp_path_factory):
+    """One six-axis log, and two logs of the x gyro alone to pool (a pooled axis's
+    leave-one-log-out model choice fits each candidate per log: one axis keeps the case
+    near a second)."""
+    d = tmp_path_factory.mktemp("allan_modes")
+    return {1: [_imu_log(d / "imu.csv", seed=0)],
+            2: [_imu_log(d / f"x{i}.csv", seed=i + 1, axes="x", accel=False)
+               for i in range(2)]}
+
+
+#: ``allan``'s modes, all reported under the command name "allan": the arguments after
+#: the log(s), how many logs, the result's type and the axes of its six-axis JSON
+ALLAN_MODES = {
+    "series": (["--column", "gx_rps"], 1, "AllanRun", None),
+    "six-axis": (["--imu"], 1, "SixAxisRun", ["gx", "gy", "gz", "ax", "ay", "az"]),
+    "pooled": (["--imu", "--pool"], 2, "PoolResult", ["gx"]),
+}
+
+
+@pytest.mark.filterwarnings("ignore")
+@pytest.mark.parametrize("mode", list(ALLAN_MODES))
+def test_every_allan_mode_returns_a_result(mode, imu_logs, monkeypatch):
+    from inertialab.cli import runner
+
+    args, n_logs, type_name, axes = ALLAN_MODES[mode]
+    got = []
+
+    def recording(result, command):
+        got.append((command, result))
+        return check_result(result, command)
+
+    monkeypatch.setattr(runner, "check_result", recording)
+    logs = imu_logs[n_logs]
+    res = run_cli("allan", *logs, *args, "--json")
+    assert res.returncode == 0, res.stderr
+    assert [c for c, _ in got] == ["allan"]
+    result = got[0][1]
+    assert isinstance(result, Result) and isinstance(result, ResultBase)
+    assert type(result).__name__ == type_name
+    env = json.loads(res.stdout)
+    assert env["command"] == "allan"
+    assert [i["path"] for i in env["inputs"]] == logs
+    assert env["settings"] == json.loads(json.dumps(result.settings, default=str))
+    if axes is not None:
+        assert bool(env["imu"].get("pooled")) == (mode == "pooled")
+        assert [a["axis"] for a in env["imu"]["axes"]] == axes
+    if mode == "pooled":
+        assert [lg["file"] for lg in env["imu"]["logs"]] == logs

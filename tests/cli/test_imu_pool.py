@@ -56,3 +56,26 @@ def test_warmup_setting_is_reported_in_the_six_axis_json(tmp_path, capsys):
     assert imu["axes"][0]["warmup"]["excluded_s"] == 60.0
     assert imu["axes"][0]["stationarity"]["verdict"] in ("stationary", "not stationary")
     assert imu["n_samples"] == 36000 - 6000  # 0.1 h at 100 Hz, 60 s cut
+
+
+def test_a_log_that_cannot_be_read_is_refused_naming_it_before_any_fit(tmp_path, capsys,
+                                                                       monkeypatch):
+    from inertialab.workflows import imu_pool
+
+    def no_fit(*a, **k):
+        raise AssertionError("a pooled axis was fitted")
+
+    monkeypatch.setattr(imu_pool, "pool_axis", no_fit)
+    a = _write(tmp_path / "a.csv", 0, hours=0.02)
+    b = tmp_path / "b.csv"
+    b.write_text("t_s,gx_dph\n0.0,abc\n")
+    code, _, err = run_inprocess(capsys, "allan", a, b, tmp_path / "none.csv", "--imu",
+                                 "--pool")
+    assert code == 2 and "b.csv" in err and len(err.strip().splitlines()) == 1
+
+
+def test_a_check_log_in_the_pool_is_refused_before_any_log_is_read(tmp_path, capsys):
+    a, b = tmp_path / "a.csv", tmp_path / "b.csv"  # neither exists: nothing is read
+    code, _, err = run_inprocess(capsys, "allan", a, b, "--imu", "--pool", "--predict-drift",
+                                 "10", "--check-on", b)
+    assert code == 2 and "--check-on" in err and "not in the pool" in err

@@ -8,6 +8,7 @@ import pandas as pd
 import pytest
 
 from inertialab.errors import InputError
+from inertialab.io import read_record
 from inertialab.sim.mems_presets import simulate
 from inertialab.units import convert
 from inertialab.workflows.imu_pool import analyse_pool
@@ -28,14 +29,19 @@ def _write(path, seed, *, unit="dph", rate=None, axes=("gx", "gy"), hours=0.3, r
     return str(path)
 
 
+def _recs(*paths):
+    """The logs' records, read as the command runner reads them for ``allan --imu``."""
+    return [read_record(p, "gyro_log") for p in paths]
+
+
 def test_logs_of_other_units_and_rates_pool_with_each_own_terms(tmp_path):
     one = dict(axes=("gx",), hours=0.2)
     a = _write(tmp_path / "a.csv", 0, **one)
     b = _write(tmp_path / "b.csv", 10, unit="rps", **one)
     c = _write(tmp_path / "c.csv", 20, rate=200.0, **one)
     chk = _write(tmp_path / "chk.csv", 30, **one)
-    res = analyse_pool([a, b, c], candidates=("wls",), predict_drift="1,10",
-                       check_on=chk, warmup="0")
+    res = analyse_pool(_recs(a, b, c), candidates=("wls",), predict_drift="1,10",
+                       check=_recs(chk)[0], warmup="0")
     d = res.to_dict()
     assert d["pooled"] and d["pool_kind"] == "runs" and len(d["logs"]) == 3
     assert d["logs"][1]["units"] == {"gx": "rps"}
@@ -56,7 +62,7 @@ def test_a_log_missing_axes_is_refused_naming_it(tmp_path):
     a = _write(tmp_path / "a.csv", 0, hours=0.05)
     b = _write(tmp_path / "b.csv", 10, hours=0.05, axes=("gx",))
     with pytest.raises(InputError, match="axes gy missing") as e:
-        analyse_pool([a, b], candidates=("wls",))
+        analyse_pool(_recs(a, b), candidates=("wls",))
     assert str(e.value.path).endswith("b.csv")
 
 
@@ -64,7 +70,7 @@ def test_a_column_of_another_quantity_is_refused_naming_it(tmp_path):
     a = _write(tmp_path / "a.csv", 0, hours=0.05)
     b = _write(tmp_path / "b.csv", 10, hours=0.05, rename={"gy": "gy_mps2"})
     with pytest.raises(InputError, match="gy_mps2.*expected a angular_rate") as e:
-        analyse_pool([a, b], candidates=("wls",))
+        analyse_pool(_recs(a, b), candidates=("wls",))
     assert str(e.value.path).endswith("b.csv")
 
 
@@ -72,5 +78,5 @@ def test_a_log_that_is_not_static_is_refused_before_any_fit(tmp_path):
     a = _write(tmp_path / "a.csv", 0, hours=0.1)
     b = _write(tmp_path / "b.csv", 10, hours=0.1, moving=True)
     with pytest.raises(InputError, match="cannot join the pool: column 'gx_dph'") as e:
-        analyse_pool([a, b], candidates=("wls",), warmup="0")
+        analyse_pool(_recs(a, b), candidates=("wls",), warmup="0")
     assert str(e.value.path).endswith("b.csv")

@@ -6,7 +6,8 @@ One ``allan`` command with every option, each mode one call through the runner
 or, with ``--imu``, six IMU axes (:func:`inertialab.workflows.imu_noise.run`: the runner
 reads the log and a ``--check-on`` log; the workflow writes every ``--export`` once the
 result is complete), or with ``--pool`` several logs as one model
-(:func:`inertialab.workflows.imu_pool.run_pool`). The runner prints the tables (or the
+(:func:`inertialab.workflows.imu_pool.run_pool`: the runner reads every log and a
+``--check-on`` log). The runner prints the tables (or the
 JSON object) and writes the figures and ``result.json`` (and ``model.json``) with ``--out``.
 """
 
@@ -62,6 +63,27 @@ def _six_axes(run, file: Path, config, *, export, rostopic, force, read):
     return run.execute("allan", produce, inputs=[file], figures=lambda r: imu_figures(r.imu))
 
 
+def _pool(run, files, config, *, imu, export, read):
+    """``allan --imu LOG1 LOG2 ... --pool``: the settings checked, then one call through
+    the runner (every log, each with its own units and time base, and a ``--check-on``
+    log read there; a log that cannot be read is refused naming it before any fit)."""
+    from inertialab.report.figures.imu_noise import imu_figures
+    from inertialab.workflows import imu_noise as wn
+    from inertialab.workflows import imu_pool as wp
+
+    wp.check_pool(files, config, imu=imu, export=export)
+
+    def produce(bar):
+        recs = [read_record(f, "gyro_log", **wn.reading(config), options=read) for f in files]
+        other = wn.check_log(config)
+        check = None if other is None else read_record(other, "gyro_log",
+                                                       **wn.reading(config), options=read)
+        return wp.run_pool(recs, config, check=check, progress=bar)
+
+    return run.execute("allan", produce, inputs=[str(f) for f in files],
+                       figures=lambda r: imu_figures(r.imu))
+
+
 def _allan_command():
     """The ``allan`` command: one function, every option."""
 
@@ -81,11 +103,7 @@ def _allan_command():
         six IMU axes in one table and figure, with Kalibr/ROS export."""
         file = files[0]
         if len(files) > 1 or config.pool:  # several logs as one model
-            from inertialab.report.figures.imu_noise import imu_figures
-            from inertialab.workflows.imu_pool import run_pool
-            return run.execute("allan", lambda bar: run_pool(
-                files, config, imu=imu, export=export, read=read, progress=bar),
-                inputs=[str(f) for f in files], figures=lambda r: imu_figures(r.imu))
+            return _pool(run, files, config, imu=imu, export=export, read=read)
         if imu or export:
             if not imu:
                 raise InputError("--export needs --imu (six-axis noise parameters)")

@@ -440,6 +440,51 @@ def _scratch_dir():
         shutil.rmtree(path, ignore_errors=True)
 
 
+#: bytes of a Unix socket's path (``sun_path``, its final NUL included) on Linux
+UNIX_PATH_MAX = 108
+#: what multiprocessing adds to the temporary directory for the fork server's socket
+#: (``/pymp-XXXXXXXX/listener-XXXXXXXX``), with a margin
+_SOCKET_SUFFIX = 40
+
+
+@contextlib.contextmanager
+def short_temp_dir(short: str = "/tmp"):
+    """While active, :func:`tempfile.gettempdir` is ``short`` when the temporary
+    directory (``TMPDIR``) is too long for the fork server's Unix socket under it (the
+    socket's path must fit :data:`UNIX_PATH_MAX` bytes); restored on exit. The directory
+    multiprocessing makes there (``pymp-*``) is its own, removed by it at exit."""
+    import tempfile
+
+    base = tempfile.gettempdir()
+    too_long = len(os.fsencode(base)) + _SOCKET_SUFFIX >= UNIX_PATH_MAX
+    if not too_long or not (os.path.isdir(short) and os.access(short, os.W_OK | os.X_OK)):
+        yield base
+        return
+    old, tempfile.tempdir = tempfile.tempdir, short
+    try:
+        yield short
+    finally:
+        tempfile.tempdir = old
+
+
+def _start_forkserver(ensure_running) -> None:
+    """``ensure_running()`` of multiprocessing's fork server, its socket under a short
+    temporary directory (:func:`short_temp_dir`); a socket path still too long is
+    refused in one line naming ``TMPDIR``."""
+    import tempfile
+
+    with short_temp_dir():
+        try:
+            ensure_running()
+        except OSError as exc:
+            if "AF_UNIX path too long" not in str(exc):
+                raise
+            raise InputError(f"the temporary directory is too long for the local cluster's "
+                             f"Unix socket (TMPDIR={tempfile.gettempdir()}): set TMPDIR to "
+                             f"a path of at most {UNIX_PATH_MAX - _SOCKET_SUFFIX - 1} "
+                             "bytes") from None
+
+
 @contextlib.contextmanager
 def _local_client(scheduler: str, workers: int):
     """:func:`open_client` with its workers' scratch space inside :func:`_scratch_dir`.
@@ -471,7 +516,7 @@ def _local_client(scheduler: str, workers: int):
             except ValueError:  # not the main thread: leave signals alone
                 old = mask = None
             try:
-                forkserver.ensure_running()
+                _start_forkserver(forkserver.ensure_running)
             finally:
                 if old is not None:
                     signal.signal(signal.SIGINT, old)

@@ -1,7 +1,7 @@
 """``allan --imu LOG1 LOG2 ... --pool``: several static logs as one noise model per axis.
 
-Each log is read with its own units, column names and time base (the reader's), its
-axes converted to the first log's units, its warm-up cut
+Each log is read (by the command runner) with its own units, column names and time
+base (the reader's), its axes converted to the first log's units, its warm-up cut
 (:func:`inertialab.workflows.imu_segments.apply_warmup`), and its octave overlapping
 Allan deviation computed. A log that cannot join (no IMU axis, axes the first log has
 missing, a column of another quantity, an axis that is not static) is refused in one
@@ -63,13 +63,11 @@ class PoolLog:
                 "warmup": {k: self.warmup[k] for k in ("setting", "span_s", "from")}}
 
 
-def read_log(file, *, read=None, unit=None, rate=None, gaps=None, g_local=None):
-    """``(record, rate_hz, columns, temperature)`` of one log, as ``allan --imu`` reads
-    it (the rate from ``rate`` or the record's time base)."""
-    from inertialab.io import read_record
-
-    rec = read_record(file, "gyro_log", unit=unit, rate_hz=rate, g_local=g_local, gaps=gaps,
-                      options=read)
+def log_columns(rec, *, rate=None):
+    """``(rate_hz, columns, temperature)`` of one log's record (read by the command
+    runner as ``allan --imu`` reads it): the rate from ``rate`` or the record's time
+    base, the axes and temperature placed on that time base."""
+    file = rec.path
     cols = axis_columns(rec)
     if not cols:
         raise InputError("cannot join the pool: no IMU axis columns (gx_*, gy_*, gz_*, ax_*, "
@@ -84,7 +82,7 @@ def read_log(file, *, read=None, unit=None, rate=None, gaps=None, g_local=None):
         fs = tb.rate_hz
         cols = {k: (c, tb.place(y), u) for k, (c, y, u) in cols.items()}
         temp = None if temp is None else tb.place(temp)
-    return rec, float(fs), cols, temp
+    return float(fs), cols, temp
 
 
 def _to_pool_units(cols: dict, ref_units: dict, g: float, file) -> tuple[dict, dict]:
@@ -102,15 +100,15 @@ def _to_pool_units(cols: dict, ref_units: dict, g: float, file) -> tuple[dict, d
     return out, own
 
 
-def read_pool(files, *, read=None, unit=None, rate=None, gaps=None, g_local=None,
-              warmup="auto") -> list[PoolLog]:
-    """Every log of a pool read, checked to join (module docstring), its warm-up cut."""
+def join_pool(records, *, rate=None, g_local=None, warmup="auto") -> list[PoolLog]:
+    """Every log of a pool (its record, read with its own units and time base) checked
+    to join (module docstring), its axes in the first log's units, its warm-up cut."""
     from inertialab.workflows.imu_segments import apply_warmup
 
     logs, ref_units, ref_axes = [], {}, None
-    for f in files:
-        rec, fs, cols, temp = read_log(f, read=read, unit=unit, rate=rate, gaps=gaps,
-                                       g_local=g_local)
+    for rec in records:
+        f = rec.path
+        fs, cols, temp = log_columns(rec, rate=rate)
         if ref_axes is None:
             ref_axes = tuple(a for a in AXES if a in cols)
             ref_units = {k: v[2] for k, v in cols.items()}
@@ -397,28 +395,28 @@ def _term_cell(d: dict) -> str:
     return "-" if v is None else f"{v:.4g}"
 
 
-def analyse_pool(files, *, read=None, unit=None, rate=None, gaps=None, g_local=None,
-                 warmup="auto", pool_kind="runs", candidates=CANDIDATES["wls"],
-                 predict_drift=None, bias_window=10.0, check_on=None,
-                 confidence=DEFAULT_CONFIDENCE["imu"], progress=None) -> PoolResult:
-    """Several logs as one noise model per axis (module docstring). ``check_on``: another
-    log (not one of ``files``) on which the predicted drift is checked."""
+def analyse_pool(records, *, rate=None, g_local=None, warmup="auto", pool_kind="runs",
+                 candidates=CANDIDATES["wls"], predict_drift=None, bias_window=10.0,
+                 check=None, confidence=DEFAULT_CONFIDENCE["imu"],
+                 progress=None) -> PoolResult:
+    """Several logs' records (:class:`inertialab.io.Record`, each read with its own units
+    and time base) as one noise model per axis (module docstring). ``check``: the record
+    of another log (not one of ``records``) on which the predicted drift is checked."""
     from inertialab.workflows.imu_drift import DriftOptions
     from inertialab.workflows.imu_noise import IMUNoise
 
     if pool_kind not in POOL_KINDS:
         raise InputError(f"argument 'pool_kind' must be runs or units, got '{pool_kind}'")
-    if len(files) < 2:
+    if len(records) < 2:
         raise InputError("argument 'pool' needs at least two logs")
-    if check_on and str(check_on).strip().lower() == "half":
-        raise InputError("argument 'check_on' with a pool must be a log not in the pool")
-    if check_on and not predict_drift:
+    if check is not None and not predict_drift:
         raise InputError("argument 'check_on' needs argument 'predict_drift'")
-    if check_on and str(check_on) in [str(f) for f in files]:
-        raise InputError("argument 'check_on' must be a log not in the pool", path=check_on)
-    kw = dict(read=read, unit=unit, rate=rate, gaps=gaps, g_local=g_local, warmup=warmup)
-    logs = read_pool(files, **kw)
-    check = read_pool([files[0], check_on], **kw)[1] if check_on else None
+    if check is not None and str(check.path) in [str(r.path) for r in records]:
+        raise InputError("argument 'check_on' must be a log not in the pool", path=check.path)
+    kw = dict(rate=rate, g_local=g_local, warmup=warmup)
+    logs = join_pool(records, **kw)
+    check_on = None if check is None else check.path
+    check = join_pool([records[0], check], **kw)[1] if check is not None else None
     if check is not None and abs(check.rate_hz / logs[0].rate_hz - 1) > 1e-3:
         raise InputError(f"the check log is at {check.rate_hz:g} Hz, the pool's first log at "
                          f"{logs[0].rate_hz:g} Hz: give a check log of that rate",
@@ -459,10 +457,11 @@ def _candidates(method: str) -> tuple:
     return CANDIDATES[method]
 
 
-def run_pool(files, config, *, imu: bool, export=None, read=None, progress=None):
-    """``allan --imu LOG1 LOG2 ... --pool`` as one call: the command's settings checked
-    (several logs need the six-axis mode and pooling; no export, plan or inflation), then
-    :func:`analyse_pool`."""
+def check_pool(files, config, *, imu: bool, export=None) -> tuple:
+    """The settings of ``allan --imu LOG1 LOG2 ... --pool`` checked before any log is read
+    (several logs need the six-axis mode and pooling; no export, plan or inflation; a
+    ``--check-on`` log not in the pool and with a drift prediction); returns the
+    candidates of the method (:data:`CANDIDATES`)."""
     c = config
     if not (imu and c.pool and len(files) > 1):
         raise InputError("several logs are pooled in the six-axis mode with argument 'pool' "
@@ -470,15 +469,34 @@ def run_pool(files, config, *, imu: bool, export=None, read=None, progress=None)
     if export or c.plan or c.inflate:
         raise InputError("argument 'export', argument 'plan' and argument 'inflate' are not "
                          "available with argument 'pool'")
-    return analyse_pool([str(f) for f in files], read=read, unit=c.unit, rate=c.rate,
-                        gaps=c.gaps, g_local=c.g_local, warmup=c.warmup,
-                        pool_kind=c.pool_kind, candidates=_candidates(c.method),
-                        predict_drift=c.predict_drift,
-                        bias_window=c.bias_window, check_on=c.check_on,
+    candidates = _candidates(c.method)
+    if c.pool_kind not in POOL_KINDS:
+        raise InputError(f"argument 'pool_kind' must be runs or units, got '{c.pool_kind}'")
+    if c.check_on and str(c.check_on).strip().lower() == "half":
+        raise InputError("argument 'check_on' with a pool must be a log not in the pool")
+    if c.check_on and not c.predict_drift:
+        raise InputError("argument 'check_on' needs argument 'predict_drift'")
+    if c.check_on and str(c.check_on) in [str(f) for f in files]:
+        raise InputError("argument 'check_on' must be a log not in the pool", path=c.check_on)
+    return candidates
+
+
+def run_pool(records, config, *, check=None, progress=None):
+    """``allan --imu LOG1 LOG2 ... --pool`` as one call on the logs' records (the command
+    runner reads them, and a ``--check-on`` log's as ``check``, as ``allan --imu`` reads
+    a log: :func:`inertialab.workflows.imu_noise.reading`): the settings checked
+    (:func:`check_pool`), then :func:`analyse_pool`."""
+    c = config
+    candidates = check_pool([r.path for r in records], c, imu=True)
+    return analyse_pool(records, rate=c.rate, g_local=c.g_local, warmup=c.warmup,
+                        pool_kind=c.pool_kind, candidates=candidates,
+                        predict_drift=c.predict_drift, bias_window=c.bias_window,
+                        check=check,
                         confidence=DEFAULT_CONFIDENCE["imu"] if c.confidence is None
                         else c.confidence,
                         progress=progress)
 
+
 __all__ = ["CANDIDATES", "POOL_KINDS", "PoolLog", "PoolResult", "analyse_pool", "choose_model",
-           "drift_between", "pool_axis", "pooled_axis", "read_log", "read_pool", "run_pool",
-           "widen_terms"]
+           "check_pool", "drift_between", "join_pool", "log_columns", "pool_axis",
+           "pooled_axis", "run_pool", "widen_terms"]
