@@ -255,3 +255,31 @@ def test_the_study_in_one_module_and_the_old_name_warns():
         old = importlib.import_module("inertialab.workflows.drift_run")
     assert old.run_fit is drift.run_fit and old.FitConfig is drift.FitConfig
     assert any(issubclass(w.category, DeprecationWarning) for w in caught)
+
+
+def test_forecast_takes_its_config_and_matches_the_model():
+    """``run_forecast(model, ForecastConfig)``: the forecast is the model's own for the
+    horizon given (the fit's when None); settings = the config | the model's seed; a bad
+    horizon is refused naming it; a bare horizon still works, with a warning."""
+    from pathlib import Path
+
+    from inertialab.workflows.drift import ForecastConfig, run_forecast
+
+    model = load_model(Path(__file__).parents[1] / "data" / "models" / "storage-drift-v1.json",
+                       expected_type="storage-drift")
+    res = run_forecast(model, ForecastConfig(horizon=7))
+    assert res.settings == {"horizon": 7, "seed": model.settings.get("seed")}
+    for u, qs in model.forecast(7).items():
+        for q, e in qs.items():
+            got = res.per_unit[u][q]["forecast"]
+            assert len(got["day"]) == 7
+            np.testing.assert_array_equal(got["value"], e["forecast"]["value"])
+    fit_k = model.settings["horizon"]
+    u, q = next((u, q) for u, qs in model.entries.items() for q in qs)
+    assert len(run_forecast(model).per_unit[u][q]["forecast"]["day"]) == fit_k
+    for bad in (0, 1001, 2.5):
+        with pytest.raises(InputError, match="'horizon' must be an integer"):
+            run_forecast(model, ForecastConfig(horizon=bad))
+    with pytest.warns(DeprecationWarning, match="ForecastConfig"):
+        old = run_forecast(model, 7)
+    assert old.per_unit == res.per_unit

@@ -57,17 +57,13 @@ def drift_apply(model: Path = typer.Argument(..., help="model.json written by 'd
         inputs=[model, file])
 
 
-@config_command(Config, out=None)
+@config_command(wf.ForecastConfig, out=None)
 def drift_forecast(model: Path = typer.Argument(..., help="model.json written by 'drift fit "
                                                           "--out'."),
-                   horizon: int = typer.Option(None, "--horizon", help="Steps K, 1 to 1000 "
-                                                                       "(default: the fit's)."),
                    *, config, run):
     """Forecast again from a saved storage-drift model."""
-    if horizon is not None:
-        wf.check_horizon(horizon)  # before any work
     run.execute("drift forecast", lambda bar: wf.run_forecast(
-        load_model(model, expected_type="storage-drift"), horizon), inputs=[model])
+        load_model(model, expected_type="storage-drift"), config), inputs=[model])
 
 
 def register(app: typer.Typer, groups: dict) -> None:

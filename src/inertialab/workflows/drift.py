@@ -61,7 +61,7 @@ if TYPE_CHECKING:
     )
 
 __all__ = ["DEFAULT_BASELINES", "MAX_HORIZON", "QUANTITIES", "UNITS", "DriftFit", "DriftSettings",
-           "EvaluateConfig", "FitConfig", "apply", "check_horizon", "evaluate", "fit",
+           "EvaluateConfig", "FitConfig", "ForecastConfig", "apply", "check_horizon", "evaluate", "fit",
            "fit_drift", "forecast", "prepare", "run_apply", "run_evaluate", "run_fit",
            "run_forecast", "to_daily_grid"]
 
@@ -960,10 +960,34 @@ class ForecastResult(ResultBase):
                                     "re-calibrate"], rows)]
 
 
-def run_forecast(model, horizon: int | None = None) -> ForecastResult:
-    """Forecast every unit and quantity of a saved model ``horizon`` steps (default: the
-    fit's)."""
-    if horizon is not None:
-        check_horizon(horizon)
-    return ForecastResult(per_unit=forecast(model, horizon),
-                          settings={"horizon": horizon, "seed": model.settings.get("seed")})
+@dataclass(frozen=True)
+class ForecastConfig(_Settings):
+    """Settings of ``drift forecast`` and of :func:`run_forecast`: ``horizon``, the steps K
+    past the model's origin (1 to :data:`MAX_HORIZON`; None: the horizon the model was
+    fitted with)."""
+
+    horizon: int | None = setting(None, help="Steps K, 1 to 1000 (default: the fit's).")
+
+    def validate(self):
+        """``horizon`` None or an integer 1..:data:`MAX_HORIZON`; one :class:`InputError`
+        naming it."""
+        super().validate()
+        if self.horizon is not None:
+            check_horizon(self.horizon)
+        return self
+
+
+def run_forecast(model, config: ForecastConfig | None = None) -> ForecastResult:
+    """Forecast every unit and quantity of a saved model ``config.horizon`` steps (None:
+    the fit's). A bare horizon (an int) in place of ``config`` still works for one
+    release, with a :class:`DeprecationWarning`."""
+    if not isinstance(config, ForecastConfig):
+        if config is not None:
+            import warnings
+
+            warnings.warn("run_forecast(model, horizon) is deprecated: pass "
+                          "ForecastConfig(horizon=...)", DeprecationWarning, stacklevel=2)
+        config = ForecastConfig(horizon=config)
+    config.validate()
+    return ForecastResult(per_unit=forecast(model, config.horizon),
+                          settings=config.to_dict() | {"seed": model.settings.get("seed")})
