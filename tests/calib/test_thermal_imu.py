@@ -126,3 +126,21 @@ def test_a_heating_only_log_gets_no_lag_term_and_no_hysteresis():
     log, _, _ = _noise_free_log(ramp="heat", rate=0.2)
     s = fit_imu_model(log).model.sensors[0]
     assert all(ax["tau_s"] == 0.0 and ax["hysteresis"] is None for ax in s["axes"])
+
+
+def test_settings_are_read_by_name_from_any_object():
+    """fit_imu_model reads its settings by name from any object (a command's Config): the
+    same model as the FitSettings with those values, what the object lacks at the
+    defaults of FitSettings, a bad method refused naming it."""
+    import json
+    from types import SimpleNamespace
+
+    log, _, _ = _noise_free_log(rate=0.1)
+    typed = fit_imu_model(log, FitSettings(max_order=3, seed=5))
+    plain = fit_imu_model(log, SimpleNamespace(max_order=3, seed=5, split="random"))
+    assert plain.settings == FitSettings(max_order=3, seed=5)
+    assert json.dumps(plain.model.to_dict()) == json.dumps(typed.model.to_dict())
+    assert max(ax["order"] for ax in plain.model.sensors[0]["axes"]) <= 3
+    assert fit_imu_model(log).settings == FitSettings()
+    with pytest.raises(InputError, match="argument 'method'"):
+        fit_imu_model(log, SimpleNamespace(method="anfis"))

@@ -26,7 +26,7 @@ is written into the files.
 from __future__ import annotations
 
 import copy
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 
 import numpy as np
 
@@ -60,7 +60,20 @@ class FitSettings:
     generations: int = 5
     seed: int = 0
 
+    @classmethod
+    def of(cls, settings=None) -> FitSettings:
+        """The validated settings of ``settings``: any object with these attribute names
+        (a command's Config, e.g. ``thermal fit``'s, whose flags ``--method``,
+        ``--epochs``, ``--fish``, ``--generations`` and ``--seed`` are these names); an
+        attribute it lacks (or None for all) takes the default above."""
+        if not isinstance(settings, cls):
+            settings = cls(**{f.name: getattr(settings, f.name) for f in fields(cls)
+                              if hasattr(settings, f.name)})
+        return settings.validate()
+
     def validate(self) -> FitSettings:
+        """``self`` when ``method``, ``bin_s`` and ``max_order`` are valid; else one-line
+        :class:`InputError` naming the argument."""
         if self.method not in METHODS:
             raise InputError(f"argument 'method' must be one of {', '.join(METHODS)}, got "
                              f"'{self.method}'")
@@ -220,12 +233,14 @@ class ThermalImuModel:
 @dataclass
 class ImuFit:
     """The fit of one log: ``model``, and per sensor its bins (``binned``, for the
-    figures) and the residuals of the final model on them (``resid``)."""
+    figures) and the residuals of the final model on them (``resid``); ``settings``: the
+    :class:`FitSettings` it ran with."""
 
     model: ThermalImuModel
     binned: dict = field(default_factory=dict)
     resid: dict = field(default_factory=dict)
     warnings: list = field(default_factory=list)
+    settings: FitSettings | None = None
 
 
 def _anfis_axis(X, y, settings: FitSettings, rng):
@@ -376,13 +391,15 @@ def _fit_sensor(stream, settings: FitSettings, rng):
     return s, b, resid
 
 
-def fit_imu_model(log, settings: FitSettings | None = None) -> ImuFit:
+def fit_imu_model(log, settings=None) -> ImuFit:
     """Fit every sensor stream of ``log`` (an
-    :class:`~inertialab.io.formats.thermal_logs.ImuThermalLog`); one-line
-    :class:`InputError` naming the instance for a span under ``min_span_c``."""
-    st = (settings or FitSettings()).validate()
+    :class:`~inertialab.io.formats.thermal_logs.ImuThermalLog`) with ``settings``: a
+    :class:`FitSettings` or any object with its attribute names, read by those names (a
+    command's Config; :meth:`FitSettings.of`). One-line :class:`InputError` naming the
+    argument for a bad setting, or the instance for a span under ``min_span_c``."""
+    st = FitSettings.of(settings)
     rng = np.random.default_rng(st.seed)
-    sensors, fit = [], ImuFit(model=None)
+    sensors, fit = [], ImuFit(model=None, settings=st)
     for stream in log.streams:
         s, b, resid = _fit_sensor(stream, st, rng)
         sensors.append(s)

@@ -77,8 +77,10 @@ def thermal_fit(
     models/ (every method), result.json and figures of the saved model."""
     pairs, given = wi.pair_exports(export, ctx.args), wi.given(ctx.get_parameter_source)
     if imu or export:  # a drone IMU temperature ramp (docs/thermal-imu.md)
-        return run.execute("thermal fit --imu", lambda bar: wi.run_imu_fit(_read_imu(file), wi.fit_settings(
-            config, given), exports=pairs), inputs=lambda res: [{"path": str(file), "sha256": res.sha256}],
+        imu_config = wi.imu_config(config, given)  # refuse bad settings before reading
+        return run.execute("thermal fit --imu", lambda bar: wi.run_imu_fit(
+            _read_imu(file), imu_config, exports=pairs),
+            inputs=lambda res: [{"path": str(file), "sha256": res.sha256}],
             figures=commands.thermal_imu_fit)
     config.validate()  # refuse bad settings before reading the record
 

@@ -2,8 +2,9 @@
 a drone's temperature-ramp log in, per sensor instance and axis the temperature model of
 the offset, the PX4 and ArduPilot parameter files, and corrected logs.
 
-- :func:`run_imu_fit` (``log, settings -> ImuFitResult``): the fit of
-  :func:`inertialab.calib.thermal_imu.fit_imu_model`, its per-axis report (order, lag,
+- :func:`run_imu_fit` (``log, config -> ImuFitResult``): the fit of
+  :func:`inertialab.calib.thermal_imu.fit_imu_model` with the command's settings
+  (``thermal fit``'s Config as :func:`imu_config` gives it), its per-axis report (order, lag,
   residual RMS in-sample and held-out, temperature span, samples per °C, hysteresis),
   ``model.json`` and ``report.csv``/``report.md``.
 - :func:`write_exports`: ``--export px4 FILE`` / ``--export ardupilot FILE`` through
@@ -30,11 +31,10 @@ from inertialab.result import ResultBase
 if TYPE_CHECKING:  # pandas and the fit load when a command runs, not when it starts
     import pandas as pd
 
-    from inertialab.calib.thermal_imu import FitSettings
-
-__all__ = ["EXPORT_HELP", "EXPORT_TARGETS", "FIT_SETTINGS_TAKEN", "IMU_HELP", "given", "ImuApplyResult", "ImuFitResult", "ThermalImuSimConfig",
-           "fit_settings", "pair_exports", "report_table", "run_imu_apply",
-           "run_imu_fit", "simulated", "write_exports"]
+__all__ = ["EXPORT_HELP", "EXPORT_TARGETS", "FIT_SETTINGS_TAKEN", "IMU_HELP", "given",
+           "ImuApplyResult", "ImuFitResult", "ThermalImuSimConfig", "fit_settings",
+           "imu_config", "pair_exports", "report_table", "run_imu_apply", "run_imu_fit",
+           "simulated", "write_exports"]
 
 EXPORT_TARGETS = ("px4", "ardupilot")
 #: Help of the IMU switch of ``thermal fit`` and of its export option.
@@ -49,6 +49,23 @@ def given(source_of) -> set:
     """The names of :data:`FIT_SETTINGS_TAKEN` the user gave; ``source_of(name)`` is the
     command line's parameter source (its ``name`` is ``DEFAULT`` when not given)."""
     return {k for k in FIT_SETTINGS_TAKEN if getattr(source_of(k), "name", "DEFAULT") != "DEFAULT"}
+
+
+def imu_config(config, given):
+    """``thermal fit``'s ``config`` as the IMU fit takes it: each setting of
+    :data:`FIT_SETTINGS_TAKEN` the user did not give (``given``: the names given) takes the
+    IMU fit's default (:class:`~inertialab.calib.thermal_imu.FitSettings`: poly, 50
+    epochs, 5 fish, 5 generations; the ANFIS study's 150/10/30 would cost minutes per
+    axis); checked by those settings' rules (one-line error naming the argument)."""
+    from dataclasses import replace
+
+    from inertialab.calib.thermal_imu import FitSettings
+
+    imu_default = FitSettings()
+    out = replace(config, **{k: getattr(imu_default, k) for k in FIT_SETTINGS_TAKEN
+                             if k not in given})
+    FitSettings.of(out)
+    return out
 
 
 def pair_exports(targets, files) -> list:
@@ -150,22 +167,26 @@ class ImuFitResult(ResultBase):
                   "samples/°C", "hysteresis", "order-3 form (held-out RMS)"], rows)]
 
 
-def run_imu_fit(log, settings: FitSettings, *, exports=(), caltemp_c: float | None = None
+def run_imu_fit(log, config, *, exports=(), caltemp_c: float | None = None
                 ) -> ImuFitResult:
-    """Fit every sensor instance of a read log (module docstring) and write the
-    ``exports`` ``(target, path)`` pairs (:func:`pair_exports`)."""
+    """Fit every sensor instance of a read log (module docstring) with ``config``, the
+    command's settings read by their flags' names (``thermal fit``'s Config as
+    :func:`imu_config` gives it, or any object with the names of
+    :class:`~inertialab.calib.thermal_imu.FitSettings`; what it lacks takes the defaults
+    there), and write the ``exports`` ``(target, path)`` pairs (:func:`pair_exports`)."""
     from inertialab.calib.thermal_imu import fit_imu_model
 
-    fit = fit_imu_model(log, settings)
+    fit = fit_imu_model(log, config)
     for s in fit.model.sensors:
         if s["span_c"] < 30.0:
             fit.warnings.append(f"{s['kind']} {s['instance']}: the log spans only "
                                 f"{s['span_c']:.1f} °C; outside it the firmware clamps")
-    st = {"imu": True, "method": settings.method, "bin_s": settings.bin_s,
-          "max_order": settings.max_order, "min_span_c": settings.min_span_c,
-          "n_blocks": settings.n_blocks, "seed": settings.seed}
-    if settings.method != "poly":
-        st.update(epochs=settings.epochs, fish=settings.fish, generations=settings.generations)
+    used = fit.settings
+    st = {"imu": True, "method": used.method, "bin_s": used.bin_s,
+          "max_order": used.max_order, "min_span_c": used.min_span_c,
+          "n_blocks": used.n_blocks, "seed": used.seed}
+    if used.method != "poly":
+        st.update(epochs=used.epochs, fish=used.fish, generations=used.generations)
     res = ImuFitResult(fit=fit, table=report_table(fit.model), settings=st, sha256=log.sha256)
     res.exports = write_exports(fit.model, exports, caltemp_c=caltemp_c)
     return res
@@ -249,15 +270,17 @@ def run_imu_apply(model, log, *, out, source: str | None = None) -> ImuApplyResu
                           sha256=log.sha256)
 
 
-def fit_settings(config, given) -> FitSettings:
-    """The fit's settings from ``thermal fit``'s (``config``: method, seed, epochs, fish,
-    generations); a setting the user did not give (``given``: the names given) takes the
-    IMU default (poly, 50 epochs, 5 fish, 5 generations)."""
+def fit_settings(config, given):
+    """Deprecated (:class:`DeprecationWarning`): :func:`run_imu_fit` takes the command's
+    Config itself; ``imu_config(config, given)`` gives it with the IMU fit's defaults.
+    Returns that as a :class:`~inertialab.calib.thermal_imu.FitSettings`."""
+    import warnings
+
     from inertialab.calib.thermal_imu import FitSettings
 
-    kw = {k: getattr(config, k) for k in ("epochs", "fish", "generations") if k in given}
-    return FitSettings(method=config.method if "method" in given else "poly",
-                       seed=config.seed, **kw).validate()
+    warnings.warn("fit_settings is deprecated: pass imu_config(config, given) to run_imu_fit",
+                  DeprecationWarning, stacklevel=2)
+    return FitSettings.of(imu_config(config, given))
 
 
 @dataclass(frozen=True)
