@@ -91,3 +91,17 @@ def test_a_stray_argument_is_refused(fitted, capsys, tmp_path):
     code, _, err = run(capsys, "thermal", "fit", fitted / "cal.csv", "extra.txt", "--imu",
                        "--out", tmp_path / "o")
     assert code == 2 and "unexpected argument 'extra.txt'" in err
+
+
+def test_method_names_follow_the_imu_switch(fitted, capsys, tmp_path):
+    # --imu takes the drone fit's methods (poly is its default, given here explicitly);
+    # the ANFIS study without --imu refuses poly, naming its own methods
+    code, out, err = run(capsys, "thermal", "fit", fitted / "cal.csv", "--imu", "--method",
+                         "poly", "--json")
+    assert code == 0, err
+    assert json.loads(out)["settings"]["method"] == "poly"
+    code, _, err = run(capsys, "thermal", "fit", fitted / "cal.csv", "--method", "poly")
+    assert code == 2 and "--method" in err and "iafsa-scm-anfis" in err
+    code, _, err = run(capsys, "thermal", "fit", fitted / "cal.csv", "--imu", "--method",
+                       "fis")
+    assert code == 2 and "--method" in err and "poly" in err

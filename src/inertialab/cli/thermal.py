@@ -67,7 +67,6 @@ def _apply_command(name: str):
 def thermal_fit(
     ctx: typer.Context,
     file: Annotated[Path, typer.Argument(help="thermal_tumble record (CSV or Parquet).")],
-    imu: Annotated[bool, typer.Option("--imu", help=wi.IMU_HELP)] = False,
     export: Annotated[list[str] | None, typer.Option("--export", help=wi.EXPORT_HELP)] = None,
     *, config, run, read: ReadOptions | None = None,
 ):
@@ -76,7 +75,7 @@ def thermal_fit(
     --out writes model.json (IAFSA-SCM-ANFIS when fitted, else the first method),
     models/ (every method), result.json and figures of the saved model."""
     pairs, given = wi.pair_exports(export, ctx.args), wi.given(ctx.get_parameter_source)
-    if imu or export:  # a drone IMU temperature ramp (docs/thermal-imu.md)
+    if config.imu or export:  # a drone IMU temperature ramp (docs/thermal-imu.md)
         imu_config = wi.imu_config(config, given)  # refuse bad settings before reading
         return run.execute("thermal fit --imu", lambda bar: wi.run_imu_fit(
             _read_imu(file), imu_config, exports=pairs),

@@ -681,7 +681,7 @@ OLD_SPELLINGS = {"methods": "method", "fish_visual": "visual", "fish_step": "ste
 #: Fields of :class:`FitConfig` that ``settings`` does not write (the paper's fixed
 #: choices, settable from the library only); ``reference_temp_c`` is written as the run
 #: decided it (the record's sidecar, else the setting).
-NOT_WRITTEN = ("test_positions", "val_fraction", "include_kp", "reference_temp_c",
+NOT_WRITTEN = ("imu", "test_positions", "val_fraction", "include_kp", "reference_temp_c",
                "temp_tolerance_c", "r_max", "ann_hidden", "ann_max_epochs", "poly_sep_degree",
                "poly2d_degrees", "range_margin_c", "range_margin_frac")
 
@@ -728,6 +728,10 @@ class FitConfig(_Settings):
     method: str = setting("iafsa-scm-anfis", help="iafsa-scm-anfis | scm-anfis | anfis "
                                                           "| fis | ann | poly-sep | poly-2d | "
                                                           "all (or a comma list)")
+    imu: bool = setting(False, help="FILE is a drone IMU temperature ramp (PX4 .ulg, "
+                        "ArduPilot .bin or table): fit every gyro and accelerometer "
+                        "instance (docs/thermal-imu.md); the method is then one of poly | "
+                        "scm-anfis | iafsa-scm-anfis.")
     split: str = setting("random", help="random | interp_T | leave_one_T_out | up_down",
                          choices=("random", "interp_T", "leave_one_T_out", "up_down"))
     target: str = setting("linear55", help="linear55 | measured55",
@@ -777,6 +781,8 @@ class FitConfig(_Settings):
         """The declared bounds and choices, the methods, the (0, 1] settings and what
         POLY-SEP needs; one :class:`InputError` naming the argument."""
         super().validate()
+        if self.imu:  # the drone-IMU fit checks its own methods (thermal_imu.imu_config)
+            return self
         methods = self.methods
         for name in _UNIT_INTERVAL:
             v = getattr(self, name)

@@ -31,15 +31,13 @@ from inertialab.result import ResultBase
 if TYPE_CHECKING:  # pandas and the fit load when a command runs, not when it starts
     import pandas as pd
 
-__all__ = ["EXPORT_HELP", "EXPORT_TARGETS", "FIT_SETTINGS_TAKEN", "IMU_HELP", "given",
+__all__ = ["EXPORT_HELP", "EXPORT_TARGETS", "FIT_SETTINGS_TAKEN", "given",
            "ImuApplyResult", "ImuFitResult", "ThermalImuSimConfig", "fit_settings",
            "imu_config", "pair_exports", "report_table", "run_imu_apply", "run_imu_fit",
            "simulated", "write_exports"]
 
 EXPORT_TARGETS = ("px4", "ardupilot")
-#: Help of the IMU switch of ``thermal fit`` and of its export option.
-IMU_HELP = ("FILE is a drone IMU temperature ramp (PX4 .ulg, ArduPilot .bin or table); "
-            "docs/thermal-imu.md.")
+#: Help of the export option of ``thermal fit`` (its IMU switch is ``FitConfig.imu``).
 EXPORT_HELP = "With the IMU switch: px4 | ardupilot, its FILE after the log (repeatable)."
 #: The fit settings of ``thermal fit`` the IMU fit takes when given (else its defaults).
 FIT_SETTINGS_TAKEN = ("method", "epochs", "fish", "generations")
