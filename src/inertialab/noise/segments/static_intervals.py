@@ -179,6 +179,29 @@ def _time_checks(t, rate_hz: float | None):
     return t, float(rate_hz)
 
 
+def _kept_runs(t, static, fs: float, min_duration_s: float, trim_s: float):
+    """``(start, stop)`` sample indices of the static runs of ``static`` (a gap longer
+    than 2/fs ends a run) at least ``min_duration_s`` long, ``trim_s`` cut from each end."""
+    gap = np.r_[False, np.diff(t) > 2.0 / fs]
+    edges = np.diff(np.r_[0, static.astype(np.int8), 0])
+    runs = []
+    for a0, b0 in zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)):
+        cuts = a0 + np.flatnonzero(gap[a0 + 1:b0]) + 1
+        bounds = np.r_[a0, cuts, b0]
+        runs.extend(zip(bounds[:-1], bounds[1:]))
+    ks, ke = [], []
+    dt = 1.0 / fs
+    for a0, b0 in runs:
+        if t[b0 - 1] - t[a0] + dt < min_duration_s - 1e-9:
+            continue
+        keep = np.flatnonzero((t[a0:b0] >= t[a0] + trim_s - 1e-9) & (t[a0:b0] <= t[b0 - 1] - trim_s + 1e-9))
+        if keep.size < 2:
+            continue
+        ks.append(a0 + keep[0])
+        ke.append(a0 + keep[-1] + 1)
+    return np.asarray(ks, dtype=int), np.asarray(ke, dtype=int)
+
+
 def detect_static_intervals(t, acc, *, window_s: float = 1.0, t_init_s: float = 10.0,
                             k_thr: float = 6.0, threshold: float | None = None,
                             min_duration_s: float = 1.5, trim_s: float = 0.25,
@@ -256,28 +279,7 @@ def detect_static_intervals(t, acc, *, window_s: float = 1.0, t_init_s: float = 
     static = s <= tau
     if gyro is not None and static.any():
         static = static & gyro_rest(gyro, static, fs, k_gyro=k_gyro).rest
-    # a gap > 2/fs ends any static run
-    gap = np.r_[False, np.diff(t) > 2.0 / fs]
-    edges = np.diff(np.r_[0, static.astype(np.int8), 0])
-    starts = np.flatnonzero(edges == 1)
-    stops = np.flatnonzero(edges == -1)
-    runs = []
-    for a0, b0 in zip(starts, stops):
-        cuts = a0 + np.flatnonzero(gap[a0 + 1:b0]) + 1
-        bounds = np.r_[a0, cuts, b0]
-        runs.extend(zip(bounds[:-1], bounds[1:]))
-    ks, ke = [], []
-    dt = 1.0 / fs
-    for a0, b0 in runs:
-        if t[b0 - 1] - t[a0] + dt < min_duration_s - 1e-9:
-            continue
-        keep = np.flatnonzero((t[a0:b0] >= t[a0] + trim_s - 1e-9) & (t[a0:b0] <= t[b0 - 1] - trim_s + 1e-9))
-        if keep.size < 2:
-            continue
-        ks.append(a0 + keep[0])
-        ke.append(a0 + keep[-1] + 1)
-    start = np.asarray(ks, dtype=int)
-    stop = np.asarray(ke, dtype=int)
+    start, stop = _kept_runs(t, static, fs, min_duration_s, trim_s)
     mean = np.array([a[i:j].mean(axis=0) for i, j in zip(start, stop)]).reshape(-1, 3)
     sd = np.array([a[i:j].std(axis=0, ddof=1) for i, j in zip(start, stop)]).reshape(-1, 3)
     return StaticIntervals(

@@ -200,8 +200,7 @@ def fit_noise_terms(result, *, unit: str, kind: str | None = "gyro", method: str
     >>> terms.N.unit, bool(abs(terms.N.value - 0.6) < 0.03)
     ('deg/sqrt(h)', True)
     >>> float(terms.K.value), float(terms.R.value)
-    (0.0, 0.0)
-    """
+    (0.0, 0.0)"""
     conv = _Converter(unit, kind, g_local)
     if method not in ("wls", "ols", "slope", "gmwm"):
         raise InputError(f"unknown noise-term method '{method}' (use wls, ols, slope, gmwm)")
@@ -231,10 +230,8 @@ def fit_noise_terms(result, *, unit: str, kind: str | None = "gyro", method: str
     else:
         terms = fit_ls(result, sel, conv, rate_hz, method, n_reweight, confidence, n_boot,
                        seed, band=b_shape == "band")
-    from inertialab.noise.terms._bounds import bounded_terms
-
-    # B within the curve, unresolved -> bound; the EDF under the fitted model
-    terms = bounded_terms(terms, result, conv, model_intervals(result, terms))
+    from inertialab.noise.terms._bounds import bounded_terms  # B within the curve, unresolved
+    terms = bounded_terms(terms, result, conv, model_intervals(result, terms))  # -> bound
     return replace(terms, lines=lines) if lines else terms
 
 
