@@ -38,15 +38,16 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from inertialab import units as U
+from inertialab.config import DEFAULT_CONFIDENCE
 from inertialab.errors import InputError
 from inertialab.noise.terms.imu_result import SI_UNITS as _SI
 from inertialab.noise.terms.imu_result import AxisNoise, IMUNoise, term_text
 from inertialab.result import ResultBase
 from inertialab.workflows.imu_drift import AXES, axis_columns
 
-__all__ = ["AXES", "AxisNoise", "IMUNoise", "SixAxisRun", "analyse_imu", "analyse_record",
-           "check_log", "check_settings", "export_pairs", "export_refusal", "export_yaml",
-           "reading", "run", "term_text", "write_exports"]
+__all__ = ["AXES", "B_RULE", "AxisNoise", "IMUNoise", "SixAxisRun", "analyse_imu",
+           "analyse_record", "check_log", "check_settings", "export_pairs", "export_refusal",
+           "export_yaml", "fit_axis_terms", "reading", "run", "term_text", "write_exports"]
 
 # AxisNoise, IMUNoise and term_text live in inertialab.noise.terms.imu_result (the result is the
 # noise floor's; the exporters above read it typed); imported here, the workflow's face.
@@ -89,8 +90,9 @@ def _axis(name: str, column: str, y, unit: str, *, rate_hz: float, taus, method:
                       DataQualityWarning, stacklevel=3)
         return AxisNoise(**blank, status="not static", reason=why)
     try:
-        terms = _fit_terms(fit_y, dev, unit, kind, method, rate_hz, tau_range_s, g_local,
-                           column, confidence)
+        terms = fit_axis_terms(fit_y, dev, unit, kind, method, rate_hz=rate_hz,
+                               tau_range_s=tau_range_s, g_local=g_local, column=column,
+                               confidence=confidence)
     except InputError as exc:  # this axis's curve holds no terms; the others go on
         if tau_range_s is not None:
             raise
@@ -122,7 +124,7 @@ def _axis(name: str, column: str, y, unit: str, *, rate_hz: float, taus, method:
     b_bound = "upper_bound" in terms.B.flags or "not_observable" in terms.B.flags
     # the table's B in SI: the bound itself where B is a bound (the JSON value alike)
     b_rep = terms.B.upper_bound if b_bound else terms.B.value
-    b = to_si(b_rep / _report_factor(terms, "B")) if np.isfinite(b_rep) and b_rep > 0 else nan
+    b = to_si(b_rep / _report_factor(terms, "B")) if np.isfinite(b_rep) and b_rep >= 0 else nan
     axis = AxisNoise(axis=name, column=column, kind=kind, unit=unit, deviation=dev,
                      terms=terms, noise_density=float(density), random_walk=float(rw),
                      random_walk_bound=k_bound, bias_instability=float(b),
@@ -164,17 +166,31 @@ def _deviation(y, rate_hz, taus, confidence):
     return oadev(y, rate_hz=rate_hz, taus=taus, confidence=confidence)
 
 
-def _fit_terms(y, dev, unit, kind, method, rate_hz, tau_range_s, g_local, column, confidence):
-    """The noise terms of one axis, with the record's spectral lines in the model."""
+#: how every six-axis B is held to its curve (:mod:`inertialab.noise.terms._bounds`): each
+#: B, estimate or bound, at most 1.05 min(ADEV)/0.664 of the axis's curve, the number a
+#: filter's user copies
+B_RULE = "literal"
+
+
+def fit_axis_terms(y, dev, unit: str, kind: str, method: str = "wls", *, rate_hz: float,
+                   tau_range_s=None, g_local: float = U.G_STANDARD, column=None,
+                   confidence: float = DEFAULT_CONFIDENCE["imu"], lines=None,
+                   **fit_options):
+    """The noise terms of one axis as ``allan --imu`` shows them: the samples ``y`` and
+    their curve ``dev`` fitted by :func:`inertialab.noise.terms.fit.fit_noise_terms`
+    with the record's spectral lines in the model (``lines``: found here when None) and
+    B held by :data:`B_RULE`; ``fit_options`` go to the fit (``b_shape``, ``n_boot``,
+    ``seed``). An :class:`InputError` names ``column``."""
     from inertialab.noise.spectral.lines import spectral_lines
     from inertialab.noise.terms.fit import fit_noise_terms
 
-    finite = y[np.isfinite(y)]
-    lines = spectral_lines(finite, rate_hz) if finite.size == y.size else ()
+    if lines is None:
+        finite = y[np.isfinite(y)]
+        lines = spectral_lines(finite, rate_hz) if finite.size == y.size else ()
     try:
         return fit_noise_terms(dev, unit=unit, kind=kind, method=method, rate_hz=rate_hz,
                                tau_range_s=tau_range_s, g_local=g_local, lines=lines,
-                               confidence=confidence)
+                               confidence=confidence, b_rule=B_RULE, **fit_options)
     except InputError as exc:
         raise InputError(str(exc), column=column) from None
 

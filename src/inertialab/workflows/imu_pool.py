@@ -148,10 +148,12 @@ def _fit(dev, unit: str, kind: str, method: str, rate_hz: float, g: float, confi
     """The noise terms of a curve by ``method`` (``wls-flicker``: WLS with IEEE 952's
     flicker B, :func:`inertialab.noise.terms.fit.fit_noise_terms` ``b_shape="flicker"``)."""
     from inertialab.noise.terms.fit import fit_noise_terms
+    from inertialab.workflows.imu_noise import B_RULE
 
     shape = "flicker" if method == "wls-flicker" else "band"
     return fit_noise_terms(dev, unit=unit, kind=kind, method=method.replace("-flicker", ""),
-                           rate_hz=rate_hz, g_local=g, confidence=confidence, b_shape=shape)
+                           rate_hz=rate_hz, g_local=g, confidence=confidence, b_shape=shape,
+                           b_rule=B_RULE)
 
 
 def choose_model(curves, rates, unit, kind, candidates, g, confidence) -> dict:
@@ -221,7 +223,7 @@ def pooled_axis(name, column, unit, dev, terms, g):
     """An :class:`~inertialab.workflows.imu_noise.AxisNoise` of pooled terms: the SI
     densities as ``allan --imu`` reports them (a K or B that is a bound as its upper
     end)."""
-    from inertialab.workflows.imu_noise import BI, AxisNoise, _report_factor
+    from inertialab.workflows.imu_noise import AxisNoise, _report_factor
 
     kind = AXES[name]
 
@@ -239,9 +241,11 @@ def pooled_axis(name, column, unit, dev, terms, g):
     else:
         rw, k_bound = nan, True
     b_bound = not terms.B.significant
-    b = si(math.sqrt(c[2]) / BI) if c[2] > 0 else nan
-    if b_bound and math.isfinite(terms.B.upper_bound) and terms.B.value > 0:
-        b *= terms.B.upper_bound / terms.B.value
+    # the B the table and JSON show (its bound where it is one, the held reading where
+    # the curve holds it: noise.terms._bounds), in SI
+    b_rep = terms.B.upper_bound if b_bound else terms.B.value
+    b = si(b_rep / _report_factor(terms, "B")) if math.isfinite(b_rep) and b_rep >= 0 \
+        else nan
     return AxisNoise(axis=name, column=column, kind=kind, unit=unit, deviation=dev,
                      terms=terms, noise_density=float(dens), random_walk=float(rw),
                      random_walk_bound=k_bound, bias_instability=float(b),
@@ -275,6 +279,7 @@ def pool_axis(name, logs, *, candidates, confidence, drift=None, y_check=None,
     """``(AxisNoise, extras)`` of one axis pooled over ``logs`` (module docstring)."""
     from scipy.special import ndtri
 
+    from inertialab.noise.terms.fit import held_to_curve
     from inertialab.noise.terms.pooled import homogeneity, joins_at, pool_curves
     from inertialab.workflows.imu_segments import axis_stationarity, stationarity_text
 
@@ -295,6 +300,8 @@ def pool_axis(name, logs, *, candidates, confidence, drift=None, y_check=None,
     shortest = min(len(lg.columns[name][1]) / lg.rate_hz for lg in logs)
     between = homogeneity(curves, rates, max_tau_s=shortest / 16.0)
     curve = pool_curves(curves, rates, confidence)
+    # the widened B read again against the pooled curve it came from (every B within it)
+    widened = held_to_curve(widened, curve)
     axis = pooled_axis(name, col, unit, curve, widened, g)
     if drift is not None:
         from inertialab.workflows.imu_drift import axis_drift

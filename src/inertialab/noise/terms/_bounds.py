@@ -3,22 +3,41 @@
 * **B within the curve**: a flicker floor of bias instability ``B`` holds the Allan
   deviation at ``0.664 B`` where it is flat (IEEE 952 C.1: sqrt(2 ln2 / pi) B), and the
   other terms only add to it, so the textbook reading is ``B <= min(ADEV) / 0.664``
-  (the minimum over the curve's points). A B that is only a bound is held to
-  :data:`B_SCATTER` times that (1.05 for the scatter of the minimum). A significant
-  estimate is held to the curve's minimum *with its interval*: 1.05 x the least
-  simultaneous 95 % upper limit of the curve's points / 0.664 (each point's one-sided
-  upper limit at 1 - 0.05/k over the k points, the EDF of the fitted model's noise type
-  where the curve's own identification is weak: :func:`inertialab.noise.terms.fit.
-  model_intervals`, the sampling law under the model the estimate states); above
-  1.05 x min(ADEV)/0.664 it is flagged ``above_curve_minimum`` with both readings in
-  its reason. Why not the literal minimum for an estimate: a band-limited flicker's
-  curve falls below 0.664 B past its longest corner, and the last points scatter at
-  EDF ~2-6. On the simulated ``allan-bi`` preset (10 h, 10 Hz; Gauss–Markov corners
-  to 3,000 s) the *true* curve's minimum over the octave taus is 0.0755 deg/h x 0.664
-  at 13,107 s, 24.5 % below its B = 0.1 deg/h; over 20 seeds the reading
-  1.05 min(ADEV)/0.664 is within 20 % of the truth on 7 (median 0.66x), the minimum
-  lying at the last two taus (EDF 1.5-6) on 11 (``python -m benchmarks.edf_coverage
-  --literal``). Held to it, B would be that reading.
+  (the minimum over the curve's points). Two rules (:data:`B_RULES`), chosen by the
+  caller (:func:`inertialab.noise.terms.fit.fit_noise_terms` ``b_rule``):
+
+  ``"literal"`` (the numbers a user copies into a filter: ``allan --imu``, one log or
+  ``--pool``, its table, JSON and exports)
+      Every B, estimate or bound, is at most :data:`B_SCATTER` x min(ADEV)/0.664 of the
+      curve it was read from (1.05 for the scatter of the minimum; the minimum over the
+      curve's points after what the fit took off, the spectral lines, and over the
+      record's own curve, which bounds the noise at a tau the line removal left out). A
+      bound above it is that reading as a bound; a significant estimate above it is held
+      to the reading, and stays an estimate (IEEE 952's own reading of B from the flat
+      bottom): value = the reading, interval clipped to it (its lower end the model's,
+      or the curve minimum's own lower limit where the model's lies above the
+      reading), flag :data:`HELD` and a reason giving the model's own estimate and its
+      interval. :func:`held_to_curve` applies it to terms fitted elsewhere (the pooled
+      terms, after their interval is widened by the between-log spread).
+  ``"interval"`` (the default: spec 001's single-series fit, ``allan`` without
+  ``--imu``, the vibration study)
+      A bound is held as above. A significant estimate is held to the curve's minimum
+      *with its interval*: 1.05 x the least simultaneous 95 % upper limit of the curve's
+      points / 0.664 (each point's one-sided upper limit at 1 - 0.05/k over the k
+      points, the EDF of the fitted model's noise type where the curve's own
+      identification is weak: :func:`inertialab.noise.terms.fit.model_intervals`, the
+      sampling law under the model the estimate states); above 1.05 x min(ADEV)/0.664
+      it is flagged ``above_curve_minimum`` with both readings in its reason. Why the
+      default keeps this: spec 001 §6.2 asks the single-series fit to recover the
+      simulated ``allan-bi`` preset's B within 20 % on 18 of 20 seeds, and a
+      band-limited flicker's curve falls below 0.664 B past its longest corner, the
+      last points scattering at EDF ~2-6. On ``allan-bi`` (10 h, 10 Hz; Gauss–Markov
+      corners to 3,000 s) the *true* curve's minimum over the octave taus is
+      0.0755 deg/h x 0.664 at 13,107 s, 24.5 % below its B = 0.1 deg/h; over 20 seeds
+      the reading 1.05 min(ADEV)/0.664 is within 20 % of the truth on 7 (median
+      0.66x), the minimum lying at the last two taus (EDF 1.5-6) on 11 (``python -m
+      benchmarks.edf_coverage --literal``). The literal rule would fail the spec there;
+      a filter's user, who copies one number, is given the reading the curve supports.
 * **A term whose lower limit is below** :data:`RESOLVED` **of its value is a bound**:
   ``239 [0, 545]`` says nothing beyond ``<= 545``.
 
@@ -42,8 +61,13 @@ B_SCATTER = 1.05
 SIMULTANEOUS = 0.95
 #: a lower limit below this fraction of the value leaves the term unresolved
 RESOLVED = 1e-3
+#: how a B is held to its curve (module text); the first is the default
+B_RULES = ("interval", "literal")
+#: the flag of a significant B held to the literal reading (``"literal"`` rule)
+HELD = "held_to_curve_minimum"
 
-__all__ = ["B_SCATTER", "RESOLVED", "SIMULTANEOUS", "b_ceiling", "bounded_terms"]
+__all__ = ["B_RULES", "B_SCATTER", "HELD", "RESOLVED", "SIMULTANEOUS", "b_ceiling",
+           "bounded_terms", "curve_reading", "held_to_curve"]
 
 
 def b_ceiling(result, factor: float, *, upper: bool = False) -> float:
@@ -64,6 +88,28 @@ def b_ceiling(result, factor: float, *, upper: bool = False) -> float:
     _, hi = chi2_interval(d[ok], e, 1.0 - 2.0 * (1.0 - SIMULTANEOUS) / int(ok.sum()))
     hi = hi[np.isfinite(hi)]
     return B_SCATTER * float(hi.min()) / BI * factor if hi.size else float("nan")
+
+
+def curve_reading(curves, factor: float) -> tuple[float, float]:
+    """``(ceiling, lower)`` of the literal rule over ``curves`` (deviation results, None
+    skipped): ceiling ``B_SCATTER * min(ADEV) / 0.664`` over every point of every curve
+    with a positive deviation, and the reading ``min(ADEV)/0.664``'s own lower limit
+    (that point's ``ci_low``), both in the B report unit (``factor``: report value per
+    data-unit amplitude); NaNs where no curve has a point."""
+    best, low = math.inf, math.nan
+    for r in curves:
+        if r is None:
+            continue
+        d = np.asarray(r.dev, dtype=float)
+        ok = np.isfinite(d) & (d > 0)
+        if not ok.any():
+            continue
+        i = int(np.flatnonzero(ok)[np.argmin(d[ok])])
+        if d[i] < best:
+            best, low = float(d[i]), float(np.asarray(r.ci_low, dtype=float)[i])
+    if not math.isfinite(best):
+        return math.nan, math.nan
+    return B_SCATTER * best / BI * factor, low / BI * factor
 
 
 def _as_bound(term, upper: float, why: str):
@@ -117,15 +163,59 @@ def _b_within(term, cap: float, cap_upper: float):
     return term
 
 
-def bounded_terms(terms, result, conv, under_model):
+def _b_literal(term, cap: float, low: float):
+    """B under the literal rule: a bound to ``cap``; a significant estimate above ``cap``
+    held to it (value ``cap``, interval clipped, flag :data:`HELD`, its own estimate in
+    the reason; ``low``: the reading's own lower limit, the interval's lower end where
+    the model's lies above ``cap``); a held estimate's interval clipped to its value
+    again (after the pooled widening)."""
+    if not math.isfinite(cap) or "not_observable" in term.flags:
+        return term
+    if "upper_bound" in term.flags:
+        return _b_within(term, cap, math.nan)
+    v = term.value
+    lo, hi = (float(c) for c in term.ci)
+    if math.isfinite(v) and v > cap:
+        low = low if math.isfinite(low) and low < cap else cap
+        own = f"{v:.4g} [{lo:.4g}, {hi:.4g}]" if math.isfinite(lo) and math.isfinite(hi) \
+            else f"{v:.4g}"
+        why = (f"held to {B_SCATTER:g} x min(ADEV)/0.664 = {cap:.4g} {term.unit}, IEEE "
+               f"952's reading of B from the curve's flat bottom (the most bias instability "
+               f"the curve allows); the model's own estimate {own} {term.unit}")
+        return replace(term, value=float(cap),
+                       ci=(lo if math.isfinite(lo) and lo < cap else low, float(cap)),
+                       flags=(*term.flags, HELD),
+                       reason=f"{term.reason}; {why}" if term.reason else why)
+    if HELD in term.flags and math.isfinite(hi) and hi > v:
+        return replace(term, ci=(min(lo, v), float(v)))
+    return term
+
+
+def held_to_curve(terms, *curves):
+    """``terms`` with B under the literal rule (module text) against ``curves``, the
+    curve(s) it was read from: for terms whose B was fitted or widened elsewhere (the
+    pooled terms: :mod:`inertialab.workflows.imu_pool`)."""
+    b = _b_literal(terms.B, *curve_reading(curves, terms.report_factor("B")))
+    return terms if b is terms.B else replace(terms, B=b)
+
+
+def bounded_terms(terms, result, conv, under_model, *, b_rule: str = "interval",
+                  raw=None):
     """``terms`` (a :class:`~inertialab.noise.terms.base.NoiseTerms`) with the rules of
     the module text applied against the curve ``result`` they were read from; ``conv``
     the fit's unit converter; ``under_model`` the curve with its intervals under the
     fitted model (:func:`~inertialab.noise.terms.fit.model_intervals`, which the fit
-    passes: this module does not import the fit)."""
+    passes: this module does not import the fit); ``b_rule`` one of :data:`B_RULES`;
+    ``raw``: the record's own curve where ``result`` is it less the spectral lines (the
+    literal rule reads the minimum over both)."""
+    if b_rule not in B_RULES:
+        raise ValueError(f"b_rule must be one of {B_RULES}, got {b_rule!r}")
     new = {name: _unresolved(getattr(terms, name)) for name in ("Q", "N", "B", "K", "R")}
     f = conv.factor("B")
-    new["B"] = _b_within(new["B"], b_ceiling(result, f),
-                         b_ceiling(under_model, f, upper=True))
+    if b_rule == "literal":
+        new["B"] = _b_literal(new["B"], *curve_reading((result, raw), f))
+    else:
+        new["B"] = _b_within(new["B"], b_ceiling(result, f),
+                             b_ceiling(under_model, f, upper=True))
     changed = {k: v for k, v in new.items() if v is not getattr(terms, k)}
     return replace(terms, **changed) if changed else terms

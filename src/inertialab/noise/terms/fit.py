@@ -80,6 +80,7 @@ from inertialab import units
 from inertialab.errors import InputError
 from inertialab.noise.gmwm.fit import fit_gmwm_curve
 from inertialab.noise.gmwm.terms import gmwm_noise_terms
+from inertialab.noise.terms._bounds import B_RULES, bounded_terms, held_to_curve
 from inertialab.noise.terms._slope import fit_slope
 from inertialab.noise.terms.base import (  # noqa: F401 - the public names live on here too
     _GAIN,
@@ -140,7 +141,7 @@ def fit_noise_terms(result, *, unit: str, kind: str | None = "gyro", method: str
                     g_local: float = units.G_STANDARD, n_reweight: int = 5,
                     confidence: float = CONFIDENCE, n_boot: int | None = None, seed: int = 0,
                     auto_range: bool = True, b_shape: str = "band",
-                    lines=()) -> NoiseTerms:
+                    lines=(), b_rule: str = "interval") -> NoiseTerms:
     """Fit Q N B K R to a :class:`~inertialab.noise.statistics.allan.DeviationResult`.
 
     Parameters
@@ -182,6 +183,12 @@ def fit_noise_terms(result, *, unit: str, kind: str | None = "gyro", method: str
         their Allan variance (IEEE 952 sinusoidal term) is taken off the curve before the
         fit, taus where a line carries more than half the Allan variance are left out,
         and the lines are part of the returned model (:attr:`NoiseTerms.lines`).
+    b_rule : {"interval", "literal"}, default "interval"
+        How B is held to the curve (:mod:`inertialab.noise.terms._bounds`): "literal"
+        holds every B, estimate or bound, to 1.05 min(ADEV)/0.664 (what ``allan --imu``
+        shows a filter's user); the default holds a significant estimate to the curve's
+        least simultaneous 95 % upper limit instead (spec 001's recovery of a
+        band-limited flicker B).
 
     Raises
     ------
@@ -202,17 +209,12 @@ def fit_noise_terms(result, *, unit: str, kind: str | None = "gyro", method: str
     >>> float(terms.K.value), float(terms.R.value)
     (0.0, 0.0)"""
     conv = _Converter(unit, kind, g_local)
-    if method not in ("wls", "ols", "slope", "gmwm"):
-        raise InputError(f"unknown noise-term method '{method}' (use wls, ols, slope, gmwm)")
-    if not 0 < confidence < 1:
-        raise InputError(f"confidence must be in (0, 1), got {confidence}")
-    if b_shape not in ("band", "flicker"):
-        raise InputError(f"b_shape must be 'band' or 'flicker', got {b_shape!r}")
+    _check_options(method, confidence, b_shape, b_rule)
     if rate_hz is None:
         rate_hz = 1.0 / float(result.tau0_s)
     if n_boot is None:
         n_boot = 50 if method == "gmwm" else N_BOOT
-    lines = tuple(lines or ())
+    lines, raw = tuple(lines or ()), result
     if lines:
         result = _without_lines(result, lines)
     sel, _ = _select(result, tau_range_s, auto_range and method != "gmwm")
@@ -230,9 +232,22 @@ def fit_noise_terms(result, *, unit: str, kind: str | None = "gyro", method: str
     else:
         terms = fit_ls(result, sel, conv, rate_hz, method, n_reweight, confidence, n_boot,
                        seed, band=b_shape == "band")
-    from inertialab.noise.terms._bounds import bounded_terms  # B within the curve, unresolved
-    terms = bounded_terms(terms, result, conv, model_intervals(result, terms))  # -> bound
+    # B within the curve, an unresolved term a bound (noise.terms._bounds)
+    terms = bounded_terms(terms, result, conv, model_intervals(result, terms),
+                          b_rule=b_rule, raw=raw)
     return replace(terms, lines=lines) if lines else terms
+
+
+def _check_options(method: str, confidence: float, b_shape: str, b_rule: str) -> None:
+    """Refuse a setting of :func:`fit_noise_terms` outside its choices."""
+    if method not in ("wls", "ols", "slope", "gmwm"):
+        raise InputError(f"unknown noise-term method '{method}' (use wls, ols, slope, gmwm)")
+    if not 0 < confidence < 1:
+        raise InputError(f"confidence must be in (0, 1), got {confidence}")
+    if b_shape not in ("band", "flicker"):
+        raise InputError(f"b_shape must be 'band' or 'flicker', got {b_shape!r}")
+    if b_rule not in B_RULES:
+        raise InputError(f"b_rule must be one of {', '.join(B_RULES)}, got {b_rule!r}")
 
 
 #: a tau where the lines carry more than this share of the Allan variance is not fitted
@@ -300,6 +315,6 @@ def model_intervals(result, terms: NoiseTerms, *, min_points: int = 1000):
                    alpha_source=tuple(new_src), edf_method=label)
 
 
-__all__ = ["BI_FACTOR", "CONFIDENCE", "EDF_MIN", "N_BOOT", "NoiseTerm", "NoiseTerms",
-           "auto_tau_range", "fit_noise_terms", "local_slopes", "model_alpha",
-           "model_intervals", "not_static_reason"]
+__all__ = ["BI_FACTOR", "B_RULES", "CONFIDENCE", "EDF_MIN", "N_BOOT", "NoiseTerm",
+           "NoiseTerms", "auto_tau_range", "fit_noise_terms", "held_to_curve", "local_slopes",
+           "model_alpha", "model_intervals", "not_static_reason"]
