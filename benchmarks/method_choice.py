@@ -47,10 +47,11 @@ PRESETS = ("consumer-100hz", "accel-200hz")
 SEEDS = (0, 1)
 HOURS = 2.8
 
-#: candidate settings per method; the first is today's default
+#: candidate settings per method; the first is today's default (``band-below-rise``:
+#: :data:`inertialab.noise.terms._grid.BAND_BELOW_RISE`)
 CANDIDATES = {
     "wls": {"default": {}, "flicker-B": {"b_shape": "flicker"}, "no-lines": {"lines": False},
-            "edf-min-10": {"edf_min": 10.0}},
+            "edf-min-10": {"edf_min": 10.0}, "band-below-rise": {"band_below_rise": True}},
     "gmwm": {"default": {}, "max-gm-2": {"max_gm": 2}, "full-weights": {"weighting": "full"}},
 }
 
@@ -65,19 +66,21 @@ def _applied(setting: dict):
     import functools
 
     from inertialab.noise.gmwm import fit as gmwm
+    from inertialab.noise.terms import _grid
     from inertialab.noise.terms import fit as terms
     from inertialab.noise.terms import least_squares as _terms_ls
 
-    saved = (_terms_ls.EDF_MIN, terms.fit_gmwm_curve)
+    saved = (_terms_ls.EDF_MIN, terms.fit_gmwm_curve, _grid.BAND_BELOW_RISE)
     try:
         if "edf_min" in setting:
             _terms_ls.EDF_MIN = float(setting["edf_min"])
+        _grid.BAND_BELOW_RISE = bool(setting.get("band_below_rise", False))
         kw = {k: setting[k] for k in ("max_gm", "weighting") if k in setting}
         if kw:
             terms.fit_gmwm_curve = functools.partial(gmwm.fit_gmwm_curve, **kw)
         yield
     finally:
-        _terms_ls.EDF_MIN, terms.fit_gmwm_curve = saved
+        _terms_ls.EDF_MIN, terms.fit_gmwm_curve, _grid.BAND_BELOW_RISE = saved
 
 
 def _records(presets: bool = True):

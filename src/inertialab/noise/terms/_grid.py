@@ -96,12 +96,27 @@ class _Shapes(np.ndarray):
     ``(t_lo, t_hi, t_k)`` (``.grid``) and each point's chi-square penalty (``.penalty``)."""
 
 
+#: A candidate rule scored by ``benchmarks.method_choice`` (``band-below-rise``), off by
+#: default: where the curve rises significantly after its minimum, B bands made only of
+#: Gauss–Markov times at or above the minimum's tau (``t_lo >= t_rise``: the band rises
+#: after the minimum) are left out of the grid, the rise being K's (GMWM's
+#: ``is_slow_process`` reads such processes as K). It named the one rise the default
+#: leaves unnamed on the ADIS16405 logs (imu3's first half, ay) and changed no other case,
+#: but leave-one-log-out and halves chose it only with that case in training
+#: (docs/noise-terms.md §10), so it is not the default.
+BAND_BELOW_RISE = False
+
+
 def _shapes_for(taus, band: bool, avar=None, edf_tab=None):
     """The profiled B and K columns (None without ``band``: IEEE 952's five-term model,
     flat flicker and a pure random walk)."""
     if not band:
         return None
     corners = _corner_grid(taus)
+    if BAND_BELOW_RISE and avar is not None:
+        t_rise = _rise_start(taus, avar, edf_tab)
+        if t_rise is not None:
+            corners = [(lo, hi) for lo, hi in corners if lo < t_rise]
     times = [math.inf] if avar is None else _k_time_grid(taus, avar, edf_tab)
     b = _band_table(taus, corners)
     k = np.array([rw_gm_shape(taus, t) for t in times])

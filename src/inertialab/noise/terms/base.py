@@ -109,7 +109,10 @@ class NoiseTerm:
     flags : tuple of str
         ``"not_observable"``, ``"upper_bound"`` (not significant), ``"B_bound"`` (slope),
         ``"zero"`` (the fit put the term at 0), ``"filter"`` (Q only: the short taus
-        show the internal filter, ``c_-2 < 0``).
+        show the internal filter, ``c_-2 < 0``); B only (:mod:`inertialab.noise.terms._bounds`):
+        ``"held_to_curve_minimum"`` (a significant estimate held to 1.05 min(ADEV)/0.664,
+        the model's own estimate in ``reason``), ``"above_curve_minimum"`` (above that
+        reading, within the curve's simultaneous upper limits).
     sd : float
         1-sigma uncertainty in ``unit`` (NaN where not defined).
     density, per_sample_std : dict or None
