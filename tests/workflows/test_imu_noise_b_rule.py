@@ -81,6 +81,10 @@ def test_every_six_axis_b_within_its_curve_and_a_held_one_flagged():
     cols_, rows = res.table()
     cell = rows[2][cols_.index(next(c for c in cols_ if c.startswith("B (")))]
     assert not cell.startswith("<=") and f"{gz.terms.B.value:.4g}" in cell
+    # and the note under the table says so, with the model's own estimate
+    note = next(n for n in res.notes() if n.startswith("gz (gz_dph) B held to"))
+    assert "the model's own estimate" in note
+    assert not any(n.startswith("gx (gx_dph) B held") for n in res.notes())
 
 
 def test_gmwm_axes_within_their_curves():

@@ -134,6 +134,16 @@ def term_text(term) -> str:
     return _num(term.value)
 
 
+def _held_text(terms) -> str:
+    """The part of B's reason that says it was held to the curve's minimum
+    (:mod:`inertialab.noise.terms._bounds`, flag ``held_to_curve_minimum``), else ""."""
+    if terms is None or "held_to_curve_minimum" not in terms.B.flags:
+        return ""
+    parts = terms.B.reason.split("; ")
+    i = next((k for k, p in enumerate(parts) if p.startswith("held to")), None)
+    return "; ".join(parts[i:]) if i is not None else terms.B.reason
+
+
 def _unit_of(axes, kind: str, name: str) -> str:
     for a in axes:
         if a.kind == kind and a.terms is not None:
@@ -231,6 +241,8 @@ class IMUNoise:
                "and random walk = K in SI, continuous time (what Kalibr/ROS take)."]
         out += [f"{a.axis} ({a.column}) {a.status}: {a.reason}" for a in self.axes
                 if a.status != "ok" and a.reason]
+        out += [f"{a.axis} ({a.column}) B {held}" for a in self.axes
+                if (held := _held_text(a.terms))]
         f = self.fitted_on
         if f["n_samples"] != self.n_samples:
             out.append(f"The terms are fitted on samples {f['first_sample']} to "
