@@ -18,6 +18,12 @@ two numbers visual-inertial estimators ask for, in SI units:
   confidence limit of the longest tau) and the axis is flagged ``random_walk_bound``
   (JSON ``"bound": "upper"``).
 
+* **bias instability** ``B`` (rad/s, m/s^2): every B, estimate or bound, at most
+  1.05 min(ADEV)/0.664 of the axis's curve (:data:`B_RULE`,
+  :mod:`inertialab.noise.terms._bounds`): a significant estimate above that reading is
+  held to it (flag ``held_to_curve_minimum``, the model's own estimate in its reason, a
+  note under the table), a bound is that reading as a bound (JSON ``"bound": "upper"``).
+
 Per axis also: spectral lines (:mod:`inertialab.noise.spectral.lines`), a ``status`` (an axis
 that is not static keeps its deviation and gets no terms; the others go on), and with
 :class:`inertialab.workflows.imu_drift.DriftOptions` the predicted drift, its check and
