@@ -13,13 +13,15 @@ half, check on the second, per axis.
 
 Each preset seed also checks the predicted RMS's 95 % interval
 (:func:`inertialab.noise.terms.drift_prediction.predicted_rms_ci`, with the fitted log's
-measured non-stationarity and local misfit, widened by the observed RMS's own sampling
-under the predicted model):
+measured non-stationarity (the spread of its segments' own predicted drift,
+:func:`inertialab.noise.segments.drift_spread.segment_log_var`) and local misfit, widened
+by the observed RMS's own sampling under the predicted model):
 its coverage and median high/low per horizon (``rms_ci``). ``--pooled`` pools three
 independent logs of a preset (:mod:`inertialab.noise.terms.pooled`) and checks the pooled
 interval on a fourth; ``--real-intervals`` checks it on the shared logs by halves after
 the warm-up (and with none cut) and by leave-one-log-out, and records how much the
-warm-up cut moves each log's terms.
+warm-up cut moves each log's terms; ``--pooled-halves`` pools three of the shared logs'
+four halves and checks the fourth.
 
 Commands::
 
@@ -29,6 +31,7 @@ Commands::
     python -m benchmarks.drift_check --seeds 40 --first-seed 100000 --preset industrial-400hz
     python -m benchmarks.drift_check --pooled --seeds 20 --hours 2
     python -m benchmarks.drift_check --real-intervals
+    python -m benchmarks.drift_check --pooled-halves
 
 Targets: observed/predicted 1.00 +- 0.05 and coverage 93-97 % at every horizon on the
 presets; 0.8-1.25 at every horizon and axis on the real logs.
@@ -213,10 +216,11 @@ def run_real() -> dict:
     return out
 
 
-def _axis_prediction(y_fit, rate_hz, unit, y_check, *, extra_between=None):
+def _axis_prediction(y_fit, rate_hz, unit, y_check, *, between=None):
     """Fit ``y_fit``, predict with the RMS interval (as ``allan --imu``: terms, measured
-    non-stationarity, local misfit; ``extra_between``: a pool's between-log part) and
-    check on ``y_check``: ``(ratio, inside, edge, terms, stationarity)``."""
+    non-stationarity, local misfit; ``between``: as ``--pool`` of this one log, a map from
+    the log's segment spread to the pool's between-log part, which then stands in for the
+    spread) and check on ``y_check``: ``(ratio, inside, edge, terms, stationarity)``."""
     from inertialab.noise.segments.stationarity import check_stationarity
     from inertialab.noise.terms.drift_prediction import (
         check_prediction,
@@ -227,9 +231,8 @@ def _axis_prediction(y_fit, rate_hz, unit, y_check, *, extra_between=None):
     res, terms = _fit(y_fit, rate_hz, unit)
     st = check_stationarity(y_fit, rate_hz)
     pred = predict_terms(terms, HORIZONS, WINDOW, rate_hz)
-    extra = _extra(y_fit, rate_hz, unit) + misfit_log_var(res, terms, HORIZONS)
-    if extra_between is not None:
-        extra = extra + extra_between
+    own = _extra(y_fit, rate_hz, unit)
+    extra = (own if between is None else between(own)) + misfit_log_var(res, terms, HORIZONS)
     c = check_prediction(pred, y_check, rate_hz)
     chk = _ci_check(pred, terms, extra, c["n_effective_model"], c["observed_rms"])
     return c["ratio"], chk, terms, st
@@ -278,10 +281,11 @@ def run_real_intervals() -> dict:
             if chk_name == fit_name:
                 continue
             for axis, (y, unit) in cut[fit_name].items():
-                prior = _extra(y, RATE_HZ, unit)
-                between = np.array([between_var([0.0], [0.0], p) for p in prior]) * 2.0
+                def between(prior):  # drift_between with one log: the prior, times 1 + 1/1
+                    return np.array([between_var([0.0], [0.0], p) for p in prior]) * 2.0
+
                 r, chk, _, _ = _axis_prediction(y, RATE_HZ, unit, cut[chk_name][axis][0],
-                                                extra_between=between)
+                                                between=between)
                 out["leave_one_out"][f"{fit_name}->{chk_name} {axis}"] = {
                     "ratio": r.tolist(), **chk}
                 print("loo", fit_name, chk_name, axis, np.round(r, 2), chk["ci_inside"],

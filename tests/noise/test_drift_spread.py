@@ -99,3 +99,23 @@ def test_allan_imu_widens_the_drift_interval_where_the_noise_changes_in_the_fitt
     extra = res.axis("gx").drift["predicted_rms_ci"]["log_sd"]["extra"][0]
     # the quarters' spread (ln 9)^2/5, with the fit's misfit (none on white noise)
     assert extra == pytest.approx(math.log(9.0) * math.sqrt(0.2), abs=0.1)
+
+
+def test_a_pools_between_log_prior_is_its_logs_segment_spread():
+    from inertialab.workflows.imu_drift import DriftOptions
+    from inertialab.workflows.imu_pool import drift_between
+
+    rng = np.random.default_rng(11)
+    logs = [rng.standard_normal(12000), 1.2 * rng.standard_normal(12000)]
+    own = [_fit(y)[1] for y in logs]
+    opts = DriftOptions(horizons_s=(1.0,))
+    within = [np.array([0.3]), np.array([0.1])]
+    # one log: nothing to spread, the prior (the mean within-log spread) times 1 + 1/1
+    one = drift_between(own[:1], [FS], [None], opts, within=within[:1])
+    assert one == pytest.approx([2.0 * 0.3])
+    # two logs: their ln V differ by ln 1.44 beyond sampling; shrunk toward the mean prior
+    # 0.2 with PRIOR_WEIGHT pseudo-logs against one dof, times 1 + 1/2
+    two = drift_between(own, [FS, FS], [None, None], opts, within=within)
+    d2 = math.log(1.44) ** 2 / 2.0
+    want = (d2 + PRIOR_WEIGHT * 0.2) / (1 + PRIOR_WEIGHT) * 1.5
+    assert two == pytest.approx([want], abs=0.03)
