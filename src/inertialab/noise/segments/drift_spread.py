@@ -5,8 +5,10 @@ needs the part of the next stretch's drift that the fitted stretch's model canno
 a noise level that is not the same throughout. It is measured here in the quantity
 predicted, the log of the drift variance ``V(t)`` at each horizon ``t``:
 
-* the fitted stretch is cut into ``k`` equal segments (halves and quarters, as the
-  stationarity test cuts it: :data:`inertialab.noise.segments.stationarity.SEGMENTS`);
+* the fitted stretch is cut into ``k`` equal segments (:data:`SEGMENTS`: quarters, the
+  finest cut of the stationarity test; one level change at mid-log, the case halves
+  would see, gives quarters a spread of ``(3/5) d^2/3`` against the halves'
+  ``(1/3) d^2/2``, so halves would add nothing but two more fits);
 * each segment is fitted on its own (the caller's ``fit``: the same method as the
   stretch) and predicts its own ``ln V_i(t)``, with a sampling variance read from its
   own 95 % interval (terms and local misfit):
@@ -14,7 +16,7 @@ predicted, the log of the drift variance ``V(t)`` at each horizon ``t``:
   where the interval reaches zero);
 * the between-segment variance beyond that sampling is the random-effects estimate of
   :func:`inertialab.noise.terms.pooled.between_var` (``max(0, s^2 - mean s_i^2)``, shrunk
-  toward no spread with ``PRIOR_WEIGHT`` pseudo-segments), the larger of the two
+  toward no spread with ``PRIOR_WEIGHT`` pseudo-segments), the largest over the
   segmentations per horizon.
 
 It is read as what the next stretch's ``ln V`` may differ by from the fitted stretch's:
@@ -38,8 +40,9 @@ import warnings
 import numpy as np
 
 from inertialab.errors import InputError
-from inertialab.noise.segments.stationarity import SEGMENTS
 
+#: segmentations fitted: quarters (module docstring)
+SEGMENTS = (4,)
 #: least samples of a segment to be fitted on its own
 MIN_SEGMENT_SAMPLES = 1000
 
@@ -124,5 +127,5 @@ def segment_log_var(y, rate_hz: float, fit, horizons_s, bias_window_s: float, *,
     return out
 
 
-__all__ = ["MIN_SEGMENT_SAMPLES", "prediction_log_var", "segment_log_var",
+__all__ = ["MIN_SEGMENT_SAMPLES", "SEGMENTS", "prediction_log_var", "segment_log_var",
            "segment_predictions", "spread_log_var"]
