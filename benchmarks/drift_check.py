@@ -13,13 +13,15 @@ half, check on the second, per axis.
 
 Each preset seed also checks the predicted RMS's 95 % interval
 (:func:`inertialab.noise.terms.drift_prediction.predicted_rms_ci`, with the fitted log's
-measured non-stationarity and local misfit, widened by the observed RMS's own sampling
-under the predicted model):
+measured non-stationarity (the spread of its segments' own predicted drift,
+:func:`inertialab.noise.segments.drift_spread.segment_log_var`) and local misfit, widened
+by the observed RMS's own sampling under the predicted model):
 its coverage and median high/low per horizon (``rms_ci``). ``--pooled`` pools three
 independent logs of a preset (:mod:`inertialab.noise.terms.pooled`) and checks the pooled
 interval on a fourth; ``--real-intervals`` checks it on the shared logs by halves after
 the warm-up (and with none cut) and by leave-one-log-out, and records how much the
-warm-up cut moves each log's terms.
+warm-up cut moves each log's terms; ``--pooled-halves`` pools three of the shared logs'
+four halves and checks the fourth.
 
 Commands::
 
@@ -29,6 +31,7 @@ Commands::
     python -m benchmarks.drift_check --seeds 40 --first-seed 100000 --preset industrial-400hz
     python -m benchmarks.drift_check --pooled --seeds 20 --hours 2
     python -m benchmarks.drift_check --real-intervals
+    python -m benchmarks.drift_check --pooled-halves
 
 Targets: observed/predicted 1.00 +- 0.05 and coverage 93-97 % at every horizon on the
 presets; 0.8-1.25 at every horizon and axis on the real logs.
@@ -81,7 +84,7 @@ def seed_row(preset: str, seed: int, hours: float) -> dict:
     kal = predict(kalibr_components(res), HORIZONS, WINDOW, a.rate_hz)
     row = {"seed": seed, "pred": pred.rms.tolist(), "kalibr": kal.rms.tolist(),
            "obs_sq": [], "n": [], "n_eff": [], "in_band": [], "in_kalibr": []}
-    extra = _extra(a.y, a.rate_hz) + misfit_log_var(res, terms, HORIZONS)
+    extra = _extra(a.y, a.rate_hz, a.unit) + misfit_log_var(res, terms, HORIZONS)
     for i, h in enumerate(HORIZONS):
         e = observed_error(b.y, b.rate_hz, h, WINDOW)
         row["obs_sq"].append(float(np.sum(e * e)))
@@ -95,13 +98,15 @@ def seed_row(preset: str, seed: int, hours: float) -> dict:
     return row
 
 
-def _extra(y, rate_hz):
+def _extra(y, rate_hz, unit):
     """The log-variance the fitted log's measured non-stationarity adds at each horizon
-    (as ``allan --imu``: :func:`inertialab.workflows.imu_drift.nonstationary_log_var`)."""
-    from inertialab.noise.segments.stationarity import check_stationarity
-    from inertialab.workflows.imu_drift import nonstationary_log_var
+    (as ``allan --imu``: the spread of its segments' own predicted drift,
+    :func:`inertialab.noise.segments.drift_spread.segment_log_var`, each segment fitted as
+    the log)."""
+    from inertialab.noise.segments.drift_spread import segment_log_var
 
-    return nonstationary_log_var(check_stationarity(y, rate_hz), HORIZONS)
+    return segment_log_var(y, rate_hz, lambda seg: _fit(seg, rate_hz, unit), HORIZONS,
+                           WINDOW)
 
 
 def _ci_check(pred, terms, extra, n, obs) -> dict:
@@ -211,24 +216,23 @@ def run_real() -> dict:
     return out
 
 
-def _axis_prediction(y_fit, rate_hz, unit, y_check, *, extra_between=None):
+def _axis_prediction(y_fit, rate_hz, unit, y_check, *, between=None):
     """Fit ``y_fit``, predict with the RMS interval (as ``allan --imu``: terms, measured
-    non-stationarity, local misfit; ``extra_between``: a pool's between-log part) and
-    check on ``y_check``: ``(ratio, inside, edge, terms, stationarity)``."""
+    non-stationarity, local misfit; ``between``: as ``--pool`` of this one log, a map from
+    the log's segment spread to the pool's between-log part, which then stands in for the
+    spread) and check on ``y_check``: ``(ratio, inside, edge, terms, stationarity)``."""
     from inertialab.noise.segments.stationarity import check_stationarity
     from inertialab.noise.terms.drift_prediction import (
         check_prediction,
         misfit_log_var,
         predict_terms,
     )
-    from inertialab.workflows.imu_drift import nonstationary_log_var
 
     res, terms = _fit(y_fit, rate_hz, unit)
     st = check_stationarity(y_fit, rate_hz)
     pred = predict_terms(terms, HORIZONS, WINDOW, rate_hz)
-    extra = nonstationary_log_var(st, HORIZONS) + misfit_log_var(res, terms, HORIZONS)
-    if extra_between is not None:
-        extra = extra + extra_between
+    own = _extra(y_fit, rate_hz, unit)
+    extra = (own if between is None else between(own)) + misfit_log_var(res, terms, HORIZONS)
     c = check_prediction(pred, y_check, rate_hz)
     chk = _ci_check(pred, terms, extra, c["n_effective_model"], c["observed_rms"])
     return c["ratio"], chk, terms, st
@@ -247,7 +251,6 @@ def run_real_intervals() -> dict:
     from the fitted log's own segments, as ``--pool`` with one log in the fit)."""
     from benchmarks.real_logs import LOGS, RATE_HZ, load_shared
     from inertialab.noise.terms.pooled import between_var
-    from inertialab.workflows.imu_drift import nonstationary_log_var
 
     logs = {name: load_shared(name) for name in LOGS}
     out = {"halves": {}, "halves_no_warmup": {}, "leave_one_out": {}, "warmup": {}}
@@ -278,13 +281,11 @@ def run_real_intervals() -> dict:
             if chk_name == fit_name:
                 continue
             for axis, (y, unit) in cut[fit_name].items():
-                from inertialab.noise.segments.stationarity import check_stationarity
+                def between(prior):  # drift_between with one log: the prior, times 1 + 1/1
+                    return np.array([between_var([0.0], [0.0], p) for p in prior]) * 2.0
 
-                st = check_stationarity(y, RATE_HZ)
-                prior = nonstationary_log_var(st, HORIZONS)
-                between = np.array([between_var([0.0], [0.0], p) for p in prior]) * 2.0
                 r, chk, _, _ = _axis_prediction(y, RATE_HZ, unit, cut[chk_name][axis][0],
-                                                extra_between=between)
+                                                between=between)
                 out["leave_one_out"][f"{fit_name}->{chk_name} {axis}"] = {
                     "ratio": r.tolist(), **chk}
                 print("loo", fit_name, chk_name, axis, np.round(r, 2), chk["ci_inside"],
@@ -299,9 +300,11 @@ def run_real_intervals() -> dict:
     return out
 
 
-def pooled_row(preset: str, seed: int, hours: float, n_logs: int = 3) -> dict:
-    """Pool ``n_logs`` independent logs of a preset (WLS), predict with the pooled RMS
-    interval and check on one more log: ``{"inside", "edge", "high_over_low"}``."""
+def pooled_check(ys, y_check, fs: float, unit: str) -> dict:
+    """Pool the logs ``ys`` (WLS, as ``--pool``: each log's within-log drift spread the
+    prior of the between-log spread), predict with the pooled RMS interval and check on
+    ``y_check``: :func:`_ci_check`'s dict."""
+    from inertialab.noise.segments.drift_spread import segment_log_var
     from inertialab.noise.segments.stationarity import check_stationarity
     from inertialab.noise.statistics.allan import oadev
     from inertialab.noise.terms.drift_prediction import (
@@ -311,23 +314,71 @@ def pooled_row(preset: str, seed: int, hours: float, n_logs: int = 3) -> dict:
     )
     from inertialab.noise.terms.fit import fit_noise_terms
     from inertialab.noise.terms.pooled import pool_curves
-    from inertialab.sim.mems_presets import simulate
     from inertialab.workflows.imu_drift import DriftOptions
     from inertialab.workflows.imu_pool import drift_between
 
-    runs = [simulate(preset, hours=hours, seed=seed + 1000 * i) for i in range(n_logs + 1)]
-    fs, unit = runs[0].rate_hz, runs[0].unit
-    curves = [oadev(r.y, rate_hz=fs, taus="octave") for r in runs[:n_logs]]
-    own = [fit_noise_terms(c, unit=unit, kind=None, rate_hz=fs) for c in curves]
-    stats = [check_stationarity(r.y, fs) for r in runs[:n_logs]]
-    pooled = pool_curves(curves, [fs] * n_logs)
+    def fit(y):
+        c = oadev(y, rate_hz=fs, taus="octave")
+        return c, fit_noise_terms(c, unit=unit, kind=None, rate_hz=fs)
+
+    n = len(ys)
+    curves, own = zip(*[fit(y) for y in ys])
+    stats = [check_stationarity(y, fs) for y in ys]
+    within = [segment_log_var(y, fs, fit, HORIZONS, WINDOW) for y in ys]
+    pooled = pool_curves(list(curves), [fs] * n)
     terms = fit_noise_terms(pooled, unit=unit, kind=None, rate_hz=fs)
     opts = DriftOptions(horizons_s=HORIZONS, bias_window_s=WINDOW)
-    extra = drift_between(own, [fs] * n_logs, stats, opts)
+    extra = drift_between(list(own), [fs] * n, stats, opts, within=within)
     extra = extra + misfit_log_var(pooled, terms, HORIZONS)
     pred = predict_terms(terms, HORIZONS, WINDOW, fs)
-    c = check_prediction(pred, runs[-1].y, fs)
-    return _ci_check(pred, terms, extra, c["n_effective_model"], c["observed_rms"])
+    c = check_prediction(pred, y_check, fs)
+    return _ci_check(pred, terms, extra, c["n_effective_model"], c["observed_rms"]) | {
+        "ratio": c["ratio"].tolist()}
+
+
+def pooled_row(preset: str, seed: int, hours: float, n_logs: int = 3) -> dict:
+    """Pool ``n_logs`` independent logs of a preset (:func:`pooled_check`) and check on
+    one more log."""
+    from inertialab.sim.mems_presets import simulate
+
+    runs = [simulate(preset, hours=hours, seed=seed + 1000 * i) for i in range(n_logs + 1)]
+    return pooled_check([r.y for r in runs[:n_logs]], runs[-1].y, runs[0].rate_hz,
+                        runs[0].unit)
+
+
+def run_pooled_halves() -> dict:
+    """The four halves of the two shared logs (after each log's warm-up) as four logs:
+    pool three, check the fourth, per axis. Two halves of one log are not independent
+    units: a pool holding a log's other half sees that log's unit, so the figure is
+    kinder than three other units would be."""
+    from benchmarks.real_logs import LOGS, RATE_HZ, load_shared
+
+    parts = {}
+    for name in LOGS:
+        axes = load_shared(name)
+        n0 = _warmup_span(axes, RATE_HZ)["n_samples"]
+        for axis, (y, unit) in axes.items():
+            y = y[n0:]
+            h = y.size // 2
+            parts.setdefault(axis, []).extend([(f"{name} first half", y[:h], unit),
+                                               (f"{name} second half", y[h:], unit)])
+    out = {}
+    for axis, halves in parts.items():
+        for j, (label, y_chk, unit) in enumerate(halves):
+            rest = [p[1] for i, p in enumerate(halves) if i != j]
+            row = pooled_check(rest, y_chk, RATE_HZ, unit)
+            out[f"{label} {axis}"] = row
+            print("pooled halves", label, axis, np.round(row["ratio"], 2), row["ci_inside"],
+                  np.round(row["ci_edge"], 2), np.round(row["ci_high_over_low"], 2), flush=True)
+    ins = np.array([v["ci_inside"] for v in out.values()])
+    edge = np.array([v["ci_edge"] for v in out.values()])
+    hl = np.array([v["ci_high_over_low"] for v in out.values()], dtype=float)
+    out["summary"] = {"inside": int(ins.sum()), "of": int(ins.size),
+                      "inside_per_horizon": ins.sum(axis=0).tolist(),
+                      "worst_edge": float(edge.max()),
+                      "high_over_low_median": np.nanmedian(hl, axis=0).tolist()}
+    print("pooled halves", out["summary"], flush=True)
+    return out
 
 
 def run_pooled(seeds: int, hours: float, presets=PRESETS) -> dict:
@@ -437,6 +488,9 @@ def main(argv=None) -> int:
                          "with no warm-up cut, and leave-one-log-out")
     ap.add_argument("--pooled", action="store_true",
                     help="presets: pool three logs, check the interval on a fourth")
+    ap.add_argument("--pooled-halves", action="store_true",
+                    help="the shared logs' four halves as four logs: pool three, check the "
+                         "fourth")
     ap.add_argument("--json")
     a = ap.parse_args(argv)
     t0 = time.time()
@@ -447,6 +501,8 @@ def main(argv=None) -> int:
         result["real"] = run_real()
     elif a.real_intervals:
         result["real_intervals"] = run_real_intervals()
+    elif a.pooled_halves:
+        result["pooled_halves"] = run_pooled_halves()
     elif a.pooled:
         result["pooled"] = run_pooled(a.seeds, a.hours, a.preset or PRESETS)
         result["pooled_all"] = _listed(across_presets(result["pooled"]))

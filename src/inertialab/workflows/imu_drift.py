@@ -101,12 +101,28 @@ def _ci_dict(ci, f) -> dict:
             "log_sd": {k: [float(x) for x in v] for k, v in ci["log_sd"].items()}}
 
 
+def nonstationary_part(opts: DriftOptions, rate_hz: float, *, stationarity=None,
+                       segments=None) -> np.ndarray:
+    """The log-variance a log's non-stationarity adds to its drift prediction per
+    horizon: with ``segments = (y_fit, fit)`` (the fitted samples and the axis's fit,
+    ``fit(samples) -> (deviation, terms)``) the spread of the segments' own predicted
+    drift (:func:`inertialab.noise.segments.drift_spread.segment_log_var`); without the
+    samples, the segments test's Allan excess (:func:`nonstationary_log_var`)."""
+    if segments is not None:
+        from inertialab.noise.segments.drift_spread import segment_log_var
+
+        y_fit, fit = segments
+        return segment_log_var(y_fit, rate_hz, fit, opts.horizons_s, opts.bias_window_s)
+    return nonstationary_log_var(stationarity, opts.horizons_s)
+
+
 def axis_drift(axis, rate_hz: float, opts: DriftOptions, y_check=None, *,
-               stationarity=None, extra_log_var=None) -> dict:
+               stationarity=None, extra_log_var=None, segments=None) -> dict:
     """``drift_prediction`` of one fitted axis (module docstring), JSON-ready, with the
-    RMS's 95 % interval (``predicted_rms_ci``: the terms' uncertainty, the
-    ``stationarity`` test's measured spread and ``extra_log_var``, e.g. a pool's
-    between-log spread) and, on a check, whether the observed RMS lies inside it."""
+    RMS's 95 % interval (``predicted_rms_ci``: the terms' uncertainty, the log's
+    non-stationarity (:func:`nonstationary_part` of ``segments`` or ``stationarity``)
+    and ``extra_log_var``, e.g. a pool's between-log spread) and, on a check, whether the
+    observed RMS lies inside it."""
     from inertialab.noise.terms.drift_prediction import (
         check_prediction,
         kalibr_components,
@@ -120,7 +136,7 @@ def axis_drift(axis, rate_hz: float, opts: DriftOptions, y_check=None, *,
     f, unit = _integral_unit(axis)
     pred = predict_terms(axis.terms, opts.horizons_s, opts.bias_window_s, rate_hz)
     out = pred.to_dict(f, unit)
-    extra = nonstationary_log_var(stationarity, opts.horizons_s)
+    extra = nonstationary_part(opts, rate_hz, stationarity=stationarity, segments=segments)
     extra = extra + misfit_log_var(axis.deviation, axis.terms, opts.horizons_s)
     if extra_log_var is not None:
         extra = extra + np.asarray(extra_log_var, dtype=float)
@@ -458,4 +474,4 @@ def drift_tables(res) -> list:
 
 __all__ = ["AXES", "BIAS_WINDOW_S", "DriftOptions", "NONSTATIONARY_FACTOR", "axis_columns",
            "axis_drift", "axis_plan", "display_tables", "drift_options", "drift_tables",
-           "inflated", "nonstationary_log_var"]
+           "inflated", "nonstationary_log_var", "nonstationary_part"]

@@ -145,7 +145,14 @@ def _axis(name: str, column: str, y, unit: str, *, rate_hz: float, taus, method:
         from inertialab.workflows.imu_noise_plan import axis_plan_with_interval
 
         y_check = y[y.size // 2:] if drift.check_on == "half" else drift.other.get(name)
-        axis = replace(axis, drift=axis_drift(axis, rate_hz, drift, y_check, stationarity=st),
+
+        def refit(seg):  # a segment of the fitted samples, fitted as the axis was
+            d = _deviation(seg, rate_hz, "octave", confidence)
+            return d, _fit_terms(seg, d, unit, kind, method, rate_hz, None, g_local,
+                                 column, confidence)
+
+        axis = replace(axis, drift=axis_drift(axis, rate_hz, drift, y_check, stationarity=st,
+                                              segments=(fit_y, refit)),
                        plan=axis_plan_with_interval(axis, rate_hz, fit_y.size) if drift.plan
                        else None)
     return axis

@@ -253,10 +253,13 @@ def pooled_axis(name, column, unit, dev, terms, g):
                      random_walk_t_s=float(terms.k_gm["t_s"]) if terms.k_gm else None)
 
 
-def drift_between(own_terms, rates, stats, opts) -> np.ndarray:
+def drift_between(own_terms, rates, stats, opts, within=None) -> np.ndarray:
     """Between-log variance of the log drift variance per horizon (each log's own model's
-    prediction; its terms' uncertainty as sampling; the logs' within-log spread as the
-    prior), times ``1 + 1/n`` (the next log, not the mean)."""
+    prediction; its terms' uncertainty as sampling; the logs' mean within-log spread as
+    the prior: ``within``, one array per log, the spread of its segments' own predicted
+    drift (:func:`inertialab.noise.segments.drift_spread.segment_log_var`), or without
+    it the segments test's Allan excess of ``stats``), times ``1 + 1/n`` (the next log,
+    not the mean)."""
     from inertialab.noise.terms.drift_prediction import predict_terms, predicted_rms_ci
     from inertialab.noise.terms.pooled import between_var
     from inertialab.workflows.imu_drift import nonstationary_log_var
@@ -268,10 +271,26 @@ def drift_between(own_terms, rates, stats, opts) -> np.ndarray:
         vals.append(np.log(np.maximum(p.rms, 1e-300) ** 2))
         samp.append(ci["log_sd"]["terms"] ** 2)
         prior.append(nonstationary_log_var(st, opts.horizons_s))
+    if within is not None:
+        prior = [np.asarray(w, dtype=float) for w in within]
     vals, samp, prior = np.array(vals), np.array(samp), np.mean(prior, axis=0)
     n = len(own_terms)
     return np.array([between_var(vals[:, i], samp[:, i], prior[i])
                      for i in range(vals.shape[1])]) * (1.0 + 1.0 / n)
+
+
+def _within(lg, name, unit, kind, method, g, confidence, opts) -> np.ndarray:
+    """One log's within-log drift spread on ``name`` (its segments fitted by ``method``:
+    :func:`inertialab.noise.segments.drift_spread.segment_log_var`)."""
+    from inertialab.noise.segments.drift_spread import segment_log_var
+    from inertialab.workflows.imu_noise import _deviation
+
+    def refit(seg):
+        d = _deviation(seg, lg.rate_hz, "octave", confidence)
+        return d, _fit(d, unit, kind, method, lg.rate_hz, g, confidence)
+
+    return segment_log_var(np.asarray(lg.columns[name][1], dtype=float), lg.rate_hz, refit,
+                           opts.horizons_s, opts.bias_window_s)
 
 
 def pool_axis(name, logs, *, candidates, confidence, drift=None, y_check=None,
@@ -308,7 +327,8 @@ def pool_axis(name, logs, *, candidates, confidence, drift=None, y_check=None,
 
         # the drift interval takes the between-log spread of the logs' own drift once, on
         # the pooled fit's own intervals (the widened terms would count it twice)
-        extra = drift_between(own, rates, stats, drift)
+        within = [_within(lg, name, unit, kind, m, g, confidence, drift) for lg in logs]
+        extra = drift_between(own, rates, stats, drift, within=within)
         d = axis_drift(pooled_axis(name, col, unit, curve, pooled, g), rates[0], drift,
                        y_check, extra_log_var=extra)
         axis = replace(axis, drift=d | {"between_log_var": [float(v) for v in extra]})

@@ -1,8 +1,8 @@
 """inertialab.noise.segments: Parts of one log: the static intervals of a raw
-accelerometer log, a start-of-log warm-up, and whether the noise stays the same
-throughout.
+accelerometer log, a start-of-log warm-up, whether the noise stays the same
+throughout, and how much the drift its segments predict differs.
 
-Modules: static_intervals, stationarity, warmup.
+Modules: drift_spread, static_intervals, stationarity, warmup.
 
 The face (imported on first use): detect_static_intervals.
 """
