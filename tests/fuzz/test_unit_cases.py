@@ -156,3 +156,33 @@ def test_one_constant_axis_flags_itself_and_the_rest_go_on(tmp_path, capsys):
     for cmd in (("validate", str(dead), "--kind", "imu"), ("allan", str(dead), "--imu")):
         code, _, err = run_inprocess(capsys, *cmd)
         assert code == 2 and "constant" in _one_error_line(err)
+
+
+def test_a_stuck_stretch_flags_its_axis_and_exports_refuse(tmp_path, capsys):
+    """gy frozen for a quarter of the log (a driver resending its last sample): gy is
+    'stuck' with the run's length and start, the other five axes are analysed exactly
+    as in the same log without the frozen stretch, and an export is refused naming gy,
+    nothing written. Quantised accelerometers at rest (a 3-mm/s^2 step: a third of the
+    pairs repeat, like the ADIS16405's) are not flagged."""
+    t, g, a = _static_imu(n=40_000, seed=5)
+    a = np.round(a / 0.003) * 0.003
+
+    def axes_of(name, g):
+        p = _write(tmp_path / name, t, g, a)
+        code, out, err = run_inprocess(capsys, "allan", str(p), "--imu", "--json")
+        assert code in (0, None), err
+        return p, {x["axis"]: x for x in json.loads(out)["imu"]["axes"]}
+
+    _, clean = axes_of("clean.csv", g)
+    g = g.copy()
+    g[20_000:30_000, 1] = g[20_000, 1]
+    p, axes = axes_of("frozen.csv", g)
+    assert clean["gy"]["status"] == "ok" and axes["gy"]["status"] == "stuck"
+    assert "10000 identical samples from sample 20000" in axes["gy"]["reason"]
+    for ax in ("gx", "gz", "ax", "ay", "az"):
+        assert axes[ax]["status"] == "ok", axes[ax]
+        assert axes[ax]["noise_density"] == clean[ax]["noise_density"]
+    dest = tmp_path / "kalibr.yaml"
+    code, _, err = run_inprocess(capsys, "allan", str(p), "--imu", "--export", "kalibr",
+                                 str(dest))
+    assert code == 2 and "gy (stuck)" in _one_error_line(err) and not dest.exists()

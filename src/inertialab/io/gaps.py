@@ -16,6 +16,9 @@ driven past its range sits at its full-scale value. This module finds both:
   as flat runs at a column's extreme (clipping), and :func:`exclude_flagged` removes
   flagged samples from index intervals ``[start, stop)`` (e.g. static intervals), so
   a saturated sample never enters a static mean.
+* :func:`stuck_run` finds the longest run of one repeated value that the column's own
+  rate of repeats cannot explain (a frozen sensor or a driver that resent its last
+  sample for minutes).
 
 The nominal step is the median positive step; a gap is a step longer than
 ``gap_factor`` (default 1.5) times it, i.e. at least one whole sample missing with up
@@ -40,6 +43,7 @@ __all__ = [
     "detect_gaps",
     "detect_saturation",
     "exclude_flagged",
+    "stuck_run",
 ]
 
 #: A step longer than this many nominal steps is a dropout.
@@ -249,6 +253,56 @@ def _runs_at(x: np.ndarray, value: float, min_run: int) -> np.ndarray:
         if b - a >= min_run:
             out[a:b] = True
     return out
+
+
+#: chance of a run as long by repeats alone, over the whole column, below which a run of
+#: one value is a stuck sensor (:func:`stuck_run`)
+STUCK_FALSE_ALARM = 1e-6
+#: a shorter run (share of the column's samples) is left alone: it moves a variance
+#: read over the whole column by less than this share
+STUCK_MIN_SHARE = 0.01
+
+
+def stuck_run(x, false_alarm: float = STUCK_FALSE_ALARM):
+    """The longest run of one repeated value in ``x`` that its repeats cannot explain:
+    ``(start, length, p_repeat)`` (0-based start, samples; ``p_repeat`` the fraction of
+    consecutive pairs that repeat, the longest run left out), or None.
+
+    A quantised sensor at rest repeats its last value now and then; if each pair repeats
+    with probability ``p``, a run of ``L`` equal samples starts at a given sample with
+    probability ``p**(L-1)``, so over ``n`` samples a run at least as long comes by chance
+    with probability at most ``n p**(L-1)``. A run where that is below ``false_alarm``
+    (default :data:`STUCK_FALSE_ALARM`) and that holds at least :data:`STUCK_MIN_SHARE`
+    of the samples is a stuck sensor. NaNs break runs.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> y = np.random.default_rng(0).normal(0.0, 1.0, 10_000).round(1)
+    >>> stuck_run(y) is None
+    True
+    >>> y[4000:4500] = 0.05  # off the 0.1 grid: a run of exactly 500
+    >>> stuck_run(y)[:2]
+    (4000, 500)
+    """
+    x = np.asarray(x, dtype=float)
+    if x.size < 3:
+        return None
+    same = (x[1:] == x[:-1]) & np.isfinite(x[1:])
+    edges = np.diff(np.r_[0, same.astype(np.int8), 0])
+    starts, stops = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
+    if not starts.size:
+        return None
+    k = int(np.argmax(stops - starts))
+    pairs = int(stops[k] - starts[k])  # repeated pairs in the longest run: length - 1
+    if pairs + 1 < STUCK_MIN_SHARE * x.size:
+        return None
+    rest = same.size - pairs
+    # the repeat rate without the run (Laplace's rule: never 0 from a few repeats)
+    p = (int(same.sum()) - pairs + 1) / (rest + 2)
+    if x.size * p ** pairs >= false_alarm:
+        return None
+    return int(starts[k]), pairs + 1, float(p)
 
 
 def rails(suffix: str, meta: dict, scale_g: float, raw=None) -> tuple[float, float] | None:

@@ -80,6 +80,9 @@ def _axis(name: str, column: str, y, unit: str, *, rate_hz: float, taus, method:
         return AxisNoise(**blank, status="constant",
                          reason="every sample is the same value: a stuck or absent sensor, "
                                 "nothing to analyse on this axis")
+    stuck = _stuck_reason(fit_y, rate_hz)
+    if stuck:
+        return AxisNoise(**blank, status="stuck", reason=stuck)
     dev = _deviation(fit_y, rate_hz, taus, confidence)
     blank["deviation"] = dev
     if not terms_on:
@@ -148,14 +151,27 @@ def _axis(name: str, column: str, y, unit: str, *, rate_hz: float, taus, method:
 
         def refit(seg):  # a segment of the fitted samples, fitted as the axis was
             d = _deviation(seg, rate_hz, "octave", confidence)
-            return d, _fit_terms(seg, d, unit, kind, method, rate_hz, None, g_local,
-                                 column, confidence)
+            return d, fit_axis_terms(seg, d, unit, kind, method, rate_hz=rate_hz,
+                                     g_local=g_local, column=column, confidence=confidence)
 
         axis = replace(axis, drift=axis_drift(axis, rate_hz, drift, y_check, stationarity=st,
                                               segments=(fit_y, refit)),
                        plan=axis_plan_with_interval(axis, rate_hz, fit_y.size) if drift.plan
                        else None)
     return axis
+
+
+def _stuck_reason(y, rate_hz: float) -> str | None:
+    """Why the axis is a stuck sensor (:func:`inertialab.io.gaps.stuck_run`), or None."""
+    from inertialab.io.gaps import stuck_run
+
+    run = stuck_run(y)
+    if run is None:
+        return None
+    start, length, p = run
+    return (f"{length} identical samples from sample {start} of the fitted span "
+            f"({length / rate_hz:.4g} s; its other samples repeat their predecessor at a "
+            f"rate of {p:.2g}): a stuck sensor or resent samples, no noise to read")
 
 
 #: sqrt(2 ln2 / pi): sigma of flicker = BI * B

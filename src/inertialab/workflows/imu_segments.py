@@ -19,6 +19,7 @@ import warnings
 
 import numpy as np
 
+from inertialab.errors import InputError
 from inertialab.noise.terms.imu_result import stationarity_text
 
 #: the settings' default: the warm-up found in the data
@@ -71,7 +72,15 @@ def axis_stationarity(y, rate_hz: float, column: str | None = None):
     y = np.asarray(y, dtype=float)
     if not np.isfinite(y).all():
         return None
-    st = check_stationarity(y, rate_hz)
+    try:
+        st = check_stationarity(y, rate_hz)
+    except InputError as exc:  # a constant segment (a coarse quantiser that never
+        # toggles there): the test cannot be read, the axis's terms still can
+        from inertialab.errors import DataQualityWarning
+
+        warnings.warn(f"column '{column}': stationarity not tested ({exc})",
+                      DataQualityWarning, stacklevel=3)
+        return None
     if st.verdict == "not stationary":
         from inertialab.errors import DataQualityWarning
 

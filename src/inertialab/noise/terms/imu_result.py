@@ -53,7 +53,8 @@ class AxisNoise:
         ``bias_instability`` is an upper bound (B not significant).
     status : str
         ``ok``, ``not static`` (terms not fitted: the curve follows motion, not the
-        sensor; ``reason`` says why) or ``no terms`` (``terms=False``).
+        sensor; ``reason`` says why), ``constant`` or ``stuck`` (every sample, or a run of
+        one value the axis's repeats cannot explain: a frozen sensor) or ``no terms``.
     reason : str
     drift : dict or None
         The predicted drift and its check (:mod:`inertialab.workflows.imu_drift`).
