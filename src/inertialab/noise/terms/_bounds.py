@@ -39,7 +39,9 @@
       benchmarks.edf_coverage --literal``). The literal rule would fail the spec there;
       a filter's user, who copies one number, is given the reading the curve supports.
 * **A term whose lower limit is below** :data:`RESOLVED` **of its value is a bound**:
-  ``239 [0, 545]`` says nothing beyond ``<= 545``.
+  ``239 [0, 545]`` says nothing beyond ``<= 545``; so is a term estimated at 0 whose
+  interval reaches above it (``0 [4e-11, 245]``), and a B the fitted model leaves out
+  (GMWM's ``absent``) is the bound 1.05 min(ADEV)/0.664 the curve gives, never a bare 0.
 
 :func:`bounded_terms` returns the terms with these rules applied, the reasons in each
 changed term's ``reason``.
@@ -126,11 +128,27 @@ def _unresolved(term):
         return term
     lo, hi = term.ci
     v = term.value
-    if math.isfinite(v) and v > 0 and math.isfinite(hi) and math.isfinite(lo) \
-            and lo < RESOLVED * v:
+    if not (math.isfinite(v) and math.isfinite(hi) and math.isfinite(lo) and hi > 0):
+        return term
+    if v <= 0:  # a fit at 0 whose interval still reaches hi: nothing beyond <= hi
+        return _as_bound(term, hi, f"estimated at 0 with an interval up to {hi:.3g}: not "
+                                   "resolved, an upper bound")
+    if lo < RESOLVED * v:
         return _as_bound(term, hi, f"its lower limit {lo:.3g} is below {RESOLVED:g} of its "
                                    "value: not resolved, an upper bound")
     return term
+
+
+def _absent_b(term, cap: float):
+    """A B that the fitted model leaves out (GMWM's ``absent``: no flicker or
+    Gauss–Markov process selected) as the bound the curve gives, ``cap``: the data do
+    not exclude a flicker floor below the curve's minimum, so 0 is no estimate."""
+    if "absent" not in term.flags or "upper_bound" in term.flags \
+            or not math.isfinite(cap) or term.value > 0:
+        return term
+    return _as_bound(term, cap, f"the selected model has no bias-instability process; the "
+                                f"curve bounds it at {B_SCATTER:g} x min(ADEV)/0.664 = "
+                                f"{cap:.4g} {term.unit}")
 
 
 def _b_within(term, cap: float, cap_upper: float):
@@ -212,6 +230,7 @@ def bounded_terms(terms, result, conv, under_model, *, b_rule: str = "interval",
         raise ValueError(f"b_rule must be one of {B_RULES}, got {b_rule!r}")
     new = {name: _unresolved(getattr(terms, name)) for name in ("Q", "N", "B", "K", "R")}
     f = conv.factor("B")
+    new["B"] = _absent_b(new["B"], b_ceiling(result, f))
     if b_rule == "literal":
         new["B"] = _b_literal(new["B"], *curve_reading((result, raw), f))
     else:
