@@ -60,3 +60,11 @@ def test_plan_gives_k_at_its_bound_and_an_interval():
     assert not q["k_at_bound"]
     short, long_ = q["needed_h_95"]
     assert short is not None and short <= q["needed_h"] <= (long_ or math.inf)
+    # the table says both: gx's length at K's bound as ">=", gy's with its interval
+    from inertialab.workflows.imu_drift import display_tables
+
+    rows = {r[0]: r[1] for t, _, rs in display_tables(res, "x") if t.startswith("Record")
+            for r in rs}
+    assert rows["gx"] == f">= {p['needed_h']:.3g}"
+    assert rows["gy"] == (f"{q['needed_h']:.3g} [{short:.3g}, {long_:.3g}]" if long_
+                          else f"{q['needed_h']:.3g}")

@@ -456,17 +456,26 @@ def drift_tables(res) -> list:
         def hours(v):
             return "-" if v is None else ("never" if not math.isfinite(v) else f"{v:.3g}")
 
+        def k_hours(p):  # the length with its 95 % interval; at K's bound, at least it
+            lo, hi = (p.get("needed_h_95") or [None, None])[:2]
+            if p.get("k_at_bound"):
+                return f">= {hours(p['needed_h'])}"
+            if lo is None or hi is None:
+                return hours(p["needed_h"])
+            return f"{hours(p['needed_h'])} [{hours(lo)}, {hours(hi)}]"
+
         rows = []
         for a in plans:
             p = a.plan
             note = [v for v in (p.get("reason"), p.get("b_reason")) if v]
             if p.get("k_t_s") is not None:
                 note.insert(0, f"K: Gauss-Markov random walk, T = {p['k_t_s']:.3g} s")
-            rows.append([a.axis, hours(p["needed_h"]), hours(p.get("b_needed_h")),
+            rows.append([a.axis, k_hours(p), hours(p.get("b_needed_h")),
                          f"{p['record_h']:.3g}", yes[p["long_enough"]],
                          yes[p.get("b_long_enough")], "; ".join(note)])
         out.append(("Record length for K and for B, each within +-20 % at 95 % (Cramer-Rao "
-                    "bound of the fitted model)",
+                    "bound of the fitted model; K's length with its 95 % interval from the "
+                    "fitted K's, '>=' where K is a bound)",
                     ["axis", "K needs (h)", "B needs (h)", "this log (h)", "K long enough",
                      "B long enough", "note"], rows))
     return out
