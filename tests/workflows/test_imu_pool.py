@@ -80,3 +80,22 @@ def test_a_log_that_is_not_static_is_refused_before_any_fit(tmp_path):
     with pytest.raises(InputError, match="cannot join the pool: column 'gx_dph'") as e:
         analyse_pool(_recs(a, b), candidates=("wls",), warmup="0")
     assert str(e.value.path).endswith("b.csv")
+
+
+def test_a_term_read_nowhere_keeps_a_finite_pooled_bound(tmp_path):
+    """Two short logs of white noise alone: K is read on neither (a bound at 0 with no
+    read range), yet the pooled K is a finite bound at least the pooled fit's own (its
+    prior then the most within-log spread of any tested tau), never a bare '<='; the
+    random walk a filter takes from it is finite too."""
+    paths = []
+    for seed in (1, 2):
+        y = np.random.default_rng(seed).normal(0.0, 0.02, 30_000)
+        p = tmp_path / f"w{seed}.csv"
+        pd.DataFrame({"t_s": np.arange(y.size) / 100.0, "gx_rps": y}).to_csv(p, index=False)
+        paths.append(str(p))
+    res = analyse_pool(_recs(*paths), candidates=("wls",), warmup="0")
+    ax = res.to_dict()["axes"][0]
+    k = ax["terms"]["K"]
+    assert k["bound"] == "upper" and np.isfinite(k["value"]) and k["value"] > 0
+    assert k["value"] >= ax["ci_fit"]["K"][1] > 0
+    assert ax["random_walk"]["bound"] == "upper" and ax["random_walk"]["value"] > 0

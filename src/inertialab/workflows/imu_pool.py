@@ -187,12 +187,16 @@ def choose_model(curves, rates, unit, kind, candidates, g, confidence) -> dict:
 
 def _term_prior(stats, term) -> float:
     """Prior of a term's between-log log-variance: the logs' within-log segment spread
-    of ln AVAR over the term's read range, over 4 (a term's amplitude is a square root)."""
+    of ln AVAR over the term's read range (where it has none, a bound read nowhere: the
+    largest over the tested taus), over 4 (a term's amplitude is a square root)."""
     from inertialab.noise.segments.stationarity import excess_at
 
     lo, hi = term.tau_range_s if term.tau_range_s else (1.0, 1.0)
-    t = math.sqrt(max(lo, 1e-9) * max(hi, 1e-9))
-    v = [float(excess_at(st, [t])[0]) for st in stats if st is not None]
+    if math.isfinite(lo) and math.isfinite(hi):
+        taus = [math.sqrt(max(lo, 1e-9) * max(hi, 1e-9))]
+    else:  # a term read nowhere (a bound at 0): the most spread any tested tau shows
+        taus = np.geomspace(1e-3, 1e6, 46)
+    v = [float(np.max(excess_at(st, taus))) for st in stats if st is not None]
     return float(np.mean(v)) / 4.0 if v else 0.0
 
 
