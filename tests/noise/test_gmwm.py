@@ -227,7 +227,7 @@ def test_absent_random_walk_bound_covers_the_true_walk():
         assert t.K.upper_bound == pytest.approx(t.gmwm["k_upper"] * 60.0)
 
 
-def test_absent_b_and_a_b_at_zero_are_bounds_from_the_curve():
+def test_absent_b_is_the_bound_from_the_curve():
     # white noise alone: GMWM selects no flicker or Gauss-Markov process, and B is the
     # curve's bound 1.05 min(ADEV)/0.664 (never a bare 0); under the six-axis rule too
     from inertialab.noise.terms._bounds import B_SCATTER, BI

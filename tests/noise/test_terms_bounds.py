@@ -128,3 +128,16 @@ def test_lower_limit_below_a_thousandth_makes_a_bound():
     kept = NoiseTerm(value=239.0, unit="x", ci=(1.0, 545.0), method="wls",
                      tau_range_s=(1.0, 100.0))
     assert _unresolved(kept) is kept
+
+
+def test_an_estimate_at_zero_below_its_interval_is_a_bound():
+    # GMWM's B on 10 min of white accelerometer noise read "0 [3.861e-11, 244.6]": a
+    # value outside its own interval, nothing resolved beyond <= 244.6
+    t = NoiseTerm(value=0.0, unit="ug", ci=(3.861e-11, 244.6), method="gmwm",
+                  tau_range_s=(1.0, 100.0))
+    b = _unresolved(t)
+    assert "upper_bound" in b.flags and b.upper_bound == 244.6 and b.ci == (0.0, 244.6)
+    assert b.to_dict()["value"] == 244.6 and "estimated at 0" in b.reason
+    absent = NoiseTerm(value=0.0, unit="ug", ci=(0.0, 0.0), method="gmwm",
+                       tau_range_s=(1.0, 100.0), flags=("absent",))
+    assert _unresolved(absent) is absent  # no interval above 0: the absent-B rule's case
