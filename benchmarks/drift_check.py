@@ -18,7 +18,8 @@ measured non-stationarity (the spread of its segments' own predicted drift,
 by the observed RMS's own sampling under the predicted model):
 its coverage and median high/low per horizon (``rms_ci``). ``--pooled`` pools three
 independent logs of a preset (:mod:`inertialab.noise.terms.pooled`) and checks the pooled
-interval on a fourth; ``--real-intervals`` checks it on the shared logs by halves after
+interval on a fourth (``--unit-spread``: each log from its own unit of the model, its N, K
+and B drawn with that log-sd); ``--real-intervals`` checks it on the shared logs by halves after
 the warm-up (and with none cut) and by leave-one-log-out, and records how much the
 warm-up cut moves each log's terms; ``--pooled-halves`` pools three of the shared logs'
 four halves and checks the fourth.
@@ -30,6 +31,7 @@ Commands::
     python -m benchmarks.drift_check --seeds 40 --hours 3          # with the RMS interval
     python -m benchmarks.drift_check --seeds 40 --first-seed 100000 --preset industrial-400hz
     python -m benchmarks.drift_check --pooled --seeds 20 --hours 2
+    python -m benchmarks.drift_check --pooled --seeds 20 --hours 2 --unit-spread 0.15
     python -m benchmarks.drift_check --real-intervals
     python -m benchmarks.drift_check --pooled-halves
 
@@ -250,7 +252,7 @@ def run_real_intervals() -> dict:
     leave-one-log-out (fitted on one whole log, checked on the other; the between-log part
     from the fitted log's own segments, as ``--pool`` with one log in the fit)."""
     from benchmarks.real_logs import LOGS, RATE_HZ, load_shared
-    from inertialab.noise.terms.pooled import between_var
+    from inertialab.noise.terms.pooled import next_log_var
 
     logs = {name: load_shared(name) for name in LOGS}
     out = {"halves": {}, "halves_no_warmup": {}, "leave_one_out": {}, "warmup": {}}
@@ -282,7 +284,7 @@ def run_real_intervals() -> dict:
                 continue
             for axis, (y, unit) in cut[fit_name].items():
                 def between(prior):  # drift_between with one log: the prior, times 1 + 1/1
-                    return np.array([between_var([0.0], [0.0], p) for p in prior]) * 2.0
+                    return np.array([next_log_var([0.0], [0.0], p) for p in prior])
 
                 r, chk, _, _ = _axis_prediction(y, RATE_HZ, unit, cut[chk_name][axis][0],
                                                 between=between)
@@ -336,12 +338,32 @@ def pooled_check(ys, y_check, fs: float, unit: str) -> dict:
         "ratio": c["ratio"].tolist()}
 
 
-def pooled_row(preset: str, seed: int, hours: float, n_logs: int = 3) -> dict:
+def unit_of(preset: str, rng, spread: float):
+    """One unit of a sensor model: the preset with its white density, random walk and
+    Gauss-Markov amplitudes each times ``exp(spread * e)``, ``e`` standard normal (a
+    unit-to-unit log-sd of ``spread``; 0: the preset itself)."""
+    import math
+
+    from inertialab.sim.mems_presets import preset as get
+
+    base = get(preset)
+    if spread <= 0:
+        return base
+    e = rng.standard_normal(3)
+    return base.with_(n_white=base.n_white * math.exp(spread * e[0]),
+                      k_rw=base.k_rw * math.exp(spread * e[1]),
+                      gm=tuple((g[0] * math.exp(spread * e[2]), g[1]) for g in base.gm))
+
+
+def pooled_row(preset: str, seed: int, hours: float, n_logs: int = 3,
+               unit_spread: float = 0.0) -> dict:
     """Pool ``n_logs`` independent logs of a preset (:func:`pooled_check`) and check on
-    one more log."""
+    one more log; with ``unit_spread``, each log from its own unit (:func:`unit_of`)."""
     from inertialab.sim.mems_presets import simulate
 
-    runs = [simulate(preset, hours=hours, seed=seed + 1000 * i) for i in range(n_logs + 1)]
+    rng = np.random.default_rng(seed + 777)
+    runs = [simulate(unit_of(preset, rng, unit_spread), hours=hours, seed=seed + 1000 * i)
+            for i in range(n_logs + 1)]
     return pooled_check([r.y for r in runs[:n_logs]], runs[-1].y, runs[0].rate_hz,
                         runs[0].unit)
 
@@ -381,14 +403,14 @@ def run_pooled_halves() -> dict:
     return out
 
 
-def run_pooled(seeds: int, hours: float, presets=PRESETS) -> dict:
+def run_pooled(seeds: int, hours: float, presets=PRESETS, unit_spread: float = 0.0) -> dict:
     out = {}
     for p in presets:
-        rows = [pooled_row(p, s, hours) for s in range(seeds)]
+        rows = [pooled_row(p, s, hours, unit_spread=unit_spread) for s in range(seeds)]
         ins = np.array([r["ci_inside"] for r in rows])
         hl = np.array([r["ci_high_over_low"] for r in rows], dtype=float)
         z = np.array([r["ci_z"] for r in rows], dtype=float)
-        out[p] = {"seeds": seeds, "rms_ci": {
+        out[p] = {"seeds": seeds, "unit_spread": unit_spread, "rms_ci": {
             "coverage": ins.mean(axis=0).tolist(), "cases": int(ins.shape[0]),
             "z_variance": np.nanvar(z, axis=0).tolist(),
             "high_over_low_median": np.nanmedian(hl, axis=0).tolist()}}
@@ -488,6 +510,9 @@ def main(argv=None) -> int:
                          "with no warm-up cut, and leave-one-log-out")
     ap.add_argument("--pooled", action="store_true",
                     help="presets: pool three logs, check the interval on a fourth")
+    ap.add_argument("--unit-spread", type=float, default=0.0,
+                    help="with --pooled: each log from its own unit, whose N, K and B "
+                         "amplitudes differ by this log-sd (0.15: 15 %%)")
     ap.add_argument("--pooled-halves", action="store_true",
                     help="the shared logs' four halves as four logs: pool three, check the "
                          "fourth")
@@ -504,7 +529,7 @@ def main(argv=None) -> int:
     elif a.pooled_halves:
         result["pooled_halves"] = run_pooled_halves()
     elif a.pooled:
-        result["pooled"] = run_pooled(a.seeds, a.hours, a.preset or PRESETS)
+        result["pooled"] = run_pooled(a.seeds, a.hours, a.preset or PRESETS, a.unit_spread)
         result["pooled_all"] = _listed(across_presets(result["pooled"]))
         print("pooled, all presets", result["pooled_all"], flush=True)
     else:

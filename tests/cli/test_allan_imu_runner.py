@@ -88,6 +88,8 @@ def test_a_check_log_is_read_by_the_runner_and_checks_the_prediction(log, tmp_pa
     assert drift["check_on"] == str(other)
     gx = env["imu"]["axes"][0]["drift_prediction"]
     assert gx["check"]["n_windows"][0] > 0
+    # one fitted log cannot say how another run or unit differs: the check says so
+    assert gx["check"]["between_logs"].startswith("not measured: one log was fitted")
     # the check log read by the runner is the one the workflow checks against: the same
     # observed RMS as the workflow given that record directly
     from inertialab.io import read_record

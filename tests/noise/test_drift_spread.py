@@ -9,6 +9,7 @@ import math
 
 import numpy as np
 import pytest
+from scipy.special import ndtri, stdtrit
 
 from inertialab.noise.segments.drift_spread import (
     prediction_log_var,
@@ -113,9 +114,14 @@ def test_a_pools_between_log_prior_is_its_logs_segment_spread():
     # one log: nothing to spread, the prior (the mean within-log spread) times 1 + 1/1
     one = drift_between(own[:1], [FS], [None], opts, within=within[:1])
     assert one == pytest.approx([2.0 * 0.3])
-    # two logs: their ln V differ by ln 1.44 beyond sampling; shrunk toward the mean prior
-    # 0.2 with PRIOR_WEIGHT pseudo-logs against one dof, times 1 + 1/2
+    # two logs: their ln V differ by ln 1.44 (d^2 / 2 a spread of one dof), above the
+    # mean prior 0.2: the prior is the floor, times 1 + 1/2 and (t_1 / z)^2
+    t1z = (stdtrit(1, 0.975) / ndtri(0.975)) ** 2
     two = drift_between(own, [FS, FS], [None, None], opts, within=within)
+    assert two == pytest.approx([0.2 * 1.5 * t1z], rel=1e-9)
+    # with a small prior the logs' own spread counts (less the fits' own sampling), not
+    # pulled down toward the prior (shrunk, it would be about a third of it)
+    low = drift_between(own, [FS, FS], [None, None], opts,
+                        within=[np.array([0.001]), np.array([0.001])])[0]
     d2 = math.log(1.44) ** 2 / 2.0
-    want = (d2 + PRIOR_WEIGHT * 0.2) / (1 + PRIOR_WEIGHT) * 1.5
-    assert two == pytest.approx([want], abs=0.03)
+    assert 0.7 * d2 * 1.5 * t1z < low <= d2 * 1.5 * t1z

@@ -16,6 +16,7 @@ from inertialab.noise.terms.pooled import (
     between_var,
     cv_score,
     homogeneity,
+    next_log_var,
     pool_curves,
     widen_term,
 )
@@ -68,6 +69,30 @@ def test_between_var_is_the_spread_beyond_sampling_shrunk_to_the_prior():
     assert between_var([0.0], [0.01], prior=0.3) == 0.3
     # two logs with equal values: (1 * 0 + 2 * prior) / 3
     assert between_var([1.0, 1.0], [0.0, 0.0], prior=0.3) == pytest.approx(0.2)
+
+
+def test_next_log_var_is_students_prediction_interval_for_a_new_log():
+    """Three logs of a population whose log quantity has between-log sd 0.3 (no
+    sampling): the pooled mean +- z sqrt(next_log_var) covers a fourth log's value on
+    95 % of draws (Student's prediction interval is exact for normal draws); the former
+    rule (the spread shrunk toward a prior of none, times 1 + 1/n, with z) covers less."""
+    from scipy.special import ndtri
+
+    rng = np.random.default_rng(3)
+    z = float(ndtri(0.975))
+    draws = rng.normal(0.0, 0.3, size=(20000, 4))
+    hit_t, hit_old = 0, 0
+    for row in draws:
+        mean = row[:3].mean()
+        v = next_log_var(row[:3], np.zeros(3))
+        old = between_var(row[:3], np.zeros(3)) * (1 + 1 / 3)
+        hit_t += abs(row[3] - mean) <= z * math.sqrt(v)
+        hit_old += abs(row[3] - mean) <= z * math.sqrt(old)
+    assert hit_t / draws.shape[0] == pytest.approx(0.95, abs=0.006)
+    assert hit_old / draws.shape[0] < 0.85
+    # a measured spread is never pulled below the prior's floor, nor down toward it
+    assert next_log_var([0.0, 0.0, 0.0], np.zeros(3), prior=0.1) > 0.1 * 4 / 3
+    assert next_log_var([0.0], [0.0], prior=0.1) == pytest.approx(0.2)
 
 
 def test_widen_term_adds_the_spread_to_each_side_and_to_a_bound():

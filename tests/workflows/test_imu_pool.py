@@ -44,6 +44,8 @@ def test_logs_of_other_units_and_rates_pool_with_each_own_terms(tmp_path):
                        check=_recs(chk)[0], warmup="0")
     d = res.to_dict()
     assert d["pooled"] and d["pool_kind"] == "runs" and len(d["logs"]) == 3
+    assert d["between_log_dof"] == 2
+    assert "Student's t = 4.3" in res.tables()[-1][0]
     assert d["logs"][1]["units"] == {"gx": "rps"}
     assert d["logs"][2]["rate_hz"] == pytest.approx(200.0)
     for ax in d["axes"]:
@@ -56,6 +58,8 @@ def test_logs_of_other_units_and_rates_pool_with_each_own_terms(tmp_path):
         n = ax["terms"]["N"]
         assert n["ci"][0] <= ax["ci_fit"]["N"][0] and n["ci"][1] >= ax["ci_fit"]["N"][1]
         assert len(ax["drift_prediction"]["check"]["inside_rms_ci"]) == 2
+        # the pooled interval carries the measured between-log spread: no one-log caveat
+        assert "between_logs" not in ax["drift_prediction"]["check"]
 
 
 def test_a_log_missing_axes_is_refused_naming_it(tmp_path):

@@ -116,6 +116,13 @@ def nonstationary_part(opts: DriftOptions, rate_hz: float, *, stationarity=None,
     return nonstationary_log_var(stationarity, opts.horizons_s)
 
 
+#: what a check on another log means when one log was fitted (the interval carries the
+#: fitted log's own non-stationarity, not the difference between runs or units)
+ONE_LOG_CAVEAT = ("not measured: one log was fitted, so the interval carries its own "
+                  "non-stationarity but not how another run or unit differs; pool several "
+                  "logs (argument 'pool') to measure that spread")
+
+
 def axis_drift(axis, rate_hz: float, opts: DriftOptions, y_check=None, *,
                stationarity=None, extra_log_var=None, segments=None) -> dict:
     """``drift_prediction`` of one fitted axis (module docstring), JSON-ready, with the
@@ -169,6 +176,8 @@ def axis_drift(axis, rate_hz: float, opts: DriftOptions, y_check=None, *,
         out["check"] |= {"rms_ci_with_sampling": _ci_dict(ci, f),
                          "inside_rms_ci": [bool(lo <= o <= hi) for o, lo, hi
                                            in zip(obs, ci["low"], ci["high"])]}
+        if opts.check_on == "other" and extra_log_var is None:
+            out["check"]["between_logs"] = ONE_LOG_CAVEAT
     return out
 
 
@@ -445,10 +454,12 @@ def drift_tables(res) -> list:
                 if "inside_rms_ci" in c:
                     rows.append([a.axis, "observed inside RMS interval"]
                                 + ["yes" if v else "NO" for v in c["inside_rms_ci"]])
-        check = axes[0].drift.get("check", {}).get("on")
+        chk = axes[0].drift.get("check", {})
+        check = chk.get("on")
+        caveat = ("; between logs: " + chk["between_logs"]) if chk.get("between_logs") else ""
         out.append((f"Integrated error after a {w:g}-s bias window (angle for gyros, "
                     "velocity for accelerometers)" + (f"; checked on {check}" if check
-                                                      else ""), cols, rows))
+                                                      else "") + caveat, cols, rows))
     plans = [a for a in res.axes if a.plan is not None]
     if plans:
         yes = {True: "yes", False: "no", None: "-"}
@@ -481,6 +492,6 @@ def drift_tables(res) -> list:
     return out
 
 
-__all__ = ["AXES", "BIAS_WINDOW_S", "DriftOptions", "NONSTATIONARY_FACTOR", "axis_columns",
+__all__ = ["AXES", "BIAS_WINDOW_S", "DriftOptions", "NONSTATIONARY_FACTOR", "ONE_LOG_CAVEAT", "axis_columns",
            "axis_drift", "axis_plan", "display_tables", "drift_options", "drift_tables",
            "inflated", "nonstationary_log_var", "nonstationary_part"]

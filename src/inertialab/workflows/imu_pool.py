@@ -16,7 +16,8 @@ line naming it before anything is fitted. Per axis then (:mod:`inertialab.noise.
 * each log's own terms beside them (``logs[]``), and the near-stationarity test between
   the logs' curves;
 * the N, B and K intervals widened by the between-log spread of the logs' own terms
-  (random effects, shrunk toward the logs' within-log segment spread); ``pool_kind``
+  (random effects, never below the logs' within-log segment spread, with Student's
+  t on n - 1 degrees of freedom: the interval for the next log); ``pool_kind``
   says what that spread is: run to run of one unit, or unit to unit of one model;
 * with a drift prediction, its RMS interval carries the between-log spread of each log's
   own predicted drift the same way, and ``check_on`` another log checks it there.
@@ -200,11 +201,13 @@ def _term_prior(stats, term) -> float:
     return float(np.mean(v)) / 4.0 if v else 0.0
 
 
-def widen_terms(pooled, own_terms, stats, same_rate, z) -> tuple[object, dict]:
+def widen_terms(pooled, own_terms, stats, same_rate, z,
+                confidence: float = DEFAULT_CONFIDENCE["imu"]) -> tuple[object, dict]:
     """The pooled terms with N, B and K intervals carrying the between-log spread of the
     logs' own terms (N and Q only over the logs of the reference rate), and the spreads
-    ``{term: between-log variance of ln term}``."""
-    from inertialab.noise.terms.pooled import between_var, widen_term
+    ``{term: variance of the next log's ln term}``
+    (:func:`inertialab.noise.terms.pooled.next_log_var`)."""
+    from inertialab.noise.terms.pooled import next_log_var, widen_term
 
     spread, new = {}, {}
     for name in ("N", "B", "K"):
@@ -218,7 +221,7 @@ def widen_terms(pooled, own_terms, stats, same_rate, z) -> tuple[object, dict]:
                 vals.append(math.log(term.value))
                 samp.append((math.log(hi / lo) / (2 * z)) ** 2)
         prior = _term_prior(stats, getattr(pooled, name))
-        spread[name] = between_var(vals, samp, prior) * (1.0 + 1.0 / max(len(vals), 1))
+        spread[name] = next_log_var(vals, samp, prior, confidence)
         new[name] = widen_term(getattr(pooled, name), spread[name], z)
     return replace(pooled, **new), spread
 
@@ -257,15 +260,16 @@ def pooled_axis(name, column, unit, dev, terms, g):
                      random_walk_t_s=float(terms.k_gm["t_s"]) if terms.k_gm else None)
 
 
-def drift_between(own_terms, rates, stats, opts, within=None) -> np.ndarray:
-    """Between-log variance of the log drift variance per horizon (each log's own model's
+def drift_between(own_terms, rates, stats, opts, within=None,
+                  confidence: float = DEFAULT_CONFIDENCE["imu"]) -> np.ndarray:
+    """Variance of the next log's log drift variance per horizon about the pool's
+    (:func:`inertialab.noise.terms.pooled.next_log_var`: each log's own model's
     prediction; its terms' uncertainty as sampling; the logs' mean within-log spread as
-    the prior: ``within``, one array per log, the spread of its segments' own predicted
+    the floor: ``within``, one array per log, the spread of its segments' own predicted
     drift (:func:`inertialab.noise.segments.drift_spread.segment_log_var`), or without
-    it the segments test's Allan excess of ``stats``), times ``1 + 1/n`` (the next log,
-    not the mean)."""
+    it the segments test's Allan excess of ``stats``)."""
     from inertialab.noise.terms.drift_prediction import predict_terms, predicted_rms_ci
-    from inertialab.noise.terms.pooled import between_var
+    from inertialab.noise.terms.pooled import next_log_var
     from inertialab.workflows.imu_drift import nonstationary_log_var
 
     vals, samp, prior = [], [], []
@@ -278,9 +282,8 @@ def drift_between(own_terms, rates, stats, opts, within=None) -> np.ndarray:
     if within is not None:
         prior = [np.asarray(w, dtype=float) for w in within]
     vals, samp, prior = np.array(vals), np.array(samp), np.mean(prior, axis=0)
-    n = len(own_terms)
-    return np.array([between_var(vals[:, i], samp[:, i], prior[i])
-                     for i in range(vals.shape[1])]) * (1.0 + 1.0 / n)
+    return np.array([next_log_var(vals[:, i], samp[:, i], prior[i], confidence)
+                     for i in range(vals.shape[1])])
 
 
 def _within(lg, name, unit, kind, method, g, confidence, opts) -> np.ndarray:
@@ -319,7 +322,7 @@ def pool_axis(name, logs, *, candidates, confidence, drift=None, y_check=None,
              for lg in logs]
     same = joins_at(rates, rates[0], [0.0])[:, 0]
     z = float(-ndtri((1 - confidence) / 2))
-    widened, spread = widen_terms(pooled, own, stats, same, z)
+    widened, spread = widen_terms(pooled, own, stats, same, z, confidence)
     shortest = min(len(lg.columns[name][1]) / lg.rate_hz for lg in logs)
     between = homogeneity(curves, rates, max_tau_s=shortest / 16.0)
     curve = pool_curves(curves, rates, confidence)
@@ -332,7 +335,8 @@ def pool_axis(name, logs, *, candidates, confidence, drift=None, y_check=None,
         # the drift interval takes the between-log spread of the logs' own drift once, on
         # the pooled fit's own intervals (the widened terms would count it twice)
         within = [_within(lg, name, unit, kind, m, g, confidence, drift) for lg in logs]
-        extra = drift_between(own, rates, stats, drift, within=within)
+        extra = drift_between(own, rates, stats, drift, within=within,
+                              confidence=confidence)
         d = axis_drift(pooled_axis(name, col, unit, curve, pooled, g), rates[0], drift,
                        y_check, extra_log_var=extra)
         axis = replace(axis, drift=d | {"between_log_var": [float(v) for v in extra]})
@@ -369,6 +373,7 @@ class PoolResult(ResultBase):
             a.update(self.extras.get(a["axis"], {}))
         return d | {"pooled": True, "pool_kind": self.pool_kind,
                     "spread_means": POOL_KINDS[self.pool_kind],
+                    "between_log_dof": len(self.logs) - 1,
                     "logs": [lg.summary() for lg in self.logs]}
 
     # the command runner's protocol (inertialab.cli.runner.Run.execute)
@@ -409,10 +414,29 @@ class PoolResult(ResultBase):
                 rows.append([a.axis, lg["file"], _term_cell(lg["N"]), _term_cell(lg["B"]),
                              _term_cell(lg["K"]), "", lg["stationary"]])
         out.append((f"Each log's own terms ({self.pool_kind}: {POOL_KINDS[self.pool_kind]}); "
-                    "pooled intervals carry the between-log spread",
+                    "pooled intervals carry the between-log spread for the next log "
+                    + spread_note(len(self.logs)),
                     ["axis", "log", "N", "B", "K", "model (leave-one-log-out)",
                      "between logs / stationary"], rows))
         return out
+
+
+def spread_note(n_logs: int) -> str:
+    """How well ``n_logs`` logs know their between-log spread: Student's t quantile on
+    ``n - 1`` degrees of freedom against the normal one
+    (:func:`inertialab.noise.terms.pooled.next_log_var`).
+
+    >>> spread_note(3)
+    "(known with 2 degrees of freedom: Student's t = 4.3 in place of 1.96)"
+    """
+    from scipy.special import stdtrit
+
+    dof = max(n_logs - 1, 1)
+    note = (f"(known with {dof} degree{'s' if dof > 1 else ''} of freedom: Student's "
+            f"t = {float(stdtrit(dof, 0.975)):.3g} in place of 1.96)")
+    if n_logs == 2:
+        note += "; with two logs the intervals are wide: a third log narrows them to t = 4.3"
+    return note
 
 
 def _term_cell(d: dict) -> str:

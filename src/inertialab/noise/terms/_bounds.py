@@ -210,11 +210,14 @@ def _b_literal(term, cap: float, low: float):
 
 
 def held_to_curve(terms, *curves):
-    """``terms`` with B under the literal rule (module text) against ``curves``, the
-    curve(s) it was read from: for terms whose B was fitted or widened elsewhere (the
-    pooled terms: :mod:`inertialab.workflows.imu_pool`)."""
-    b = _b_literal(terms.B, *curve_reading(curves, terms.report_factor("B")))
-    return terms if b is terms.B else replace(terms, B=b)
+    """``terms`` whose intervals were widened elsewhere (the pooled terms:
+    :mod:`inertialab.workflows.imu_pool`) read again: a term whose lower limit fell below
+    :data:`RESOLVED` of its value is an upper bound, and B is held to ``curves``, the
+    curve(s) it was read from, under the literal rule (module text)."""
+    new = {name: _unresolved(getattr(terms, name)) for name in ("N", "B", "K")}
+    new["B"] = _b_literal(new["B"], *curve_reading(curves, terms.report_factor("B")))
+    changed = {k: v for k, v in new.items() if v is not getattr(terms, k)}
+    return replace(terms, **changed) if changed else terms
 
 
 def bounded_terms(terms, result, conv, under_model, *, b_rule: str = "interval",
