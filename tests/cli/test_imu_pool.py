@@ -79,3 +79,25 @@ def test_a_check_log_in_the_pool_is_refused_before_any_log_is_read(tmp_path, cap
     code, _, err = run_inprocess(capsys, "allan", a, b, "--imu", "--pool", "--predict-drift",
                                  "10", "--check-on", b)
     assert code == 2 and "--check-on" in err and "not in the pool" in err
+
+
+def test_the_same_log_twice_is_refused_by_name_or_by_content(tmp_path, capsys, monkeypatch):
+    """A log given twice (the same path, or a copy under another name) would read as two
+    logs that agree: a between-log spread of none. It is refused naming it, before any
+    fit; so is a check log whose samples are one of the pool's."""
+    import shutil
+
+    from inertialab.workflows import imu_pool
+
+    def no_fit(*a, **k):
+        raise AssertionError("a pooled axis was fitted")
+
+    monkeypatch.setattr(imu_pool, "pool_axis", no_fit)
+    a, b = _write(tmp_path / "a.csv", 0, hours=0.02), _write(tmp_path / "b.csv", 5, hours=0.02)
+    copy = shutil.copy(a, tmp_path / "copy.csv")
+    for files in ((a, a), (a, b, copy)):
+        code, _, err = run_inprocess(capsys, "allan", *files, "--imu", "--pool")
+        assert code == 2 and "the same samples as" in err and len(err.strip().splitlines()) == 1
+    code, _, err = run_inprocess(capsys, "allan", a, b, "--imu", "--pool", "--predict-drift",
+                                 "1", "--check-on", copy)
+    assert code == 2 and "copy.csv" in err and "not in the pool" in err

@@ -103,3 +103,22 @@ def test_a_term_read_nowhere_keeps_a_finite_pooled_bound(tmp_path):
     assert k["bound"] == "upper" and np.isfinite(k["value"]) and k["value"] > 0
     assert k["value"] >= ax["ci_fit"]["K"][1] > 0
     assert ax["random_walk"]["bound"] == "upper" and ax["random_walk"]["value"] > 0
+
+
+def test_a_check_log_too_short_for_a_horizon_is_named_and_that_horizon_not_judged(tmp_path):
+    """A check log of 36 s holds no 10-s bias window plus 60-s horizon: a warning names
+    it, and that horizon's inside/outside is None (not a miss), as for one log; a horizon
+    past the longest pooled log is refused."""
+    from inertialab.errors import DataQualityWarning
+
+    one = dict(axes=("gx",), hours=0.2)
+    a, b = _write(tmp_path / "a.csv", 0, **one), _write(tmp_path / "b.csv", 10, **one)
+    short = _write(tmp_path / "short.csv", 30, axes=("gx",), hours=0.01)
+    with pytest.warns(DataQualityWarning, match="short.csv .* no window .* 60 s"):
+        res = analyse_pool(_recs(a, b), candidates=("wls",), predict_drift="1,60",
+                           check=_recs(short)[0], warmup="0")
+    chk = res.to_dict()["axes"][0]["drift_prediction"]["check"]
+    assert chk["n_windows"][1] == 0 and chk["inside_rms_ci"][1] is None
+    assert chk["inside_rms_ci"][0] in (True, False)
+    with pytest.raises(InputError, match="horizon 1000 s"):
+        analyse_pool(_recs(a, b), candidates=("wls",), predict_drift="1000", warmup="0")

@@ -174,8 +174,9 @@ def axis_drift(axis, rate_hz: float, opts: DriftOptions, y_check=None, *,
                               n_windows=chk["n_effective_model"])
         obs = np.asarray(chk["observed_rms"], dtype=float)
         out["check"] |= {"rms_ci_with_sampling": _ci_dict(ci, f),
-                         "inside_rms_ci": [bool(lo <= o <= hi) for o, lo, hi
-                                           in zip(obs, ci["low"], ci["high"])]}
+                         # None where the check log holds no window of that horizon
+                         "inside_rms_ci": [bool(lo <= o <= hi) if math.isfinite(o) else None
+                                           for o, lo, hi in zip(obs, ci["low"], ci["high"])]}
         if opts.check_on == "other" and extra_log_var is None:
             out["check"]["between_logs"] = ONE_LOG_CAVEAT
     return out
@@ -453,7 +454,8 @@ def drift_tables(res) -> list:
                             + [f"{100 * v:.0f} %" for v in c["coverage_95"]])
                 if "inside_rms_ci" in c:
                     rows.append([a.axis, "observed inside RMS interval"]
-                                + ["yes" if v else "NO" for v in c["inside_rms_ci"]])
+                                + [{True: "yes", False: "NO"}.get(v, "-")
+                                   for v in c["inside_rms_ci"]])
         chk = axes[0].drift.get("check", {})
         check = chk.get("on")
         caveat = ("; between logs: " + chk["between_logs"]) if chk.get("between_logs") else ""

@@ -109,6 +109,11 @@ def join_pool(records, *, rate=None, g_local=None, warmup="auto") -> list[PoolLo
     logs, ref_units, ref_axes = [], {}, None
     for rec in records:
         f = rec.path
+        same = [lg.file for lg in logs if lg.file == str(f)
+                or (rec.sha256 is not None and lg.sha256 == rec.sha256)]
+        if same:  # a log twice would be a between-log spread of none
+            raise InputError(f"cannot join the pool: the same samples as {same[0]} (a log "
+                             "given twice would read as two logs that agree)", path=f)
         fs, cols, temp = log_columns(rec, rate=rate)
         if ref_axes is None:
             ref_axes = tuple(a for a in AXES if a in cols)
@@ -466,8 +471,10 @@ def analyse_pool(records, *, rate=None, g_local=None, warmup="auto", pool_kind="
         raise InputError("argument 'pool' needs at least two logs")
     if check is not None and not predict_drift:
         raise InputError("argument 'check_on' needs argument 'predict_drift'")
-    if check is not None and str(check.path) in [str(r.path) for r in records]:
-        raise InputError("argument 'check_on' must be a log not in the pool", path=check.path)
+    if check is not None and (str(check.path) in [str(r.path) for r in records] or (
+            check.sha256 is not None and check.sha256 in [r.sha256 for r in records])):
+        raise InputError("argument 'check_on' must be a log not in the pool (its samples "
+                         "are one of the pool's logs)", path=check.path)
     kw = dict(rate=rate, g_local=g_local, warmup=warmup)
     logs = join_pool(records, **kw)
     check_on = None if check is None else check.path
@@ -479,7 +486,15 @@ def analyse_pool(records, *, rate=None, g_local=None, warmup="auto", pool_kind="
     _curves(logs, confidence)  # refuses a log that is not static, before any fit
     drift = None
     if predict_drift:
+        from inertialab.workflows.imu_options import check_horizons
+
         h = tuple(float(v) for v in str(predict_drift).split(",") if v.strip())
+        # as one log's: no horizon past the longest log; a check log too short is named
+        span = [min(len(v[1]) for v in lg.columns.values()) / lg.rate_hz
+                for lg in (*logs, *([check] if check is not None else []))]
+        check_horizons(h, float(bias_window), max(span[:len(logs)]),
+                       check_s=span[-1] if check is not None else None,
+                       check_name=str(check_on) if check is not None else None)
         drift = DriftOptions(horizons_s=h, bias_window_s=float(bias_window),
                              check_on="other" if check else None,
                              other_name=str(check_on) if check else None)
