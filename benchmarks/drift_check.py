@@ -283,7 +283,7 @@ def run_real_intervals() -> dict:
             if chk_name == fit_name:
                 continue
             for axis, (y, unit) in cut[fit_name].items():
-                def between(prior):  # drift_between with one log: the prior, times 1 + 1/1
+                def between(prior):  # drift_between with one log: the floor, times 1 + 1/1
                     return np.array([next_log_var([0.0], [0.0], p) for p in prior])
 
                 r, chk, _, _ = _axis_prediction(y, RATE_HZ, unit, cut[chk_name][axis][0],
@@ -303,9 +303,10 @@ def run_real_intervals() -> dict:
 
 
 def pooled_check(ys, y_check, fs: float, unit: str) -> dict:
-    """Pool the logs ``ys`` (WLS, as ``--pool``: each log's within-log drift spread the
-    prior of the between-log spread), predict with the pooled RMS interval and check on
-    ``y_check``: :func:`_ci_check`'s dict."""
+    """Pool the logs ``ys`` (WLS, as ``--pool``: the between-log spread Student's
+    prediction interval for the next log, each log's within-log drift spread its floor:
+    :func:`inertialab.noise.terms.pooled.next_log_var`), predict with the pooled RMS
+    interval and check on ``y_check``: :func:`_ci_check`'s dict."""
     from inertialab.noise.segments.drift_spread import segment_log_var
     from inertialab.noise.segments.stationarity import check_stationarity
     from inertialab.noise.statistics.allan import oadev
