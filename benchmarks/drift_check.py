@@ -34,6 +34,7 @@ Commands::
     python -m benchmarks.drift_check --pooled --seeds 20 --hours 2 --unit-spread 0.15
     python -m benchmarks.drift_check --real-intervals
     python -m benchmarks.drift_check --pooled-halves
+    python -m benchmarks.drift_check --pooled-halves-cli wls
 
 Targets: observed/predicted 1.00 +- 0.05 and coverage 93-97 % at every horizon on the
 presets; 0.8-1.25 at every horizon and axis on the real logs.
@@ -404,6 +405,68 @@ def run_pooled_halves() -> dict:
     return out
 
 
+def _half_files(folder: Path) -> list[Path]:
+    """The shared logs each cut in two CSV files (``t_s`` and ``{axis}_{unit}`` columns),
+    as a user's own files of those halves would be: no warm-up cut here, each file's own
+    is found by ``allan --imu``."""
+    import pandas as pd
+
+    from benchmarks.real_logs import LOGS, RATE_HZ, load_shared
+
+    out = []
+    for name in LOGS:
+        axes = load_shared(name)
+        n = min(v[0].size for v in axes.values())
+        for j, (a, b) in enumerate(((0, n // 2), (n // 2, n))):
+            cols = {f"{ax}_{u}": y[a:b] for ax, (y, u) in axes.items()}
+            path = folder / f"{name}_half{j + 1}.csv"
+            pd.DataFrame({"t_s": np.arange(b - a) / RATE_HZ, **cols}).to_csv(path, index=False)
+            out.append(path)
+    return out
+
+
+def run_pooled_halves_cli(method: str = "wls") -> dict:
+    """``--pooled-halves`` through the product: the four half files (:func:`_half_files`),
+    three pooled by ``inertialab allan --imu A B C --pool --method METHOD --predict-drift
+    1,10,60,300 --check-on D --json`` (a subprocess, as a user runs it), per fold and axis
+    whether the observed RMS lies inside the interval the check is judged by
+    (``rms_ci_with_sampling``), and that interval's high/low."""
+    import subprocess
+    import tempfile
+
+    h = ",".join(f"{v:g}" for v in HORIZONS)
+    out = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        files = _half_files(Path(tmp))
+        for chk in files:
+            rest = [str(f) for f in files if f != chk]
+            t0 = time.time()
+            run = subprocess.run([sys.executable, "-m", "inertialab", "allan", *rest, "--imu",
+                                  "--pool", "--method", method, "--predict-drift", h,
+                                  "--check-on", str(chk), "--json"],
+                                 capture_output=True, text=True, check=True)
+            for ax in json.loads(run.stdout)["imu"]["axes"]:
+                c = ax["drift_prediction"]["check"]
+                ci = c["rms_ci_with_sampling"]
+                out[f"{chk.stem} {ax['axis']}"] = {
+                    "ratio": c["observed_over_predicted"],
+                    "ci_inside": [int(bool(v)) for v in c["inside_rms_ci"]],
+                    "ci_high_over_low": [hi / lo if lo else None
+                                         for lo, hi in zip(ci["low"], ci["high"])],
+                    "model": ax["model_choice"]["chosen"]}
+            print("pooled halves (cli)", chk.stem, f"{time.time() - t0:.0f} s",
+                  sum(sum(v["ci_inside"]) for k, v in out.items() if k.startswith(chk.stem)),
+                  "of 24", flush=True)
+    ins = np.array([v["ci_inside"] for v in out.values()])
+    hl = np.array([v["ci_high_over_low"] for v in out.values()], dtype=float)
+    out["summary"] = {"inside": int(ins.sum()), "of": int(ins.size),
+                      "inside_per_horizon": ins.sum(axis=0).tolist(),
+                      "high_over_low_median": np.nanmedian(hl, axis=0).tolist(),
+                      "high_over_low_p90": np.nanpercentile(hl, 90, axis=0).tolist()}
+    print("pooled halves (cli)", out["summary"], flush=True)
+    return out
+
+
 def run_pooled(seeds: int, hours: float, presets=PRESETS, unit_spread: float = 0.0) -> dict:
     out = {}
     for p in presets:
@@ -517,6 +580,10 @@ def main(argv=None) -> int:
     ap.add_argument("--pooled-halves", action="store_true",
                     help="the shared logs' four halves as four logs: pool three, check the "
                          "fourth")
+    ap.add_argument("--pooled-halves-cli", choices=("wls", "gmwm"),
+                    help="--pooled-halves through the command line: the halves as four "
+                         "files, each with its own warm-up, pooled by allan --imu --pool "
+                         "with this method")
     ap.add_argument("--json")
     a = ap.parse_args(argv)
     t0 = time.time()
@@ -529,6 +596,8 @@ def main(argv=None) -> int:
         result["real_intervals"] = run_real_intervals()
     elif a.pooled_halves:
         result["pooled_halves"] = run_pooled_halves()
+    elif a.pooled_halves_cli:
+        result["pooled_halves_cli"] = run_pooled_halves_cli(a.pooled_halves_cli)
     elif a.pooled:
         result["pooled"] = run_pooled(a.seeds, a.hours, a.preset or PRESETS, a.unit_spread)
         result["pooled_all"] = _listed(across_presets(result["pooled"]))
