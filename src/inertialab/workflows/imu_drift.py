@@ -361,33 +361,55 @@ def drift_options(predict_drift, bias_window, check_on, plan, rec, *, rate, unit
                 raise InputError(f"the check log is at {fs2:g} Hz, the analysed log at "
                                  f"{fs1:g} Hz: give logs of the same rate", path=check_on)
             place = tb2.place if (rate is None and tb2 is not None) else (lambda v: v)
-            other = _in_units_of(axis_columns(rec2), axis_columns(rec), place, g_local)
+            main, theirs = axis_columns(rec), axis_columns(rec2)
+            _check_axes(list(main), list(theirs), check_on)
+            other = _in_units_of(theirs, main, place, g_local)
             other = _other_after_warmup(other, float(fs2 or fs1 or 0.0), warmup)
             mode, name = "other", str(check_on)
-    opts = DriftOptions(horizons_s=horizons or (1.0,), bias_window_s=float(bias_window),
+    return DriftOptions(horizons_s=horizons or (1.0,), bias_window_s=float(bias_window),
                         check_on=mode, other=other, other_name=name, plan=bool(plan))
-    if horizons:
-        _check_lengths(opts, rec, rate)
-    return opts
 
 
-def _check_lengths(opts: DriftOptions, rec, rate) -> None:
-    """:func:`inertialab.workflows.imu_options.check_horizons` on the record's length
-    (its first half where the check is on the second) and the check data's."""
+def _check_axes(analysed: list, check: list, check_on) -> None:
+    """Refuse a check log that holds none of the analysed axes (another sensor kind: it
+    would check nothing); warn, naming them, about analysed axes it lacks (not checked)."""
+    common = [a for a in analysed if a in check]
+    if not common:
+        raise InputError(f"the check log has none of the analysed axes ({' '.join(analysed)}"
+                         f"); it has {' '.join(check) or 'no IMU axis'}: give a log of the "
+                         "same sensor", path=check_on)
+    lacking = [a for a in analysed if a not in check]
+    if lacking:
+        import warnings
+
+        from inertialab.errors import DataQualityWarning
+
+        warnings.warn(f"{check_on}: the check log has no {' '.join(lacking)} column: "
+                      f"{'that axis is' if len(lacking) == 1 else 'those axes are'} not "
+                      "checked", DataQualityWarning, stacklevel=3)
+
+
+def check_lengths(opts: DriftOptions, n_samples: int, rate_hz: float,
+                  warmup_s: float = 0.0) -> None:
+    """:func:`inertialab.workflows.imu_options.check_horizons` on what is fitted:
+    ``n_samples`` left after the log's warm-up span (``warmup_s``, named in a refusal),
+    its first half where the check is on the second half, and the check data's length
+    (the second half, or the other log after its own warm-up)."""
     from inertialab.workflows.imu_options import check_horizons
 
-    tb = rec.timebase
-    fs = float(rate or (tb.rate_hz if tb is not None else 0.0) or 0.0)
-    if fs <= 0:
+    fs = float(rate_hz or 0.0)
+    if fs <= 0 or n_samples <= 0:
         return
-    n = rec.n // 2 if opts.check_on == "half" else rec.n
-    check = None
+    n = n_samples // 2 if opts.check_on == "half" else n_samples
+    check, what = None, None
     if opts.check_on == "half":
-        check, what = (rec.n - n) / fs, "the second half"
+        check, what = (n_samples - n) / fs, "the second half"
     elif opts.check_on == "other" and opts.other:
         check, what = min(len(v) for v in opts.other.values()) / fs, opts.other_name
+    note = (f" (after the {warmup_s:g}-s warm-up cut" + (", its first half" if n < n_samples
+                                                        else "") + ")") if warmup_s > 0 else ""
     check_horizons(opts.horizons_s, opts.bias_window_s, n / fs, check_s=check,
-                   check_name=what if check is not None else None)
+                   check_name=what, fitted_note=note)
 
 
 def _in_units_of(check_cols: dict, main_cols: dict, place, g_local) -> dict:
@@ -424,6 +446,33 @@ def display_tables(res, file) -> list:
     return [(title, cols, rows), *drift_tables(res)]
 
 
+def _cell(v, fmt: str) -> str:
+    """A number of a drift table, or '-' where there is none (a horizon the check log
+    holds no window of: None or NaN)."""
+    return format(v, fmt) if v is not None and math.isfinite(v) else "-"
+
+
+def _check_rows(axis: str, unit: str, c: dict) -> list:
+    """The drift table's rows of one axis's check: the observed RMS and its ratios, the
+    band's coverage, and the RMS interval widened by the observed RMS's own sampling
+    (the one ``inside_rms_ci`` is judged by), then that verdict."""
+    rows = [[axis, f"observed RMS ({unit})"] + [_cell(v, ".3g") for v in c["observed_rms"]],
+            [axis, "observed/model"] + [_cell(v, ".2f") for v in c["observed_over_predicted"]],
+            [axis, "observed/Kalibr"]
+            + [_cell(v, ".2f") for v in c["kalibr_observed_over_predicted"]],
+            [axis, "in model 95 % band"]
+            + [_cell(v, ".0%").replace("%", " %") for v in c["coverage_95"]]]
+    ci = c.get("rms_ci_with_sampling")
+    if ci and "inside_rms_ci" in c:
+        rows.append([axis, "interval with the check's sampling"]
+                    + [f"{_cell(lo, '.3g')}-{_cell(hi, '.3g')}" if ok is not None else "-"
+                       for lo, hi, ok in zip(ci["low"], ci["high"], c["inside_rms_ci"])])
+    if "inside_rms_ci" in c:
+        rows.append([axis, "observed inside RMS interval"]
+                    + [{True: "yes", False: "NO"}.get(v, "-") for v in c["inside_rms_ci"]])
+    return rows
+
+
 def drift_tables(res) -> list:
     """``(title, columns, rows)`` of the predicted-drift, check and plan tables."""
     out = []
@@ -444,19 +493,8 @@ def drift_tables(res) -> list:
                         + [f"{v:.3g}" for v in d["kalibr"]["predicted_rms"]])
             c = d.get("check")
             if c:
-                rows.append([a.axis, f"observed RMS ({u})"]
-                            + [f"{v:.3g}" for v in c["observed_rms"]])
-                rows.append([a.axis, "observed/model"]
-                            + [f"{v:.2f}" for v in c["observed_over_predicted"]])
-                rows.append([a.axis, "observed/Kalibr"]
-                            + [f"{v:.2f}" for v in c["kalibr_observed_over_predicted"]])
-                rows.append([a.axis, "in model 95 % band"]
-                            + [f"{100 * v:.0f} %" for v in c["coverage_95"]])
-                if "inside_rms_ci" in c:
-                    rows.append([a.axis, "observed inside RMS interval"]
-                                + [{True: "yes", False: "NO"}.get(v, "-")
-                                   for v in c["inside_rms_ci"]])
-        chk = axes[0].drift.get("check", {})
+                rows += _check_rows(a.axis, u, c)
+        chk = next((a.drift["check"] for a in axes if "check" in a.drift), {})
         check = chk.get("on")
         caveat = ("; between logs: " + chk["between_logs"]) if chk.get("between_logs") else ""
         out.append((f"Integrated error after a {w:g}-s bias window (angle for gyros, "
@@ -495,5 +533,5 @@ def drift_tables(res) -> list:
 
 
 __all__ = ["AXES", "BIAS_WINDOW_S", "DriftOptions", "NONSTATIONARY_FACTOR", "ONE_LOG_CAVEAT", "axis_columns",
-           "axis_drift", "axis_plan", "display_tables", "drift_options", "drift_tables",
+           "axis_drift", "axis_plan", "check_lengths", "display_tables", "drift_options", "drift_tables",
            "inflated", "nonstationary_log_var", "nonstationary_part"]

@@ -270,6 +270,11 @@ def analyse_imu(columns: dict, *, rate_hz: float, taus="octave", method: str = "
     columns, wu = apply_warmup(columns, float(rate_hz), warmup, temperature)
     out = []
     names = [a for a in AXES if a in columns]
+    if drift is not None:  # the horizons against what the warm-up leaves, before any fit
+        from inertialab.workflows.imu_drift import check_lengths
+
+        check_lengths(drift, int(np.asarray(columns[names[0]][1]).shape[0]), float(rate_hz),
+                      float(wu["span_s"]))
     moving = _motion(columns, names, float(rate_hz)) if terms else {}
     for i, name in enumerate(names):
         col, y, unit = columns[name]

@@ -91,17 +91,17 @@ def _same_file(a, b) -> bool:
 
 
 def check_horizons(horizons, bias_window_s: float, record_s: float, *, check_s=None,
-                   check_name: str | None = None) -> None:
+                   check_name: str | None = None, fitted_note: str = "") -> None:
     """Refuse a horizon whose bias window and horizon together are longer than the
-    analysed record (``record_s``, the part the model is fitted on); warn once, naming
-    them, about horizons the check data (``check_s`` seconds of ``check_name``) cannot
-    observe."""
+    analysed record (``record_s``, the part the model is fitted on; ``fitted_note`` says
+    what it is, e.g. after a warm-up cut); warn once, naming them, about horizons the
+    check data (``check_s`` seconds of ``check_name``) cannot observe."""
     long = [h for h in horizons if h + bias_window_s > record_s]
     if long:
         raise InputError(f"argument 'predict_drift' horizon {long[0]:g} s with the "
                          f"{bias_window_s:g}-s bias window is longer than the "
-                         f"{record_s:.6g} s the model is fitted on: the prediction would "
-                         "extrapolate the model past every tau it saw")
+                         f"{record_s:.6g} s the model is fitted on{fitted_note}: the "
+                         "prediction would extrapolate the model past every tau it saw")
     bad = unusable_horizons(horizons, bias_window_s, check_s)
     if bad:
         warnings.warn(f"the drift check on {check_name} ({check_s:.6g} s) has no window of "

@@ -132,13 +132,24 @@ def join_pool(records, *, rate=None, g_local=None, warmup="auto") -> list[PoolLo
 
 
 def _curves(logs, confidence: float) -> None:
-    """Each log's octave OADEV per axis, refusing an axis that is not static."""
+    """Each log's octave OADEV per axis, refusing (naming the log and column) an axis that
+    is constant, stuck (:func:`inertialab.io.gaps.stuck_run`) or not static."""
     from inertialab.noise.terms.fit import not_static_reason
-    from inertialab.workflows.imu_noise import _deviation
+    from inertialab.workflows.imu_noise import _deviation, _stuck_reason
 
     for lg in logs:
         for k, (c, y, _u) in lg.columns.items():
-            dev = _deviation(np.asarray(y), lg.rate_hz, "octave", confidence)
+            y = np.asarray(y, dtype=float)
+            finite = y[np.isfinite(y)]
+            if not (finite.size and np.ptp(finite) > 0):
+                raise InputError(f"cannot join the pool: column '{c}' is constant (every "
+                                 "sample the same value: a stuck or absent sensor)",
+                                 path=lg.file)
+            stuck = _stuck_reason(y, lg.rate_hz)
+            if stuck:
+                raise InputError(f"cannot join the pool: column '{c}' has {stuck}",
+                                 path=lg.file)
+            dev = _deviation(y, lg.rate_hz, "octave", confidence)
             why = not_static_reason(dev.taus_s, dev.dev)
             if why:
                 raise InputError(f"cannot join the pool: column '{c}' {why}", path=lg.file)

@@ -1,0 +1,90 @@
+"""``allan --imu`` drift prediction, warm-up and ``--pool`` on logs a user brings: a
+horizon is checked against what the warm-up leaves, a check log must hold the analysed
+axes, a horizon with nothing observed prints '-' (never 'nan'), the table shows the
+interval its inside/outside is judged by, and a pool log with a constant axis is refused
+naming that log and column."""
+
+import json
+
+import numpy as np
+import pandas as pd
+
+from tests.helpers import run_inprocess
+
+
+def _white(path, seed, *, seconds=240.0, rate=100.0, axes=("gx_dps",), sd=0.05,
+           constant=()):
+    """A static log of white noise (``sd`` per sample) on ``axes``; ``constant`` axes
+    hold one value throughout."""
+    rng = np.random.default_rng(seed)
+    n = int(seconds * rate)
+    cols = {a: (np.full(n, 0.1) if a in constant else rng.normal(0.0, sd, n)) for a in axes}
+    pd.DataFrame({"t_s": np.arange(n) / rate, **cols}).to_csv(path, index=False)
+    return path
+
+
+def test_a_horizon_past_what_the_warmup_leaves_of_the_half_is_refused(tmp_path, capsys):
+    """240 s, 110 s cut: the first half of the 130 s left is 65 s, less than the 60-s
+    horizon with its 10-s bias window (the whole log's half, 120 s, would hold it)."""
+    a = _white(tmp_path / "a.csv", 0)
+    code, _, err = run_inprocess(capsys, "allan", a, "--imu", "--warmup", "110",
+                                 "--predict-drift", "1,60", "--check-on", "half")
+    assert code == 2 and len(err.strip().splitlines()) == 1
+    assert "a.csv" in err and "predict_drift" in err.replace("-", "_") and "60" in err
+    assert "warm-up" in err
+
+
+def test_a_check_log_without_the_analysed_axes_is_refused(tmp_path, capsys):
+    a = _white(tmp_path / "a.csv", 0, seconds=120.0, axes=("gx_dps", "gy_dps"))
+    b = _white(tmp_path / "b.csv", 1, seconds=120.0, axes=("ax_mps2",), sd=0.01)
+    code, _, err = run_inprocess(capsys, "allan", a, "--imu", "--warmup", "0",
+                                 "--predict-drift", "1", "--check-on", b)
+    assert code == 2 and len(err.strip().splitlines()) == 1
+    assert "b.csv" in err and "gx gy" in err
+
+
+def test_a_check_log_missing_some_axes_names_them(tmp_path, capsys):
+    a = _white(tmp_path / "a.csv", 0, seconds=120.0, axes=("gx_dps", "gy_dps"))
+    b = _white(tmp_path / "b.csv", 1, seconds=120.0, axes=("gx_dps",))
+    code, out, _ = run_inprocess(capsys, "allan", a, "--imu", "--warmup", "0",
+                                 "--predict-drift", "1", "--check-on", b, "--json")
+    assert code in (0, None)
+    d = json.loads(out)
+    assert any("b.csv" in w and "no gy" in w and "not checked" in w for w in d["warnings"])
+    axes = {x["axis"]: x for x in d["imu"]["axes"]}
+    assert "check" in axes["gx"]["drift_prediction"]
+    assert "check" not in axes["gy"]["drift_prediction"]
+
+
+def test_a_horizon_the_check_log_cannot_observe_prints_a_dash_not_nan(tmp_path, capsys):
+    a = _white(tmp_path / "a.csv", 0, seconds=120.0)
+    b = _white(tmp_path / "b.csv", 1, seconds=30.0)
+    code, out, _ = run_inprocess(capsys, "allan", a, "--imu", "--warmup", "0",
+                                 "--predict-drift", "1,60", "--check-on", b)
+    assert code in (0, None)
+    rows = [ln for ln in out.splitlines() if "observed" in ln or "in model" in ln]
+    assert rows and not any("nan" in ln.lower() for ln in rows)
+
+
+def test_the_table_shows_the_interval_the_check_is_judged_by(tmp_path, capsys):
+    """The inside/outside row is judged against the interval widened by the observed
+    RMS's own sampling: the table shows that interval, and the JSON's."""
+    a = _white(tmp_path / "a.csv", 0, seconds=240.0)
+    code, out, _ = run_inprocess(capsys, "allan", a, "--imu", "--warmup", "0",
+                                 "--predict-drift", "1,60", "--check-on", "half", "--json")
+    assert code in (0, None)
+    ci = json.loads(out)["imu"]["axes"][0]["drift_prediction"]["check"]["rms_ci_with_sampling"]
+    code, out, _ = run_inprocess(capsys, "allan", a, "--imu", "--warmup", "0",
+                                 "--predict-drift", "1,60", "--check-on", "half")
+    row = next(ln for ln in out.splitlines() if "with the check's sampling" in ln)
+    assert f"{ci['low'][1]:.3g}-{ci['high'][1]:.3g}" in row
+
+
+def test_a_pool_log_with_a_constant_axis_is_refused_naming_it(tmp_path, capsys):
+    a = _white(tmp_path / "a.csv", 0, seconds=120.0, axes=("gx_dps", "gy_dps"))
+    b = _white(tmp_path / "b.csv", 1, seconds=120.0, axes=("gx_dps", "gy_dps"))
+    c = _white(tmp_path / "c.csv", 2, seconds=120.0, axes=("gx_dps", "gy_dps"),
+               constant=("gy_dps",))
+    code, _, err = run_inprocess(capsys, "allan", a, b, c, "--imu", "--pool", "--warmup", "0")
+    assert code == 2 and len(err.strip().splitlines()) == 1
+    assert "c.csv" in err and "a.csv" not in err and "gy_dps" in err
