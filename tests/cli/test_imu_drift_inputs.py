@@ -44,8 +44,8 @@ def test_a_check_log_without_the_analysed_axes_is_refused(tmp_path, capsys):
 
 
 def test_a_check_log_missing_some_axes_names_them(tmp_path, capsys):
-    a = _white(tmp_path / "a.csv", 0, seconds=120.0, axes=("gx_dps", "gy_dps"))
-    b = _white(tmp_path / "b.csv", 1, seconds=120.0, axes=("gx_dps",))
+    a = _white(tmp_path / "a.csv", 0, seconds=60.0, axes=("gx_dps", "gy_dps"))
+    b = _white(tmp_path / "b.csv", 1, seconds=60.0, axes=("gx_dps",))
     code, out, _ = run_inprocess(capsys, "allan", a, "--imu", "--warmup", "0",
                                  "--predict-drift", "1", "--check-on", b, "--json")
     assert code in (0, None)
@@ -88,3 +88,45 @@ def test_a_pool_log_with_a_constant_axis_is_refused_naming_it(tmp_path, capsys):
     code, _, err = run_inprocess(capsys, "allan", a, b, c, "--imu", "--pool", "--warmup", "0")
     assert code == 2 and len(err.strip().splitlines()) == 1
     assert "c.csv" in err and "a.csv" not in err and "gy_dps" in err
+
+
+def test_a_pool_log_much_noisier_than_the_others_is_named_in_a_warning(tmp_path, capsys):
+    """Three logs, one with three times the white noise: the between-log test says they
+    differ, and a warning names that log (the pooled N averages the logs)."""
+    a = _white(tmp_path / "a.csv", 0, seconds=60.0)
+    b = _white(tmp_path / "b.csv", 1, seconds=60.0)
+    c = _white(tmp_path / "loud.csv", 2, seconds=60.0, sd=0.15)
+    code, out, _ = run_inprocess(capsys, "allan", a, b, c, "--imu", "--pool", "--warmup", "0",
+                                 "--json")
+    assert code in (0, None)
+    d = json.loads(out)
+    assert d["imu"]["axes"][0]["between_logs"]["verdict"] == "differ beyond sampling"
+    hit = [w for w in d["warnings"] if "differ beyond sampling" in w]
+    assert len(hit) == 1 and "loud.csv" in hit[0] and "gx_dps" in hit[0]
+
+
+def test_a_pool_logs_stationarity_warning_names_the_log(tmp_path, capsys):
+    """Three logs with one column name: the one whose second half is twice as noisy is
+    named in its 'not stationary' warning, not only its column."""
+    a = _white(tmp_path / "a.csv", 0, seconds=60.0)
+    b = _white(tmp_path / "b.csv", 1, seconds=60.0)
+    c = _white(tmp_path / "step.csv", 2, seconds=60.0)
+    df = pd.read_csv(c)
+    df.loc[df.index >= len(df) // 2, "gx_dps"] *= 2.0
+    df.to_csv(c, index=False)
+    code, out, _ = run_inprocess(capsys, "allan", a, b, c, "--imu", "--pool", "--warmup", "0",
+                                 "--json")
+    assert code in (0, None)
+    hit = [w for w in json.loads(out)["warnings"] if "not stationary" in w]
+    assert hit and all("step.csv" in w for w in hit)
+
+
+def test_a_pool_of_two_rates_does_not_say_all_its_samples_are_at_the_first(tmp_path,
+                                                                           capsys):
+    a = _white(tmp_path / "a.csv", 0, seconds=40.0)
+    b = _white(tmp_path / "b.csv", 1, seconds=40.0, rate=200.0)
+    code, out, _ = run_inprocess(capsys, "allan", a, b, "--imu", "--pool", "--warmup", "0")
+    assert code in (0, None)
+    text = " ".join(out.split())  # the title as one line, however the table wraps it
+    assert "12000 samples in all at 100 and 200 Hz" in text
+    assert "samples at 100 Hz" not in text

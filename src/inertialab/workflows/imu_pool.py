@@ -316,6 +316,29 @@ def _within(lg, name, unit, kind, method, g, confidence, opts) -> np.ndarray:
                            opts.horizons_s, opts.bias_window_s)
 
 
+def warn_between(name: str, logs, curves, between: dict) -> None:
+    """A warning when the logs' curves of axis ``name`` differ beyond sampling (the
+    between-log test, :func:`inertialab.noise.terms.pooled.homogeneity`), naming the log
+    farthest from the others' median Allan deviation at the worst tau: the pooled terms
+    average the logs, and their intervals carry the spread."""
+    import warnings
+
+    from inertialab.errors import DataQualityWarning
+    from inertialab.noise.terms.pooled import curve_at
+
+    if between.get("verdict") != "differ beyond sampling":
+        return
+    tau = between["worst_tau_s"]
+    dev = np.array([math.sqrt(curve_at(c, [tau])[0][0]) for c in curves])
+    ratio = dev / np.nanmedian(dev)
+    i = int(np.nanargmax(np.abs(np.log(ratio))))
+    warnings.warn(f"axis {name}: the logs differ beyond sampling (p = "
+                  f"{between['p_value']:.2g} at tau = {tau:g} s); farthest: {logs[i].file} "
+                  f"(column '{logs[i].columns[name][0]}'), its Allan deviation {ratio[i]:.3g}x "
+                  "the logs' median there. The pooled terms average the logs and their "
+                  "intervals carry that spread", DataQualityWarning, stacklevel=3)
+
+
 def pool_axis(name, logs, *, candidates, confidence, drift=None, y_check=None,
               g=U.G_STANDARD) -> tuple:
     """``(AxisNoise, extras)`` of one axis pooled over ``logs`` (module docstring)."""
@@ -334,13 +357,14 @@ def pool_axis(name, logs, *, candidates, confidence, drift=None, y_check=None,
     pooled = _fit(pool_curves(curves, rates, confidence), unit, kind, m, rates[0], g,
                   confidence)
     own = [_fit(c, unit, kind, m, fs, g, confidence) for c, fs in zip(curves, rates)]
-    stats = [axis_stationarity(lg.columns[name][1], lg.rate_hz, lg.columns[name][0])
-             for lg in logs]
+    stats = [axis_stationarity(lg.columns[name][1], lg.rate_hz, lg.columns[name][0],
+                               path=lg.file) for lg in logs]
     same = joins_at(rates, rates[0], [0.0])[:, 0]
     z = float(-ndtri((1 - confidence) / 2))
     widened, spread = widen_terms(pooled, own, stats, same, z, confidence)
     shortest = min(len(lg.columns[name][1]) / lg.rate_hz for lg in logs)
     between = homogeneity(curves, rates, max_tau_s=shortest / 16.0)
+    warn_between(name, logs, curves, between)
     curve = pool_curves(curves, rates, confidence)
     # the widened B read again against the pooled curve it came from (every B within it)
     widened = held_to_curve(widened, curve)
@@ -418,6 +442,12 @@ class PoolResult(ResultBase):
 
         names = ", ".join(lg.file for lg in self.logs)
         out = display_tables(self.imu, f"pooled over {len(self.logs)} logs ({names})")
+        rates = sorted({lg.rate_hz for lg in self.logs})
+        if len(rates) > 1:  # the samples of logs at several rates: not all at the first's
+            t, c, r = out[0]
+            out[0] = (t.replace(f"{self.imu.n_samples} samples at {self.imu.rate_hz:g} Hz",
+                                f"{self.imu.n_samples} samples in all at "
+                                f"{' and '.join(f'{v:g}' for v in rates)} Hz"), c, r)
         rows = []
         for a in self.imu.axes:
             ex = self.extras[a.axis]
@@ -579,5 +609,5 @@ def run_pool(records, config, *, check=None, progress=None):
 
 
 __all__ = ["CANDIDATES", "POOL_KINDS", "PoolLog", "PoolResult", "analyse_pool", "choose_model",
-           "check_pool", "drift_between", "join_pool", "log_columns", "pool_axis",
+           "check_pool", "drift_between", "join_pool", "warn_between", "log_columns", "pool_axis",
            "pooled_axis", "run_pool", "widen_terms"]
