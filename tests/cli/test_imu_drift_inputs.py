@@ -130,3 +130,43 @@ def test_a_pool_of_two_rates_does_not_say_all_its_samples_are_at_the_first(tmp_p
     text = " ".join(out.split())  # the title as one line, however the table wraps it
     assert "12000 samples in all at 100 and 200 Hz" in text
     assert "samples at 100 Hz" not in text
+
+
+def test_a_pool_log_too_short_for_a_horizon_is_named_and_left_out_of_the_spread_there(
+        tmp_path, capsys):
+    """Two 60-s logs and one of 30 s at a 40-s horizon (+ 10 s): the short log is named
+    in a warning; at 40 s the between-log drift spread is the two long logs' alone (its
+    own 40-s prediction would extrapolate its model), at 1 s all three count."""
+    from inertialab.noise.statistics.allan import oadev
+    from inertialab.workflows.imu_drift import DriftOptions
+    from inertialab.workflows.imu_noise import fit_axis_terms
+    from inertialab.workflows.imu_pool import drift_between
+
+    a = _white(tmp_path / "a.csv", 0, seconds=60.0)
+    b = _white(tmp_path / "b.csv", 1, seconds=60.0)
+    c = _white(tmp_path / "c.csv", 2, seconds=30.0)
+    code, out, _ = run_inprocess(capsys, "allan", a, b, c, "--imu", "--pool", "--warmup", "0",
+                                 "--predict-drift", "1,40", "--json")
+    assert code in (0, None)
+    assert any("c.csv" in w and "40-s horizon" in w for w in json.loads(out)["warnings"])
+
+    terms = []
+    for seed, sd in ((0, 0.05), (1, 0.05), (2, 0.2)):
+        y = np.random.default_rng(seed).normal(0.0, sd, 3000)
+        dev = oadev(y, rate_hz=100.0, taus="octave", confidence=0.95)
+        terms.append(fit_axis_terms(y, dev, "dps", "gyro", rate_hz=100.0, lines=()))
+    opts = DriftOptions(horizons_s=(1.0, 40.0))
+    within = [np.array([0.01, 0.02]), np.array([0.0, 0.03]), np.array([0.5, 0.9])]
+    kw = dict(within=within, lengths_s=[60.0, 60.0, 30.0])
+    three = drift_between(terms, [100.0] * 3, [None] * 3, opts, **kw)
+    two = drift_between(terms[:2], [100.0] * 2, [None] * 2, opts, within=within[:2])
+    every = drift_between(terms, [100.0] * 3, [None] * 3, opts, within=within)
+    assert three[1] == two[1] and three[0] == every[0] and every[1] != two[1]
+
+
+def test_a_warmup_too_long_for_one_pool_log_names_that_log(tmp_path, capsys):
+    a = _white(tmp_path / "a.csv", 0, seconds=60.0)
+    b = _white(tmp_path / "short.csv", 1, seconds=30.0)
+    code, _, err = run_inprocess(capsys, "allan", a, b, "--imu", "--pool", "--warmup", "20")
+    assert code == 2 and len(err.strip().splitlines()) == 1
+    assert "short.csv" in err and "a.csv" not in err and "--warmup 20" in err

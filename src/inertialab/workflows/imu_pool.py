@@ -126,7 +126,10 @@ def join_pool(records, *, rate=None, g_local=None, warmup="auto") -> list[PoolLo
         g = g_local if g_local is not None else float(rec.meta.get("g_local_mps2",
                                                                    U.G_STANDARD))
         cols, own = _to_pool_units(cols, ref_units, g, f)
-        cols, wu = apply_warmup(cols, fs, warmup, temp)
+        try:
+            cols, wu = apply_warmup(cols, fs, warmup, temp)
+        except InputError as exc:  # a span too long for this log: the log named
+            raise InputError(str(exc), path=f) from None
         logs.append(PoolLog(str(f), fs, cols, own, wu, rec.sha256))
     return logs
 
@@ -277,13 +280,16 @@ def pooled_axis(name, column, unit, dev, terms, g):
 
 
 def drift_between(own_terms, rates, stats, opts, within=None,
-                  confidence: float = DEFAULT_CONFIDENCE["imu"]) -> np.ndarray:
+                  confidence: float = DEFAULT_CONFIDENCE["imu"], lengths_s=None) -> np.ndarray:
     """Variance of the next log's log drift variance per horizon about the pool's
     (:func:`inertialab.noise.terms.pooled.next_log_var`: each log's own model's
     prediction; its terms' uncertainty as sampling; the logs' mean within-log spread as
     the floor: ``within``, one array per log, the spread of its segments' own predicted
     drift (:func:`inertialab.noise.segments.drift_spread.segment_log_var`), or without
-    it the segments test's Allan excess of ``stats``)."""
+    it the segments test's Allan excess of ``stats``). ``lengths_s``: each log's fitted
+    length, s; a log too short for a horizon with its bias window (its own prediction
+    there would extrapolate its model past every tau it saw, as one log's horizon is
+    refused) is left out at that horizon, its value and its floor alike."""
     from inertialab.noise.terms.drift_prediction import predict_terms, predicted_rms_ci
     from inertialab.noise.terms.pooled import next_log_var
     from inertialab.workflows.imu_drift import nonstationary_log_var
@@ -297,7 +303,14 @@ def drift_between(own_terms, rates, stats, opts, within=None,
         prior.append(nonstationary_log_var(st, opts.horizons_s))
     if within is not None:
         prior = [np.asarray(w, dtype=float) for w in within]
-    vals, samp, prior = np.array(vals), np.array(samp), np.mean(prior, axis=0)
+    vals, samp, prior = np.array(vals), np.array(samp), np.array(prior, dtype=float)
+    if lengths_s is not None:
+        need = np.asarray(opts.horizons_s, dtype=float) + opts.bias_window_s
+        short = need[None, :] > np.asarray(lengths_s, dtype=float)[:, None]
+        if short.all(axis=0).any():  # a horizon no log holds (refused before): all kept
+            short[:, short.all(axis=0)] = False
+        vals, prior = np.where(short, np.nan, vals), np.where(short, np.nan, prior)
+    prior = np.nanmean(prior, axis=0)
     return np.array([next_log_var(vals[:, i], samp[:, i], prior[i], confidence)
                      for i in range(vals.shape[1])])
 
@@ -376,7 +389,8 @@ def pool_axis(name, logs, *, candidates, confidence, drift=None, y_check=None,
         # the pooled fit's own intervals (the widened terms would count it twice)
         within = [_within(lg, name, unit, kind, m, g, confidence, drift) for lg in logs]
         extra = drift_between(own, rates, stats, drift, within=within,
-                              confidence=confidence)
+                              confidence=confidence,
+                              lengths_s=[len(lg.columns[name][1]) / lg.rate_hz for lg in logs])
         d = axis_drift(pooled_axis(name, col, unit, curve, pooled, g), rates[0], drift,
                        y_check, extra_log_var=extra)
         axis = replace(axis, drift=d | {"between_log_var": [float(v) for v in extra]})
@@ -536,6 +550,7 @@ def analyse_pool(records, *, rate=None, g_local=None, warmup="auto", pool_kind="
         check_horizons(h, float(bias_window), max(span[:len(logs)]),
                        check_s=span[-1] if check is not None else None,
                        check_name=str(check_on) if check is not None else None)
+        _warn_short_logs(logs, span[:len(logs)], h, float(bias_window))
         drift = DriftOptions(horizons_s=h, bias_window_s=float(bias_window),
                              check_on="other" if check else None,
                              other_name=str(check_on) if check else None)
@@ -559,6 +574,22 @@ def analyse_pool(records, *, rate=None, g_local=None, warmup="auto", pool_kind="
                    n_samples=int(sum(lg.summary()["n_samples"] for lg in logs)),
                    settings=settings)
     return PoolResult(imu, tuple(logs), extras, pool_kind)
+
+
+def _warn_short_logs(logs, spans_s, horizons_s, bias_window_s: float) -> None:
+    """A warning naming each pool log too short for a horizon with its bias window: it is
+    left out of the between-log drift spread there (:func:`drift_between`)."""
+    import warnings
+
+    from inertialab.errors import DataQualityWarning
+
+    for lg, span in zip(logs, spans_s):
+        bad = [h for h in horizons_s if h + bias_window_s > span]
+        if bad:
+            warnings.warn(f"{lg.file} ({span:.6g} s fitted) holds no {bias_window_s:g}-s bias "
+                          f"window + {', '.join(f'{h:g}' for h in bad)}-s horizon: left out "
+                          "of the between-log drift spread there (its own prediction would "
+                          "extrapolate its model)", DataQualityWarning, stacklevel=3)
 
 
 def _candidates(method: str) -> tuple:
