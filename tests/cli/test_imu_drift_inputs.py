@@ -170,3 +170,28 @@ def test_a_warmup_too_long_for_one_pool_log_names_that_log(tmp_path, capsys):
     code, _, err = run_inprocess(capsys, "allan", a, b, "--imu", "--pool", "--warmup", "20")
     assert code == 2 and len(err.strip().splitlines()) == 1
     assert "short.csv" in err and "a.csv" not in err and "--warmup 20" in err
+
+
+def test_a_pool_check_log_of_another_sensor_kind_is_refused_as_the_check_log(tmp_path,
+                                                                             capsys):
+    a = _white(tmp_path / "a.csv", 0, seconds=60.0)
+    b = _white(tmp_path / "b.csv", 1, seconds=60.0)
+    acc = _white(tmp_path / "acc.csv", 2, seconds=60.0, axes=("ax_mps2",), sd=0.01)
+    code, _, err = run_inprocess(capsys, "allan", a, b, "--imu", "--pool", "--warmup", "0",
+                                 "--predict-drift", "1", "--check-on", acc)
+    assert code == 2 and len(err.strip().splitlines()) == 1
+    assert "acc.csv: cannot be the check log: axes gx missing" in err
+    assert err.count("acc.csv") == 1
+
+
+def test_an_unobserved_horizon_has_no_interval_in_the_json(tmp_path, capsys):
+    a = _white(tmp_path / "a.csv", 0, seconds=120.0)
+    b = _white(tmp_path / "b.csv", 1, seconds=30.0)
+    code, out, _ = run_inprocess(capsys, "allan", a, "--imu", "--warmup", "0",
+                                 "--predict-drift", "1,60", "--check-on", b, "--json")
+    assert code in (0, None)
+    chk = json.loads(out)["imu"]["axes"][0]["drift_prediction"]["check"]
+    assert chk["observed_rms"][1] is None and chk["inside_rms_ci"][1] is None
+    assert chk["rms_ci_with_sampling"]["low"][1] is None
+    assert chk["rms_ci_with_sampling"]["high"][1] is None
+    assert 0 <= chk["rms_ci_with_sampling"]["low"][0] < chk["rms_ci_with_sampling"]["high"][0]

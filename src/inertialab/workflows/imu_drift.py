@@ -173,7 +173,10 @@ def axis_drift(axis, rate_hz: float, opts: DriftOptions, y_check=None, *,
         ci = predicted_rms_ci(pred, axis.terms, extra_log_var=extra,
                               n_windows=chk["n_effective_model"])
         obs = np.asarray(chk["observed_rms"], dtype=float)
-        out["check"] |= {"rms_ci_with_sampling": _ci_dict(ci, f),
+        with_s = _ci_dict(ci, f)
+        for key in ("low", "high"):  # no interval where nothing was observed (not [0, inf])
+            with_s[key] = [v if math.isfinite(o) else None for v, o in zip(with_s[key], obs)]
+        out["check"] |= {"rms_ci_with_sampling": with_s,
                          # None where the check log holds no window of that horizon
                          "inside_rms_ci": [bool(lo <= o <= hi) if math.isfinite(o) else None
                                            for o, lo, hi in zip(obs, ci["low"], ci["high"])]}

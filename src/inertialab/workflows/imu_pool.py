@@ -533,7 +533,15 @@ def analyse_pool(records, *, rate=None, g_local=None, warmup="auto", pool_kind="
     kw = dict(rate=rate, g_local=g_local, warmup=warmup)
     logs = join_pool(records, **kw)
     check_on = None if check is None else check.path
-    check = join_pool([records[0], check], **kw)[1] if check is not None else None
+    if check is not None:
+        try:
+            check = join_pool([records[0], check], **kw)[1]
+        except InputError as exc:  # said of the check log, which joins no pool
+            if exc.path is None or str(exc.path) != str(check_on):
+                raise
+            text = str(exc).removeprefix(f"{exc.path}: ")
+            raise InputError(text.replace("cannot join the pool", "cannot be the check log"),
+                             path=check_on) from None
     if check is not None and abs(check.rate_hz / logs[0].rate_hz - 1) > 1e-3:
         raise InputError(f"the check log is at {check.rate_hz:g} Hz, the pool's first log at "
                          f"{logs[0].rate_hz:g} Hz: give a check log of that rate",
