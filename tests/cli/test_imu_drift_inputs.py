@@ -195,3 +195,20 @@ def test_an_unobserved_horizon_has_no_interval_in_the_json(tmp_path, capsys):
     assert chk["rms_ci_with_sampling"]["low"][1] is None
     assert chk["rms_ci_with_sampling"]["high"][1] is None
     assert 0 <= chk["rms_ci_with_sampling"]["low"][0] < chk["rms_ci_with_sampling"]["high"][0]
+
+
+def test_pool_logs_of_other_column_names_pool_with_one_map(tmp_path, capsys):
+    """One log names its column gx_dps, the other 'Gyro X [deg/s]': a map for the second
+    no longer refuses the first (it has none of the map's sources and is read by its own
+    names, said in a warning); a map whose source no log has is still refused."""
+    a = _white(tmp_path / "a.csv", 0, seconds=40.0)
+    b = _white(tmp_path / "b.csv", 1, seconds=40.0, axes=("Gyro X [deg/s]",))
+    code, out, _ = run_inprocess(capsys, "allan", a, b, "--imu", "--pool", "--warmup", "0",
+                                 "--map", "gx_dps=Gyro X [deg/s]", "--json")
+    assert code in (0, None)
+    d = json.loads(out)
+    assert [lg["columns"]["gx"] for lg in d["imu"]["logs"]] == ["gx_dps", "gx_dps"]
+    assert any("a.csv" in w and "its own column names" in w for w in d["warnings"])
+    code, _, err = run_inprocess(capsys, "allan", a, b, "--imu", "--pool", "--warmup", "0",
+                                 "--map", "gx_dps=Gyro Y")
+    assert code == 2 and "Gyro Y" in err and len(err.strip().splitlines()) == 1
