@@ -212,3 +212,33 @@ def test_pool_logs_of_other_column_names_pool_with_one_map(tmp_path, capsys):
     code, _, err = run_inprocess(capsys, "allan", a, b, "--imu", "--pool", "--warmup", "0",
                                  "--map", "gx_dps=Gyro Y")
     assert code == 2 and "Gyro Y" in err and len(err.strip().splitlines()) == 1
+
+
+def test_a_check_logs_warmup_is_judged_with_its_temperature_and_named_if_too_long(
+        tmp_path, capsys):
+    """The check log's warm-up span is found as the analysed log's: with its temperature
+    column (a 30-s settling the axes do not show cuts its start, so its 1-s horizon holds
+    fewer windows); a --warmup too long for the check log names it."""
+    a = _white(tmp_path / "a.csv", 0, seconds=120.0)
+    b = _white(tmp_path / "b.csv", 1, seconds=120.0)
+    df = pd.read_csv(b)
+    t = df["t_s"].to_numpy()
+    df["temp_c"] = 25.0 + 5.0 * np.exp(-t / 30.0) + np.random.default_rng(3).normal(
+        0.0, 0.01, t.size)
+    df.to_csv(b, index=False)
+    code, out, _ = run_inprocess(capsys, "allan", a, "--imu", "--predict-drift", "1",
+                                 "--check-on", b, "--json")
+    assert code in (0, None)
+    n = json.loads(out)["imu"]["axes"][0]["drift_prediction"]["check"]["n_windows"][0]
+    assert n < 120 // 11
+    short = _white(tmp_path / "short.csv", 2, seconds=30.0)
+    code, _, err = run_inprocess(capsys, "allan", a, "--imu", "--warmup", "20",
+                                 "--predict-drift", "1", "--check-on", short)
+    assert code == 2 and "short.csv" in err and len(err.strip().splitlines()) == 1
+
+
+def test_pool_kind_units_on_one_log_is_refused_not_ignored(tmp_path, capsys):
+    a = tmp_path / "a.csv"  # not read: refused before
+    code, _, err = run_inprocess(capsys, "allan", a, "--imu", "--pool-kind", "units")
+    assert code == 2 and "--pool-kind" in err and "--pool" in err
+    assert len(err.strip().splitlines()) == 1

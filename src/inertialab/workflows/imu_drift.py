@@ -367,7 +367,10 @@ def drift_options(predict_drift, bias_window, check_on, plan, rec, *, rate, unit
             main, theirs = axis_columns(rec), axis_columns(rec2)
             _check_axes(list(main), list(theirs), check_on)
             other = _in_units_of(theirs, main, place, g_local)
-            other = _other_after_warmup(other, float(fs2 or fs1 or 0.0), warmup)
+            tc = rec2.find("temp")  # its temperature judged for its warm-up, as the log's
+            temp = None if tc is None else place(np.asarray(rec2.column(tc), dtype=float))
+            other = _other_after_warmup(other, float(fs2 or fs1 or 0.0), warmup, temp,
+                                        path=check_on)
             mode, name = "other", str(check_on)
     return DriftOptions(horizons_s=horizons or (1.0,), bias_window_s=float(bias_window),
                         check_on=mode, other=other, other_name=name, plan=bool(plan))
@@ -429,13 +432,20 @@ def _in_units_of(check_cols: dict, main_cols: dict, place, g_local) -> dict:
     return out
 
 
-def _other_after_warmup(other: dict, rate_hz: float, warmup) -> dict:
-    """The check log's axes with its own warm-up span cut (as the analysed log's)."""
+def _other_after_warmup(other: dict, rate_hz: float, warmup, temperature=None, *,
+                        path=None) -> dict:
+    """The check log's axes with its own warm-up span cut, as the analysed log's (its
+    ``temperature`` judged with them); a span too long for it is refused naming
+    ``path``."""
     from inertialab.workflows.imu_segments import apply_warmup
 
     if not other or not rate_hz:
         return other
-    cols, _ = apply_warmup({k: (k, v, "") for k, v in other.items()}, rate_hz, warmup)
+    try:
+        cols, _ = apply_warmup({k: (k, v, "") for k, v in other.items()}, rate_hz, warmup,
+                               temperature)
+    except InputError as exc:
+        raise InputError(f"the check log: {exc}", path=path) from None
     return {k: v[1] for k, v in cols.items()}
 
 

@@ -395,6 +395,9 @@ def check_settings(config, exports=()) -> None:
         raise InputError(f"argument 'gaps' must be 'error' or 'split', got '{c.gaps}'")
     if c.check_on and not c.predict_drift:
         raise InputError("argument 'check_on' needs argument 'predict_drift'")
+    if getattr(c, "pool_kind", None) not in (None, "runs") and not getattr(c, "pool", False):
+        raise InputError(f"argument 'pool_kind' {c.pool_kind} needs argument 'pool' and "
+                         "several logs: one log has no between-log spread to describe")
     if c.terms is False and (c.predict_drift or c.plan):
         raise InputError("a drift prediction or plan needs the noise terms")
 
