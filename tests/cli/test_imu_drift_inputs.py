@@ -242,3 +242,36 @@ def test_pool_kind_units_on_one_log_is_refused_not_ignored(tmp_path, capsys):
     code, _, err = run_inprocess(capsys, "allan", a, "--imu", "--pool-kind", "units")
     assert code == 2 and "--pool-kind" in err and "--pool" in err
     assert len(err.strip().splitlines()) == 1
+
+
+def _constant_check(tmp_path, capsys, pool: bool) -> None:
+    axes = ("gx_dps", "gy_dps")
+    logs = [_white(tmp_path / "a.csv", 0, seconds=40.0, axes=axes)]
+    if pool:
+        logs.append(_white(tmp_path / "b.csv", 1, seconds=40.0, axes=axes))
+    c = _white(tmp_path / "c.csv", 2, seconds=40.0, axes=axes, constant=("gy_dps",))
+    code, out, _ = run_inprocess(capsys, "allan", *logs, "--imu", *(("--pool",) if pool else ()),
+                                 "--warmup", "0", "--predict-drift", "1", "--check-on", c,
+                                 "--json")
+    assert code in (0, None)
+    d = json.loads(out)
+    assert any("c.csv" in w and "gy_dps" in w and "not checked" in w for w in d["warnings"])
+    axes_d = {x["axis"]: x["drift_prediction"] for x in d["imu"]["axes"]}
+    assert "check" in axes_d["gx"] and "check" not in axes_d["gy"]
+
+
+def test_a_constant_axis_of_the_check_log_is_not_checked_and_not_a_miss(tmp_path, capsys):
+    """A check log whose gy is stuck at one value observes no drift there: that axis is
+    named in a warning and not checked (it read 'NO' at every horizon, observed 0); a
+    check log with no usable axis is refused."""
+    _constant_check(tmp_path, capsys, pool=False)
+    a = tmp_path / "a.csv"
+    dead = _white(tmp_path / "dead.csv", 3, seconds=40.0, axes=("gx_dps", "gy_dps"),
+                  constant=("gx_dps", "gy_dps"))
+    code, _, err = run_inprocess(capsys, "allan", a, "--imu", "--warmup", "0",
+                                 "--predict-drift", "1", "--check-on", dead)
+    assert code == 2 and "dead.csv" in err and len(err.strip().splitlines()) == 1
+
+
+def test_a_constant_axis_of_a_pools_check_log_is_not_checked(tmp_path, capsys):
+    _constant_check(tmp_path, capsys, pool=True)

@@ -34,7 +34,7 @@ from inertialab import units as U
 from inertialab.config import DEFAULT_CONFIDENCE
 from inertialab.errors import InputError
 from inertialab.result import ResultBase
-from inertialab.workflows.imu_drift import AXES, axis_columns
+from inertialab.workflows.imu_drift import AXES, axis_columns, usable_check_axes
 
 #: what the between-log spread means, per pool kind
 POOL_KINDS = {"runs": "run-to-run spread of one unit (turn-on to turn-on)",
@@ -565,8 +565,11 @@ def analyse_pool(records, *, rate=None, g_local=None, warmup="auto", pool_kind="
     g = g_local if g_local is not None else U.G_STANDARD
     axes, extras = [], {}
     names = [a for a in AXES if a in logs[0].columns]
+    usable = {} if check is None else usable_check_axes(
+        {k: v[1] for k, v in check.columns.items()}, check.rate_hz, check_on,
+        {k: v[0] for k, v in check.columns.items()})
     for i, name in enumerate(names):
-        y_check = check.columns[name][1] if check is not None else None
+        y_check = usable.get(name)
         ax, ex = pool_axis(name, logs, candidates=candidates, confidence=confidence,
                            drift=drift, y_check=y_check, g=g)
         axes.append(ax)
