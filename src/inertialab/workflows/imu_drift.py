@@ -371,14 +371,13 @@ def drift_options(predict_drift, bias_window, check_on, plan, rec, *, rate, unit
             temp = None if tc is None else place(np.asarray(rec2.column(tc), dtype=float))
             other = _other_after_warmup(other, float(fs2 or fs1 or 0.0), warmup, temp,
                                         path=check_on)
-            other = usable_check_axes(other, float(fs2 or fs1 or 0.0), check_on,
-                                      {k: v[0] for k, v in theirs.items()})
+            other = usable_check_axes(other, check_on, {k: v[0] for k, v in theirs.items()})
             mode, name = "other", str(check_on)
     return DriftOptions(horizons_s=horizons or (1.0,), bias_window_s=float(bias_window),
                         check_on=mode, other=other, other_name=name, plan=bool(plan))
 
 
-def usable_check_axes(other: dict, rate_hz: float, check_on, columns=None) -> dict:
+def usable_check_axes(other: dict, check_on, columns=None) -> dict:
     """The check log's axes (``{axis: samples}``) without those that are constant or stuck
     (:func:`inertialab.io.gaps.stuck_run`): they observe no drift, and would read as
     misses; each is named in a warning (``columns``: axis -> the log's column name), and a
@@ -386,19 +385,18 @@ def usable_check_axes(other: dict, rate_hz: float, check_on, columns=None) -> di
     import warnings
 
     from inertialab.errors import DataQualityWarning
-    from inertialab.workflows.imu_noise import _stuck_reason
+    from inertialab.io.gaps import stuck_run
 
     out = {}
     for k, y in other.items():
         y = np.asarray(y, dtype=float)
         finite = y[np.isfinite(y)]
-        why = ("constant" if not (finite.size and np.ptp(finite) > 0)
-               else (_stuck_reason(y, rate_hz) if rate_hz else None))
-        if why:
-            col = (columns or {}).get(k, k)
-            warnings.warn(f"{check_on}: column '{col}' of the check log is "
-                          f"{'constant' if why == 'constant' else 'stuck (' + why + ')'}: "
-                          "it observes no drift, that axis is not checked",
+        run = None if not (finite.size and np.ptp(finite) > 0) else stuck_run(y)
+        if run is not None or not (finite.size and np.ptp(finite) > 0):
+            why = ("constant" if run is None else
+                   f"stuck ({run[1]} identical samples from sample {run[0]})")
+            warnings.warn(f"{check_on}: column '{(columns or {}).get(k, k)}' of the check "
+                          f"log is {why}: it observes no drift, that axis is not checked",
                           DataQualityWarning, stacklevel=3)
             continue
         out[k] = y

@@ -566,7 +566,7 @@ def analyse_pool(records, *, rate=None, g_local=None, warmup="auto", pool_kind="
     axes, extras = [], {}
     names = [a for a in AXES if a in logs[0].columns]
     usable = {} if check is None else usable_check_axes(
-        {k: v[1] for k, v in check.columns.items()}, check.rate_hz, check_on,
+        {k: v[1] for k, v in check.columns.items()}, check_on,
         {k: v[0] for k, v in check.columns.items()})
     for i, name in enumerate(names):
         y_check = usable.get(name)
