@@ -73,11 +73,15 @@ def test_the_table_shows_the_interval_the_check_is_judged_by(tmp_path, capsys):
     code, out, _ = run_inprocess(capsys, "allan", a, "--imu", "--warmup", "0",
                                  "--predict-drift", "1,60", "--check-on", "half", "--json")
     assert code in (0, None)
-    ci = json.loads(out)["imu"]["axes"][0]["drift_prediction"]["check"]["rms_ci_with_sampling"]
+    chk = json.loads(out)["imu"]["axes"][0]["drift_prediction"]["check"]
+    ci = chk["rms_ci_with_sampling"]
     code, out, _ = run_inprocess(capsys, "allan", a, "--imu", "--warmup", "0",
                                  "--predict-drift", "1,60", "--check-on", "half")
     row = next(ln for ln in out.splitlines() if "with the check's sampling" in ln)
     assert f"{ci['low'][1]:.3g}-{ci['high'][1]:.3g}" in row
+    # what the coverage and the RMS rest on: the windows observed, as in the JSON
+    row = next(ln for ln in out.splitlines() if "windows observed" in ln)
+    assert [v.strip() for v in row.split("│")[3:-1]] == [str(n) for n in chk["n_windows"]]
 
 
 def test_a_pool_log_with_a_constant_axis_is_refused_naming_it(tmp_path, capsys):

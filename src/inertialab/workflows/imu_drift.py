@@ -496,10 +496,12 @@ def _cell(v, fmt: str) -> str:
 
 
 def _check_rows(axis: str, unit: str, c: dict) -> list:
-    """The drift table's rows of one axis's check: the observed RMS and its ratios, the
-    band's coverage, and the RMS interval widened by the observed RMS's own sampling
+    """The drift table's rows of one axis's check: the windows observed (what the RMS and
+    the band's coverage rest on: 100 % of 3 windows is little), the observed RMS and its
+    ratios, the band's coverage, and the RMS interval widened by the observed RMS's own sampling
     (the one ``inside_rms_ci`` is judged by), then that verdict."""
-    rows = [[axis, f"observed RMS ({unit})"] + [_cell(v, ".3g") for v in c["observed_rms"]],
+    rows = [[axis, "windows observed"] + [str(int(v)) for v in c["n_windows"]],
+            [axis, f"observed RMS ({unit})"] + [_cell(v, ".3g") for v in c["observed_rms"]],
             [axis, "observed/model"] + [_cell(v, ".2f") for v in c["observed_over_predicted"]],
             [axis, "observed/Kalibr"]
             + [_cell(v, ".2f") for v in c["kalibr_observed_over_predicted"]],
