@@ -279,3 +279,14 @@ def test_a_constant_axis_of_the_check_log_is_not_checked_and_not_a_miss(tmp_path
 
 def test_a_constant_axis_of_a_pools_check_log_is_not_checked(tmp_path, capsys):
     _constant_check(tmp_path, capsys, pool=True)
+
+
+def test_axes_a_pool_log_has_beyond_the_first_logs_are_named_as_left_out(tmp_path, capsys):
+    a = _white(tmp_path / "a.csv", 0, seconds=40.0)
+    b = _white(tmp_path / "b.csv", 1, seconds=40.0, axes=("gx_dps", "ax_mps2"))
+    code, out, _ = run_inprocess(capsys, "allan", a, b, "--imu", "--pool", "--warmup", "0",
+                                 "--json")
+    assert code in (0, None)
+    d = json.loads(out)
+    assert [x["axis"] for x in d["imu"]["axes"]] == ["gx"]
+    assert any("b.csv" in w and "ax" in w and "left out" in w for w in d["warnings"])

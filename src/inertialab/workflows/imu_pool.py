@@ -101,9 +101,11 @@ def _to_pool_units(cols: dict, ref_units: dict, g: float, file) -> tuple[dict, d
     return out, own
 
 
-def join_pool(records, *, rate=None, g_local=None, warmup="auto") -> list[PoolLog]:
+def join_pool(records, *, rate=None, g_local=None, warmup="auto",
+              name_extra: bool = True) -> list[PoolLog]:
     """Every log of a pool (its record, read with its own units and time base) checked
-    to join (module docstring), its axes in the first log's units, its warm-up cut."""
+    to join (module docstring), its axes in the first log's units, its warm-up cut; a
+    log's axes the first log lacks are left out, named in a warning (``name_extra``)."""
     from inertialab.workflows.imu_segments import apply_warmup
 
     logs, ref_units, ref_axes = [], {}, None
@@ -122,6 +124,15 @@ def join_pool(records, *, rate=None, g_local=None, warmup="auto") -> list[PoolLo
         if missing:
             raise InputError(f"cannot join the pool: axes {' '.join(missing)} missing (the "
                              f"first log has {' '.join(ref_axes)})", path=f)
+        extra = [a for a in cols if a not in ref_axes]
+        if extra and name_extra:  # pooled are the first log's axes: say which of this log's are left out
+            import warnings
+
+            from inertialab.errors import DataQualityWarning
+
+            warnings.warn(f"{f}: axes {' '.join(extra)} are not in the first log "
+                          f"({logs[0].file if logs else f}): left out of the pool",
+                          DataQualityWarning, stacklevel=3)
         cols = {k: v for k, v in cols.items() if k in ref_axes}
         g = g_local if g_local is not None else float(rec.meta.get("g_local_mps2",
                                                                    U.G_STANDARD))
@@ -535,7 +546,7 @@ def analyse_pool(records, *, rate=None, g_local=None, warmup="auto", pool_kind="
     check_on = None if check is None else check.path
     if check is not None:
         try:
-            check = join_pool([records[0], check], **kw)[1]
+            check = join_pool([records[0], check], **kw, name_extra=False)[1]
         except InputError as exc:  # said of the check log, which joins no pool
             if exc.path is None or str(exc.path) != str(check_on):
                 raise
