@@ -5,8 +5,8 @@
 :data:`MAX_HORIZON_S`, none empty or given twice, at most :data:`MAX_HORIZONS` of them),
 the check log (``check_on``: ``half`` or a file that is not the analysed log itself and
 not empty), the noise-term method and the ROS topic of an export. :func:`check_horizons`
-runs once the record is read, before the analysis: a horizon (with its bias window)
-longer than the analysed record extrapolates the fitted model past every tau it saw and
+runs once the record is read and its warm-up span cut, before any fit: a horizon (with
+its bias window) longer than what is fitted extrapolates the fitted model past every tau it saw and
 is refused; a check log too short for a horizon's window gives no observation for it,
 said in one warning (:func:`unusable_horizons`). Each refusal is one
 :class:`~inertialab.errors.InputError` line naming the argument.

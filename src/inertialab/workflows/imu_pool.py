@@ -20,7 +20,10 @@ line naming it before anything is fitted. Per axis then (:mod:`inertialab.noise.
   t on n - 1 degrees of freedom: the interval for the next log); ``pool_kind``
   says what that spread is: run to run of one unit, or unit to unit of one model;
 * with a drift prediction, its RMS interval carries the between-log spread of each log's
-  own predicted drift the same way, and ``check_on`` another log checks it there.
+  own predicted drift the same way (a log too short for a horizon and its bias window is
+  left out there, named in a warning), and ``check_on`` another log checks it there;
+* warnings name the log: where the logs differ beyond sampling (the farthest), where one
+  is not stationary, and axes a log has that the first lacks (left out).
 """
 
 from __future__ import annotations
