@@ -290,3 +290,19 @@ def test_axes_a_pool_log_has_beyond_the_first_logs_are_named_as_left_out(tmp_pat
     d = json.loads(out)
     assert [x["axis"] for x in d["imu"]["axes"]] == ["gx"]
     assert any("b.csv" in w and "ax" in w and "left out" in w for w in d["warnings"])
+
+
+def test_an_inflated_export_says_which_sensor_the_check_log_could_not_inflate(tmp_path,
+                                                                              capsys):
+    """--inflate auto with a check log of gyros only: the accelerometer's values are
+    exported as fitted, and the file says so (it said nothing of them)."""
+    a = _white(tmp_path / "a.csv", 0, seconds=60.0, axes=("gx_dps", "ax_mps2"))
+    b = _white(tmp_path / "b.csv", 1, seconds=60.0, axes=("gx_dps",))
+    out_file = tmp_path / "kalibr.yaml"
+    code, _, _ = run_inprocess(capsys, "allan", a, "--imu", "--warmup", "0",
+                               "--predict-drift", "1", "--check-on", b, "--export", "kalibr",
+                               out_file, "--inflate", "auto")
+    assert code in (0, None)
+    text = out_file.read_text()
+    assert "accelerometer noise density and random walk NOT inflated" in " ".join(
+        text.replace("#", " ").split())

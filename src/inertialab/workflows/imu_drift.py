@@ -298,6 +298,11 @@ def inflated(res):
         checked = [a for a in res.axes if a.kind == kind and a.drift and "check" in a.drift]
         if checked and not ratios:
             _uninflated(label, checked[0].drift["check"]["on"], note)
+        others = [a for a in res.axes if a.kind != kind and a.drift and "check" in a.drift]
+        if not checked and others and any(a.kind == kind for a in res.axes):
+            # the check log has none of this sensor's axes (or only constant ones)
+            _uninflated(label, others[0].drift["check"]["on"], note,
+                        why=f"has no usable {label} axis")
         if ratios:
             check = next(a.drift["check"]["on"] for a in res.axes
                          if a.kind == kind and a.drift and "check" in a.drift)
@@ -312,16 +317,17 @@ def inflated(res):
     return replace(res, axes=axes), tuple(note)
 
 
-def _uninflated(label: str, check: str, note: list) -> None:
+def _uninflated(label: str, check: str, note: list,
+                why: str = "has no usable window at any horizon") -> None:
     """Say (a note in the exported file and a warning) that a sensor's values are
-    exported as fitted: its check observed no window at any horizon."""
+    exported as fitted: its check observed no window at any horizon, or (``why``) the
+    check log holds none of its axes."""
     import warnings
 
     from inertialab.errors import DataQualityWarning
 
     text = (f"{label} noise density and random walk NOT inflated: the drift check on "
-            f"{check} has no usable window at any horizon, so the exported values are "
-            "the fitted ones")
+            f"{check} {why}, so the exported values are the fitted ones")
     note.append(text)
     warnings.warn(text, DataQualityWarning, stacklevel=3)
 
