@@ -306,3 +306,14 @@ def test_an_inflated_export_says_which_sensor_the_check_log_could_not_inflate(tm
     text = out_file.read_text()
     assert "accelerometer noise density and random walk NOT inflated" in " ".join(
         text.replace("#", " ").split())
+
+
+def test_two_pool_logs_that_differ_are_compared_not_one_called_farthest(tmp_path, capsys):
+    a = _white(tmp_path / "a.csv", 0, seconds=40.0)
+    b = _white(tmp_path / "loud.csv", 1, seconds=40.0, sd=0.15)
+    code, out, _ = run_inprocess(capsys, "allan", a, b, "--imu", "--pool", "--warmup", "0",
+                                 "--json")
+    assert code in (0, None)
+    hit = [w for w in json.loads(out)["warnings"] if "differ beyond sampling" in w]
+    assert len(hit) == 1 and "farthest" not in hit[0]
+    assert "loud.csv's Allan deviation is 3" in hit[0] and "a.csv's there" in hit[0]

@@ -357,13 +357,18 @@ def warn_between(name: str, logs, curves, between: dict) -> None:
         return
     tau = between["worst_tau_s"]
     dev = np.array([math.sqrt(curve_at(c, [tau])[0][0]) for c in curves])
-    ratio = dev / np.nanmedian(dev)
-    i = int(np.nanargmax(np.abs(np.log(ratio))))
-    warnings.warn(f"axis {name}: the logs differ beyond sampling (p = "
-                  f"{between['p_value']:.2g} at tau = {tau:g} s); farthest: {logs[i].file} "
-                  f"(column '{logs[i].columns[name][0]}'), its Allan deviation {ratio[i]:.3g}x "
-                  "the logs' median there. The pooled terms average the logs and their "
-                  "intervals carry that spread", DataQualityWarning, stacklevel=3)
+    head = (f"axis {name}: the logs differ beyond sampling (p = {between['p_value']:.2g} "
+            f"at tau = {tau:g} s)")
+    tail = "The pooled terms average the logs and their intervals carry that spread"
+    if len(logs) == 2:  # neither is 'farthest': one against the other
+        what = (f"{logs[1].file}'s Allan deviation is {dev[1] / dev[0]:.3g}x "
+                f"{logs[0].file}'s there")
+    else:
+        ratio = dev / np.nanmedian(dev)
+        i = int(np.nanargmax(np.abs(np.log(ratio))))
+        what = (f"farthest: {logs[i].file} (column '{logs[i].columns[name][0]}'), its Allan "
+                f"deviation {ratio[i]:.3g}x the logs' median there")
+    warnings.warn(f"{head}; {what}. {tail}", DataQualityWarning, stacklevel=3)
 
 
 def pool_axis(name, logs, *, candidates, confidence, drift=None, y_check=None,
