@@ -55,12 +55,38 @@ def _six_axes(run, file: Path, config, *, export, rostopic, force, read):
     def produce(bar):
         rec = read_record(file, "gyro_log", **wn.reading(config), options=read)
         other = wn.check_log(config)
-        check = None if other is None else read_record(other, "gyro_log",
-                                                       **wn.reading(config), options=read)
+        check = None if other is None else _read_log(other, config, read)
         return wn.run(rec, config, check=check, exports=pairs, rostopic=rostopic,
                       force=force, read=read, progress=bar)
 
     return run.execute("allan", produce, inputs=[file], figures=lambda r: imu_figures(r.imu))
+
+
+def _read_log(path, config, read):
+    """One log of a pool, or a ``--check-on`` log, read as ``allan --imu`` reads a log. A
+    column map applies to the logs whose columns it names: a log that has none of its
+    sources but the axes under their own names (``gx_dps`` ...) is read by those, with a
+    warning naming it (logs of one pool may differ in column names)."""
+    import warnings
+    from dataclasses import replace
+
+    from inertialab.errors import DataQualityWarning
+    from inertialab.workflows import imu_noise as wn
+
+    try:
+        return read_record(path, "gyro_log", **wn.reading(config), options=read)
+    except InputError as exc:
+        cmap = getattr(read, "column_map", None)
+        if not cmap or "mapped source column not in the file" not in str(exc):
+            raise
+        try:
+            rec = read_record(path, "gyro_log", **wn.reading(config),
+                              options=replace(read, column_map=type(cmap)()))
+        except InputError:
+            raise exc from None
+    warnings.warn(f"{path}: the column map names columns this log does not have; it is read "
+                  "by its own column names", DataQualityWarning, stacklevel=2)
+    return rec
 
 
 def _pool(run, files, config, *, imu, export, read):
@@ -74,10 +100,9 @@ def _pool(run, files, config, *, imu, export, read):
     wp.check_pool(files, config, imu=imu, export=export)
 
     def produce(bar):
-        recs = [read_record(f, "gyro_log", **wn.reading(config), options=read) for f in files]
+        recs = [_read_log(f, config, read) for f in files]
         other = wn.check_log(config)
-        check = None if other is None else read_record(other, "gyro_log",
-                                                       **wn.reading(config), options=read)
+        check = None if other is None else _read_log(other, config, read)
         return wp.run_pool(recs, config, check=check, progress=bar)
 
     return run.execute("allan", produce, inputs=[str(f) for f in files],

@@ -173,7 +173,10 @@ def axis_drift(axis, rate_hz: float, opts: DriftOptions, y_check=None, *,
         ci = predicted_rms_ci(pred, axis.terms, extra_log_var=extra,
                               n_windows=chk["n_effective_model"])
         obs = np.asarray(chk["observed_rms"], dtype=float)
-        out["check"] |= {"rms_ci_with_sampling": _ci_dict(ci, f),
+        with_s = _ci_dict(ci, f)
+        for key in ("low", "high"):  # no interval where nothing was observed (not [0, inf])
+            with_s[key] = [v if math.isfinite(o) else None for v, o in zip(with_s[key], obs)]
+        out["check"] |= {"rms_ci_with_sampling": with_s,
                          # None where the check log holds no window of that horizon
                          "inside_rms_ci": [bool(lo <= o <= hi) if math.isfinite(o) else None
                                            for o, lo, hi in zip(obs, ci["low"], ci["high"])]}
@@ -295,6 +298,11 @@ def inflated(res):
         checked = [a for a in res.axes if a.kind == kind and a.drift and "check" in a.drift]
         if checked and not ratios:
             _uninflated(label, checked[0].drift["check"]["on"], note)
+        others = [a for a in res.axes if a.kind != kind and a.drift and "check" in a.drift]
+        if not checked and others and any(a.kind == kind for a in res.axes):
+            # the check log has none of this sensor's axes (or only constant ones)
+            _uninflated(label, others[0].drift["check"]["on"], note,
+                        why=f"has no usable {label} axis")
         if ratios:
             check = next(a.drift["check"]["on"] for a in res.axes
                          if a.kind == kind and a.drift and "check" in a.drift)
@@ -309,16 +317,17 @@ def inflated(res):
     return replace(res, axes=axes), tuple(note)
 
 
-def _uninflated(label: str, check: str, note: list) -> None:
+def _uninflated(label: str, check: str, note: list,
+                why: str = "has no usable window at any horizon") -> None:
     """Say (a note in the exported file and a warning) that a sensor's values are
-    exported as fitted: its check observed no window at any horizon."""
+    exported as fitted: its check observed no window at any horizon, or (``why``) the
+    check log holds none of its axes."""
     import warnings
 
     from inertialab.errors import DataQualityWarning
 
     text = (f"{label} noise density and random walk NOT inflated: the drift check on "
-            f"{check} has no usable window at any horizon, so the exported values are "
-            "the fitted ones")
+            f"{check} {why}, so the exported values are the fitted ones")
     note.append(text)
     warnings.warn(text, DataQualityWarning, stacklevel=3)
 
@@ -361,33 +370,88 @@ def drift_options(predict_drift, bias_window, check_on, plan, rec, *, rate, unit
                 raise InputError(f"the check log is at {fs2:g} Hz, the analysed log at "
                                  f"{fs1:g} Hz: give logs of the same rate", path=check_on)
             place = tb2.place if (rate is None and tb2 is not None) else (lambda v: v)
-            other = _in_units_of(axis_columns(rec2), axis_columns(rec), place, g_local)
-            other = _other_after_warmup(other, float(fs2 or fs1 or 0.0), warmup)
+            main, theirs = axis_columns(rec), axis_columns(rec2)
+            _check_axes(list(main), list(theirs), check_on)
+            other = _in_units_of(theirs, main, place, g_local)
+            tc = rec2.find("temp")  # its temperature judged for its warm-up, as the log's
+            temp = None if tc is None else place(np.asarray(rec2.column(tc), dtype=float))
+            other = _other_after_warmup(other, float(fs2 or fs1 or 0.0), warmup, temp,
+                                        path=check_on)
+            other = usable_check_axes(other, check_on, {k: v[0] for k, v in theirs.items()})
             mode, name = "other", str(check_on)
-    opts = DriftOptions(horizons_s=horizons or (1.0,), bias_window_s=float(bias_window),
+    return DriftOptions(horizons_s=horizons or (1.0,), bias_window_s=float(bias_window),
                         check_on=mode, other=other, other_name=name, plan=bool(plan))
-    if horizons:
-        _check_lengths(opts, rec, rate)
-    return opts
 
 
-def _check_lengths(opts: DriftOptions, rec, rate) -> None:
-    """:func:`inertialab.workflows.imu_options.check_horizons` on the record's length
-    (its first half where the check is on the second) and the check data's."""
+def usable_check_axes(other: dict, check_on, columns=None) -> dict:
+    """The check log's axes (``{axis: samples}``) without those that are constant or stuck
+    (:func:`inertialab.io.gaps.stuck_run`): they observe no drift, and would read as
+    misses; each is named in a warning (``columns``: axis -> the log's column name), and a
+    check log with no usable axis is refused."""
+    import warnings
+
+    from inertialab.errors import DataQualityWarning
+    from inertialab.io.gaps import stuck_run
+
+    out = {}
+    for k, y in other.items():
+        y = np.asarray(y, dtype=float)
+        finite = y[np.isfinite(y)]
+        run = None if not (finite.size and np.ptp(finite) > 0) else stuck_run(y)
+        if run is not None or not (finite.size and np.ptp(finite) > 0):
+            why = ("constant" if run is None else
+                   f"stuck ({run[1]} identical samples from sample {run[0]})")
+            warnings.warn(f"{check_on}: column '{(columns or {}).get(k, k)}' of the check "
+                          f"log is {why}: it observes no drift, that axis is not checked",
+                          DataQualityWarning, stacklevel=3)
+            continue
+        out[k] = y
+    if other and not out:
+        raise InputError("the check log has no axis that is not constant or stuck: nothing "
+                         "to check on", path=check_on)
+    return out
+
+
+def _check_axes(analysed: list, check: list, check_on) -> None:
+    """Refuse a check log that holds none of the analysed axes (another sensor kind: it
+    would check nothing); warn, naming them, about analysed axes it lacks (not checked)."""
+    common = [a for a in analysed if a in check]
+    if not common:
+        raise InputError(f"the check log has none of the analysed axes ({' '.join(analysed)}"
+                         f"); it has {' '.join(check) or 'no IMU axis'}: give a log of the "
+                         "same sensor", path=check_on)
+    lacking = [a for a in analysed if a not in check]
+    if lacking:
+        import warnings
+
+        from inertialab.errors import DataQualityWarning
+
+        warnings.warn(f"{check_on}: the check log has no {' '.join(lacking)} column: "
+                      f"{'that axis is' if len(lacking) == 1 else 'those axes are'} not "
+                      "checked", DataQualityWarning, stacklevel=3)
+
+
+def check_lengths(opts: DriftOptions, n_samples: int, rate_hz: float,
+                  warmup_s: float = 0.0) -> None:
+    """:func:`inertialab.workflows.imu_options.check_horizons` on what is fitted:
+    ``n_samples`` left after the log's warm-up span (``warmup_s``, named in a refusal),
+    its first half where the check is on the second half, and the check data's length
+    (the second half, or the other log after its own warm-up)."""
     from inertialab.workflows.imu_options import check_horizons
 
-    tb = rec.timebase
-    fs = float(rate or (tb.rate_hz if tb is not None else 0.0) or 0.0)
-    if fs <= 0:
+    fs = float(rate_hz or 0.0)
+    if fs <= 0 or n_samples <= 0:
         return
-    n = rec.n // 2 if opts.check_on == "half" else rec.n
-    check = None
+    n = n_samples // 2 if opts.check_on == "half" else n_samples
+    check, what = None, None
     if opts.check_on == "half":
-        check, what = (rec.n - n) / fs, "the second half"
+        check, what = (n_samples - n) / fs, "the second half"
     elif opts.check_on == "other" and opts.other:
         check, what = min(len(v) for v in opts.other.values()) / fs, opts.other_name
+    note = (f" (after the {warmup_s:g}-s warm-up cut" + (", its first half" if n < n_samples
+                                                        else "") + ")") if warmup_s > 0 else ""
     check_horizons(opts.horizons_s, opts.bias_window_s, n / fs, check_s=check,
-                   check_name=what if check is not None else None)
+                   check_name=what, fitted_note=note)
 
 
 def _in_units_of(check_cols: dict, main_cols: dict, place, g_local) -> dict:
@@ -404,13 +468,20 @@ def _in_units_of(check_cols: dict, main_cols: dict, place, g_local) -> dict:
     return out
 
 
-def _other_after_warmup(other: dict, rate_hz: float, warmup) -> dict:
-    """The check log's axes with its own warm-up span cut (as the analysed log's)."""
+def _other_after_warmup(other: dict, rate_hz: float, warmup, temperature=None, *,
+                        path=None) -> dict:
+    """The check log's axes with its own warm-up span cut, as the analysed log's (its
+    ``temperature`` judged with them); a span too long for it is refused naming
+    ``path``."""
     from inertialab.workflows.imu_segments import apply_warmup
 
     if not other or not rate_hz:
         return other
-    cols, _ = apply_warmup({k: (k, v, "") for k, v in other.items()}, rate_hz, warmup)
+    try:
+        cols, _ = apply_warmup({k: (k, v, "") for k, v in other.items()}, rate_hz, warmup,
+                               temperature)
+    except InputError as exc:
+        raise InputError(f"the check log: {exc}", path=path) from None
     return {k: v[1] for k, v in cols.items()}
 
 
@@ -422,6 +493,35 @@ def display_tables(res, file) -> list:
              f"({100 * res.term_confidence:g} % intervals; '<=' an upper bound; densities "
              "continuous-time, SI)")
     return [(title, cols, rows), *drift_tables(res)]
+
+
+def _cell(v, fmt: str) -> str:
+    """A number of a drift table, or '-' where there is none (a horizon the check log
+    holds no window of: None or NaN)."""
+    return format(v, fmt) if v is not None and math.isfinite(v) else "-"
+
+
+def _check_rows(axis: str, unit: str, c: dict) -> list:
+    """The drift table's rows of one axis's check: the windows observed (what the RMS and
+    the band's coverage rest on: 100 % of 3 windows is little), the observed RMS and its
+    ratios, the band's coverage, and the RMS interval widened by the observed RMS's own sampling
+    (the one ``inside_rms_ci`` is judged by), then that verdict."""
+    rows = [[axis, "windows observed"] + [str(int(v)) for v in c["n_windows"]],
+            [axis, f"observed RMS ({unit})"] + [_cell(v, ".3g") for v in c["observed_rms"]],
+            [axis, "observed/model"] + [_cell(v, ".2f") for v in c["observed_over_predicted"]],
+            [axis, "observed/Kalibr"]
+            + [_cell(v, ".2f") for v in c["kalibr_observed_over_predicted"]],
+            [axis, "in model 95 % band"]
+            + [_cell(v, ".0%").replace("%", " %") for v in c["coverage_95"]]]
+    ci = c.get("rms_ci_with_sampling")
+    if ci and "inside_rms_ci" in c:
+        rows.append([axis, "interval with the check's sampling"]
+                    + [f"{_cell(lo, '.3g')}-{_cell(hi, '.3g')}" if ok is not None else "-"
+                       for lo, hi, ok in zip(ci["low"], ci["high"], c["inside_rms_ci"])])
+    if "inside_rms_ci" in c:
+        rows.append([axis, "observed inside RMS interval"]
+                    + [{True: "yes", False: "NO"}.get(v, "-") for v in c["inside_rms_ci"]])
+    return rows
 
 
 def drift_tables(res) -> list:
@@ -444,19 +544,8 @@ def drift_tables(res) -> list:
                         + [f"{v:.3g}" for v in d["kalibr"]["predicted_rms"]])
             c = d.get("check")
             if c:
-                rows.append([a.axis, f"observed RMS ({u})"]
-                            + [f"{v:.3g}" for v in c["observed_rms"]])
-                rows.append([a.axis, "observed/model"]
-                            + [f"{v:.2f}" for v in c["observed_over_predicted"]])
-                rows.append([a.axis, "observed/Kalibr"]
-                            + [f"{v:.2f}" for v in c["kalibr_observed_over_predicted"]])
-                rows.append([a.axis, "in model 95 % band"]
-                            + [f"{100 * v:.0f} %" for v in c["coverage_95"]])
-                if "inside_rms_ci" in c:
-                    rows.append([a.axis, "observed inside RMS interval"]
-                                + [{True: "yes", False: "NO"}.get(v, "-")
-                                   for v in c["inside_rms_ci"]])
-        chk = axes[0].drift.get("check", {})
+                rows += _check_rows(a.axis, u, c)
+        chk = next((a.drift["check"] for a in axes if "check" in a.drift), {})
         check = chk.get("on")
         caveat = ("; between logs: " + chk["between_logs"]) if chk.get("between_logs") else ""
         out.append((f"Integrated error after a {w:g}-s bias window (angle for gyros, "
@@ -495,5 +584,5 @@ def drift_tables(res) -> list:
 
 
 __all__ = ["AXES", "BIAS_WINDOW_S", "DriftOptions", "NONSTATIONARY_FACTOR", "ONE_LOG_CAVEAT", "axis_columns",
-           "axis_drift", "axis_plan", "display_tables", "drift_options", "drift_tables",
+           "axis_drift", "axis_plan", "check_lengths", "usable_check_axes", "display_tables", "drift_options", "drift_tables",
            "inflated", "nonstationary_log_var", "nonstationary_part"]

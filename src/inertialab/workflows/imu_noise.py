@@ -270,6 +270,11 @@ def analyse_imu(columns: dict, *, rate_hz: float, taus="octave", method: str = "
     columns, wu = apply_warmup(columns, float(rate_hz), warmup, temperature)
     out = []
     names = [a for a in AXES if a in columns]
+    if drift is not None:  # the horizons against what the warm-up leaves, before any fit
+        from inertialab.workflows.imu_drift import check_lengths
+
+        check_lengths(drift, int(np.asarray(columns[names[0]][1]).shape[0]), float(rate_hz),
+                      float(wu["span_s"]))
     moving = _motion(columns, names, float(rate_hz)) if terms else {}
     for i, name in enumerate(names):
         col, y, unit = columns[name]
@@ -390,6 +395,9 @@ def check_settings(config, exports=()) -> None:
         raise InputError(f"argument 'gaps' must be 'error' or 'split', got '{c.gaps}'")
     if c.check_on and not c.predict_drift:
         raise InputError("argument 'check_on' needs argument 'predict_drift'")
+    if getattr(c, "pool_kind", None) not in (None, "runs") and not getattr(c, "pool", False):
+        raise InputError(f"argument 'pool_kind' {c.pool_kind} needs argument 'pool' and "
+                         "several logs: one log has no between-log spread to describe")
     if c.terms is False and (c.predict_drift or c.plan):
         raise InputError("a drift prediction or plan needs the noise terms")
 

@@ -5,8 +5,8 @@
 :data:`MAX_HORIZON_S`, none empty or given twice, at most :data:`MAX_HORIZONS` of them),
 the check log (``check_on``: ``half`` or a file that is not the analysed log itself and
 not empty), the noise-term method and the ROS topic of an export. :func:`check_horizons`
-runs once the record is read, before the analysis: a horizon (with its bias window)
-longer than the analysed record extrapolates the fitted model past every tau it saw and
+runs once the record is read and its warm-up span cut, before any fit: a horizon (with
+its bias window) longer than what is fitted extrapolates the fitted model past every tau it saw and
 is refused; a check log too short for a horizon's window gives no observation for it,
 said in one warning (:func:`unusable_horizons`). Each refusal is one
 :class:`~inertialab.errors.InputError` line naming the argument.
@@ -91,17 +91,17 @@ def _same_file(a, b) -> bool:
 
 
 def check_horizons(horizons, bias_window_s: float, record_s: float, *, check_s=None,
-                   check_name: str | None = None) -> None:
+                   check_name: str | None = None, fitted_note: str = "") -> None:
     """Refuse a horizon whose bias window and horizon together are longer than the
-    analysed record (``record_s``, the part the model is fitted on); warn once, naming
-    them, about horizons the check data (``check_s`` seconds of ``check_name``) cannot
-    observe."""
+    analysed record (``record_s``, the part the model is fitted on; ``fitted_note`` says
+    what it is, e.g. after a warm-up cut); warn once, naming them, about horizons the
+    check data (``check_s`` seconds of ``check_name``) cannot observe."""
     long = [h for h in horizons if h + bias_window_s > record_s]
     if long:
         raise InputError(f"argument 'predict_drift' horizon {long[0]:g} s with the "
                          f"{bias_window_s:g}-s bias window is longer than the "
-                         f"{record_s:.6g} s the model is fitted on: the prediction would "
-                         "extrapolate the model past every tau it saw")
+                         f"{record_s:.6g} s the model is fitted on{fitted_note}: the "
+                         "prediction would extrapolate the model past every tau it saw")
     bad = unusable_horizons(horizons, bias_window_s, check_s)
     if bad:
         warnings.warn(f"the drift check on {check_name} ({check_s:.6g} s) has no window of "

@@ -20,7 +20,10 @@ line naming it before anything is fitted. Per axis then (:mod:`inertialab.noise.
   t on n - 1 degrees of freedom: the interval for the next log); ``pool_kind``
   says what that spread is: run to run of one unit, or unit to unit of one model;
 * with a drift prediction, its RMS interval carries the between-log spread of each log's
-  own predicted drift the same way, and ``check_on`` another log checks it there.
+  own predicted drift the same way (a log too short for a horizon and its bias window is
+  left out there, named in a warning), and ``check_on`` another log checks it there;
+* warnings name the log: where the logs differ beyond sampling (the farthest), where one
+  is not stationary, and axes a log has that the first lacks (left out).
 """
 
 from __future__ import annotations
@@ -34,7 +37,7 @@ from inertialab import units as U
 from inertialab.config import DEFAULT_CONFIDENCE
 from inertialab.errors import InputError
 from inertialab.result import ResultBase
-from inertialab.workflows.imu_drift import AXES, axis_columns
+from inertialab.workflows.imu_drift import AXES, axis_columns, usable_check_axes
 
 #: what the between-log spread means, per pool kind
 POOL_KINDS = {"runs": "run-to-run spread of one unit (turn-on to turn-on)",
@@ -101,9 +104,11 @@ def _to_pool_units(cols: dict, ref_units: dict, g: float, file) -> tuple[dict, d
     return out, own
 
 
-def join_pool(records, *, rate=None, g_local=None, warmup="auto") -> list[PoolLog]:
+def join_pool(records, *, rate=None, g_local=None, warmup="auto",
+              name_extra: bool = True) -> list[PoolLog]:
     """Every log of a pool (its record, read with its own units and time base) checked
-    to join (module docstring), its axes in the first log's units, its warm-up cut."""
+    to join (module docstring), its axes in the first log's units, its warm-up cut; a
+    log's axes the first log lacks are left out, named in a warning (``name_extra``)."""
     from inertialab.workflows.imu_segments import apply_warmup
 
     logs, ref_units, ref_axes = [], {}, None
@@ -122,23 +127,46 @@ def join_pool(records, *, rate=None, g_local=None, warmup="auto") -> list[PoolLo
         if missing:
             raise InputError(f"cannot join the pool: axes {' '.join(missing)} missing (the "
                              f"first log has {' '.join(ref_axes)})", path=f)
+        extra = [a for a in cols if a not in ref_axes]
+        if extra and name_extra:  # pooled are the first log's axes: say which of this log's are left out
+            import warnings
+
+            from inertialab.errors import DataQualityWarning
+
+            warnings.warn(f"{f}: axes {' '.join(extra)} are not in the first log "
+                          f"({logs[0].file if logs else f}): left out of the pool",
+                          DataQualityWarning, stacklevel=3)
         cols = {k: v for k, v in cols.items() if k in ref_axes}
         g = g_local if g_local is not None else float(rec.meta.get("g_local_mps2",
                                                                    U.G_STANDARD))
         cols, own = _to_pool_units(cols, ref_units, g, f)
-        cols, wu = apply_warmup(cols, fs, warmup, temp)
+        try:
+            cols, wu = apply_warmup(cols, fs, warmup, temp)
+        except InputError as exc:  # a span too long for this log: the log named
+            raise InputError(str(exc), path=f) from None
         logs.append(PoolLog(str(f), fs, cols, own, wu, rec.sha256))
     return logs
 
 
 def _curves(logs, confidence: float) -> None:
-    """Each log's octave OADEV per axis, refusing an axis that is not static."""
+    """Each log's octave OADEV per axis, refusing (naming the log and column) an axis that
+    is constant, stuck (:func:`inertialab.io.gaps.stuck_run`) or not static."""
     from inertialab.noise.terms.fit import not_static_reason
-    from inertialab.workflows.imu_noise import _deviation
+    from inertialab.workflows.imu_noise import _deviation, _stuck_reason
 
     for lg in logs:
         for k, (c, y, _u) in lg.columns.items():
-            dev = _deviation(np.asarray(y), lg.rate_hz, "octave", confidence)
+            y = np.asarray(y, dtype=float)
+            finite = y[np.isfinite(y)]
+            if not (finite.size and np.ptp(finite) > 0):
+                raise InputError(f"cannot join the pool: column '{c}' is constant (every "
+                                 "sample the same value: a stuck or absent sensor)",
+                                 path=lg.file)
+            stuck = _stuck_reason(y, lg.rate_hz)
+            if stuck:
+                raise InputError(f"cannot join the pool: column '{c}' has {stuck}",
+                                 path=lg.file)
+            dev = _deviation(y, lg.rate_hz, "octave", confidence)
             why = not_static_reason(dev.taus_s, dev.dev)
             if why:
                 raise InputError(f"cannot join the pool: column '{c}' {why}", path=lg.file)
@@ -266,13 +294,16 @@ def pooled_axis(name, column, unit, dev, terms, g):
 
 
 def drift_between(own_terms, rates, stats, opts, within=None,
-                  confidence: float = DEFAULT_CONFIDENCE["imu"]) -> np.ndarray:
+                  confidence: float = DEFAULT_CONFIDENCE["imu"], lengths_s=None) -> np.ndarray:
     """Variance of the next log's log drift variance per horizon about the pool's
     (:func:`inertialab.noise.terms.pooled.next_log_var`: each log's own model's
     prediction; its terms' uncertainty as sampling; the logs' mean within-log spread as
     the floor: ``within``, one array per log, the spread of its segments' own predicted
     drift (:func:`inertialab.noise.segments.drift_spread.segment_log_var`), or without
-    it the segments test's Allan excess of ``stats``)."""
+    it the segments test's Allan excess of ``stats``). ``lengths_s``: each log's fitted
+    length, s; a log too short for a horizon with its bias window (its own prediction
+    there would extrapolate its model past every tau it saw, as one log's horizon is
+    refused) is left out at that horizon, its value and its floor alike."""
     from inertialab.noise.terms.drift_prediction import predict_terms, predicted_rms_ci
     from inertialab.noise.terms.pooled import next_log_var
     from inertialab.workflows.imu_drift import nonstationary_log_var
@@ -286,7 +317,14 @@ def drift_between(own_terms, rates, stats, opts, within=None,
         prior.append(nonstationary_log_var(st, opts.horizons_s))
     if within is not None:
         prior = [np.asarray(w, dtype=float) for w in within]
-    vals, samp, prior = np.array(vals), np.array(samp), np.mean(prior, axis=0)
+    vals, samp, prior = np.array(vals), np.array(samp), np.array(prior, dtype=float)
+    if lengths_s is not None:
+        need = np.asarray(opts.horizons_s, dtype=float) + opts.bias_window_s
+        short = need[None, :] > np.asarray(lengths_s, dtype=float)[:, None]
+        if short.all(axis=0).any():  # a horizon no log holds (refused before): all kept
+            short[:, short.all(axis=0)] = False
+        vals, prior = np.where(short, np.nan, vals), np.where(short, np.nan, prior)
+    prior = np.nanmean(prior, axis=0)
     return np.array([next_log_var(vals[:, i], samp[:, i], prior[i], confidence)
                      for i in range(vals.shape[1])])
 
@@ -303,6 +341,34 @@ def _within(lg, name, unit, kind, method, g, confidence, opts) -> np.ndarray:
 
     return segment_log_var(np.asarray(lg.columns[name][1], dtype=float), lg.rate_hz, refit,
                            opts.horizons_s, opts.bias_window_s)
+
+
+def warn_between(name: str, logs, curves, between: dict) -> None:
+    """A warning when the logs' curves of axis ``name`` differ beyond sampling (the
+    between-log test, :func:`inertialab.noise.terms.pooled.homogeneity`), naming the log
+    farthest from the others' median Allan deviation at the worst tau: the pooled terms
+    average the logs, and their intervals carry the spread."""
+    import warnings
+
+    from inertialab.errors import DataQualityWarning
+    from inertialab.noise.terms.pooled import curve_at
+
+    if between.get("verdict") != "differ beyond sampling":
+        return
+    tau = between["worst_tau_s"]
+    dev = np.array([math.sqrt(curve_at(c, [tau])[0][0]) for c in curves])
+    head = (f"axis {name}: the logs differ beyond sampling (p = {between['p_value']:.2g} "
+            f"at tau = {tau:g} s)")
+    tail = "The pooled terms average the logs and their intervals carry that spread"
+    if len(logs) == 2:  # neither is 'farthest': one against the other
+        what = (f"{logs[1].file}'s Allan deviation is {dev[1] / dev[0]:.3g}x "
+                f"{logs[0].file}'s there")
+    else:
+        ratio = dev / np.nanmedian(dev)
+        i = int(np.nanargmax(np.abs(np.log(ratio))))
+        what = (f"farthest: {logs[i].file} (column '{logs[i].columns[name][0]}'), its Allan "
+                f"deviation {ratio[i]:.3g}x the logs' median there")
+    warnings.warn(f"{head}; {what}. {tail}", DataQualityWarning, stacklevel=3)
 
 
 def pool_axis(name, logs, *, candidates, confidence, drift=None, y_check=None,
@@ -323,13 +389,14 @@ def pool_axis(name, logs, *, candidates, confidence, drift=None, y_check=None,
     pooled = _fit(pool_curves(curves, rates, confidence), unit, kind, m, rates[0], g,
                   confidence)
     own = [_fit(c, unit, kind, m, fs, g, confidence) for c, fs in zip(curves, rates)]
-    stats = [axis_stationarity(lg.columns[name][1], lg.rate_hz, lg.columns[name][0])
-             for lg in logs]
+    stats = [axis_stationarity(lg.columns[name][1], lg.rate_hz, lg.columns[name][0],
+                               path=lg.file) for lg in logs]
     same = joins_at(rates, rates[0], [0.0])[:, 0]
     z = float(-ndtri((1 - confidence) / 2))
     widened, spread = widen_terms(pooled, own, stats, same, z, confidence)
     shortest = min(len(lg.columns[name][1]) / lg.rate_hz for lg in logs)
     between = homogeneity(curves, rates, max_tau_s=shortest / 16.0)
+    warn_between(name, logs, curves, between)
     curve = pool_curves(curves, rates, confidence)
     # the widened B read again against the pooled curve it came from (every B within it)
     widened = held_to_curve(widened, curve)
@@ -341,7 +408,8 @@ def pool_axis(name, logs, *, candidates, confidence, drift=None, y_check=None,
         # the pooled fit's own intervals (the widened terms would count it twice)
         within = [_within(lg, name, unit, kind, m, g, confidence, drift) for lg in logs]
         extra = drift_between(own, rates, stats, drift, within=within,
-                              confidence=confidence)
+                              confidence=confidence,
+                              lengths_s=[len(lg.columns[name][1]) / lg.rate_hz for lg in logs])
         d = axis_drift(pooled_axis(name, col, unit, curve, pooled, g), rates[0], drift,
                        y_check, extra_log_var=extra)
         axis = replace(axis, drift=d | {"between_log_var": [float(v) for v in extra]})
@@ -407,6 +475,12 @@ class PoolResult(ResultBase):
 
         names = ", ".join(lg.file for lg in self.logs)
         out = display_tables(self.imu, f"pooled over {len(self.logs)} logs ({names})")
+        rates = sorted({lg.rate_hz for lg in self.logs})
+        if len(rates) > 1:  # the samples of logs at several rates: not all at the first's
+            t, c, r = out[0]
+            out[0] = (t.replace(f"{self.imu.n_samples} samples at {self.imu.rate_hz:g} Hz",
+                                f"{self.imu.n_samples} samples in all at "
+                                f"{' and '.join(f'{v:g}' for v in rates)} Hz"), c, r)
         rows = []
         for a in self.imu.axes:
             ex = self.extras[a.axis]
@@ -478,7 +552,15 @@ def analyse_pool(records, *, rate=None, g_local=None, warmup="auto", pool_kind="
     kw = dict(rate=rate, g_local=g_local, warmup=warmup)
     logs = join_pool(records, **kw)
     check_on = None if check is None else check.path
-    check = join_pool([records[0], check], **kw)[1] if check is not None else None
+    if check is not None:
+        try:
+            check = join_pool([records[0], check], **kw, name_extra=False)[1]
+        except InputError as exc:  # said of the check log, which joins no pool
+            if exc.path is None or str(exc.path) != str(check_on):
+                raise
+            text = str(exc).removeprefix(f"{exc.path}: ")
+            raise InputError(text.replace("cannot join the pool", "cannot be the check log"),
+                             path=check_on) from None
     if check is not None and abs(check.rate_hz / logs[0].rate_hz - 1) > 1e-3:
         raise InputError(f"the check log is at {check.rate_hz:g} Hz, the pool's first log at "
                          f"{logs[0].rate_hz:g} Hz: give a check log of that rate",
@@ -495,14 +577,18 @@ def analyse_pool(records, *, rate=None, g_local=None, warmup="auto", pool_kind="
         check_horizons(h, float(bias_window), max(span[:len(logs)]),
                        check_s=span[-1] if check is not None else None,
                        check_name=str(check_on) if check is not None else None)
+        _warn_short_logs(logs, span[:len(logs)], h, float(bias_window))
         drift = DriftOptions(horizons_s=h, bias_window_s=float(bias_window),
                              check_on="other" if check else None,
                              other_name=str(check_on) if check else None)
     g = g_local if g_local is not None else U.G_STANDARD
     axes, extras = [], {}
     names = [a for a in AXES if a in logs[0].columns]
+    usable = {} if check is None else usable_check_axes(
+        {k: v[1] for k, v in check.columns.items()}, check_on,
+        {k: v[0] for k, v in check.columns.items()})
     for i, name in enumerate(names):
-        y_check = check.columns[name][1] if check is not None else None
+        y_check = usable.get(name)
         ax, ex = pool_axis(name, logs, candidates=candidates, confidence=confidence,
                            drift=drift, y_check=y_check, g=g)
         axes.append(ax)
@@ -518,6 +604,22 @@ def analyse_pool(records, *, rate=None, g_local=None, warmup="auto", pool_kind="
                    n_samples=int(sum(lg.summary()["n_samples"] for lg in logs)),
                    settings=settings)
     return PoolResult(imu, tuple(logs), extras, pool_kind)
+
+
+def _warn_short_logs(logs, spans_s, horizons_s, bias_window_s: float) -> None:
+    """A warning naming each pool log too short for a horizon with its bias window: it is
+    left out of the between-log drift spread there (:func:`drift_between`)."""
+    import warnings
+
+    from inertialab.errors import DataQualityWarning
+
+    for lg, span in zip(logs, spans_s):
+        bad = [h for h in horizons_s if h + bias_window_s > span]
+        if bad:
+            warnings.warn(f"{lg.file} ({span:.6g} s fitted) holds no {bias_window_s:g}-s bias "
+                          f"window + {', '.join(f'{h:g}' for h in bad)}-s horizon: left out "
+                          "of the between-log drift spread there (its own prediction would "
+                          "extrapolate its model)", DataQualityWarning, stacklevel=3)
 
 
 def _candidates(method: str) -> tuple:
@@ -568,5 +670,5 @@ def run_pool(records, config, *, check=None, progress=None):
 
 
 __all__ = ["CANDIDATES", "POOL_KINDS", "PoolLog", "PoolResult", "analyse_pool", "choose_model",
-           "check_pool", "drift_between", "join_pool", "log_columns", "pool_axis",
+           "check_pool", "drift_between", "join_pool", "warn_between", "log_columns", "pool_axis",
            "pooled_axis", "run_pool", "widen_terms"]

@@ -63,10 +63,11 @@ def axis_warmup(info: dict | None, axis: str) -> dict | None:
     return own | {"excluded_s": info["span_s"]}
 
 
-def axis_stationarity(y, rate_hz: float, column: str | None = None):
+def axis_stationarity(y, rate_hz: float, column: str | None = None, path=None):
     """The segments test of one axis's fitted samples (None where they hold NaN: lost
-    samples, no equal segments), with a warning naming the column when the verdict is
-    "not stationary"."""
+    samples, no equal segments), with a warning naming the column (and the log
+    ``path``, where several logs are analysed) when the verdict is "not stationary"."""
+    where = f"{path}: " if path is not None else ""
     from inertialab.noise.segments.stationarity import check_stationarity
 
     y = np.asarray(y, dtype=float)
@@ -78,13 +79,13 @@ def axis_stationarity(y, rate_hz: float, column: str | None = None):
         # toggles there): the test cannot be read, the axis's terms still can
         from inertialab.errors import DataQualityWarning
 
-        warnings.warn(f"column '{column}': stationarity not tested ({exc})",
+        warnings.warn(f"{where}column '{column}': stationarity not tested ({exc})",
                       DataQualityWarning, stacklevel=3)
         return None
     if st.verdict == "not stationary":
         from inertialab.errors import DataQualityWarning
 
-        warnings.warn(f"column '{column}': not stationary (segments' Allan variances differ "
+        warnings.warn(f"{where}column '{column}': not stationary (segments' Allan variances differ "
                       f"beyond their intervals at tau = {st.worst_tau_s:g} s, p = "
                       f"{st.p_value:.2g}); its drift interval is widened by the measured "
                       f"spread", DataQualityWarning, stacklevel=3)
