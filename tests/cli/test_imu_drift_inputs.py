@@ -317,3 +317,14 @@ def test_two_pool_logs_that_differ_are_compared_not_one_called_farthest(tmp_path
     hit = [w for w in json.loads(out)["warnings"] if "differ beyond sampling" in w]
     assert len(hit) == 1 and "farthest" not in hit[0]
     assert "loud.csv's Allan deviation is 3" in hit[0] and "a.csv's there" in hit[0]
+
+
+def test_a_check_log_that_is_a_copy_of_the_analysed_log_is_refused(tmp_path, capsys):
+    """A copy under another name checks the model on the samples it was fitted on (a pool
+    refuses it already): refused naming the copy."""
+    a = _white(tmp_path / "a.csv", 0, seconds=40.0)
+    copy = tmp_path / "copy.csv"
+    copy.write_bytes(a.read_bytes())
+    code, _, err = run_inprocess(capsys, "allan", a, "--imu", "--warmup", "0",
+                                 "--predict-drift", "1", "--check-on", copy)
+    assert code == 2 and "copy.csv" in err and len(err.strip().splitlines()) == 1
