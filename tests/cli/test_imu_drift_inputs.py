@@ -328,3 +328,16 @@ def test_a_check_log_that_is_a_copy_of_the_analysed_log_is_refused(tmp_path, cap
     code, _, err = run_inprocess(capsys, "allan", a, "--imu", "--warmup", "0",
                                  "--predict-drift", "1", "--check-on", copy)
     assert code == 2 and "copy.csv" in err and len(err.strip().splitlines()) == 1
+
+
+def test_a_drift_prediction_at_another_confidence_is_refused(tmp_path, capsys):
+    """The drift interval is 95 % and reads the terms' intervals as 95 % ones: with
+    --confidence 0.68 its terms part came out about half as wide (ax 0.099 -> 0.049 in
+    log-sd) and was still called 95 %; refused before any log is read, one log or a pool."""
+    a, b = tmp_path / "a.csv", tmp_path / "b.csv"  # not read
+    for logs in ((a,), (a, b)):
+        pool = ("--pool",) if len(logs) > 1 else ()
+        code, _, err = run_inprocess(capsys, "allan", *logs, "--imu", *pool, "--confidence",
+                                     "0.68", "--predict-drift", "1")
+        assert code == 2 and "--confidence" in err and "--predict-drift" in err
+        assert len(err.strip().splitlines()) == 1
