@@ -341,3 +341,16 @@ def test_a_drift_prediction_at_another_confidence_is_refused(tmp_path, capsys):
                                      "0.68", "--predict-drift", "1")
         assert code == 2 and "--confidence" in err and "--predict-drift" in err
         assert len(err.strip().splitlines()) == 1
+
+
+def test_options_the_six_axis_mode_does_not_use_are_refused_not_ignored(tmp_path, capsys):
+    """--taus many and --stat mdev were accepted and the octave OADEV used all the same;
+    --no-terms with --pool was ignored (the pool fits terms)."""
+    a, b = tmp_path / "a.csv", tmp_path / "b.csv"  # not read: refused before
+    for extra in (("--taus", "many"), ("--stat", "mdev")):
+        for logs in ((a,), (a, b)):
+            pool = ("--pool",) if len(logs) > 1 else ()
+            code, _, err = run_inprocess(capsys, "allan", *logs, "--imu", *pool, *extra)
+            assert code == 2 and extra[0] in err and len(err.strip().splitlines()) == 1
+    code, _, err = run_inprocess(capsys, "allan", a, b, "--imu", "--pool", "--no-terms")
+    assert code == 2 and "--terms" in err and len(err.strip().splitlines()) == 1
