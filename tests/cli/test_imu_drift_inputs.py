@@ -317,3 +317,40 @@ def test_two_pool_logs_that_differ_are_compared_not_one_called_farthest(tmp_path
     hit = [w for w in json.loads(out)["warnings"] if "differ beyond sampling" in w]
     assert len(hit) == 1 and "farthest" not in hit[0]
     assert "loud.csv's Allan deviation is 3" in hit[0] and "a.csv's there" in hit[0]
+
+
+def test_a_check_log_that_is_a_copy_of_the_analysed_log_is_refused(tmp_path, capsys):
+    """A copy under another name checks the model on the samples it was fitted on (a pool
+    refuses it already): refused naming the copy."""
+    a = _white(tmp_path / "a.csv", 0, seconds=40.0)
+    copy = tmp_path / "copy.csv"
+    copy.write_bytes(a.read_bytes())
+    code, _, err = run_inprocess(capsys, "allan", a, "--imu", "--warmup", "0",
+                                 "--predict-drift", "1", "--check-on", copy)
+    assert code == 2 and "copy.csv" in err and len(err.strip().splitlines()) == 1
+
+
+def test_a_drift_prediction_at_another_confidence_is_refused(tmp_path, capsys):
+    """The drift interval is 95 % and reads the terms' intervals as 95 % ones: with
+    --confidence 0.68 its terms part came out about half as wide (ax 0.099 -> 0.049 in
+    log-sd) and was still called 95 %; refused before any log is read, one log or a pool."""
+    a, b = tmp_path / "a.csv", tmp_path / "b.csv"  # not read
+    for logs in ((a,), (a, b)):
+        pool = ("--pool",) if len(logs) > 1 else ()
+        code, _, err = run_inprocess(capsys, "allan", *logs, "--imu", *pool, "--confidence",
+                                     "0.68", "--predict-drift", "1")
+        assert code == 2 and "--confidence" in err and "--predict-drift" in err
+        assert len(err.strip().splitlines()) == 1
+
+
+def test_options_the_six_axis_mode_does_not_use_are_refused_not_ignored(tmp_path, capsys):
+    """--taus many and --stat mdev were accepted and the octave OADEV used all the same;
+    --no-terms with --pool was ignored (the pool fits terms)."""
+    a, b = tmp_path / "a.csv", tmp_path / "b.csv"  # not read: refused before
+    for extra in (("--taus", "many"), ("--stat", "mdev")):
+        for logs in ((a,), (a, b)):
+            pool = ("--pool",) if len(logs) > 1 else ()
+            code, _, err = run_inprocess(capsys, "allan", *logs, "--imu", *pool, *extra)
+            assert code == 2 and extra[0] in err and len(err.strip().splitlines()) == 1
+    code, _, err = run_inprocess(capsys, "allan", a, b, "--imu", "--pool", "--no-terms")
+    assert code == 2 and "--terms" in err and len(err.strip().splitlines()) == 1

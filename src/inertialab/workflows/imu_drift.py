@@ -363,6 +363,10 @@ def drift_options(predict_drift, bias_window, check_on, plan, rec, *, rate, unit
                 from inertialab.io import read_record
                 rec2 = read_record(check_on, "gyro_log", unit=unit, rate_hz=rate,
                                    g_local=g_local, gaps=gaps, options=ro)
+            if getattr(rec, "sha256", None) and getattr(rec2, "sha256", None) == rec.sha256:
+                raise InputError("the check log holds the analysed log's samples (a copy "
+                                 "under another name): a check needs other data; give half "
+                                 "to check on the second half", path=check_on)
             tb1, tb2 = rec.timebase, rec2.timebase
             fs1 = rate or (tb1.rate_hz if tb1 is not None else None)
             fs2 = rate or (tb2.rate_hz if tb2 is not None else None)

@@ -52,7 +52,7 @@ from inertialab.result import ResultBase
 from inertialab.workflows.imu_drift import AXES, axis_columns
 
 __all__ = ["AXES", "B_RULE", "AxisNoise", "IMUNoise", "SixAxisRun", "analyse_imu",
-           "analyse_record", "check_log", "check_settings", "export_pairs", "export_refusal",
+           "analyse_record", "check_drift_confidence", "check_log", "check_six_axis_curve", "check_settings", "export_pairs", "export_refusal",
            "export_yaml", "fit_axis_terms", "reading", "run", "term_text", "write_exports"]
 
 # AxisNoise, IMUNoise and term_text live in inertialab.noise.terms.imu_result (the result is the
@@ -395,11 +395,36 @@ def check_settings(config, exports=()) -> None:
         raise InputError(f"argument 'gaps' must be 'error' or 'split', got '{c.gaps}'")
     if c.check_on and not c.predict_drift:
         raise InputError("argument 'check_on' needs argument 'predict_drift'")
+    check_drift_confidence(c)
+    check_six_axis_curve(c)
     if getattr(c, "pool_kind", None) not in (None, "runs") and not getattr(c, "pool", False):
         raise InputError(f"argument 'pool_kind' {c.pool_kind} needs argument 'pool' and "
                          "several logs: one log has no between-log spread to describe")
     if c.terms is False and (c.predict_drift or c.plan):
         raise InputError("a drift prediction or plan needs the noise terms")
+
+
+def check_drift_confidence(config) -> None:
+    """Refuse ``--confidence`` other than 0.95 with a drift prediction: its RMS interval
+    (:func:`inertialab.noise.terms.drift_prediction.predicted_rms_ci`) is a 95 % interval
+    that reads each term's interval as a 95 % one; with 68 % term intervals it came out
+    about half as wide in its terms part and was still called 95 %."""
+    c = getattr(config, "confidence", None)
+    if c is not None and getattr(config, "predict_drift", None) and abs(float(c) - 0.95) > 1e-9:
+        raise InputError(f"argument 'confidence' {c:g} with argument 'predict_drift': the drift "
+                         "interval is a 95 % interval built from the terms' 95 % intervals; "
+                         "leave argument 'confidence' at 0.95 for a drift prediction")
+
+
+def check_six_axis_curve(config) -> None:
+    """Refuse ``--stat`` and ``--taus`` other than the six-axis mode's own (the octave
+    OADEV every term, drift and pool rests on): they were accepted and not used."""
+    stat = str(getattr(config, "stat", "oadev") or "oadev").strip().lower()
+    taus = str(getattr(config, "taus", "octave") or "octave").strip().lower()
+    if stat != "oadev" or taus != "octave":
+        raise InputError("argument 'stat' and argument 'taus' are not used in the six-axis "
+                         "mode (argument 'imu': the octave OADEV of each axis); leave them "
+                         "unset, or analyse one column without argument 'imu'")
 
 
 def reading(config) -> dict:

@@ -642,6 +642,13 @@ def check_pool(files, config, *, imu: bool, export=None) -> tuple:
         raise InputError("argument 'export', argument 'plan' and argument 'inflate' are not "
                          "available with argument 'pool'")
     candidates = _candidates(c.method)
+    from inertialab.workflows.imu_noise import check_drift_confidence, check_six_axis_curve
+
+    check_drift_confidence(c)
+    check_six_axis_curve(c)
+    if c.terms is False:
+        raise InputError("argument 'pool' fits the noise terms: argument 'terms' off "
+                         "(no terms) is not available with it")
     if c.pool_kind not in POOL_KINDS:
         raise InputError(f"argument 'pool_kind' must be runs or units, got '{c.pool_kind}'")
     if c.check_on and str(c.check_on).strip().lower() == "half":
