@@ -409,11 +409,12 @@ def check_drift_confidence(config) -> None:
     (:func:`inertialab.noise.terms.drift_prediction.predicted_rms_ci`) is a 95 % interval
     that reads each term's interval as a 95 % one; with 68 % term intervals it came out
     about half as wide in its terms part and was still called 95 %."""
-    c = getattr(config, "confidence", None)
-    if c is not None and getattr(config, "predict_drift", None) and abs(float(c) - 0.95) > 1e-9:
+    c, want = getattr(config, "confidence", None), DEFAULT_CONFIDENCE["imu"]
+    if c is not None and getattr(config, "predict_drift", None) and abs(float(c) - want) > 1e-9:
         raise InputError(f"argument 'confidence' {c:g} with argument 'predict_drift': the drift "
-                         "interval is a 95 % interval built from the terms' 95 % intervals; "
-                         "leave argument 'confidence' at 0.95 for a drift prediction")
+                         f"interval is a {100 * want:g} % interval built from the terms' "
+                         f"{100 * want:g} % intervals; leave argument 'confidence' at {want:g} "
+                         "for a drift prediction")
 
 
 def check_six_axis_curve(config) -> None:
