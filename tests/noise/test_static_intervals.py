@@ -100,7 +100,9 @@ def test_sweep_failure_lists_counts_per_threshold(rawlog):
 def test_strictly_increasing_time_required():
     t = np.r_[np.arange(20) * 0.01]
     t[5] = t[4]
-    with pytest.raises(InputError, match="strictly increasing"):
+    t[12] = t[11] - 0.005
+    # the repeat and the backward step named by their data rows (the header is row 1)
+    with pytest.raises(InputError, match=r"rows 6, 13: t_s must be strictly increasing"):
         detect_static_intervals(t, np.zeros((20, 3)))
 
 

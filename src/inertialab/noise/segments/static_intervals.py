@@ -38,6 +38,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from inertialab.errors import InputError
+from inertialab.io.gaps import detect_gaps
 from inertialab.io.rest import initial_rest, moving_variance
 from inertialab.io.timestamps import stamps_rate_hz
 
@@ -168,10 +169,9 @@ def _time_checks(t, rate_hz: float | None):
     t = np.asarray(t, dtype=float)
     if t.ndim != 1 or t.size < 10:
         raise InputError(f"a raw log needs at least 10 samples, got {t.size}", column="t_s")
-    bad = np.flatnonzero(np.diff(t) <= 0)
-    if bad.size:
-        raise InputError("t_s must be strictly increasing", column="t_s",
-                         row=[int(b) + 2 for b in bad[:5]])
+    bad = [i.row for i in detect_gaps(t).issues if i.kind in ("repeat", "backward")]
+    if bad:
+        raise InputError("t_s must be strictly increasing", column="t_s", row=bad[:5])
     if rate_hz is None:
         return t, stamps_rate_hz(t)
     if not (np.isfinite(rate_hz) and rate_hz > 0):
@@ -182,7 +182,8 @@ def _time_checks(t, rate_hz: float | None):
 def _kept_runs(t, static, fs: float, min_duration_s: float, trim_s: float):
     """``(start, stop)`` sample indices of the static runs of ``static`` (a gap longer
     than 2/fs ends a run) at least ``min_duration_s`` long, ``trim_s`` cut from each end."""
-    gap = np.r_[False, np.diff(t) > 2.0 / fs]
+    gap = np.zeros(t.size, dtype=bool)  # the first sample after a step of over 2 / fs
+    gap[[a for a, _ in detect_gaps(t, gap_factor=2.0, nominal_dt_s=1.0 / fs).segments[1:]]] = True
     edges = np.diff(np.r_[0, static.astype(np.int8), 0])
     runs = []
     for a0, b0 in zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)):
