@@ -494,27 +494,30 @@ class PoolResult(ResultBase):
                              _term_cell(lg["K"]), "", lg["stationary"]])
         out.append((f"Each log's own terms ({self.pool_kind}: {POOL_KINDS[self.pool_kind]}); "
                     "pooled intervals carry the between-log spread for the next log "
-                    + spread_note(len(self.logs)),
+                    + spread_note(len(self.logs), self.imu.settings.get(
+                        "confidence", DEFAULT_CONFIDENCE["imu"])),
                     ["axis", "log", "N", "B", "K", "model (leave-one-log-out)",
                      "between logs / stationary"], rows))
         return out
 
 
-def spread_note(n_logs: int) -> str:
+def spread_note(n_logs: int, confidence: float = DEFAULT_CONFIDENCE["imu"]) -> str:
     """How well ``n_logs`` logs know their between-log spread: Student's t quantile on
-    ``n - 1`` degrees of freedom against the normal one
+    ``n - 1`` degrees of freedom against the normal one at ``confidence``
     (:func:`inertialab.noise.terms.pooled.next_log_var`).
 
     >>> spread_note(3)
     "(known with 2 degrees of freedom: Student's t = 4.3 in place of 1.96)"
     """
-    from scipy.special import stdtrit
+    from scipy.special import ndtri, stdtrit
 
+    q = 0.5 + confidence / 2.0
     dof = max(n_logs - 1, 1)
     note = (f"(known with {dof} degree{'s' if dof > 1 else ''} of freedom: Student's "
-            f"t = {float(stdtrit(dof, 0.975)):.3g} in place of 1.96)")
+            f"t = {float(stdtrit(dof, q)):.3g} in place of {float(ndtri(q)):.3g})")
     if n_logs == 2:
-        note += "; with two logs the intervals are wide: a third log narrows them to t = 4.3"
+        note += (f"; with two logs the intervals are wide: a third log narrows them to "
+                 f"t = {float(stdtrit(2, q)):.3g}")
     return note
 
 
