@@ -41,6 +41,7 @@ __all__ = [
     "TimeIssue",
     "apply_gap_policy",
     "detect_gaps",
+    "is_constant",
     "detect_saturation",
     "exclude_flagged",
     "stuck_run",
@@ -261,6 +262,20 @@ STUCK_FALSE_ALARM = 1e-6
 #: a shorter run (share of the column's samples) is left alone: it moves a variance
 #: read over the whole column by less than this share
 STUCK_MIN_SHARE = 0.01
+
+
+def is_constant(x, *, empty: bool = False) -> bool:
+    """Whether a sensor column's finite samples are all one value (a stuck or absent
+    sensor: no noise to read); ``empty``: the answer for a column with no finite sample.
+
+    >>> is_constant([2.0, 2.0, float("nan"), 2.0]), is_constant([2.0, 2.5])
+    (True, False)
+    >>> is_constant([float("nan")]), is_constant([float("nan")], empty=True)
+    (False, True)
+    """
+    x = np.asarray(x, dtype=float)
+    finite = x[np.isfinite(x)]
+    return bool(empty) if not finite.size else not bool(np.ptp(finite) > 0)
 
 
 def stuck_run(x, false_alarm: float = STUCK_FALSE_ALARM):

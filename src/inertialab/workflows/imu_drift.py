@@ -395,15 +395,15 @@ def usable_check_axes(other: dict, check_on, columns=None) -> dict:
     import warnings
 
     from inertialab.errors import DataQualityWarning
-    from inertialab.io.gaps import stuck_run
+    from inertialab.io.gaps import is_constant, stuck_run
 
     out = {}
     for k, y in other.items():
         y = np.asarray(y, dtype=float)
-        finite = y[np.isfinite(y)]
-        run = None if not (finite.size and np.ptp(finite) > 0) else stuck_run(y)
-        if run is not None or not (finite.size and np.ptp(finite) > 0):
-            why = ("constant" if run is None else
+        constant = is_constant(y, empty=True)
+        run = None if constant else stuck_run(y)
+        if constant or run is not None:
+            why = ("constant" if constant else
                    f"stuck ({run[1]} identical samples from sample {run[0]})")
             warnings.warn(f"{check_on}: column '{(columns or {}).get(k, k)}' of the check "
                           f"log is {why}: it observes no drift, that axis is not checked",

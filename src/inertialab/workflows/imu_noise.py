@@ -46,6 +46,7 @@ import numpy as np
 from inertialab import units as U
 from inertialab.config import DEFAULT_CONFIDENCE
 from inertialab.errors import InputError
+from inertialab.io.gaps import is_constant
 from inertialab.noise.terms.imu_result import SI_UNITS as _SI
 from inertialab.noise.terms.imu_result import AxisNoise, IMUNoise, term_text
 from inertialab.result import ResultBase
@@ -75,8 +76,7 @@ def _axis(name: str, column: str, y, unit: str, *, rate_hz: float, taus, method:
     blank = dict(axis=name, column=column, kind=kind, unit=unit, deviation=None, terms=None,
                  noise_density=nan, random_walk=nan, random_walk_bound=False,
                  bias_instability=nan)
-    finite = fit_y[np.isfinite(fit_y)]
-    if finite.size and not np.ptp(finite) > 0:
+    if is_constant(fit_y):
         return AxisNoise(**blank, status="constant",
                          reason="every sample is the same value: a stuck or absent sensor, "
                                 "nothing to analyse on this axis")

@@ -151,14 +151,14 @@ def join_pool(records, *, rate=None, g_local=None, warmup="auto",
 def _curves(logs, confidence: float) -> None:
     """Each log's octave OADEV per axis, refusing (naming the log and column) an axis that
     is constant, stuck (:func:`inertialab.io.gaps.stuck_run`) or not static."""
+    from inertialab.io.gaps import is_constant
     from inertialab.noise.terms.fit import not_static_reason
     from inertialab.workflows.imu_noise import _deviation, _stuck_reason
 
     for lg in logs:
         for k, (c, y, _u) in lg.columns.items():
             y = np.asarray(y, dtype=float)
-            finite = y[np.isfinite(y)]
-            if not (finite.size and np.ptp(finite) > 0):
+            if is_constant(y, empty=True):
                 raise InputError(f"cannot join the pool: column '{c}' is constant (every "
                                  "sample the same value: a stuck or absent sensor)",
                                  path=lg.file)
